@@ -1,0 +1,27 @@
+// render(): one frame of a scene with a chosen method.
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "intermix/image.hpp"
+#include "intermix/scene.hpp"
+
+namespace imx {
+
+struct RenderOptions {
+  std::string method;  // empty: the scene's render.method
+  int spp = 0;         // 0: the scene's, else the method's default
+  int threads = 0;     // 0: all cores
+  // Called now and then with the finished fraction in [0, 1], from one thread at a time.
+  std::function<void(double)> progress;
+};
+
+// Names of the methods this build implements.
+std::vector<std::string> available_methods();
+
+// Renders the scene; the result is premultiplied linear RGBA over the scene's background.
+// Throws imx::Error for an unknown method or settings the method cannot use.
+Image render(const Scene& scene, const RenderOptions& options = {});
+
+}  // namespace imx

@@ -1,0 +1,155 @@
+// Scene: camera, image, lights, volumes, meshes, planes and render settings of one frame.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "intermix/mesh.hpp"
+#include "intermix/volume.hpp"
+
+namespace imx {
+
+enum class Projection { perspective, orthographic };
+
+struct Camera {
+  glm::dvec3 eye{0.0, -600.0, 0.0};
+  glm::dvec3 target{0.0};
+  glm::dvec3 up{0.0, 0.0, 1.0};
+  double fov_deg = 30.0;       // vertical field of view (perspective)
+  double ortho_height = 200.0;  // visible height in mm (orthographic)
+  Projection projection = Projection::perspective;
+};
+
+struct ImageSettings {
+  int width = 512;
+  int height = 512;
+  glm::vec4 background{0.0f, 0.0f, 0.0f, 1.0f};  // straight (not premultiplied) RGBA
+};
+
+enum class LightType { headlight, directional };
+
+struct Light {
+  LightType type = LightType::headlight;
+  glm::dvec3 direction{0.0, 0.0, -1.0};  // directional: the way the light travels, world space
+  float intensity = 1.0f;
+  glm::vec3 color{1.0f};
+};
+
+// Blinn-Phong coefficients: emissive + ambient + diffuse (N.L) + specular (N.H)^shininess.
+struct Shading {
+  bool enabled = false;
+  float ambient = 0.2f;
+  float diffuse = 0.7f;
+  float specular = 0.3f;
+  float shininess = 32.0f;
+};
+
+struct TfPoint {
+  double value = 0.0;
+  glm::vec4 rgba{0.0f};  // straight colour; alpha is the opacity of unit_distance mm of material
+};
+
+// Piecewise-linear RGBA over data values; constant beyond the first and last points.
+struct TransferFunction {
+  std::vector<TfPoint> points;
+  double unit_distance = 1.0;  // mm of material the alphas refer to (SPEC §2, dt0)
+};
+
+enum class VolumeStyle { dvr, iso, mip, xray };
+
+// Keeps the half-space where dot(p - point, normal) >= 0.
+struct ClipPlane {
+  glm::dvec3 point{0.0};
+  glm::dvec3 normal{0.0, 0.0, 1.0};
+};
+
+struct VolumeObject {
+  std::string name;
+  std::shared_ptr<const VolumeData> data;
+  glm::dmat4 index_to_world{1.0};  // the object's transform applied to data->index_to_world
+  TransferFunction transfer_function;
+  VolumeStyle style = VolumeStyle::dvr;
+  double iso_value = 0.0;
+  Shading shading;
+  std::vector<ClipPlane> clip_planes;
+};
+
+struct Material {
+  glm::vec3 color{1.0f};
+  float opacity = 1.0f;
+  Shading shading{true};
+};
+
+struct MeshObject {
+  std::string name;
+  std::shared_ptr<const Mesh> mesh;  // world space: the object's transform is already applied
+  Material material;
+  std::optional<double> thickness;    // mm; empty means "auto" (SPEC §4 / §6 defaults)
+};
+
+// A rectangle in world space; with a volume it shows that volume's values through window/level.
+struct PlaneObject {
+  std::string name;
+  glm::dvec3 center{0.0};
+  glm::dvec3 normal{0.0, 0.0, 1.0};
+  glm::dvec3 up{0.0, 1.0, 0.0};  // in-plane direction of the rectangle's height
+  glm::dvec2 size{200.0, 200.0};  // mm
+  int volume = -1;                // index into Scene::volumes, or -1
+  glm::dvec2 window{40.0, 400.0};  // centre, width (data values)
+  glm::vec3 color{1.0f};           // multiplies the grey value; the colour when there is no volume
+  float opacity = 1.0f;
+  std::optional<double> thickness;
+};
+
+enum class ObjectKind : uint8_t { volume, mesh, plane };
+
+// An object in scene order: which list and which entry.
+struct ObjectRef {
+  ObjectKind kind;
+  int index;
+};
+
+struct RenderSettings {
+  std::string method = "reference";
+  int spp = 0;                  // samples per pixel, a perfect square; 0 = the method's default
+  double step_mm = 0.0;         // ray step; 0 = the method's default
+  double reference_step_fraction = 0.125;  // reference step as a fraction of the smallest voxel pitch
+  double ert_threshold = 0.99;  // early ray termination opacity; 1 disables
+  int layers = 8;               // ZT-buffer slabs per pixel (N)
+  int rt_layers = 4;            // RT-buffer surface layers (M)
+  int peel_layers = 4;          // depth-peeling passes per polygon object (L)
+  std::string interpolation = "ovi";
+  double beta = 1.0;
+};
+
+struct Scene {
+  Camera camera;
+  ImageSettings image;
+  std::vector<Light> lights{Light{}};
+  std::vector<VolumeObject> volumes;
+  std::vector<MeshObject> meshes;
+  std::vector<PlaneObject> planes;
+  std::vector<ObjectRef> order;  // every object, in the order of the scene file
+  RenderSettings render;
+  std::filesystem::path file;  // the scene file, when loaded from one
+};
+
+// Loads and validates a JSON scene file; relative paths resolve against its folder.
+// `overrides` are "json.path=value" assignments applied before validation (--set).
+// Throws imx::Error naming the file, the JSON path and the value at fault.
+Scene load_scene(const std::filesystem::path& file,
+                 const std::vector<std::string>& overrides = {});
+
+// The same from JSON text; `base_dir` resolves relative paths, `origin` names it in errors.
+Scene parse_scene(const std::string& json_text, const std::filesystem::path& base_dir,
+                  const std::string& origin, const std::vector<std::string>& overrides = {});
+
+}  // namespace imx

@@ -1,0 +1,38 @@
+// VolumeData: a 3D grid of scalar voxels in its native type, placed in world space (LPS, mm).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+namespace imx {
+
+enum class VoxelType : uint8_t { u8, i16, u16, f32 };
+
+const char* voxel_type_name(VoxelType type);
+
+using VoxelStorage = std::variant<std::vector<uint8_t>, std::vector<int16_t>,
+                                  std::vector<uint16_t>, std::vector<float>>;
+
+struct VolumeData {
+  glm::ivec3 dims{0};             // voxels along i, j, k; x fastest in memory
+  VoxelStorage voxels;            // dims.x * dims.y * dims.z values
+  glm::dmat4 index_to_world{1.0};  // voxel centres at integer indices -> world mm (LPS)
+
+  VoxelType type() const { return static_cast<VoxelType>(voxels.index()); }
+  size_t voxel_count() const;
+  // Length in mm of one index step along each axis (columns of the affine).
+  glm::dvec3 spacing() const;
+  // The value of one voxel as a double: for tools and tests, not for hot loops.
+  double value_at(int i, int j, int k) const;
+  // Smallest and largest voxel value.
+  std::pair<double, double> range() const;
+  // Throws imx::Error (naming `what`) when dims, storage size or the affine are inconsistent.
+  void validate(const std::string& what) const;
+};
+
+}  // namespace imx

@@ -1,0 +1,54 @@
+// Rasterizer: every fragment of every mesh and plane at arbitrary sub-pixel sample positions.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "core/camera_model.hpp"
+#include "core/parallel.hpp"
+#include "intermix/scene.hpp"
+#include "raster/fragment.hpp"
+#include "volume/prepared_volume.hpp"
+
+namespace imx {
+
+// Fragments of all samples of a tile, as compressed rows: sample s owns
+// fragments[offsets[s] .. offsets[s + 1]), sorted by t (ties keep scene order).
+struct SampleFragments {
+  std::vector<uint32_t> offsets;
+  std::vector<Fragment> fragments;
+
+  std::span<const Fragment> of(size_t sample) const {
+    return {fragments.data() + offsets[sample], fragments.data() + offsets[sample + 1]};
+  }
+  size_t sample_count() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+};
+
+class Rasterizer {
+ public:
+  // Prepares every mesh and plane of the scene for the camera: camera-space triangles clipped
+  // at the near plane, per-triangle setup, and bins of triangles per tile of `tile_size` pixels.
+  // `volumes` are the scene's volumes in Scene::volumes order (planes with a volume sample them).
+  Rasterizer(const Scene& scene, const CameraModel& camera, std::span<const PreparedVolume> volumes,
+             int tile_size);
+
+  // Fills `out` with the fragments of every sample of `tile` (a tile of the same tile_size grid).
+  // Sample s of pixel (x, y) lies at image position (x + offsets[s].x, y + offsets[s].y);
+  // its index is ((y - tile.y0) * tile.width() + (x - tile.x0)) * offsets.size() + s.
+  // `out` is reused between calls to avoid allocation.
+  void rasterize(const TileRect& tile, std::span<const glm::vec2> offsets,
+                 SampleFragments& out) const;
+
+  int tile_size() const { return tile_size_; }
+  size_t triangle_count() const;
+
+ private:
+  struct Impl;
+  std::shared_ptr<const Impl> impl_;
+  int tile_size_;
+};
+
+}  // namespace imx

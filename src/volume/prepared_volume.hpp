@@ -1,0 +1,42 @@
+// PreparedVolume: a scene volume made ready for one frame (inverse transform, LUT, grid view).
+#pragma once
+#include <glm/glm.hpp>
+
+#include "core/ray.hpp"
+#include "intermix/scene.hpp"
+#include "volume/any_grid.hpp"
+#include "volume/tf_lut.hpp"
+
+namespace imx {
+
+struct RayInterval {
+  float t0 = 0.0f;
+  float t1 = -1.0f;
+  bool empty() const { return !(t1 > t0); }
+};
+
+struct PreparedVolume {
+  const VolumeObject* object = nullptr;
+  AnyGrid grid;
+  glm::mat4 world_to_index{1.0f};
+  glm::mat3 index_to_world_linear{1.0f};
+  glm::mat3 gradient_to_world{1.0f};  // inverse-transpose: index-space gradient -> world space
+  float min_pitch = 1.0f;             // smallest voxel spacing in mm
+  TfLut lut;
+
+  explicit PreparedVolume(const VolumeObject& v);
+
+  glm::vec3 to_index(glm::vec3 world) const {
+    return glm::vec3(world_to_index * glm::vec4(world, 1.0f));
+  }
+
+  // The part of the ray inside the grid's hull [0, dims-1] and every clip plane, from t >= t_min.
+  RayInterval intersect(const Ray& ray, float t_min = 0.0f) const;
+
+  // World-space gradient of the scalar field at an index-space position.
+  glm::vec3 world_gradient(glm::vec3 index_pos) const {
+    return gradient_to_world * grid.gradient(index_pos);
+  }
+};
+
+}  // namespace imx

@@ -1,0 +1,54 @@
+// VoxelGrid<T>: a typed, non-owning view of voxels with trilinear sampling in index space.
+#pragma once
+#include <algorithm>
+#include <cstddef>
+
+#include <glm/glm.hpp>
+
+namespace imx {
+
+template <class T>
+struct VoxelGrid {
+  const T* data = nullptr;
+  glm::ivec3 dims{0};
+
+  float at(int i, int j, int k) const {
+    return static_cast<float>(data[(static_cast<size_t>(k) * dims.y + j) * dims.x + i]);
+  }
+
+  // Trilinear interpolation at index-space position p (voxel centres at integers), clamped
+  // to the grid, so p may lie anywhere in [0, dims - 1].
+  float sample(glm::vec3 p) const {
+    glm::vec3 hi = glm::vec3(dims - 1);
+    p = glm::clamp(p, glm::vec3(0.0f), hi);
+    glm::ivec3 i0 = glm::min(glm::ivec3(p), glm::max(dims - 2, glm::ivec3(0)));
+    glm::vec3 f = p - glm::vec3(i0);
+    glm::ivec3 i1 = glm::min(i0 + 1, dims - 1);
+    size_t sx = 1, sy = static_cast<size_t>(dims.x), sz = sy * dims.y;
+    size_t base = i0.z * sz + i0.y * sy + i0.x * sx;
+    size_t dx = (i1.x - i0.x) * sx, dy = (i1.y - i0.y) * sy, dz = (i1.z - i0.z) * sz;
+    const T* q = data + base;
+    float c000 = static_cast<float>(q[0]), c100 = static_cast<float>(q[dx]);
+    float c010 = static_cast<float>(q[dy]), c110 = static_cast<float>(q[dy + dx]);
+    float c001 = static_cast<float>(q[dz]), c101 = static_cast<float>(q[dz + dx]);
+    float c011 = static_cast<float>(q[dz + dy]), c111 = static_cast<float>(q[dz + dy + dx]);
+    float c00 = c000 + f.x * (c100 - c000), c10 = c010 + f.x * (c110 - c010);
+    float c01 = c001 + f.x * (c101 - c001), c11 = c011 + f.x * (c111 - c011);
+    float c0 = c00 + f.y * (c10 - c00), c1 = c01 + f.y * (c11 - c01);
+    return c0 + f.z * (c1 - c0);
+  }
+
+  // Central-difference gradient in index space (one voxel each way) of the trilinear field.
+  glm::vec3 gradient(glm::vec3 p) const {
+    return 0.5f * glm::vec3(sample(p + glm::vec3(1, 0, 0)) - sample(p - glm::vec3(1, 0, 0)),
+                            sample(p + glm::vec3(0, 1, 0)) - sample(p - glm::vec3(0, 1, 0)),
+                            sample(p + glm::vec3(0, 0, 1)) - sample(p - glm::vec3(0, 0, 1)));
+  }
+
+  bool inside(glm::vec3 p) const {
+    return p.x >= 0.0f && p.y >= 0.0f && p.z >= 0.0f && p.x <= dims.x - 1 && p.y <= dims.y - 1 &&
+           p.z <= dims.z - 1;
+  }
+};
+
+}  // namespace imx
