@@ -14,8 +14,8 @@ struct AnyGrid {
 
   explicit AnyGrid(const VolumeData& v)
       : type(v.type()),
-        data(std::visit([](const auto& s) { return static_cast<const void*>(s.data()); },
-                        v.voxels)),
+        data(
+            std::visit([](const auto& s) { return static_cast<const void*>(s.data()); }, v.voxels)),
         dims(v.dims) {}
 
   template <class T>
@@ -27,10 +27,14 @@ struct AnyGrid {
   template <class Fn>
   decltype(auto) visit(Fn&& fn) const {
     switch (type) {
-      case VoxelType::u8: return fn(as<uint8_t>());
-      case VoxelType::i16: return fn(as<int16_t>());
-      case VoxelType::u16: return fn(as<uint16_t>());
-      default: return fn(as<float>());
+      case VoxelType::u8:
+        return fn(as<uint8_t>());
+      case VoxelType::i16:
+        return fn(as<int16_t>());
+      case VoxelType::u16:
+        return fn(as<uint16_t>());
+      default:
+        return fn(as<float>());
     }
   }
 

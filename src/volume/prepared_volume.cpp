@@ -9,7 +9,8 @@
 
 namespace imx {
 
-PreparedVolume::PreparedVolume(const VolumeObject& v) : object(&v), grid(*v.data), lut(v.transfer_function) {
+PreparedVolume::PreparedVolume(const VolumeObject& v)
+    : object(&v), grid(*v.data), lut(v.transfer_function) {
   if (!all_finite(v.index_to_world))
     throw Error(fmt::format("volume '{}': transform has a non-finite entry", v.name));
   glm::dmat3 linear(v.index_to_world);
@@ -18,8 +19,8 @@ PreparedVolume::PreparedVolume(const VolumeObject& v) : object(&v), grid(*v.data
   world_to_index = glm::mat4(glm::inverse(v.index_to_world));
   index_to_world_linear = glm::mat3(linear);
   gradient_to_world = glm::mat3(glm::inverseTranspose(linear));
-  min_pitch = static_cast<float>(std::min(
-      {glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])}));
+  min_pitch = static_cast<float>(
+      std::min({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])}));
 }
 
 RayInterval PreparedVolume::intersect(const Ray& ray, float t_min) const {

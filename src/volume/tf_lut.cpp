@@ -37,8 +37,8 @@ TfLut::TfLut(const TransferFunction& tf) {
                               q.value, tf.points[i - 1].value));
   }
   if (!(tf.unit_distance > 0.0))
-    throw Error(fmt::format("transfer_function.unit_distance: {} must be positive",
-                            tf.unit_distance));
+    throw Error(
+        fmt::format("transfer_function.unit_distance: {} must be positive", tf.unit_distance));
   unit_distance_ = static_cast<float>(tf.unit_distance);
   lo_ = static_cast<float>(tf.points.front().value);
   hi_ = static_cast<float>(tf.points.back().value);

@@ -12,10 +12,14 @@ namespace imx {
 
 const char* voxel_type_name(VoxelType type) {
   switch (type) {
-    case VoxelType::u8: return "uint8";
-    case VoxelType::i16: return "int16";
-    case VoxelType::u16: return "uint16";
-    case VoxelType::f32: return "float32";
+    case VoxelType::u8:
+      return "uint8";
+    case VoxelType::i16:
+      return "int16";
+    case VoxelType::u16:
+      return "uint16";
+    case VoxelType::f32:
+      return "float32";
   }
   return "unknown";
 }
@@ -47,8 +51,8 @@ std::pair<double, double> VolumeData::range() const {
 
 void VolumeData::validate(const std::string& what) const {
   if (dims.x <= 0 || dims.y <= 0 || dims.z <= 0)
-    throw Error(fmt::format("{}: dimensions {}x{}x{} must all be positive", what, dims.x, dims.y,
-                            dims.z));
+    throw Error(
+        fmt::format("{}: dimensions {}x{}x{} must all be positive", what, dims.x, dims.y, dims.z));
   size_t stored = std::visit([](const auto& v) { return v.size(); }, voxels);
   if (stored != voxel_count())
     throw Error(fmt::format("{}: holds {} voxels, dimensions {}x{}x{} need {}", what, stored,

@@ -1,0 +1,106 @@
+#include "io/gzip.hpp"
+
+#include <algorithm>
+#include <memory>
+#include <vector>
+
+#include <fmt/format.h>
+#include <zlib.h>
+
+#include "intermix/error.hpp"
+
+namespace imx::detail {
+
+namespace {
+
+constexpr size_t kChunk = size_t{1} << 18;
+// zlib counts in 32-bit uInt: feed larger outputs in pieces below that.
+constexpr size_t kMaxPiece = size_t{1} << 30;
+
+std::string zlib_message(const z_stream& z, int code) {
+  return z.msg ? z.msg : fmt::format("zlib error {}", code);
+}
+
+}  // namespace
+
+size_t gunzip(std::istream& in, size_t skip, std::span<uint8_t> out, const std::string& what) {
+  z_stream z{};
+  // 15 + 32: largest window, and detect the gzip or zlib wrapper from the header.
+  if (inflateInit2(&z, 15 + 32) != Z_OK) throw Error(fmt::format("{}: zlib failed to start", what));
+  std::unique_ptr<z_stream, int (*)(z_stream*)> guard(&z, inflateEnd);
+
+  std::vector<uint8_t> input(kChunk);
+  std::vector<uint8_t> scratch(std::min(skip, kChunk));
+  size_t written = 0;
+  bool input_done = false;
+  while (written < out.size()) {
+    if (z.avail_in == 0 && !input_done) {
+      in.read(reinterpret_cast<char*>(input.data()), static_cast<std::streamsize>(input.size()));
+      z.next_in = input.data();
+      z.avail_in = static_cast<uInt>(in.gcount());
+      if (z.avail_in == 0) input_done = true;
+    }
+    bool skipping = skip > 0;
+    uint8_t* dst = skipping ? scratch.data() : out.data() + written;
+    size_t room =
+        skipping ? std::min(skip, scratch.size()) : std::min(out.size() - written, kMaxPiece);
+    z.next_out = dst;
+    z.avail_out = static_cast<uInt>(room);
+    int rc = inflate(&z, Z_NO_FLUSH);
+    size_t produced = room - z.avail_out;
+    if (skipping)
+      skip -= produced;
+    else
+      written += produced;
+    if (rc == Z_STREAM_END) {
+      // Concatenated gzip members form one stream; anything else after the end is ignored.
+      if (z.avail_in == 0 && !input_done) {
+        in.read(reinterpret_cast<char*>(input.data()), static_cast<std::streamsize>(input.size()));
+        z.next_in = input.data();
+        z.avail_in = static_cast<uInt>(in.gcount());
+      }
+      if (z.avail_in >= 2 && z.next_in[0] == 0x1f && z.next_in[1] == 0x8b) {
+        inflateReset(&z);
+        continue;
+      }
+      break;
+    }
+    if (rc == Z_BUF_ERROR && z.avail_in == 0) {
+      if (input_done) break;  // truncated: the caller reports the shortfall
+      continue;               // needs more input: the loop reads it
+    }
+    if (rc != Z_OK)
+      throw Error(fmt::format("{}: corrupt gzip data ({})", what, zlib_message(z, rc)));
+  }
+  return written;
+}
+
+void gzip(std::span<const uint8_t> data, std::ostream& out, int level, const std::string& what) {
+  z_stream z{};
+  // 15 + 16: largest window with a gzip wrapper, as NRRD's "encoding: gzip" expects.
+  if (deflateInit2(&z, level, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+    throw Error(fmt::format("{}: zlib failed to start", what));
+  std::unique_ptr<z_stream, int (*)(z_stream*)> guard(&z, deflateEnd);
+
+  std::vector<uint8_t> buffer(kChunk);
+  size_t consumed = 0;
+  int rc = Z_OK;
+  do {
+    if (z.avail_in == 0 && consumed < data.size()) {
+      size_t piece = std::min(data.size() - consumed, kMaxPiece);
+      z.next_in = const_cast<Bytef*>(data.data() + consumed);
+      z.avail_in = static_cast<uInt>(piece);
+      consumed += piece;
+    }
+    int flush = consumed == data.size() ? Z_FINISH : Z_NO_FLUSH;
+    z.next_out = buffer.data();
+    z.avail_out = static_cast<uInt>(buffer.size());
+    rc = deflate(&z, flush);
+    if (rc == Z_STREAM_ERROR) throw Error(fmt::format("{}: zlib failed to compress", what));
+    out.write(reinterpret_cast<const char*>(buffer.data()),
+              static_cast<std::streamsize>(buffer.size() - z.avail_out));
+    if (!out) throw Error(fmt::format("{}: writing failed (disk full?)", what));
+  } while (rc != Z_STREAM_END);
+}
+
+}  // namespace imx::detail

@@ -1,0 +1,21 @@
+// gzip streams through zlib: inflating voxel data from a file, deflating it onto a stream.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <istream>
+#include <ostream>
+#include <span>
+#include <string>
+
+namespace imx::detail {
+
+// Inflates gzip (or zlib) data read from `in`: the first `skip` bytes of output are dropped,
+// the next go into `out`. Returns how many bytes were written to `out`, fewer than its size
+// when the data ends early. Throws imx::Error naming `what` when the data is corrupt.
+size_t gunzip(std::istream& in, size_t skip, std::span<uint8_t> out, const std::string& what);
+
+// Writes `data` to `out` as one gzip member at zlib's compression `level` (1 fast .. 9 small).
+// Throws imx::Error naming `what` when zlib fails.
+void gzip(std::span<const uint8_t> data, std::ostream& out, int level, const std::string& what);
+
+}  // namespace imx::detail

@@ -1,0 +1,96 @@
+#include <cmath>
+#include <filesystem>
+#include <system_error>
+
+#include <assimp/config.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <fmt/format.h>
+#include <assimp/Importer.hpp>
+#include <glm/glm.hpp>
+
+#include "core/math.hpp"
+#include "intermix/error.hpp"
+#include "intermix/io.hpp"
+
+namespace imx {
+namespace {
+
+glm::dmat4 to_glm(const aiMatrix4x4& m) {
+  glm::dmat4 out(1.0);
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) out[c][r] = m[r][c];
+  return out;
+}
+
+// Appends the triangles of every mesh under `node`, in world (file) units.
+void collect(const aiScene& scene, const aiNode& node, const glm::dmat4& parent, Mesh& out,
+             bool& all_have_normals) {
+  const glm::dmat4 m = parent * to_glm(node.mTransformation);
+  const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(m)));
+  const bool mirrored = glm::determinant(glm::dmat3(m)) < 0.0;
+  for (unsigned k = 0; k < node.mNumMeshes; ++k) {
+    const aiMesh& mesh = *scene.mMeshes[node.mMeshes[k]];
+    const auto base = static_cast<uint32_t>(out.positions.size());
+    all_have_normals = all_have_normals && mesh.HasNormals();
+    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+      const aiVector3D& p = mesh.mVertices[v];
+      out.positions.emplace_back(transform_point(m, {p.x, p.y, p.z}));
+      glm::dvec3 n(0.0);
+      if (mesh.HasNormals()) {
+        const aiVector3D& a = mesh.mNormals[v];
+        n = normal_matrix * glm::dvec3(a.x, a.y, a.z);
+        double len = glm::length(n);
+        // assimp leaves NaN normals on degenerate faces: a zero normal means "none" to shading.
+        n = (std::isfinite(len) && len > 0.0) ? n / len : glm::dvec3(0.0);
+      }
+      out.normals.emplace_back(n);
+    }
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+      const aiFace& face = mesh.mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines left by the importer
+      glm::uvec3 t(base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]);
+      if (mirrored) std::swap(t.y, t.z);
+      out.triangles.push_back(t);
+    }
+  }
+  for (unsigned c = 0; c < node.mNumChildren; ++c)
+    collect(scene, *node.mChildren[c], m, out, all_have_normals);
+}
+
+}  // namespace
+
+Mesh read_mesh(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec))
+    throw Error(fmt::format("{}: no such file", file.string()));
+  if (std::filesystem::is_directory(file, ec))
+    throw Error(fmt::format("{}: is a directory, not a mesh file", file.string()));
+
+  Assimp::Importer importer;
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
+                              aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  // GenSmoothNormals only fills meshes that have no normals: the file's own normals are kept.
+  const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                         aiProcess_GenSmoothNormals | aiProcess_SortByPType;
+  const aiScene* scene = importer.ReadFile(file.string(), flags);
+  if (scene == nullptr || scene->mRootNode == nullptr ||
+      (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0) {
+    std::string why = importer.GetErrorString();
+    throw Error(fmt::format("{}: cannot read the mesh: {}", file.string(),
+                            why.empty() ? "assimp returned no scene" : why));
+  }
+
+  Mesh mesh;
+  bool all_have_normals = true;
+  collect(*scene, *scene->mRootNode, glm::dmat4(1.0), mesh, all_have_normals);
+  if (mesh.triangles.empty())
+    throw Error(fmt::format("{}: the file holds no triangles", file.string()));
+  if (!all_have_normals) mesh.normals.clear();
+  for (const glm::vec3& p : mesh.positions)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw Error(fmt::format("{}: a vertex position is not finite", file.string()));
+  return mesh;
+}
+
+}  // namespace imx

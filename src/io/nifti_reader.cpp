@@ -1,0 +1,201 @@
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nifti1_io.h>
+
+#include "intermix/error.hpp"
+#include "io/nifti.hpp"
+#include "io/raw_voxels.hpp"
+
+namespace imx::detail {
+
+namespace {
+
+// deflate cannot expand data more than about 1032:1; larger claims are corrupt headers.
+constexpr double kMaxGzipRatio = 1100.0;
+
+std::optional<RawType> raw_type(int datatype) {
+  switch (datatype) {
+    case DT_INT8:
+      return RawType::i8;
+    case DT_UINT8:
+      return RawType::u8;
+    case DT_INT16:
+      return RawType::i16;
+    case DT_UINT16:
+      return RawType::u16;
+    case DT_INT32:
+      return RawType::i32;
+    case DT_UINT32:
+      return RawType::u32;
+    case DT_INT64:
+      return RawType::i64;
+    case DT_UINT64:
+      return RawType::u64;
+    case DT_FLOAT32:
+      return RawType::f32;
+    case DT_FLOAT64:
+      return RawType::f64;
+    default:
+      return std::nullopt;
+  }
+}
+
+// nifticlib row-major mat44 -> column-major glm, then RAS -> LPS by negating the x and y rows.
+glm::dmat4 to_lps(const mat44& m) {
+  glm::dmat4 out(1.0);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) out[c][r] = (r < 2 ? -1.0 : 1.0) * static_cast<double>(m.m[r][c]);
+  return out;
+}
+
+int16_t host_order(int16_t v, bool swapped) {
+  return swapped ? static_cast<int16_t>(__builtin_bswap16(static_cast<uint16_t>(v))) : v;
+}
+
+// Checks the header fields nifticlib would reject, so bad files get one message naming the
+// file rather than nifticlib's console output (which it prints whatever its debug level).
+void check_header(const std::string& what) {
+  znzFile f = znzopen(what.c_str(), "rb", nifti_is_gzfile(what.c_str()));
+  if (znz_isnull(f)) throw Error(fmt::format("{}: cannot open file", what));
+  nifti_1_header h{};
+  size_t got = znzread(&h, 1, sizeof h, f);
+  znzclose(f);
+  if (got != sizeof h)
+    throw Error(fmt::format("{}: too short for a NIfTI-1 header ({} of 348 bytes)", what,
+                            got > sizeof h ? 0 : got));
+  if (h.sizeof_hdr == 540 || __builtin_bswap32(static_cast<uint32_t>(h.sizeof_hdr)) == 540)
+    throw Error(fmt::format("{}: a NIfTI-2 file; only NIfTI-1 is supported", what));
+  bool swapped = h.sizeof_hdr != 348;
+  if (swapped && __builtin_bswap32(static_cast<uint32_t>(h.sizeof_hdr)) != 348)
+    throw Error(
+        fmt::format("{}: not a NIfTI-1 file (sizeof_hdr is {}, expected 348)", what, h.sizeof_hdr));
+  int ndim = host_order(h.dim[0], swapped);
+  if (ndim < 1 || ndim > 7)
+    throw Error(
+        fmt::format("{}: not a valid NIfTI-1 file (dim[0] is {}, expected 1 to 7)", what, ndim));
+  if (ndim < 3) throw Error(fmt::format("{}: has {} dimensions; a volume needs 3", what, ndim));
+  for (int d = 1; d <= ndim; ++d)
+    if (host_order(h.dim[d], swapped) < 1)
+      throw Error(fmt::format("{}: dim[{}] is {}, must be positive", what, d,
+                              host_order(h.dim[d], swapped)));
+  int datatype = host_order(h.datatype, swapped);
+  if (!raw_type(datatype))
+    throw Error(
+        fmt::format("{}: datatype {} ({}) is not supported (supported: integers of 8 to 64 bits, "
+                    "float32, float64)",
+                    what, datatype, nifti_datatype_string(datatype)));
+}
+
+}  // namespace
+
+VolumeData read_nifti(const std::filesystem::path& file) {
+  const std::string what = file.string();
+  // nifticlib prints its own diagnostics; ours (one message naming the file) replace them.
+  static std::once_flag quiet;
+  std::call_once(quiet, [] { nifti_set_debug_level(0); });
+
+  check_header(what);
+  std::unique_ptr<nifti_image, void (*)(nifti_image*)> nim(nifti_image_read(what.c_str(), 0),
+                                                           nifti_image_free);
+  if (!nim)
+    throw Error(
+        fmt::format("{}: not a readable NIfTI-1 file (nifticlib rejected its header)", what));
+  if (nim->nx <= 0 || nim->ny <= 0 || nim->nz <= 0)
+    throw Error(
+        fmt::format("{}: dimensions {}x{}x{} must be positive", what, nim->nx, nim->ny, nim->nz));
+  size_t count = static_cast<size_t>(nim->nx) * nim->ny * nim->nz;
+  if (count > kMaxVoxels)
+    throw Error(fmt::format("{}: dimensions {}x{}x{} give more than {} voxels", what, nim->nx,
+                            nim->ny, nim->nz, kMaxVoxels));
+  std::optional<RawType> type = raw_type(nim->datatype);
+  if (!type) throw Error(fmt::format("{}: datatype {} is not supported", what, nim->datatype));
+  if (static_cast<size_t>(nim->nbyper) != raw_type_size(*type))
+    throw Error(fmt::format("{}: datatype {} has an unexpected element size {}", what,
+                            nifti_datatype_string(nim->datatype), nim->nbyper));
+
+  size_t needed = count * raw_type_size(*type);
+  std::error_code ec;
+  uintmax_t file_size = std::filesystem::file_size(file, ec);
+  if (ec) throw Error(fmt::format("{}: cannot read its size: {}", what, ec.message()));
+  if (nifti_is_gzfile(nim->iname)) {
+    if (static_cast<double>(needed) > kMaxGzipRatio * static_cast<double>(file_size) + 4096.0)
+      throw Error(
+          fmt::format("{}: expected {} bytes of voxel data, but {} bytes of gzip data "
+                      "cannot hold that much",
+                      what, needed, file_size));
+  } else if (file_size < static_cast<uintmax_t>(nim->iname_offset) + needed) {
+    uintmax_t found = file_size > static_cast<uintmax_t>(nim->iname_offset)
+                          ? file_size - static_cast<uintmax_t>(nim->iname_offset)
+                          : 0;
+    throw Error(fmt::format("{}: expected {} bytes of voxel data, found {}", what, needed, found));
+  }
+
+  VolumeData v;
+  v.dims = {nim->nx, nim->ny, nim->nz};
+  // The first volume is the first count voxels after the header (a 4D series gives its first
+  // time point). Read with znzlib rather than nifti_read_collapsed_image, which frees the
+  // caller's buffer when a read fails.
+  znzFile opened = znzopen(nim->iname, "rb", nifti_is_gzfile(nim->iname));
+  if (znz_isnull(opened)) throw Error(fmt::format("{}: cannot open the voxel data", what));
+  std::unique_ptr<znzFile, int (*)(znzFile*)> close(&opened, Xznzclose);
+  if (znzseek(opened, nim->iname_offset, SEEK_SET) < 0)
+    throw Error(
+        fmt::format("{}: cannot seek to the voxel data at byte {}", what, nim->iname_offset));
+  bool swap = nim->byteorder != nifti_short_order();
+  v.voxels = load_voxels(*type, count, swap, [&](std::span<uint8_t> bytes) {
+    size_t done = 0;
+    while (done < bytes.size()) {
+      size_t want = std::min(bytes.size() - done, size_t{1} << 28);
+      size_t got = znzread(bytes.data() + done, 1, want, opened);
+      if (got == 0 || got > want) break;  // end of data, or a gzip error reported as -1
+      done += got;
+    }
+    if (done != bytes.size())
+      throw Error(
+          fmt::format("{}: expected {} bytes of voxel data, found {} (file truncated or "
+                      "corrupt)",
+                      what, bytes.size(), done));
+  });
+
+  // Intensity scaling, as the NIfTI standard defines it: slope 0 means "none".
+  double slope = nim->scl_slope, inter = nim->scl_inter;
+  if (!std::isfinite(slope) || !std::isfinite(inter))
+    throw Error(fmt::format("{}: scl_slope {} / scl_inter {} are not finite", what, slope, inter));
+  if (slope != 0.0 && !(slope == 1.0 && inter == 0.0)) {
+    v.voxels = std::visit(
+        [&](const auto& src) {
+          std::vector<float> out(src.size());
+          for (size_t i = 0; i < src.size(); ++i)
+            out[i] = static_cast<float>(static_cast<double>(src[i]) * slope + inter);
+          return out;
+        },
+        v.voxels);
+  }
+
+  // Placement: sform, else qform, else NIfTI's "method 1" (pixdim scaling only).
+  if (nim->sform_code > 0) {
+    v.index_to_world = to_lps(nim->sto_xyz);
+  } else if (nim->qform_code > 0) {
+    v.index_to_world = to_lps(nim->qto_xyz);
+  } else {
+    mat44 m{};
+    for (int a = 0; a < 3; ++a) {
+      float d = nim->pixdim[a + 1];
+      m.m[a][a] = std::isfinite(d) && d > 0.0f ? d : 1.0f;  // unset pixdim: unit spacing
+    }
+    m.m[3][3] = 1.0f;
+    v.index_to_world = to_lps(m);
+  }
+  v.validate(what);
+  return v;
+}
+
+}  // namespace imx::detail

@@ -1,0 +1,33 @@
+// Raw voxel decoding shared by the volume readers: file element types to VolumeData storage.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+
+#include "intermix/volume.hpp"
+
+namespace imx::detail {
+
+// Element types found in volume files. The renderer stores u8, i16, u16 and f32; the others
+// convert to the nearest of those (see storage_type_for).
+enum class RawType : uint8_t { i8, u8, i16, u16, i32, u32, i64, u64, f32, f64 };
+
+size_t raw_type_size(RawType type);
+const char* raw_type_name(RawType type);
+// i8 widens to i16 (exact); 32/64-bit integers and doubles narrow to f32 (float keeps every
+// value within range, with 24-bit precision, which is enough for rendering).
+VoxelType storage_type_for(RawType type);
+
+// The most voxels a file may declare: larger headers are corrupt or not for this renderer.
+inline constexpr size_t kMaxVoxels = size_t{1} << 31;
+
+// Voxel storage for `count` elements of `type` in the file. `fill` must write exactly the
+// bytes it is given (count * raw_type_size), in file order, or throw. When the file type is
+// the storage type the bytes land straight in the result, so no second copy is made.
+// `swap_bytes` reverses every element's bytes (big-endian data on this little-endian host).
+VoxelStorage load_voxels(RawType type, size_t count, bool swap_bytes,
+                         const std::function<void(std::span<uint8_t>)>& fill);
+
+}  // namespace imx::detail

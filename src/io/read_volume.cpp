@@ -1,0 +1,39 @@
+#include <algorithm>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "intermix/error.hpp"
+#include "intermix/io.hpp"
+#include "io/nifti.hpp"
+#include "io/nrrd.hpp"
+
+namespace imx {
+
+namespace {
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+VolumeData read_volume(const std::filesystem::path& file) {
+  const std::string what = file.string();
+  std::error_code ec;
+  auto status = std::filesystem::status(file, ec);
+  if (!std::filesystem::exists(status)) throw Error(fmt::format("{}: no such file", what));
+  if (std::filesystem::is_directory(status))
+    throw Error(fmt::format("{}: is a folder, not a volume file", what));
+
+  std::string name = file.filename().string();
+  std::transform(name.begin(), name.end(), name.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ends_with(name, ".nrrd") || ends_with(name, ".nhdr")) return detail::read_nrrd(file);
+  if (ends_with(name, ".nii") || ends_with(name, ".nii.gz")) return detail::read_nifti(file);
+  throw Error(fmt::format("{}: unknown volume format '{}' (supported: .nrrd, .nhdr, .nii, .nii.gz)",
+                          what, file.extension().string()));
+}
+
+}  // namespace imx

@@ -1,0 +1,553 @@
+#include "raster/rasterizer.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+
+#include <fmt/format.h>
+
+#include "core/blinn_phong.hpp"
+#include "core/math.hpp"
+#include "intermix/error.hpp"
+#include "raster/clip_polygon.hpp"
+#include "raster/edge_function.hpp"
+#include "raster/shade_fragment.hpp"
+
+namespace imx {
+
+namespace {
+
+// Larger sample sets than 32x32 per pixel are not meaningful and would not fit the stack tables.
+constexpr size_t kMaxSamples = 1024;
+// Larger images would overflow the 64-bit fixed-point edge functions (with the guard band).
+constexpr int kMaxImageSize = 1 << 15;
+// Marks a covered sample that turned out to have no fragment (object ids never reach it).
+constexpr uint32_t kHole = UINT32_MAX;
+// Above this many fragments per sample the insertion sort hands over to std::stable_sort.
+constexpr uint32_t kInsertionSortLimit = 32;
+
+int64_t floor_div(int64_t a, int64_t b) {
+  return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+int64_t ceil_div(int64_t a, int64_t b) {
+  return -floor_div(-a, b);
+}
+
+// What a fragment of one scene object looks like.
+struct ObjectInfo {
+  uint32_t order_index = 0;  // index into Scene::order, the fragment's object id
+  bool is_plane = false;
+  // Mesh.
+  Material material;
+  bool has_normals = false;
+  // Plane.
+  glm::vec3 plane_color{1.0f};
+  float plane_opacity = 1.0f;
+  const PreparedVolume* volume = nullptr;
+  float window_centre = 0.0f, window_width = 1.0f;
+};
+
+// One input triangle before clipping: its plane in camera space and its shading attributes.
+struct SourceTriangle {
+  glm::dvec3 normal{0.0};              // unit geometric normal, camera space
+  double offset = 0.0;                 // dot(normal, p) for every camera-space point p of the plane
+  glm::dvec3 corner{0.0};              // camera-space first vertex
+  glm::vec3 dual1{0.0f}, dual2{0.0f};  // barycentrics: b_i = dot(dual_i, p - corner)
+  std::array<glm::vec3, 3> normals;    // world-space vertex normals, or the geometric normal x3
+  uint32_t object = 0;                 // index into Impl::objects
+  uint32_t front_facing = 0;
+};
+
+// One clipped triangle in fixed-point image space.
+struct RasterTriangle {
+  TriangleEdges edges;
+  int64_t min_x, min_y, max_x, max_y;  // fixed-point bounding box
+  uint32_t source = 0;                 // index into Impl::sources
+};
+
+// The pixel span [lo, hi] whose samples (at fixed-point offsets [o_lo, o_hi]) can fall in
+// the fixed-point interval [min, max].
+void pixel_span(int64_t min, int64_t max, int64_t o_lo, int64_t o_hi, int64_t& lo, int64_t& hi) {
+  lo = ceil_div(min - o_hi, kSubpixelScale);
+  hi = floor_div(max - o_lo, kSubpixelScale);
+}
+
+}  // namespace
+
+struct Rasterizer::Impl {
+  CameraModel camera;
+  int width = 0, height = 0, tile_size = 0, tiles_x = 0, tiles_y = 0;
+  // Image position = origin + scale * (x, y) / z (perspective) or * (x, y) (orthographic).
+  glm::dvec2 image_origin{0.0}, image_scale{1.0};
+  std::vector<ClipPlaneEq> clip_planes;
+  std::vector<ShadingLight> lights;
+  std::vector<ObjectInfo> objects;
+  std::vector<SourceTriangle> sources;
+  std::vector<RasterTriangle> triangles;
+  std::vector<uint32_t> bin_offsets;  // tile b owns bin_items[bin_offsets[b] .. bin_offsets[b+1])
+  std::vector<uint32_t> bin_items;
+
+  explicit Impl(const CameraModel& c) : camera(c) {}
+
+  void add_triangle(const std::array<glm::dvec3, 3>& world, const std::array<glm::dvec3, 3>& cam,
+                    const std::array<glm::vec3, 3>* vertex_normals, uint32_t object);
+  void build_bins();
+
+  // Screen coordinates of image position (px, py): its ray's camera-space direction (x/z, y/z)
+  // in perspective, its ray's camera-space origin (x, y) in orthographic.
+  glm::dvec2 screen(double px, double py) const {
+    return {(px - image_origin.x) / image_scale.x, (py - image_origin.y) / image_scale.y};
+  }
+
+  // The fragment of `src` for the sample at image position (px, py), which its edges cover;
+  // false when the ray misses its plane in front of the eye or a plane's volume there.
+  bool make_fragment(const SourceTriangle& src, const ObjectInfo& obj, double px, double py,
+                     Fragment& f) const {
+    // Depth from the exact (unsnapped) sample position.
+    const glm::dvec2 s = screen(px, py);
+    double t;
+    glm::dvec3 hit;
+    if (!intersect(src, s, t, hit)) return false;
+    f.t = static_cast<float>(t);
+    f.object = obj.order_index;
+    f.front_facing = src.front_facing;
+    if (obj.is_plane) {
+      float grey = 1.0f;
+      if (obj.volume) {
+        float value = 0.0f;
+        if (!sample_plane_volume(*obj.volume, glm::vec3(camera.to_world(hit)), value)) return false;
+        grey = window_level(value, obj.window_centre, obj.window_width);
+      }
+      f.color = shade_plane_fragment(obj.plane_color, obj.plane_opacity, grey);
+      return true;
+    }
+    glm::vec3 normal = src.normals[0];
+    if (obj.material.shading.enabled && obj.has_normals) {
+      // Barycentrics of the 3D hit point: perspective-correct by construction.
+      glm::vec3 rel(hit - src.corner);
+      float b1 = std::max(0.0f, glm::dot(src.dual1, rel));
+      float b2 = std::max(0.0f, glm::dot(src.dual2, rel));
+      float b0 = std::max(0.0f, 1.0f - b1 - b2);
+      normal = (b0 * src.normals[0] + b1 * src.normals[1] + b2 * src.normals[2]) /
+               std::max(b0 + b1 + b2, 1e-12f);
+    }
+    glm::dvec3 dir =
+        camera.perspective()
+            ? glm::normalize(s.x * camera.right() + s.y * camera.up() + camera.forward())
+            : camera.forward();
+    f.color = shade_mesh_fragment(obj.material, normal, -glm::vec3(dir), lights);
+    return true;
+  }
+
+  // Depth t and camera-space point where the sample ray at screen (sx, sy) meets the
+  // triangle's plane; false when it does not in front of the eye.
+  bool intersect(const SourceTriangle& tri, const glm::dvec2& s, double& t, glm::dvec3& p) const {
+    const glm::dvec3& n = tri.normal;
+    if (camera.perspective()) {
+      glm::dvec3 d(s.x, s.y, 1.0);
+      double rate = glm::dot(n, d);
+      double along = tri.offset / rate;
+      if (!(along > 0.0) || !std::isfinite(along)) return false;
+      p = along * d;
+      t = along * std::sqrt(glm::dot(d, d));
+    } else {
+      double z = (tri.offset - n.x * s.x - n.y * s.y) / n.z;
+      if (!(z >= 0.0) || !std::isfinite(z)) return false;
+      p = glm::dvec3(s.x, s.y, z);
+      t = z;
+    }
+    return true;
+  }
+};
+
+void Rasterizer::Impl::add_triangle(const std::array<glm::dvec3, 3>& world,
+                                    const std::array<glm::dvec3, 3>& cam,
+                                    const std::array<glm::vec3, 3>* vertex_normals,
+                                    uint32_t object) {
+  glm::dvec3 n_world = glm::cross(world[1] - world[0], world[2] - world[0]);
+  double len = glm::length(n_world);
+  if (!(len > 0.0) || !std::isfinite(len)) return;  // degenerate or non-finite: nothing to see
+  n_world /= len;
+
+  SourceTriangle src;
+  // Rotating the world normal keeps its orientation; camera space is left-handed, so a cross
+  // product of camera-space edges would flip it.
+  src.normal = glm::dvec3(glm::dot(n_world, camera.right()), glm::dot(n_world, camera.up()),
+                          glm::dot(n_world, camera.forward()));
+  src.offset = glm::dot(src.normal, cam[0]);
+  if (camera.perspective() ? src.offset == 0.0 : src.normal.z == 0.0) return;  // seen edge-on
+  src.front_facing = (camera.perspective() ? src.offset < 0.0 : src.normal.z < 0.0) ? 1u : 0u;
+  src.corner = cam[0];
+  glm::dvec3 e1 = cam[1] - cam[0], e2 = cam[2] - cam[0];
+  double d00 = glm::dot(e1, e1), d01 = glm::dot(e1, e2), d11 = glm::dot(e2, e2);
+  double den = d00 * d11 - d01 * d01;
+  if (!(den > 0.0)) return;
+  src.dual1 = glm::vec3((d11 * e1 - d01 * e2) / den);
+  src.dual2 = glm::vec3((d00 * e2 - d01 * e1) / den);
+  if (vertex_normals)
+    src.normals = *vertex_normals;
+  else
+    src.normals.fill(glm::vec3(n_world));
+  src.object = object;
+
+  // Trivial accept/reject before paying for the clipper.
+  bool all_inside = true;
+  for (const ClipPlaneEq& plane : clip_planes) {
+    int inside = 0;
+    for (const glm::dvec3& p : cam) inside += clip_distance(plane, p) >= 0.0 ? 1 : 0;
+    if (inside == 0) return;
+    all_inside = all_inside && inside == 3;
+  }
+  ClipPolygon poly;
+  poly.n = 3;
+  std::copy(cam.begin(), cam.end(), poly.v.begin());
+  if (!all_inside)
+    for (const ClipPlaneEq& plane : clip_planes) {
+      clip_polygon(poly, plane);
+      if (poly.n < 3) return;
+    }
+
+  std::array<FixedPoint, ClipPolygon::kCapacity> fixed;
+  const double guard = static_cast<double>(std::max(width, height));
+  for (int i = 0; i < poly.n; ++i) {
+    glm::dvec2 q = camera.project_camera(poly.v[i]);
+    // Clipping leaves points on the guard band up to rounding; the clamp bounds the integers.
+    q.x = std::clamp(q.x, -guard - 1.0, width + guard + 1.0);
+    q.y = std::clamp(q.y, -guard - 1.0, height + guard + 1.0);
+    fixed[i] = snap_to_subpixel(q);
+  }
+
+  const uint32_t source_index = static_cast<uint32_t>(sources.size());
+  bool used = false;
+  for (int i = 1; i + 1 < poly.n; ++i) {  // fan: the shared diagonals are exact in fixed point
+    const FixedPoint corners[3] = {fixed[0], fixed[i], fixed[i + 1]};
+    RasterTriangle rt;
+    if (!setup_triangle_edges(corners, rt.edges)) continue;
+    rt.min_x = std::min({corners[0].x, corners[1].x, corners[2].x});
+    rt.max_x = std::max({corners[0].x, corners[1].x, corners[2].x});
+    rt.min_y = std::min({corners[0].y, corners[1].y, corners[2].y});
+    rt.max_y = std::max({corners[0].y, corners[1].y, corners[2].y});
+    int64_t x0, x1, y0, y1;
+    pixel_span(rt.min_x, rt.max_x, 0, kSubpixelScale, x0, x1);
+    pixel_span(rt.min_y, rt.max_y, 0, kSubpixelScale, y0, y1);
+    if (x1 < 0 || y1 < 0 || x0 >= width || y0 >= height) continue;  // off screen
+    rt.source = source_index;
+    triangles.push_back(rt);
+    used = true;
+  }
+  if (used) sources.push_back(src);
+}
+
+void Rasterizer::Impl::build_bins() {
+  const size_t tile_count = static_cast<size_t>(tiles_x) * tiles_y;
+  bin_offsets.assign(tile_count + 1, 0);
+  // Two passes, count then fill, keep every bin in triangle (= scene) order.
+  auto for_each_tile_of = [&](const RasterTriangle& rt, auto&& fn) {
+    int64_t x0, x1, y0, y1;
+    pixel_span(rt.min_x, rt.max_x, 0, kSubpixelScale, x0, x1);
+    pixel_span(rt.min_y, rt.max_y, 0, kSubpixelScale, y0, y1);
+    int tx0 = static_cast<int>(std::max<int64_t>(x0, 0) / tile_size);
+    int tx1 = static_cast<int>(std::min<int64_t>(x1, width - 1) / tile_size);
+    int ty0 = static_cast<int>(std::max<int64_t>(y0, 0) / tile_size);
+    int ty1 = static_cast<int>(std::min<int64_t>(y1, height - 1) / tile_size);
+    for (int ty = ty0; ty <= ty1; ++ty)
+      for (int tx = tx0; tx <= tx1; ++tx) fn(static_cast<size_t>(ty) * tiles_x + tx);
+  };
+  for (const RasterTriangle& rt : triangles)
+    for_each_tile_of(rt, [&](size_t b) { ++bin_offsets[b + 1]; });
+  for (size_t b = 0; b < tile_count; ++b) bin_offsets[b + 1] += bin_offsets[b];
+  bin_items.resize(bin_offsets[tile_count]);
+  std::vector<uint32_t> cursor(bin_offsets.begin(), bin_offsets.end() - 1);
+  for (size_t i = 0; i < triangles.size(); ++i)
+    for_each_tile_of(triangles[i],
+                     [&](size_t b) { bin_items[cursor[b]++] = static_cast<uint32_t>(i); });
+}
+
+Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
+                       std::span<const PreparedVolume> volumes, int tile_size)
+    : tile_size_(tile_size) {
+  if (tile_size <= 0)
+    throw Error(fmt::format("rasterizer: tile size {} must be positive", tile_size));
+  if (camera.width() > kMaxImageSize || camera.height() > kMaxImageSize)
+    throw Error(fmt::format("rasterizer: image size {}x{} exceeds {} pixels", camera.width(),
+                            camera.height(), kMaxImageSize));
+  auto impl = std::make_shared<Impl>(camera);
+  Impl& im = *impl;
+  im.width = camera.width();
+  im.height = camera.height();
+  im.tile_size = tile_size;
+  im.tiles_x = (im.width + tile_size - 1) / tile_size;
+  im.tiles_y = (im.height + tile_size - 1) / tile_size;
+
+  // The affine map from screen coordinates (x/z, y/z, or x, y) to image positions.
+  glm::dvec2 at0 = camera.project_camera({0.0, 0.0, 1.0});
+  glm::dvec2 at1 = camera.project_camera({1.0, 1.0, 1.0});
+  im.image_origin = at0;
+  im.image_scale = at1 - at0;
+
+  // Near plane first (side planes are only valid for z > 0), then a guard band one image size
+  // wide on every side that keeps projected coordinates small for the fixed-point edges.
+  const double g = std::max(im.width, im.height);
+  const double ox = at0.x, oy = at0.y, kx = im.image_scale.x, ky = im.image_scale.y;
+  const double w = im.width, h = im.height;
+  if (camera.perspective()) {
+    im.clip_planes = {{0.0, 0.0, 1.0, -camera.near_plane()},
+                      {kx, 0.0, ox + g, 0.0},
+                      {-kx, 0.0, w + g - ox, 0.0},
+                      {0.0, ky, oy + g, 0.0},
+                      {0.0, -ky, h + g - oy, 0.0}};
+  } else {
+    // Orthographic rays start on the plane through the eye: keep z >= 0.
+    im.clip_planes = {{0.0, 0.0, 1.0, 0.0},
+                      {kx, 0.0, 0.0, ox + g},
+                      {-kx, 0.0, 0.0, w + g - ox},
+                      {0.0, ky, 0.0, oy + g},
+                      {0.0, -ky, 0.0, h + g - oy}};
+  }
+
+  for (const Light& light : scene.lights) im.lights.push_back(resolve_light(light));
+
+  auto to_camera = [&](const glm::vec3& p) { return camera.to_camera(glm::dvec3(p)); };
+  std::vector<bool> mesh_seen(scene.meshes.size(), false), plane_seen(scene.planes.size(), false);
+  std::vector<glm::dvec3> cam_positions;
+  for (size_t k = 0; k < scene.order.size(); ++k) {
+    const ObjectRef& ref = scene.order[k];
+    if (ref.kind == ObjectKind::volume) continue;
+    const bool is_mesh = ref.kind == ObjectKind::mesh;
+    const size_t count = is_mesh ? scene.meshes.size() : scene.planes.size();
+    if (ref.index < 0 || static_cast<size_t>(ref.index) >= count)
+      throw Error(fmt::format("scene order[{}]: {} index {} is out of range (the scene has {})", k,
+                              is_mesh ? "mesh" : "plane", ref.index, count));
+    ObjectInfo info;
+    info.order_index = static_cast<uint32_t>(k);
+    const uint32_t object = static_cast<uint32_t>(im.objects.size());
+
+    if (is_mesh) {
+      mesh_seen[ref.index] = true;
+      const MeshObject& mo = scene.meshes[ref.index];
+      if (!mo.mesh) throw Error(fmt::format("mesh '{}': has no mesh data", mo.name));
+      const Mesh& mesh = *mo.mesh;
+      const bool has_normals = !mesh.normals.empty();
+      if (has_normals && mesh.normals.size() != mesh.positions.size())
+        throw Error(fmt::format("mesh '{}': {} normals for {} positions", mo.name,
+                                mesh.normals.size(), mesh.positions.size()));
+      info.material = mo.material;
+      info.has_normals = has_normals;
+      im.objects.push_back(info);
+      // One transform per vertex: shared edges then clip and project bit-identically.
+      cam_positions.resize(mesh.positions.size());
+      std::transform(mesh.positions.begin(), mesh.positions.end(), cam_positions.begin(),
+                     to_camera);
+      for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const glm::uvec3& tri = mesh.triangles[t];
+        for (int c = 0; c < 3; ++c)
+          if (tri[c] >= mesh.positions.size())
+            throw Error(fmt::format("mesh '{}': triangle {} refers to vertex {} of {}", mo.name, t,
+                                    tri[c], mesh.positions.size()));
+        std::array<glm::dvec3, 3> world = {glm::dvec3(mesh.positions[tri[0]]),
+                                           glm::dvec3(mesh.positions[tri[1]]),
+                                           glm::dvec3(mesh.positions[tri[2]])};
+        std::array<glm::dvec3, 3> cam = {cam_positions[tri[0]], cam_positions[tri[1]],
+                                         cam_positions[tri[2]]};
+        std::array<glm::vec3, 3> normals;
+        if (has_normals)
+          normals = {mesh.normals[tri[0]], mesh.normals[tri[1]], mesh.normals[tri[2]]};
+        im.add_triangle(world, cam, has_normals ? &normals : nullptr, object);
+      }
+    } else {
+      plane_seen[ref.index] = true;
+      const PlaneObject& pl = scene.planes[ref.index];
+      if (!all_finite(pl.center) || !all_finite(pl.normal) || !all_finite(pl.up))
+        throw Error(fmt::format("plane '{}': center, normal and up must be finite", pl.name));
+      if (!(glm::length(pl.normal) > 0.0))
+        throw Error(fmt::format("plane '{}': normal is zero", pl.name));
+      if (!(pl.size.x > 0.0 && pl.size.y > 0.0) || !std::isfinite(pl.size.x) ||
+          !std::isfinite(pl.size.y))
+        throw Error(fmt::format("plane '{}': size [{}, {}] must be positive", pl.name, pl.size.x,
+                                pl.size.y));
+      if (pl.volume >= 0) {
+        if (static_cast<size_t>(pl.volume) >= volumes.size())
+          throw Error(fmt::format("plane '{}': volume index {} is out of range ({} volumes)",
+                                  pl.name, pl.volume, volumes.size()));
+        if (!(pl.window.y > 0.0))
+          throw Error(
+              fmt::format("plane '{}': window width {} must be positive", pl.name, pl.window.y));
+        info.volume = &volumes[pl.volume];
+        info.window_centre = static_cast<float>(pl.window.x);
+        info.window_width = static_cast<float>(pl.window.y);
+      }
+      info.is_plane = true;
+      info.plane_color = pl.color;
+      info.plane_opacity = pl.opacity;
+      im.objects.push_back(info);
+      // Height along `up` made perpendicular to the normal, width along height x normal, so
+      // (width, height, normal) is right-handed and the triangles wind around the normal.
+      glm::dvec3 n = glm::normalize(pl.normal);
+      glm::dvec3 v = pl.up - glm::dot(pl.up, n) * n;
+      if (!(glm::length(v) > 1e-9 * glm::length(pl.up)) || !(glm::length(pl.up) > 0.0))
+        throw Error(fmt::format("plane '{}': up is zero or parallel to the normal", pl.name));
+      v = glm::normalize(v);
+      glm::dvec3 u = glm::cross(v, n);
+      glm::dvec3 hu = 0.5 * pl.size.x * u, hv = 0.5 * pl.size.y * v;
+      std::array<glm::dvec3, 4> corners = {pl.center - hu - hv, pl.center + hu - hv,
+                                           pl.center + hu + hv, pl.center - hu + hv};
+      std::array<glm::dvec3, 4> cam;
+      for (int c = 0; c < 4; ++c) cam[c] = camera.to_camera(corners[c]);
+      im.add_triangle({corners[0], corners[1], corners[2]}, {cam[0], cam[1], cam[2]}, nullptr,
+                      object);
+      im.add_triangle({corners[0], corners[2], corners[3]}, {cam[0], cam[2], cam[3]}, nullptr,
+                      object);
+    }
+  }
+  for (size_t i = 0; i < mesh_seen.size(); ++i)
+    if (!mesh_seen[i])
+      throw Error(fmt::format("mesh '{}': missing from the scene order", scene.meshes[i].name));
+  for (size_t i = 0; i < plane_seen.size(); ++i)
+    if (!plane_seen[i])
+      throw Error(fmt::format("plane '{}': missing from the scene order", scene.planes[i].name));
+  im.build_bins();
+  impl_ = std::move(impl);
+}
+
+size_t Rasterizer::triangle_count() const {
+  return impl_->triangles.size();
+}
+
+void Rasterizer::rasterize(const TileRect& tile, std::span<const glm::vec2> offsets,
+                           SampleFragments& out) const {
+  const Impl& im = *impl_;
+  const int ts = im.tile_size;
+  if (tile.x0 < 0 || tile.y0 < 0 || tile.x0 % ts != 0 || tile.y0 % ts != 0 || tile.x0 >= im.width ||
+      tile.y0 >= im.height || tile.x1 != std::min(tile.x0 + ts, im.width) ||
+      tile.y1 != std::min(tile.y0 + ts, im.height))
+    throw Error(
+        fmt::format("rasterize: tile [{}, {}) x [{}, {}) is not a tile of the {}-pixel grid "
+                    "of a {}x{} image",
+                    tile.x0, tile.x1, tile.y0, tile.y1, ts, im.width, im.height));
+  const size_t sample_count = offsets.size();
+  if (sample_count == 0 || sample_count > kMaxSamples)
+    throw Error(fmt::format("rasterize: {} samples per pixel, expected 1 to {}", sample_count,
+                            kMaxSamples));
+  std::array<int64_t, kMaxSamples> fx, fy;  // fixed-point sample offsets
+  int64_t ox_lo = kSubpixelScale, ox_hi = 0, oy_lo = kSubpixelScale, oy_hi = 0;
+  for (size_t s = 0; s < sample_count; ++s) {
+    const glm::vec2& o = offsets[s];
+    if (!(o.x >= 0.0f && o.x <= 1.0f && o.y >= 0.0f && o.y <= 1.0f))
+      throw Error(
+          fmt::format("rasterize: sample offset {} ({}, {}) is outside the pixel", s, o.x, o.y));
+    FixedPoint f = snap_to_subpixel(glm::dvec2(o));
+    fx[s] = f.x;
+    fy[s] = f.y;
+    ox_lo = std::min(ox_lo, f.x);
+    ox_hi = std::max(ox_hi, f.x);
+    oy_lo = std::min(oy_lo, f.y);
+    oy_hi = std::max(oy_hi, f.y);
+  }
+
+  const int tw = tile.width();
+  const size_t total_samples = static_cast<size_t>(tw) * tile.height() * sample_count;
+  const size_t bin = static_cast<size_t>(tile.y0 / ts) * im.tiles_x + tile.x0 / ts;
+  const std::span<const uint32_t> items(im.bin_items.data() + im.bin_offsets[bin],
+                                        im.bin_items.data() + im.bin_offsets[bin + 1]);
+
+  // Calls fn(sample index, triangle, offset index) for every sample the edges of a triangle
+  // of this tile cover, in triangle (= scene) order.
+  std::array<int64_t, kMaxSamples> d0, d1, d2;  // per-sample edge function increments
+  auto for_each_covered = [&](auto&& fn) {
+    for (uint32_t item : items) {
+      const RasterTriangle& rt = im.triangles[item];
+      const TriangleEdges& e = rt.edges;
+      int64_t x0, x1, y0, y1;
+      pixel_span(rt.min_x, rt.max_x, ox_lo, ox_hi, x0, x1);
+      pixel_span(rt.min_y, rt.max_y, oy_lo, oy_hi, y0, y1);
+      x0 = std::max<int64_t>(x0, tile.x0);
+      x1 = std::min<int64_t>(x1, tile.x1 - 1);
+      y0 = std::max<int64_t>(y0, tile.y0);
+      y1 = std::min<int64_t>(y1, tile.y1 - 1);
+      if (x0 > x1 || y0 > y1) continue;
+      // E(pixel corner + offset) = E(pixel corner) + d[s], exactly, in integers.
+      int64_t max0 = INT64_MIN, max1 = INT64_MIN, max2 = INT64_MIN;
+      for (size_t s = 0; s < sample_count; ++s) {
+        d0[s] = e.a[0] * fx[s] + e.b[0] * fy[s];
+        d1[s] = e.a[1] * fx[s] + e.b[1] * fy[s];
+        d2[s] = e.a[2] * fx[s] + e.b[2] * fy[s];
+        max0 = std::max(max0, d0[s]);
+        max1 = std::max(max1, d1[s]);
+        max2 = std::max(max2, d2[s]);
+      }
+      for (int64_t y = y0; y <= y1; ++y)
+        for (int64_t x = x0; x <= x1; ++x) {
+          const int64_t px = x * kSubpixelScale, py = y * kSubpixelScale;
+          const int64_t e0 = e.a[0] * px + e.b[0] * py + e.c[0];
+          const int64_t e1 = e.a[1] * px + e.b[1] * py + e.c[1];
+          const int64_t e2 = e.a[2] * px + e.b[2] * py + e.c[2];
+          if (e0 + max0 < 0 || e1 + max1 < 0 || e2 + max2 < 0) continue;  // no sample inside
+          const size_t base =
+              (static_cast<size_t>(y - tile.y0) * tw + (x - tile.x0)) * sample_count;
+          for (size_t s = 0; s < sample_count; ++s)
+            if (((e0 + d0[s]) | (e1 + d1[s]) | (e2 + d2[s])) >= 0) fn(base + s, rt, x, y, s);
+        }
+    }
+  };
+
+  // Count (integer coverage only), prefix-sum, fill. A covered sample whose ray misses the
+  // plane in front of the eye (grazing triangles) or a plane's volume leaves a hole, removed
+  // afterwards, so the count pass stays cheap.
+  std::vector<uint32_t>& start = out.offsets;
+  std::vector<Fragment>& frags = out.fragments;
+  start.assign(total_samples + 1, 0u);
+  for_each_covered(
+      [&](size_t sample, const RasterTriangle&, int64_t, int64_t, size_t) { ++start[sample]; });
+  uint32_t running = 0;
+  for (size_t s = 0; s <= total_samples; ++s) {
+    uint32_t c = start[s];
+    start[s] = running;
+    running += c;
+  }
+  frags.resize(running);
+  bool holes = false;
+  for_each_covered([&](size_t sample, const RasterTriangle& rt, int64_t x, int64_t y, size_t s) {
+    const SourceTriangle& src = im.sources[rt.source];
+    Fragment& f = frags[start[sample]++];
+    if (!im.make_fragment(src, im.objects[src.object], static_cast<double>(x) + offsets[s].x,
+                          static_cast<double>(y) + offsets[s].y, f)) {
+      f.object = kHole;
+      holes = true;
+    }
+  });
+  // start[s] now holds the end of sample s, i.e. the beginning of s + 1.
+  for (size_t s = total_samples; s > 0; --s) start[s] = start[s - 1];
+  start[0] = 0;
+  if (holes) {
+    uint32_t kept = 0, row_begin = 0;
+    for (size_t s = 0; s < total_samples; ++s) {
+      const uint32_t row_end = start[s + 1];
+      for (uint32_t i = row_begin; i < row_end; ++i)
+        if (frags[i].object != kHole) frags[kept++] = frags[i];
+      row_begin = row_end;
+      start[s + 1] = kept;
+    }
+    frags.resize(kept);
+  }
+
+  // Stable by t: fragments arrived in triangle order, which is scene order.
+  auto by_depth = [](const Fragment& a, const Fragment& b) { return a.t < b.t; };
+  for (size_t s = 0; s < total_samples; ++s) {
+    Fragment* first = out.fragments.data() + start[s];
+    Fragment* last = out.fragments.data() + start[s + 1];
+    if (last - first < 2) continue;
+    if (static_cast<uint32_t>(last - first) > kInsertionSortLimit) {
+      std::stable_sort(first, last, by_depth);
+      continue;
+    }
+    for (Fragment* i = first + 1; i < last; ++i) {
+      Fragment v = *i;
+      Fragment* j = i;
+      for (; j > first && by_depth(v, *(j - 1)); --j) *j = *(j - 1);
+      *j = v;
+    }
+  }
+}
+
+}  // namespace imx

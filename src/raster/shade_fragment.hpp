@@ -1,0 +1,43 @@
+// Shading of surface fragments: lit mesh surfaces and window/levelled planes (pure, premultiplied).
+#pragma once
+#include <algorithm>
+#include <span>
+
+#include <glm/glm.hpp>
+
+#include "core/blinn_phong.hpp"
+#include "intermix/scene.hpp"
+#include "volume/prepared_volume.hpp"
+
+namespace imx {
+
+// A mesh fragment: Blinn-Phong lit material colour, premultiplied by the material's opacity.
+// `normal` need not be unit length; `to_eye` is the unit vector back along the ray.
+inline glm::vec4 shade_mesh_fragment(const Material& material, const glm::vec3& normal,
+                                     const glm::vec3& to_eye,
+                                     std::span<const ShadingLight> lights) {
+  glm::vec3 rgb = blinn_phong(material.shading, material.color, normal, to_eye, lights);
+  return {rgb * material.opacity, material.opacity};
+}
+
+// Grey level of `value` through a window of (centre, width): 0 below it, 1 above, linear inside.
+inline float window_level(float value, float centre, float width) {
+  return std::clamp((value - (centre - 0.5f * width)) / width, 0.0f, 1.0f);
+}
+
+// A plane fragment (unlit): `grey` times the plane colour, premultiplied by its opacity.
+inline glm::vec4 shade_plane_fragment(const glm::vec3& color, float opacity, float grey) {
+  return {grey * opacity * color, opacity};
+}
+
+// The value a plane shows at a world point of `volume`; false where the point lies outside the
+// grid, where the plane has no fragment at all.
+inline bool sample_plane_volume(const PreparedVolume& volume, const glm::vec3& world,
+                                float& value) {
+  glm::vec3 index = volume.to_index(world);
+  if (!volume.grid.inside(index)) return false;
+  value = volume.grid.sample(index);
+  return true;
+}
+
+}  // namespace imx

@@ -1,0 +1,122 @@
+// load_scene / parse_scene: JSON text -> overrides -> validated Scene.
+#include <fstream>
+#include <sstream>
+#include <system_error>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "intermix/error.hpp"
+#include "intermix/scene.hpp"
+#include "scene/overrides.hpp"
+#include "scene/scene_parsers.hpp"
+
+namespace imx {
+namespace {
+
+using detail::JsonReader;
+
+// nlohmann's messages start with "[json.exception.parse_error.101] ": keep the readable part.
+std::string readable(const std::string& what) {
+  size_t close = what.find("] ");
+  return what.rfind("[json.exception.", 0) == 0 && close != std::string::npos
+             ? what.substr(close + 2)
+             : what;
+}
+
+// Checks a name for use in --set paths and plane references.
+void check_name(const JsonReader& r, const std::string& name) {
+  if (name.empty()) r.fail("the name is empty");
+  if (name.find_first_of(".[]=") != std::string::npos)
+    r.fail(fmt::format("{} may not contain '.', '[', ']' or '=' (they separate --set paths)",
+                       r.text()));
+  if (name.find_first_not_of("0123456789") == std::string::npos)
+    r.fail(fmt::format("{} is all digits, which --set would read as an index", r.text()));
+}
+
+Scene parse_document(const nlohmann::json& root, const std::filesystem::path& base_dir,
+                     const std::string& origin) {
+  JsonReader r(root, origin);
+  if (auto csg = r.find("csg")) csg->fail("CSG is not supported yet");
+  r.check_keys({"description", "camera", "image", "lights", "objects", "render"});
+  Scene scene;
+  if (auto v = r.find("description")) v->string();
+  if (auto v = r.find("camera")) scene.camera = detail::parse_camera(*v);
+  if (auto v = r.find("image")) scene.image = detail::parse_image(*v);
+  if (auto v = r.find("lights")) scene.lights = detail::parse_lights(*v);
+  if (auto v = r.find("render")) scene.render = detail::parse_render(*v);
+
+  // First every name and type, so that planes may name volumes listed after them.
+  const std::vector<JsonReader> objects = r.get("objects").elements();
+  std::map<std::string, std::string> types;
+  std::map<std::string, size_t> first_use;
+  std::vector<std::string> kinds;
+  for (size_t i = 0; i < objects.size(); ++i) {
+    const JsonReader& o = objects[i];
+    o.expect_object();
+    JsonReader name_reader = o.get("name");
+    std::string name = name_reader.string();
+    check_name(name_reader, name);
+    if (auto [it, fresh] = first_use.emplace(name, i); !fresh)
+      name_reader.fail(
+          fmt::format("{} is already the name of objects[{}]", name_reader.text(), it->second));
+    kinds.push_back(o.get("type").choice({"volume", "mesh", "plane"}));
+    types[name] = kinds.back();
+  }
+
+  detail::SceneContext context{base_dir, {}, {}};
+  for (size_t i = 0; i < objects.size(); ++i)
+    if (kinds[i] == "volume")
+      scene.volumes.push_back(detail::parse_volume_object(objects[i], context));
+  std::vector<ObjectRef> order;
+  int volume_index = 0;
+  for (size_t i = 0; i < objects.size(); ++i) {
+    if (kinds[i] == "volume") {
+      order.push_back({ObjectKind::volume, volume_index++});
+    } else if (kinds[i] == "mesh") {
+      order.push_back({ObjectKind::mesh, static_cast<int>(scene.meshes.size())});
+      scene.meshes.push_back(detail::parse_mesh_object(objects[i], context));
+    } else {
+      order.push_back({ObjectKind::plane, static_cast<int>(scene.planes.size())});
+      scene.planes.push_back(detail::parse_plane_object(objects[i], scene, types));
+    }
+  }
+  scene.order = std::move(order);
+  return scene;
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& json_text, const std::filesystem::path& base_dir,
+                  const std::string& origin, const std::vector<std::string>& overrides) {
+  nlohmann::json root;
+  try {
+    root = nlohmann::json::parse(json_text);
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(fmt::format("{}: invalid JSON: {}", origin, readable(e.what())));
+  }
+  if (!root.is_object())
+    throw Error(fmt::format("{}: expected a JSON object at the top level, got {}", origin,
+                            root.type_name()));
+  for (const std::string& assignment : overrides) detail::apply_override(root, assignment, origin);
+  return parse_document(root, base_dir, origin);
+}
+
+Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec))
+    throw Error(fmt::format("{}: no such file", file.string()));
+  if (std::filesystem::is_directory(file, ec))
+    throw Error(fmt::format("{}: is a directory, not a scene file", file.string()));
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw Error(fmt::format("{}: cannot open the file", file.string()));
+  std::ostringstream text;
+  text << in.rdbuf();
+  std::filesystem::path base_dir = file.parent_path();
+  if (base_dir.empty()) base_dir = ".";
+  Scene scene = parse_scene(text.str(), base_dir, file.string(), overrides);
+  scene.file = file;
+  return scene;
+}
+
+}  // namespace imx

@@ -1,0 +1,117 @@
+// Parser for a "mesh" object: a mesh file or a primitive, its transform and material.
+#include <exception>
+#include <system_error>
+
+#include <fmt/format.h>
+
+#include "intermix/io.hpp"
+#include "io/mesh_primitives.hpp"
+#include "scene/scene_parsers.hpp"
+
+namespace imx::detail {
+namespace {
+
+constexpr int kDefaultSegments = 64;
+
+int segments(const JsonReader& src) {
+  if (auto v = src.find("segments")) return v->integer(3, 4096);
+  return kDefaultSegments;
+}
+
+// A size given as one number (all edges equal) or as `n` numbers.
+std::vector<double> sizes(const JsonReader& r, size_t n) {
+  if (r.json().is_number()) return std::vector<double>(n, r.number(Range::positive()));
+  if (!r.json().is_array())
+    r.fail(fmt::format("expected a positive number or an array of {} positive numbers, got {}", n,
+                       r.describe()));
+  return r.numbers(n, Range::positive());
+}
+
+Mesh make_primitive(const JsonReader& src) {
+  const std::string kind =
+      src.get("primitive").choice({"sphere", "box", "cylinder", "torus", "quad"});
+  if (kind == "sphere") {
+    src.check_keys({"primitive", "radius", "segments"});
+    return make_sphere(src.get("radius").number(Range::positive()), segments(src));
+  }
+  if (kind == "box") {
+    src.check_keys({"primitive", "size"});
+    std::vector<double> s = sizes(src.get("size"), 3);
+    return make_box({s[0], s[1], s[2]});
+  }
+  if (kind == "cylinder") {
+    src.check_keys({"primitive", "radius", "height", "segments"});
+    return make_cylinder(src.get("radius").number(Range::positive()),
+                         src.get("height").number(Range::positive()), segments(src));
+  }
+  if (kind == "torus") {
+    src.check_keys({"primitive", "major_radius", "minor_radius", "segments"});
+    double major = src.get("major_radius").number(Range::positive());
+    JsonReader minor_reader = src.get("minor_radius");
+    double minor = minor_reader.number(Range::positive());
+    if (minor >= major)
+      minor_reader.fail(
+          fmt::format("{} must be less than major_radius {} (the torus would "
+                      "intersect itself)",
+                      minor, major));
+    return make_torus(major, minor, segments(src));
+  }
+  src.check_keys({"primitive", "size"});
+  std::vector<double> s = sizes(src.get("size"), 2);
+  return make_quad({s[0], s[1]});
+}
+
+// The mesh a "source" names, in its own units (files are read once per scene).
+std::shared_ptr<const Mesh> load_mesh_source(const JsonReader& src, SceneContext& context) {
+  // Every key a source may have first, so that a misspelt "file" gets a suggestion.
+  src.check_keys({"file", "primitive", "radius", "size", "height", "major_radius", "minor_radius",
+                  "segments"});
+  const bool file = src.has("file"), primitive = src.has("primitive");
+  if (file == primitive)
+    src.fail(file ? "give either \"file\" or \"primitive\", not both"
+                  : "needs \"file\" (a mesh file) or \"primitive\" (sphere, box, cylinder, "
+                    "torus or quad)");
+  if (primitive) return std::make_shared<const Mesh>(make_primitive(src));
+  src.check_keys({"file"});
+  JsonReader file_reader = src.get("file");
+  std::filesystem::path path = context.resolve_file(file_reader);
+  std::error_code ec;
+  std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
+  std::string key = (ec ? path : canonical).string();
+  if (auto it = context.meshes.find(key); it != context.meshes.end()) return it->second;
+  std::shared_ptr<const Mesh> mesh;
+  try {
+    mesh = std::make_shared<const Mesh>(read_mesh(path));
+  } catch (const std::exception& e) {
+    file_reader.fail(e.what());
+  }
+  context.meshes.emplace(key, mesh);
+  return mesh;
+}
+
+Material parse_material(const JsonReader& r) {
+  r.check_keys({"color", "opacity", "shading"});
+  Material m;
+  if (auto v = r.find("color")) m.color = v->color();
+  if (auto v = r.find("opacity"))
+    m.opacity = static_cast<float>(v->number(Range::closed(0.0, 1.0)));
+  if (auto v = r.find("shading")) m.shading = parse_shading(*v);
+  return m;
+}
+
+}  // namespace
+
+MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context) {
+  r.check_keys({"name", "type", "source", "transform", "material", "thickness"});
+  MeshObject m;
+  m.name = r.get("name").string();
+  glm::dmat4 transform(1.0);
+  if (auto t = r.find("transform")) transform = parse_transform(*t);
+  if (auto v = r.find("material")) m.material = parse_material(*v);
+  if (auto v = r.find("thickness")) m.thickness = parse_thickness(*v);
+  std::shared_ptr<const Mesh> mesh = load_mesh_source(r.get("source"), context);
+  m.mesh = std::make_shared<const Mesh>(transform_mesh(*mesh, transform));
+  return m;
+}
+
+}  // namespace imx::detail

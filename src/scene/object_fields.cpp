@@ -1,0 +1,49 @@
+// Parsers for fields that several object types share: shading, thickness and file sources.
+#include <system_error>
+
+#include <fmt/format.h>
+
+#include "scene/scene_parsers.hpp"
+
+namespace imx::detail {
+
+std::filesystem::path SceneContext::resolve_file(const JsonReader& file) const {
+  std::string name = file.string();
+  if (name.empty()) file.fail("the file name is empty");
+  std::filesystem::path path(name);
+  if (path.is_relative() && !base_dir.empty()) path = base_dir / path;
+  path = path.lexically_normal();
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
+    file.fail(fmt::format("no such file '{}'", path.string()));
+  if (std::filesystem::is_directory(path, ec))
+    file.fail(fmt::format("'{}' is a directory, not a file", path.string()));
+  return path;
+}
+
+Shading parse_shading(const JsonReader& r) {
+  r.check_keys({"enabled", "ambient", "diffuse", "specular", "shininess"});
+  Shading s;
+  s.enabled = true;
+  if (auto v = r.find("enabled")) s.enabled = v->boolean();
+  if (auto v = r.find("ambient")) s.ambient = static_cast<float>(v->number(Range::non_negative()));
+  if (auto v = r.find("diffuse")) s.diffuse = static_cast<float>(v->number(Range::non_negative()));
+  if (auto v = r.find("specular"))
+    s.specular = static_cast<float>(v->number(Range::non_negative()));
+  if (auto v = r.find("shininess"))
+    s.shininess = static_cast<float>(v->number(Range::closed(0.0, 10000.0)));
+  return s;
+}
+
+std::optional<double> parse_thickness(const JsonReader& r) {
+  if (r.json().is_string()) {
+    if (r.string() != "auto")
+      r.fail(fmt::format("expected a positive number of mm or \"auto\", got {}", r.describe()));
+    return std::nullopt;
+  }
+  if (!r.json().is_number())
+    r.fail(fmt::format("expected a positive number of mm or \"auto\", got {}", r.describe()));
+  return r.number(Range::positive());
+}
+
+}  // namespace imx::detail

@@ -1,0 +1,16 @@
+// --set overrides: "path=value" assignments applied to a scene's raw JSON before validation.
+#pragma once
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace imx::detail {
+
+// Applies one assignment. The path is dotted keys with array indices as numbers or in brackets
+// ("objects.0.material.opacity", "objects[0].material.opacity"); an array of objects may also be
+// indexed by an element's "name" ("objects.implant.material.opacity"). Missing object keys are
+// created. The value is JSON when it parses as JSON, else a string.
+// Throws imx::Error "origin: --set ASSIGNMENT: problem".
+void apply_override(nlohmann::json& root, const std::string& assignment, const std::string& origin);
+
+}  // namespace imx::detail

@@ -1,0 +1,103 @@
+// Parser for a "plane" object: a rectangle in world space, optionally showing a volume.
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+#include <glm/glm.hpp>
+
+#include "core/math.hpp"
+#include "scene/edit_distance.hpp"
+#include "scene/scene_parsers.hpp"
+
+namespace imx::detail {
+namespace {
+
+// Corners of the volume's voxel extent (half a voxel beyond the centres), in world space.
+void world_bounds(const VolumeObject& v, glm::dvec3& lo, glm::dvec3& hi) {
+  lo = glm::dvec3(std::numeric_limits<double>::infinity());
+  hi = -lo;
+  const glm::dvec3 d = glm::dvec3(v.data->dims) - 0.5;
+  for (int c = 0; c < 8; ++c) {
+    glm::dvec3 index((c & 1) ? d.x : -0.5, (c & 2) ? d.y : -0.5, (c & 4) ? d.z : -0.5);
+    glm::dvec3 p = transform_point(v.index_to_world, index);
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+}
+
+// The world axis least aligned with the normal, made perpendicular to it: +y unless the
+// plane faces along y.
+glm::dvec3 default_up(const glm::dvec3& normal) {
+  glm::dvec3 axis =
+      std::abs(normal.y) < 0.9 ? glm::dvec3(0.0, 1.0, 0.0) : glm::dvec3(0.0, 0.0, 1.0);
+  return glm::normalize(axis - glm::dot(axis, normal) * normal);
+}
+
+}  // namespace
+
+PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
+                               const std::map<std::string, std::string>& object_types) {
+  r.check_keys({"name", "type", "center", "normal", "up", "size", "volume", "window", "color",
+                "opacity", "thickness"});
+  PlaneObject p;
+  p.name = r.get("name").string();
+  const VolumeObject* volume = nullptr;
+  if (auto v = r.find("volume")) {
+    std::string name = v->string();
+    for (size_t i = 0; i < scene.volumes.size(); ++i)
+      if (scene.volumes[i].name == name) {
+        p.volume = static_cast<int>(i);
+        volume = &scene.volumes[i];
+      }
+    if (volume == nullptr) {
+      auto it = object_types.find(name);
+      if (it != object_types.end())
+        v->fail(fmt::format("'{}' is a {}, not a volume", name, it->second));
+      std::vector<std::string> names;
+      for (const VolumeObject& vo : scene.volumes) names.push_back(vo.name);
+      v->fail(fmt::format("no volume named '{}'{}", name, did_you_mean(name, names)));
+    }
+  }
+  glm::dvec3 lo(0.0), hi(0.0);
+  if (volume != nullptr) world_bounds(*volume, lo, hi);
+
+  if (auto v = r.find("center"))
+    p.center = v->vec3();
+  else if (volume != nullptr)
+    p.center = 0.5 * (lo + hi);
+  else
+    r.fail("missing required key 'center' (only a plane with a \"volume\" defaults to its centre)");
+  p.normal = r.get("normal").direction();
+  if (auto v = r.find("up")) {
+    glm::dvec3 up = v->direction();
+    glm::dvec3 in_plane = up - glm::dot(up, p.normal) * p.normal;
+    if (glm::length(in_plane) < 1e-6) v->fail(v->text() + " is parallel to the normal");
+    p.up = glm::normalize(in_plane);
+  } else {
+    p.up = default_up(p.normal);
+  }
+  if (auto v = r.find("size")) {
+    if (v->json().is_number())
+      p.size = glm::dvec2(v->number(Range::positive()));
+    else if (v->json().is_array())
+      p.size = v->vec2(Range::positive());
+    else
+      v->fail("expected a positive number or [width, height], got " + v->describe());
+  } else if (volume != nullptr) {
+    p.size = glm::dvec2(glm::length(hi - lo));  // the bounding box diagonal covers any cut
+  } else {
+    r.fail("missing required key 'size' (only a plane with a \"volume\" defaults to covering it)");
+  }
+  if (auto v = r.find("window")) {
+    glm::dvec2 w = v->vec2();
+    if (!(w.y > 0.0)) v->at(1).fail(fmt::format("window width {} must be > 0", w.y));
+    p.window = w;
+  }
+  if (auto v = r.find("color")) p.color = v->color();
+  if (auto v = r.find("opacity"))
+    p.opacity = static_cast<float>(v->number(Range::closed(0.0, 1.0)));
+  if (auto v = r.find("thickness")) p.thickness = parse_thickness(*v);
+  return p;
+}
+
+}  // namespace imx::detail

@@ -1,0 +1,49 @@
+// The parsers for each part of a scene file, shared by load_scene and its tests.
+#pragma once
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+
+#include "intermix/scene.hpp"
+#include "scene/json_reader.hpp"
+
+namespace imx::detail {
+
+// State shared while one scene's objects are read: where relative paths start, and loaded
+// sources so that objects with the same source share one copy.
+struct SceneContext {
+  std::filesystem::path base_dir;
+  std::map<std::string, std::shared_ptr<const VolumeData>> volumes;
+  std::map<std::string, std::shared_ptr<const Mesh>> meshes;
+
+  // A "file" value resolved against base_dir; throws naming the resolved path when missing.
+  std::filesystem::path resolve_file(const JsonReader& file) const;
+};
+
+Camera parse_camera(const JsonReader& r);
+ImageSettings parse_image(const JsonReader& r);
+std::vector<Light> parse_lights(const JsonReader& r);
+RenderSettings parse_render(const JsonReader& r);
+
+// {"matrix": 4x4 row-major} or {"translate", "rotate_deg", "scale"} as T * Rz * Ry * Rx * S.
+// Throws when an entry is not finite or the transform is singular or not affine.
+glm::dmat4 parse_transform(const JsonReader& r);
+
+// {"enabled", "ambient", "diffuse", "specular", "shininess"}; `enabled` defaults to true.
+Shading parse_shading(const JsonReader& r);
+// A positive number of mm, or "auto" (nullopt).
+std::optional<double> parse_thickness(const JsonReader& r);
+
+VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context);
+MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context);
+// `scene` holds the volumes, which "volume" may name; `object_types` maps every object's name
+// to its type, for a clear message when "volume" names a mesh or a plane.
+PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
+                               const std::map<std::string, std::string>& object_types);
+
+}  // namespace imx::detail

@@ -1,0 +1,104 @@
+// Parsers for the scene-wide blocks: camera, image, lights and render settings.
+#include <cmath>
+
+#include <fmt/format.h>
+#include <glm/glm.hpp>
+
+#include "scene/scene_parsers.hpp"
+
+namespace imx::detail {
+namespace {
+
+constexpr int kMaxImageSize = 16384;
+
+bool is_perfect_square(int n) {
+  int r = static_cast<int>(std::lround(std::sqrt(static_cast<double>(n))));
+  return r * r == n;
+}
+
+}  // namespace
+
+Camera parse_camera(const JsonReader& r) {
+  r.check_keys({"eye", "target", "up", "fov_deg", "projection", "ortho_height"});
+  Camera cam;
+  if (auto v = r.find("eye")) cam.eye = v->vec3();
+  if (auto v = r.find("target")) cam.target = v->vec3();
+  if (auto v = r.find("up")) cam.up = v->direction();
+  if (auto v = r.find("fov_deg")) cam.fov_deg = v->number(Range::open(0.0, 180.0));
+  if (auto v = r.find("projection"))
+    cam.projection = v->choice({"perspective", "orthographic"}) == "perspective"
+                         ? Projection::perspective
+                         : Projection::orthographic;
+  if (auto v = r.find("ortho_height")) cam.ortho_height = v->number(Range::positive());
+  glm::dvec3 view = cam.target - cam.eye;
+  if (glm::length(view) < 1e-9)
+    r.fail(fmt::format("eye and target are the same point [{}, {}, {}]", cam.eye.x, cam.eye.y,
+                       cam.eye.z));
+  if (glm::length(glm::cross(glm::normalize(view), cam.up)) < 1e-6)
+    r.fail(fmt::format("up [{}, {}, {}] is parallel to the view direction (target - eye)", cam.up.x,
+                       cam.up.y, cam.up.z));
+  return cam;
+}
+
+ImageSettings parse_image(const JsonReader& r) {
+  r.check_keys({"width", "height", "background"});
+  ImageSettings image;
+  if (auto v = r.find("width")) image.width = v->integer(1, kMaxImageSize);
+  if (auto v = r.find("height")) image.height = v->integer(1, kMaxImageSize);
+  if (auto v = r.find("background")) {
+    if (!v->json().is_array() || (v->json().size() != 3 && v->json().size() != 4))
+      v->fail("expected [r, g, b] or [r, g, b, a], got " + v->describe());
+    for (size_t i = 0; i < v->json().size(); ++i)
+      image.background[static_cast<int>(i)] =
+          static_cast<float>(v->at(i).number(Range::closed(0.0, 1.0)));
+    if (v->json().size() == 3) image.background.a = 1.0f;
+  }
+  return image;
+}
+
+std::vector<Light> parse_lights(const JsonReader& r) {
+  std::vector<Light> lights;
+  for (const JsonReader& e : r.elements()) {
+    e.check_keys({"type", "direction", "intensity", "color"});
+    Light light;
+    if (auto v = e.find("type"))
+      light.type = v->choice({"headlight", "directional"}) == "headlight" ? LightType::headlight
+                                                                          : LightType::directional;
+    if (light.type == LightType::directional)
+      light.direction = e.get("direction").direction();
+    else if (auto v = e.find("direction"))
+      v->fail("only directional lights have a direction (a headlight shines along the view)");
+    if (auto v = e.find("intensity"))
+      light.intensity = static_cast<float>(v->number(Range::non_negative()));
+    if (auto v = e.find("color")) light.color = v->color();
+    lights.push_back(light);
+  }
+  return lights;
+}
+
+RenderSettings parse_render(const JsonReader& r) {
+  r.check_keys({"method", "spp", "step_mm", "reference_step_fraction", "ert_threshold", "layers",
+                "rt_layers", "peel_layers", "interpolation", "beta"});
+  RenderSettings s;
+  if (auto v = r.find("method")) {
+    s.method = v->string();
+    if (s.method.empty()) v->fail("the method name is empty");
+  }
+  if (auto v = r.find("spp")) {
+    s.spp = v->integer(1, 1024);
+    if (!is_perfect_square(s.spp))
+      v->fail(fmt::format("{} is not a perfect square (1, 4, 9, 16, 25, ...)", s.spp));
+  }
+  if (auto v = r.find("step_mm")) s.step_mm = v->number(Range::positive());
+  if (auto v = r.find("reference_step_fraction"))
+    s.reference_step_fraction = v->number(Range::open_closed(0.0, 1.0));
+  if (auto v = r.find("ert_threshold")) s.ert_threshold = v->number(Range::open_closed(0.0, 1.0));
+  if (auto v = r.find("layers")) s.layers = v->integer(4, 64);
+  if (auto v = r.find("rt_layers")) s.rt_layers = v->integer(1, 64);
+  if (auto v = r.find("peel_layers")) s.peel_layers = v->integer(1, 1024);
+  if (auto v = r.find("interpolation")) s.interpolation = v->choice({"ovi", "hvi", "blend"});
+  if (auto v = r.find("beta")) s.beta = v->number(Range::closed(0.0, 1.0));
+  return s;
+}
+
+}  // namespace imx::detail

@@ -1,0 +1,66 @@
+// Parser for an object's "transform": a 4x4 matrix, or translate / rotate / scale.
+#include <cmath>
+
+#include <fmt/format.h>
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "core/math.hpp"
+#include "scene/scene_parsers.hpp"
+
+namespace imx::detail {
+namespace {
+
+glm::dmat4 parse_matrix(const JsonReader& r) {
+  if (!r.json().is_array() || r.json().size() != 4)
+    r.fail("expected 4 rows of 4 numbers (row-major), got " + r.describe());
+  glm::dmat4 m(1.0);
+  for (size_t row = 0; row < 4; ++row) {
+    std::vector<double> v = r.at(row).numbers(4);
+    for (int col = 0; col < 4; ++col) m[col][static_cast<int>(row)] = v[col];
+  }
+  if (m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0)
+    r.at(3).fail(fmt::format("the last row must be [0, 0, 0, 1] (an affine transform), got {}",
+                             r.at(3).text()));
+  return m;
+}
+
+}  // namespace
+
+glm::dmat4 parse_transform(const JsonReader& r) {
+  r.check_keys({"matrix", "translate", "rotate_deg", "scale"});
+  glm::dmat4 m(1.0);
+  if (auto v = r.find("matrix")) {
+    if (r.has("translate") || r.has("rotate_deg") || r.has("scale"))
+      r.fail("give either \"matrix\" or translate / rotate_deg / scale, not both");
+    m = parse_matrix(*v);
+  } else {
+    glm::dvec3 translate(0.0), rotate(0.0), scale(1.0);
+    if (auto v = r.find("translate")) translate = v->vec3();
+    if (auto v = r.find("rotate_deg")) rotate = v->vec3();
+    if (auto v = r.find("scale")) {
+      if (v->json().is_number())
+        scale = glm::dvec3(v->number());
+      else if (v->json().is_array())
+        scale = v->vec3();
+      else
+        v->fail("expected a number or an array of 3 numbers, got " + v->describe());
+    }
+    const glm::dvec3 x(1.0, 0.0, 0.0), y(0.0, 1.0, 0.0), z(0.0, 0.0, 1.0);
+    m = glm::translate(glm::dmat4(1.0), translate) *
+        glm::rotate(glm::dmat4(1.0), glm::radians(rotate.z), z) *
+        glm::rotate(glm::dmat4(1.0), glm::radians(rotate.y), y) *
+        glm::rotate(glm::dmat4(1.0), glm::radians(rotate.x), x) *
+        glm::scale(glm::dmat4(1.0), scale);
+  }
+  if (!all_finite(m)) r.fail("transform has a non-finite entry");
+  // Relative to the matrix's own scale, so that micrometre and metre units both pass.
+  const glm::dmat3 a(m);
+  double norm = glm::length(a[0]) * glm::length(a[1]) * glm::length(a[2]);
+  double det = glm::determinant(a);
+  if (!(norm > 0.0) || std::abs(det) <= 1e-9 * norm)
+    r.fail(fmt::format("transform is singular (determinant {})", det));
+  return m;
+}
+
+}  // namespace imx::detail

@@ -1,0 +1,104 @@
+// Bad input: one clear message naming the culprit, a non-zero exit, and no output file.
+#include <gtest/gtest.h>
+
+#include "cli_runner.hpp"
+
+namespace imx::test {
+namespace {
+
+const char* kQuad = R"({"name": "q", "type": "mesh", "source": {"primitive": "quad", "size": [50, 50]}})";
+
+std::string scene_with(const std::string& objects, const std::string& extra = "") {
+  return std::string(R"({"image": {"width": 32, "height": 32}, "objects": [)") + objects + "]" +
+         extra + "}";
+}
+
+void expect_failure(const std::filesystem::path& dir, const std::string& scene_text,
+                    const std::vector<std::string>& culprits, const std::string& extra_args = "") {
+  write_text(dir / "scene.json", scene_text);
+  auto out = dir / "out.png";
+  CliResult r = run_cli("render " + (dir / "scene.json").string() + " -o " + out.string() + " " +
+                        extra_args);
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  for (const std::string& c : culprits) EXPECT_NE(r.output.find(c), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  for (auto& entry : std::filesystem::directory_iterator(dir))
+    EXPECT_EQ(entry.path().extension() == ".png", false) << "left behind: " << entry.path();
+}
+
+TEST(CliBadInput, MalformedJson) {
+  auto dir = temp_dir("malformed");
+  expect_failure(dir, R"({"image": {"width": 32,, }})", {"scene.json", "parse"});
+}
+
+TEST(CliBadInput, UnknownKeyWithSuggestion) {
+  auto dir = temp_dir("unknown-key");
+  expect_failure(dir, scene_with(kQuad, R"(, "imgae": {})"), {"scene.json", "imgae", "image"});
+}
+
+TEST(CliBadInput, WrongType) {
+  auto dir = temp_dir("wrong-type");
+  expect_failure(dir, R"({"image": {"width": "wide"}, "objects": []})",
+                 {"scene.json", "image.width", "wide"});
+}
+
+TEST(CliBadInput, MissingFile) {
+  auto dir = temp_dir("missing-file");
+  expect_failure(dir,
+                 scene_with(R"({"name": "m", "type": "mesh", "source": {"file": "nowhere.stl"}})"),
+                 {"nowhere.stl"});
+  CliResult r = run_cli("render " + (dir / "absent.json").string() + " -o " +
+                        (dir / "x.png").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("absent.json"), std::string::npos) << r.output;
+}
+
+TEST(CliBadInput, ZeroOrNegativeSize) {
+  auto dir = temp_dir("zero-size");
+  expect_failure(dir, R"({"image": {"width": 0, "height": 32}, "objects": []})",
+                 {"image.width", "0"});
+  expect_failure(dir, scene_with(kQuad), {"image.height", "-5"}, "--set image.height=-5");
+}
+
+TEST(CliBadInput, NonFiniteTransform) {
+  auto dir = temp_dir("nan-transform");
+  // JSON has no NaN literal; an overflowing number is the way such values arrive.
+  expect_failure(dir,
+                 scene_with(R"({"name": "m", "type": "mesh", "source": {"primitive": "quad", "size": [5, 5]},
+                     "transform": {"translate": [1e999, 0, 0]}})"),
+                 {"objects[0].transform"});
+  // A NaN in a volume file's space directions.
+  write_text(dir / "nan.nhdr",
+             "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nspace: left-posterior-superior\n"
+             "space directions: (nan,0,0) (0,1,0) (0,0,1)\nspace origin: (0,0,0)\n"
+             "encoding: raw\ndata file: nan.raw\n");
+  write_text(dir / "nan.raw", std::string(8, '\1'));
+  expect_failure(dir,
+                 scene_with(R"({"name": "v", "type": "volume", "source": {"file": "nan.nhdr"},
+                     "transfer_function": {"points": [[0, 1, 1, 1, 1]]}})"),
+                 {"nan.nhdr"});
+}
+
+TEST(CliBadInput, TruncatedNrrd) {
+  auto dir = temp_dir("truncated");
+  write_text(dir / "cut.nrrd",
+             "NRRD0004\ntype: short\ndimension: 3\nsizes: 16 16 16\nencoding: raw\n"
+             "endian: little\nspace directions: (1,0,0) (0,1,0) (0,0,1)\n"
+             "space origin: (0,0,0)\nspace: left-posterior-superior\n\n" +
+                 std::string(100, '\0'));
+  expect_failure(dir,
+                 scene_with(R"({"name": "v", "type": "volume", "source": {"file": "cut.nrrd"},
+                     "transfer_function": {"points": [[0, 1, 1, 1, 1]]}})"),
+                 {"cut.nrrd"});
+  CliResult r = run_cli("info " + (dir / "cut.nrrd").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("cut.nrrd"), std::string::npos) << r.output;
+}
+
+TEST(CliBadInput, UnknownMethodListsTheAvailableOnes) {
+  auto dir = temp_dir("method");
+  expect_failure(dir, scene_with(kQuad), {"zslab-wrong", "reference"}, "--method zslab-wrong");
+}
+
+}  // namespace
+}  // namespace imx::test

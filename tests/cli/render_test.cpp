@@ -1,0 +1,53 @@
+// The render command end to end: determinism across thread counts and the phantom/info tools.
+#include <gtest/gtest.h>
+
+#include "cli_runner.hpp"
+
+namespace imx::test {
+namespace {
+
+TEST(CliRender, OneAndTwoThreadsGiveByteIdenticalPngs) {
+  auto dir = temp_dir("threads");
+  std::string scene = std::string(IMX_EXAMPLES_DIR) + "/ct-implant.json";
+  std::string common = " --width 64 --height 64 --spp 4 --set objects.ct.source.size=64 ";
+  CliResult one = run_cli("render " + scene + common + "--threads 1 -o " + (dir / "1.png").string());
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  CliResult two = run_cli("render " + scene + common + "--threads 2 -o " + (dir / "2.png").string());
+  ASSERT_EQ(two.exit_code, 0) << two.output;
+  std::string a = read_bytes(dir / "1.png"), b = read_bytes(dir / "2.png");
+  EXPECT_GT(a.size(), 100u);
+  EXPECT_EQ(a, b);
+}
+
+TEST(CliRender, PrintsItsTime) {
+  auto dir = temp_dir("time");
+  std::string scene = std::string(IMX_EXAMPLES_DIR) + "/shells.json";
+  // Without --quiet the timing line is printed.
+  std::string cmd = std::string(IMX_CLI_PATH) + " render " + scene +
+                    " --width 32 --height 32 --spp 1 -o " + (dir / "s.png").string() + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  ASSERT_TRUE(pipe);
+  char buf[4096];
+  std::string out;
+  while (fgets(buf, sizeof buf, pipe)) out += buf;
+  EXPECT_EQ(pclose(pipe), 0) << out;
+  EXPECT_NE(out.find(" s -> "), std::string::npos) << out;
+  EXPECT_TRUE(std::filesystem::exists(dir / "s.png"));
+}
+
+TEST(CliPhantom, WritesANrrdThatInfoDescribes) {
+  auto dir = temp_dir("phantom");
+  auto file = (dir / "cube.nrrd").string();
+  CliResult w = run_cli("phantom cube --size 32 -o " + file);
+  ASSERT_EQ(w.exit_code, 0) << w.output;
+  CliResult i = run_cli("info --json " + file);
+  ASSERT_EQ(i.exit_code, 0) << i.output;
+  EXPECT_NE(i.output.find("\"dims\":[32,"), std::string::npos) << i.output;
+  CliResult bad = run_cli("phantom no-such-thing -o " + (dir / "x.nrrd").string());
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("no-such-thing"), std::string::npos) << bad.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.nrrd"));
+}
+
+}  // namespace
+}  // namespace imx::test

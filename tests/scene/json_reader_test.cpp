@@ -1,0 +1,54 @@
+#include "scene/json_reader.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "test_helpers.hpp"
+
+namespace imx::detail {
+namespace {
+
+using nlohmann::json;
+using test::error_of;
+
+TEST(JsonReader, NonFiniteNumbersAreRejected) {
+  // JSON text cannot hold NaN or infinity, but a document built in code can.
+  json j = {{"x", std::nan("")}, {"y", std::numeric_limits<double>::infinity()}};
+  JsonReader r(j, "s.json", "");
+  EXPECT_CONTAINS(error_of([&] { r.get("x").number(); }), "s.json: x: nan is not a finite number");
+  EXPECT_CONTAINS(error_of([&] { r.get("y").number(); }), "s.json: y: inf is not a finite number");
+  EXPECT_CONTAINS(error_of([&] { r.get("x").integer(0, 10); }), "s.json: x: expected an integer");
+}
+
+TEST(JsonReader, PathsAndRanges) {
+  json j = json::parse(R"({"a": {"b": [1, 2.5, "z"]}})");
+  JsonReader r(j, "s.json");
+  JsonReader b = r.get("a").get("b");
+  EXPECT_EQ(b.path(), "a.b");
+  EXPECT_EQ(b.at(1).path(), "a.b[1]");
+  EXPECT_EQ(b.at(1).number(Range::open_closed(2.0, 3.0)), 2.5);
+  EXPECT_CONTAINS(error_of([&] { b.at(0).number(Range::open(1.0, 2.0)); }),
+                  "s.json: a.b[0]: 1 is not in (1, 2)");
+  EXPECT_CONTAINS(error_of([&] { b.at(1).number(Range::non_negative()); }), "(no error)");
+  EXPECT_CONTAINS(error_of([&] { b.at(2).number(); }),
+                  "s.json: a.b[2]: expected a number, got string \"z\"");
+  EXPECT_CONTAINS(error_of([&] { b.at(3); }), "s.json: a.b: has 3 elements");
+  EXPECT_CONTAINS(error_of([&] { b.vec3(); }), "a.b[2]: expected a number");
+  EXPECT_CONTAINS(error_of([&] { r.get("c"); }), "s.json: missing required key 'c'");
+  EXPECT_FALSE(r.find("c").has_value());
+  EXPECT_TRUE(r.has("a"));
+}
+
+TEST(JsonReader, LongValuesAreShortenedInMessages) {
+  json j = json::array();
+  for (int i = 0; i < 100; ++i) j.push_back(i);
+  JsonReader r(j, "s.json", "big");
+  std::string msg = error_of([&] { r.string(); });
+  EXPECT_CONTAINS(msg, "...");
+  EXPECT_LT(msg.size(), 120u);
+}
+
+}  // namespace
+}  // namespace imx::detail

@@ -1,0 +1,75 @@
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "intermix/io.hpp"
+#include "test_helpers.hpp"
+
+namespace imx {
+namespace {
+
+using test::error_of;
+
+const std::filesystem::path kData = IMX_SHARED_DATA;
+
+TEST(ReadMesh, CubePlyBecomesTwelveTriangles) {
+  if (!std::filesystem::exists(kData / "cube.ply")) GTEST_SKIP() << "no shared data";
+  Mesh m = read_mesh(kData / "cube.ply");
+  EXPECT_EQ(m.triangles.size(), 12u);  // 2 triangles and 5 quads in the file
+  ASSERT_EQ(m.normals.size(), m.positions.size());
+  for (const glm::vec3& p : m.positions) {
+    EXPECT_TRUE(p.x == 0.0f || p.x == 1.0f);
+    EXPECT_TRUE(p.y == 0.0f || p.y == 1.0f);
+    EXPECT_TRUE(p.z == 0.0f || p.z == 1.0f);
+  }
+  EXPECT_TRUE(test::is_closed_and_oriented(m));
+  EXPECT_NEAR(std::abs(test::signed_volume(m)), 1.0, 1e-6);
+}
+
+TEST(ReadMesh, BunnyHasAllItsFacesAndNormals) {
+  if (!std::filesystem::exists(kData / "bunny.ply")) GTEST_SKIP() << "no shared data";
+  Mesh m = read_mesh(kData / "bunny.ply");
+  EXPECT_EQ(m.triangles.size(), 69451u);
+  EXPECT_LE(m.positions.size(), 35947u);
+  ASSERT_EQ(m.normals.size(), m.positions.size());
+  size_t unit = 0;
+  for (const glm::vec3& n : m.normals) unit += std::abs(glm::length(n) - 1.0f) < 1e-3f;
+  EXPECT_GT(unit, m.normals.size() * 99 / 100);
+  for (const glm::uvec3& t : m.triangles) {
+    ASSERT_LT(t.x, m.positions.size());
+    ASSERT_LT(t.y, m.positions.size());
+    ASSERT_LT(t.z, m.positions.size());
+  }
+}
+
+TEST(ReadMesh, ObjWithNodeFreeGeometryAndOwnNormals) {
+  test::TempDir dir;
+  auto file = dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\n");
+  Mesh m = read_mesh(file);
+  ASSERT_EQ(m.triangles.size(), 1u);
+  ASSERT_EQ(m.normals.size(), 3u);
+  for (const glm::vec3& n : m.normals) EXPECT_EQ(n, glm::vec3(0.0f, 0.0f, 1.0f));
+}
+
+TEST(ReadMesh, MissingFileNamesIt) {
+  std::string msg = error_of([] { read_mesh("/nonexistent/implant.stl"); });
+  EXPECT_CONTAINS(msg, "/nonexistent/implant.stl");
+  EXPECT_CONTAINS(msg, "no such file");
+}
+
+TEST(ReadMesh, UnreadableFileNamesItAndTheReason) {
+  test::TempDir dir;
+  auto file = dir.write("junk.stl", "this is not an STL file at all");
+  std::string msg = error_of([&] { read_mesh(file); });
+  EXPECT_CONTAINS(msg, file.string());
+}
+
+TEST(ReadMesh, FileWithoutTrianglesIsAnError) {
+  test::TempDir dir;
+  auto file = dir.write("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+  std::string msg = error_of([&] { read_mesh(file); });
+  EXPECT_CONTAINS(msg, file.string());
+}
+
+}  // namespace
+}  // namespace imx
