@@ -66,6 +66,11 @@ TEST(CliBadInput, NonFiniteTransform) {
   expect_failure(dir,
                  scene_with(R"({"name": "m", "type": "mesh", "source": {"primitive": "quad", "size": [5, 5]},
                      "transform": {"translate": [1e999, 0, 0]}})"),
+                 {"scene.json", "1e999"});
+  // A degenerate matrix cannot place an object.
+  expect_failure(dir,
+                 scene_with(R"({"name": "m", "type": "mesh", "source": {"primitive": "quad", "size": [5, 5]},
+                     "transform": {"scale": [1, 0, 1]}})"),
                  {"objects[0].transform"});
   // A NaN in a volume file's space directions.
   write_text(dir / "nan.nhdr",
