@@ -1,4 +1,4 @@
-// intermix: the command-line program (render, compare, info, phantom).
+// intermix: the command-line program (render, compare, info, phantom, bench).
 #include <cstdio>
 #include <exception>
 #include <map>
@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
   add("compare", "PSNR, SSIM and error fractions between two PNG images", imx::cli::add_compare);
   add("info", "describe a volume or mesh file, or a built-in phantom", imx::cli::add_info);
   add("phantom", "write a built-in phantom volume as NRRD", imx::cli::add_phantom);
+  add("bench", "time methods on a scene: median/min/max ms per frame", imx::cli::add_bench);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

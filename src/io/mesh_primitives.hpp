@@ -1,4 +1,4 @@
-// Mesh primitives (sphere, box, cylinder, torus, quad) centred at the origin, and mesh transforms.
+// Mesh primitives (sphere, box, cylinder, torus, quad) centred at the origin, and mesh helpers.
 #pragma once
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
@@ -32,5 +32,9 @@ Mesh make_quad(const glm::dvec2& size);
 // The mesh with positions transformed by the affine `m` and normals by its inverse transpose,
 // renormalized; a mirroring transform also reverses the winding so that it stays outward.
 Mesh transform_mesh(const Mesh& mesh, const glm::dmat4& m);
+
+// Sets every vertex normal to the area-weighted mean of its triangles' normals (zero for a
+// vertex no triangle with area uses).
+void compute_smooth_normals(Mesh& mesh);
 
 }  // namespace imx

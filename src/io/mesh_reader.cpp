@@ -1,5 +1,8 @@
+#include <cctype>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <system_error>
 
 #include <assimp/config.h>
@@ -12,6 +15,8 @@
 #include "core/math.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
+#include "io/mesh_primitives.hpp"
+#include "io/ply_reader.hpp"
 
 namespace imx {
 namespace {
@@ -58,15 +63,17 @@ void collect(const aiScene& scene, const aiNode& node, const glm::dmat4& parent,
     collect(scene, *node.mChildren[c], m, out, all_have_normals);
 }
 
-}  // namespace
+// PLY by extension or by its first line, whatever the extension says.
+bool is_ply(const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".ply") return true;
+  char head[5] = {};
+  std::ifstream(file, std::ios::binary).read(head, sizeof head);
+  return std::memcmp(head, "ply", 3) == 0 && (head[3] == '\n' || head[3] == '\r');
+}
 
-Mesh read_mesh(const std::filesystem::path& file) {
-  std::error_code ec;
-  if (!std::filesystem::exists(file, ec))
-    throw Error(fmt::format("{}: no such file", file.string()));
-  if (std::filesystem::is_directory(file, ec))
-    throw Error(fmt::format("{}: is a directory, not a mesh file", file.string()));
-
+Mesh read_with_assimp(const std::filesystem::path& file) {
   Assimp::Importer importer;
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
@@ -84,9 +91,23 @@ Mesh read_mesh(const std::filesystem::path& file) {
   Mesh mesh;
   bool all_have_normals = true;
   collect(*scene, *scene->mRootNode, glm::dmat4(1.0), mesh, all_have_normals);
+  if (!all_have_normals) mesh.normals.clear();
+  return mesh;
+}
+
+}  // namespace
+
+Mesh read_mesh(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec))
+    throw Error(fmt::format("{}: no such file", file.string()));
+  if (std::filesystem::is_directory(file, ec))
+    throw Error(fmt::format("{}: is a directory, not a mesh file", file.string()));
+  // Debian 12's assimp hangs or crashes on some malformed PLY files: those are read here.
+  Mesh mesh = is_ply(file) ? detail::read_ply(file) : read_with_assimp(file);
   if (mesh.triangles.empty())
     throw Error(fmt::format("{}: the file holds no triangles", file.string()));
-  if (!all_have_normals) mesh.normals.clear();
+  if (mesh.normals.size() != mesh.positions.size()) compute_smooth_normals(mesh);
   for (const glm::vec3& p : mesh.positions)
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       throw Error(fmt::format("{}: a vertex position is not finite", file.string()));

@@ -102,7 +102,7 @@ void apply_override(nlohmann::json& root, const std::string& assignment,
           if (!element.is_object() || !element.contains("name") || !element["name"].is_string())
             continue;
           names.push_back(element["name"].get<std::string>());
-          if (names.back() == token) next = &element;
+          if (names.back() == token && next == nullptr) next = &element;
         }
         if (next == nullptr)
           fail(fmt::format("{} has no element named '{}'{}", walked, token,

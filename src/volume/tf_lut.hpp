@@ -27,6 +27,10 @@ class TfLut {
     return table_[i] + f * (table_[i + 1] - table_[i]);
   }
 
+  // The baked entries and the value-to-entry scale lookup() uses: for tables derived from the LUT.
+  const std::vector<glm::vec4>& entries() const { return table_; }
+  float inv_step() const { return inv_step_; }
+
   float unit_distance() const { return unit_distance_; }
   float lo() const { return lo_; }
   float hi() const { return hi_; }
