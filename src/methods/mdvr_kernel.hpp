@@ -1,5 +1,5 @@
 // The MDVR kernel (SPEC §3): conventional on-the-fly intermixing, the baseline the slab methods
-// improve on. All volumes are sampled together at one step; a surface is composited whole before
+// improve on. All volumes are sampled together at one step (a sample at t stands for [t, t+step)); a surface is composited whole before
 // the first sample behind it (a binary depth test, no splitting). Pure: no allocation.
 #pragma once
 #include <algorithm>
@@ -74,11 +74,11 @@ inline glm::vec4 trace_mdvr(const Ray& ray, std::span<const Fragment> surfaces,
     glm::vec4 samples[kMaxMdvrVolumes];
     for (double k = std::ceil(t_first / p.step); acc.a < p.ert; k += 1.0) {
       double t = k * p.step;
-      if (t > t_last) break;
+      if (t >= t_last) break;
       composite_surfaces_until(t);
       int n = 0;
       for (int v = 0; v < nv; ++v)
-        if (marched[v] && span_of[v].t0 <= t && t <= span_of[v].t1)
+        if (marched[v] && span_of[v].t0 <= t && t < span_of[v].t1)
           samples[n++] = classify_sample(volumes[v], ray, t, p.step, lights);
       if (n > 0) acc = over(acc, mix_m1(std::span<const glm::vec4>(samples, n)));
     }
