@@ -1,0 +1,51 @@
+// BrickGrid: how a voxel grid is cut into bricks of B^3 cells, and which voxels each brick reads.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+#include <glm/glm.hpp>
+
+namespace imx {
+
+// Brick b (per axis) owns the closed index-space region [b*B, (b+1)*B] clipped to the hull
+// [0, N-1]. Neighbouring regions share their boundary face, so every sample position lies in
+// at least one brick. A trilinear sample at p reads voxels floor(p) and ceil(p) with non-zero
+// weight, so over the region it depends exactly on voxels [b*B, min((b+1)*B, N-1)]: B+1 voxels,
+// the brick's own B plus a one-voxel apron at the high end (see docs/volume_acceleration.md).
+struct BrickGrid {
+  static constexpr int kDefaultSize = 8;
+
+  glm::ivec3 voxel_dims{1};
+  int size = kDefaultSize;  // B, in voxels (index units)
+  glm::ivec3 dims{1};       // bricks per axis
+
+  BrickGrid() = default;
+  BrickGrid(glm::ivec3 voxels, int brick_size) : voxel_dims(voxels), size(brick_size) {
+    // ceil((N-1)/B) bricks cover [0, N-1]; a one-voxel axis still gets one (degenerate) brick.
+    for (int a = 0; a < 3; ++a) dims[a] = std::max(1, (voxel_dims[a] - 1 + size - 1) / size);
+  }
+
+  size_t count() const { return static_cast<size_t>(dims.x) * dims.y * dims.z; }
+  size_t index(glm::ivec3 b) const {
+    return (static_cast<size_t>(b.z) * dims.y + b.y) * dims.x + b.x;
+  }
+
+  // First and last voxel (inclusive) that trilinear samples inside brick b can read.
+  glm::ivec3 first_voxel(glm::ivec3 b) const { return b * size; }
+  glm::ivec3 last_voxel(glm::ivec3 b) const { return glm::min((b + 1) * size, voxel_dims - 1); }
+
+  // The brick whose half-open cell [b*B, (b+1)*B) holds index-space position p, clamped to the
+  // grid (the last brick also takes p = N-1 and anything beyond).
+  glm::ivec3 brick_of(glm::vec3 p) const {
+    glm::ivec3 b;
+    for (int a = 0; a < 3; ++a) {
+      float f = std::floor(p[a] / static_cast<float>(size));
+      f = f > 0.0f ? std::min(f, static_cast<float>(dims[a] - 1)) : 0.0f;  // NaN goes to 0
+      b[a] = static_cast<int>(f);
+    }
+    return b;
+  }
+};
+
+}  // namespace imx

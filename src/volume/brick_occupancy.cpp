@@ -1,0 +1,23 @@
+#include "volume/brick_occupancy.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "volume/chebyshev_distance.hpp"
+
+namespace imx {
+
+BrickOccupancy::BrickOccupancy(const BrickMinMax& ranges, const TfEmptiness& tf)
+    : grid_(ranges.grid()), distance_(grid_.count()) {
+  std::vector<uint8_t> occupied(grid_.count());
+  std::span<const glm::vec2> r = ranges.ranges();
+  for (size_t n = 0; n < r.size(); ++n) {
+    // Trilinear blends round by a few ulps, so a sample may sit just outside the voxel range.
+    float slack = 1e-5f * std::max(std::abs(r[n].x), std::abs(r[n].y));
+    occupied[n] = tf.is_empty(r[n].x - slack, r[n].y + slack) ? 0 : 1;
+    occupied_count_ += occupied[n];
+  }
+  chebyshev_distance(occupied, grid_.dims, distance_);
+}
+
+}  // namespace imx

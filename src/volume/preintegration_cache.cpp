@@ -1,0 +1,45 @@
+#include "volume/preintegration_cache.hpp"
+
+#include <algorithm>
+
+namespace imx {
+namespace {
+
+uint64_t fnv1a(uint64_t h, const void* data, size_t bytes) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 0x100000001b3ULL;
+  return h;
+}
+
+}  // namespace
+
+uint64_t tf_fingerprint(const TfLut& lut) {
+  uint64_t h = 0xcbf29ce484222325ULL;
+  const std::vector<glm::vec4>& e = lut.entries();
+  h = fnv1a(h, e.data(), e.size() * sizeof(glm::vec4));
+  float scalars[3] = {lut.lo(), lut.hi(), lut.unit_distance()};
+  return fnv1a(h, scalars, sizeof scalars);
+}
+
+std::shared_ptr<const PreintegrationTable> PreintegrationCache::get(const TfLut& lut, float dt,
+                                                                    float lo, float hi, int size) {
+  Key key{tf_fingerprint(lut), dt, lo, hi, size};
+  std::lock_guard lock(mutex_);
+  for (auto it = items_.begin(); it != items_.end(); ++it)
+    if (it->key == key) {
+      items_.splice(items_.begin(), items_, it);
+      return items_.front().table;
+    }
+  auto table = std::make_shared<const PreintegrationTable>(lut, dt, lo, hi, size);
+  ++builds_;
+  items_.push_front({key, table});
+  while (items_.size() > std::max<size_t>(capacity_, 1)) items_.pop_back();
+  return table;
+}
+
+size_t PreintegrationCache::builds() const {
+  std::lock_guard lock(mutex_);
+  return builds_;
+}
+
+}  // namespace imx

@@ -1,0 +1,13 @@
+#include "volume/tf_emptiness.hpp"
+
+namespace imx {
+
+TfEmptiness::TfEmptiness(const TfLut& lut)
+    : lo_(lut.lo()), inv_step_(lut.inv_step()), size_(static_cast<int>(lut.entries().size())) {
+  const std::vector<glm::vec4>& e = lut.entries();
+  prefix_.resize(e.size() + 1);
+  prefix_[0] = 0;
+  for (size_t i = 0; i < e.size(); ++i) prefix_[i + 1] = prefix_[i] + (e[i].a > 0.0f ? 1 : 0);
+}
+
+}  // namespace imx

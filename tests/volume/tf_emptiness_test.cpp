@@ -1,0 +1,65 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "random_volumes.hpp"
+#include "volume/tf_emptiness.hpp"
+#include "volume/tf_lut.hpp"
+
+namespace imx {
+namespace {
+
+TEST(TfEmptiness, AnswersForAPlateauTf) {
+  TransferFunction tf;
+  tf.points = {{0.0, {1, 1, 1, 0}},
+               {100.0, {1, 1, 1, 0}},
+               {110.0, {1, 1, 1, 1}},
+               {200.0, {1, 1, 1, 1}},
+               {210.0, {1, 1, 1, 0}}};
+  TfLut lut(tf);
+  TfEmptiness e(lut);
+  EXPECT_TRUE(e.is_empty(-500.0f, 99.0f));  // below the first point the TF is constant 0
+  EXPECT_TRUE(e.is_empty(212.0f, 1e9f));    // and above the last
+  EXPECT_FALSE(e.is_empty(99.0f, 101.0f));
+  EXPECT_FALSE(e.is_empty(150.0f, 150.0f));
+  EXPECT_FALSE(e.is_empty(-1e9f, 1e9f));
+  EXPECT_FALSE(e.is_empty(NAN, 10.0f));
+  EXPECT_FALSE(e.is_empty(10.0f, 5.0f));
+  TransferFunction clear;
+  clear.points = {{0.0, {1, 0, 0, 0}}, {1.0, {0, 1, 0, 0}}};
+  EXPECT_TRUE(TfEmptiness(TfLut(clear)).is_empty(-INFINITY, INFINITY));
+}
+
+// Conservative: a range reported empty has zero opacity at every value in it; and the query is not
+// trivially "never empty".
+TEST(TfEmptiness, NeverCallsAVisibleRangeEmpty) {
+  std::mt19937 rng(5);
+  int empties = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    TransferFunction tf = test::random_tf(rng, -100.0f, 300.0f);
+    TfLut lut(tf);
+    TfEmptiness e(lut);
+    std::uniform_real_distribution<float> u(-150.0f, 350.0f), w(0.0f, 30.0f), near(-0.2f, 0.2f);
+    std::uniform_int_distribution<int> point(0, static_cast<int>(tf.points.size()) - 1);
+    for (int q = 0; q < 600; ++q) {
+      float lo = u(rng), hi = lo + (q % 3 == 0 ? 0.0f : w(rng));
+      if (q % 2) {  // ranges ending or starting within a LUT entry or two of a TF point
+        float at = static_cast<float>(tf.points[point(rng)].value) + near(rng);
+        if (q % 4 == 1)
+          hi = at, lo = at - w(rng);
+        else
+          lo = at, hi = at + w(rng);
+      }
+      if (!e.is_empty(lo, hi)) continue;
+      ++empties;
+      for (int s = 0; s <= 400; ++s) {
+        float v = lo + (hi - lo) * static_cast<float>(s) / 400.0f;
+        ASSERT_EQ(lut.lookup(v).a, 0.0f) << v << " in [" << lo << ", " << hi << "]";
+      }
+    }
+  }
+  EXPECT_GT(empties, 1000);
+}
+
+}  // namespace
+}  // namespace imx
