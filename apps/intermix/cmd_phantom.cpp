@@ -24,8 +24,9 @@ Command add_phantom(CLI::App& app) {
   return [o]() {
     VolumeData v = make_phantom(o->name, o->size);
     write_nrrd(v, o->output, !o->raw);
-    std::fprintf(stderr, "intermix: phantom %s %dx%dx%d %s -> %s\n", o->name.c_str(), v.dims.x,
-                 v.dims.y, v.dims.z, voxel_type_name(v.type()), o->output.c_str());
+    if (!quiet())
+      std::fprintf(stderr, "intermix: phantom %s %dx%dx%d %s -> %s\n", o->name.c_str(), v.dims.x,
+                   v.dims.y, v.dims.z, voxel_type_name(v.type()), o->output.c_str());
     return 0;
   };
 }

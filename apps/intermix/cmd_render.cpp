@@ -52,9 +52,10 @@ Command add_render(CLI::App& app) {
     bar.finish();
     write_png(image, o->output, o->linear);
     std::string method = o->method.empty() ? scene.render.method : o->method;
-    std::fprintf(stderr, "intermix: %s: %dx%d with %s on %d threads in %.3f s -> %s\n",
-                 o->scene.c_str(), image.width(), image.height(), method.c_str(),
-                 resolve_thread_count(o->threads), seconds, o->output.c_str());
+    if (!quiet())
+      std::fprintf(stderr, "intermix: %s: %dx%d with %s on %d threads in %.3f s -> %s\n",
+                   o->scene.c_str(), image.width(), image.height(), method.c_str(),
+                   resolve_thread_count(o->threads), seconds, o->output.c_str());
     return 0;
   };
 }

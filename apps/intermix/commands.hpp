@@ -16,6 +16,7 @@ Command add_bench(CLI::App& app);
 
 // Shared by commands: whether to show progress bars (stderr is a terminal and not --quiet).
 bool show_progress();
+bool quiet();
 void set_quiet(bool quiet);
 
 }  // namespace imx::cli

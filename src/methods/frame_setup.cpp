@@ -3,6 +3,11 @@
 #include <algorithm>
 #include <limits>
 
+#include <fmt/format.h>
+
+#include "intermix/error.hpp"
+#include "volume/ray_volumes.hpp"
+
 namespace imx {
 
 FrameSetup::FrameSetup(const Scene& scene)
@@ -15,6 +20,16 @@ FrameSetup::FrameSetup(const Scene& scene)
   }
   if (!volumes.empty()) min_pitch = pitch;
   for (const Light& l : scene.lights) lights.push_back(resolve_light(l));
+}
+
+void FrameSetup::require_per_sample_support(const char* method) const {
+  if (volumes.size() > static_cast<size_t>(kMaxRayVolumes))
+    throw Error(fmt::format("{}: the scene has {} volumes, at most {} are supported", method,
+                            volumes.size(), kMaxRayVolumes));
+  for (const PreparedVolume& v : volumes)
+    if (v.object->style == VolumeStyle::mip || v.object->style == VolumeStyle::xray)
+      throw Error(fmt::format("volume '{}': style mip/xray is not available in {} yet",
+                              v.object->name, method));
 }
 
 }  // namespace imx

@@ -16,6 +16,10 @@ struct FrameSetup {
   double min_pitch = 1.0;  // smallest voxel spacing over the scene's volumes, mm (1 without any)
 
   explicit FrameSetup(const Scene& scene);
+
+  // Throws imx::Error naming `method` when the scene has more volumes than a ray can hold or a
+  // volume style the per-sample kernels do not render yet (mip, xray).
+  void require_per_sample_support(const char* method) const;
 };
 
 }  // namespace imx

@@ -1,8 +1,5 @@
 #include "methods/mdvr.hpp"
 
-#include <fmt/format.h>
-
-#include "intermix/error.hpp"
 #include "methods/frame_setup.hpp"
 #include "methods/mdvr_kernel.hpp"
 #include "methods/per_sample_render.hpp"
@@ -11,13 +8,7 @@ namespace imx {
 
 Image render_mdvr(const Scene& scene, int spp, const RenderOptions& options) {
   FrameSetup frame(scene);
-  if (frame.volumes.size() > static_cast<size_t>(kMaxMdvrVolumes))
-    throw Error(fmt::format("mdvr: the scene has {} volumes, at most {} are supported",
-                            frame.volumes.size(), kMaxMdvrVolumes));
-  for (const PreparedVolume& v : frame.volumes)
-    if (v.object->style == VolumeStyle::mip || v.object->style == VolumeStyle::xray)
-      throw Error(
-          fmt::format("volume '{}': style mip/xray is not available in mdvr yet", v.object->name));
+  frame.require_per_sample_support("mdvr");
   MdvrParams params;
   params.step = scene.render.step_mm > 0.0 ? scene.render.step_mm : frame.min_pitch;
   params.ert = static_cast<float>(scene.render.ert_threshold);

@@ -1,6 +1,7 @@
 // The MDVR kernel (SPEC §3): conventional on-the-fly intermixing, the baseline the slab methods
-// improve on. All volumes are sampled together at one step (a sample at t stands for [t, t+step)); a surface is composited whole before
-// the first sample behind it (a binary depth test, no splitting). Pure: no allocation.
+// improve on. All volumes are sampled together at one step (a sample at t stands for [t, t+step));
+// a surface is composited whole before the first sample behind it (a binary depth test, no
+// splitting). Pure: no allocation.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -14,12 +15,11 @@
 #include "slab/mix.hpp"
 #include "slab/over.hpp"
 #include "volume/classify.hpp"
-#include "volume/iso_crossing.hpp"
 #include "volume/prepared_volume.hpp"
+#include "volume/ray_volumes.hpp"
 
 namespace imx {
 
-inline constexpr int kMaxMdvrVolumes = 16;
 
 struct MdvrParams {
   double step = 1.0;  // common step, mm: the smallest voxel pitch of the volumes by default
@@ -30,29 +30,12 @@ struct MdvrParams {
 inline glm::vec4 trace_mdvr(const Ray& ray, std::span<const Fragment> surfaces,
                             std::span<const PreparedVolume> volumes,
                             std::span<const ShadingLight> lights, const MdvrParams& p) {
-  RayInterval span_of[kMaxMdvrVolumes];
-  bool marched[kMaxMdvrVolumes] = {};
-  IsoHit iso_hits[kMaxMdvrVolumes];
-  int iso_count = 0;
-  int nv = static_cast<int>(std::min<size_t>(volumes.size(), kMaxMdvrVolumes));
-  double t_first = INFINITY, t_last = -INFINITY;
-  for (int k = 0; k < nv; ++k) {
-    const PreparedVolume& v = volumes[k];
-    span_of[k] = v.intersect(ray);
-    if (span_of[k].empty()) continue;
-    if (v.object->style == VolumeStyle::iso) {
-      IsoHit h;
-      if (find_iso_crossing(v, ray, span_of[k].t0, span_of[k].t1, p.step, p.iso_bisections, lights,
-                            h))
-        iso_hits[iso_count++] = h;
-    } else if (v.lut.max_opacity() > 0.0f) {
-      marched[k] = true;
-      t_first = std::min<double>(t_first, span_of[k].t0);
-      t_last = std::max<double>(t_last, span_of[k].t1);
-    }
-  }
-  std::sort(iso_hits, iso_hits + iso_count,
-            [](const IsoHit& a, const IsoHit& b) { return a.t < b.t; });
+  const RayVolumes rv(ray, volumes, p.step, p.iso_bisections, lights);
+  const RayInterval* span_of = rv.span;
+  const bool* marched = rv.marched;
+  const IsoHit* iso_hits = rv.iso;
+  const int iso_count = rv.iso_count, nv = rv.count;
+  const double t_first = rv.t_first, t_last = rv.t_last;
 
   size_t si = 0;
   int ii = 0;
@@ -71,7 +54,7 @@ inline glm::vec4 trace_mdvr(const Ray& ray, std::span<const Fragment> surfaces,
   };
 
   if (t_first < t_last) {
-    glm::vec4 samples[kMaxMdvrVolumes];
+    glm::vec4 samples[kMaxRayVolumes];
     for (double k = std::ceil(t_first / p.step); acc.a < p.ert; k += 1.0) {
       double t = k * p.step;
       if (t >= t_last) break;

@@ -11,12 +11,11 @@
 #include "core/ray.hpp"
 #include "raster/fragment.hpp"
 #include "volume/classify.hpp"
-#include "volume/iso_crossing.hpp"
 #include "volume/prepared_volume.hpp"
+#include "volume/ray_volumes.hpp"
 
 namespace imx {
 
-inline constexpr int kMaxReferenceVolumes = 16;
 
 struct ReferenceParams {
   double step = 0.1;        // common sampling step, mm
@@ -53,30 +52,15 @@ struct M1Mix {
 }  // namespace detail
 
 // Premultiplied RGBA seen along `ray`. `surfaces` are the ray's fragments sorted by t;
-// `volumes` at most kMaxReferenceVolumes (the caller checks).
+// `volumes` at most kMaxRayVolumes (the caller checks).
 inline glm::vec4 trace_reference(const Ray& ray, std::span<const Fragment> surfaces,
                                  std::span<const PreparedVolume> volumes,
                                  std::span<const ShadingLight> lights, const ReferenceParams& p) {
-  RayInterval span_of[kMaxReferenceVolumes];
-  bool marched[kMaxReferenceVolumes] = {};
-  IsoHit iso_hits[kMaxReferenceVolumes];
-  int iso_count = 0;
-  int nv = static_cast<int>(std::min<size_t>(volumes.size(), kMaxReferenceVolumes));
-  for (int k = 0; k < nv; ++k) {
-    const PreparedVolume& v = volumes[k];
-    span_of[k] = v.intersect(ray);
-    if (span_of[k].empty()) continue;
-    if (v.object->style == VolumeStyle::iso) {
-      IsoHit h;
-      if (find_iso_crossing(v, ray, span_of[k].t0, span_of[k].t1, p.step, p.iso_bisections, lights,
-                            h))
-        iso_hits[iso_count++] = h;
-    } else {
-      marched[k] = v.lut.max_opacity() > 0.0f;
-    }
-  }
-  std::sort(iso_hits, iso_hits + iso_count,
-            [](const IsoHit& a, const IsoHit& b) { return a.t < b.t; });
+  const RayVolumes rv(ray, volumes, p.step, p.iso_bisections, lights);
+  const RayInterval* span_of = rv.span;
+  const bool* marched = rv.marched;
+  const IsoHit* iso_hits = rv.iso;
+  const int iso_count = rv.iso_count, nv = rv.count;
 
   size_t si = 0;
   int ii = 0;

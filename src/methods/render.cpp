@@ -9,7 +9,9 @@
 
 namespace imx {
 
-std::vector<std::string> available_methods() { return {"reference", "mdvr"}; }
+std::vector<std::string> available_methods() {
+  return {"reference", "mdvr"};
+}
 
 Image render(const Scene& scene, const RenderOptions& options) {
   const std::string method = options.method.empty() ? scene.render.method : options.method;

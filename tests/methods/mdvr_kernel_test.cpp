@@ -4,24 +4,14 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "homogeneous_volume.hpp"
 #include "methods/mdvr_kernel.hpp"
 #include "methods/reference_kernel.hpp"
 
 namespace imx {
 namespace {
 
-// A 21^3 homogeneous volume of value 1 filling [-10, 10]^3 mm.
-VolumeObject fog(float alpha_per_mm, glm::vec3 rgb) {
-  VolumeObject v;
-  v.name = "fog";
-  auto data = std::make_shared<VolumeData>();
-  data->dims = {21, 21, 21};
-  data->voxels = std::vector<float>(21 * 21 * 21, 1.0f);
-  v.data = data;
-  v.index_to_world = glm::translate(glm::dmat4(1.0), glm::dvec3(-10.0));
-  v.transfer_function.points = {{0.0, glm::vec4(rgb, alpha_per_mm)}};
-  return v;
-}
+using test::homogeneous_volume;
 
 TEST(MdvrKernel, SurfacesAloneCompositeInDepthOrder) {
   Fragment f[2] = {{10.0f, glm::vec4(0.5f, 0, 0, 0.5f), 0, 1},
@@ -34,7 +24,7 @@ TEST(MdvrKernel, SurfacesAloneCompositeInDepthOrder) {
 }
 
 TEST(MdvrKernel, SurfaceIsCompositedBeforeTheFirstSampleBehindIt) {
-  VolumeObject obj = fog(0.2f, {0, 0, 1});
+  VolumeObject obj = homogeneous_volume(0.2f, {0, 0, 1});
   std::vector<PreparedVolume> vols{PreparedVolume(obj)};
   Ray ray{{0, -100, 0}, {0, 1, 0}};  // volume over t in [90, 110]; samples at 90, 91, ..., 110
   MdvrParams p;
@@ -50,7 +40,7 @@ TEST(MdvrKernel, SurfaceIsCompositedBeforeTheFirstSampleBehindIt) {
 }
 
 TEST(MdvrKernel, MatchesTheReferenceOnAHomogeneousVolume) {
-  VolumeObject obj = fog(0.1f, {1, 1, 1});
+  VolumeObject obj = homogeneous_volume(0.1f, {1, 1, 1});
   std::vector<PreparedVolume> vols{PreparedVolume(obj)};
   Ray ray{{0.2f, -100, 0.1f}, {0, 1, 0}};
   ReferenceParams rp;
@@ -67,7 +57,7 @@ TEST(MdvrKernel, MatchesTheReferenceOnAHomogeneousVolume) {
 }
 
 TEST(MdvrKernel, StopsAtTheEarlyTerminationOpacity) {
-  VolumeObject obj = fog(0.5f, {1, 1, 1});
+  VolumeObject obj = homogeneous_volume(0.5f, {1, 1, 1});
   std::vector<PreparedVolume> vols{PreparedVolume(obj)};
   Ray ray{{0, -100, 0}, {0, 1, 0}};
   MdvrParams p;

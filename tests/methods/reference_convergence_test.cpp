@@ -17,8 +17,8 @@ class ReferenceConvergence : public testing::TestWithParam<std::string> {
  protected:
   Image render_example(int spp, double step_fraction) {
     std::filesystem::path file = std::filesystem::path(IMX_EXAMPLES_DIR) / (GetParam() + ".json");
-    Scene scene = load_scene(file, {"image.width=" + std::to_string(kSize),
-                                    "image.height=" + std::to_string(kSize)});
+    Scene scene = load_scene(
+        file, {"image.width=" + std::to_string(kSize), "image.height=" + std::to_string(kSize)});
     scene.render.reference_step_fraction = step_fraction;
     RenderOptions options;
     options.method = "reference";

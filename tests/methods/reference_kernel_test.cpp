@@ -4,24 +4,13 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "homogeneous_volume.hpp"
 #include "methods/reference_kernel.hpp"
 
 namespace imx {
 namespace {
 
-// A 21^3 homogeneous volume of value 1 filling [-10, 10]^3 mm.
-VolumeObject homogeneous(float alpha_per_mm, glm::vec3 rgb) {
-  VolumeObject v;
-  v.name = "fog";
-  auto data = std::make_shared<VolumeData>();
-  data->dims = {21, 21, 21};
-  data->voxels = std::vector<float>(21 * 21 * 21, 1.0f);
-  v.data = data;
-  v.index_to_world = glm::translate(glm::dmat4(1.0), glm::dvec3(-10.0));
-  v.transfer_function.points = {{0.0, glm::vec4(rgb, alpha_per_mm)},
-                                {2.0, glm::vec4(rgb, alpha_per_mm)}};
-  return v;
-}
+using test::homogeneous_volume;
 
 ReferenceParams exact_params(double step) {
   ReferenceParams p;
@@ -33,7 +22,7 @@ ReferenceParams exact_params(double step) {
 TEST(ReferenceKernel, HomogeneousVolumeTransmittanceMatchesTheClosedForm) {
   for (float alpha : {0.05f, 0.3f}) {
     for (double step : {0.125, 0.37}) {
-      VolumeObject obj = homogeneous(alpha, {1.0f, 0.5f, 0.25f});
+      VolumeObject obj = homogeneous_volume(alpha, {1.0f, 0.5f, 0.25f});
       std::vector<PreparedVolume> vols{PreparedVolume(obj)};
       Ray ray{{0.3f, -100.0f, -0.7f}, {0.0f, 1.0f, 0.0f}};
       glm::vec4 c = trace_reference(ray, {}, vols, {}, exact_params(step));
@@ -46,7 +35,7 @@ TEST(ReferenceKernel, HomogeneousVolumeTransmittanceMatchesTheClosedForm) {
 
 TEST(ReferenceKernel, SurfaceIsSplicedAtItsExactDepth) {
   float alpha = 0.1f;
-  VolumeObject obj = homogeneous(alpha, {0.0f, 0.0f, 1.0f});
+  VolumeObject obj = homogeneous_volume(alpha, {0.0f, 0.0f, 1.0f});
   std::vector<PreparedVolume> vols{PreparedVolume(obj)};
   Ray ray{{0.0f, -100.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};  // volume spans t in [90, 110]
   for (float depth : {93.3f, 101.7f}) {

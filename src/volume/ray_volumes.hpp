@@ -1,0 +1,48 @@
+// RayVolumes: where a ray meets each volume of a frame, and the iso-surfaces it crosses.
+// Shared by the per-sample methods; pure, fixed-size, no allocation.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <span>
+
+#include "core/blinn_phong.hpp"
+#include "core/ray.hpp"
+#include "volume/iso_crossing.hpp"
+#include "volume/prepared_volume.hpp"
+
+namespace imx {
+
+inline constexpr int kMaxRayVolumes = 16;
+
+struct RayVolumes {
+  int count = 0;                      // volumes considered (at most kMaxRayVolumes)
+  RayInterval span[kMaxRayVolumes];   // each volume's part of the ray
+  bool marched[kMaxRayVolumes] = {};  // a visible dvr volume the ray passes through
+  IsoHit iso[kMaxRayVolumes];         // iso-surface hits, sorted by depth
+  int iso_count = 0;
+  double t_first = INFINITY;  // union of the marched spans
+  double t_last = -INFINITY;
+
+  // Intersects the ray with every volume and finds iso crossings on the grid k * step.
+  RayVolumes(const Ray& ray, std::span<const PreparedVolume> volumes, double step, int bisections,
+             std::span<const ShadingLight> lights) {
+    count = static_cast<int>(std::min<size_t>(volumes.size(), kMaxRayVolumes));
+    for (int k = 0; k < count; ++k) {
+      const PreparedVolume& v = volumes[k];
+      span[k] = v.intersect(ray);
+      if (span[k].empty()) continue;
+      if (v.object->style == VolumeStyle::iso) {
+        IsoHit h;
+        if (find_iso_crossing(v, ray, span[k].t0, span[k].t1, step, bisections, lights, h))
+          iso[iso_count++] = h;
+      } else if (v.lut.max_opacity() > 0.0f) {
+        marched[k] = true;
+        t_first = std::min<double>(t_first, span[k].t0);
+        t_last = std::max<double>(t_last, span[k].t1);
+      }
+    }
+    std::sort(iso, iso + iso_count, [](const IsoHit& a, const IsoHit& b) { return a.t < b.t; });
+  }
+};
+
+}  // namespace imx
