@@ -20,7 +20,6 @@
 
 namespace imx {
 
-
 struct MdvrParams {
   double step = 1.0;  // common step, mm: the smallest voxel pitch of the volumes by default
   float ert = 0.99f;  // early ray termination opacity
@@ -31,11 +30,6 @@ inline glm::vec4 trace_mdvr(const Ray& ray, std::span<const Fragment> surfaces,
                             std::span<const PreparedVolume> volumes,
                             std::span<const ShadingLight> lights, const MdvrParams& p) {
   const RayVolumes rv(ray, volumes, p.step, p.iso_bisections, lights);
-  const RayInterval* span_of = rv.span;
-  const bool* marched = rv.marched;
-  const IsoHit* iso_hits = rv.iso;
-  const int iso_count = rv.iso_count, nv = rv.count;
-  const double t_first = rv.t_first, t_last = rv.t_last;
 
   size_t si = 0;
   int ii = 0;
@@ -44,24 +38,24 @@ inline glm::vec4 trace_mdvr(const Ray& ray, std::span<const Fragment> surfaces,
   auto composite_surfaces_until = [&](double t) {
     while (acc.a < p.ert) {
       bool has_s = si < surfaces.size() && surfaces[si].t <= t;
-      bool has_i = ii < iso_count && iso_hits[ii].t <= t;
+      bool has_i = ii < rv.iso_count && rv.iso[ii].t <= t;
       if (!has_s && !has_i) break;
-      if (has_i && (!has_s || iso_hits[ii].t <= surfaces[si].t))
-        acc = over(acc, iso_hits[ii++].color);
+      if (has_i && (!has_s || rv.iso[ii].t <= surfaces[si].t))
+        acc = over(acc, rv.iso[ii++].color);
       else
         acc = over(acc, surfaces[si++].color);
     }
   };
 
-  if (t_first < t_last) {
+  if (rv.t_first < rv.t_last) {
     glm::vec4 samples[kMaxRayVolumes];
-    for (double k = std::ceil(t_first / p.step); acc.a < p.ert; k += 1.0) {
+    for (double k = std::ceil(rv.t_first / p.step); acc.a < p.ert; k += 1.0) {
       double t = k * p.step;
-      if (t >= t_last) break;
+      if (t >= rv.t_last) break;
       composite_surfaces_until(t);
       int n = 0;
-      for (int v = 0; v < nv; ++v)
-        if (marched[v] && span_of[v].t0 <= t && t < span_of[v].t1)
+      for (int v = 0; v < rv.count; ++v)
+        if (rv.marched[v] && rv.span[v].t0 <= t && t < rv.span[v].t1)
           samples[n++] = classify_sample(volumes[v], ray, t, p.step, lights);
       if (n > 0) acc = over(acc, mix_m1(std::span<const glm::vec4>(samples, n)));
     }

@@ -16,7 +16,6 @@
 
 namespace imx {
 
-
 struct ReferenceParams {
   double step = 0.1;        // common sampling step, mm
   float ert = 0.999f;       // stop once the accumulated opacity reaches this
@@ -57,16 +56,12 @@ inline glm::vec4 trace_reference(const Ray& ray, std::span<const Fragment> surfa
                                  std::span<const PreparedVolume> volumes,
                                  std::span<const ShadingLight> lights, const ReferenceParams& p) {
   const RayVolumes rv(ray, volumes, p.step, p.iso_bisections, lights);
-  const RayInterval* span_of = rv.span;
-  const bool* marched = rv.marched;
-  const IsoHit* iso_hits = rv.iso;
-  const int iso_count = rv.iso_count, nv = rv.count;
 
   size_t si = 0;
   int ii = 0;
   auto next_surface_t = [&]() {
     double ts = si < surfaces.size() ? surfaces[si].t : INFINITY;
-    return ii < iso_count ? std::min(ts, iso_hits[ii].t) : ts;
+    return ii < rv.iso_count ? std::min(ts, rv.iso[ii].t) : ts;
   };
 
   glm::vec4 acc(0.0f);
@@ -75,12 +70,12 @@ inline glm::vec4 trace_reference(const Ray& ray, std::span<const Fragment> surfa
     double ts = next_surface_t();
     double boundary = INFINITY;
     bool active = false;
-    for (int k = 0; k < nv; ++k) {
-      if (!marched[k]) continue;
-      if (t < span_of[k].t0) {
-        boundary = std::min<double>(boundary, span_of[k].t0);
-      } else if (t < span_of[k].t1) {
-        boundary = std::min<double>(boundary, span_of[k].t1);
+    for (int k = 0; k < rv.count; ++k) {
+      if (!rv.marched[k]) continue;
+      if (t < rv.span[k].t0) {
+        boundary = std::min<double>(boundary, rv.span[k].t0);
+      } else if (t < rv.span[k].t1) {
+        boundary = std::min<double>(boundary, rv.span[k].t1);
         active = true;
       }
     }
@@ -93,8 +88,8 @@ inline glm::vec4 trace_reference(const Ray& ray, std::span<const Fragment> surfa
       if (len > 0.0) {
         double m = t + 0.5 * len;
         detail::M1Mix mix;
-        for (int k = 0; k < nv; ++k)
-          if (marched[k] && span_of[k].t0 <= m && m < span_of[k].t1)
+        for (int k = 0; k < rv.count; ++k)
+          if (rv.marched[k] && rv.span[k].t0 <= m && m < rv.span[k].t1)
             mix.add(classify_sample(volumes[k], ray, m, len, lights));
         detail::composite(acc, mix.result());
       }
@@ -105,8 +100,8 @@ inline glm::vec4 trace_reference(const Ray& ray, std::span<const Fragment> surfa
     if (ts <= t) {
       detail::M1Mix mix;
       while (next_surface_t() <= ts + p.coincide) {
-        if (ii < iso_count && (si >= surfaces.size() || iso_hits[ii].t <= surfaces[si].t)) {
-          mix.add(iso_hits[ii++].color);
+        if (ii < rv.iso_count && (si >= surfaces.size() || rv.iso[ii].t <= surfaces[si].t)) {
+          mix.add(rv.iso[ii++].color);
         } else {
           mix.add(surfaces[si++].color);
         }
