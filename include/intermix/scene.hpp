@@ -23,7 +23,7 @@ struct Camera {
   glm::dvec3 eye{0.0, -600.0, 0.0};
   glm::dvec3 target{0.0};
   glm::dvec3 up{0.0, 0.0, 1.0};
-  double fov_deg = 30.0;       // vertical field of view (perspective)
+  double fov_deg = 30.0;        // vertical field of view (perspective)
   double ortho_height = 200.0;  // visible height in mm (orthographic)
   Projection projection = Projection::perspective;
 };
@@ -92,7 +92,7 @@ struct MeshObject {
   std::string name;
   std::shared_ptr<const Mesh> mesh;  // world space: the object's transform is already applied
   Material material;
-  std::optional<double> thickness;    // mm; empty means "auto" (SPEC §4 / §6 defaults)
+  std::optional<double> thickness;  // mm; empty means "auto" (SPEC §4 / §6 defaults)
 };
 
 // A rectangle in world space; with a volume it shows that volume's values through window/level.
@@ -100,9 +100,9 @@ struct PlaneObject {
   std::string name;
   glm::dvec3 center{0.0};
   glm::dvec3 normal{0.0, 0.0, 1.0};
-  glm::dvec3 up{0.0, 1.0, 0.0};  // in-plane direction of the rectangle's height
-  glm::dvec2 size{200.0, 200.0};  // mm
-  int volume = -1;                // index into Scene::volumes, or -1
+  glm::dvec3 up{0.0, 1.0, 0.0};    // in-plane direction of the rectangle's height
+  glm::dvec2 size{200.0, 200.0};   // mm
+  int volume = -1;                 // index into Scene::volumes, or -1
   glm::dvec2 window{40.0, 400.0};  // centre, width (data values)
   glm::vec3 color{1.0f};           // multiplies the grey value; the colour when there is no volume
   float opacity = 1.0f;
@@ -119,15 +119,24 @@ struct ObjectRef {
 
 struct RenderSettings {
   std::string method = "reference";
-  int spp = 0;                  // samples per pixel, a perfect square; 0 = the method's default
-  double step_mm = 0.0;         // ray step; 0 = the method's default
-  double reference_step_fraction = 0.125;  // reference step as a fraction of the smallest voxel pitch
+  int spp = 0;           // samples per pixel, a perfect square; 0 = the method's default
+  double step_mm = 0.0;  // ray step; 0 = the method's default
+  double reference_step_fraction =
+      0.125;                    // reference step as a fraction of the smallest voxel pitch
   double ert_threshold = 0.99;  // early ray termination opacity; 1 disables
   int layers = 8;               // ZT-buffer slabs per pixel (N)
   int rt_layers = 4;            // RT-buffer surface layers (M)
   int peel_layers = 4;          // depth-peeling passes per polygon object (L)
   std::string interpolation = "ovi";
   double beta = 1.0;
+  std::string skipping = "distance";             // empty-space skipping: none, bricks, distance
+  std::string classification = "preintegrated";  // volume samples: preintegrated or post
+  std::string gradients = "on-the-fly";          // shading normals: on-the-fly or precomputed
+  int brick_size = 8;                            // voxels per brick edge for skipping
+  int k = 8;                                     // k+-buffer fragments per pixel
+  int fragment_cap = 1024;                       // dynamic fragment buffer cap per pixel
+  std::optional<double> thickness;               // default surface thickness, mm; empty = auto
+  std::string slab_format = "rgba32f";           // stored slab colour: rgba32f or rgba8
 };
 
 struct Scene {
@@ -145,8 +154,7 @@ struct Scene {
 // Loads and validates a JSON scene file; relative paths resolve against its folder.
 // `overrides` are "json.path=value" assignments applied before validation (--set).
 // Throws imx::Error naming the file, the JSON path and the value at fault.
-Scene load_scene(const std::filesystem::path& file,
-                 const std::vector<std::string>& overrides = {});
+Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {});
 
 // The same from JSON text; `base_dir` resolves relative paths, `origin` names it in errors.
 Scene parse_scene(const std::string& json_text, const std::filesystem::path& base_dir,

@@ -26,10 +26,12 @@ void FrameSetup::require_per_sample_support(const char* method) const {
   if (volumes.size() > static_cast<size_t>(kMaxRayVolumes))
     throw Error(fmt::format("{}: the scene has {} volumes, at most {} are supported", method,
                             volumes.size(), kMaxRayVolumes));
-  for (const PreparedVolume& v : volumes)
-    if (v.object->style == VolumeStyle::mip || v.object->style == VolumeStyle::xray)
-      throw Error(fmt::format("volume '{}': style mip/xray is not available in {} yet",
-                              v.object->name, method));
+}
+
+void FrameSetup::accelerate(float step, const MarchSettings& settings) {
+  for (PreparedVolume& v : volumes)
+    if (v.object->style == VolumeStyle::dvr)
+      v.accel = imx::accelerate(*v.object, v.lut, step, settings);
 }
 
 }  // namespace imx

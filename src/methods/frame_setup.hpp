@@ -17,8 +17,11 @@ struct FrameSetup {
 
   explicit FrameSetup(const Scene& scene);
 
-  // Throws imx::Error naming `method` when the scene has more volumes than a ray can hold or a
-  // volume style the per-sample kernels do not render yet (mip, xray).
+  // Gives every volume the skipping structures, pre-integration table and gradients that
+  // `settings` asks for at ray step `step` mm (from caches that outlive the frame).
+  void accelerate(float step, const MarchSettings& settings);
+
+  // Throws imx::Error naming `method` when the scene has more volumes than a ray can hold.
   void require_per_sample_support(const char* method) const;
 };
 

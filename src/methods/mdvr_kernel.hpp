@@ -1,9 +1,8 @@
 // The MDVR kernel (SPEC §3): conventional on-the-fly intermixing, the baseline the slab methods
-// improve on. All volumes are sampled together at one step (a sample at t stands for [t, t+step));
-// a surface is composited whole before the first sample behind it (a binary depth test, no
-// splitting). Pure: no allocation.
+// improve on. Every volume's slab stream is cut on one common grid (VolumeMarcher), the slabs of
+// one grid step are mixed (M1) and composited together; a surface is composited whole before the
+// first step that starts at or behind it (a binary depth test, no splitting). Pure: no allocation.
 #pragma once
-#include <algorithm>
 #include <cmath>
 #include <span>
 
@@ -14,14 +13,14 @@
 #include "raster/fragment.hpp"
 #include "slab/mix.hpp"
 #include "slab/over.hpp"
-#include "volume/classify.hpp"
 #include "volume/prepared_volume.hpp"
 #include "volume/ray_volumes.hpp"
+#include "volume/volume_marcher.hpp"
 
 namespace imx {
 
 struct MdvrParams {
-  double step = 1.0;  // common step, mm: the smallest voxel pitch of the volumes by default
+  float step = 1.0f;  // common step, mm: the smallest voxel pitch of the volumes by default
   float ert = 0.99f;  // early ray termination opacity
   int iso_bisections = 10;
 };
@@ -32,33 +31,51 @@ inline glm::vec4 trace_mdvr(const Ray& ray, std::span<const Fragment> surfaces,
   const RayVolumes rv(ray, volumes, p.step, p.iso_bisections, lights);
 
   size_t si = 0;
-  int ii = 0;
+  int hi = 0;
   glm::vec4 acc(0.0f);
-  // Composites, in depth order, every surface and iso hit not behind depth `t`.
+  // Composites, in depth order, every surface and volume hit not behind depth `t`.
   auto composite_surfaces_until = [&](double t) {
     while (acc.a < p.ert) {
       bool has_s = si < surfaces.size() && surfaces[si].t <= t;
-      bool has_i = ii < rv.iso_count && rv.iso[ii].t <= t;
-      if (!has_s && !has_i) break;
-      if (has_i && (!has_s || rv.iso[ii].t <= surfaces[si].t))
-        acc = over(acc, rv.iso[ii++].color);
+      bool has_h = hi < rv.hit_count && rv.hits[hi].t <= t;
+      if (!has_s && !has_h) break;
+      if (has_h && (!has_s || rv.hits[hi].t <= surfaces[si].t))
+        acc = over(acc, rv.hits[hi++].color);
       else
         acc = over(acc, surfaces[si++].color);
     }
   };
 
-  if (rv.t_first < rv.t_last) {
-    glm::vec4 samples[kMaxRayVolumes];
-    for (double k = std::ceil(rv.t_first / p.step); acc.a < p.ert; k += 1.0) {
-      double t = k * p.step;
-      if (t >= rv.t_last) break;
-      composite_surfaces_until(t);
-      int n = 0;
-      for (int v = 0; v < rv.count; ++v)
-        if (rv.marched[v] && rv.span[v].t0 <= t && t < rv.span[v].t1)
-          samples[n++] = classify_sample(volumes[v], ray, t, p.step, lights);
-      if (n > 0) acc = over(acc, mix_m1(std::span<const glm::vec4>(samples, n)));
-    }
+  // One marcher per marched volume, each holding its next slab (a pending head).
+  VolumeMarcher marchers[kMaxRayVolumes];
+  Slab heads[kMaxRayVolumes];
+  bool live[kMaxRayVolumes] = {};
+  int n = 0;
+  for (int v = 0; v < rv.count; ++v) {
+    if (!rv.marched[v]) continue;
+    marchers[n] = VolumeMarcher(volumes[v], ray, rv.span[v].t0, rv.span[v].t1, p.step, lights);
+    live[n] = marchers[n].next(heads[n]);
+    ++n;
+  }
+  glm::vec4 step_colors[kMaxRayVolumes];
+  while (acc.a < p.ert) {
+    // The grid step of the nearest head: heads that start before its back lie in the same step.
+    float back = INFINITY;
+    for (int m = 0; m < n; ++m)
+      if (live[m]) back = std::min(back, heads[m].t_back);
+    if (back == INFINITY) break;
+    const float same_step = back - 1e-3f * p.step;
+    float front = back;
+    int k = 0;
+    for (int m = 0; m < n; ++m)
+      if (live[m] && heads[m].front() < same_step) {
+        front = std::min(front, heads[m].front());
+        step_colors[k++] = heads[m].color;
+        live[m] = marchers[m].next(heads[m]);
+      }
+    composite_surfaces_until(front);
+    if (acc.a >= p.ert) break;
+    acc = over(acc, mix_m1(std::span<const glm::vec4>(step_colors, k)));
   }
   composite_surfaces_until(INFINITY);
   return acc;

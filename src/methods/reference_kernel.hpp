@@ -61,7 +61,7 @@ inline glm::vec4 trace_reference(const Ray& ray, std::span<const Fragment> surfa
   int ii = 0;
   auto next_surface_t = [&]() {
     double ts = si < surfaces.size() ? surfaces[si].t : INFINITY;
-    return ii < rv.iso_count ? std::min(ts, rv.iso[ii].t) : ts;
+    return ii < rv.hit_count ? std::min(ts, rv.hits[ii].t) : ts;
   };
 
   glm::vec4 acc(0.0f);
@@ -100,8 +100,8 @@ inline glm::vec4 trace_reference(const Ray& ray, std::span<const Fragment> surfa
     if (ts <= t) {
       detail::M1Mix mix;
       while (next_surface_t() <= ts + p.coincide) {
-        if (ii < rv.iso_count && (si >= surfaces.size() || rv.iso[ii].t <= surfaces[si].t)) {
-          mix.add(rv.iso[ii++].color);
+        if (ii < rv.hit_count && (si >= surfaces.size() || rv.hits[ii].t <= surfaces[si].t)) {
+          mix.add(rv.hits[ii++].color);
         } else {
           mix.add(surfaces[si++].color);
         }

@@ -78,7 +78,8 @@ std::vector<Light> parse_lights(const JsonReader& r) {
 
 RenderSettings parse_render(const JsonReader& r) {
   r.check_keys({"method", "spp", "step_mm", "reference_step_fraction", "ert_threshold", "layers",
-                "rt_layers", "peel_layers", "interpolation", "beta"});
+                "rt_layers", "peel_layers", "interpolation", "beta", "skipping", "classification",
+                "gradients", "brick_size", "k", "fragment_cap", "thickness", "slab_format"});
   RenderSettings s;
   if (auto v = r.find("method")) {
     s.method = v->string();
@@ -98,6 +99,14 @@ RenderSettings parse_render(const JsonReader& r) {
   if (auto v = r.find("peel_layers")) s.peel_layers = v->integer(1, 1024);
   if (auto v = r.find("interpolation")) s.interpolation = v->choice({"ovi", "hvi", "blend"});
   if (auto v = r.find("beta")) s.beta = v->number(Range::closed(0.0, 1.0));
+  if (auto v = r.find("skipping")) s.skipping = v->choice({"none", "bricks", "distance"});
+  if (auto v = r.find("classification")) s.classification = v->choice({"preintegrated", "post"});
+  if (auto v = r.find("gradients")) s.gradients = v->choice({"on-the-fly", "precomputed"});
+  if (auto v = r.find("brick_size")) s.brick_size = v->integer(2, 64);
+  if (auto v = r.find("k")) s.k = v->integer(1, 64);
+  if (auto v = r.find("fragment_cap")) s.fragment_cap = v->integer(1, 65536);
+  if (auto v = r.find("thickness")) s.thickness = parse_thickness(*v);
+  if (auto v = r.find("slab_format")) s.slab_format = v->choice({"rgba32f", "rgba8"});
   return s;
 }
 

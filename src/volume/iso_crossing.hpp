@@ -11,9 +11,10 @@
 
 namespace imx {
 
-struct IsoHit {
+// A volume's contribution at a single depth: an iso-surface crossing or a projection (MIP, X-ray).
+struct VolumeHit {
   double t = 0.0;
-  glm::vec4 color{0.0f};  // shaded, premultiplied by the TF's opacity at the iso-value
+  glm::vec4 color{0.0f};  // premultiplied; an iso hit is shaded and has the TF's opacity there
 };
 
 // Searches [t0, t1] on the grid of points k * step (anchored at t = 0, so several volumes
@@ -21,7 +22,7 @@ struct IsoHit {
 // linear step inside the last bracket. Returns false when the value never crosses.
 inline bool find_iso_crossing(const PreparedVolume& v, const Ray& ray, double t0, double t1,
                               double step, int bisections, std::span<const ShadingLight> lights,
-                              IsoHit& hit) {
+                              VolumeHit& hit) {
   float iso = static_cast<float>(v.object->iso_value);
   auto value_at = [&](double t) {
     return v.grid.sample(v.to_index(ray.at(static_cast<float>(t)))) - iso;

@@ -6,6 +6,7 @@
 #include "intermix/scene.hpp"
 #include "volume/any_grid.hpp"
 #include "volume/tf_lut.hpp"
+#include "volume/volume_acceleration.hpp"
 
 namespace imx {
 
@@ -23,6 +24,7 @@ struct PreparedVolume {
   glm::mat3 gradient_to_world{1.0f};  // inverse-transpose: index-space gradient -> world space
   float min_pitch = 1.0f;             // smallest voxel spacing in mm
   TfLut lut;
+  VolumeAcceleration accel;  // empty until a method that marches asks for it
 
   explicit PreparedVolume(const VolumeObject& v);
 

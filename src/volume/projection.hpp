@@ -1,0 +1,47 @@
+// Projection styles (SPEC §2): maximum intensity (mip) and X-ray (average value) along a ray.
+#pragma once
+#include <cmath>
+
+#include <glm/glm.hpp>
+
+#include "core/ray.hpp"
+#include "intermix/scene.hpp"
+#include "volume/iso_crossing.hpp"
+#include "volume/prepared_volume.hpp"
+
+namespace imx {
+
+// Samples [t0, t1] at the points k * step (plus both ends) and classifies the maximum (mip) or
+// the mean (xray) value with the TF, whose opacity is taken as it is: a projection is an image of
+// the whole span, not a medium. The hit sits at the maximum's depth (mip) or mid-span (xray), so
+// it is composited in depth order with the other objects. False when the TF makes it invisible.
+inline bool project_volume(const PreparedVolume& v, const Ray& ray, double t0, double t1,
+                           double step, VolumeHit& hit) {
+  auto value_at = [&](double t) {
+    return v.grid.sample(v.to_index(ray.at(static_cast<float>(t))));
+  };
+  float best = value_at(t0), sum = 0.0f;
+  double best_t = t0, prev = t0;
+  float prev_value = best;
+  // Trapezoids between consecutive points give the mean of the piecewise-linear profile.
+  for (double k = std::floor(t0 / step) + 1.0;; k += 1.0) {
+    double t = std::min(t1, k * step);
+    float s = value_at(t);
+    sum += 0.5f * (prev_value + s) * static_cast<float>(t - prev);
+    if (s > best) {
+      best = s;
+      best_t = t;
+    }
+    prev = t;
+    prev_value = s;
+    if (t >= t1) break;
+  }
+  bool mip = v.object->style == VolumeStyle::mip;
+  float value = mip ? best : (t1 > t0 ? sum / static_cast<float>(t1 - t0) : best);
+  glm::vec4 tf = v.lut.lookup(value);
+  if (tf.a <= 0.0f) return false;
+  hit = {mip ? best_t : 0.5 * (t0 + t1), glm::vec4(glm::vec3(tf) * tf.a, tf.a)};
+  return true;
+}
+
+}  // namespace imx

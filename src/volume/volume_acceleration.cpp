@@ -1,0 +1,112 @@
+#include "volume/volume_acceleration.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <list>
+#include <mutex>
+
+#include "intermix/scene.hpp"
+#include "volume/brick_min_max.hpp"
+#include "volume/preintegration_cache.hpp"
+#include "volume/tf_emptiness.hpp"
+
+namespace imx {
+
+namespace {
+
+// A small LRU of values derived from a voxel array (and a key), dropped when the array dies:
+// weak_ptr identity, so a new array at a recycled address never hits a stale entry.
+template <class Key, class Value>
+class PerVolumeCache {
+ public:
+  explicit PerVolumeCache(size_t capacity) : capacity_(capacity) {}
+
+  template <class Build>
+  std::shared_ptr<const Value> get(const std::shared_ptr<const VolumeData>& data, const Key& key,
+                                   Build&& build) {
+    std::lock_guard lock(mutex_);
+    for (auto it = items_.begin(); it != items_.end();) {
+      std::shared_ptr<const VolumeData> owner = it->data.lock();
+      if (!owner) {
+        it = items_.erase(it);
+        continue;
+      }
+      if (owner == data && it->key == key) {
+        items_.splice(items_.begin(), items_, it);
+        return items_.front().value;
+      }
+      ++it;
+    }
+    auto value = std::make_shared<const Value>(build());
+    items_.push_front({data, key, value});
+    while (items_.size() > capacity_) items_.pop_back();
+    return value;
+  }
+
+ private:
+  struct Item {
+    std::weak_ptr<const VolumeData> data;
+    Key key;
+    std::shared_ptr<const Value> value;
+  };
+  size_t capacity_;
+  std::list<Item> items_;
+  std::mutex mutex_;
+};
+
+struct OccupancyKey {
+  int brick_size;
+  uint64_t tf;
+  bool operator==(const OccupancyKey&) const = default;
+};
+
+}  // namespace
+
+MarchSettings MarchSettings::from(const RenderSettings& render) {
+  MarchSettings s;
+  s.skip = render.skipping == "none"     ? SkipMode::none
+           : render.skipping == "bricks" ? SkipMode::bricks
+                                         : SkipMode::distance;
+  s.classification =
+      render.classification == "post" ? Classification::post : Classification::preintegrated;
+  s.gradients =
+      render.gradients == "precomputed" ? GradientSource::precomputed : GradientSource::on_the_fly;
+  s.brick_size = render.brick_size;
+  return s;
+}
+
+VolumeAcceleration accelerate(const VolumeObject& v, const TfLut& lut, float step,
+                              const MarchSettings& settings) {
+  static PerVolumeCache<int, BrickMinMax> ranges(8);
+  static PerVolumeCache<OccupancyKey, BrickOccupancy> occupancies(16);
+  static PerVolumeCache<int, GradientVolume> gradients(4);
+  static PreintegrationCache tables(16);
+
+  VolumeAcceleration a;
+  a.skip = settings.skip;
+  const AnyGrid grid(*v.data);
+  // Built once per voxel array: skipping reads it, and it gives the data range without a scan.
+  std::shared_ptr<const BrickMinMax> r = ranges.get(
+      v.data, settings.brick_size, [&] { return BrickMinMax(grid, settings.brick_size); });
+  if (settings.skip != SkipMode::none) {
+    a.occupancy = occupancies.get(v.data, OccupancyKey{settings.brick_size, tf_fingerprint(lut)},
+                                  [&] { return BrickOccupancy(*r, TfEmptiness(lut)); });
+  }
+  if (settings.classification == Classification::preintegrated) {
+    // The table spans the data as well as the TF, so ramps beyond the TF points integrate the
+    // constant ends instead of being clamped.
+    float t_lo = lut.lo(), t_hi = lut.hi();
+    for (glm::vec2 b : r->ranges())
+      if (std::isfinite(b.x) && std::isfinite(b.y)) {
+        t_lo = std::min(t_lo, b.x);
+        t_hi = std::max(t_hi, b.y);
+      }
+    if (!(t_hi > t_lo)) t_hi = t_lo + 1.0f;
+    a.preint = tables.get(lut, step, t_lo, t_hi);
+  }
+  if (settings.gradients == GradientSource::precomputed)
+    a.gradients = gradients.get(v.data, 0, [&] { return GradientVolume(grid); });
+  return a;
+}
+
+}  // namespace imx

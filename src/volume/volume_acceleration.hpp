@@ -1,0 +1,45 @@
+// VolumeAcceleration: what a volume's ray marcher reads besides the voxels, and how it is built.
+#pragma once
+#include <cstdint>
+#include <memory>
+
+#include "volume/brick_occupancy.hpp"
+#include "volume/gradient_volume.hpp"
+#include "volume/preintegration_table.hpp"
+#include "volume/tf_lut.hpp"
+
+namespace imx {
+
+struct VolumeObject;
+struct RenderSettings;
+
+enum class SkipMode : uint8_t { none, bricks, distance };
+enum class Classification : uint8_t { preintegrated, post };
+enum class GradientSource : uint8_t { on_the_fly, precomputed };
+
+struct MarchSettings {
+  SkipMode skip = SkipMode::distance;
+  Classification classification = Classification::preintegrated;
+  GradientSource gradients = GradientSource::on_the_fly;
+  int brick_size = 8;
+
+  // The render block's choices (render.skipping, classification, gradients, brick_size).
+  static MarchSettings from(const RenderSettings& render);
+};
+
+// Shared, immutable structures: a frame holds them while tables may be evicted from the caches.
+struct VolumeAcceleration {
+  SkipMode skip = SkipMode::none;
+  std::shared_ptr<const BrickOccupancy> occupancy;    // null when skip == none
+  std::shared_ptr<const PreintegrationTable> preint;  // null for post-classification
+  std::shared_ptr<const GradientVolume> gradients;    // null for on-the-fly gradients
+};
+
+// Builds or fetches from process-wide caches what `settings` asks for volume `v` with LUT `lut`
+// at ray step `step` mm. The TF-independent parts (brick min/max, gradients) are kept per voxel
+// array while its VolumeData lives; occupancy and pre-integration tables are rebuilt when the TF
+// or the step changes (cheaply: no voxel access). Thread-safe.
+VolumeAcceleration accelerate(const VolumeObject& v, const TfLut& lut, float step,
+                              const MarchSettings& settings);
+
+}  // namespace imx
