@@ -25,6 +25,44 @@ struct MdvrParams {
   int iso_bisections = 10;
 };
 
+// The steps of several volumes: each marcher holds its next slab (a pending head); the heads that
+// lie in the nearest grid step are mixed (M1) and composited together.
+template <class SurfacesUntil>
+void composite_steps_of_several(const Ray& ray, const RayVolumes& rv,
+                                std::span<const PreparedVolume> volumes,
+                                std::span<const ShadingLight> lights, const MdvrParams& p,
+                                glm::vec4& acc, SurfacesUntil& composite_surfaces_until) {
+  VolumeMarcher marchers[kMaxRayVolumes];
+  Slab heads[kMaxRayVolumes];
+  bool live[kMaxRayVolumes] = {};
+  int n = 0;
+  for (int v = 0; v < rv.count; ++v) {
+    if (!rv.marched[v]) continue;
+    marchers[n] = VolumeMarcher(volumes[v], ray, rv.span[v].t0, rv.span[v].t1, p.step, lights);
+    live[n] = marchers[n].next(heads[n]);
+    ++n;
+  }
+  glm::vec4 step_colors[kMaxRayVolumes];
+  while (acc.a < p.ert) {
+    float back = INFINITY;
+    for (int m = 0; m < n; ++m)
+      if (live[m]) back = std::min(back, heads[m].t_back);
+    if (back == INFINITY) break;
+    const float same_step = back - 1e-3f * p.step;
+    float front = back;
+    int k = 0;
+    for (int m = 0; m < n; ++m)
+      if (live[m] && heads[m].front() < same_step) {
+        front = std::min(front, heads[m].front());
+        step_colors[k++] = heads[m].color;
+        live[m] = marchers[m].next(heads[m]);
+      }
+    composite_surfaces_until(front);
+    if (acc.a >= p.ert) break;
+    acc = over(acc, mix_m1(std::span<const glm::vec4>(step_colors, k)));
+  }
+}
+
 inline glm::vec4 trace_mdvr(const Ray& ray, std::span<const Fragment> surfaces,
                             std::span<const PreparedVolume> volumes,
                             std::span<const ShadingLight> lights, const MdvrParams& p) {
@@ -46,36 +84,23 @@ inline glm::vec4 trace_mdvr(const Ray& ray, std::span<const Fragment> surfaces,
     }
   };
 
-  // One marcher per marched volume, each holding its next slab (a pending head).
-  VolumeMarcher marchers[kMaxRayVolumes];
-  Slab heads[kMaxRayVolumes];
-  bool live[kMaxRayVolumes] = {};
-  int n = 0;
-  for (int v = 0; v < rv.count; ++v) {
-    if (!rv.marched[v]) continue;
-    marchers[n] = VolumeMarcher(volumes[v], ray, rv.span[v].t0, rv.span[v].t1, p.step, lights);
-    live[n] = marchers[n].next(heads[n]);
-    ++n;
-  }
-  glm::vec4 step_colors[kMaxRayVolumes];
-  while (acc.a < p.ert) {
-    // The grid step of the nearest head: heads that start before its back lie in the same step.
-    float back = INFINITY;
-    for (int m = 0; m < n; ++m)
-      if (live[m]) back = std::min(back, heads[m].t_back);
-    if (back == INFINITY) break;
-    const float same_step = back - 1e-3f * p.step;
-    float front = back;
-    int k = 0;
-    for (int m = 0; m < n; ++m)
-      if (live[m] && heads[m].front() < same_step) {
-        front = std::min(front, heads[m].front());
-        step_colors[k++] = heads[m].color;
-        live[m] = marchers[m].next(heads[m]);
-      }
-    composite_surfaces_until(front);
-    if (acc.a >= p.ert) break;
-    acc = over(acc, mix_m1(std::span<const glm::vec4>(step_colors, k)));
+  int marched = 0, only = 0;
+  for (int v = 0; v < rv.count; ++v)
+    if (rv.marched[v]) {
+      ++marched;
+      only = v;
+    }
+  if (marched == 1) {
+    // One volume: its slabs are the grid steps, nothing to mix.
+    VolumeMarcher m(volumes[only], ray, rv.span[only].t0, rv.span[only].t1, p.step, lights);
+    Slab s;
+    while (acc.a < p.ert && m.next(s)) {
+      composite_surfaces_until(s.front());
+      if (acc.a >= p.ert) break;
+      acc = over(acc, s.color);
+    }
+  } else if (marched > 1) {
+    composite_steps_of_several(ray, rv, volumes, lights, p, acc, composite_surfaces_until);
   }
   composite_surfaces_until(INFINITY);
   return acc;

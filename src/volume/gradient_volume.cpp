@@ -24,25 +24,31 @@ float difference(const Grid& g, glm::ivec3 p, int axis) {
 
 GradientVolume::GradientVolume(const AnyGrid& voxels, int threads) : dims_(voxels.dims) {
   const size_t count = static_cast<size_t>(dims_.x) * dims_.y * dims_.z;
-  std::vector<float> full(3 * count);
+  data_.resize(3 * count);
+  // Two passes (largest component, then quantize) instead of a float copy: 6 bytes a voxel at
+  // the peak, not 18.
   voxels.visit([&](const auto& g) {
-    parallel_for(dims_.z, threads, [&](long k0, long k1) {
-      for (int k = static_cast<int>(k0); k < k1; ++k)
-        for (int j = 0; j < dims_.y; ++j)
-          for (int i = 0; i < dims_.x; ++i) {
-            size_t n = 3 * ((static_cast<size_t>(k) * dims_.y + j) * dims_.x + i);
-            for (int a = 0; a < 3; ++a) full[n + a] = difference(g, {i, j, k}, a);
-          }
+    auto each_slice = [&](auto&& fn) {
+      parallel_for(dims_.z, threads, [&](long k0, long k1) {
+        for (int k = static_cast<int>(k0); k < k1; ++k)
+          for (int j = 0; j < dims_.y; ++j)
+            for (int i = 0; i < dims_.x; ++i) {
+              size_t n = 3 * ((static_cast<size_t>(k) * dims_.y + j) * dims_.x + i);
+              for (int a = 0; a < 3; ++a) fn(n + a, difference(g, {i, j, k}, a), k);
+            }
+      });
+    };
+    std::vector<float> largest_per_slice(dims_.z, 0.0f);
+    each_slice([&](size_t, float d, int k) {
+      if (std::isfinite(d)) largest_per_slice[k] = std::max(largest_per_slice[k], std::abs(d));
+    });
+    float largest = *std::max_element(largest_per_slice.begin(), largest_per_slice.end());
+    scale_ = largest > 0.0f ? largest / 32767.0f : 1.0f;
+    const float inv = 1.0f / scale_;
+    each_slice([&](size_t n, float d, int) {
+      data_[n] = std::isfinite(d) ? static_cast<int16_t>(std::lround(d * inv)) : 0;
     });
   });
-  float largest = 0.0f;
-  for (float v : full)
-    if (std::isfinite(v)) largest = std::max(largest, std::abs(v));
-  scale_ = largest > 0.0f ? largest / 32767.0f : 1.0f;
-  data_.resize(full.size());
-  const float inv = 1.0f / scale_;
-  for (size_t n = 0; n < full.size(); ++n)
-    data_[n] = std::isfinite(full[n]) ? static_cast<int16_t>(std::lround(full[n] * inv)) : 0;
 }
 
 }  // namespace imx

@@ -79,6 +79,7 @@ VolumeAcceleration accelerate(const VolumeObject& v, const TfLut& lut, float ste
                               const MarchSettings& settings) {
   static PerVolumeCache<int, BrickMinMax> ranges(8);
   static PerVolumeCache<OccupancyKey, BrickOccupancy> occupancies(16);
+  static PerVolumeCache<uint64_t, CellOccupancy> cell_occupancies(8);
   static PerVolumeCache<int, GradientVolume> gradients(4);
   static PreintegrationCache tables(16);
 
@@ -89,8 +90,14 @@ VolumeAcceleration accelerate(const VolumeObject& v, const TfLut& lut, float ste
   std::shared_ptr<const BrickMinMax> r = ranges.get(
       v.data, settings.brick_size, [&] { return BrickMinMax(grid, settings.brick_size); });
   if (settings.skip != SkipMode::none) {
+    a.emptiness = std::make_shared<const TfEmptiness>(lut);
     a.occupancy = occupancies.get(v.data, OccupancyKey{settings.brick_size, tf_fingerprint(lut)},
-                                  [&] { return BrickOccupancy(*r, TfEmptiness(lut)); });
+                                  [&] { return BrickOccupancy(*r, *a.emptiness); });
+    std::shared_ptr<const BrickMinMax> cell_ranges =
+        ranges.get(v.data, CellOccupancy::kCellSize,
+                   [&] { return BrickMinMax(grid, CellOccupancy::kCellSize); });
+    a.cells = cell_occupancies.get(v.data, tf_fingerprint(lut),
+                                   [&] { return CellOccupancy(*cell_ranges, *a.emptiness); });
   }
   if (settings.classification == Classification::preintegrated) {
     // The table spans the data as well as the TF, so ramps beyond the TF points integrate the
@@ -104,7 +111,7 @@ VolumeAcceleration accelerate(const VolumeObject& v, const TfLut& lut, float ste
     if (!(t_hi > t_lo)) t_hi = t_lo + 1.0f;
     a.preint = tables.get(lut, step, t_lo, t_hi);
   }
-  if (settings.gradients == GradientSource::precomputed)
+  if (settings.gradients == GradientSource::precomputed && v.shading.enabled)
     a.gradients = gradients.get(v.data, 0, [&] { return GradientVolume(grid); });
   return a;
 }

@@ -4,8 +4,10 @@
 #include <memory>
 
 #include "volume/brick_occupancy.hpp"
+#include "volume/cell_occupancy.hpp"
 #include "volume/gradient_volume.hpp"
 #include "volume/preintegration_table.hpp"
+#include "volume/tf_emptiness.hpp"
 #include "volume/tf_lut.hpp"
 
 namespace imx {
@@ -31,6 +33,8 @@ struct MarchSettings {
 struct VolumeAcceleration {
   SkipMode skip = SkipMode::none;
   std::shared_ptr<const BrickOccupancy> occupancy;    // null when skip == none
+  std::shared_ptr<const CellOccupancy> cells;         // null when skip == none
+  std::shared_ptr<const TfEmptiness> emptiness;       // null when skip == none
   std::shared_ptr<const PreintegrationTable> preint;  // null for post-classification
   std::shared_ptr<const GradientVolume> gradients;    // null for on-the-fly gradients
 };

@@ -36,22 +36,43 @@ class VolumeMarcher {
         t_(t0),
         t1_(t1) {
     if (v.accel.preint) preint_ = v.accel.preint->view();
+    align_cell();
     if (v.accel.occupancy && t1 > t0)
       dda_ = BrickDda(v.accel.occupancy->grid(), origin_, dir_, t0, t1);
   }
 
   // The next slab with any visibility, in depth order; false once the span is used up.
   bool next(Slab& out) {
+    return v_->grid.visit([&](const auto& grid) { return next_in(grid, out); });
+  }
+
+  // Where the next slab will start at the earliest.
+  double position() const { return t_; }
+
+ private:
+  // The loop with the voxel type resolved once per slab, so sampling inlines.
+  template <class Grid>
+  bool next_in(const Grid& grid, Slab& out) {
     while (t_ < t1_) {
-      double back = std::min<double>(t1_, (std::floor(t_ / step_) + 1.0) * step_);
-      if (back <= t_) back = std::min<double>(t1_, t_ + step_);
-      if (v_->accel.occupancy && skip_empty(back)) continue;
-      float s_f = have_front_ ? s_front_ : value_at(t_);
-      float s_b = value_at(back);
+      double back = std::min<double>(t1_, (cell_ + 1.0) * step_);
+      if (v_->accel.occupancy && t_ >= occupied_until_ && skip_empty(back)) continue;
+      if (v_->accel.cells && v_->accel.cells->segment_empty(index_at(t_), index_at(back))) {
+        t_ = back;  // transparent cells inside an occupied brick: nothing to sample
+        cell_ += 1.0;
+        have_front_ = false;
+        continue;
+      }
+      float s_f = have_front_ ? s_front_ : grid.sample(index_at(t_));
+      float s_b = grid.sample(index_at(back));
       double front = t_;
       t_ = back;
+      cell_ += 1.0;
       s_front_ = s_b;
       have_front_ = true;
+      // Inside occupied bricks most pieces are still transparent: the O(1) range test spares
+      // them the table lookup (the same test that empties bricks).
+      if (v_->accel.emptiness && v_->accel.emptiness->is_empty(std::min(s_f, s_b), std::max(s_f, s_b)))
+        continue;
       glm::vec4 c = classify(s_f, s_b, static_cast<float>(back - front));
       if (c.a <= 0.0f) continue;
       if (v_->object->shading.enabled) c = shade(c, 0.5 * (front + back));
@@ -61,18 +82,23 @@ class VolumeMarcher {
     return false;
   }
 
-  // Where the next slab will start at the earliest.
-  double position() const { return t_; }
+  // The grid cell [k, k+1) * step holding t_ (guarding against rounding at its ends).
+  void align_cell() {
+    cell_ = std::floor(t_ / step_);
+    while ((cell_ + 1.0) * step_ <= t_) cell_ += 1.0;
+  }
 
- private:
   glm::vec3 index_at(double t) const { return origin_ + static_cast<float>(t) * dir_; }
-  float value_at(double t) const { return v_->grid.sample(index_at(t)); }
 
   // When the piece [t_, back] lies in empty bricks only, moves t_ past it and past every
   // further piece wholly inside the same run of empty bricks, and returns true.
   bool skip_empty(double back) {
     while (!dda_.done() && dda_.t_exit() <= t_) dda_.next();
-    if (dda_.done() || v_->accel.occupancy->occupied(dda_.brick())) return false;
+    if (dda_.done()) return false;
+    if (v_->accel.occupancy->occupied(dda_.brick())) {
+      occupied_until_ = dda_.t_exit();  // no need to look again before the ray leaves it
+      return false;
+    }
     while (!dda_.done()) {
       int d = v_->accel.occupancy->distance(dda_.brick());
       if (d == 0) break;
@@ -84,6 +110,7 @@ class VolumeMarcher {
     double resume = dda_.done() ? t1_ : dda_.t_enter();
     if (resume < back) return false;
     t_ = std::max(back, std::floor(resume / step_) * step_);
+    align_cell();
     have_front_ = false;
     return true;
   }
@@ -116,6 +143,8 @@ class VolumeMarcher {
   glm::vec3 origin_{0.0f}, dir_{0.0f};  // the ray in index space, same parameter t
   float step_ = 1.0f;
   double t_ = 0.0;
+  double cell_ = 0.0;
+  double occupied_until_ = -INFINITY;  // the ray is in an occupied brick up to here  // index k of the grid cell [k, k+1) * step that t_ lies in
   float t1_ = 0.0f;
   PreintegrationView preint_;
   BrickDda dda_;

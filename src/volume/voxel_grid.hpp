@@ -17,8 +17,9 @@ struct VoxelGrid {
   }
 
   // Trilinear interpolation at index-space position p (voxel centres at integers), clamped
-  // to the grid, so p may lie anywhere in [0, dims - 1].
-  float sample(glm::vec3 p) const {
+  // to the grid, so p may lie anywhere in [0, dims - 1]. Forced inline: it is the innermost
+  // operation of every ray marcher, and compilers otherwise keep it a call.
+  [[gnu::always_inline]] float sample(glm::vec3 p) const {
     glm::vec3 hi = glm::vec3(dims - 1);
     p = glm::clamp(p, glm::vec3(0.0f), hi);
     glm::ivec3 i0 = glm::min(glm::ivec3(p), glm::max(dims - 2, glm::ivec3(0)));
