@@ -1,4 +1,5 @@
-// intermix bench SCENE: ms per frame of one or more methods on one scene, in one run.
+// intermix bench SCENE: ms per frame of methods and setting variants on one scene (and of the VTK
+// peer with --vtk), in one run, so their ratios are comparable.
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -10,10 +11,13 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include "bench_change.hpp"
 #include "commands.hpp"
 #include "core/progress_bar.hpp"
+#include "intermix/error.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "vtk_peer_runner.hpp"
 
 namespace imx::cli {
 
@@ -33,18 +37,85 @@ double peak_resident_mib() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux reports KiB
 }
 
+// One --variant: a label and the --set assignments it adds.
+struct Variant {
+  std::string label;
+  std::vector<std::string> overrides;
+};
+
+// "LABEL:key=value,key=value"; commas inside [] {} or quotes belong to the value.
+Variant parse_variant(const std::string& text) {
+  size_t colon = text.find(':');
+  if (colon == std::string::npos || colon == 0)
+    throw Error(
+        fmt::format("--variant '{}': expected LABEL:key=value,key=value (or LABEL:)", text));
+  Variant v{text.substr(0, colon), {}};
+  std::string current;
+  int depth = 0;
+  bool in_quotes = false;
+  auto flush = [&] {
+    if (current.find_first_not_of(" \t") == std::string::npos) {
+      current.clear();
+      return;
+    }
+    if (current.find('=') == std::string::npos)
+      throw Error(fmt::format("--variant '{}': '{}' is not key=value", text, current));
+    v.overrides.push_back(current);
+    current.clear();
+  };
+  for (char c : text.substr(colon + 1)) {
+    if (c == '"') in_quotes = !in_quotes;
+    if (!in_quotes && (c == '[' || c == '{')) ++depth;
+    if (!in_quotes && (c == ']' || c == '}')) --depth;
+    if (c == ',' && depth == 0 && !in_quotes)
+      flush();
+    else
+      current += c;
+  }
+  flush();
+  return v;
+}
+
+double median_of(std::vector<double> ms) {
+  std::sort(ms.begin(), ms.end());
+  size_t n = ms.size();
+  return n % 2 ? ms[n / 2] : 0.5 * (ms[n / 2 - 1] + ms[n / 2]);
+}
+
+// Times `frames` renders after one warm-up; returns each frame's milliseconds.
+std::vector<double> time_frames(const Scene& scene, const RenderOptions& options, int frames,
+                                const std::string& label) {
+  ProgressBar bar(fmt::format("bench {}", label), show_progress());
+  render(scene, options);  // warm-up: caches, page faults, thread pool
+  std::vector<double> ms;
+  for (int f = 0; f < frames; ++f) {
+    Scene frame = scene;
+    frame.camera = jittered(scene.camera, f % 2 == 0 ? 0.5 : -0.5);
+    auto start = std::chrono::steady_clock::now();
+    render(frame, options);
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                     .count());
+    bar.update(static_cast<double>(f + 1) / frames);
+  }
+  bar.finish();
+  return ms;
+}
+
 }  // namespace
 
 Command add_bench(CLI::App& app) {
   struct Options {
-    std::string scene;
-    std::vector<std::string> methods, overrides;
+    std::string scene, peer, vtk_mode = "cpu", change;
+    std::vector<std::string> methods, overrides, variants;
     int frames = 5, width = 0, height = 0, spp = 0, threads = 0;
-    bool json = false;
+    bool json = false, vtk = false;
   };
   auto o = std::make_shared<Options>();
   app.add_option("scene", o->scene, "scene file (JSON)")->required();
   app.add_option("--method", o->methods, "method to time (repeatable; default: the scene's)");
+  app.add_option("--variant", o->variants,
+                 "LABEL:key=value,key=value: extra --set overrides timed as their own row for "
+                 "every method (repeatable; 'LABEL:' alone is the scene as it is)");
   app.add_option("--frames", o->frames, "timed frames after one warm-up frame")
       ->check(CLI::PositiveNumber);
   app.add_option("--width", o->width, "image width")->check(CLI::PositiveNumber);
@@ -52,65 +123,136 @@ Command add_bench(CLI::App& app) {
   app.add_option("--spp", o->spp, "samples per pixel")->check(CLI::PositiveNumber);
   app.add_option("--threads", o->threads, "worker threads (default: all cores)");
   app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");
+  app.add_flag("--vtk", o->vtk,
+               "also time the VTK peer (vtk_peer.py) on the same scene, image size and sample "
+               "distance (needs scripts/install-deps --with-peers)");
+  app.add_option("--vtk-mode", o->vtk_mode, "the VTK peer's mapper: cpu or gpu")
+      ->check(CLI::IsMember({"cpu", "gpu"}));
+  app.add_option("--peer", o->peer,
+                 "vtk_peer.py (default: shared/peers/vtk_peer.py in the nearest folder above "
+                 "this program, else above the scene)");
   app.add_flag("--json", o->json, "print one JSON object on stdout");
+  app.add_option("--change", o->change,
+                 "time re-renders after OBJECT.key=value, keeping stage outputs (zslab methods)");
   return [o]() {
     std::vector<std::string> overrides = o->overrides;
     if (o->width > 0) overrides.push_back(fmt::format("image.width={}", o->width));
     if (o->height > 0) overrides.push_back(fmt::format("image.height={}", o->height));
-    Scene scene = load_scene(o->scene, overrides);
-    std::vector<std::string> methods = o->methods;
-    if (methods.empty()) methods.push_back(scene.render.method);
-    nlohmann::json results = nlohmann::json::array();
-    for (const std::string& method : methods) {
-      RenderOptions options;
-      options.method = method;
-      options.spp = o->spp;
-      options.threads = o->threads;
-      ProgressBar bar(fmt::format("bench {}", method), show_progress());
-      render(scene, options);  // warm-up: caches, page faults, thread pool
-      std::vector<double> ms;
-      for (int f = 0; f < o->frames; ++f) {
-        Scene frame = scene;
-        frame.camera = jittered(scene.camera, f % 2 == 0 ? 0.5 : -0.5);
-        auto start = std::chrono::steady_clock::now();
-        render(frame, options);
-        ms.push_back(
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                .count());
-        bar.update(static_cast<double>(f + 1) / o->frames);
-      }
-      bar.finish();
-      std::vector<double> sorted = ms;
-      std::sort(sorted.begin(), sorted.end());
-      double median = sorted.size() % 2
-                          ? sorted[sorted.size() / 2]
-                          : 0.5 * (sorted[sorted.size() / 2 - 1] + sorted[sorted.size() / 2]);
-      int spp = o->spp > 0 ? o->spp : scene.render.spp;
-      double rays = static_cast<double>(scene.image.width) * scene.image.height * std::max(spp, 1);
-      results.push_back({{"method", method},
-                         {"frames", o->frames},
-                         {"ms_median", median},
-                         {"ms_min", sorted.front()},
-                         {"ms_max", sorted.back()},
-                         {"rays_per_s", spp > 0 ? nlohmann::json(rays / (median / 1000.0))
-                                                : nlohmann::json(nullptr)},
-                         {"peak_rss_mib", peak_resident_mib()}});
+    std::vector<Variant> variants;
+    for (const std::string& text : o->variants) {
+      variants.push_back(parse_variant(text));
+      for (size_t i = 0; i + 1 < variants.size(); ++i)
+        if (variants[i].label == variants.back().label)
+          throw Error(fmt::format("--variant: label '{}' is given twice", variants.back().label));
     }
+    const bool named = !variants.empty();
+    if (!named) variants.push_back({});
+
+    // Every variant's scene is loaded (and validated) before anything is timed.
+    std::vector<std::vector<std::string>> assignments;
+    std::vector<Scene> scenes;
+    for (const Variant& variant : variants) {
+      assignments.push_back(overrides);
+      assignments.back().insert(assignments.back().end(), variant.overrides.begin(),
+                                variant.overrides.end());
+      scenes.push_back(load_scene(o->scene, assignments.back()));
+    }
+    const Scene& base = scenes.front();
+    std::vector<std::string> methods = o->methods;
+    if (methods.empty()) methods.push_back(base.render.method);
+
+    // The peer renders the first variant's scene; it is checked before anything is timed, so a
+    // missing tool fails at once.
+    PeerRun run{.peer = o->peer.empty() ? find_vtk_peer(o->scene) : std::filesystem::path(o->peer),
+                .scene_file = o->scene,
+                .overrides = assignments.front(),
+                .scene = &base,
+                .mode = o->vtk_mode,
+                .frames = o->frames,
+                .sample_distance_mm = peer_sample_distance(base)};
+    if (o->vtk) {
+      if (run.peer.empty())
+        throw Error(fmt::format(
+            "bench --vtk: cannot find shared/peers/vtk_peer.py above this program or above {}; "
+            "give --peer PATH",
+            o->scene));
+      check_vtk_peer(run.peer);
+    }
+
+    nlohmann::json rows = nlohmann::json::array();
+    for (const std::string& method : methods) {
+      for (size_t v = 0; v < variants.size(); ++v) {
+        const Scene& scene = scenes[v];
+        std::string label = named ? fmt::format("{}/{}", method, variants[v].label) : method;
+        RenderOptions options;
+        options.method = method;
+        options.spp = o->spp;
+        options.threads = o->threads;
+        ChangeTiming change;
+        if (!o->change.empty())
+          change = time_change(scene, o->scene, assignments[v], o->change, options, o->frames);
+        std::vector<double> ms =
+            o->change.empty() ? time_frames(scene, options, o->frames, label) : change.ms;
+        double median = median_of(ms);
+        int spp = o->spp > 0 ? o->spp : scene.render.spp;
+        double rays =
+            static_cast<double>(scene.image.width) * scene.image.height * std::max(spp, 1);
+        rows.push_back({{"label", label},
+                        {"method", method},
+                        {"variant", named ? variants[v].label : ""},
+                        {"frames", o->frames},
+                        {"ms_median", median},
+                        {"ms_min", *std::min_element(ms.begin(), ms.end())},
+                        {"ms_max", *std::max_element(ms.begin(), ms.end())},
+                        {"rays_per_s", spp > 0 ? nlohmann::json(rays / (median / 1000.0))
+                                               : nlohmann::json(nullptr)},
+                        {"peak_rss_mib", peak_resident_mib()}});
+        if (!o->change.empty())
+          rows.back().update({{"change", o->change}, {"stages", change.stages},
+                              {"stages_run", change.stages_run}});
+      }
+    }
+
+    if (o->vtk) {
+      if (!quiet())
+        std::fprintf(stderr, "intermix: bench vtk-%s (sample distance %g mm)\n",
+                     o->vtk_mode.c_str(), run.sample_distance_mm);
+      PeerTiming t = run_vtk_peer(run);
+      double rays = static_cast<double>(base.image.width) * base.image.height;
+      std::string label = "vtk-" + o->vtk_mode;
+      rows.push_back({{"label", label},
+                      {"method", label},
+                      {"variant", ""},
+                      {"frames", o->frames},
+                      {"ms_median", t.ms_median},
+                      {"ms_min", t.ms_min},
+                      {"ms_max", t.ms_max},
+                      {"rays_per_s", rays / (t.ms_median / 1000.0)},
+                      {"peak_rss_mib", t.peak_rss_mib},
+                      {"sample_distance_mm", run.sample_distance_mm},
+                      {"empty_image", t.empty_image}});
+      if (t.empty_image && !quiet())
+        std::fprintf(stderr,
+                     "intermix: warning: VTK drew an empty image; its time measures no "
+                     "rendering\n");
+    }
+
+    const double first = rows.front()["ms_median"];
+    for (auto& r : rows) r["ratio"] = r["ms_median"].get<double>() / first;
     if (o->json) {
       nlohmann::json out = {{"scene", o->scene},
-                            {"width", scene.image.width},
-                            {"height", scene.image.height},
-                            {"methods", results}};
+                            {"width", base.image.width},
+                            {"height", base.image.height},
+                            {"methods", rows}};
       std::printf("%s\n", out.dump().c_str());
     } else {
-      std::printf("%s at %dx%d\n", o->scene.c_str(), scene.image.width, scene.image.height);
-      double first = results.front()["ms_median"];
-      for (const auto& r : results)
-        std::printf("  %-16s median %9.1f ms  min %9.1f  max %9.1f  (x%.2f of %s)  peak %.0f MiB\n",
-                    r["method"].get<std::string>().c_str(), r["ms_median"].get<double>(),
-                    r["ms_min"].get<double>(), r["ms_max"].get<double>(),
-                    r["ms_median"].get<double>() / first, methods.front().c_str(),
-                    r["peak_rss_mib"].get<double>());
+      std::printf("%s at %dx%d\n", o->scene.c_str(), base.image.width, base.image.height);
+      const std::string first_label = rows.front()["label"];
+      for (const auto& r : rows)
+        std::printf("  %-24s median %9.1f ms  min %9.1f  max %9.1f  (x%.2f of %s)  peak %.0f MiB\n",
+                    r["label"].get<std::string>().c_str(), r["ms_median"].get<double>(),
+                    r["ms_min"].get<double>(), r["ms_max"].get<double>(), r["ratio"].get<double>(),
+                    first_label.c_str(), r["peak_rss_mib"].get<double>());
     }
     return 0;
   };

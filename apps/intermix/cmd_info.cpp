@@ -19,7 +19,7 @@ namespace {
 bool is_volume_file(const std::string& path) {
   std::string p = path;
   std::transform(p.begin(), p.end(), p.begin(), [](unsigned char c) { return std::tolower(c); });
-  for (const char* ext : {".nrrd", ".nhdr", ".nii", ".nii.gz"})
+  for (const char* ext : {".nrrd", ".nhdr", ".nii", ".nii.gz", ".mha", ".mhd"})
     if (p.size() >= std::strlen(ext) &&
         p.compare(p.size() - std::strlen(ext), std::string::npos, ext) == 0)
       return true;
@@ -77,8 +77,9 @@ Command add_info(CLI::App& app) {
     bool json = false;
   };
   auto o = std::make_shared<Options>();
-  app.add_option("file", o->file,
-                 "volume (.nrrd, .nhdr, .nii, .nii.gz) or mesh (.obj, .ply, .stl, ...)");
+  app.add_option(
+      "file", o->file,
+      "volume (.nrrd, .nhdr, .nii, .nii.gz, .mha, .mhd) or mesh (.obj, .ply, .stl, ...)");
   app.add_option("--phantom", o->phantom, "describe a built-in phantom instead of a file");
   app.add_option("--size", o->size, "phantom size (voxels along the largest axis)");
   app.add_flag("--json", o->json, "print one JSON object on stdout");

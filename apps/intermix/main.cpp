@@ -35,6 +35,9 @@ int main(int argc, char** argv) {
   add("info", "describe a volume or mesh file, or a built-in phantom", imx::cli::add_info);
   add("phantom", "write a built-in phantom volume as NRRD", imx::cli::add_phantom);
   add("bench", "time methods on a scene: median/min/max ms per frame", imx::cli::add_bench);
+  add("band", "PSNR in the band around two objects' intersection curves", imx::cli::add_band);
+  add("zfight", "z-fighting metric of methods where coplanar surfaces coincide",
+      imx::cli::add_zfight);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,4 +1,5 @@
-// Reading and writing files: volumes (NRRD, NIfTI), meshes (assimp), images (PNG), phantoms.
+// Reading and writing files: volumes (NRRD, NIfTI, MetaImage), meshes (assimp), images (PNG),
+// phantoms.
 #pragma once
 #include <filesystem>
 #include <string>
@@ -10,12 +11,17 @@
 
 namespace imx {
 
-// Reads a volume; the format comes from the extension (.nrrd/.nhdr, .nii/.nii.gz).
-// World space is LPS: NIfTI's RAS is converted. Throws imx::Error naming the file and the fault.
+// Reads a volume; the format comes from the extension (.nrrd/.nhdr, .nii/.nii.gz, .mha/.mhd).
+// World space is LPS: NIfTI's RAS is converted, MetaImage is LPS already (as in ITK).
+// Throws imx::Error naming the file and the fault.
 VolumeData read_volume(const std::filesystem::path& file);
 
 // Writes a NRRD file (gzip-encoded when `gzip`), atomically.
 void write_nrrd(const VolumeData& volume, const std::filesystem::path& file, bool gzip = true);
+
+// Writes a MetaImage .mha file with attached data (zlib-compressed when `compress`), atomically.
+void write_metaimage(const VolumeData& volume, const std::filesystem::path& file,
+                     bool compress = true);
 
 // Reads a triangle mesh through assimp (OBJ, PLY, STL, glTF, ...), triangulated, in file units.
 Mesh read_mesh(const std::filesystem::path& file);

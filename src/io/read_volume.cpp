@@ -5,6 +5,7 @@
 
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
+#include "io/metaimage.hpp"
 #include "io/nifti.hpp"
 #include "io/nrrd.hpp"
 
@@ -32,8 +33,11 @@ VolumeData read_volume(const std::filesystem::path& file) {
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ends_with(name, ".nrrd") || ends_with(name, ".nhdr")) return detail::read_nrrd(file);
   if (ends_with(name, ".nii") || ends_with(name, ".nii.gz")) return detail::read_nifti(file);
-  throw Error(fmt::format("{}: unknown volume format '{}' (supported: .nrrd, .nhdr, .nii, .nii.gz)",
-                          what, file.extension().string()));
+  if (ends_with(name, ".mha") || ends_with(name, ".mhd")) return detail::read_metaimage(file);
+  throw Error(
+      fmt::format("{}: unknown volume format '{}' (supported: .nrrd, .nhdr, .nii, .nii.gz, .mha, "
+                  ".mhd)",
+                  what, file.extension().string()));
 }
 
 }  // namespace imx

@@ -4,8 +4,13 @@
 #include <fmt/ranges.h>
 
 #include "intermix/error.hpp"
+#include "methods/dfb.hpp"
+#include "methods/kbuffer.hpp"
 #include "methods/mdvr.hpp"
+#include "methods/oit.hpp"
+#include "methods/peel.hpp"
 #include "methods/reference.hpp"
+#include "methods/zslab.hpp"
 
 namespace imx {
 
@@ -22,6 +27,15 @@ struct MethodEntry {
 constexpr MethodEntry kMethods[] = {
     {"reference", kReferenceDefaultSpp, render_reference},
     {"mdvr", 1, render_mdvr},
+    {"zslab", 1, render_zslab},
+    {"zslab-hybrid", 1, render_zslab_hybrid},
+    {"peel", 1, render_peel},
+    {"dfb", 1, render_dfb},
+    {"dfb-sfm", 1, render_dfb_sfm},
+    {"kbuffer", 1, render_kbuffer},
+    {"kbuffer-ofm", 1, render_kbuffer_ofm},
+    {"wboit", 1, render_wboit},
+    {"mboit", 1, render_mboit},
 };
 
 }  // namespace

@@ -415,7 +415,7 @@ size_t Rasterizer::triangle_count() const {
 }
 
 void Rasterizer::rasterize(const TileRect& tile, std::span<const glm::vec2> offsets,
-                           SampleFragments& out) const {
+                           SampleFragments& out, FragmentOrder order) const {
   const Impl& im = *impl_;
   const int ts = im.tile_size;
   if (tile.x0 < 0 || tile.y0 < 0 || tile.x0 % ts != 0 || tile.y0 % ts != 0 || tile.x0 >= im.width ||
@@ -531,6 +531,7 @@ void Rasterizer::rasterize(const TileRect& tile, std::span<const glm::vec2> offs
     frags.resize(kept);
   }
 
+  if (order == FragmentOrder::arrival) return;
   // Stable by t: fragments arrived in triangle order, which is scene order.
   auto by_depth = [](const Fragment& a, const Fragment& b) { return a.t < b.t; };
   for (size_t s = 0; s < total_samples; ++s) {

@@ -16,7 +16,8 @@
 namespace imx {
 
 // Fragments of all samples of a tile, as compressed rows: sample s owns
-// fragments[offsets[s] .. offsets[s + 1]), sorted by t (ties keep scene order).
+// fragments[offsets[s] .. offsets[s + 1]), sorted by t (ties keep scene order), or in arrival
+// (triangle = scene) order when rasterized with FragmentOrder::arrival.
 struct SampleFragments {
   std::vector<uint32_t> offsets;
   std::vector<Fragment> fragments;
@@ -26,6 +27,10 @@ struct SampleFragments {
   }
   size_t sample_count() const { return offsets.empty() ? 0 : offsets.size() - 1; }
 };
+
+// How each sample's fragments come out: sorted by depth, or as the triangles produced them (the
+// store pass of an order-dependent fragment buffer such as the k+-buffer).
+enum class FragmentOrder { depth, arrival };
 
 class Rasterizer {
  public:
@@ -44,8 +49,8 @@ class Rasterizer {
   // `out` is reused between calls to avoid allocation. Offsets must lie in [0, 1]^2; coverage
   // is exact on a 1/4096-pixel grid with a watertight tie rule, depth t is exact (double) at
   // the sample's true position. Thread-safe: concurrent calls on different `out`s are fine.
-  void rasterize(const TileRect& tile, std::span<const glm::vec2> offsets,
-                 SampleFragments& out) const;
+  void rasterize(const TileRect& tile, std::span<const glm::vec2> offsets, SampleFragments& out,
+                 FragmentOrder order = FragmentOrder::depth) const;
 
   int tile_size() const { return tile_size_; }
   // Triangles after near-plane and guard-band clipping that overlap the image.

@@ -1,0 +1,245 @@
+#include "vtk_peer_runner.hpp"
+
+#include <sys/resource.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
+
+#include "intermix/error.hpp"
+#include "intermix/io.hpp"
+#include "scene/overrides.hpp"
+
+namespace imx::cli {
+
+namespace {
+
+constexpr const char* kInstallHint = "run scripts/install-deps --with-peers";
+
+// The nearest `start` or ancestor of it holding shared/peers/vtk_peer.py.
+std::filesystem::path peer_above(std::filesystem::path start) {
+  std::error_code ec;
+  start = std::filesystem::weakly_canonical(start, ec);
+  if (ec) return {};
+  for (std::filesystem::path p = start;; p = p.parent_path()) {
+    std::filesystem::path candidate = p / "shared" / "peers" / "vtk_peer.py";
+    if (std::filesystem::is_regular_file(candidate, ec)) return candidate;
+    if (p == p.root_path() || p.empty()) return {};
+  }
+}
+
+// A word for /bin/sh: single-quoted, with single quotes spliced in.
+std::string quoted(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+bool on_path(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  std::stringstream dirs(path ? path : "/usr/bin:/bin");
+  std::string dir;
+  std::error_code ec;
+  while (std::getline(dirs, dir, ':'))
+    if (!dir.empty() && std::filesystem::is_regular_file(std::filesystem::path(dir) / program, ec))
+      return true;
+  return false;
+}
+
+// The system python the peer needs (Debian's python3-vtk9 is built for it), with VTK and NumPy.
+constexpr const char* kPython = "/usr/bin/python3";
+
+}  // namespace
+
+void check_vtk_peer(const std::filesystem::path& peer) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(peer, ec))
+    throw Error(fmt::format("bench --vtk: no VTK peer at '{}' (give --peer PATH to vtk_peer.py)",
+                            peer.string()));
+  std::vector<std::string> missing;
+  if (!on_path("xvfb-run")) missing.push_back("xvfb-run (package xvfb)");
+  if (!std::filesystem::is_regular_file(kPython, ec))
+    missing.push_back(kPython);
+  else if (std::system(fmt::format("{} -c 'import vtk, numpy' >/dev/null 2>&1", kPython).c_str()) !=
+           0)
+    missing.push_back("the Python modules vtk and numpy (packages python3-vtk9, python3-numpy)");
+  if (!missing.empty())
+    throw Error(fmt::format("bench --vtk: the VTK peer needs {}; {}", fmt::join(missing, ", "),
+                            kInstallHint));
+}
+
+namespace {
+
+// A fresh private folder under the system temp folder, removed with everything in it.
+class TempFolder {
+ public:
+  TempFolder() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "intermix-vtk-XXXXXX").string();
+    if (!::mkdtemp(pattern.data()))
+      throw Error(fmt::format("bench --vtk: cannot create a temporary folder '{}'", pattern));
+    path_ = pattern;
+  }
+  ~TempFolder() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  TempFolder(const TempFolder&) = delete;
+  TempFolder& operator=(const TempFolder&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+void write_obj(const Mesh& mesh, const std::filesystem::path& file) {
+  fmt::memory_buffer text;
+  fmt::format_to(std::back_inserter(text), "# world-space mesh written by intermix bench --vtk\n");
+  for (const glm::vec3& p : mesh.positions)
+    fmt::format_to(std::back_inserter(text), "v {} {} {}\n", p.x, p.y, p.z);
+  for (const glm::uvec3& t : mesh.triangles)
+    fmt::format_to(std::back_inserter(text), "f {} {} {}\n", t.x + 1, t.y + 1, t.z + 1);
+  std::ofstream out(file, std::ios::binary);
+  out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  if (!out) throw Error(fmt::format("{}: writing failed (disk full?)", file.string()));
+}
+
+// The last `count` non-empty lines of `text`, for error messages.
+std::string last_lines(const std::string& text, size_t count) {
+  std::vector<std::string> lines;
+  std::stringstream in(text);
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) lines.push_back(line);
+  if (lines.size() > count) lines.erase(lines.begin(), lines.end() - static_cast<long>(count));
+  return fmt::format("{}", fmt::join(lines, "\n"));
+}
+
+std::string read_text(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+}  // namespace
+
+std::filesystem::path find_vtk_peer(const std::filesystem::path& scene_file) {
+  std::error_code ec;
+  std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec)
+    if (std::filesystem::path p = peer_above(exe.parent_path()); !p.empty()) return p;
+  return peer_above(std::filesystem::absolute(scene_file, ec).parent_path());
+}
+
+double peer_sample_distance(const Scene& scene) {
+  if (scene.render.step_mm > 0.0) return scene.render.step_mm;
+  double pitch = std::numeric_limits<double>::infinity();
+  for (const VolumeObject& v : scene.volumes)
+    for (int a = 0; a < 3; ++a)
+      pitch = std::min(pitch, glm::length(glm::dvec3(v.index_to_world[a])));
+  return std::isfinite(pitch) ? pitch : 1.0;
+}
+
+std::filesystem::path write_peer_scene(const PeerRun& run, const std::filesystem::path& dir) {
+  const std::string origin = run.scene_file.string();
+  nlohmann::json root;
+  try {
+    root = nlohmann::json::parse(read_text(run.scene_file));
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(fmt::format("{}: invalid JSON: {}", origin, e.what()));
+  }
+  for (const std::string& assignment : run.overrides)
+    detail::apply_override(root, assignment, origin);
+
+  if (!root.contains("objects") || !root["objects"].is_array())
+    throw Error(fmt::format("{}: the scene has no \"objects\" list for the VTK peer", origin));
+  int written = 0;
+  for (nlohmann::json& object : root["objects"]) {
+    const std::string name = object.value("name", "");
+    const std::string type = object.value("type", "");
+    std::filesystem::path file;
+    if (type == "volume") {
+      auto it = std::find_if(run.scene->volumes.begin(), run.scene->volumes.end(),
+                             [&](const VolumeObject& v) { return v.name == name; });
+      if (it == run.scene->volumes.end()) continue;
+      VolumeData data = *it->data;
+      data.index_to_world = it->index_to_world;  // the object's transform, baked in
+      file = dir / fmt::format("volume-{}.mha", written++);
+      write_metaimage(data, file, false);  // uncompressed: quicker to write and to read back
+    } else if (type == "mesh") {
+      auto it = std::find_if(run.scene->meshes.begin(), run.scene->meshes.end(),
+                             [&](const MeshObject& m) { return m.name == name; });
+      if (it == run.scene->meshes.end()) continue;
+      file = dir / fmt::format("mesh-{}.obj", written++);
+      write_obj(*it->mesh, file);
+    } else {
+      continue;
+    }
+    object["source"] = {{"file", file.string()}};
+    object.erase("transform");
+  }
+  std::filesystem::path scene = dir / "scene.json";
+  std::ofstream out(scene);
+  out << root.dump(2) << "\n";
+  if (!out) throw Error(fmt::format("{}: writing failed (disk full?)", scene.string()));
+  return scene;
+}
+
+PeerTiming run_vtk_peer(const PeerRun& run) {
+  TempFolder tmp;
+  std::filesystem::path scene = write_peer_scene(run, tmp.path());
+  std::filesystem::path log = tmp.path() / "peer.log";
+  std::string command = fmt::format(
+      "xvfb-run -a -s '-screen 0 1280x1024x24' {} {} {} --mode {} --frames {} --width {} "
+      "--height {} --sample-distance {} -o {} 2>{}",
+      kPython, quoted(run.peer.string()), quoted(scene.string()), quoted(run.mode), run.frames,
+      run.scene->image.width, run.scene->image.height, run.sample_distance_mm,
+      quoted((tmp.path() / "vtk.png").string()), quoted(log.string()));
+
+  std::string output;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) throw Error("bench --vtk: cannot start xvfb-run");
+  std::array<char, 4096> buffer;
+  size_t n;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+    output.append(buffer.data(), n);
+  int status = ::pclose(pipe);
+  auto fail = [&](const std::string& why) {
+    std::string tail = last_lines(read_text(log) + output, 6);
+    return Error(fmt::format("bench --vtk: {} {}{}{}", run.peer.string(), why,
+                             tail.empty() ? "" : ":\n", tail));
+  };
+  if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    throw fail(
+        fmt::format("failed (exit status {})", WIFEXITED(status) ? WEXITSTATUS(status) : -1));
+
+  // The peer prints one JSON object; anything before it is chatter from VTK or Xvfb.
+  size_t brace = output.rfind("\n{");
+  std::string line = output.substr(brace == std::string::npos ? 0 : brace + 1);
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(line);
+  } catch (const nlohmann::json::exception&) {
+    throw fail("printed no JSON result");
+  }
+  if (!j.contains("ms_median") || !j["ms_median"].is_number()) throw fail("gave no ms_median");
+  PeerTiming t;
+  t.ms_median = j["ms_median"].get<double>();
+  t.ms_min = j.value("ms_min", t.ms_median);
+  t.ms_max = j.value("ms_max", t.ms_median);
+  t.empty_image = j.value("empty_image", false);
+  rusage usage{};
+  getrusage(RUSAGE_CHILDREN, &usage);  // the largest finished child: python or Xvfb
+  t.peak_rss_mib = static_cast<double>(usage.ru_maxrss) / 1024.0;
+  return t;
+}
+
+}  // namespace imx::cli

@@ -1,0 +1,51 @@
+// The VTK peer for `intermix bench --vtk`: finding vtk_peer.py, rewriting the scene into files
+// it can read, running it under xvfb-run and reading back its timing.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "intermix/scene.hpp"
+
+namespace imx::cli {
+
+struct PeerRun {
+  std::filesystem::path peer;          // vtk_peer.py
+  std::filesystem::path scene_file;    // the scene as given to bench
+  std::vector<std::string> overrides;  // --set assignments, applied to the peer's copy too
+  const Scene* scene = nullptr;        // that scene loaded with the same overrides
+  std::string mode = "cpu";            // the peer's --mode: cpu or gpu
+  int frames = 5;
+  double sample_distance_mm = 0.0;
+};
+
+struct PeerTiming {
+  double ms_median = 0.0, ms_min = 0.0, ms_max = 0.0;
+  bool empty_image = false;  // VTK drew nothing: the time measures no rendering
+  double peak_rss_mib = 0.0;
+};
+
+// --peer's default: shared/peers/vtk_peer.py in the nearest folder above this executable, else
+// above the scene file (the repository layout puts ../shared beside the checkout). Empty when
+// neither has one.
+std::filesystem::path find_vtk_peer(const std::filesystem::path& scene_file);
+
+// The peer's sample distance for `scene`: render.step_mm when set, else the smallest voxel
+// pitch of its volumes (1 mm without volumes).
+double peer_sample_distance(const Scene& scene);
+
+// Writes a copy of the scene for the peer into `dir`: every volume becomes a MetaImage and
+// every mesh an OBJ, both already in world space (so their "transform" is dropped: the peer
+// reads no transforms); everything else is kept. Returns the new scene file.
+std::filesystem::path write_peer_scene(const PeerRun& run, const std::filesystem::path& dir);
+
+// Throws imx::Error when `peer` is not a file or xvfb-run, /usr/bin/python3 or its vtk and numpy
+// modules are missing (naming scripts/install-deps --with-peers). Bench calls it before timing.
+void check_vtk_peer(const std::filesystem::path& peer);
+
+// Runs the peer (checked by check_vtk_peer) on the scene at the scene's image size, in a
+// temporary folder removed afterwards. Throws imx::Error when the peer fails, with its last
+// output lines.
+PeerTiming run_vtk_peer(const PeerRun& run);
+
+}  // namespace imx::cli

@@ -1,0 +1,30 @@
+#include "methods/oit.hpp"
+
+#include "methods/fragment_context.hpp"
+#include "methods/fragment_render.hpp"
+#include "methods/mboit_kernel.hpp"
+#include "methods/wboit_kernel.hpp"
+
+namespace imx {
+
+Image render_wboit(const Scene& scene, int spp, const RenderOptions& options) {
+  const FragmentContext ctx(scene, "wboit", true);
+  return render_fragment_method(scene, ctx.frame, spp, options, FragmentOrder::arrival, [&] {
+    return [&](const Ray& ray, std::span<Fragment> row) {
+      return trace_wboit(ray, row, ctx.frame.volumes, ctx.frame.lights, ctx.hybrid,
+                         ctx.depth_range);
+    };
+  });
+}
+
+Image render_mboit(const Scene& scene, int spp, const RenderOptions& options) {
+  const FragmentContext ctx(scene, "mboit", true);
+  return render_fragment_method(scene, ctx.frame, spp, options, FragmentOrder::arrival, [&] {
+    return [&](const Ray& ray, std::span<Fragment> row) {
+      return trace_mboit(ray, row, ctx.frame.volumes, ctx.frame.lights, ctx.hybrid,
+                         ctx.depth_range);
+    };
+  });
+}
+
+}  // namespace imx

@@ -1,0 +1,71 @@
+// ZslabFrame: one frame of a zSlab pipeline planned as stages (SPEC §4): the object order, the
+// per-stage inputs (rasterizer, thickness, volume step) and what one stage does to one sample.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "core/ray.hpp"
+#include "intermix/scene.hpp"
+#include "methods/frame_setup.hpp"
+#include "methods/zslab_buffer.hpp"
+#include "methods/zslab_kernel.hpp"
+#include "raster/rasterizer.hpp"
+
+namespace imx {
+
+struct ZslabStage {
+  enum class Kind : uint8_t { surfaces, volume };
+  Kind kind = Kind::surfaces;
+  std::vector<uint32_t> objects;  // Scene::order indices: a group of polygon objects, or one volume
+  int volume = -1;                // Scene::volumes index (volume stages)
+  bool on_the_fly = false;        // the hybrid stage: cast against the stored array, not stored
+  std::vector<float> thickness;   // surfaces: per object, mm, or < 0 for the pixel footprint
+  float step = 1.0f;              // volumes: ray step, mm
+  uint64_t content = 0;           // hash of what this stage reads of its own objects
+  std::string name;               // the objects' names, for messages
+};
+
+class ZslabFrame {
+ public:
+  // Plans the stages: polygon objects and planes in scene order (grouped so their peeled layers
+  // fit the M RT layers), then volumes, the one with the most complex transparent structure
+  // last; `hybrid` casts that last volume on the fly.
+  ZslabFrame(const Scene& scene, int spp, bool hybrid);
+
+  // Builds the rasterizers of the surface stages from `first` on (before any parallel loop).
+  void prepare(size_t first = 0);
+
+  // Runs deferred stage `k` on one sample: false when the stage does not touch it.
+  bool run_deferred(size_t k, const Ray& ray, std::span<const Fragment> fragments,
+                    std::span<const Slab> stored, SlabList& out) const;
+  // Runs the on-the-fly stage `k` (or, with k out of range, just accumulates) on one sample.
+  glm::vec4 run_final(size_t k, const Ray& ray, std::span<const Slab> stored) const;
+
+  // Fragments of surface stage `k` for every sample of `tile`; empty for other stages.
+  void rasterize(size_t k, const TileRect& tile, SampleFragments& out) const;
+
+  // Hash of everything all stages share (camera, image, samples, settings, lights).
+  uint64_t frame_key() const { return frame_key_; }
+  // Bytes of one stored slab, and of the (2N + M) slabs a tile-streamed pixel needs.
+  int slab_size() const { return slab_bytes(format); }
+
+  const Scene& scene;
+  FrameSetup frame;
+  ZslabParams params;
+  SlabFormat format = SlabFormat::rgba32f;
+  std::vector<glm::vec2> offsets;
+  std::vector<ZslabStage> stages;
+  bool hybrid = true;
+
+ private:
+  std::vector<std::shared_ptr<const Rasterizer>> rasterizers_;  // per stage, surfaces only
+  float footprint_at_0_ = 0.0f, footprint_per_mm_ = 0.0f;
+  uint64_t frame_key_ = 0;
+};
+
+}  // namespace imx

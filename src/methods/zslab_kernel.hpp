@@ -1,0 +1,162 @@
+// zSlab pipeline kernels for one sample ray (SPEC §4): virtual zSlabs, the RT rearrangement, a
+// deferred stage through the intermixing kernel, a volume's compressed slab array, and the hybrid
+// on-the-fly cast. Pure: fixed-size arrays on the stack, no allocation, no exceptions.
+#pragma once
+#include <algorithm>
+#include <cstdint>
+#include <span>
+#include <utility>
+
+#include <glm/vec4.hpp>
+
+#include "raster/fragment.hpp"
+#include "slab/accumulate.hpp"
+#include "slab/intermix_kernel.hpp"
+#include "slab/slab.hpp"
+#include "slab/slab_array.hpp"
+
+namespace imx {
+
+inline constexpr int kMaxZslabLayers = 16;  // the largest N (ZT slabs per pixel)
+inline constexpr int kMaxRtLayers = 16;     // the largest M (RT surface layers per pixel)
+
+// Per-sample settings of a zSlab pipeline.
+struct ZslabParams {
+  IntermixSettings mix;  // interpolation, ERT, overflow of a full ZT array
+  int layers = 8;        // N
+  int rt_layers = 4;     // M
+  int peel_layers = 4;   // L
+};
+
+// A sink that keeps nothing: the hybrid stage needs only the kernel's accumulated colour.
+struct DiscardSink {
+  void push_back(const Slab&, Overflow) {}
+};
+
+// Virtual zSlab of a surface at depth t: the slab [t - d, t] (SPEC §4).
+inline Slab virtual_slab(float t, float thickness, const glm::vec4& color) {
+  return Slab{t, thickness, color};
+}
+
+// The rearrangement stage: surface slabs from the RT layers (any order, possibly overlapping
+// each other) become a sorted, disjoint list in `out` (capacity >= rt.size()). Each slab is
+// intermixed into the list built so far, so overlapping virtual slabs mix (no ERT: the list
+// is intermixed again afterwards).
+inline void rearrange_layers(std::span<Slab> rt, SlabList& out, InSlabInterpolation interp) {
+  for (size_t i = 1; i < rt.size(); ++i)  // insertion sort: M is small
+    for (size_t j = i; j > 0 && detail::sorts_before(rt[j], rt[j - 1]); --j)
+      std::swap(rt[j], rt[j - 1]);
+  Slab buf[2][kMaxRtLayers];
+  int count = 0, cur = 0;
+  IntermixSettings s;
+  s.interpolation = interp;
+  s.a_ert = 1.0f;
+  for (const Slab& layer : rt) {
+    SlabList next(std::span<Slab>(buf[1 - cur], kMaxRtLayers));
+    intermix(std::span<const Slab>(buf[cur], count), std::span<const Slab>(&layer, 1), next, s);
+    count = next.size();
+    cur = 1 - cur;
+  }
+  out.clear();
+  for (int k = 0; k < count; ++k) out.push_back(buf[cur][k], Overflow::tail);
+}
+
+// One deferred stage: intermixes the incoming sorted, disjoint slabs with the stored array into
+// `out` (capacity N; overflow folds as the settings say).
+inline void intermix_stage(std::span<const Slab> stored, std::span<const Slab> incoming,
+                           SlabList& out, const IntermixSettings& s) {
+  out.clear();
+  intermix(stored, incoming, out, s);
+}
+
+// A volume's own zSlab array for deferred intermixing: its sample slabs in depth order, folded by
+// greedy compression once `out` is full, until the volume alone reaches the ERT opacity.
+// Source: bool next(Slab&) (VolumeMarcher or a single hit).
+template <class Source>
+inline void collect_slabs(Source& source, SlabList& out, float a_ert) {
+  out.clear();
+  glm::vec4 acc(0.0f);
+  Slab s;
+  while (!ert_reached(acc.a, a_ert) && source.next(s)) {
+    if (s.is_empty()) continue;
+    out.push_back(s, Overflow::greedy);
+    acc = over(acc, s.color);
+  }
+}
+
+// Hybrid stage: the last volume's slabs go through the kernel against the stored array as the
+// ray marches, stopping the march when ERT fires. Returns the pixel's premultiplied colour.
+template <class Source>
+inline glm::vec4 trace_hybrid(std::span<const Slab> stored, Source& source,
+                              const IntermixSettings& s) {
+  DiscardSink sink;
+  Intermixer<DiscardSink> kernel(stored, sink, s);
+  Slab q;
+  while (source.next(q))
+    if (!kernel.push(q)) break;
+  kernel.finish();
+  return kernel.accumulated();
+}
+
+// How a surface stage turns fragments into virtual zSlabs: per object of the stage a fixed
+// thickness in mm, or (< 0) the world footprint of one pixel at the fragment's depth.
+struct SurfaceThickness {
+  std::span<const float> by_object;  // indexed by Fragment::object (the stage's own numbering)
+  float footprint_at_0 = 0.0f;       // footprint(t) = footprint_at_0 + footprint_per_mm * t
+  float footprint_per_mm = 0.0f;
+  float of(uint32_t object, float t) const {
+    float d = object < by_object.size() ? by_object[object] : -1.0f;
+    return d >= 0.0f ? d : footprint_at_0 + footprint_per_mm * t;
+  }
+};
+
+// A polygon stage for one sample: depth peeling keeps each object's first L fragments (sorted by
+// t), they fill the M RT layers, and each time the layers fill (and at the end) they are
+// rearranged and intermixed with the array so far. Returns false when no fragment touches the
+// sample (the flag buffer's "untouched": `out` is left as it is).
+inline bool run_surface_stage(std::span<const Fragment> fragments, const SurfaceThickness& th,
+                              std::span<const Slab> stored, SlabList& out, const ZslabParams& p) {
+  if (fragments.empty()) return false;
+  const int m = std::clamp(p.rt_layers, 1, kMaxRtLayers);
+  const int n = std::clamp(p.layers, 1, kMaxZslabLayers);
+  Slab rt_slots[kMaxRtLayers], merged_slots[kMaxRtLayers];
+  Slab zt[2][kMaxZslabLayers];
+  int peeled[kMaxRtLayers] = {};
+  int rt_count = 0, cur = -1, cur_count = 0;  // cur < 0: the stored array is the current one
+  auto flush = [&]() {
+    SlabList merged(std::span<Slab>(merged_slots, kMaxRtLayers));
+    rearrange_layers(std::span<Slab>(rt_slots, rt_count), merged, p.mix.interpolation);
+    int dst = cur == 0 ? 1 : 0;
+    SlabList next(std::span<Slab>(zt[dst], n));
+    std::span<const Slab> in = cur < 0 ? stored : std::span<const Slab>(zt[cur], cur_count);
+    intermix_stage(in, merged.items(), next, p.mix);
+    cur = dst;
+    cur_count = next.size();
+    rt_count = 0;
+  };
+  for (const Fragment& f : fragments) {
+    uint32_t o = std::min<uint32_t>(f.object, kMaxRtLayers - 1);
+    if (peeled[o] >= p.peel_layers) continue;  // beyond the L peeling passes of its object
+    ++peeled[o];
+    rt_slots[rt_count++] = virtual_slab(f.t, th.of(f.object, f.t), f.color);
+    if (rt_count == m) flush();
+  }
+  if (rt_count > 0) flush();
+  out.clear();
+  for (int k = 0; k < cur_count; ++k) out.push_back(zt[cur][k], Overflow::tail);
+  return true;
+}
+
+// A source of at most one slab (an iso-surface hit or a projection).
+struct SingleSlabSource {
+  Slab slab{};
+  bool pending = false;
+  bool next(Slab& out) {
+    if (!pending) return false;
+    pending = false;
+    out = slab;
+    return true;
+  }
+};
+
+}  // namespace imx
