@@ -79,7 +79,6 @@ VolumeAcceleration accelerate(const VolumeObject& v, const TfLut& lut, float ste
                               const MarchSettings& settings) {
   static PerVolumeCache<int, BrickMinMax> ranges(8);
   static PerVolumeCache<OccupancyKey, BrickOccupancy> occupancies(16);
-  static PerVolumeCache<uint64_t, CellOccupancy> cell_occupancies(8);
   static PerVolumeCache<int, GradientVolume> gradients(4);
   static PreintegrationCache tables(16);
 
@@ -93,11 +92,7 @@ VolumeAcceleration accelerate(const VolumeObject& v, const TfLut& lut, float ste
     a.emptiness = std::make_shared<const TfEmptiness>(lut);
     a.occupancy = occupancies.get(v.data, OccupancyKey{settings.brick_size, tf_fingerprint(lut)},
                                   [&] { return BrickOccupancy(*r, *a.emptiness); });
-    std::shared_ptr<const BrickMinMax> cell_ranges =
-        ranges.get(v.data, CellOccupancy::kCellSize,
-                   [&] { return BrickMinMax(grid, CellOccupancy::kCellSize); });
-    a.cells = cell_occupancies.get(v.data, tf_fingerprint(lut),
-                                   [&] { return CellOccupancy(*cell_ranges, *a.emptiness); });
+
   }
   if (settings.classification == Classification::preintegrated) {
     // The table spans the data as well as the TF, so ramps beyond the TF points integrate the

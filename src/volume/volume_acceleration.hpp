@@ -4,7 +4,6 @@
 #include <memory>
 
 #include "volume/brick_occupancy.hpp"
-#include "volume/cell_occupancy.hpp"
 #include "volume/gradient_volume.hpp"
 #include "volume/preintegration_table.hpp"
 #include "volume/tf_emptiness.hpp"
@@ -33,7 +32,6 @@ struct MarchSettings {
 struct VolumeAcceleration {
   SkipMode skip = SkipMode::none;
   std::shared_ptr<const BrickOccupancy> occupancy;    // null when skip == none
-  std::shared_ptr<const CellOccupancy> cells;         // null when skip == none
   std::shared_ptr<const TfEmptiness> emptiness;       // null when skip == none
   std::shared_ptr<const PreintegrationTable> preint;  // null for post-classification
   std::shared_ptr<const GradientVolume> gradients;    // null for on-the-fly gradients

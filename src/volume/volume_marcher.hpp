@@ -56,12 +56,7 @@ class VolumeMarcher {
     while (t_ < t1_) {
       double back = std::min<double>(t1_, (cell_ + 1.0) * step_);
       if (v_->accel.occupancy && t_ >= occupied_until_ && skip_empty(back)) continue;
-      if (v_->accel.cells && v_->accel.cells->segment_empty(index_at(t_), index_at(back))) {
-        t_ = back;  // transparent cells inside an occupied brick: nothing to sample
-        cell_ += 1.0;
-        have_front_ = false;
-        continue;
-      }
+
       float s_f = have_front_ ? s_front_ : grid.sample(index_at(t_));
       float s_b = grid.sample(index_at(back));
       double front = t_;
