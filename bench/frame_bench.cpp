@@ -20,12 +20,12 @@ const Scene& ct_head() {
 }
 
 // Variant 0: skipping + ERT (the defaults); 1: plain marching; 2: post-classification;
-// 3: precomputed gradients; 4: block skipping without distance jumps.
+// 3: on-the-fly gradients; 4: block skipping without distance jumps.
 void BM_MdvrCtHead(benchmark::State& state) {
   static const char* overrides[][2] = {{nullptr, nullptr},
                                        {"skipping", "none"},
                                        {"classification", "post"},
-                                       {"gradients", "precomputed"},
+                                       {"gradients", "on-the-fly"},
                                        {"skipping", "bricks"}};
   Scene scene = ct_head();
   const auto& o = overrides[state.range(0)];

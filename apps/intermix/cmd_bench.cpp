@@ -194,9 +194,10 @@ Command add_bench(CLI::App& app) {
         std::vector<double> ms =
             o->change.empty() ? time_frames(scene, options, o->frames, label) : change.ms;
         double median = median_of(ms);
-        int spp = o->spp > 0 ? o->spp : scene.render.spp;
-        double rays =
-            static_cast<double>(scene.image.width) * scene.image.height * std::max(spp, 1);
+        int spp = o->spp > 0             ? o->spp
+                  : scene.render.spp > 0 ? scene.render.spp
+                                         : default_spp(method);
+        double rays = static_cast<double>(scene.image.width) * scene.image.height * spp;
         rows.push_back({{"label", label},
                         {"method", method},
                         {"variant", named ? variants[v].label : ""},
@@ -204,11 +205,11 @@ Command add_bench(CLI::App& app) {
                         {"ms_median", median},
                         {"ms_min", *std::min_element(ms.begin(), ms.end())},
                         {"ms_max", *std::max_element(ms.begin(), ms.end())},
-                        {"rays_per_s", spp > 0 ? nlohmann::json(rays / (median / 1000.0))
-                                               : nlohmann::json(nullptr)},
+                        {"rays_per_s", rays / (median / 1000.0)},
                         {"peak_rss_mib", peak_resident_mib()}});
         if (!o->change.empty())
-          rows.back().update({{"change", o->change}, {"stages", change.stages},
+          rows.back().update({{"change", o->change},
+                              {"stages", change.stages},
                               {"stages_run", change.stages_run}});
       }
     }

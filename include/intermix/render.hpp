@@ -20,6 +20,10 @@ struct RenderOptions {
 // Names of the methods this build implements.
 std::vector<std::string> available_methods();
 
+// Samples per pixel `method` renders with when neither the scene nor the caller sets them
+// (0 for an unknown method).
+int default_spp(const std::string& method);
+
 // Renders the scene; the result is premultiplied linear RGBA over the scene's background.
 // Throws imx::Error for an unknown method or settings the method cannot use.
 Image render(const Scene& scene, const RenderOptions& options = {});

@@ -131,7 +131,7 @@ struct RenderSettings {
   double beta = 1.0;
   std::string skipping = "distance";             // empty-space skipping: none, bricks, distance
   std::string classification = "preintegrated";  // volume samples: preintegrated or post
-  std::string gradients = "on-the-fly";          // shading normals: on-the-fly or precomputed
+  std::string gradients = "precomputed";         // shading normals: precomputed or on-the-fly
   int brick_size = 8;                            // voxels per brick edge for skipping
   int k = 8;                                     // k+-buffer fragments per pixel
   int fragment_cap = 1024;                       // dynamic fragment buffer cap per pixel

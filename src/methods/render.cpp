@@ -46,6 +46,12 @@ std::vector<std::string> available_methods() {
   return names;
 }
 
+int default_spp(const std::string& method) {
+  for (const MethodEntry& m : kMethods)
+    if (method == m.name) return m.default_spp;
+  return 0;
+}
+
 Image render(const Scene& scene, const RenderOptions& options) {
   const std::string method = options.method.empty() ? scene.render.method : options.method;
   int spp = options.spp > 0 ? options.spp : scene.render.spp;

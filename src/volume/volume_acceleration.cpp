@@ -70,7 +70,7 @@ MarchSettings MarchSettings::from(const RenderSettings& render) {
   s.classification =
       render.classification == "post" ? Classification::post : Classification::preintegrated;
   s.gradients =
-      render.gradients == "precomputed" ? GradientSource::precomputed : GradientSource::on_the_fly;
+      render.gradients == "on-the-fly" ? GradientSource::on_the_fly : GradientSource::precomputed;
   s.brick_size = render.brick_size;
   return s;
 }

@@ -21,7 +21,7 @@ enum class GradientSource : uint8_t { on_the_fly, precomputed };
 struct MarchSettings {
   SkipMode skip = SkipMode::distance;
   Classification classification = Classification::preintegrated;
-  GradientSource gradients = GradientSource::on_the_fly;
+  GradientSource gradients = GradientSource::precomputed;
   int brick_size = 8;
 
   // The render block's choices (render.skipping, classification, gradients, brick_size).
