@@ -14,34 +14,13 @@
 
 #include "intermix/error.hpp"
 #include "io/gzip.hpp"
+#include "io/header_text.hpp"
 #include "io/metaimage.hpp"
 #include "io/raw_voxels.hpp"
 
 namespace imx::detail {
 
 namespace {
-
-// Header limits: anything beyond them is binary data or a corrupt file, not a header.
-constexpr size_t kMaxLineBytes = size_t{1} << 16;
-constexpr size_t kMaxHeaderBytes = size_t{1} << 20;
-// deflate cannot expand data more than about 1032:1; larger claims are corrupt headers.
-constexpr double kMaxInflateRatio = 1100.0;
-
-std::string_view trim(std::string_view s) {
-  size_t b = s.find_first_not_of(" \t\r");
-  if (b == std::string_view::npos) return {};
-  size_t e = s.find_last_not_of(" \t\r");
-  return s.substr(b, e - b + 1);
-}
-
-// A value for an error message: long text is cut short and binary bytes become '?'.
-std::string shown(std::string_view s) {
-  constexpr size_t kMax = 80;
-  std::string out(s.substr(0, kMax));
-  for (char& c : out)
-    if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
-  return s.size() <= kMax ? out : out + "...";
-}
 
 // MetaImage keys are words such as ElementSpacing; anything else is not a header line.
 bool is_key(std::string_view key) {
@@ -118,9 +97,9 @@ Header read_header(std::istream& in, const std::string& what) {
     while ((c = in.get()) != std::char_traits<char>::eof()) {
       got = true;
       if (c == '\n') break;
-      if (line.size() >= kMaxLineBytes)
+      if (line.size() >= kMaxHeaderLineBytes)
         throw Error(fmt::format("{}: header line longer than {} bytes (not a MetaImage header?)",
-                                what, kMaxLineBytes));
+                                what, kMaxHeaderLineBytes));
       line.push_back(static_cast<char>(c));
     }
     if (!got)

@@ -12,31 +12,13 @@
 
 #include "intermix/error.hpp"
 #include "io/gzip.hpp"
+#include "io/header_text.hpp"
 #include "io/nrrd.hpp"
 #include "io/raw_voxels.hpp"
 
 namespace imx::detail {
 
 namespace {
-
-// Header limits: anything beyond them is binary data or a corrupt file, not a header.
-constexpr size_t kMaxLineBytes = size_t{1} << 16;
-constexpr size_t kMaxHeaderBytes = size_t{1} << 20;
-// deflate cannot expand data more than about 1032:1; larger claims are corrupt headers.
-constexpr double kMaxGzipRatio = 1100.0;
-
-std::string_view trim(std::string_view s) {
-  size_t b = s.find_first_not_of(" \t\r");
-  if (b == std::string_view::npos) return {};
-  size_t e = s.find_last_not_of(" \t\r");
-  return s.substr(b, e - b + 1);
-}
-
-// A field value for an error message: long or binary junk is cut short.
-std::string shown(std::string_view s) {
-  constexpr size_t kMax = 80;
-  return s.size() <= kMax ? std::string(s) : std::string(s.substr(0, kMax)) + "...";
-}
 
 std::string lower(std::string_view s) {
   std::string out(s);
@@ -83,9 +65,9 @@ bool read_line(std::istream& in, std::string& line, const std::string& what) {
   int c;
   while ((c = in.get()) != std::char_traits<char>::eof()) {
     if (c == '\n') return true;
-    if (line.size() >= kMaxLineBytes)
+    if (line.size() >= kMaxHeaderLineBytes)
       throw Error(fmt::format("{}: header line longer than {} bytes (not a NRRD header?)", what,
-                              kMaxLineBytes));
+                              kMaxHeaderLineBytes));
     line.push_back(static_cast<char>(c));
   }
   return !line.empty();
@@ -450,7 +432,7 @@ VolumeData read_nrrd(const std::filesystem::path& file) {
     });
   } else {
     double claimed = static_cast<double>(needed) + static_cast<double>(byte_skip);
-    if (claimed > kMaxGzipRatio * static_cast<double>(available) + 4096.0)
+    if (claimed > kMaxInflateRatio * static_cast<double>(available) + 4096.0)
       throw Error(
           fmt::format("{}: expected {} bytes of voxel data, but {} bytes of gzip data "
                       "cannot hold that much",

@@ -1,6 +1,6 @@
-// Orchestration shared by the fragment-buffer methods (dfb, kbuffer, peel, OIT): tiles in
-// parallel, each sample's fragments in the order the method's store pass sees them, a per-tile
-// kernel object holding the tile's scratch buffers, a box filter per pixel.
+// Orchestration shared by every method that works per sample ray: tiles in parallel, each
+// sample's fragments in the order the method's store pass sees them (depth or arrival), a
+// per-tile kernel object holding the tile's scratch buffers, a box filter per pixel.
 #pragma once
 #include <span>
 #include <vector>

@@ -1,0 +1,32 @@
+// Helpers for the small text headers of volume formats (NRRD, MetaImage).
+#pragma once
+#include <cctype>
+#include <cstddef>
+#include <string>
+#include <string_view>
+
+namespace imx::detail {
+
+// Header limits: anything beyond them is binary data or a corrupt file, not a header.
+inline constexpr size_t kMaxHeaderLineBytes = size_t{1} << 16;
+inline constexpr size_t kMaxHeaderBytes = size_t{1} << 20;
+// deflate cannot expand data more than about 1032:1; larger claims are corrupt headers.
+inline constexpr double kMaxInflateRatio = 1100.0;
+
+inline std::string_view trim(std::string_view s) {
+  size_t b = s.find_first_not_of(" \t\r");
+  if (b == std::string_view::npos) return {};
+  size_t e = s.find_last_not_of(" \t\r");
+  return s.substr(b, e - b + 1);
+}
+
+// A value for an error message: long text is cut short and binary bytes become '?'.
+inline std::string shown(std::string_view s) {
+  constexpr size_t kMax = 80;
+  std::string out(s.substr(0, kMax));
+  for (char& c : out)
+    if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
+  return s.size() <= kMax ? out : out + "...";
+}
+
+}  // namespace imx::detail
