@@ -1,9 +1,11 @@
 // Helpers for the small text headers of volume formats (NRRD, MetaImage).
 #pragma once
+#include <algorithm>
 #include <cctype>
 #include <cstddef>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace imx::detail {
 
@@ -27,6 +29,28 @@ inline std::string shown(std::string_view s) {
   for (char& c : out)
     if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
   return s.size() <= kMax ? out : out + "...";
+}
+
+inline std::string lower(std::string_view s) {
+  std::string out(s);
+  std::transform(out.begin(), out.end(), out.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return out;
+}
+
+// The blank-separated words of a header value.
+inline std::vector<std::string_view> split_words(std::string_view s) {
+  std::vector<std::string_view> words;
+  size_t i = 0;
+  while (i < s.size()) {
+    size_t b = s.find_first_not_of(" \t\r", i);
+    if (b == std::string_view::npos) break;
+    size_t e = s.find_first_of(" \t\r", b);
+    if (e == std::string_view::npos) e = s.size();
+    words.push_back(s.substr(b, e - b));
+    i = e;
+  }
+  return words;
 }
 
 }  // namespace imx::detail

@@ -28,27 +28,6 @@ bool is_key(std::string_view key) {
                                      [](unsigned char c) { return std::isalnum(c) || c == '_'; });
 }
 
-std::string lower(std::string_view s) {
-  std::string out(s);
-  std::transform(out.begin(), out.end(), out.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return out;
-}
-
-std::vector<std::string_view> split_words(std::string_view s) {
-  std::vector<std::string_view> words;
-  size_t i = 0;
-  while (i < s.size()) {
-    size_t b = s.find_first_not_of(" \t\r", i);
-    if (b == std::string_view::npos) break;
-    size_t e = s.find_first_of(" \t\r", b);
-    if (e == std::string_view::npos) e = s.size();
-    words.push_back(s.substr(b, e - b));
-    i = e;
-  }
-  return words;
-}
-
 template <class T>
 std::optional<T> parse_number(std::string_view s) {
   if (!s.empty() && s.front() == '+') s.remove_prefix(1);

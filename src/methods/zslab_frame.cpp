@@ -1,5 +1,7 @@
 #include "methods/zslab_frame.hpp"
 
+#include "methods/fragment_context.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -17,15 +19,6 @@ namespace imx {
 namespace {
 
 constexpr int kIsoBisections = 10;
-
-InSlabInterpolation interpolation_from(const RenderSettings& r) {
-  InSlabInterpolation m;
-  m.mode = r.interpolation == "hvi"     ? Interpolation::hvi
-           : r.interpolation == "blend" ? Interpolation::blend
-                                        : Interpolation::ovi;
-  m.beta = static_cast<float>(r.beta);
-  return m;
-}
 
 void hash_optional(StageHash& h, const std::optional<double>& v) {
   h.add(v.has_value()).add(v.value_or(0.0));
@@ -88,7 +81,7 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
   params.layers = r.layers;
   params.rt_layers = r.rt_layers;
   params.peel_layers = r.peel_layers;
-  params.mix.interpolation = interpolation_from(r);
+  params.mix.interpolation = interpolation_of(r);
   params.mix.a_ert = static_cast<float>(r.ert_threshold);
   params.mix.overflow = Overflow::greedy;
   format = r.slab_format == "rgba8" ? SlabFormat::rgba8 : SlabFormat::rgba32f;
@@ -221,7 +214,7 @@ bool ZslabFrame::run_deferred(size_t k, const Ray& ray, std::span<const Fragment
                               std::span<const Slab> stored, SlabList& out) const {
   const ZslabStage& st = stages[k];
   if (st.kind == ZslabStage::Kind::surfaces) {
-    SurfaceThickness th{st.thickness, footprint_at_0_, footprint_per_mm_};
+    StageThickness th{st.thickness, footprint_at_0_, footprint_per_mm_};
     return run_surface_stage(fragments, th, stored, out, params);
   }
   const PreparedVolume& v = frame.volumes[st.volume];

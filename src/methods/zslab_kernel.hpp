@@ -100,7 +100,7 @@ inline glm::vec4 trace_hybrid(std::span<const Slab> stored, Source& source,
 
 // How a surface stage turns fragments into virtual zSlabs: per object of the stage a fixed
 // thickness in mm, or (< 0) the world footprint of one pixel at the fragment's depth.
-struct SurfaceThickness {
+struct StageThickness {
   std::span<const float> by_object;  // indexed by Fragment::object (the stage's own numbering)
   float footprint_at_0 = 0.0f;       // footprint(t) = footprint_at_0 + footprint_per_mm * t
   float footprint_per_mm = 0.0f;
@@ -114,7 +114,7 @@ struct SurfaceThickness {
 // t), they fill the M RT layers, and each time the layers fill (and at the end) they are
 // rearranged and intermixed with the array so far. Returns false when no fragment touches the
 // sample (the flag buffer's "untouched": `out` is left as it is).
-inline bool run_surface_stage(std::span<const Fragment> fragments, const SurfaceThickness& th,
+inline bool run_surface_stage(std::span<const Fragment> fragments, const StageThickness& th,
                               std::span<const Slab> stored, SlabList& out, const ZslabParams& p) {
   if (fragments.empty()) return false;
   const int m = std::clamp(p.rt_layers, 1, kMaxRtLayers);

@@ -75,7 +75,7 @@ TEST(ZslabKernel, SurfaceStagePeelsAtMostLLayersPerObject) {
   p.rt_layers = 4;
   p.mix.a_ert = 1.0f;
   float fixed[2] = {0.5f, 0.5f};
-  SurfaceThickness th{fixed};
+  StageThickness th{fixed};
   // object 0 has three surfaces, object 1 one: L = 2 drops object 0's third
   Fragment f[4] = {frag(10, 0.5f, 0), frag(20, 0.5f, 1), frag(30, 0.5f, 0), frag(40, 0.5f, 0)};
   Slab slots[8];
@@ -93,7 +93,7 @@ TEST(ZslabKernel, SurfaceStageFlushesWhenRtLayersFill) {
   one.rt_layers = 1;
   one.mix.a_ert = four.mix.a_ert = 1.0f;
   float fixed[1] = {1.0f};
-  SurfaceThickness th{fixed};
+  StageThickness th{fixed};
   Fragment f[3] = {frag(10.0f, 0.4f, 0), frag(10.5f, 0.3f, 0), frag(14.0f, 0.6f, 0)};
   Slab stored[1] = {{12.0f, 4.0f, grey(0.5f)}};  // the surfaces lie inside a stored slab
   Slab a_slots[8], b_slots[8];
@@ -109,7 +109,7 @@ TEST(ZslabKernel, SurfaceStageFlushesWhenRtLayersFill) {
 
 TEST(ZslabKernel, SurfaceStageLeavesUntouchedSamples) {
   ZslabParams p;
-  SurfaceThickness th{};
+  StageThickness th{};
   Slab slots[8];
   SlabList out(slots);
   out.push_back({5.0f, 1.0f, grey(0.5f)});
@@ -118,10 +118,10 @@ TEST(ZslabKernel, SurfaceStageLeavesUntouchedSamples) {
 }
 
 TEST(ZslabKernel, FootprintThicknessGrowsWithDepth) {
-  SurfaceThickness th{{}, 0.1f, 0.01f};
+  StageThickness th{{}, 0.1f, 0.01f};
   EXPECT_FLOAT_EQ(th.of(0, 100.0f), 1.1f);
   float fixed[1] = {2.0f};
-  SurfaceThickness fixed_th{fixed, 0.1f, 0.01f};
+  StageThickness fixed_th{fixed, 0.1f, 0.01f};
   EXPECT_FLOAT_EQ(fixed_th.of(0, 100.0f), 2.0f);
 }
 
