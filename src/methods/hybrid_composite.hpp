@@ -32,15 +32,6 @@ struct HybridScratch {
   std::span<Slab> a, b;
 };
 
-namespace detail {
-
-// Discards what it is given: the last stage only needs the kernel's running composite.
-struct DiscardSink {
-  void push_back(const Slab&, Overflow) {}
-};
-
-}  // namespace detail
-
 // `surfaces`: sorted, disjoint slabs (not aliasing the scratch). Returns premultiplied RGBA.
 inline glm::vec4 composite_hybrid(const Ray& ray, std::span<const Slab> surfaces,
                                   const RayVolumes& rv, std::span<const PreparedVolume> volumes,
@@ -76,9 +67,9 @@ inline glm::vec4 composite_hybrid(const Ray& ray, std::span<const Slab> surfaces
   }
   if (last < 0) return accumulate(current, p.ert).color;
 
-  detail::DiscardSink sink;
+  DiscardSink sink;
   IntermixSettings final_stage{p.interpolation, p.ert, Overflow::tail, true};
-  Intermixer<detail::DiscardSink> kernel(current, sink, final_stage);
+  Intermixer<DiscardSink> kernel(current, sink, final_stage);
   VolumeMarcher m(volumes[last], ray, rv.span[last].t0, rv.span[last].t1, p.step, lights);
   for (Slab s; m.next(s);)
     if (!kernel.push(s)) break;

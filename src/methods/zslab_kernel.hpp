@@ -28,11 +28,6 @@ struct ZslabParams {
   int peel_layers = 4;   // L
 };
 
-// A sink that keeps nothing: the hybrid stage needs only the kernel's accumulated colour.
-struct DiscardSink {
-  void push_back(const Slab&, Overflow) {}
-};
-
 // Virtual zSlab of a surface at depth t: the slab [t - d, t] (SPEC §4).
 inline Slab virtual_slab(float t, float thickness, const glm::vec4& color) {
   return Slab{t, thickness, color};

@@ -144,4 +144,9 @@ struct SlabList : SlabArrayOps<SlabList> {
   const Slab* data() const { return slots.data(); }
 };
 
+// A sink that keeps nothing, for callers that need only a kernel's running composite.
+struct DiscardSink {
+  void push_back(const Slab&, Overflow) {}
+};
+
 }  // namespace imx
