@@ -26,7 +26,8 @@ struct MdvrParams {
 };
 
 // The steps of several volumes: each marcher holds its next slab (a pending head); the heads that
-// lie in the nearest grid step are mixed (M1) and composited together.
+// lie in the nearest grid step are mixed (M1) and composited together. The conventional method
+// knows only the grid steps, so its marchers emit whole pieces (SlabExtent::grid).
 template <class SurfacesUntil>
 void composite_steps_of_several(const Ray& ray, const RayVolumes& rv,
                                 std::span<const PreparedVolume> volumes,
@@ -38,7 +39,8 @@ void composite_steps_of_several(const Ray& ray, const RayVolumes& rv,
   int n = 0;
   for (int v = 0; v < rv.count; ++v) {
     if (!rv.marched[v]) continue;
-    marchers[n] = VolumeMarcher(volumes[v], ray, rv.span[v].t0, rv.span[v].t1, p.step, lights);
+    marchers[n] = VolumeMarcher(volumes[v], ray, rv.span[v].t0, rv.span[v].t1, p.step, lights,
+                                SlabExtent::grid);
     live[n] = marchers[n].next(heads[n]);
     ++n;
   }
@@ -92,7 +94,8 @@ inline glm::vec4 trace_mdvr(const Ray& ray, std::span<const Fragment> surfaces,
     }
   if (marched == 1) {
     // One volume: its slabs are the grid steps, nothing to mix.
-    VolumeMarcher m(volumes[only], ray, rv.span[only].t0, rv.span[only].t1, p.step, lights);
+    VolumeMarcher m(volumes[only], ray, rv.span[only].t0, rv.span[only].t1, p.step, lights,
+                    SlabExtent::grid);
     Slab s;
     while (acc.a < p.ert && m.next(s)) {
       composite_surfaces_until(s.front());

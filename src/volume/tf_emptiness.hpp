@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <glm/glm.hpp>
+
 #include "volume/tf_lut.hpp"
 
 namespace imx {
@@ -27,6 +29,32 @@ class TfEmptiness {
     return prefix_[last + 1] == prefix_[first];
   }
 
+  // The part [u0, u1] of the linear ramp s(u) = s_f + u (s_b - s_f), u in [0, 1], outside which
+  // the TF opacity is zero: only the two ends are trimmed (empty stretches inside are kept).
+  // Pure and O(1); returns {0, 1} when nothing can be trimmed.
+  glm::vec2 visible_part(float s_f, float s_b) const {
+    if (prefix_.empty() || !(s_f == s_f) || !(s_b == s_b)) return {0.0f, 1.0f};
+    // Raw LUT positions keep the ramp linear in u; the table clamps them only where it reads.
+    float rf = (s_f - lo_) * inv_step_, rb = (s_b - lo_) * inv_step_;
+    float xf = position(s_f), xb = position(s_b);
+    if (xf == xb) return {0.0f, 1.0f};
+    // Entry j is the first non-empty one a rising ramp meets: the value is non-zero past j - 1;
+    // on a falling ramp, entry k is the first one met, non-zero below k + 1.
+    auto rising_start = [&](float x) { return static_cast<float>(next_[int(std::ceil(x))] - 1); };
+    auto falling_start = [&](float x) { return static_cast<float>(prev_[int(std::floor(x))] + 1); };
+    float a = rf, b = rb;  // raw LUT positions where the visible part starts and ends
+    if (xf < xb) {
+      if (is_zero_at(xf)) a = rising_start(xf);
+      if (is_zero_at(xb)) b = falling_start(xb);
+    } else {
+      if (is_zero_at(xf)) a = falling_start(xf);
+      if (is_zero_at(xb)) b = rising_start(xb);
+    }
+    float inv = 1.0f / (rb - rf);
+    float u0 = std::clamp((a - rf) * inv, 0.0f, 1.0f), u1 = std::clamp((b - rf) * inv, 0.0f, 1.0f);
+    return u0 <= u1 ? glm::vec2(u0, u1) : glm::vec2(0.0f, 1.0f);
+  }
+
  private:
   // The LUT position TfLut::lookup computes for `value` (the same arithmetic and clamping).
   float position(float value) const {
@@ -34,7 +62,16 @@ class TfEmptiness {
     return x > 0.0f ? std::min(x, static_cast<float>(size_ - 1)) : 0.0f;
   }
 
-  std::vector<uint32_t> prefix_;  // prefix_[i]: entries below i with alpha > 0
+  // Whether the blended LUT value at position x is exactly zero.
+  bool is_zero_at(float x) const {
+    int lo = static_cast<int>(std::floor(x)), hi = static_cast<int>(std::ceil(x));
+    return prefix_[hi + 1] == prefix_[lo];
+  }
+
+  std::vector<uint32_t> prefix_;
+  std::vector<int> next_;  // next_[i]: first entry >= i with alpha > 0 (size when none)
+  std::vector<int> prev_;  // prev_[i]: last entry <= i with alpha > 0 (-1 when none)  //
+                           // prefix_[i]: entries below i with alpha > 0
   float lo_ = 0.0f, inv_step_ = 1.0f;
   int size_ = 0;
 };

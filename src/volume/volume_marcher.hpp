@@ -22,11 +22,18 @@ namespace imx {
 // lie wholly in bricks the TF makes empty are skipped without sampling, with a 3D DDA over the
 // bricks and, in distance mode, jumps over the empty bricks around. Empty slabs are not emitted;
 // the caller applies early ray termination by no longer asking.
+//
+// With SlabExtent::visible (the default; pre-integration only), each slab is trimmed to the part
+// of its piece where the linear scalar ramp has non-zero TF opacity: the same visibility, but a
+// depth extent that tells slab methods where within a step a medium begins (e.g. where two opaque
+// volumes meet). Shading stays at the piece's midpoint. SlabExtent::grid keeps the whole pieces.
+enum class SlabExtent { grid, visible };
+
 class VolumeMarcher {
  public:
   VolumeMarcher() = default;
   VolumeMarcher(const PreparedVolume& v, const Ray& ray, float t0, float t1, float step,
-                std::span<const ShadingLight> lights)
+                std::span<const ShadingLight> lights, SlabExtent extent = SlabExtent::visible)
       : v_(&v),
         lights_(lights),
         to_eye_(-ray.dir),
@@ -36,6 +43,7 @@ class VolumeMarcher {
         t_(t0),
         t1_(t1) {
     if (v.accel.preint) preint_ = v.accel.preint->view();
+    trim_ = extent == SlabExtent::visible && preint_.data && v.accel.emptiness;
     align_cell();
     if (v.accel.occupancy && t1 > t0)
       dda_ = BrickDda(v.accel.occupancy->grid(), origin_, dir_, t0, t1);
@@ -66,11 +74,13 @@ class VolumeMarcher {
       have_front_ = true;
       // Inside occupied bricks most pieces are still transparent: the O(1) range test spares
       // them the table lookup (the same test that empties bricks).
-      if (v_->accel.emptiness && v_->accel.emptiness->is_empty(std::min(s_f, s_b), std::max(s_f, s_b)))
+      if (v_->accel.emptiness &&
+          v_->accel.emptiness->is_empty(std::min(s_f, s_b), std::max(s_f, s_b)))
         continue;
       glm::vec4 c = classify(s_f, s_b, static_cast<float>(back - front));
       if (c.a <= 0.0f) continue;
       if (v_->object->shading.enabled) c = shade(c, 0.5 * (front + back));
+      if (trim_) trim(s_f, s_b, front, back);
       out = Slab::between(static_cast<float>(front), static_cast<float>(back), c);
       return true;
     }
@@ -110,6 +120,20 @@ class VolumeMarcher {
     return true;
   }
 
+  // Narrows [front, back] to the visible part of the ramp s_f -> s_b, keeping at least 1/16 of
+  // the piece so that the slab stays a medium, not a surface.
+  void trim(float s_f, float s_b, double& front, double& back) const {
+    glm::vec2 u = v_->accel.emptiness->visible_part(s_f, s_b);
+    constexpr float kMin = 1.0f / 16.0f;
+    if (u.y - u.x < kMin) {
+      float mid = std::clamp(0.5f * (u.x + u.y), 0.5f * kMin, 1.0f - 0.5f * kMin);
+      u = glm::vec2(mid - 0.5f * kMin, mid + 0.5f * kMin);
+    }
+    double len = back - front;
+    back = front + u.y * len;
+    front = front + u.x * len;
+  }
+
   glm::vec4 classify(float s_f, float s_b, float len) const {
     if (preint_.data) {
       glm::vec4 c = preint_.lookup(s_f, s_b);
@@ -139,12 +163,14 @@ class VolumeMarcher {
   float step_ = 1.0f;
   double t_ = 0.0;
   double cell_ = 0.0;
-  double occupied_until_ = -INFINITY;  // the ray is in an occupied brick up to here  // index k of the grid cell [k, k+1) * step that t_ lies in
+  double occupied_until_ = -INFINITY;  // the ray is in an occupied brick up to here  // index k of
+                                       // the grid cell [k, k+1) * step that t_ lies in
   float t1_ = 0.0f;
   PreintegrationView preint_;
   BrickDda dda_;
   float s_front_ = 0.0f;
   bool have_front_ = false;
+  bool trim_ = false;
 };
 
 }  // namespace imx

@@ -61,5 +61,49 @@ TEST(TfEmptiness, NeverCallsAVisibleRangeEmpty) {
   EXPECT_GT(empties, 1000);
 }
 
+// The visible part of a ramp: every value of the ramp outside [u0, u1] is transparent (checked
+// densely), and the trim is tight: some value within one LUT entry inside each trimmed end is not.
+TEST(TfEmptiness, VisiblePartTrimsOnlyTransparentEnds) {
+  std::mt19937 rng(11);
+  int trimmed = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    TransferFunction tf = test::random_tf(rng, -100.0f, 300.0f);
+    TfLut lut(tf);
+    TfEmptiness e(lut);
+    const float entry = 1.0f / lut.inv_step();
+    std::uniform_real_distribution<float> u(-150.0f, 350.0f);
+    for (int q = 0; q < 300; ++q) {
+      float s_f = u(rng), s_b = u(rng);
+      if (e.is_empty(std::min(s_f, s_b), std::max(s_f, s_b))) continue;
+      glm::vec2 part = e.visible_part(s_f, s_b);
+      ASSERT_LE(0.0f, part.x);
+      ASSERT_LE(part.x, part.y);
+      ASSERT_LE(part.y, 1.0f);
+      auto alpha_at = [&](float t) { return lut.lookup(s_f + t * (s_b - s_f)).a; };
+      for (int k = 0; k <= 2000; ++k) {
+        float t = static_cast<float>(k) / 2000.0f;
+        if (t < part.x - 1e-4f || t > part.y + 1e-4f) {
+          ASSERT_EQ(alpha_at(t), 0.0f) << t;
+        }
+      }
+      // Tight: just inside a trimmed end (one LUT entry of the ramp) some opacity shows.
+      float reach = entry / std::abs(s_b - s_f);
+      auto visible_within = [&](float from, float to) {
+        for (int k = 0; k <= 50; ++k)
+          if (alpha_at(from + (to - from) * static_cast<float>(k) / 50.0f) > 0.0f) return true;
+        return false;
+      };
+      if (part.x > 0.0f) {
+        ++trimmed;
+        EXPECT_TRUE(visible_within(part.x, std::min(part.y, part.x + reach)));
+      }
+      if (part.y < 1.0f) {
+        EXPECT_TRUE(visible_within(std::max(part.x, part.y - reach), part.y));
+      }
+    }
+  }
+  EXPECT_GT(trimmed, 500);  // the random ramps must often start in transparent values
+}
+
 }  // namespace
 }  // namespace imx

@@ -18,11 +18,12 @@ struct MarchResult {
   glm::vec4 composite{0.0f};
 };
 
-MarchResult march(const PreparedVolume& v, const Ray& ray, float step) {
+MarchResult march(const PreparedVolume& v, const Ray& ray, float step,
+                  SlabExtent extent = SlabExtent::grid) {
   MarchResult r;
   RayInterval span = v.intersect(ray);
   if (span.empty()) return r;
-  VolumeMarcher m(v, ray, span.t0, span.t1, step, {});
+  VolumeMarcher m(v, ray, span.t0, span.t1, step, {}, extent);
   Slab s;
   while (m.next(s)) {
     r.slabs.push_back(s);
@@ -116,6 +117,35 @@ TEST(VolumeMarcher, SlabsAreSortedDisjointAndOnTheCommonGrid) {
       }
     }
   }
+}
+
+// Visible extents change where a slab lies, never what it holds: each slab is the same visibility
+// as its grid piece, within it, and strictly narrower where the piece starts or ends transparent.
+TEST(VolumeMarcher, VisibleExtentsNarrowSlabsWithinTheirPieces) {
+  std::mt19937 rng(5);
+  int narrowed = 0;
+  for (int trial = 0; trial < 8; ++trial) {
+    VolumeObject obj;
+    obj.name = "blobs";
+    obj.data = std::make_shared<VolumeData>(test::blob_volume<uint8_t>({31, 27, 29}, rng));
+    obj.transfer_function = test::random_tf(rng, 0.0f, 255.0f);
+    const float step = 0.8f;
+    PreparedVolume v = prepared(obj, step, {SkipMode::distance, Classification::preintegrated});
+    for (int r = 0; r < 40; ++r) {
+      Ray ray = random_ray(rng, glm::vec3(15), 25.0f);
+      MarchResult grid = march(v, ray, step), visible = march(v, ray, step, SlabExtent::visible);
+      ASSERT_EQ(grid.slabs.size(), visible.slabs.size());
+      for (size_t i = 0; i < grid.slabs.size(); ++i) {
+        const Slab &g = grid.slabs[i], &s = visible.slabs[i];
+        EXPECT_EQ(g.color, s.color);
+        EXPECT_GE(s.front(), g.front() - 1e-4f);
+        EXPECT_LE(s.t_back, g.t_back + 1e-4f);
+        EXPECT_GE(s.thickness, g.thickness / 16.0f - 1e-5f);
+        narrowed += s.thickness < 0.99f * g.thickness;
+      }
+    }
+  }
+  EXPECT_GT(narrowed, 100);
 }
 
 // A ramp along x crosses a TF spike between two samples: pre-integration sees it, post-
