@@ -16,6 +16,23 @@ struct ShadingLight {
   glm::vec3 color{1.0f};     // colour times intensity
 };
 
+// x^n for x in [0, 1]: by repeated squaring when n is a whole number up to 1024 (the usual
+// shininess; a few multiplies instead of std::pow's exp and log), else std::pow. Values below
+// 1e-18 become 0 on the way: they cannot show, and denormal arithmetic is slow.
+inline float specular_power(float x, float n) {
+  if (!(n >= 0.0f && n <= 1024.0f && n == std::floor(n))) {
+    float p = std::pow(x, n);
+    return p < 1e-18f ? 0.0f : p;
+  }
+  float result = 1.0f;
+  for (unsigned e = static_cast<unsigned>(n); e != 0; e >>= 1) {
+    if (e & 1u) result *= x;
+    if (result < 1e-18f) return 0.0f;
+    x = x * x < 1e-18f ? 0.0f : x * x;
+  }
+  return result;
+}
+
 // Base colour lit by ambient + diffuse |N.L| + specular (N.H)^n, two-sided: the normal is
 // flipped toward the viewer. `n` need not be normalized; a zero normal gives ambient +
 // diffuse as if lit head-on (homogeneous regions of a volume have no gradient).
@@ -40,7 +57,7 @@ inline glm::vec3 blinn_phong(const Shading& s, const glm::vec3& base, glm::vec3 
     glm::vec3 h = glm::normalize(l + to_eye);
     float ndoth = std::max(0.0f, glm::dot(n, h));
     out += (s.diffuse * ndotl) * base * light.color +
-           (s.specular * std::pow(ndoth, s.shininess)) * light.color;
+           (s.specular * specular_power(ndoth, s.shininess)) * light.color;
   }
   return out;
 }
