@@ -137,6 +137,8 @@ struct RenderSettings {
   int fragment_cap = 1024;                       // dynamic fragment buffer cap per pixel
   std::optional<double> thickness;               // default surface thickness, mm; empty = auto
   std::string slab_format = "rgba32f";           // stored slab colour: rgba32f or rgba8
+  std::string last_volume;  // zSlab: the volume rendered last (cast on the fly); empty = auto
+  std::string overflow = "greedy";  // zSlab: a full ZT array folds by greedy or tail merging
 };
 
 struct Scene {

@@ -67,6 +67,21 @@ double transparent_complexity(const PreparedVolume& v, float step) {
   return filled * (1.0 - a + 1e-3);
 }
 
+// Position in `volume_order` (Scene::order indices) of the volume called `name`. The scene
+// parser already checks the name; this catches scenes built in code.
+size_t named_volume(const Scene& scene, const std::vector<size_t>& volume_order,
+                    const std::string& name) {
+  for (size_t i = 0; i < volume_order.size(); ++i)
+    if (scene.volumes[scene.order[volume_order[i]].index].name == name) return i;
+  throw Error(fmt::format("zslab: render.last_volume '{}' is not the name of a volume", name));
+}
+
+Overflow overflow_of(const RenderSettings& r) {
+  if (r.overflow == "greedy") return Overflow::greedy;
+  if (r.overflow == "tail") return Overflow::tail;
+  throw Error(fmt::format("zslab: render.overflow is '{}', expected greedy or tail", r.overflow));
+}
+
 }  // namespace
 
 ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
@@ -83,17 +98,18 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
   params.peel_layers = r.peel_layers;
   params.mix.interpolation = interpolation_of(r);
   params.mix.a_ert = static_cast<float>(r.ert_threshold);
-  params.mix.overflow = Overflow::greedy;
+  params.mix.overflow = overflow_of(r);
   format = r.slab_format == "rgba8" ? SlabFormat::rgba8 : SlabFormat::rgba32f;
   footprint_at_0_ = static_cast<float>(frame.camera.pixel_footprint(0.0));
   footprint_per_mm_ = static_cast<float>(frame.camera.pixel_footprint(1.0)) - footprint_at_0_;
 
-  // Each volume is cast at its own step (its smallest voxel pitch unless the scene sets one).
+  // Every volume is cast at the scene's common step (the smallest voxel pitch unless the scene
+  // sets one), as in MDVR: a coarse volume cast at its own pitch costs ~2 dB on two-volumes.
   const MarchSettings march = MarchSettings::from(r);
   std::vector<float> steps(frame.volumes.size());
   for (size_t v = 0; v < frame.volumes.size(); ++v) {
     PreparedVolume& pv = frame.volumes[v];
-    steps[v] = static_cast<float>(r.step_mm > 0.0 ? r.step_mm : pv.min_pitch);
+    steps[v] = static_cast<float>(r.step_mm > 0.0 ? r.step_mm : frame.min_pitch);
     if (pv.object->style == VolumeStyle::dvr)
       pv.accel = accelerate(*pv.object, pv.lut, steps[v], march);
   }
@@ -136,11 +152,15 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
   }
   close_group();
 
-  // Volumes after, the one with the most complex transparent structure last.
+  // Volumes after: render.last_volume last, else the most complex transparent structure.
   std::vector<size_t> volume_order;
   for (size_t k = 0; k < scene.order.size(); ++k)
     if (scene.order[k].kind == ObjectKind::volume) volume_order.push_back(k);
-  if (!volume_order.empty()) {
+  if (!r.last_volume.empty()) {
+    size_t named = named_volume(scene, volume_order, r.last_volume);
+    std::rotate(volume_order.begin() + static_cast<long>(named),
+                volume_order.begin() + static_cast<long>(named) + 1, volume_order.end());
+  } else if (!volume_order.empty()) {
     size_t best = volume_order.size() - 1;
     double best_score = -2.0;
     for (size_t i = 0; i < volume_order.size(); ++i) {
@@ -175,7 +195,7 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
   f.add(scene.image.width).add(scene.image.height).add(offsets.size());
   f.add(params.layers).add(params.rt_layers).add(params.peel_layers);
   f.add(params.mix.interpolation.mode).add(params.mix.interpolation.beta).add(params.mix.a_ert);
-  f.add(format).add(hybrid).add(frame.min_pitch).add(r.step_mm);
+  f.add(format).add(hybrid).add(frame.min_pitch).add(r.step_mm).add(params.mix.overflow);
   f.add(std::string_view(r.classification)).add(std::string_view(r.gradients));
   f.add(std::string_view(r.skipping)).add(r.brick_size);
   for (const ShadingLight& l : frame.lights) f.add(l.headlight).add(l.to_light).add(l.color);
@@ -225,7 +245,7 @@ bool ZslabFrame::run_deferred(size_t k, const Ray& ray, std::span<const Fragment
   if (v.object->style == VolumeStyle::dvr) {
     if (v.lut.max_opacity() <= 0.0f) return false;
     VolumeMarcher marcher(v, ray, span.t0, span.t1, st.step, frame.lights);
-    collect_slabs(marcher, own, params.mix.a_ert);
+    collect_slabs(marcher, own, params.mix.a_ert, params.mix.overflow);
   } else {
     VolumeHit hit;
     bool found = v.object->style == VolumeStyle::iso

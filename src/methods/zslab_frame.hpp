@@ -33,8 +33,8 @@ struct ZslabStage {
 class ZslabFrame {
  public:
   // Plans the stages: polygon objects and planes in scene order (grouped so their peeled layers
-  // fit the M RT layers), then volumes, the one with the most complex transparent structure
-  // last; `hybrid` casts that last volume on the fly.
+  // fit the M RT layers), then volumes, render.last_volume last (empty: the one with the most
+  // complex transparent structure); `hybrid` casts that last volume on the fly when it is dvr.
   ZslabFrame(const Scene& scene, int spp, bool hybrid);
 
   // Builds the rasterizers of the surface stages from `first` on (before any parallel loop).

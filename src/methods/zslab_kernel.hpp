@@ -64,17 +64,17 @@ inline void intermix_stage(std::span<const Slab> stored, std::span<const Slab> i
   intermix(stored, incoming, out, s);
 }
 
-// A volume's own zSlab array for deferred intermixing: its sample slabs in depth order, folded by
-// greedy compression once `out` is full, until the volume alone reaches the ERT opacity.
+// A volume's own zSlab array for deferred intermixing: its sample slabs in depth order, folded as
+// `overflow` says once `out` is full, until the volume alone reaches the ERT opacity.
 // Source: bool next(Slab&) (VolumeMarcher or a single hit).
 template <class Source>
-inline void collect_slabs(Source& source, SlabList& out, float a_ert) {
+inline void collect_slabs(Source& source, SlabList& out, float a_ert, Overflow overflow) {
   out.clear();
   glm::vec4 acc(0.0f);
   Slab s;
   while (!ert_reached(acc.a, a_ert) && source.next(s)) {
     if (s.is_empty()) continue;
-    out.push_back(s, Overflow::greedy);
+    out.push_back(s, overflow);
     acc = over(acc, s.color);
   }
 }

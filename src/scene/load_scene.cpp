@@ -82,6 +82,7 @@ Scene parse_document(const nlohmann::json& root, const std::filesystem::path& ba
     }
   }
   scene.order = std::move(order);
+  if (auto v = r.find("render")) detail::check_last_volume(*v, scene, types);
   return scene;
 }
 

@@ -29,6 +29,10 @@ Camera parse_camera(const JsonReader& r);
 ImageSettings parse_image(const JsonReader& r);
 std::vector<Light> parse_lights(const JsonReader& r);
 RenderSettings parse_render(const JsonReader& r);
+// Throws unless render.last_volume (when set) names one of `scene`'s volumes; `object_types`
+// maps every object's name to its type, for a clear message when it names a mesh or a plane.
+void check_last_volume(const JsonReader& render, const Scene& scene,
+                       const std::map<std::string, std::string>& object_types);
 
 // {"matrix": 4x4 row-major} or {"translate", "rotate_deg", "scale"} as T * Rz * Ry * Rx * S.
 // Throws when an entry is not finite or the transform is singular or not affine.

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <glm/glm.hpp>
 
+#include "scene/edit_distance.hpp"
 #include "scene/scene_parsers.hpp"
 
 namespace imx::detail {
@@ -77,9 +78,11 @@ std::vector<Light> parse_lights(const JsonReader& r) {
 }
 
 RenderSettings parse_render(const JsonReader& r) {
-  r.check_keys({"method", "spp", "step_mm", "reference_step_fraction", "ert_threshold", "layers",
-                "rt_layers", "peel_layers", "interpolation", "beta", "skipping", "classification",
-                "gradients", "brick_size", "k", "fragment_cap", "thickness", "slab_format"});
+  r.check_keys({"method",        "spp",         "step_mm",     "reference_step_fraction",
+                "ert_threshold", "layers",      "rt_layers",   "peel_layers",
+                "interpolation", "beta",        "skipping",    "classification",
+                "gradients",     "brick_size",  "k",           "fragment_cap",
+                "thickness",     "slab_format", "last_volume", "overflow"});
   RenderSettings s;
   if (auto v = r.find("method")) {
     s.method = v->string();
@@ -107,7 +110,24 @@ RenderSettings parse_render(const JsonReader& r) {
   if (auto v = r.find("fragment_cap")) s.fragment_cap = v->integer(1, 65536);
   if (auto v = r.find("thickness")) s.thickness = parse_thickness(*v);
   if (auto v = r.find("slab_format")) s.slab_format = v->choice({"rgba32f", "rgba8"});
+  if (auto v = r.find("last_volume")) s.last_volume = v->string();  // checked with the objects
+  if (auto v = r.find("overflow")) s.overflow = v->choice({"greedy", "tail"});
   return s;
+}
+
+void check_last_volume(const JsonReader& render, const Scene& scene,
+                       const std::map<std::string, std::string>& object_types) {
+  std::optional<JsonReader> v = render.find("last_volume");
+  if (!v || scene.render.last_volume.empty()) return;
+  const std::string& name = scene.render.last_volume;
+  for (const VolumeObject& vo : scene.volumes)
+    if (vo.name == name) return;
+  auto it = object_types.find(name);
+  if (it != object_types.end())
+    v->fail(fmt::format("'{}' is a {}, not a volume", name, it->second));
+  std::vector<std::string> names;
+  for (const VolumeObject& vo : scene.volumes) names.push_back(vo.name);
+  v->fail(fmt::format("no volume named '{}'{}", name, did_you_mean(name, names)));
 }
 
 }  // namespace imx::detail

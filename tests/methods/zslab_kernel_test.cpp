@@ -134,7 +134,7 @@ TEST(ZslabKernel, VolumeArrayNeverExceedsNAndKeepsTheComposite) {
     glm::vec4 expected = composite(src.slabs);
     std::vector<Slab> slots(n);
     SlabList out(slots);
-    collect_slabs(src, out, 1.0f);
+    collect_slabs(src, out, 1.0f, Overflow::greedy);
     EXPECT_EQ(out.size(), n);
     EXPECT_TRUE(sorted_disjoint(out.items()));
     glm::vec4 got = composite(out.items());
@@ -149,8 +149,109 @@ TEST(ZslabKernel, VolumeArrayStopsAtErt) {
   for (int k = 0; k < 50; ++k) src.slabs.push_back({1.0f + k, 1.0f, grey(0.5f)});
   Slab slots[8];
   SlabList out(slots);
-  collect_slabs(src, out, 0.9f);
+  collect_slabs(src, out, 0.9f, Overflow::greedy);
   EXPECT_EQ(src.next_index, 4u);  // 1 - 0.5^4 = 0.9375 >= 0.9
+}
+
+// 200 unit slabs of varying density: far more than any N, so every policy must fold.
+VectorSource many_slabs() {
+  std::mt19937 gen(11);
+  std::uniform_real_distribution<float> u(0.0f, 0.08f);
+  VectorSource src;
+  for (int k = 0; k < 200; ++k) src.slabs.push_back({1.0f + k, 1.0f, grey(u(gen))});
+  return src;
+}
+
+TEST(ZslabKernel, VolumeArrayTailKeepsTheFirstSlabsAndFoldsTheRest) {
+  VectorSource src = many_slabs();
+  glm::vec4 expected = composite(src.slabs);
+  const int n = 4;
+  std::vector<Slab> slots(n);
+  SlabList tail(slots);
+  collect_slabs(src, tail, 1.0f, Overflow::tail);
+  ASSERT_EQ(tail.size(), n);
+  for (int k = 0; k + 1 < n; ++k) {  // tail handling leaves the first N - 1 slabs alone
+    EXPECT_EQ(tail[k].t_back, src.slabs[k].t_back);
+    EXPECT_EQ(tail[k].color, src.slabs[k].color);
+  }
+  EXPECT_FLOAT_EQ(tail[n - 1].front(), src.slabs[n - 1].front());
+  EXPECT_FLOAT_EQ(tail[n - 1].t_back, 200.0f);
+  glm::vec4 got = composite(tail.items());
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(got[i], expected[i], 1e-4f);
+
+  VectorSource again = many_slabs();
+  std::vector<Slab> greedy_slots(n);
+  SlabList greedy(greedy_slots);
+  collect_slabs(again, greedy, 1.0f, Overflow::greedy);
+  EXPECT_NE(greedy[0].t_back, tail[0].t_back);  // greedy merges early slabs too
+}
+
+// Intermixing into a full output under either policy writes only the N slots it was given and
+// keeps the composite; tail keeps the kernel's first N - 1 emitted slabs exactly.
+TEST(ZslabKernel, StageOverflowStaysWithinCapacity) {
+  VectorSource src = many_slabs();
+  std::vector<Slab> stored;
+  for (int k = 0; k < 4; ++k) stored.push_back({20.5f + 40.0f * k, 3.0f, grey(0.3f)});
+  IntermixSettings s;
+  s.a_ert = 1.0f;
+  std::vector<Slab> unbounded_slots(512);
+  SlabList unbounded(unbounded_slots);
+  IntermixResult all = intermix(std::span<const Slab>(stored), src.slabs, unbounded, s);
+  ASSERT_GT(unbounded.size(), 8);
+  const int n = 4;
+  const Slab sentinel{-1.0f, -7.0f, glm::vec4(9.0f)};
+  std::vector<Slab> results[2];
+  for (Overflow o : {Overflow::tail, Overflow::greedy}) {
+    std::vector<Slab> slots(n + 4, sentinel);
+    SlabList out(std::span<Slab>(slots.data(), n));
+    s.overflow = o;
+    intermix_stage(stored, src.slabs, out, s);
+    EXPECT_EQ(out.size(), n);
+    for (int k = n; k < n + 4; ++k) EXPECT_EQ(slots[k].color, sentinel.color) << "slot " << k;
+    EXPECT_TRUE(sorted_disjoint(out.items()));
+    glm::vec4 got = composite(out.items());
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(got[i], all.accumulated[i], 1e-4f);
+    EXPECT_FLOAT_EQ(out[n - 1].t_back, unbounded[unbounded.size() - 1].t_back);
+    results[o == Overflow::tail ? 0 : 1].assign(out.begin(), out.end());
+  }
+  for (int k = 0; k + 1 < n; ++k) {
+    EXPECT_EQ(results[0][k].t_back, unbounded[k].t_back);
+    EXPECT_EQ(results[0][k].color, unbounded[k].color);
+  }
+  bool differ = false;
+  for (int k = 0; k < n; ++k) differ |= results[0][k].t_back != results[1][k].t_back;
+  EXPECT_TRUE(differ) << "tail and greedy folded the same way";
+}
+
+TEST(ZslabKernel, SurfaceStageFoldsAsTheSettingsSay) {
+  // ten surfaces of one object through a stage of N = 4 slabs; the two faint touching ones in
+  // front are the cheapest pair for greedy merging, tail handling folds the deep end instead
+  std::vector<Fragment> fragments = {frag(10.0f, 0.02f, 0), frag(11.0f, 0.02f, 0)};
+  for (int k = 2; k < 10; ++k) fragments.push_back(frag(10.0f * k, 0.3f, 0));
+  float thickness[1] = {1.0f};
+  StageThickness th{thickness, 0.0f, 0.0f};
+  ZslabParams p;
+  p.layers = 4;
+  p.rt_layers = 4;
+  p.peel_layers = 16;
+  p.mix.a_ert = 1.0f;
+  std::vector<Slab> results[2];
+  for (Overflow o : {Overflow::tail, Overflow::greedy}) {
+    p.mix.overflow = o;
+    Slab slots[4];
+    SlabList out(slots);
+    ASSERT_TRUE(run_surface_stage(fragments, th, {}, out, p));
+    EXPECT_EQ(out.size(), 4);
+    EXPECT_TRUE(sorted_disjoint(out.items()));
+    results[o == Overflow::tail ? 0 : 1].assign(out.begin(), out.end());
+  }
+  const float kept[3] = {10.0f, 11.0f, 20.0f};
+  for (int k = 0; k < 3; ++k) EXPECT_FLOAT_EQ(results[0][k].t_back, kept[k]);
+  EXPECT_FLOAT_EQ(results[0][3].front(), 29.0f);  // the 4th surface onwards in the tail
+  EXPECT_FLOAT_EQ(results[0][3].t_back, 90.0f);
+  EXPECT_FLOAT_EQ(results[1][0].front(), 9.0f);  // greedy merged the faint pair instead
+  EXPECT_FLOAT_EQ(results[1][0].t_back, 11.0f);
+  EXPECT_NEAR(composite(results[0]).a, composite(results[1]).a, 1e-5f);
 }
 
 TEST(ZslabKernel, HybridEqualsBatchIntermixAndStopsEarly) {

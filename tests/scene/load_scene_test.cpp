@@ -525,6 +525,48 @@ TEST(ParseSceneErrors, PlaneVolumeMustNameAVolume) {
   EXPECT_EQ(s.planes[0].volume, 0);
 }
 
+// Two phantom volumes and a mesh, for the zSlab settings that name objects.
+std::string zslab_scene(const std::string& render) {
+  return R"({"render": )" + render + R"(, "objects": [
+    {"name": "cube", "type": "volume", "source": {"phantom": "cube", "size": 8},
+     "transfer_function": {"points": [[0, 1, 1, 1, 0.5]]}},
+    {"name": "ellipsoid", "type": "volume", "source": {"phantom": "ellipsoid", "size": 8},
+     "transfer_function": {"points": [[0, 1, 1, 1, 0.5]]}},
+    )" + kSphere +
+         "]}";
+}
+
+TEST(ParseScene, ZslabLastVolumeAndOverflow) {
+  Scene s = parse(zslab_scene("{}"));
+  EXPECT_EQ(s.render.last_volume, "");  // automatic choice
+  EXPECT_EQ(s.render.overflow, "greedy");
+  s = parse(zslab_scene(R"({"last_volume": "cube", "overflow": "tail"})"));
+  EXPECT_EQ(s.render.last_volume, "cube");
+  EXPECT_EQ(s.render.overflow, "tail");
+  s = parse(zslab_scene("{}"), {"render.last_volume=ellipsoid", "render.overflow=greedy"});
+  EXPECT_EQ(s.render.last_volume, "ellipsoid");
+  EXPECT_EQ(s.render.overflow, "greedy");
+}
+
+TEST(ParseSceneErrors, LastVolumeMustNameAVolume) {
+  EXPECT_CONTAINS(parse_error(zslab_scene(R"({"last_volume": "elipsoid"})")),
+                  "scene.json: render.last_volume: no volume named 'elipsoid' (did you mean "
+                  "'ellipsoid'?)");
+  EXPECT_CONTAINS(parse_error(zslab_scene("{}"), {"render.last_volume=nothing"}),
+                  "render.last_volume: no volume named 'nothing'");
+  EXPECT_CONTAINS(parse_error(zslab_scene(R"({"last_volume": "ball"})")),
+                  "render.last_volume: 'ball' is a mesh, not a volume");
+  EXPECT_CONTAINS(parse_error(R"({"render": {"last_volume": "ct"}, "objects": []})"),
+                  "render.last_volume: no volume named 'ct'");
+  EXPECT_CONTAINS(parse_error(zslab_scene(R"({"last_volume": 3})")),
+                  "render.last_volume: expected a string");
+}
+
+TEST(ParseSceneErrors, OverflowIsGreedyOrTail) {
+  EXPECT_CONTAINS(parse_error(zslab_scene(R"({"overflow": "tale"})")),
+                  "render.overflow: \"tale\" is not one of greedy, tail (did you mean 'tail'?)");
+}
+
 TEST(ParseSceneErrors, VolumeSettings) {
   test::TempDir dir;
   write_nrrd(small_volume(), dir.path() / "ct.nrrd");
