@@ -106,12 +106,11 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
   // Every volume is cast at the scene's common step (the smallest voxel pitch unless the scene
   // sets one), as in MDVR: a coarse volume cast at its own pitch costs ~2 dB on two-volumes.
   const MarchSettings march = MarchSettings::from(r);
-  std::vector<float> steps(frame.volumes.size());
+  const float step = static_cast<float>(r.step_mm > 0.0 ? r.step_mm : frame.min_pitch);
   for (size_t v = 0; v < frame.volumes.size(); ++v) {
     PreparedVolume& pv = frame.volumes[v];
-    steps[v] = static_cast<float>(r.step_mm > 0.0 ? r.step_mm : frame.min_pitch);
     if (pv.object->style == VolumeStyle::dvr)
-      pv.accel = accelerate(*pv.object, pv.lut, steps[v], march);
+      pv.accel = accelerate(*pv.object, pv.lut, step, march);
   }
 
   // Polygon objects and planes first, in scene order, as many per stage as fit the RT layers.
@@ -165,7 +164,7 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
     double best_score = -2.0;
     for (size_t i = 0; i < volume_order.size(); ++i) {
       int v = scene.order[volume_order[i]].index;
-      double score = transparent_complexity(frame.volumes[v], steps[v]);
+      double score = transparent_complexity(frame.volumes[v], step);
       if (score >= best_score) {
         best_score = score;
         best = i;
@@ -179,7 +178,7 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
     st.kind = ZslabStage::Kind::volume;
     st.objects.push_back(static_cast<uint32_t>(volume_order[i]));
     st.volume = scene.order[volume_order[i]].index;
-    st.step = steps[st.volume];
+    st.step = step;
     st.name = scene.volumes[st.volume].name;
     const PreparedVolume& pv = frame.volumes[st.volume];
     st.on_the_fly = hybrid && i + 1 == volume_order.size() && pv.object->style == VolumeStyle::dvr;
