@@ -96,11 +96,15 @@ inline glm::vec4 trace_mdvr(const Ray& ray, std::span<const Fragment> surfaces,
     // One volume: its slabs are the grid steps, nothing to mix.
     VolumeMarcher m(volumes[only], ray, rv.span[only].t0, rv.span[only].t1, p.step, lights,
                     SlabExtent::grid);
-    Slab s;
-    while (acc.a < p.ert && m.next(s)) {
-      composite_surfaces_until(s.front());
-      if (acc.a >= p.ert) break;
-      acc = over(acc, s.color);
+    if (surfaces.empty() && rv.hit_count == 0) {
+      m.composite(acc, p.ert);  // nothing to interleave: the march runs in one call
+    } else {
+      Slab s;
+      while (acc.a < p.ert && m.next(s)) {
+        composite_surfaces_until(s.front());
+        if (acc.a >= p.ert) break;
+        acc = over(acc, s.color);
+      }
     }
   } else if (marched > 1) {
     composite_steps_of_several(ray, rv, volumes, lights, p, acc, composite_surfaces_until);

@@ -9,9 +9,11 @@
 
 #include "core/blinn_phong.hpp"
 #include "core/ray.hpp"
+#include "slab/over.hpp"
 #include "slab/slab.hpp"
 #include "volume/brick_dda.hpp"
 #include "volume/prepared_volume.hpp"
+#include "volume/ray_shading.hpp"
 
 namespace imx {
 
@@ -35,13 +37,12 @@ class VolumeMarcher {
   VolumeMarcher(const PreparedVolume& v, const Ray& ray, float t0, float t1, float step,
                 std::span<const ShadingLight> lights, SlabExtent extent = SlabExtent::visible)
       : v_(&v),
-        lights_(lights),
-        to_eye_(-ray.dir),
         origin_(v.to_index(ray.origin)),
         dir_(glm::mat3(v.world_to_index) * ray.dir),
         step_(step),
         t_(t0),
         t1_(t1) {
+    if (v.object->shading.enabled) shading_ = RayShading(v.object->shading, lights, -ray.dir);
     if (v.accel.preint) preint_ = v.accel.preint->view();
     trim_ = extent == SlabExtent::visible && preint_.data && v.accel.emptiness;
     align_cell();
@@ -54,13 +55,22 @@ class VolumeMarcher {
     return v_->grid.visit([&](const auto& grid) { return next_in(grid, out); });
   }
 
+  // Composites the slabs front to back into `acc` until its opacity reaches `ert`: the whole
+  // march in one call, for a ray with nothing else to interleave.
+  void composite(glm::vec4& acc, float ert) {
+    v_->grid.visit([&](const auto& grid) {
+      Slab s;
+      while (acc.a < ert && next_in(grid, s)) acc = over(acc, s.color);
+    });
+  }
+
   // Where the next slab will start at the earliest.
   double position() const { return t_; }
 
  private:
   // The loop with the voxel type resolved once per slab, so sampling inlines.
   template <class Grid>
-  bool next_in(const Grid& grid, Slab& out) {
+  [[gnu::always_inline]] bool next_in(const Grid& grid, Slab& out) {
     while (t_ < t1_) {
       double back = std::min<double>(t1_, (cell_ + 1.0) * step_);
       if (v_->accel.occupancy && t_ >= occupied_until_ && skip_empty(back)) continue;
@@ -150,15 +160,11 @@ class VolumeMarcher {
   glm::vec4 shade(const glm::vec4& c, double t_mid) const {
     glm::vec3 p = index_at(t_mid);
     glm::vec3 g = v_->accel.gradients ? v_->accel.gradients->sample(p) : v_->grid.gradient(p);
-    glm::vec3 base = glm::vec3(c) / c.a;
-    glm::vec3 lit =
-        blinn_phong(v_->object->shading, base, v_->gradient_to_world * g, to_eye_, lights_);
-    return glm::vec4(lit * c.a, c.a);
+    return shading_.apply(c, v_->gradient_to_world * g);
   }
 
   const PreparedVolume* v_ = nullptr;
-  std::span<const ShadingLight> lights_;
-  glm::vec3 to_eye_{0.0f};
+  RayShading shading_;
   glm::vec3 origin_{0.0f}, dir_{0.0f};  // the ray in index space, same parameter t
   float step_ = 1.0f;
   double t_ = 0.0;

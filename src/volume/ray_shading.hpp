@@ -1,0 +1,70 @@
+// RayShading: Blinn-Phong for the samples of one volume ray, with everything that is constant
+// along the ray (light and half vectors, coefficients) worked out once. Pure, fixed-size.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <span>
+
+#include <glm/glm.hpp>
+
+#include "core/blinn_phong.hpp"
+#include "intermix/scene.hpp"
+
+namespace imx {
+
+class RayShading {
+ public:
+  static constexpr int kMaxLights = 4;
+
+  RayShading() = default;
+  // `to_eye`: unit vector from the samples toward the viewer (minus the ray direction).
+  RayShading(const Shading& s, std::span<const ShadingLight> lights, const glm::vec3& to_eye)
+      : shading_(s), lights_(lights), to_eye_(to_eye) {
+    count_ =
+        lights.size() <= static_cast<size_t>(kMaxLights) ? static_cast<int>(lights.size()) : -1;
+    for (int i = 0; i < count_; ++i) {
+      to_light_[i] = lights[i].headlight ? to_eye : lights[i].to_light;
+      glm::vec3 h = to_light_[i] + to_eye;
+      float len = glm::length(h);
+      half_[i] = len > 1e-12f ? h / len : glm::vec3(0.0f);  // a light straight behind never lights
+      colour_[i] = lights[i].color;
+    }
+  }
+
+  // The premultiplied colour `c` lit with world-space normal direction `n` (any length):
+  // exactly blinn_phong(shading, C / A, n, ...) * A, without the division.
+  glm::vec4 apply(const glm::vec4& c, glm::vec3 n) const {
+    if (count_ < 0) {
+      if (c.a <= 0.0f) return c;
+      return {blinn_phong(shading_, glm::vec3(c) / c.a, n, to_eye_, lights_) * c.a, c.a};
+    }
+    const glm::vec3 C(c);
+    glm::vec3 out = shading_.ambient * C;
+    float len2 = glm::dot(n, n);
+    if (!(len2 > 1e-24f)) {  // no gradient: lit head-on, no highlight (as blinn_phong)
+      for (int i = 0; i < count_; ++i) out += shading_.diffuse * C * colour_[i];
+      return {out, c.a};
+    }
+    n *= 1.0f / std::sqrt(len2);
+    if (glm::dot(n, to_eye_) < 0.0f) n = -n;
+    for (int i = 0; i < count_; ++i) {
+      float ndotl = glm::dot(n, to_light_[i]);
+      if (ndotl <= 0.0f) continue;
+      float ndoth = std::max(0.0f, glm::dot(n, half_[i]));
+      out += (shading_.diffuse * ndotl) * C * colour_[i] +
+             (shading_.specular * specular_power(ndoth, shading_.shininess) * c.a) * colour_[i];
+    }
+    return {out, c.a};
+  }
+
+ private:
+  Shading shading_;
+  std::span<const ShadingLight> lights_;  // for more than kMaxLights lights
+  glm::vec3 to_eye_{0.0f};
+  int count_ = 0;  // lights resolved below, or -1: use the general blinn_phong
+  glm::vec3 to_light_[kMaxLights];
+  glm::vec3 half_[kMaxLights];
+  glm::vec3 colour_[kMaxLights];
+};
+
+}  // namespace imx
