@@ -4,7 +4,9 @@
 // first step that starts at or behind it (a binary depth test, no splitting). Pure: no allocation.
 #pragma once
 #include <cmath>
+#include <new>
 #include <span>
+#include <type_traits>
 
 #include <glm/glm.hpp>
 
@@ -33,14 +35,18 @@ void composite_steps_of_several(const Ray& ray, const RayVolumes& rv,
                                 std::span<const PreparedVolume> volumes,
                                 std::span<const ShadingLight> lights, const MdvrParams& p,
                                 glm::vec4& acc, SurfacesUntil& composite_surfaces_until) {
-  VolumeMarcher marchers[kMaxRayVolumes];
+  // Marchers are built only for the volumes this ray meets: constructing all kMaxRayVolumes
+  // (392 B each) up front cost more than marching on two-volume scenes.
+  static_assert(std::is_trivially_destructible_v<VolumeMarcher>);
+  alignas(VolumeMarcher) unsigned char storage[kMaxRayVolumes * sizeof(VolumeMarcher)];
+  VolumeMarcher* marchers = reinterpret_cast<VolumeMarcher*>(storage);
   Slab heads[kMaxRayVolumes];
   bool live[kMaxRayVolumes] = {};
   int n = 0;
   for (int v = 0; v < rv.count; ++v) {
     if (!rv.marched[v]) continue;
-    marchers[n] = VolumeMarcher(volumes[v], ray, rv.span[v].t0, rv.span[v].t1, p.step, lights,
-                                SlabExtent::grid);
+    new (&marchers[n]) VolumeMarcher(volumes[v], ray, rv.span[v].t0, rv.span[v].t1, p.step, lights,
+                                     SlabExtent::grid);
     live[n] = marchers[n].next(heads[n]);
     ++n;
   }
