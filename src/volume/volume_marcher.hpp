@@ -168,9 +168,8 @@ class VolumeMarcher {
   glm::vec3 origin_{0.0f}, dir_{0.0f};  // the ray in index space, same parameter t
   float step_ = 1.0f;
   double t_ = 0.0;
-  double cell_ = 0.0;
-  double occupied_until_ = -INFINITY;  // the ray is in an occupied brick up to here  // index k of
-                                       // the grid cell [k, k+1) * step that t_ lies in
+  double cell_ = 0.0;                  // index k of the grid cell [k, k+1) * step holding t_
+  double occupied_until_ = -INFINITY;  // the ray is in an occupied brick up to here
   float t1_ = 0.0f;
   PreintegrationView preint_;
   BrickDda dda_;
