@@ -6,7 +6,6 @@
 #include <glm/glm.hpp>
 
 #include "core/math.hpp"
-#include "scene/edit_distance.hpp"
 #include "scene/scene_parsers.hpp"
 
 namespace imx::detail {
@@ -43,20 +42,8 @@ PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
   p.name = r.get("name").string();
   const VolumeObject* volume = nullptr;
   if (auto v = r.find("volume")) {
-    std::string name = v->string();
-    for (size_t i = 0; i < scene.volumes.size(); ++i)
-      if (scene.volumes[i].name == name) {
-        p.volume = static_cast<int>(i);
-        volume = &scene.volumes[i];
-      }
-    if (volume == nullptr) {
-      auto it = object_types.find(name);
-      if (it != object_types.end())
-        v->fail(fmt::format("'{}' is a {}, not a volume", name, it->second));
-      std::vector<std::string> names;
-      for (const VolumeObject& vo : scene.volumes) names.push_back(vo.name);
-      v->fail(fmt::format("no volume named '{}'{}", name, did_you_mean(name, names)));
-    }
+    p.volume = find_volume(*v, v->string(), scene, object_types);
+    volume = &scene.volumes[static_cast<size_t>(p.volume)];
   }
   glm::dvec3 lo(0.0), hi(0.0);
   if (volume != nullptr) world_bounds(*volume, lo, hi);

@@ -29,6 +29,10 @@ Camera parse_camera(const JsonReader& r);
 ImageSettings parse_image(const JsonReader& r);
 std::vector<Light> parse_lights(const JsonReader& r);
 RenderSettings parse_render(const JsonReader& r);
+// The index in `scene.volumes` of the volume called `name`, else one error at `at` saying what
+// `name` is instead (a mesh, a plane: `object_types` maps names to types) or the nearest name.
+int find_volume(const JsonReader& at, const std::string& name, const Scene& scene,
+                const std::map<std::string, std::string>& object_types);
 // Throws unless render.last_volume (when set) names one of `scene`'s volumes; `object_types`
 // maps every object's name to its type, for a clear message when it names a mesh or a plane.
 void check_last_volume(const JsonReader& render, const Scene& scene,

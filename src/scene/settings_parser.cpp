@@ -4,7 +4,6 @@
 #include <fmt/format.h>
 #include <glm/glm.hpp>
 
-#include "scene/edit_distance.hpp"
 #include "scene/scene_parsers.hpp"
 
 namespace imx::detail {
@@ -119,15 +118,7 @@ void check_last_volume(const JsonReader& render, const Scene& scene,
                        const std::map<std::string, std::string>& object_types) {
   std::optional<JsonReader> v = render.find("last_volume");
   if (!v || scene.render.last_volume.empty()) return;
-  const std::string& name = scene.render.last_volume;
-  for (const VolumeObject& vo : scene.volumes)
-    if (vo.name == name) return;
-  auto it = object_types.find(name);
-  if (it != object_types.end())
-    v->fail(fmt::format("'{}' is a {}, not a volume", name, it->second));
-  std::vector<std::string> names;
-  for (const VolumeObject& vo : scene.volumes) names.push_back(vo.name);
-  v->fail(fmt::format("no volume named '{}'{}", name, did_you_mean(name, names)));
+  find_volume(*v, scene.render.last_volume, scene, object_types);
 }
 
 }  // namespace imx::detail
