@@ -23,6 +23,14 @@ std::string zlib_message(const z_stream& z, int code) {
 
 }  // namespace
 
+void check_inflatable(size_t needed, size_t compressed, const std::string& what) {
+  if (static_cast<double>(needed) > kMaxInflateRatio * static_cast<double>(compressed) + 4096.0)
+    throw Error(
+        fmt::format("{}: expected {} bytes of voxel data, but {} bytes of compressed "
+                    "data cannot hold that much",
+                    what, needed, compressed));
+}
+
 size_t gunzip(std::istream& in, size_t skip, std::span<uint8_t> out, const std::string& what) {
   z_stream z{};
   // 15 + 32: largest window, and detect the gzip or zlib wrapper from the header.

@@ -14,6 +14,13 @@ namespace imx::detail {
 // when the data ends early. Throws imx::Error naming `what` when the data is corrupt.
 size_t gunzip(std::istream& in, size_t skip, std::span<uint8_t> out, const std::string& what);
 
+// deflate cannot expand data more than about 1032:1; larger claims are corrupt headers.
+inline constexpr double kMaxInflateRatio = 1100.0;
+
+// Throws imx::Error naming `what` unless `compressed` bytes of deflate data could hold
+// `needed` bytes: catches corrupt or hostile headers before anything is allocated.
+void check_inflatable(size_t needed, size_t compressed, const std::string& what);
+
 // Writes `data` to `out` as one gzip member at zlib's compression `level` (1 fast .. 9 small).
 // Throws imx::Error naming `what` when zlib fails.
 void gzip(std::span<const uint8_t> data, std::ostream& out, int level, const std::string& what);

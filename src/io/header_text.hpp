@@ -12,8 +12,6 @@ namespace imx::detail {
 // Header limits: anything beyond them is binary data or a corrupt file, not a header.
 inline constexpr size_t kMaxHeaderLineBytes = size_t{1} << 16;
 inline constexpr size_t kMaxHeaderBytes = size_t{1} << 20;
-// deflate cannot expand data more than about 1032:1; larger claims are corrupt headers.
-inline constexpr double kMaxInflateRatio = 1100.0;
 
 inline std::string_view trim(std::string_view s) {
   size_t b = s.find_first_not_of(" \t\r");

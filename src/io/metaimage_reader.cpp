@@ -299,19 +299,8 @@ VolumeData read_metaimage(const std::filesystem::path& file) {
                         data_what, *n, available));
       available = static_cast<size_t>(*n);
     }
-    if (static_cast<double>(needed) > kMaxInflateRatio * static_cast<double>(available) + 4096.0)
-      throw Error(
-          fmt::format("{}: expected {} bytes of voxel data, but {} bytes of compressed "
-                      "data cannot hold that much",
-                      data_what, needed, available));
-    v.voxels = load_voxels(type, count, big_endian, [&](std::span<uint8_t> bytes) {
-      size_t found = gunzip(in, 0, bytes, data_what);
-      if (found != bytes.size())
-        throw Error(fmt::format(
-            "{}: expected {} bytes of voxel data ({}x{}x{} {}) after "
-            "decompression, found {} (truncated file?)",
-            data_what, bytes.size(), v.dims.x, v.dims.y, v.dims.z, raw_type_name(type), found));
-    });
+    check_inflatable(needed, available, data_what);
+    v.voxels = load_gzip_voxels(in, 0, type, count, big_endian, data_what);
   }
   v.validate(what);
   return v;

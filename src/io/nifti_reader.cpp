@@ -11,6 +11,7 @@
 #include <nifti1_io.h>
 
 #include "intermix/error.hpp"
+#include "io/gzip.hpp"
 #include "io/nifti.hpp"
 #include "io/raw_voxels.hpp"
 
@@ -19,7 +20,6 @@ namespace imx::detail {
 namespace {
 
 // deflate cannot expand data more than about 1032:1; larger claims are corrupt headers.
-constexpr double kMaxGzipRatio = 1100.0;
 
 std::optional<RawType> raw_type(int datatype) {
   switch (datatype) {
@@ -126,11 +126,7 @@ VolumeData read_nifti(const std::filesystem::path& file) {
   uintmax_t file_size = std::filesystem::file_size(file, ec);
   if (ec) throw Error(fmt::format("{}: cannot read its size: {}", what, ec.message()));
   if (nifti_is_gzfile(nim->iname)) {
-    if (static_cast<double>(needed) > kMaxGzipRatio * static_cast<double>(file_size) + 4096.0)
-      throw Error(
-          fmt::format("{}: expected {} bytes of voxel data, but {} bytes of gzip data "
-                      "cannot hold that much",
-                      what, needed, file_size));
+    check_inflatable(needed, static_cast<size_t>(file_size), what);
   } else if (file_size < static_cast<uintmax_t>(nim->iname_offset) + needed) {
     uintmax_t found = file_size > static_cast<uintmax_t>(nim->iname_offset)
                           ? file_size - static_cast<uintmax_t>(nim->iname_offset)

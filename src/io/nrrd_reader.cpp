@@ -410,20 +410,9 @@ VolumeData read_nrrd(const std::filesystem::path& file) {
                                 bytes.size(), in.gcount()));
     });
   } else {
-    double claimed = static_cast<double>(needed) + static_cast<double>(byte_skip);
-    if (claimed > kMaxInflateRatio * static_cast<double>(available) + 4096.0)
-      throw Error(
-          fmt::format("{}: expected {} bytes of voxel data, but {} bytes of gzip data "
-                      "cannot hold that much",
-                      data_what, needed, available));
-    v.voxels = load_voxels(type, count, big_endian, [&](std::span<uint8_t> bytes) {
-      size_t found = gunzip(in, static_cast<size_t>(byte_skip), bytes, data_what);
-      if (found != bytes.size())
-        throw Error(fmt::format(
-            "{}: expected {} bytes of voxel data ({}x{}x{} {}) after "
-            "decompression, found {}",
-            data_what, bytes.size(), dims.x, dims.y, dims.z, raw_type_name(type), found));
-    });
+    check_inflatable(needed + static_cast<size_t>(byte_skip), available, data_what);
+    v.voxels =
+        load_gzip_voxels(in, static_cast<size_t>(byte_skip), type, count, big_endian, data_what);
   }
   v.validate(what);
   return v;

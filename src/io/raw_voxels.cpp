@@ -7,6 +7,11 @@
 #include <type_traits>
 #include <vector>
 
+#include <fmt/format.h>
+
+#include "intermix/error.hpp"
+#include "io/gzip.hpp"
+
 namespace imx::detail {
 
 static_assert(std::endian::native == std::endian::little,
@@ -135,6 +140,18 @@ VoxelStorage load_voxels(RawType type, size_t count, bool swap_bytes,
     default:
       return convert<double, float>(bytes, count);
   }
+}
+
+VoxelStorage load_gzip_voxels(std::istream& in, size_t skip, RawType type, size_t count,
+                              bool swap_bytes, const std::string& what) {
+  return load_voxels(type, count, swap_bytes, [&](std::span<uint8_t> bytes) {
+    size_t found = gunzip(in, skip, bytes, what);
+    if (found != bytes.size())
+      throw Error(
+          fmt::format("{}: expected {} bytes of voxel data ({} x {}) after "
+                      "decompression, found {} (truncated file?)",
+                      what, bytes.size(), count, raw_type_name(type), found));
+  });
 }
 
 }  // namespace imx::detail

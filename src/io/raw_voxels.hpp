@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <istream>
 #include <span>
 #include <string>
 
@@ -29,5 +30,10 @@ inline constexpr size_t kMaxVoxels = size_t{1} << 31;
 // `swap_bytes` reverses every element's bytes (big-endian data on this little-endian host).
 VoxelStorage load_voxels(RawType type, size_t count, bool swap_bytes,
                          const std::function<void(std::span<uint8_t>)>& fill);
+
+// load_voxels from gzip (or zlib) data at `in`'s position, after dropping `skip` inflated bytes.
+// Throws imx::Error naming `what` when the data is corrupt or ends early.
+VoxelStorage load_gzip_voxels(std::istream& in, size_t skip, RawType type, size_t count,
+                              bool swap_bytes, const std::string& what);
 
 }  // namespace imx::detail
