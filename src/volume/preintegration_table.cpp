@@ -1,5 +1,6 @@
 #include "volume/preintegration_table.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -10,15 +11,33 @@
 namespace imx {
 namespace {
 
+// A stretch of the ramp: premultiplied (C, A) and the first moment of its absorbed light,
+// sum of a_i * x_i over its pieces with x_i a position along the whole ramp. Positions are
+// absolute, so that `over` composes moments without knowing where a stretch starts.
+struct Stretch {
+  glm::vec4 c{0.0f};
+  float moment = 0.0f;
+};
+
 // `front` over `back`, premultiplied.
-inline glm::vec4 over(const glm::vec4& front, const glm::vec4& back) {
-  return front + (1.0f - front.a) * back;
+inline Stretch over(const Stretch& front, const Stretch& back) {
+  float t = 1.0f - front.c.a;
+  return {front.c + t * back.c, front.moment + t * back.moment};
+}
+
+// The opacity-weighted centre (0 front, 1 back) of a homogeneous segment of opacity a:
+// 1/k - e^-k / (1 - e^-k) for optical depth k = -ln(1 - a).
+float homogeneous_centre(float a) {
+  if (a >= 1.0f) return 0.0f;
+  double k = -std::log1p(-static_cast<double>(a));
+  if (k < 1e-4) return static_cast<float>(0.5 - k / 12.0);
+  return static_cast<float>(1.0 / k - std::exp(-k) / -std::expm1(-k));
 }
 
 // w[f] = e[f] over ... over e[f+n-1] for every f, in O(e.size()) whatever n (van Herk /
 // Gil-Werman: a window is the suffix of one block of n joined to the prefix of the next).
-void sliding_over(const std::vector<glm::vec4>& e, int n, std::vector<glm::vec4>& prefix,
-                  std::vector<glm::vec4>& suffix, std::vector<glm::vec4>& w) {
+void sliding_over(const std::vector<Stretch>& e, int n, std::vector<Stretch>& prefix,
+                  std::vector<Stretch>& suffix, std::vector<Stretch>& w) {
   const int len = static_cast<int>(e.size());
   for (int i = 0; i < len; ++i) prefix[i] = i % n == 0 ? e[i] : over(prefix[i - 1], e[i]);
   for (int i = len - 1; i >= 0; --i)
@@ -39,6 +58,7 @@ PreintegrationTable::PreintegrationTable(const TfLut& lut, float dt, float lo, f
     throw Error(fmt::format("pre-integration: value range [{}, {}] is empty", lo, hi));
   inv_step_ = static_cast<float>(size - 1) / (hi - lo);
   entries_.resize(static_cast<size_t>(size) * size);
+  moments_.resize(entries_.size());
   const float dt0 = lut.unit_distance();
   const int bins = size - 1, m = kPiecesPerBin, pieces = bins * m;
   const double h = (static_cast<double>(hi) - lo) / bins;
@@ -57,34 +77,46 @@ PreintegrationTable::PreintegrationTable(const TfLut& lut, float dt, float lo, f
     glm::vec4 c = lut.lookup(value(i));
     float a = correct_opacity(c.a, dt, dt0);
     entries_[static_cast<size_t>(i) * size + i] = glm::vec4(glm::vec3(c) * a, a);
+    moments_[static_cast<size_t>(i) * size + i] = homogeneous_centre(a) * a;
   }
 
   // A ramp over n bins is n bin-segments of length dt/n each, every one m pieces of dt/(n m).
   parallel_for(bins, threads, [&](long begin, long end) {
-    std::vector<glm::vec4> piece(pieces), up(bins), down(bins), pre(bins), suf(bins), w(bins);
+    std::vector<Stretch> rising(pieces), falling(pieces), up(bins), down(bins), pre(bins),
+        suf(bins), w(bins);
+    // Stores window w (starting `first` bins into its ramp) as entry k: (C, A) and the centre
+    // along the window, as centre x A, in [0, 1].
+    auto store = [&](size_t k, const Stretch& w, int first, int n) {
+      entries_[k] = w.c;
+      float origin = static_cast<float>(first * m), extent = static_cast<float>(n * m);
+      moments_[k] = std::clamp((w.moment - origin * w.c.a) / extent, 0.0f, w.c.a);
+    };
     for (long nn = begin; nn < end; ++nn) {
       const int n = static_cast<int>(nn) + 1;
       const float len = dt / static_cast<float>(n * m);
       for (int p = 0; p < pieces; ++p) {
         float a = -std::expm1(log_t[p] * len);
-        piece[p] = glm::vec4(rgb[p] * a, a);
+        glm::vec4 c(rgb[p] * a, a);
+        rising[p] = {c, a * (static_cast<float>(p) + 0.5f)};
+        falling[pieces - 1 - p] = {c, a * (static_cast<float>(pieces - 1 - p) + 0.5f)};
       }
       for (int k = 0; k < bins; ++k) {
-        const glm::vec4* q = piece.data() + static_cast<size_t>(k) * m;
-        glm::vec4 f = q[0], b = q[m - 1];
+        const Stretch* q = rising.data() + static_cast<size_t>(k) * m;
+        const Stretch* r = falling.data() + static_cast<size_t>(k) * m;
+        Stretch f = q[0], b = r[0];
         for (int j = 1; j < m; ++j) {
           f = over(f, q[j]);
-          b = over(b, q[m - 1 - j]);
+          b = over(b, r[j]);
         }
-        up[k] = f;               // scalar rising along the ray
-        down[bins - 1 - k] = b;  // scalar falling: bins in reverse order
+        up[k] = f;    // scalar rising along the ray
+        down[k] = b;  // scalar falling: bin bins-1-k, crossed downward
       }
       sliding_over(up, n, pre, suf, w);
-      for (int f = 0; f + n <= bins; ++f) entries_[static_cast<size_t>(f) * size + f + n] = w[f];
+      for (int f = 0; f + n <= bins; ++f) store(static_cast<size_t>(f) * size + f + n, w[f], f, n);
       sliding_over(down, n, pre, suf, w);
       for (int r = 0; r + n <= bins; ++r) {
         int f = bins - r;  // down[r] is bin f-1, crossed from value(f) toward value(f-1)
-        entries_[static_cast<size_t>(f) * size + (f - n)] = w[r];
+        store(static_cast<size_t>(f) * size + (f - n), w[r], r, n);
       }
     }
   });

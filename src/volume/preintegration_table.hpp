@@ -13,6 +13,7 @@ namespace imx {
 // A non-owning view of a table with the pure lookup the ray marcher calls per segment.
 struct PreintegrationView {
   const glm::vec4* data = nullptr;  // size x size, row = front value s_f, column = back value s_b
+  const float* moments = nullptr;   // size x size: centre x A, beside each entry of `data`
   int size = 0;
   float lo = 0.0f;        // scalar at index 0
   float inv_step = 1.0f;  // (size - 1) / (hi - lo)
@@ -20,17 +21,38 @@ struct PreintegrationView {
   // Premultiplied (C, A), bilinear between the entries around (s_f, s_b); values outside the
   // domain are clamped to it.
   glm::vec4 lookup(float s_f, float s_b) const {
-    float x = axis(s_f), y = axis(s_b);
-    int i = std::min(static_cast<int>(x), size - 2), j = std::min(static_cast<int>(y), size - 2);
-    float fx = x - static_cast<float>(i), fy = y - static_cast<float>(j);
-    const glm::vec4* r0 = data + static_cast<size_t>(i) * size + j;
-    const glm::vec4* r1 = r0 + size;
-    glm::vec4 a = r0[0] + fy * (r0[1] - r0[0]);
-    glm::vec4 b = r1[0] + fy * (r1[1] - r1[0]);
-    return a + fx * (b - a);
+    Cell k = cell(s_f, s_b);
+    return bilinear(data + k.offset, k);
+  }
+
+  // As lookup(), and `centre`: where along the segment (0 front, 1 back) its light comes from,
+  // weighted by opacity; 0.5 where the segment is transparent.
+  glm::vec4 lookup(float s_f, float s_b, float& centre) const {
+    Cell k = cell(s_f, s_b);
+    glm::vec4 c = bilinear(data + k.offset, k);
+    float m = bilinear(moments + k.offset, k);
+    centre = c.a > 0.0f ? std::clamp(m / c.a, 0.0f, 1.0f) : 0.5f;
+    return c;
   }
 
  private:
+  struct Cell {
+    size_t offset;  // of the entry at the lower corner
+    float fx, fy;   // position between that entry and the next, per axis
+  };
+  Cell cell(float s_f, float s_b) const {
+    float x = axis(s_f), y = axis(s_b);
+    int i = std::min(static_cast<int>(x), size - 2), j = std::min(static_cast<int>(y), size - 2);
+    return {static_cast<size_t>(i) * size + j, x - static_cast<float>(i),
+            y - static_cast<float>(j)};
+  }
+  template <class T>
+  T bilinear(const T* r0, const Cell& k) const {
+    const T* r1 = r0 + size;
+    T a = r0[0] + k.fy * (r0[1] - r0[0]);
+    T b = r1[0] + k.fy * (r1[1] - r1[0]);
+    return a + k.fx * (b - a);
+  }
   float axis(float s) const {
     float x = (s - lo) * inv_step;
     return x > 0.0f ? std::min(x, static_cast<float>(size - 1)) : 0.0f;  // NaN goes to 0
@@ -43,6 +65,9 @@ struct PreintegrationView {
 // straight rgb: C = integral of rgb * tau * transmittance, A = 1 - exp(-integral of tau). The
 // colour is unshaded emission: the marcher scales it by Blinn-Phong at the segment midpoint.
 // The diagonal is exactly post-classification: A = 1 - (1 - a)^(dt/dt0), C = rgb * A.
+// Beside each entry the table keeps its opacity-weighted centre (the first moment of the
+// absorbed light along the segment), so that a marcher can shade where the light comes from:
+// near the back of a ramp that enters a medium, near the front of an opaque one.
 class PreintegrationTable {
  public:
   static constexpr int kDefaultSize = 256;
@@ -60,9 +85,16 @@ class PreintegrationTable {
   PreintegrationTable(const TfLut& lut, float dt, float lo, float hi, int size = kDefaultSize,
                       int threads = 0);
 
-  PreintegrationView view() const { return {entries_.data(), size_, lo_, inv_step_}; }
+  PreintegrationView view() const {
+    return {entries_.data(), moments_.data(), size_, lo_, inv_step_};
+  }
   glm::vec4 lookup(float s_f, float s_b) const { return view().lookup(s_f, s_b); }
   glm::vec4 entry(int f, int b) const { return entries_[static_cast<size_t>(f) * size_ + b]; }
+  // Entry (f, b)'s centre along the segment, 0 at the front, 1 at the back (0.5 if transparent).
+  float centre(int f, int b) const {
+    size_t k = static_cast<size_t>(f) * size_ + b;
+    return entries_[k].a > 0.0f ? std::clamp(moments_[k] / entries_[k].a, 0.0f, 1.0f) : 0.5f;
+  }
   // The scalar value of table index i.
   float value(int i) const { return lo_ + (hi_ - lo_) * static_cast<float>(i) / (size_ - 1); }
 
@@ -73,6 +105,7 @@ class PreintegrationTable {
 
  private:
   std::vector<glm::vec4> entries_;
+  std::vector<float> moments_;  // centre x A per entry, so that it interpolates with A
   int size_ = 0;
   float lo_ = 0.0f, hi_ = 1.0f, inv_step_ = 1.0f;
   float dt_ = 0.0f;

@@ -28,7 +28,9 @@ namespace imx {
 // With SlabExtent::visible (the default; pre-integration only), each slab is trimmed to the part
 // of its piece where the linear scalar ramp has non-zero TF opacity: the same visibility, but a
 // depth extent that tells slab methods where within a step a medium begins (e.g. where two opaque
-// volumes meet). Shading stays at the piece's midpoint. SlabExtent::grid keeps the whole pieces.
+// volumes meet). It is shaded where its light comes from (the table's opacity-weighted centre),
+// not at the midpoint. SlabExtent::grid keeps whole pieces shaded at their midpoints, as a
+// conventional ray caster does.
 enum class SlabExtent { grid, visible };
 
 class VolumeMarcher {
@@ -44,7 +46,8 @@ class VolumeMarcher {
         t1_(t1) {
     if (v.object->shading.enabled) shading_ = RayShading(v.object->shading, lights, -ray.dir);
     if (v.accel.preint) preint_ = v.accel.preint->view();
-    trim_ = extent == SlabExtent::visible && preint_.data && v.accel.emptiness;
+    centre_ = extent == SlabExtent::visible && preint_.data;
+    trim_ = centre_ && v.accel.emptiness;
     align_cell();
     if (v.accel.occupancy && t1 > t0)
       dda_ = BrickDda(v.accel.occupancy->grid(), origin_, dir_, t0, t1);
@@ -87,9 +90,10 @@ class VolumeMarcher {
       if (v_->accel.emptiness &&
           v_->accel.emptiness->is_empty(std::min(s_f, s_b), std::max(s_f, s_b)))
         continue;
-      glm::vec4 c = classify(s_f, s_b, static_cast<float>(back - front));
+      float centre = 0.5f;
+      glm::vec4 c = classify(s_f, s_b, static_cast<float>(back - front), centre);
       if (c.a <= 0.0f) continue;
-      if (v_->object->shading.enabled) c = shade(c, 0.5 * (front + back));
+      if (v_->object->shading.enabled) c = shade(c, front + centre * (back - front));
       if (trim_) trim(s_f, s_b, front, back);
       out = Slab::between(static_cast<float>(front), static_cast<float>(back), c);
       return true;
@@ -144,9 +148,10 @@ class VolumeMarcher {
     front = front + u.x * len;
   }
 
-  glm::vec4 classify(float s_f, float s_b, float len) const {
+  // (C, A) of the piece; for visible slabs also where along it to shade (else `centre` is kept).
+  glm::vec4 classify(float s_f, float s_b, float len, float& centre) const {
     if (preint_.data) {
-      glm::vec4 c = preint_.lookup(s_f, s_b);
+      glm::vec4 c = centre_ ? preint_.lookup(s_f, s_b, centre) : preint_.lookup(s_f, s_b);
       if (len >= 0.9999f * step_ || c.a <= 0.0f) return c;
       // A piece shorter than the table's step: the same medium over less distance.
       float a = c.a >= 1.0f ? 1.0f : 1.0f - std::pow(1.0f - c.a, len / step_);
@@ -175,7 +180,8 @@ class VolumeMarcher {
   BrickDda dda_;
   float s_front_ = 0.0f;
   bool have_front_ = false;
-  bool trim_ = false;
+  bool centre_ = false;  // shade visible slabs at their light's centre (needs the table)
+  bool trim_ = false;    // trim them to the visible ramp (needs the emptiness table too)
 };
 
 }  // namespace imx

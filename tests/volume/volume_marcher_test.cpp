@@ -19,11 +19,11 @@ struct MarchResult {
 };
 
 MarchResult march(const PreparedVolume& v, const Ray& ray, float step,
-                  SlabExtent extent = SlabExtent::grid) {
+                  SlabExtent extent = SlabExtent::grid, std::span<const ShadingLight> lights = {}) {
   MarchResult r;
   RayInterval span = v.intersect(ray);
   if (span.empty()) return r;
-  VolumeMarcher m(v, ray, span.t0, span.t1, step, {}, extent);
+  VolumeMarcher m(v, ray, span.t0, span.t1, step, lights, extent);
   Slab s;
   while (m.next(s)) {
     r.slabs.push_back(s);
@@ -174,6 +174,43 @@ TEST(VolumeMarcher, PreintegrationFollowsASharpPeakPostClassificationMisses) {
   glm::vec4 post = composite_at(1.0f, Classification::post);
   EXPECT_NEAR(pre.a, truth.a, 0.1f * truth.a);
   EXPECT_LT(std::abs(pre.a - truth.a), 0.2f * std::abs(post.a - truth.a));
+}
+
+// Visible slabs are shaded where their light comes from. Along the ray (y = 4) the scalar is 2x
+// and the normal turns with x (gradient (2, x - 14.9, 0)), facing the headlight at x = 14.9,
+// where the TF turns opaque near the back of the step [14, 15]: shading that step at its
+// midpoint sees a tilted normal. Judged by a fine post-classified march shaded at every tiny step.
+TEST(VolumeMarcher, VisibleSlabsAreShadedAtTheirLightsCentre) {
+  VolumeObject obj;
+  obj.name = "turning ramp";
+  auto data = std::make_shared<VolumeData>();
+  data->dims = {64, 8, 4};
+  std::vector<float> f;
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < 8; ++j)
+      for (int i = 0; i < 64; ++i) f.push_back(static_cast<float>(2 * i + (i - 14.9) * (j - 4)));
+  data->voxels = std::move(f);
+  obj.data = data;
+  obj.shading = {true, 0.0f, 1.0f, 0.0f, 1.0f};  // diffuse only: brightness is the normal's tilt
+  obj.transfer_function.points = {{29.0, glm::vec4(1, 1, 1, 0)},
+                                  {30.0, glm::vec4(1, 1, 1, 0.9f)},
+                                  {80.0, glm::vec4(1, 1, 1, 0.9f)}};
+  const ShadingLight headlight;
+  Ray ray{{-10.0f, 4.0f, 1.5f}, {1.0f, 0.0f, 0.0f}};  // t = x + 10, a sample at every integer x
+  auto composite_at = [&](float step, Classification c, SlabExtent extent) {
+    PreparedVolume v = prepared(obj, step, {SkipMode::none, c});
+    return march(v, ray, step, extent, {&headlight, 1}).composite;
+  };
+  glm::vec4 truth = composite_at(1.0f / 64.0f, Classification::post, SlabExtent::grid);
+  ASSERT_GT(truth.a, 0.5f);
+  glm::vec4 centred = composite_at(1.0f, Classification::preintegrated, SlabExtent::visible);
+  glm::vec4 midpoint = composite_at(1.0f, Classification::preintegrated, SlabExtent::grid);
+  EXPECT_NEAR(centred.a, midpoint.a, 1e-6f);  // where it is shaded changes only the colour
+  float centred_error = std::abs(centred.r - truth.r),
+        midpoint_error = std::abs(midpoint.r - truth.r);
+  EXPECT_GT(midpoint_error, 0.01f);
+  EXPECT_LT(centred_error, 0.5f * midpoint_error)
+      << truth.r << " " << centred.r << " " << midpoint.r;
 }
 
 }  // namespace
