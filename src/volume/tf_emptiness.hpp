@@ -29,6 +29,20 @@ class TfEmptiness {
     return prefix_[last + 1] == prefix_[first];
   }
 
+  // is_empty(min(a, b), max(a, b)), the test of a ray piece with end values a and b. With a TF
+  // of at most kMaxRuns runs of transparent entries (the usual case) it is a few comparisons
+  // with the value intervals that map into those runs, not two LUT positions, a floor, a ceil
+  // and two table reads: ray marchers run it on every piece. Same answers, NaNs included.
+  bool is_empty_between(float a, float b) const {
+    if (runs_ > kMaxRuns) return is_empty(std::min(a, b), std::max(a, b));
+    if (!(a == a)) return false;
+    b = b == b ? b : a;  // as std::min and std::max treat a NaN second argument
+    float lo = std::min(a, b), hi = std::max(a, b);
+    bool empty = false;
+    for (int k = 0; k < kMaxRuns; ++k) empty |= (lo >= run_lo_[k]) & (hi <= run_hi_[k]);
+    return empty;
+  }
+
   // The part [u0, u1] of the linear ramp s(u) = s_f + u (s_b - s_f), u in [0, 1], outside which
   // the TF opacity is zero: only the two ends are trimmed (empty stretches inside are kept).
   // Pure and O(1); returns {0, 1} when nothing can be trimmed.
@@ -74,6 +88,13 @@ class TfEmptiness {
                            // prefix_[i]: entries below i with alpha > 0
   float lo_ = 0.0f, inv_step_ = 1.0f;
   int size_ = 0;
+  // Each maximal run [r0, r1] of transparent entries as the values v with r0 <= position(v) <=
+  // r1, the interval [run_lo_, run_hi_] (position() is monotone): a range is empty exactly when
+  // it lies in one of them. Unused slots hold no value; runs_ > kMaxRuns: the table answers.
+  static constexpr int kMaxRuns = 4;
+  float run_lo_[kMaxRuns] = {INFINITY, INFINITY, INFINITY, INFINITY};
+  float run_hi_[kMaxRuns] = {-INFINITY, -INFINITY, -INFINITY, -INFINITY};
+  int runs_ = 0;
 };
 
 }  // namespace imx

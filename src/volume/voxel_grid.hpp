@@ -24,10 +24,11 @@ struct VoxelGrid {
     p = glm::clamp(p, glm::vec3(0.0f), hi);
     glm::ivec3 i0 = glm::min(glm::ivec3(p), glm::max(dims - 2, glm::ivec3(0)));
     glm::vec3 f = p - glm::vec3(i0);
-    glm::ivec3 i1 = glm::min(i0 + 1, dims - 1);
     size_t sx = 1, sy = static_cast<size_t>(dims.x), sz = sy * dims.y;
     size_t base = i0.z * sz + i0.y * sy + i0.x * sx;
-    size_t dx = (i1.x - i0.x) * sx, dy = (i1.y - i0.y) * sy, dz = (i1.z - i0.z) * sz;
+    // The far corner min(i0 + 1, dims - 1) is i0 + 1 on every axis of two or more voxels (i0 is
+    // at most dims - 2 there) and i0 on an axis of one: per grid, not per sample, constant.
+    size_t dx = dims.x > 1 ? sx : 0, dy = dims.y > 1 ? sy : 0, dz = dims.z > 1 ? sz : 0;
     const T* q = data + base;
     float c000 = static_cast<float>(q[0]), c100 = static_cast<float>(q[dx]);
     float c010 = static_cast<float>(q[dy]), c110 = static_cast<float>(q[dy + dx]);

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
+#include <vector>
 
 #include "random_volumes.hpp"
 #include "volume/tf_emptiness.hpp"
@@ -63,6 +65,48 @@ TEST(TfEmptiness, NeverCallsAVisibleRangeEmpty) {
 
 // The visible part of a ramp: every value of the ramp outside [u0, u1] is transparent (checked
 // densely), and the trim is tight: some value within one LUT entry inside each trimmed end is not.
+// The marcher's fast test answers exactly as the table query on the sorted pair, for TFs with few
+// transparent runs (value intervals) and with many (the table fallback), at values next to every
+// LUT entry boundary, in either order, and for NaN and infinities.
+TEST(TfEmptiness, FastPairTestEqualsTheTableQuery) {
+  std::mt19937 rng(11);
+  std::vector<TransferFunction> tfs;
+  TransferFunction bands;  // transparent below 0, between the bands and above: 3 runs
+  bands.points = {{0.0, {1, 1, 1, 0}},  {10.0, {1, 1, 1, 0.5f}}, {20.0, {1, 1, 1, 0}},
+                  {40.0, {1, 1, 1, 0}}, {45.0, {1, 1, 1, 0.8f}}, {50.0, {1, 1, 1, 0}}};
+  tfs.push_back(bands);
+  TransferFunction comb;  // 7 transparent runs: beyond the intervals, the table answers
+  for (int k = 0; k < 7; ++k) {
+    comb.points.push_back({k * 10.0, {1, 1, 1, 0}});
+    comb.points.push_back({k * 10.0 + 4.0, {1, 1, 1, 0}});
+    comb.points.push_back({k * 10.0 + 6.0, {1, 1, 1, 0.6f}});
+  }
+  comb.points.push_back({80.0, {1, 1, 1, 0}});
+  tfs.push_back(comb);
+  for (int k = 0; k < 30; ++k) tfs.push_back(test::random_tf(rng, -100.0f, 300.0f));
+  std::uniform_real_distribution<float> u(-150.0f, 350.0f);
+  std::uniform_int_distribution<int> pick(0, 9);
+  for (const TransferFunction& tf : tfs) {
+    TfLut lut(tf);
+    TfEmptiness e(lut);
+    std::vector<float> values = {NAN, INFINITY, -INFINITY, 0.0f, -0.0f};
+    for (int i = 0; i < TfLut::kSize; ++i) {  // at and beside every entry's value
+      float edge = lut.lo() + (lut.hi() - lut.lo()) * static_cast<float>(i) / (TfLut::kSize - 1);
+      values.insert(values.end(),
+                    {std::nextafter(edge, -INFINITY), edge, std::nextafter(edge, INFINITY)});
+    }
+    for (int n = 0; n < 3000; ++n) {
+      float a = pick(rng) == 0 ? values[rng() % values.size()] : u(rng);
+      float b = pick(rng) == 0 ? values[rng() % values.size()] : u(rng);
+      ASSERT_EQ(e.is_empty_between(a, b), e.is_empty(std::min(a, b), std::max(a, b)))
+          << a << " " << b;
+      if (!std::isnan(a) && !std::isnan(b)) {  // std::min/max favour a NaN's partner
+        ASSERT_EQ(e.is_empty_between(a, b), e.is_empty_between(b, a)) << a << " " << b;
+      }
+    }
+  }
+}
+
 TEST(TfEmptiness, VisiblePartTrimsOnlyTransparentEnds) {
   std::mt19937 rng(11);
   int trimmed = 0;
