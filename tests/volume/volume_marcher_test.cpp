@@ -38,6 +38,19 @@ PreparedVolume prepared(const VolumeObject& obj, float step, const MarchSettings
   return v;
 }
 
+// A float volume of `dims` voxels holding field(i, j, k).
+template <class Field>
+std::shared_ptr<VolumeData> field_volume(glm::ivec3 dims, Field field) {
+  auto data = std::make_shared<VolumeData>();
+  data->dims = dims;
+  std::vector<float> f;
+  for (int k = 0; k < dims.z; ++k)
+    for (int j = 0; j < dims.y; ++j)
+      for (int i = 0; i < dims.x; ++i) f.push_back(field(i, j, k));
+  data->voxels = std::move(f);
+  return data;
+}
+
 Ray random_ray(std::mt19937& rng, glm::vec3 centre, float radius) {
   std::normal_distribution<float> n(0.0f, 1.0f);
   std::uniform_real_distribution<float> u(-0.5f, 0.5f);
@@ -153,14 +166,7 @@ TEST(VolumeMarcher, VisibleExtentsNarrowSlabsWithinTheirPieces) {
 TEST(VolumeMarcher, PreintegrationFollowsASharpPeakPostClassificationMisses) {
   VolumeObject obj;
   obj.name = "ramp";
-  auto data = std::make_shared<VolumeData>();
-  data->dims = {64, 4, 4};
-  std::vector<float> f;
-  for (int k = 0; k < 4; ++k)
-    for (int j = 0; j < 4; ++j)
-      for (int i = 0; i < 64; ++i) f.push_back(static_cast<float>(i));
-  data->voxels = std::move(f);
-  obj.data = data;
+  obj.data = field_volume({64, 4, 4}, [](int i, int, int) { return static_cast<float>(i); });
   obj.transfer_function.points = {{30.15, glm::vec4(1, 0.5f, 0, 0)},
                                   {30.25, glm::vec4(1, 0.5f, 0, 0.9f)},
                                   {30.35, glm::vec4(1, 0.5f, 0, 0)}};
@@ -183,14 +189,9 @@ TEST(VolumeMarcher, PreintegrationFollowsASharpPeakPostClassificationMisses) {
 TEST(VolumeMarcher, VisibleSlabsAreShadedAtTheirLightsCentre) {
   VolumeObject obj;
   obj.name = "turning ramp";
-  auto data = std::make_shared<VolumeData>();
-  data->dims = {64, 8, 4};
-  std::vector<float> f;
-  for (int k = 0; k < 4; ++k)
-    for (int j = 0; j < 8; ++j)
-      for (int i = 0; i < 64; ++i) f.push_back(static_cast<float>(2 * i + (i - 14.9) * (j - 4)));
-  data->voxels = std::move(f);
-  obj.data = data;
+  obj.data = field_volume({64, 8, 4}, [](int i, int j, int) {
+    return static_cast<float>(2 * i + (i - 14.9) * (j - 4));
+  });
   obj.shading = {true, 0.0f, 1.0f, 0.0f, 1.0f};  // diffuse only: brightness is the normal's tilt
   obj.transfer_function.points = {{29.0, glm::vec4(1, 1, 1, 0)},
                                   {30.0, glm::vec4(1, 1, 1, 0.9f)},
