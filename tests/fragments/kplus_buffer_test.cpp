@@ -4,17 +4,14 @@
 #include <random>
 #include <vector>
 
+#include "../slab/slab_test_util.hpp"
 #include "fragments/kplus_buffer.hpp"
 #include "slab/mix.hpp"
 
 namespace imx {
 namespace {
 
-bool near4(const glm::vec4& a, const glm::vec4& b, float tol) {
-  for (int i = 0; i < 4; ++i)
-    if (!(std::abs(a[i] - b[i]) <= tol)) return false;
-  return true;
-}
+using test::near4;
 
 glm::vec4 colour(float r, float g, float b, float a) {
   return {r * a, g * a, b * a, a};

@@ -5,6 +5,7 @@
 #include <random>
 #include <vector>
 
+#include "../slab/slab_test_util.hpp"
 #include "homogeneous_volume.hpp"
 #include "methods/dfb_kernel.hpp"
 #include "methods/kbuffer_kernel.hpp"
@@ -17,11 +18,7 @@
 namespace imx {
 namespace {
 
-bool near4(const glm::vec4& a, const glm::vec4& b, float tol) {
-  for (int i = 0; i < 4; ++i)
-    if (!(std::abs(a[i] - b[i]) <= tol)) return false;
-  return true;
-}
+using test::near4;
 
 // A ray's scratch arrays and the settings every kernel shares.
 struct Fixture {
