@@ -24,7 +24,7 @@ float difference(const Grid& g, glm::ivec3 p, int axis) {
 
 GradientVolume::GradientVolume(const AnyGrid& voxels, int threads) : dims_(voxels.dims) {
   const size_t count = static_cast<size_t>(dims_.x) * dims_.y * dims_.z;
-  data_.resize(3 * count);
+  data_.resize(3 * count + 1);  // the spare entry: see sample()
   // Two passes (largest component, then quantize) instead of a float copy: 6 bytes a voxel at
   // the peak, not 18.
   voxels.visit([&](const auto& g) {

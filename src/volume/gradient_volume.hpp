@@ -4,6 +4,9 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#if defined(__SSE4_1__)
+#include <immintrin.h>
+#endif
 
 #include "volume/any_grid.hpp"
 
@@ -20,29 +23,47 @@ class GradientVolume {
   explicit GradientVolume(const AnyGrid& voxels, int threads = 0);
 
   // The gradient at index-space position p, trilinear between the voxel gradients (clamped).
-  glm::vec3 sample(glm::vec3 p) const {
+  // Forced inline, and with SSE each corner is one 8-byte load converted in one go: the shading
+  // of a semi-transparent volume fetches a gradient for nearly every sample.
+  [[gnu::always_inline]] glm::vec3 sample(glm::vec3 p) const {
     glm::vec3 hi = glm::vec3(dims_ - 1);
     p = glm::clamp(p, glm::vec3(0.0f), hi);
     glm::ivec3 i0 = glm::min(glm::ivec3(p), glm::max(dims_ - 2, glm::ivec3(0)));
     glm::vec3 f = p - glm::vec3(i0);
-    glm::ivec3 i1 = glm::min(i0 + 1, dims_ - 1);
     size_t sy = static_cast<size_t>(dims_.x), sz = sy * dims_.y;
-    size_t base = i0.z * sz + i0.y * sy + i0.x;
-    size_t dx = i1.x - i0.x, dy = (i1.y - i0.y) * sy, dz = (i1.z - i0.z) * sz;
+    const int16_t* q = &data_[3 * (i0.z * sz + i0.y * sy + i0.x)];
+    // Per axis, the far corner is one voxel on (or none on an axis of one voxel).
+    size_t dx = dims_.x > 1 ? 3 : 0, dy = dims_.y > 1 ? 3 * sy : 0, dz = dims_.z > 1 ? 3 * sz : 0;
+#if defined(__SSE4_1__)
+    // Reads x, y, z and the next voxel's x (ignored): data_ has one spare entry at its end.
     auto g = [&](size_t o) {
-      const int16_t* v = &data_[3 * (base + o)];
-      return glm::vec3(v[0], v[1], v[2]);
+      __m128i v = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(q + o));
+      return _mm_cvtepi32_ps(_mm_cvtepi16_epi32(v));
     };
-    glm::vec3 c00 = glm::mix(g(0), g(dx), f.x), c10 = glm::mix(g(dy), g(dy + dx), f.x);
-    glm::vec3 c01 = glm::mix(g(dz), g(dz + dx), f.x),
-              c11 = glm::mix(g(dz + dy), g(dz + dy + dx), f.x);
-    return scale_ * glm::mix(glm::mix(c00, c10, f.y), glm::mix(c01, c11, f.y), f.z);
+    auto mix = [](__m128 a, __m128 b, __m128 t) {
+      return _mm_add_ps(a, _mm_mul_ps(t, _mm_sub_ps(b, a)));
+    };
+    __m128 fx = _mm_set1_ps(f.x), fy = _mm_set1_ps(f.y), fz = _mm_set1_ps(f.z);
+    __m128 c0 = mix(mix(g(0), g(dx), fx), mix(g(dy), g(dy + dx), fx), fy);
+    __m128 c1 = mix(mix(g(dz), g(dz + dx), fx), mix(g(dz + dy), g(dz + dy + dx), fx), fy);
+    alignas(16) float out[4];
+    _mm_store_ps(out, _mm_mul_ps(mix(c0, c1, fz), _mm_set1_ps(scale_)));
+    return {out[0], out[1], out[2]};
+#else
+    auto g = [&](size_t o) { return glm::vec3(q[o], q[o + 1], q[o + 2]); };
+    glm::vec3 c0 = glm::mix(glm::mix(g(0), g(dx), f.x), glm::mix(g(dy), g(dy + dx), f.x), f.y);
+    glm::vec3 c1 =
+        glm::mix(glm::mix(g(dz), g(dz + dx), f.x), glm::mix(g(dz + dy), g(dz + dy + dx), f.x), f.y);
+    return scale_ * glm::mix(c0, c1, f.z);
+#endif
   }
 
-  size_t bytes() const { return data_.size() * sizeof(int16_t); }
+  size_t bytes() const {
+    return data_.size() * sizeof(int16_t);
+  }
 
  private:
-  std::vector<int16_t> data_;  // x, y, z per voxel, voxels x-fastest
+  std::vector<int16_t> data_;  // x, y, z per voxel, voxels x-fastest, and one spare entry
   glm::ivec3 dims_{1};
   float scale_ = 1.0f;  // int16 unit in value units per voxel
 };

@@ -10,7 +10,7 @@
 namespace imx {
 
 PreparedVolume::PreparedVolume(const VolumeObject& v)
-    : object(&v), grid(*v.data), lut(v.transfer_function) {
+    : object(&v), grid(*v.data), lut(v.transfer_function), specular(v.shading.shininess) {
   if (!all_finite(v.index_to_world))
     throw Error(fmt::format("volume '{}': transform has a non-finite entry", v.name));
   glm::dmat3 linear(v.index_to_world);

@@ -3,6 +3,7 @@
 #include <glm/glm.hpp>
 
 #include "core/ray.hpp"
+#include "core/specular_table.hpp"
 #include "intermix/scene.hpp"
 #include "volume/any_grid.hpp"
 #include "volume/tf_lut.hpp"
@@ -24,6 +25,7 @@ struct PreparedVolume {
   glm::mat3 gradient_to_world{1.0f};  // inverse-transpose: index-space gradient -> world space
   float min_pitch = 1.0f;             // smallest voxel spacing in mm
   TfLut lut;
+  SpecularTable specular;    // x^shininess of the volume's shading
   VolumeAcceleration accel;  // empty until a method that marches asks for it
 
   explicit PreparedVolume(const VolumeObject& v);

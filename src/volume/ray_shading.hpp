@@ -8,6 +8,7 @@
 #include <glm/glm.hpp>
 
 #include "core/blinn_phong.hpp"
+#include "core/specular_table.hpp"
 #include "intermix/scene.hpp"
 
 namespace imx {
@@ -17,9 +18,11 @@ class RayShading {
   static constexpr int kMaxLights = 4;
 
   RayShading() = default;
-  // `to_eye`: unit vector from the samples toward the viewer (minus the ray direction).
-  RayShading(const Shading& s, std::span<const ShadingLight> lights, const glm::vec3& to_eye)
-      : shading_(s), lights_(lights), to_eye_(to_eye) {
+  // `to_eye`: unit vector from the samples toward the viewer (minus the ray direction);
+  // `specular`: x^shininess for `s`, kept by the caller.
+  RayShading(const Shading& s, const SpecularTable& specular, std::span<const ShadingLight> lights,
+             const glm::vec3& to_eye)
+      : shading_(s), specular_(&specular), lights_(lights), to_eye_(to_eye) {
     count_ =
         lights.size() <= static_cast<size_t>(kMaxLights) ? static_cast<int>(lights.size()) : -1;
     for (int i = 0; i < count_; ++i) {
@@ -52,13 +55,14 @@ class RayShading {
       if (ndotl <= 0.0f) continue;
       float ndoth = std::max(0.0f, glm::dot(n, half_[i]));
       out += (shading_.diffuse * ndotl) * C * colour_[i] +
-             (shading_.specular * specular_power(ndoth, shading_.shininess) * c.a) * colour_[i];
+             (shading_.specular * (*specular_)(ndoth)*c.a) * colour_[i];
     }
     return {out, c.a};
   }
 
  private:
   Shading shading_;
+  const SpecularTable* specular_ = nullptr;
   std::span<const ShadingLight> lights_;  // for more than kMaxLights lights
   glm::vec3 to_eye_{0.0f};
   int count_ = 0;  // lights resolved below, or -1: use the general blinn_phong

@@ -41,8 +41,9 @@ class VolumeMarcher {
   VolumeMarcher(const PreparedVolume& v, const Ray& ray, float t0, float t1, float step,
                 std::span<const ShadingLight> lights, SlabExtent extent = SlabExtent::visible)
       : v_(&v),
-        shading_(v.object->shading.enabled ? RayShading(v.object->shading, lights, -ray.dir)
-                                           : RayShading()),
+        shading_(v.object->shading.enabled
+                     ? RayShading(v.object->shading, v.specular, lights, -ray.dir)
+                     : RayShading()),
         origin_(v.to_index(ray.origin)),
         dir_(glm::mat3(v.world_to_index) * ray.dir),
         step_(step),

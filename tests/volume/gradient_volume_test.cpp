@@ -46,5 +46,33 @@ TEST(GradientVolume, MatchesOnTheFlyGradientsAtVoxelCentres) {
   EXPECT_LT(worst, 1e-4f * largest);
 }
 
+// Between voxel centres it is the trilinear blend of the eight voxel gradients around, up to the
+// grid's far corner and on axes one voxel thick.
+TEST(GradientVolume, InterpolatesTrilinearlyBetweenVoxels) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (glm::ivec3 dims : {glm::ivec3(6, 5, 4), glm::ivec3(5, 1, 3), glm::ivec3(1, 1, 4)}) {
+    VolumeData v = test::blob_volume<int16_t>(dims, rng, 2.0f, -300.0f);
+    GradientVolume g{AnyGrid(v)};
+    auto at = [&](glm::ivec3 i) { return g.sample(glm::vec3(glm::min(i, dims - 1))); };
+    for (int n = 0; n < 200; ++n) {
+      glm::vec3 p = glm::vec3(unit(rng), unit(rng), unit(rng)) * glm::vec3(dims - 1);
+      if (n == 0) p = glm::vec3(dims - 1);
+      glm::ivec3 i0 = glm::min(glm::ivec3(p), glm::max(dims - 2, glm::ivec3(0)));
+      glm::vec3 f = p - glm::vec3(i0);
+      glm::vec3 expected(0.0f);
+      for (int c = 0; c < 8; ++c) {
+        glm::ivec3 o(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+        glm::vec3 w = glm::mix(1.0f - f, f, glm::vec3(o));
+        expected += w.x * w.y * w.z * at(i0 + o);
+      }
+      glm::vec3 got = g.sample(p);
+      for (int a = 0; a < 3; ++a)
+        ASSERT_NEAR(got[a], expected[a], 1e-3f * (1.0f + std::abs(expected[a])))
+            << "dims " << dims.x << "x" << dims.y << "x" << dims.z << " axis " << a;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace imx
