@@ -26,9 +26,9 @@ namespace imx {
 // the caller applies early ray termination by no longer asking.
 //
 // With SlabExtent::visible (the default; pre-integration only), each slab is trimmed to the part
-// of its piece where the linear scalar ramp has non-zero TF opacity: the same visibility, but a
-// depth extent that tells slab methods where within a step a medium begins (e.g. where two opaque
-// volumes meet). It is shaded where its light comes from (the table's opacity-weighted centre),
+// of its piece where the linear scalar ramp has non-zero TF opacity, centred on where its light
+// comes from: the same visibility, but a depth extent that tells slab methods where within a step
+// a medium begins and absorbs (e.g. where two opaque volumes meet). It is shaded where its light comes from (the table's opacity-weighted centre),
 // not at the midpoint. SlabExtent::grid keeps whole pieces shaded at their midpoints, as a
 // conventional ray caster does.
 enum class SlabExtent { grid, visible };
@@ -97,7 +97,7 @@ class VolumeMarcher {
       glm::vec4 c = classify(s_f, s_b, static_cast<float>(back - front), centre);
       if (c.a <= 0.0f) continue;
       if (v_->object->shading.enabled) c = shade(c, front + centre * (back - front));
-      if (trim_) trim(s_f, s_b, front, back);
+      if (trim_) trim(s_f, s_b, centre, front, back);
       out = Slab::between(static_cast<float>(front), static_cast<float>(back), c);
       return true;
     }
@@ -137,10 +137,16 @@ class VolumeMarcher {
     return true;
   }
 
-  // Narrows [front, back] to the visible part of the ramp s_f -> s_b, keeping at least 1/16 of
-  // the piece so that the slab stays a medium, not a surface.
-  void trim(float s_f, float s_b, double& front, double& back) const {
+  // Narrows [front, back] to the visible part of the ramp s_f -> s_b, and within it to the
+  // interval centred on the light's centre `centre` (a fraction of the piece): the extent over
+  // which an even spread of the slab's opacity has the true first moment, so that splitting it
+  // linearly (OVI) puts its opacity where the medium absorbs. Keeps at least 1/16 of the piece
+  // so that the slab stays a medium, not a surface.
+  void trim(float s_f, float s_b, float centre, double& front, double& back) const {
     glm::vec2 u = v_->accel.emptiness->visible_part(s_f, s_b);
+    float c = std::clamp(centre, u.x, u.y);
+    float half = std::min(c - u.x, u.y - c);
+    u = glm::vec2(c - half, c + half);
     constexpr float kMin = 1.0f / 16.0f;
     if (u.y - u.x < kMin) {
       float mid = std::clamp(0.5f * (u.x + u.y), 0.5f * kMin, 1.0f - 0.5f * kMin);

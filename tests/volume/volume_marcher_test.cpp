@@ -214,5 +214,36 @@ TEST(VolumeMarcher, VisibleSlabsAreShadedAtTheirLightsCentre) {
       << truth.r << " " << centred.r << " " << midpoint.r;
 }
 
+// A visible slab is centred on its light: where the ramp enters an opaque medium mid-step, the
+// slab starts near the entry and spans twice the distance to the opacity-weighted centre, so that
+// an even spread of its opacity (what OVI splits) has the true first moment.
+TEST(VolumeMarcher, VisibleSlabsAreCentredOnTheirLight) {
+  VolumeObject obj;
+  obj.name = "ramp";
+  obj.data = field_volume({32, 4, 4}, [](int i, int, int) { return static_cast<float>(i); });
+  obj.transfer_function.points = {{10.25, glm::vec4(1, 1, 1, 0)},
+                                  {10.35, glm::vec4(1, 1, 1, 0.95f)},
+                                  {17.0, glm::vec4(1, 1, 1, 0.95f)},
+                                  {22.0, glm::vec4(1, 1, 1, 0.1f)},
+                                  {31.0, glm::vec4(1, 1, 1, 0.1f)}};
+  PreparedVolume v = prepared(obj, 1.0f, {SkipMode::bricks, Classification::preintegrated});
+  Ray ray{{-10.0f, 1.5f, 1.5f}, {1.0f, 0.0f, 0.0f}};  // t = x + 10: pieces [x, x + 1]
+  MarchResult r = march(v, ray, 1.0f, SlabExtent::visible);
+  ASSERT_GT(r.slabs.size(), 15u);
+  for (const Slab& s : r.slabs) {
+    float x0 = std::ceil(s.t_back - 1e-4f) - 11.0f;  // the piece's front value s_f
+    float centre = 0.0f;
+    v.accel.preint->view().lookup(x0, x0 + 1.0f, centre);
+    float light = x0 + 10.0f + centre, mid = s.t_back - 0.5f * s.thickness;
+    if (s.thickness > 1.0f / 16.0f + 1e-4f) {
+      EXPECT_NEAR(mid, light, 1e-3f) << "piece at x " << x0;
+    }
+    if (x0 == 10.0f) {  // the entry: visible over its back 0.7, absorbed near its front
+      EXPECT_GE(s.front(), 20.0f + 0.25f);
+      EXPECT_LT(s.thickness, 0.65f);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace imx
