@@ -139,6 +139,7 @@ struct RenderSettings {
   std::string slab_format = "rgba32f";           // stored slab colour: rgba32f or rgba8
   std::string last_volume;  // zSlab: the volume rendered last (cast on the fly); empty = auto
   std::string overflow = "greedy";  // zSlab: a full ZT array folds by greedy or tail merging
+  bool packets = true;  // mdvr: one-volume scenes march 8 rays at once (AVX2); same image
 };
 
 struct Scene {

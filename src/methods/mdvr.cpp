@@ -1,10 +1,68 @@
 #include "methods/mdvr.hpp"
 
+#include "core/colour.hpp"
+#include "core/parallel.hpp"
 #include "methods/frame_setup.hpp"
 #include "methods/mdvr_kernel.hpp"
 #include "methods/per_sample_render.hpp"
+#include "volume/packet_marcher.hpp"
 
 namespace imx {
+namespace {
+
+// One dvr volume and nothing else at one sample per pixel: trace_mdvr is then exactly
+// VolumeMarcher::composite per ray, which the rays of a tile can share in vector lanes.
+bool packets_apply(const Scene& scene, const FrameSetup& frame, int spp) {
+  return scene.render.packets && spp == 1 && scene.meshes.empty() && scene.planes.empty() &&
+         frame.volumes.size() == 1 && frame.volumes[0].object->style == VolumeStyle::dvr &&
+         packet_marching_supported(frame.volumes[0], frame.lights);
+}
+
+// render_per_sample with trace_mdvr for that case: per tile, the rays that meet the volume go
+// through composite_packets() together (pixel centres, as stratified_offsets(1)).
+Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const MdvrParams& params,
+                          const RenderOptions& options) {
+  constexpr int kTileSize = 16;
+  const PreparedVolume& v = frame.volumes[0];
+  const bool visible = v.lut.max_opacity() > 0.0f;  // else RayVolumes marches nothing
+  const int w = scene.image.width, h = scene.image.height;
+  Image image(w, h);
+  const glm::vec4 background = scene.image.background;
+  const glm::vec4 empty = over_background(glm::vec4(0.0f), background);
+  for_each_tile(
+      w, h, kTileSize, options.threads,
+      [&](const TileRect& tile, int) {
+        PacketRay rays[kTileSize * kTileSize];
+        glm::ivec2 pixel[kTileSize * kTileSize];
+        glm::vec4 colour[kTileSize * kTileSize];
+        int n = 0;
+        // In blocks of 4 x 2 pixels, so that the eight rays of a packet stay close together
+        // (ct-head 36.0 against 37.5 ms in rows of 8).
+        auto add = [&](int x, int y) {
+          image.at(x, y) = empty;
+          if (!visible) return;
+          Ray ray = frame.camera.ray(x + 0.5, y + 0.5);
+          RayInterval span = v.intersect(ray);
+          if (span.empty()) return;
+          rays[n] = {ray, span.t0, span.t1};
+          pixel[n++] = {x, y};
+        };
+        for (int y = tile.y0; y < tile.y1; y += 2)
+          for (int x = tile.x0; x < tile.x1; x += 4)
+            for (int dy = 0; dy < 2 && y + dy < tile.y1; ++dy)
+              for (int dx = 0; dx < 4 && x + dx < tile.x1; ++dx) add(x + dx, y + dy);
+        composite_packets(v, std::span<const PacketRay>(rays, n), params.step, frame.lights,
+                          params.ert, std::span<glm::vec4>(colour, n));
+        for (int k = 0; k < n; ++k)
+          image.at(pixel[k].x, pixel[k].y) = over_background(colour[k], background);
+      },
+      [&](int done, int total) {
+        if (options.progress) options.progress(static_cast<double>(done) / total);
+      });
+  return image;
+}
+
+}  // namespace
 
 Image render_mdvr(const Scene& scene, int spp, const RenderOptions& options) {
   FrameSetup frame(scene);
@@ -14,6 +72,7 @@ Image render_mdvr(const Scene& scene, int spp, const RenderOptions& options) {
       static_cast<float>(scene.render.step_mm > 0.0 ? scene.render.step_mm : frame.min_pitch);
   params.ert = static_cast<float>(scene.render.ert_threshold);
   frame.accelerate(params.step, MarchSettings::from(scene.render));
+  if (packets_apply(scene, frame, spp)) return render_mdvr_packets(scene, frame, params, options);
   return render_per_sample(scene, frame, spp, options,
                            [&](const Ray& ray, std::span<const Fragment> fragments) {
                              return trace_mdvr(ray, fragments, frame.volumes, frame.lights, params);

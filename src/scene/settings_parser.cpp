@@ -81,7 +81,8 @@ RenderSettings parse_render(const JsonReader& r) {
                 "ert_threshold", "layers",      "rt_layers",   "peel_layers",
                 "interpolation", "beta",        "skipping",    "classification",
                 "gradients",     "brick_size",  "k",           "fragment_cap",
-                "thickness",     "slab_format", "last_volume", "overflow"});
+                "thickness",     "slab_format", "last_volume", "overflow",
+                "packets"});
   RenderSettings s;
   if (auto v = r.find("method")) {
     s.method = v->string();
@@ -111,6 +112,7 @@ RenderSettings parse_render(const JsonReader& r) {
   if (auto v = r.find("slab_format")) s.slab_format = v->choice({"rgba32f", "rgba8"});
   if (auto v = r.find("last_volume")) s.last_volume = v->string();  // checked with the objects
   if (auto v = r.find("overflow")) s.overflow = v->choice({"greedy", "tail"});
+  if (auto v = r.find("packets")) s.packets = v->boolean();
   return s;
 }
 

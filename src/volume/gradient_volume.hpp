@@ -61,6 +61,17 @@ class GradientVolume {
   size_t bytes() const {
     return data_.size() * sizeof(int16_t);
   }
+  // The raw layout, for vectorized fetches: x, y, z per voxel (x-fastest), one spare entry after
+  // the last voxel, each component times scale() in value units per voxel.
+  const int16_t* data() const {
+    return data_.data();
+  }
+  glm::ivec3 dims() const {
+    return dims_;
+  }
+  float scale() const {
+    return scale_;
+  }
 
  private:
   std::vector<int16_t> data_;  // x, y, z per voxel, voxels x-fastest, and one spare entry

@@ -43,6 +43,17 @@ class TfEmptiness {
     return empty;
   }
 
+  static constexpr int kMaxRuns = 4;
+
+  // The value intervals [lo[k], hi[k]] behind is_empty_between(), for callers that test many
+  // pieces at once (unused slots never match); false when the TF has more than kMaxRuns runs.
+  bool value_runs(float (&lo)[kMaxRuns], float (&hi)[kMaxRuns]) const {
+    if (runs_ > kMaxRuns) return false;
+    std::copy(run_lo_, run_lo_ + kMaxRuns, lo);
+    std::copy(run_hi_, run_hi_ + kMaxRuns, hi);
+    return true;
+  }
+
   // The part [u0, u1] of the linear ramp s(u) = s_f + u (s_b - s_f), u in [0, 1], outside which
   // the TF opacity is zero: only the two ends are trimmed (empty stretches inside are kept).
   // Pure and O(1); returns {0, 1} when nothing can be trimmed.
@@ -91,7 +102,6 @@ class TfEmptiness {
   // Each maximal run [r0, r1] of transparent entries as the values v with r0 <= position(v) <=
   // r1, the interval [run_lo_, run_hi_] (position() is monotone): a range is empty exactly when
   // it lies in one of them. Unused slots hold no value; runs_ > kMaxRuns: the table answers.
-  static constexpr int kMaxRuns = 4;
   float run_lo_[kMaxRuns] = {INFINITY, INFINITY, INFINITY, INFINITY};
   float run_hi_[kMaxRuns] = {-INFINITY, -INFINITY, -INFINITY, -INFINITY};
   int runs_ = 0;

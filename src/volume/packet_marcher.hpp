@@ -1,0 +1,34 @@
+// composite_packets: VolumeMarcher::composite (SlabExtent::grid) for many rays through one
+// volume, eight at a time in AVX2 lanes. Pure: no allocation, no exceptions.
+#pragma once
+#include <span>
+
+#include <glm/glm.hpp>
+
+#include "core/blinn_phong.hpp"
+#include "core/ray.hpp"
+#include "volume/prepared_volume.hpp"
+
+namespace imx {
+
+// One ray of a batch and its part [t0, t1] of the volume (PreparedVolume::intersect()).
+struct PacketRay {
+  Ray ray;
+  float t0 = 0.0f;
+  float t1 = -1.0f;
+};
+
+// Whether composite_packets() marches volume `v` with `lights` in vector lanes: it needs an
+// AVX2 build, a pre-integration table, at most RayShading::kMaxLights lights, a whole shininess
+// up to 1024 and a grid of at least 2 voxels a side and fewer than 2^31 voxels. Otherwise it
+// marches each ray with VolumeMarcher, with the same results.
+bool packet_marching_supported(const PreparedVolume& v, std::span<const ShadingLight> lights);
+
+// out[i] = the premultiplied colour that VolumeMarcher(v, rays[i].ray, rays[i].t0, rays[i].t1,
+// step, lights, SlabExtent::grid).composite() makes from (0, 0, 0, 0) with termination at
+// `ert`, up to float reassociation. Rays go in packets of eight in batch order, so neighbouring
+// rays should be consecutive (a tile in blocks of 4 x 2 pixels). `out` holds rays.size() colours.
+void composite_packets(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
+                       std::span<const ShadingLight> lights, float ert, std::span<glm::vec4> out);
+
+}  // namespace imx

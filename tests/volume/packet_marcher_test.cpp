@@ -1,0 +1,151 @@
+#include "volume/packet_marcher.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "random_volumes.hpp"
+#include "volume/volume_marcher.hpp"
+
+namespace imx {
+namespace {
+
+PreparedVolume prepared(const VolumeObject& obj, float step, const MarchSettings& settings) {
+  PreparedVolume v(obj);
+  v.accel = accelerate(obj, v.lut, step, settings);
+  return v;
+}
+
+Ray random_ray(std::mt19937& rng, glm::vec3 centre, float radius) {
+  std::normal_distribution<float> n(0.0f, 1.0f);
+  std::uniform_real_distribution<float> u(-0.5f, 0.5f);
+  glm::vec3 d = glm::normalize(glm::vec3(n(rng), n(rng), n(rng)));
+  glm::vec3 target = centre + radius * glm::vec3(u(rng), u(rng), u(rng));
+  return Ray{target - 3.0f * radius * d, d};
+}
+
+// Rays through the volume; about half start and end inside it (mid-brick, off the step grid).
+std::vector<PacketRay> random_rays(std::mt19937& rng, const PreparedVolume& v, int count,
+                                   glm::vec3 centre, float radius) {
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<PacketRay> rays;
+  for (int k = 0; k < count; ++k) {
+    Ray ray = random_ray(rng, centre, radius);
+    RayInterval span = v.intersect(ray);
+    if (!span.empty() && u(rng) < 0.5f) {
+      float len = span.t1 - span.t0;
+      span.t0 += 0.4f * u(rng) * len;
+      span.t1 -= 0.4f * u(rng) * len;
+    }
+    rays.push_back({ray, span.t0, span.t1});
+  }
+  return rays;
+}
+
+// The packets against one VolumeMarcher per ray; returns how many rays reached `ert`.
+int expect_same_as_marcher(const PreparedVolume& v, const std::vector<PacketRay>& rays, float step,
+                           std::span<const ShadingLight> lights, float ert) {
+  std::vector<glm::vec4> out(rays.size(), glm::vec4(-1.0f));
+  composite_packets(v, rays, step, lights, ert, out);
+  int terminated = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    glm::vec4 acc(0.0f);
+    VolumeMarcher m(v, rays[i].ray, rays[i].t0, rays[i].t1, step, lights, SlabExtent::grid);
+    m.composite(acc, ert);
+    terminated += acc.a >= ert;
+    for (int c = 0; c < 4; ++c)
+      EXPECT_NEAR(out[i][c], acc[c], 1e-4f) << "ray " << i << " channel " << c;
+  }
+  return terminated;
+}
+
+const ShadingLight kLights[2] = {
+    ShadingLight{},
+    {false, glm::normalize(glm::vec3(0.3f, -0.8f, 0.5f)), glm::vec3(0.8f, 0.7f, 0.6f)}};
+
+template <class T>
+void check_voxel_type(float scale, float offset, uint32_t seed) {
+  std::mt19937 rng(seed);
+  int terminated = 0, marched = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    VolumeObject obj;
+    obj.name = "blobs";
+    glm::ivec3 dims = trial == 5 ? glm::ivec3(2, 3, 2) : glm::ivec3(29, 23, 26);
+    obj.data = std::make_shared<VolumeData>(test::blob_volume<T>(dims, rng, scale, offset));
+    obj.index_to_world = glm::dmat4(glm::dmat3(0.9, 0.1, 0.0, -0.1, 1.1, 0.0, 0.0, 0.2, 1.3));
+    obj.transfer_function = test::random_tf(rng, offset, offset + 255.0f * scale);
+    obj.shading = {trial != 2, 0.2f, 0.7f, 0.3f, trial == 3 ? 7.0f : 32.0f};
+    MarchSettings settings{
+        trial % 3 == 0 ? SkipMode::distance : (trial % 3 == 1 ? SkipMode::bricks : SkipMode::none),
+        Classification::preintegrated,
+        trial % 2 ? GradientSource::on_the_fly : GradientSource::precomputed, 4};
+    const float step = trial == 4 ? 0.37f : 0.8f;
+    PreparedVolume v = prepared(obj, step, settings);
+    std::span<const ShadingLight> lights(kLights, trial == 1 ? 1 : 2);
+#if defined(__AVX2__) && defined(__FMA__)
+    EXPECT_TRUE(packet_marching_supported(v, lights));
+#endif
+    glm::vec3 centre = glm::vec3(dims) * 0.5f;
+    std::vector<PacketRay> rays = random_rays(rng, v, 203, centre, 1.5f * dims.x);
+    for (float ert : {0.3f, 0.99f, 1.0f}) {
+      terminated += expect_same_as_marcher(v, rays, step, lights, ert);
+      marched += static_cast<int>(rays.size());
+    }
+  }
+  EXPECT_GT(terminated, marched / 40);  // early termination was exercised
+}
+
+TEST(PacketMarcher, MatchesVolumeMarcherU8) {
+  check_voxel_type<uint8_t>(1.0f, 0.0f, 11);
+}
+TEST(PacketMarcher, MatchesVolumeMarcherI16) {
+  check_voxel_type<int16_t>(8.0f, -1000.0f, 12);
+}
+TEST(PacketMarcher, MatchesVolumeMarcherU16) {
+  check_voxel_type<uint16_t>(200.0f, 0.0f, 13);
+}
+TEST(PacketMarcher, MatchesVolumeMarcherFloat) {
+  check_voxel_type<float>(0.01f, -0.5f, 14);
+}
+
+// A TF with no opacity anywhere: every brick is empty and every ray stays transparent.
+TEST(PacketMarcher, EmptyTransferFunctionGivesNothing) {
+  std::mt19937 rng(5);
+  VolumeObject obj;
+  obj.name = "blobs";
+  obj.data = std::make_shared<VolumeData>(test::blob_volume<uint8_t>({20, 20, 20}, rng));
+  obj.transfer_function.points = {{0.0, glm::vec4(1, 1, 1, 0)}, {255.0, glm::vec4(1, 0, 0, 0)}};
+  obj.shading.enabled = true;
+  const float step = 1.0f;
+  PreparedVolume v = prepared(obj, step, {SkipMode::distance, Classification::preintegrated});
+  std::vector<PacketRay> rays = random_rays(rng, v, 40, glm::vec3(10.0f), 30.0f);
+  std::vector<glm::vec4> out(rays.size(), glm::vec4(-1.0f));
+  composite_packets(v, rays, step, kLights, 0.99f, out);
+  for (const glm::vec4& c : out) EXPECT_EQ(c, glm::vec4(0.0f));
+}
+
+// What the lanes do not handle (post-classification, more lights than RayShading resolves, a
+// fractional shininess) goes to VolumeMarcher: the same answers.
+TEST(PacketMarcher, FallsBackWhereLanesDoNotApply) {
+  std::mt19937 rng(9);
+  VolumeObject obj;
+  obj.name = "blobs";
+  obj.data = std::make_shared<VolumeData>(test::blob_volume<int16_t>({24, 20, 22}, rng));
+  obj.transfer_function = test::random_tf(rng, 0.0f, 255.0f);
+  obj.shading = {true, 0.2f, 0.7f, 0.3f, 12.5f};
+  const float step = 0.9f;
+  PreparedVolume frac = prepared(obj, step, {SkipMode::distance, Classification::preintegrated});
+  PreparedVolume post = prepared(obj, step, {SkipMode::distance, Classification::post});
+  EXPECT_FALSE(packet_marching_supported(frac, kLights));
+  EXPECT_FALSE(packet_marching_supported(post, kLights));
+  std::vector<PacketRay> rays = random_rays(rng, frac, 30, glm::vec3(12.0f), 30.0f);
+  expect_same_as_marcher(frac, rays, step, kLights, 0.99f);
+  expect_same_as_marcher(post, rays, step, kLights, 0.99f);
+  expect_same_as_marcher(frac, {}, step, kLights, 0.99f);
+}
+
+}  // namespace
+}  // namespace imx
