@@ -59,25 +59,24 @@ inline __m256 lerp(__m256 a, __m256 b, __m256 f) {
   return _mm256_fmadd_ps(f, _mm256_sub_ps(b, a), a);
 }
 
-// VoxelGrid<T>::sample in lanes. 8- and 16-bit voxels are fetched as 32-bit words holding the
-// x-neighbours (i, i + 1) together: four gathers instead of eight. A word read at the last
-// u8 voxel pair would run past the voxels, so that one is read from at most N - 4 and shifted.
-template <class T>
-class LaneGrid {
+// Where trilinear fetches read in a grid of `dims` voxels: the lower corner's voxel index and
+// the fractions toward the upper one, clamped as VoxelGrid<T>::sample clamps.
+class LaneLattice {
  public:
-  explicit LaneGrid(const VoxelGrid<T>& g)
-      : data_(g.data),
-        hi_x_(splat(static_cast<float>(g.dims.x - 1))),
-        hi_y_(splat(static_cast<float>(g.dims.y - 1))),
-        hi_z_(splat(static_cast<float>(g.dims.z - 1))),
-        max_x_(splat(g.dims.x - 2)),
-        max_y_(splat(g.dims.y - 2)),
-        max_z_(splat(g.dims.z - 2)),
-        sy_(splat(g.dims.x)),
-        sz_(splat(g.dims.x * g.dims.y)),
-        last_word_(splat(g.dims.x * g.dims.y * g.dims.z - 4)) {}
+  explicit LaneLattice(glm::ivec3 dims)
+      : hi_x_(splat(static_cast<float>(dims.x - 1))),
+        hi_y_(splat(static_cast<float>(dims.y - 1))),
+        hi_z_(splat(static_cast<float>(dims.z - 1))),
+        max_x_(splat(dims.x - 2)),
+        max_y_(splat(dims.y - 2)),
+        max_z_(splat(dims.z - 2)),
+        sy_(splat(dims.x)),
+        sz_(splat(dims.x * dims.y)) {}
 
-  __m256 sample(__m256 px, __m256 py, __m256 pz) const {
+  __m256i sy() const { return sy_; }
+  __m256i sz() const { return sz_; }
+
+  __m256i locate(__m256 px, __m256 py, __m256 pz, __m256& fx, __m256& fy, __m256& fz) const {
     const __m256 zero = _mm256_setzero_ps();
     // max(p, 0) returns 0 for a NaN p, as the clamp must to stay inside the grid.
     px = _mm256_min_ps(_mm256_max_ps(px, zero), hi_x_);
@@ -86,13 +85,34 @@ class LaneGrid {
     __m256i ix = _mm256_min_epi32(_mm256_cvttps_epi32(px), max_x_);
     __m256i iy = _mm256_min_epi32(_mm256_cvttps_epi32(py), max_y_);
     __m256i iz = _mm256_min_epi32(_mm256_cvttps_epi32(pz), max_z_);
-    __m256 fx = _mm256_sub_ps(px, _mm256_cvtepi32_ps(ix));
-    __m256 fy = _mm256_sub_ps(py, _mm256_cvtepi32_ps(iy));
-    __m256 fz = _mm256_sub_ps(pz, _mm256_cvtepi32_ps(iz));
-    __m256i base = _mm256_add_epi32(
+    fx = _mm256_sub_ps(px, _mm256_cvtepi32_ps(ix));
+    fy = _mm256_sub_ps(py, _mm256_cvtepi32_ps(iy));
+    fz = _mm256_sub_ps(pz, _mm256_cvtepi32_ps(iz));
+    return _mm256_add_epi32(
         ix, _mm256_add_epi32(_mm256_mullo_epi32(iy, sy_), _mm256_mullo_epi32(iz, sz_)));
-    __m256i o01 = _mm256_add_epi32(base, sy_), o10 = _mm256_add_epi32(base, sz_);
-    __m256i o11 = _mm256_add_epi32(o01, sz_);
+  }
+
+ private:
+  __m256 hi_x_, hi_y_, hi_z_;      // dims - 1: the clamp
+  __m256i max_x_, max_y_, max_z_;  // dims - 2: the last lower corner
+  __m256i sy_, sz_;                // strides in voxels
+};
+
+// VoxelGrid<T>::sample in lanes. 8- and 16-bit voxels are fetched as 32-bit words holding the
+// x-neighbours (i, i + 1) together: four gathers instead of eight. A word read at the last
+// u8 voxel pair would run past the voxels, so that one is read from at most N - 4 and shifted.
+template <class T>
+class LaneGrid {
+ public:
+  explicit LaneGrid(const VoxelGrid<T>& g)
+      : data_(g.data), lattice_(g.dims), last_word_(splat(g.dims.x * g.dims.y * g.dims.z - 4)) {}
+
+  __m256 sample(__m256 px, __m256 py, __m256 pz) const {
+    __m256 fx, fy, fz;
+    const __m256i base = lattice_.locate(px, py, pz, fx, fy, fz);
+    const __m256i sy = lattice_.sy(), sz = lattice_.sz();
+    __m256i o01 = _mm256_add_epi32(base, sy), o10 = _mm256_add_epi32(base, sz);
+    __m256i o11 = _mm256_add_epi32(o01, sz);
     __m256 c[8];  // c000, c100, c010, c110, c001, c101, c011, c111
     if constexpr (std::is_same_v<T, float>) {
       const __m256i one = splat(1);
@@ -141,10 +161,8 @@ class LaneGrid {
 
  private:
   const T* data_;
-  __m256 hi_x_, hi_y_, hi_z_;      // dims - 1: the clamp
-  __m256i max_x_, max_y_, max_z_;  // dims - 2: the last lower corner
-  __m256i sy_, sz_;                // strides in voxels
-  __m256i last_word_;              // the last voxel a 32-bit word may start at
+  LaneLattice lattice_;
+  __m256i last_word_;  // the last voxel a 32-bit word may start at
 };
 
 // GradientVolume::sample in lanes: each corner's x, y, z (int16) as two 32-bit gathers, (x, y)
@@ -152,40 +170,22 @@ class LaneGrid {
 class LaneGradients {
  public:
   explicit LaneGradients(const GradientVolume& g)
-      : words_(g.data()),
-        hi_x_(splat(static_cast<float>(g.dims().x - 1))),
-        hi_y_(splat(static_cast<float>(g.dims().y - 1))),
-        hi_z_(splat(static_cast<float>(g.dims().z - 1))),
-        max_x_(splat(g.dims().x - 2)),
-        max_y_(splat(g.dims().y - 2)),
-        max_z_(splat(g.dims().z - 2)),
-        sy_(splat(g.dims().x)),
-        sz_(splat(g.dims().x * g.dims().y)),
-        scale_(splat(g.scale())) {}
+      : words_(g.data()), lattice_(g.dims()), scale_(splat(g.scale())) {}
 
   void sample(__m256 px, __m256 py, __m256 pz, __m256& gx, __m256& gy, __m256& gz) const {
-    const __m256 zero = _mm256_setzero_ps();
-    px = _mm256_min_ps(_mm256_max_ps(px, zero), hi_x_);
-    py = _mm256_min_ps(_mm256_max_ps(py, zero), hi_y_);
-    pz = _mm256_min_ps(_mm256_max_ps(pz, zero), hi_z_);
-    __m256i ix = _mm256_min_epi32(_mm256_cvttps_epi32(px), max_x_);
-    __m256i iy = _mm256_min_epi32(_mm256_cvttps_epi32(py), max_y_);
-    __m256i iz = _mm256_min_epi32(_mm256_cvttps_epi32(pz), max_z_);
-    __m256 fx = _mm256_sub_ps(px, _mm256_cvtepi32_ps(ix));
-    __m256 fy = _mm256_sub_ps(py, _mm256_cvtepi32_ps(iy));
-    __m256 fz = _mm256_sub_ps(pz, _mm256_cvtepi32_ps(iz));
-    __m256i base = _mm256_add_epi32(
-        ix, _mm256_add_epi32(_mm256_mullo_epi32(iy, sy_), _mm256_mullo_epi32(iz, sz_)));
+    __m256 fx, fy, fz;
+    const __m256i base = lattice_.locate(px, py, pz, fx, fy, fz);
+    const __m256i sy = lattice_.sy(), sz = lattice_.sz();
     const __m256i one = splat(1);
     const __m256i corner[8] = {
         base,
         _mm256_add_epi32(base, one),
-        _mm256_add_epi32(base, sy_),
-        _mm256_add_epi32(_mm256_add_epi32(base, sy_), one),
-        _mm256_add_epi32(base, sz_),
-        _mm256_add_epi32(_mm256_add_epi32(base, sz_), one),
-        _mm256_add_epi32(_mm256_add_epi32(base, sz_), sy_),
-        _mm256_add_epi32(_mm256_add_epi32(_mm256_add_epi32(base, sz_), sy_), one)};
+        _mm256_add_epi32(base, sy),
+        _mm256_add_epi32(_mm256_add_epi32(base, sy), one),
+        _mm256_add_epi32(base, sz),
+        _mm256_add_epi32(_mm256_add_epi32(base, sz), one),
+        _mm256_add_epi32(_mm256_add_epi32(base, sz), sy),
+        _mm256_add_epi32(_mm256_add_epi32(_mm256_add_epi32(base, sz), sy), one)};
     __m256 cx[8], cy[8], cz[8];
     const int* words = reinterpret_cast<const int*>(words_);
     for (int c = 0; c < 8; ++c) {
@@ -206,9 +206,7 @@ class LaneGradients {
 
  private:
   const int16_t* words_;
-  __m256 hi_x_, hi_y_, hi_z_;
-  __m256i max_x_, max_y_, max_z_;
-  __m256i sy_, sz_;
+  LaneLattice lattice_;
   __m256 scale_;
 };
 

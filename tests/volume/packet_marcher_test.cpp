@@ -13,19 +13,8 @@
 namespace imx {
 namespace {
 
-PreparedVolume prepared(const VolumeObject& obj, float step, const MarchSettings& settings) {
-  PreparedVolume v(obj);
-  v.accel = accelerate(obj, v.lut, step, settings);
-  return v;
-}
-
-Ray random_ray(std::mt19937& rng, glm::vec3 centre, float radius) {
-  std::normal_distribution<float> n(0.0f, 1.0f);
-  std::uniform_real_distribution<float> u(-0.5f, 0.5f);
-  glm::vec3 d = glm::normalize(glm::vec3(n(rng), n(rng), n(rng)));
-  glm::vec3 target = centre + radius * glm::vec3(u(rng), u(rng), u(rng));
-  return Ray{target - 3.0f * radius * d, d};
-}
+using test::prepared;
+using test::random_ray;
 
 // Rays through the volume; about half start and end inside it (mid-brick, off the step grid).
 std::vector<PacketRay> random_rays(std::mt19937& rng, const PreparedVolume& v, int count,

@@ -1,12 +1,15 @@
-// Random volumes and transfer functions for the acceleration-structure tests.
+// Random volumes, transfer functions and rays for the volume tests.
 #pragma once
 #include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
 
+#include "core/ray.hpp"
 #include "intermix/scene.hpp"
 #include "intermix/volume.hpp"
+#include "volume/prepared_volume.hpp"
+#include "volume/volume_acceleration.hpp"
 
 namespace imx::test {
 
@@ -57,6 +60,23 @@ inline TransferFunction random_tf(std::mt19937& rng, float lo, float hi) {
   }
   tf.unit_distance = 0.5 + u(rng);
   return tf;
+}
+
+// A ray in a random direction through a random point of the cube of side `radius` around
+// `centre`, starting well outside it.
+inline Ray random_ray(std::mt19937& rng, glm::vec3 centre, float radius) {
+  std::normal_distribution<float> n(0.0f, 1.0f);
+  std::uniform_real_distribution<float> u(-0.5f, 0.5f);
+  glm::vec3 d = glm::normalize(glm::vec3(n(rng), n(rng), n(rng)));
+  glm::vec3 target = centre + radius * glm::vec3(u(rng), u(rng), u(rng));
+  return Ray{target - 3.0f * radius * d, d};
+}
+
+// `obj` made ready to march at `step` with the structures `settings` asks for.
+inline PreparedVolume prepared(const VolumeObject& obj, float step, const MarchSettings& settings) {
+  PreparedVolume v(obj);
+  v.accel = accelerate(obj, v.lut, step, settings);
+  return v;
 }
 
 }  // namespace imx::test

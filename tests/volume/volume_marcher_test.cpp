@@ -13,6 +13,9 @@
 namespace imx {
 namespace {
 
+using test::prepared;
+using test::random_ray;
+
 struct MarchResult {
   std::vector<Slab> slabs;
   glm::vec4 composite{0.0f};
@@ -32,12 +35,6 @@ MarchResult march(const PreparedVolume& v, const Ray& ray, float step,
   return r;
 }
 
-PreparedVolume prepared(const VolumeObject& obj, float step, const MarchSettings& settings) {
-  PreparedVolume v(obj);
-  v.accel = accelerate(obj, v.lut, step, settings);
-  return v;
-}
-
 // A float volume of `dims` voxels holding field(i, j, k).
 template <class Field>
 std::shared_ptr<VolumeData> field_volume(glm::ivec3 dims, Field field) {
@@ -49,14 +46,6 @@ std::shared_ptr<VolumeData> field_volume(glm::ivec3 dims, Field field) {
       for (int i = 0; i < dims.x; ++i) f.push_back(field(i, j, k));
   data->voxels = std::move(f);
   return data;
-}
-
-Ray random_ray(std::mt19937& rng, glm::vec3 centre, float radius) {
-  std::normal_distribution<float> n(0.0f, 1.0f);
-  std::uniform_real_distribution<float> u(-0.5f, 0.5f);
-  glm::vec3 d = glm::normalize(glm::vec3(n(rng), n(rng), n(rng)));
-  glm::vec3 target = centre + radius * glm::vec3(u(rng), u(rng), u(rng));
-  return Ray{target - 3.0f * radius * d, d};
 }
 
 // Skipping may only drop pieces that sampling would have found empty: with post-classification
