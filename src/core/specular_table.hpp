@@ -28,6 +28,14 @@ class SpecularTable {
     values_[kEntries] = 1.0f;  // so that x = 1 may read one entry ahead
   }
 
+  // The table itself, for vectorized lookups that follow operator() (not for exact tables).
+  struct View {
+    const float* values;  // kEntries + 1
+    float x_min, inv_step;
+  };
+  bool exact() const { return exact_; }
+  View view() const { return {values_.data(), x_min_, inv_step_}; }
+
   // x^n for x in [0, 1]; values below kCutoff are 0 (they cannot show).
   float operator()(float x) const {
     if (exact_) return std::pow(std::max(x, 0.0f), n_);

@@ -1,7 +1,6 @@
 #include "volume/packet_marcher.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -246,9 +245,6 @@ class PacketKernel {
     const Shading& s = v.object->shading;
     shaded_ = s.enabled;
     light_count_ = static_cast<int>(lights.size());
-    exponent_ = shaded_ ? static_cast<unsigned>(s.shininess) : 0u;  // whole, [0, 1024] then
-    if (exponent_ > 0)
-      power_floor_ = std::pow(1e-18f, 1.0f / static_cast<float>(std::bit_floor(exponent_)));
     if (v.accel.emptiness) use_runs_ = v.accel.emptiness->value_runs(run_lo_, run_hi_);
   }
 
@@ -546,7 +542,7 @@ class PacketKernel {
       // Lit lanes: diffuse N.L and the highlight; lanes without a normal: diffuse head-on.
       const __m256 kd = _mm256_blendv_ps(dif, _mm256_mul_ps(dif, ndotl), has_normal);
       const __m256 ks =
-          _mm256_and_ps(_mm256_mul_ps(_mm256_mul_ps(spec, power(ndoth)), a), has_normal);
+          _mm256_and_ps(_mm256_mul_ps(_mm256_mul_ps(spec, specular(ndoth)), a), has_normal);
       const __m256 on =
           _mm256_or_ps(_mm256_andnot_ps(has_normal, vis), _mm256_cmp_ps(ndotl, zero, _CMP_GT_OQ));
       const __m256 cr = splat(col.r), cg = splat(col.g), cb = splat(col.b);
@@ -560,19 +556,18 @@ class PacketKernel {
     r = out_r, g = out_g, b = out_b;
   }
 
-  // specular_power(x, shininess) for the volume's whole exponent n: squaring over its bits,
-  // the same for every lane. specular_power flushes each factor below 1e-18 to zero; here x
-  // below power_floor_ (x^(2^top bit) < 1e-18: the result would be flushed) is zeroed up front
-  // and the result flushed once: the same values up to the rounding of that bound, with no
-  // denormals on the way and a third of the instructions.
-  __m256 power(__m256 x) const {
-    x = _mm256_and_ps(x, _mm256_cmp_ps(x, splat(power_floor_), _CMP_GE_OQ));
-    __m256 result = splat(1.0f);
-    for (unsigned e = exponent_;; x = _mm256_mul_ps(x, x)) {
-      if (e & 1u) result = _mm256_mul_ps(result, x);
-      if ((e >>= 1) == 0) break;
-    }
-    return _mm256_and_ps(result, _mm256_cmp_ps(result, splat(1e-18f), _CMP_GE_OQ));
+  // SpecularTable::operator() in lanes: the same table, two gathers and a lerp.
+  __m256 specular(__m256 x) const {
+    const SpecularTable::View t = v_.specular.view();
+    const __m256 last = splat(static_cast<float>(SpecularTable::kEntries - 1));
+    __m256 u = _mm256_mul_ps(_mm256_sub_ps(x, splat(t.x_min)), splat(t.inv_step));
+    const __m256 above = _mm256_cmp_ps(u, _mm256_setzero_ps(), _CMP_GT_OQ);  // false for NaN
+    u = _mm256_min_ps(_mm256_max_ps(u, _mm256_setzero_ps()), last);
+    const __m256i i = _mm256_cvttps_epi32(u);
+    const __m256 f = _mm256_sub_ps(u, _mm256_cvtepi32_ps(i));
+    const __m256 lo = _mm256_i32gather_ps(t.values, i, 4);
+    const __m256 hi = _mm256_i32gather_ps(t.values, _mm256_add_epi32(i, splat(1)), 4);
+    return _mm256_and_ps(lerp(lo, hi, f), above);
   }
 
   const PreparedVolume& v_;
@@ -586,8 +581,6 @@ class PacketKernel {
   PreintegrationView preint_;
   bool shaded_ = false;
   int light_count_ = 0;
-  unsigned exponent_ = 0;
-  float power_floor_ = 0.0f;  // x below it gives a flushed power
   bool use_runs_ = false;
   float run_lo_[TfEmptiness::kMaxRuns] = {}, run_hi_[TfEmptiness::kMaxRuns] = {};
   Lanes L_{};  // zeros in lanes that never get a ray
@@ -605,8 +598,7 @@ bool packet_marching_supported(const PreparedVolume& v, std::span<const ShadingL
   if (static_cast<double>(d.x) * d.y * d.z >= 2147483647.0) return false;  // int32 gathers
   const Shading& s = v.object->shading;
   if (!s.enabled) return true;
-  return lights.size() <= static_cast<size_t>(RayShading::kMaxLights) && s.shininess >= 0.0f &&
-         s.shininess <= 1024.0f && s.shininess == std::floor(s.shininess);
+  return lights.size() <= static_cast<size_t>(RayShading::kMaxLights) && !v.specular.exact();
 #else
   (void)v, (void)lights;
   return false;

@@ -19,8 +19,8 @@ struct PacketRay {
 };
 
 // Whether composite_packets() marches volume `v` with `lights` in vector lanes: it needs an
-// AVX2 build, a pre-integration table, at most RayShading::kMaxLights lights, a whole shininess
-// up to 1024 and a grid of at least 2 voxels a side and fewer than 2^31 voxels. Otherwise it
+// AVX2 build, a pre-integration table, at most RayShading::kMaxLights lights, a tabulated
+// specular power (shininess of at least 1) and a grid of at least 2 voxels a side and fewer than 2^31 voxels. Otherwise it
 // marches each ray with VolumeMarcher, with the same results.
 bool packet_marching_supported(const PreparedVolume& v, std::span<const ShadingLight> lights);
 

@@ -116,9 +116,10 @@ TEST(PacketMarcher, EmptyTransferFunctionGivesNothing) {
   for (const glm::vec4& c : out) EXPECT_EQ(c, glm::vec4(0.0f));
 }
 
-// What the lanes do not handle (post-classification, more lights than RayShading resolves, a
-// fractional shininess) goes to VolumeMarcher: the same answers.
-TEST(PacketMarcher, FallsBackWhereLanesDoNotApply) {
+// A fractional shininess runs in lanes (the same specular table); what the lanes do not handle
+// (post-classification, a shininess below 1, which has no table) goes to VolumeMarcher: the
+// same answers either way.
+TEST(PacketMarcher, FallsBackOnlyWhereLanesDoNotApply) {
   std::mt19937 rng(9);
   VolumeObject obj;
   obj.name = "blobs";
@@ -128,11 +129,15 @@ TEST(PacketMarcher, FallsBackWhereLanesDoNotApply) {
   const float step = 0.9f;
   PreparedVolume frac = prepared(obj, step, {SkipMode::distance, Classification::preintegrated});
   PreparedVolume post = prepared(obj, step, {SkipMode::distance, Classification::post});
-  EXPECT_FALSE(packet_marching_supported(frac, kLights));
+  obj.shading.shininess = 0.5f;
+  PreparedVolume dull = prepared(obj, step, {SkipMode::distance, Classification::preintegrated});
+  EXPECT_TRUE(packet_marching_supported(frac, kLights));
   EXPECT_FALSE(packet_marching_supported(post, kLights));
+  EXPECT_FALSE(packet_marching_supported(dull, kLights));
   std::vector<PacketRay> rays = random_rays(rng, frac, 30, glm::vec3(12.0f), 30.0f);
   expect_same_as_marcher(frac, rays, step, kLights, 0.99f);
   expect_same_as_marcher(post, rays, step, kLights, 0.99f);
+  expect_same_as_marcher(dull, rays, step, kLights, 0.99f);
   expect_same_as_marcher(frac, {}, step, kLights, 0.99f);
 }
 
