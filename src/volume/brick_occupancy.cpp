@@ -8,7 +8,7 @@
 namespace imx {
 
 BrickOccupancy::BrickOccupancy(const BrickMinMax& ranges, const TfEmptiness& tf)
-    : grid_(ranges.grid()), distance_(grid_.count()) {
+    : grid_(ranges.grid()), distance_(grid_.count() + kSpareBytes) {
   std::vector<uint8_t> occupied(grid_.count());
   std::span<const glm::vec2> r = ranges.ranges();
   for (size_t n = 0; n < r.size(); ++n) {
@@ -17,7 +17,7 @@ BrickOccupancy::BrickOccupancy(const BrickMinMax& ranges, const TfEmptiness& tf)
     occupied[n] = tf.is_empty(r[n].x - slack, r[n].y + slack) ? 0 : 1;
     occupied_count_ += occupied[n];
   }
-  chebyshev_distance(occupied, grid_.dims, distance_);
+  chebyshev_distance(occupied, grid_.dims, std::span(distance_).first(grid_.count()));
 }
 
 }  // namespace imx

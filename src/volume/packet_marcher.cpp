@@ -6,15 +6,10 @@
 #include <optional>
 #include <type_traits>
 
+#include "volume/lane_bricks.hpp"
+#include "volume/lanes.hpp"
 #include "volume/ray_shading.hpp"
 #include "volume/volume_marcher.hpp"
-
-#if defined(__AVX2__) && defined(__FMA__)
-#include <immintrin.h>
-#define IMX_PACKET_LANES 1
-#else
-#define IMX_PACKET_LANES 0
-#endif
 
 namespace imx {
 namespace {
@@ -32,31 +27,8 @@ void composite_each(const PreparedVolume& v, std::span<const PacketRay> rays, fl
 
 #if IMX_PACKET_LANES
 
-constexpr int kLanes = 8;
+using namespace lanes;
 constexpr int kMaxLights = RayShading::kMaxLights;
-
-inline __m256 splat(float x) {
-  return _mm256_set1_ps(x);
-}
-inline __m256i splat(int x) {
-  return _mm256_set1_epi32(x);
-}
-
-// All ones in the lanes whose bit is set in `bits`.
-inline __m256 lane_mask(unsigned bits) {
-  const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-  return _mm256_castsi256_ps(
-      _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(static_cast<int>(bits)), bit), bit));
-}
-
-inline __m256 dot3(__m256 ax, __m256 ay, __m256 az, __m256 bx, __m256 by, __m256 bz) {
-  return _mm256_fmadd_ps(az, bz, _mm256_fmadd_ps(ay, by, _mm256_mul_ps(ax, bx)));
-}
-
-// a + f * (b - a), the interpolation step of every trilinear and bilinear fetch.
-inline __m256 lerp(__m256 a, __m256 b, __m256 f) {
-  return _mm256_fmadd_ps(f, _mm256_sub_ps(b, a), a);
-}
 
 // Where trilinear fetches read in a grid of `dims` voxels: the lower corner's voxel index and
 // the fractions toward the upper one, clamped as VoxelGrid<T>::sample clamps.
@@ -246,6 +218,7 @@ class PacketKernel {
     shaded_ = s.enabled;
     light_count_ = static_cast<int>(lights.size());
     if (v.accel.emptiness) use_runs_ = v.accel.emptiness->value_runs(run_lo_, run_hi_);
+    if (v.accel.occupancy) bricks_.emplace(*v.accel.occupancy, v.accel.skip);
   }
 
   // Packets of eight rays in batch order, each marched until all its rays are done. Refilling
@@ -253,9 +226,7 @@ class PacketKernel {
   // 37.5 ms, ct-head 39 against 37.5): scattered scalar set-up and incoherent lanes.
   void run() {
     for (;;) {
-      unsigned live = 0;
-      for (int l = 0; l < kLanes; ++l)
-        if (fill(l)) live |= 1u << l;
+      unsigned live = fill();
       if (!live) return;
       while (live) {
         step(live);
@@ -264,15 +235,12 @@ class PacketKernel {
             _mm256_cmp_ps(_mm256_load_ps(L_.front), _mm256_load_ps(L_.t1), _CMP_NLT_UQ),
             _mm256_cmp_ps(_mm256_load_ps(L_.a), splat(ert_), _CMP_NLT_UQ));
         unsigned done = static_cast<unsigned>(_mm256_movemask_ps(_mm256_and_ps(ended, active)));
-        if (v_.accel.occupancy) {
-          // Lanes that left their occupied brick look for empty ones ahead, one at a time.
+        if (bricks_) {
+          // Lanes that left their occupied brick look for the next one.
           __m256 look = _mm256_cmp_ps(_mm256_load_ps(L_.front), _mm256_load_ps(L_.occupied_until),
                                       _CMP_GE_OQ);
           unsigned m = static_cast<unsigned>(_mm256_movemask_ps(_mm256_and_ps(look, active)));
-          for (m &= ~done; m; m &= m - 1) {
-            int l = __builtin_ctz(m);
-            if (!settle(l)) done |= 1u << l;
-          }
+          if (m &= ~done) done |= settle(m);
         }
         for (live &= ~done; done; done &= done - 1) {
           int l = __builtin_ctz(done);
@@ -283,90 +251,101 @@ class PacketKernel {
   }
 
  private:
-  // Gives lane l the next ray that has something to march (writing out those that do not);
-  // false when the batch is used up. An idle lane keeps computing its last ray's positions,
-  // which the samplers clamp, and is masked out of everything that writes.
-  bool fill(int l) {
-    while (next_ < rays_.size()) {
-      const size_t i = next_++;
-      const PacketRay& pr = rays_[i];
-      const glm::vec3 o = v_.to_index(pr.ray.origin);
-      const glm::vec3 d = glm::mat3(v_.world_to_index) * pr.ray.dir;
-      L_.ox[l] = o.x, L_.oy[l] = o.y, L_.oz[l] = o.z;
-      L_.dx[l] = d.x, L_.dy[l] = d.y, L_.dz[l] = d.z;
-      L_.front[l] = pr.t0;
-      L_.t1[l] = pr.t1;
-      double cell = std::floor(pr.t0 / step_);
-      while ((cell + 1.0) * step_ <= pr.t0) cell += 1.0;
-      L_.next_cell[l] = static_cast<float>(cell + 1.0);
-      L_.have_front[l] = 0;
-      L_.occupied_until[l] = -INFINITY;
-      L_.r[l] = L_.g[l] = L_.b[l] = L_.a[l] = 0.0f;
-      dda_[l] = v_.accel.occupancy && pr.t1 > pr.t0
-                    ? BrickDda(v_.accel.occupancy->grid(), o, d, pr.t0, pr.t1)
-                    : BrickDda();
-      if (shaded_) {
-        const glm::vec3 e = -pr.ray.dir;
-        L_.ex[l] = e.x, L_.ey[l] = e.y, L_.ez[l] = e.z;
-        for (int k = 0; k < light_count_; ++k) {
-          // As RayShading's constructor: a light straight behind gets no half vector.
-          glm::vec3 to_light = lights_[k].headlight ? e : lights_[k].to_light;
-          glm::vec3 h = to_light + e;
-          float len = glm::length(h);
-          glm::vec3 half = len > 1e-12f ? h / len : glm::vec3(0.0f);
-          L_.lx[k][l] = to_light.x, L_.ly[k][l] = to_light.y, L_.lz[k][l] = to_light.z;
-          L_.hx[k][l] = half.x, L_.hy[k][l] = half.y, L_.hz[k][l] = half.z;
-        }
+  // Fills the lanes with the next rays that have something to march, writing out those that do
+  // not; returns the lanes filled (none once the batch is used up). An idle lane keeps computing
+  // its last ray's positions, which the samplers clamp, and is masked out of everything that
+  // writes.
+  unsigned fill() {
+    unsigned live = 0;
+    while (live != kAllLanes && next_ < rays_.size()) {
+      unsigned fresh = 0;
+      for (int l = 0; l < kLanes && next_ < rays_.size(); ++l) {
+        if (live & (1u << l)) continue;
+        start(l, next_++);
+        fresh |= 1u << l;
       }
-      L_.ray[l] = static_cast<int32_t>(i);
-      if (0.0f < ert_ && settle(l)) return true;
-      out_[i] = glm::vec4(0.0f);
+      unsigned empty = 0;
+      if (!(0.0f < ert_)) {
+        empty = fresh;
+      } else {
+        const __m256 none =
+            _mm256_cmp_ps(_mm256_load_ps(L_.front), _mm256_load_ps(L_.t1), _CMP_NLT_UQ);
+        empty = fresh & static_cast<unsigned>(_mm256_movemask_ps(none));
+        if (bricks_ && (fresh & ~empty)) empty |= settle(fresh & ~empty);
+      }
+      for (unsigned m = empty; m; m &= m - 1) out_[L_.ray[__builtin_ctz(m)]] = glm::vec4(0.0f);
+      live |= fresh & ~empty;
     }
-    return false;
+    return live;
   }
 
-  // Moves lane l past the empty bricks ahead as VolumeMarcher::next_in does before it samples
-  // a piece; false once the span is used up.
-  bool settle(int l) {
-    while (L_.front[l] < L_.t1[l]) {
-      if (!v_.accel.occupancy || L_.front[l] < L_.occupied_until[l]) return true;
-      double back = std::min<double>(L_.t1[l], static_cast<double>(L_.next_cell[l]) * step_);
-      if (!skip_empty(l, back)) return true;
-    }
-    return false;
-  }
-
-  // VolumeMarcher::skip_empty for lane l.
-  bool skip_empty(int l, double back) {
-    BrickDda& dda = dda_[l];
-    const BrickOccupancy& occ = *v_.accel.occupancy;
-    const double t = L_.front[l];
-    while (!dda.done() && dda.t_exit() <= t) dda.next();
-    if (dda.done()) {
-      L_.occupied_until[l] = INFINITY;  // nothing left to skip: no need to look again
-      return false;
-    }
-    if (occ.occupied(dda.brick())) {
-      L_.occupied_until[l] = dda.t_exit();
-      return false;
-    }
-    while (!dda.done()) {
-      int d = occ.distance(dda.brick());
-      if (d == 0) break;
-      if (v_.accel.skip == SkipMode::distance)
-        dda.skip(d);
-      else
-        dda.next();
-    }
-    double resume = dda.done() ? L_.t1[l] : dda.t_enter();
-    if (resume < back) return false;
-    double to = std::max(back, std::floor(resume / step_) * step_);
-    double cell = std::floor(to / step_);
-    while ((cell + 1.0) * step_ <= to) cell += 1.0;
-    L_.front[l] = static_cast<float>(to);
+  // Puts ray i of the batch into lane l.
+  void start(int l, size_t i) {
+    const PacketRay& pr = rays_[i];
+    const glm::vec3 o = v_.to_index(pr.ray.origin);
+    const glm::vec3 d = glm::mat3(v_.world_to_index) * pr.ray.dir;
+    L_.ox[l] = o.x, L_.oy[l] = o.y, L_.oz[l] = o.z;
+    L_.dx[l] = d.x, L_.dy[l] = d.y, L_.dz[l] = d.z;
+    L_.front[l] = pr.t0;
+    L_.t1[l] = pr.t1;
+    double cell = std::floor(pr.t0 / step_);
+    while ((cell + 1.0) * step_ <= pr.t0) cell += 1.0;
     L_.next_cell[l] = static_cast<float>(cell + 1.0);
     L_.have_front[l] = 0;
-    return true;
+    L_.occupied_until[l] = -INFINITY;
+    L_.r[l] = L_.g[l] = L_.b[l] = L_.a[l] = 0.0f;
+    if (shaded_) {
+      const glm::vec3 e = -pr.ray.dir;
+      L_.ex[l] = e.x, L_.ey[l] = e.y, L_.ez[l] = e.z;
+      for (int k = 0; k < light_count_; ++k) {
+        // As RayShading's constructor: a light straight behind gets no half vector.
+        glm::vec3 to_light = lights_[k].headlight ? e : lights_[k].to_light;
+        glm::vec3 h = to_light + e;
+        float len = glm::length(h);
+        glm::vec3 half = len > 1e-12f ? h / len : glm::vec3(0.0f);
+        L_.lx[k][l] = to_light.x, L_.ly[k][l] = to_light.y, L_.lz[k][l] = to_light.z;
+        L_.hx[k][l] = half.x, L_.hy[k][l] = half.y, L_.hz[k][l] = half.z;
+      }
+    }
+    L_.ray[l] = static_cast<int32_t>(i);
+  }
+
+  // VolumeMarcher::skip_empty for the lanes in m, which have left their occupied brick: each
+  // finds the next occupied brick, moves to the last grid point before it if that lies beyond
+  // the piece it is in, and looks again once it leaves that brick. Returns the lanes with nothing
+  // left to march.
+  unsigned settle(unsigned m) {
+    const float* const origin[3] = {L_.ox, L_.oy, L_.oz};
+    const float* const dir[3] = {L_.dx, L_.dy, L_.dz};
+    const LaneBricks::Rays ray = LaneBricks::Rays::load(origin, dir);
+    const __m256 front = _mm256_load_ps(L_.front), t1 = _mm256_load_ps(L_.t1);
+    __m256 enter = t1, leave = _mm256_load_ps(L_.occupied_until);
+    const unsigned none = bricks_->first_occupied(ray, m, front, t1, enter, leave);
+    const __m256 walked = lane_mask(m & ~none);
+    _mm256_store_ps(L_.occupied_until,
+                    _mm256_blendv_ps(_mm256_load_ps(L_.occupied_until), leave, walked));
+    // As VolumeMarcher: resume at the grid point at or before the brick, unless that is still
+    // inside the current piece.
+    const __m256 next_cell = _mm256_load_ps(L_.next_cell), step = splat(step_);
+    const __m256 back = _mm256_min_ps(t1, _mm256_mul_ps(next_cell, step));
+    const __m256 jump = _mm256_and_ps(walked, _mm256_cmp_ps(enter, back, _CMP_GE_OQ));
+    if (!_mm256_movemask_ps(jump)) return none;
+    const __m256 inv_step = splat(1.0f / step_);
+    const __m256 to =
+        _mm256_max_ps(back, _mm256_mul_ps(_mm256_floor_ps(_mm256_mul_ps(enter, inv_step)), step));
+    __m256 cell = _mm256_floor_ps(_mm256_mul_ps(to, inv_step));
+    const __m256 one = splat(1.0f);
+    cell = _mm256_add_ps(
+        cell, _mm256_and_ps(one, _mm256_cmp_ps(_mm256_mul_ps(_mm256_add_ps(cell, one), step), to,
+                                               _CMP_LE_OQ)));
+    _mm256_store_ps(L_.front, _mm256_blendv_ps(front, to, jump));
+    _mm256_store_ps(L_.next_cell, _mm256_blendv_ps(next_cell, _mm256_add_ps(cell, one), jump));
+    const __m256i have = _mm256_load_si256(reinterpret_cast<const __m256i*>(L_.have_front));
+    _mm256_store_si256(reinterpret_cast<__m256i*>(L_.have_front),
+                       _mm256_andnot_si256(_mm256_castps_si256(jump), have));
+    // A lane moved to the end of its span has nothing left (no zero-length piece).
+    const __m256 at_end = _mm256_and_ps(jump, _mm256_cmp_ps(to, t1, _CMP_GE_OQ));
+    return none | static_cast<unsigned>(_mm256_movemask_ps(at_end));
   }
 
   // One piece in every live lane: sample, range test, classify, shade, composite.
@@ -573,6 +552,7 @@ class PacketKernel {
   const PreparedVolume& v_;
   LaneGrid<T> grid_;
   std::optional<LaneGradients> gradients_;  // empty: gradients on the fly
+  std::optional<LaneBricks> bricks_;        // empty: no skipping
   std::span<const PacketRay> rays_;
   std::span<glm::vec4> out_;
   std::span<const ShadingLight> lights_;
@@ -584,7 +564,6 @@ class PacketKernel {
   bool use_runs_ = false;
   float run_lo_[TfEmptiness::kMaxRuns] = {}, run_hi_[TfEmptiness::kMaxRuns] = {};
   Lanes L_{};  // zeros in lanes that never get a ray
-  BrickDda dda_[kLanes];
 };
 
 #endif  // IMX_PACKET_LANES

@@ -116,6 +116,73 @@ TEST(PacketMarcher, EmptyTransferFunctionGivesNothing) {
   for (const glm::vec4& c : out) EXPECT_EQ(c, glm::vec4(0.0f));
 }
 
+// Rays along the grid axes and the diagonals of its planes, started on brick boundaries: the
+// lane brick walk must handle axes a ray never crosses, starts on a boundary and crossings of two
+// boundaries at once, in both skip modes, as BrickDda does.
+TEST(PacketMarcher, WalksBricksAlongAxesAsTheMarcherDoes) {
+  std::mt19937 rng(21);
+  VolumeObject obj;
+  obj.name = "blobs";
+  obj.data = std::make_shared<VolumeData>(test::blob_volume<uint8_t>({33, 33, 33}, rng));
+  obj.transfer_function.points = {{0.0, glm::vec4(1, 1, 1, 0)},
+                                  {120.0, glm::vec4(1, 1, 1, 0)},
+                                  {200.0, glm::vec4(1, 0.5, 0.2, 0.6)},
+                                  {255.0, glm::vec4(1, 0.5, 0.2, 0.9)}};
+  obj.shading = {true, 0.2f, 0.7f, 0.3f, 32.0f};
+  const float step = 1.0f;
+  std::vector<PacketRay> rays;
+  const glm::vec3 dirs[] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},  {0, -1, 0}, {0, 0, 1},
+                            {0, 0, -1}, {1, 1, 0},  {-1, 0, 1}, {0, -1, -1}};
+  for (glm::vec3 d : dirs) {
+    d = glm::normalize(d);
+    for (float u : {4.0f, 8.0f, 13.5f, 16.0f, 24.0f})
+      for (float w : {8.0f, 11.0f, 16.0f, 20.0f}) {
+        // A start point on the plane through the middle of the grid, moved back along the ray.
+        glm::vec3 p(16.0f);
+        int a = d.x != 0.0f ? 0 : (d.y != 0.0f ? 1 : 2);
+        p[(a + 1) % 3] = u, p[(a + 2) % 3] = w;
+        rays.push_back({Ray{p - 40.0f * d, d}, 0.0f, 0.0f});
+      }
+  }
+  int with_work = 0;
+  for (SkipMode mode : {SkipMode::distance, SkipMode::bricks}) {
+    PreparedVolume v =
+        prepared(obj, step, {mode, Classification::preintegrated, GradientSource::precomputed, 4});
+    for (PacketRay& r : rays) {
+      RayInterval span = v.intersect(r.ray);
+      r.t0 = span.t0, r.t1 = span.t1;
+      with_work += !span.empty();
+    }
+    for (float ert : {0.5f, 0.99f}) expect_same_as_marcher(v, rays, step, kLights, ert);
+  }
+  EXPECT_GT(with_work, static_cast<int>(rays.size()));  // most rays cross the grid
+}
+
+// Small visible cores far apart in a large empty grid: distance skipping jumps many bricks at a
+// time, and each jump must land in the brick BrickDda lands in on every axis.
+TEST(PacketMarcher, JumpsOverWideEmptySpaceAsTheMarcherDoes) {
+  std::mt19937 rng(33);
+  VolumeObject obj;
+  obj.name = "cores";
+  obj.data = std::make_shared<VolumeData>(test::blob_volume<uint8_t>({64, 64, 64}, rng, 1, 0, 6));
+  obj.index_to_world = glm::dmat4(glm::dmat3(1.0, 0.2, 0.0, -0.1, 0.9, 0.1, 0.0, 0.0, 1.1));
+  obj.transfer_function.points = {{0.0, glm::vec4(1, 1, 1, 0)},
+                                  {160.0, glm::vec4(1, 1, 1, 0)},
+                                  {255.0, glm::vec4(0.3, 0.6, 1, 0.8)}};
+  obj.shading = {true, 0.2f, 0.7f, 0.3f, 32.0f};
+  const float step = 0.7f;
+  PreparedVolume v =
+      prepared(obj, step,
+               {SkipMode::distance, Classification::preintegrated, GradientSource::precomputed, 4});
+  std::vector<PacketRay> rays = random_rays(rng, v, 400, glm::vec3(32.0f), 90.0f);
+  int seen = 0;
+  std::vector<glm::vec4> out(rays.size());
+  composite_packets(v, rays, step, kLights, 0.99f, out);
+  for (const glm::vec4& c : out) seen += c.a > 0.01f;
+  EXPECT_GT(seen, 20);  // enough rays reach a core
+  expect_same_as_marcher(v, rays, step, kLights, 0.99f);
+}
+
 // A fractional shininess runs in lanes (the same specular table); what the lanes do not handle
 // (post-classification, a shininess below 1, which has no table) goes to VolumeMarcher: the
 // same answers either way.
