@@ -1,5 +1,8 @@
 #include "methods/mdvr.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "core/colour.hpp"
 #include "core/parallel.hpp"
 #include "methods/frame_setup.hpp"
@@ -18,6 +21,29 @@ bool packets_apply(const Scene& scene, const FrameSetup& frame, int spp) {
          packet_marching_supported(frame.volumes[0], frame.lights);
 }
 
+// The pixels whose centre rays can meet the volume's box: the bounding rectangle of its corners'
+// projections, a pixel wider each side for rounding (the box is convex). The whole image when a
+// corner lies behind the eye.
+TileRect pixels_meeting_box(const PreparedVolume& v, const CameraModel& camera) {
+  const TileRect all{0, 0, camera.width(), camera.height()};
+  const glm::dvec3 hi = glm::dvec3(v.grid.dims - 1);
+  const glm::dmat4& to_world = v.object->index_to_world;
+  glm::dvec2 lo(INFINITY), up(-INFINITY);
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::dvec3 p((corner & 1) ? hi.x : 0.0, (corner & 2) ? hi.y : 0.0,
+                       (corner & 4) ? hi.z : 0.0);
+    const glm::dvec3 c = camera.to_camera(glm::dvec3(to_world * glm::dvec4(p, 1.0)));
+    if (camera.perspective() && !(c.z > camera.near_plane())) return all;
+    const glm::dvec2 q = camera.project_camera(c);
+    lo = glm::min(lo, q), up = glm::max(up, q);
+  }
+  if (!std::isfinite(lo.x) || !std::isfinite(lo.y) || !std::isfinite(up.x) || !std::isfinite(up.y))
+    return all;
+  auto clamp = [](double x, int n) { return static_cast<int>(std::clamp(x, 0.0, double(n))); };
+  return {clamp(std::floor(lo.x) - 1.0, all.x1), clamp(std::floor(lo.y) - 1.0, all.y1),
+          clamp(std::ceil(up.x) + 1.0, all.x1), clamp(std::ceil(up.y) + 1.0, all.y1)};
+}
+
 // render_per_sample with trace_mdvr for that case: per tile, the rays that meet the volume go
 // through composite_packets() together (pixel centres, as stratified_offsets(1)).
 Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const MdvrParams& params,
@@ -29,6 +55,7 @@ Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const Mdv
   Image image(w, h);
   const glm::vec4 background = scene.image.background;
   const glm::vec4 empty = over_background(glm::vec4(0.0f), background);
+  const TileRect box = pixels_meeting_box(v, frame.camera);
   for_each_tile(
       w, h, kTileSize, options.threads,
       [&](const TileRect& tile, int) {
@@ -40,7 +67,7 @@ Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const Mdv
         // (ct-head 36.0 against 37.5 ms in rows of 8).
         auto add = [&](int x, int y) {
           image.at(x, y) = empty;
-          if (!visible) return;
+          if (!visible || x < box.x0 || x >= box.x1 || y < box.y0 || y >= box.y1) return;
           Ray ray = frame.camera.ray(x + 0.5, y + 0.5);
           RayInterval span = v.intersect(ray);
           if (span.empty()) return;

@@ -31,5 +31,18 @@ TEST(MdvrPackets, SameImageAsOneRayAtATime) {
   }
 }
 
+// With faintly visible air the box's own edges show: the packets leave out only pixels outside
+// the box's projection, with the box cut by the image's edge and with the eye inside it.
+TEST(MdvrPackets, LeaveOutOnlyPixelsThatMissTheBox) {
+  for (const std::string& camera :
+       {std::string("camera.target=[70,-20,40]"), std::string("camera.eye=[10,-30,20]")}) {
+    Scene s = load_scene(
+        std::filesystem::path(IMX_EXAMPLES_DIR) / "ct-head.json",
+        {"image.width=61", "image.height=47", "objects.ct.source.size=64",
+         "objects.ct.transfer_function.points=[[0,1,1,1,0.02],[255,1,0.5,0.5,0.6]]", camera});
+    EXPECT_GE(psnr(render_mdvr(s, false), render_mdvr(s, true)), 70.0) << camera;
+  }
+}
+
 }  // namespace
 }  // namespace imx
