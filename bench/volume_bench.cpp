@@ -10,6 +10,7 @@
 #include "volume/brick_min_max.hpp"
 #include "volume/brick_occupancy.hpp"
 #include "volume/chebyshev_distance.hpp"
+#include "volume/lane_bricks.hpp"
 #include "volume/preintegration_table.hpp"
 #include "volume/tf_emptiness.hpp"
 #include "volume/tf_lut.hpp"
@@ -171,6 +172,54 @@ void BM_BrickDdaWithJumps(benchmark::State& state) {
   state.counters["stops_per_visible"] = static_cast<double>(stops) / std::max<int64_t>(visible, 1);
 }
 BENCHMARK(BM_BrickDdaWithJumps);
+
+// From where each ray enters the grid to its first non-empty brick on the shell volume, with
+// distance jumps, one ray at a time: what the marcher does before its first sample.
+void BM_FirstOccupiedBrickDda(benchmark::State& state) {
+  BrickMinMax mm(AnyGrid(volume<uint8_t>()), 8);
+  BrickOccupancy occ(mm, TfEmptiness(shell_lut()));
+  Rays rays = random_rays(1024);
+  for (auto _ : state) {
+    for (size_t i = 0; i < rays.origin.size(); ++i) {
+      BrickDda dda(mm.grid(), rays.origin[i], rays.dir[i], rays.t0[i], rays.t1[i]);
+      while (!dda.done() && occ.distance(dda.brick()) != 0) dda.skip(occ.distance(dda.brick()));
+      benchmark::DoNotOptimize(dda.span());
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(rays.origin.size()));
+}
+BENCHMARK(BM_FirstOccupiedBrickDda);
+
+#if IMX_PACKET_LANES
+// The same walks eight rays at a time in AVX2 lanes (LaneBricks, as the packet path does them).
+void BM_FirstOccupiedLaneBricks(benchmark::State& state) {
+  using lanes::kLanes;
+  BrickMinMax mm(AnyGrid(volume<uint8_t>()), 8);
+  BrickOccupancy occ(mm, TfEmptiness(shell_lut()));
+  const lanes::LaneBricks walker(occ, SkipMode::distance);
+  Rays rays = random_rays(1024);
+  for (auto _ : state) {
+    for (size_t first = 0; first + kLanes <= rays.origin.size(); first += kLanes) {
+      alignas(32) float o[3][kLanes], d[3][kLanes], t0[kLanes], t1[kLanes];
+      for (int l = 0; l < kLanes; ++l) {
+        for (int a = 0; a < 3; ++a)
+          o[a][l] = rays.origin[first + l][a], d[a][l] = rays.dir[first + l][a];
+        t0[l] = rays.t0[first + l], t1[l] = rays.t1[first + l];
+      }
+      const float* const origin[3] = {o[0], o[1], o[2]};
+      const float* const dir[3] = {d[0], d[1], d[2]};
+      __m256 enter = _mm256_load_ps(t1), leave = enter;
+      unsigned none =
+          walker.first_occupied(lanes::LaneBricks::Rays::load(origin, dir), lanes::kAllLanes,
+                                _mm256_load_ps(t0), _mm256_load_ps(t1), enter, leave);
+      benchmark::DoNotOptimize(none);
+      benchmark::DoNotOptimize(enter);
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(rays.origin.size()));
+}
+BENCHMARK(BM_FirstOccupiedLaneBricks);
+#endif
 
 void BM_PreintegrationBuild(benchmark::State& state) {
   TfLut lut = shell_lut();
