@@ -209,9 +209,8 @@ void BM_FirstOccupiedLaneBricks(benchmark::State& state) {
       const float* const origin[3] = {o[0], o[1], o[2]};
       const float* const dir[3] = {d[0], d[1], d[2]};
       __m256 enter = _mm256_load_ps(t1), leave = enter;
-      unsigned none =
-          walker.first_occupied(lanes::LaneBricks::Rays::load(origin, dir), lanes::kAllLanes,
-                                _mm256_load_ps(t0), _mm256_load_ps(t1), enter, leave);
+      unsigned none = walker.first_occupied(walker.load(origin, dir), lanes::kAllLanes,
+                                            _mm256_load_ps(t0), _mm256_load_ps(t1), enter, leave);
       benchmark::DoNotOptimize(none);
       benchmark::DoNotOptimize(enter);
     }

@@ -18,40 +18,49 @@ class LaneBricks {
   LaneBricks(const BrickOccupancy& occ, SkipMode mode)
       : distances_(reinterpret_cast<const int*>(occ.padded_distances())),
         by_distance_(mode == SkipMode::distance),
-        inv_size_(splat(1.0f / static_cast<float>(occ.grid().size))),
-        size_(splat(static_cast<float>(occ.grid().size))) {
+        inv_size_(splat(1.0f / static_cast<float>(occ.grid().size))) {
     const glm::ivec3 d = occ.grid().dims;
-    dims_[0] = splat(d.x), dims_[1] = splat(d.y), dims_[2] = splat(d.z);
+    stride_y_ = splat(static_cast<float>(d.x));
+    stride_z_ = splat(static_cast<float>(d.x) * static_cast<float>(d.y));
     last_[0] = splat(static_cast<float>(d.x - 1));
     last_[1] = splat(static_cast<float>(d.y - 1));
     last_[2] = splat(static_cast<float>(d.z - 1));
   }
 
-  // One ray per lane in index space (same parameter t as the marcher); axes the ray runs
-  // parallel to (|dir| < 1e-12, as BrickDda) never cross a brick boundary.
+  // One ray per lane, in brick units (index space / brick size, same parameter t as the
+  // marcher). Axes the ray runs parallel to (|dir| < 1e-12 voxels, as BrickDda) never cross a
+  // brick boundary: their inverse direction is infinite and their shift positive.
   struct Rays {
-    __m256 origin[3], dir[3], inv_dir[3];  // inv_dir is 0 on parallel axes
-    __m256 forward[3], backward[3];        // all ones where the ray moves up / down that axis
-    __m256 toward[3];                      // +1, -1 or 0: where the next brick along that axis is
-
-    // From eight origins and directions per axis (structure of arrays, 32-byte aligned).
-    static Rays load(const float* const origin[3], const float* const dir[3]) {
-      Rays r;
-      const __m256 zero = _mm256_setzero_ps();
-      for (int a = 0; a < 3; ++a) {
-        r.origin[a] = _mm256_load_ps(origin[a]);
-        r.dir[a] = _mm256_load_ps(dir[a]);
-        const __m256 magnitude = _mm256_andnot_ps(splat(-0.0f), r.dir[a]);
-        const __m256 crosses = _mm256_cmp_ps(magnitude, splat(1e-12f), _CMP_GE_OQ);
-        r.inv_dir[a] = _mm256_and_ps(crosses, _mm256_div_ps(splat(1.0f), r.dir[a]));
-        r.forward[a] = _mm256_and_ps(crosses, _mm256_cmp_ps(r.dir[a], zero, _CMP_GT_OQ));
-        r.backward[a] = _mm256_andnot_ps(r.forward[a], crosses);
-        r.toward[a] = _mm256_or_ps(_mm256_and_ps(r.forward[a], splat(1.0f)),
-                                   _mm256_and_ps(r.backward[a], splat(-1.0f)));
-      }
-      return r;
-    }
+    __m256 origin[3], dir[3];
+    __m256 inv_dir[3];   // 1 / dir
+    __m256 shift[3];     // crossing brick j's far face at t = (j + shift) * inv_dir
+    __m256 toward[3];    // +1, -1 or 0: where the next brick along that axis is
+    __m256 backward[3];  // all ones where the ray moves down that axis
+    __m256 edge[3];      // the brick after which the ray leaves the grid (-1: never)
   };
+
+  // The rays of eight origins and directions in index space (structure of arrays, 32-byte
+  // aligned).
+  Rays load(const float* const origin[3], const float* const dir[3]) const {
+    Rays r;
+    const __m256 zero = _mm256_setzero_ps(), one = splat(1.0f);
+    for (int a = 0; a < 3; ++a) {
+      const __m256 o = _mm256_mul_ps(_mm256_load_ps(origin[a]), inv_size_);
+      const __m256 d = _mm256_load_ps(dir[a]);
+      const __m256 crosses =
+          _mm256_cmp_ps(_mm256_andnot_ps(splat(-0.0f), d), splat(1e-12f), _CMP_GE_OQ);
+      const __m256 forward = _mm256_and_ps(crosses, _mm256_cmp_ps(d, zero, _CMP_GT_OQ));
+      r.origin[a] = o;
+      r.dir[a] = _mm256_mul_ps(d, inv_size_);
+      r.backward[a] = _mm256_andnot_ps(forward, crosses);
+      r.inv_dir[a] = _mm256_blendv_ps(splat(INFINITY), _mm256_div_ps(one, r.dir[a]), crosses);
+      r.shift[a] = _mm256_blendv_ps(one, _mm256_sub_ps(_mm256_and_ps(forward, one), o), crosses);
+      r.toward[a] =
+          _mm256_or_ps(_mm256_and_ps(forward, one), _mm256_and_ps(r.backward[a], splat(-1.0f)));
+      r.edge[a] = _mm256_blendv_ps(splat(-1.0f), _mm256_and_ps(forward, last_[a]), crosses);
+    }
+    return r;
+  }
 
   // Where the lanes in `walk` meet their first occupied brick at or after `t`, before `t1`:
   // `enter` gets the time the ray enters it (t itself when it is already in one), `leave` the time
@@ -61,19 +70,16 @@ class LaneBricks {
     __m256 cell[3];
     for (int a = 0; a < 3; ++a) {
       // As BrickDda's constructor: a start on a boundary belongs to the brick the ray moves into.
-      const __m256 x = _mm256_mul_ps(_mm256_fmadd_ps(t, ray.dir[a], ray.origin[a]), inv_size_);
+      const __m256 x = _mm256_fmadd_ps(t, ray.dir[a], ray.origin[a]);
       const __m256 c = _mm256_blendv_ps(
           _mm256_floor_ps(x), _mm256_sub_ps(_mm256_ceil_ps(x), splat(1.0f)), ray.backward[a]);
       cell[a] = clamp_cell(a, c);
     }
     unsigned none = 0;
     for (unsigned pending = walk; pending;) {
-      const __m256i index = _mm256_add_epi32(
-          _mm256_cvttps_epi32(cell[0]),
-          _mm256_mullo_epi32(
-              _mm256_add_epi32(_mm256_cvttps_epi32(cell[1]),
-                               _mm256_mullo_epi32(_mm256_cvttps_epi32(cell[2]), dims_[1])),
-              dims_[0]));
+      // Brick indices stay far below 2^24: exact in floats.
+      const __m256i index = _mm256_cvttps_epi32(
+          _mm256_fmadd_ps(cell[2], stride_z_, _mm256_fmadd_ps(cell[1], stride_y_, cell[0])));
       const __m256i d = _mm256_and_si256(_mm256_i32gather_epi32(distances_, index, 1), splat(0xff));
       const __m256 occupied = _mm256_castsi256_ps(_mm256_cmpeq_epi32(d, _mm256_setzero_si256()));
       // The cube of empty bricks reaches `reach` bricks ahead of this one (with SkipMode::bricks,
@@ -106,8 +112,7 @@ class LaneBricks {
         const __m256 is_exit = _mm256_andnot_ps(taken, _mm256_cmp_ps(exit_t[a], exit, _CMP_EQ_OQ));
         taken = _mm256_or_ps(taken, is_exit);
         const __m256 past = _mm256_add_ps(far[a], ray.toward[a]);
-        const __m256 at = _mm256_floor_ps(
-            _mm256_mul_ps(_mm256_fmadd_ps(exit, ray.dir[a], ray.origin[a]), inv_size_));
+        const __m256 at = _mm256_floor_ps(_mm256_fmadd_ps(exit, ray.dir[a], ray.origin[a]));
         const __m256 inside = _mm256_min_ps(_mm256_max_ps(at, _mm256_min_ps(cell[a], far[a])),
                                             _mm256_max_ps(cell[a], far[a]));
         cell[a] = _mm256_blendv_ps(cell[a], _mm256_blendv_ps(inside, past, is_exit), go);
@@ -126,19 +131,15 @@ class LaneBricks {
   // BrickDda::crossing in lanes: when the ray leaves brick j of axis a, infinity where it never
   // does or where the next brick is outside the grid.
   __m256 crossing(const Rays& ray, int a, __m256 j) const {
-    const __m256 up = _mm256_and_ps(ray.forward[a], _mm256_cmp_ps(j, last_[a], _CMP_LT_OQ));
-    const __m256 down =
-        _mm256_and_ps(ray.backward[a], _mm256_cmp_ps(j, _mm256_setzero_ps(), _CMP_GT_OQ));
-    const __m256 plane = _mm256_mul_ps(_mm256_add_ps(j, _mm256_and_ps(up, splat(1.0f))), size_);
-    const __m256 t = _mm256_mul_ps(_mm256_sub_ps(plane, ray.origin[a]), ray.inv_dir[a]);
-    return _mm256_blendv_ps(splat(INFINITY), t, _mm256_or_ps(up, down));
+    const __m256 t = _mm256_mul_ps(_mm256_add_ps(j, ray.shift[a]), ray.inv_dir[a]);
+    return _mm256_blendv_ps(t, splat(INFINITY), _mm256_cmp_ps(j, ray.edge[a], _CMP_EQ_OQ));
   }
 
   const int* distances_;
   bool by_distance_;
-  __m256 inv_size_, size_;
-  __m256i dims_[3];
-  __m256 last_[3];  // dims - 1, as floats
+  __m256 inv_size_;
+  __m256 stride_y_, stride_z_;  // brick index strides, as floats
+  __m256 last_[3];              // dims - 1, as floats
 };
 
 }  // namespace imx::lanes

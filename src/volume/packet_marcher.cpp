@@ -317,7 +317,7 @@ class PacketKernel {
   unsigned settle(unsigned m) {
     const float* const origin[3] = {L_.ox, L_.oy, L_.oz};
     const float* const dir[3] = {L_.dx, L_.dy, L_.dz};
-    const LaneBricks::Rays ray = LaneBricks::Rays::load(origin, dir);
+    const LaneBricks::Rays ray = bricks_->load(origin, dir);
     const __m256 front = _mm256_load_ps(L_.front), t1 = _mm256_load_ps(L_.t1);
     __m256 enter = t1, leave = _mm256_load_ps(L_.occupied_until);
     const unsigned none = bricks_->first_occupied(ray, m, front, t1, enter, leave);

@@ -62,13 +62,13 @@ TEST(LaneBricks, FindTheFirstOccupiedBrickAsBrickDdaDoes) {
       }
       const float* const origin[3] = {o[0], o[1], o[2]};
       const float* const dir[3] = {d[0], d[1], d[2]};
-      const LaneBricks::Rays lanes = LaneBricks::Rays::load(origin, dir);
+
       for (const PreparedVolume* v : {&bricks, &distance}) {
         LaneBricks walker(*v->accel.occupancy, v->accel.skip);
         alignas(32) float enter[kLanes], leave[kLanes];
         __m256 e = _mm256_set1_ps(-1.0f), x = _mm256_set1_ps(-1.0f);
-        unsigned missed =
-            walker.first_occupied(lanes, 0xff, _mm256_load_ps(t), _mm256_load_ps(t1), e, x);
+        unsigned missed = walker.first_occupied(walker.load(origin, dir), 0xff, _mm256_load_ps(t),
+                                                _mm256_load_ps(t1), e, x);
         _mm256_store_ps(enter, e), _mm256_store_ps(leave, x);
         for (int l = 0; l < kLanes; ++l) {
           Found want = walk_one_brick_at_a_time(occ, rays[l], t[l], t1[l]);
