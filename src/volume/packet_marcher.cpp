@@ -229,17 +229,22 @@ class PacketKernel {
       unsigned live = fill();
       if (!live) return;
       while (live) {
-        step(live);
+        const unsigned lit = step(live);
         const __m256 active = lane_mask(live);
         __m256 ended = _mm256_or_ps(
             _mm256_cmp_ps(_mm256_load_ps(L_.front), _mm256_load_ps(L_.t1), _CMP_NLT_UQ),
             _mm256_cmp_ps(_mm256_load_ps(L_.a), splat(ert_), _CMP_NLT_UQ));
         unsigned done = static_cast<unsigned>(_mm256_movemask_ps(_mm256_and_ps(ended, active)));
         if (bricks_) {
-          // Lanes that left their occupied brick look for the next one.
+          // Lanes that left their occupied brick look for the next one, except those whose last
+          // piece was visible: they are in matter and look at their next transparent piece
+          // (FLAIR 1.5 ms faster). The one piece this can add lies beyond the brick just left;
+          // it differs from a skipped one only if it spans two empty bricks whose value ranges
+          // straddle a visible one (no image here changed).
           __m256 look = _mm256_cmp_ps(_mm256_load_ps(L_.front), _mm256_load_ps(L_.occupied_until),
                                       _CMP_GE_OQ);
-          unsigned m = static_cast<unsigned>(_mm256_movemask_ps(_mm256_and_ps(look, active)));
+          unsigned m =
+              static_cast<unsigned>(_mm256_movemask_ps(_mm256_and_ps(look, active))) & ~lit;
           if (m &= ~done) done |= settle(m);
         }
         for (live &= ~done; done; done &= done - 1) {
@@ -348,8 +353,9 @@ class PacketKernel {
     return none | static_cast<unsigned>(_mm256_movemask_ps(at_end));
   }
 
-  // One piece in every live lane: sample, range test, classify, shade, composite.
-  void step(unsigned live) {
+  // One piece in every live lane: sample, range test, classify, shade, composite. Returns the
+  // lanes whose piece was visible.
+  unsigned step(unsigned live) {
     const __m256 active = lane_mask(live);
     const __m256 ox = _mm256_load_ps(L_.ox), oy = _mm256_load_ps(L_.oy), oz = _mm256_load_ps(L_.oz);
     const __m256 dx = _mm256_load_ps(L_.dx), dy = _mm256_load_ps(L_.dy), dz = _mm256_load_ps(L_.dz);
@@ -388,12 +394,12 @@ class PacketKernel {
       }
       vis = lane_mask(keep);
     }
-    if (!_mm256_movemask_ps(vis)) return;
+    if (!_mm256_movemask_ps(vis)) return 0;
 
     __m256 cr, cg, cb, ca;
     lookup(s_f, s_b, cr, cg, cb, ca);
     vis = _mm256_and_ps(vis, _mm256_cmp_ps(ca, _mm256_setzero_ps(), _CMP_GT_OQ));
-    if (!_mm256_movemask_ps(vis)) return;
+    if (!_mm256_movemask_ps(vis)) return 0;
     const __m256 short_piece =
         _mm256_and_ps(vis, _mm256_cmp_ps(len, splat(0.9999f * step_), _CMP_NGE_UQ));
     if (_mm256_movemask_ps(short_piece)) correct_short(short_piece, len, cr, cg, cb, ca);
@@ -410,6 +416,7 @@ class PacketKernel {
     _mm256_store_ps(L_.g, _mm256_blendv_ps(ag, _mm256_fmadd_ps(w, cg, ag), vis));
     _mm256_store_ps(L_.b, _mm256_blendv_ps(ab, _mm256_fmadd_ps(w, cb, ab), vis));
     _mm256_store_ps(L_.a, _mm256_blendv_ps(aa, _mm256_fmadd_ps(w, ca, aa), vis));
+    return static_cast<unsigned>(_mm256_movemask_ps(vis));
   }
 
   // TfEmptiness::is_empty_between in lanes (NaN ends as there: a NaN front is never empty, a
