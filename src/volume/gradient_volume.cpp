@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "core/parallel.hpp"
 
@@ -24,29 +25,40 @@ float difference(const Grid& g, glm::ivec3 p, int axis) {
 
 GradientVolume::GradientVolume(const AnyGrid& voxels, int threads) : dims_(voxels.dims) {
   const size_t count = static_cast<size_t>(dims_.x) * dims_.y * dims_.z;
-  data_.resize(3 * count + 1);  // the spare entry: see sample()
-  // Two passes (largest component, then quantize) instead of a float copy: 6 bytes a voxel at
-  // the peak, not 18.
+  // Two passes (largest component, then quantize) instead of a float copy: the stored size at
+  // the peak, not 18 bytes a voxel.
   voxels.visit([&](const auto& g) {
+    using T = std::remove_cvref_t<decltype(*g.data)>;
     auto each_slice = [&](auto&& fn) {
       parallel_for(dims_.z, threads, [&](long k0, long k1) {
         for (int k = static_cast<int>(k0); k < k1; ++k)
           for (int j = 0; j < dims_.y; ++j)
             for (int i = 0; i < dims_.x; ++i) {
-              size_t n = 3 * ((static_cast<size_t>(k) * dims_.y + j) * dims_.x + i);
-              for (int a = 0; a < 3; ++a) fn(n + a, difference(g, {i, j, k}, a), k);
+              size_t n = (static_cast<size_t>(k) * dims_.y + j) * dims_.x + i;
+              for (int a = 0; a < 3; ++a) fn(n, a, difference(g, {i, j, k}, a), k);
             }
       });
     };
     std::vector<float> largest_per_slice(dims_.z, 0.0f);
-    each_slice([&](size_t, float d, int k) {
+    each_slice([&](size_t, int, float d, int k) {
       if (std::isfinite(d)) largest_per_slice[k] = std::max(largest_per_slice[k], std::abs(d));
     });
     float largest = *std::max_element(largest_per_slice.begin(), largest_per_slice.end());
+    // Integer voxels make every 2 x difference an integer: exact in 10 bits up to 511.
+    if (std::is_integral_v<T> && 2.0f * largest <= 511.0f) {
+      scale_ = 0.5f;
+      words_.assign(count, 0u);
+      each_slice([&](size_t n, int a, float d, int) {
+        uint32_t code = static_cast<uint32_t>(static_cast<int>(std::lround(2.0f * d))) & 0x3ffu;
+        words_[n] |= code << (10 * a);  // one thread writes all three fields of a voxel
+      });
+      return;
+    }
     scale_ = largest > 0.0f ? largest / 32767.0f : 1.0f;
     const float inv = 1.0f / scale_;
-    each_slice([&](size_t n, float d, int) {
-      data_[n] = std::isfinite(d) ? static_cast<int16_t>(std::lround(d * inv)) : 0;
+    data_.resize(3 * count + 1);  // the spare entry: see sample()
+    each_slice([&](size_t n, int a, float d, int) {
+      data_[3 * n + a] = std::isfinite(d) ? static_cast<int16_t>(std::lround(d * inv)) : 0;
     });
   });
 }

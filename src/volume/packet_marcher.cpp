@@ -136,12 +136,17 @@ class LaneGrid {
   __m256i last_word_;  // the last voxel a 32-bit word may start at
 };
 
-// GradientVolume::sample in lanes: each corner's x, y, z (int16) as two 32-bit gathers, (x, y)
-// and (z, next voxel's x); the volume's spare entry keeps the last voxel's second word inside.
+// GradientVolume::sample in lanes. Packed layout: one 32-bit gather per corner, the fields
+// split by shifts. Int16 layout: two per corner, (x, y) and (z, next voxel's x); the volume's
+// spare entry keeps the last voxel's second word inside.
 class LaneGradients {
  public:
   explicit LaneGradients(const GradientVolume& g)
-      : words_(g.data()), lattice_(g.dims()), scale_(splat(g.scale())) {}
+      : words_(g.words()),
+        int16_(g.data()),
+        packed_(g.packed()),
+        lattice_(g.dims()),
+        scale_(splat(g.scale())) {}
 
   void sample(__m256 px, __m256 py, __m256 pz, __m256& gx, __m256& gy, __m256& gz) const {
     __m256 fx, fy, fz;
@@ -158,14 +163,24 @@ class LaneGradients {
         _mm256_add_epi32(_mm256_add_epi32(base, sz), sy),
         _mm256_add_epi32(_mm256_add_epi32(_mm256_add_epi32(base, sz), sy), one)};
     __m256 cx[8], cy[8], cz[8];
-    const int* words = reinterpret_cast<const int*>(words_);
-    for (int c = 0; c < 8; ++c) {
-      __m256i at = _mm256_mullo_epi32(corner[c], splat(6));  // bytes: 3 int16 per voxel
-      __m256i xy = _mm256_i32gather_epi32(words, at, 1);
-      __m256i zx = _mm256_i32gather_epi32(words, _mm256_add_epi32(at, splat(4)), 1);
-      cx[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(xy, 16), 16));
-      cy[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(xy, 16));
-      cz[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(zx, 16), 16));
+    if (packed_) {
+      const int* words = reinterpret_cast<const int*>(words_);
+      for (int c = 0; c < 8; ++c) {
+        const __m256i w = _mm256_i32gather_epi32(words, corner[c], 4);
+        cx[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(w, 22), 22));
+        cy[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(w, 12), 22));
+        cz[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(w, 2), 22));
+      }
+    } else {
+      const int* words = reinterpret_cast<const int*>(int16_);
+      for (int c = 0; c < 8; ++c) {
+        __m256i at = _mm256_mullo_epi32(corner[c], splat(6));  // bytes: 3 int16 per voxel
+        __m256i xy = _mm256_i32gather_epi32(words, at, 1);
+        __m256i zx = _mm256_i32gather_epi32(words, _mm256_add_epi32(at, splat(4)), 1);
+        cx[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(xy, 16), 16));
+        cy[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(xy, 16));
+        cz[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(zx, 16), 16));
+      }
     }
     auto trilinear = [&](const __m256* v) {
       __m256 c00 = lerp(v[0], v[1], fx), c10 = lerp(v[2], v[3], fx);
@@ -176,7 +191,9 @@ class LaneGradients {
   }
 
  private:
-  const int16_t* words_;
+  const uint32_t* words_;
+  const int16_t* int16_;
+  bool packed_;
   LaneLattice lattice_;
   __m256 scale_;
 };
@@ -581,7 +598,10 @@ bool packet_marching_supported(const PreparedVolume& v, std::span<const ShadingL
 #if IMX_PACKET_LANES
   const glm::ivec3 d = v.grid.dims;
   if (!v.accel.preint || d.x < 2 || d.y < 2 || d.z < 2) return false;
-  if (static_cast<double>(d.x) * d.y * d.z >= 2147483647.0) return false;  // int32 gathers
+  // Gathers take int32 indices: voxels, and the byte offsets of int16 gradients.
+  const double voxels = static_cast<double>(d.x) * d.y * d.z;
+  const bool int16_gradients = v.accel.gradients && !v.accel.gradients->packed();
+  if (voxels * (int16_gradients ? 6.0 : 1.0) + 4.0 >= 2147483647.0) return false;
   const Shading& s = v.object->shading;
   if (!s.enabled) return true;
   return lights.size() <= static_cast<size_t>(RayShading::kMaxLights) && !v.specular.exact();

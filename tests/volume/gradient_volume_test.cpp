@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
+#include <variant>
+#include <vector>
 
 #include "random_volumes.hpp"
 
@@ -51,13 +54,19 @@ TEST(GradientVolume, MatchesOnTheFlyGradientsAtVoxelCentres) {
 TEST(GradientVolume, InterpolatesTrilinearlyBetweenVoxels) {
   std::mt19937 rng(9);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  for (glm::ivec3 dims : {glm::ivec3(6, 5, 4), glm::ivec3(5, 1, 3), glm::ivec3(1, 1, 4)}) {
-    VolumeData v = test::blob_volume<int16_t>(dims, rng, 2.0f, -300.0f);
+  for (int n = 0; n < 6; ++n) {
+    const glm::ivec3 all[3] = {glm::ivec3(6, 5, 4), glm::ivec3(5, 1, 3), glm::ivec3(1, 1, 4)};
+    const glm::ivec3 dims = all[n % 3];
+    // Both layouts: 8-bit voxels pack, an int16 volume with a step of 2000 does not.
+    VolumeData v = n < 3 ? test::blob_volume<uint8_t>(dims, rng)
+                         : test::blob_volume<int16_t>(dims, rng, 2.0f, -300.0f);
+    if (n >= 3) std::get<std::vector<int16_t>>(v.voxels).back() = 2000;
     GradientVolume g{AnyGrid(v)};
+    EXPECT_EQ(g.packed(), n < 3);
     auto at = [&](glm::ivec3 i) { return g.sample(glm::vec3(glm::min(i, dims - 1))); };
-    for (int n = 0; n < 200; ++n) {
+    for (int k = 0; k < 200; ++k) {
       glm::vec3 p = glm::vec3(unit(rng), unit(rng), unit(rng)) * glm::vec3(dims - 1);
-      if (n == 0) p = glm::vec3(dims - 1);
+      if (k == 0) p = glm::vec3(dims - 1);
       glm::ivec3 i0 = glm::min(glm::ivec3(p), glm::max(dims - 2, glm::ivec3(0)));
       glm::vec3 f = p - glm::vec3(i0);
       glm::vec3 expected(0.0f);
@@ -72,6 +81,40 @@ TEST(GradientVolume, InterpolatesTrilinearlyBetweenVoxels) {
             << "dims " << dims.x << "x" << dims.y << "x" << dims.z << " axis " << a;
     }
   }
+}
+
+// Integer voxels whose central differences fit in 10 bits are stored exactly, 4 bytes a voxel:
+// every voxel-centre gradient equals the central difference with no rounding at all.
+TEST(GradientVolume, PacksSmallIntegerDifferencesExactly) {
+  std::mt19937 rng(17);
+  VolumeData bytes = test::blob_volume<uint8_t>({13, 11, 9}, rng);
+  VolumeData narrow = test::blob_volume<int16_t>({13, 11, 9}, rng, 1.0f, -100.0f);
+  VolumeData floats = test::blob_volume<float>({13, 11, 9}, rng, 0.01f);
+  for (const VolumeData* v : {&bytes, &narrow}) {
+    AnyGrid grid(*v);
+    GradientVolume g(grid);
+    ASSERT_TRUE(g.packed());
+    EXPECT_EQ(g.bytes(), 4u * 13 * 11 * 9);
+    grid.visit([&](const auto& voxels) {
+      for (int k = 0; k < 9; ++k)
+        for (int j = 0; j < 11; ++j)
+          for (int i = 0; i < 13; ++i) {
+            glm::ivec3 p(i, j, k);
+            glm::vec3 got = g.sample(glm::vec3(p));
+            for (int a = 0; a < 3; ++a) {
+              glm::ivec3 lo = p, hi = p;
+              lo[a] = std::max(p[a] - 1, 0);
+              hi[a] = std::min(p[a] + 1, voxels.dims[a] - 1);
+              float want = (static_cast<float>(voxels.at(hi.x, hi.y, hi.z)) -
+                            static_cast<float>(voxels.at(lo.x, lo.y, lo.z))) /
+                           static_cast<float>(hi[a] - lo[a]);
+              ASSERT_EQ(got[a], want) << i << " " << j << " " << k << " axis " << a;
+            }
+          }
+    });
+  }
+  EXPECT_FALSE(GradientVolume(AnyGrid(floats)).packed());  // float differences need not be
+                                                           // integers
 }
 
 }  // namespace
