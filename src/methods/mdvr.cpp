@@ -68,16 +68,20 @@ Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const Mdv
         auto add = [&](int x, int y) {
           image.at(x, y) = empty;
           if (!visible || x < box.x0 || x >= box.x1 || y < box.y0 || y >= box.y1) return;
-          Ray ray = frame.camera.ray(x + 0.5, y + 0.5);
-          RayInterval span = v.intersect(ray);
-          if (span.empty()) return;
-          rays[n] = {ray, span.t0, span.t1};
+          rays[n] = {frame.camera.ray(x + 0.5, y + 0.5)};
           pixel[n++] = {x, y};
         };
         for (int y = tile.y0; y < tile.y1; y += 2)
           for (int x = tile.x0; x < tile.x1; x += 4)
             for (int dy = 0; dy < 2 && y + dy < tile.y1; ++dy)
               for (int dx = 0; dx < 4 && x + dx < tile.x1; ++dx) add(x + dx, y + dy);
+        // The box test in lanes, then only the rays that meet the volume, in the same order.
+        intersect_packets(v, std::span<PacketRay>(rays, n));
+        int kept = 0;
+        for (int k = 0; k < n; ++k)
+          if (!RayInterval{rays[k].t0, rays[k].t1}.empty())
+            rays[kept] = rays[k], pixel[kept++] = pixel[k];
+        n = kept;
         composite_packets(v, std::span<const PacketRay>(rays, n), params.step, frame.lights,
                           params.ert, std::span<glm::vec4>(colour, n));
         for (int k = 0; k < n; ++k)

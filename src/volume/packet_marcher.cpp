@@ -611,6 +611,68 @@ bool packet_marching_supported(const PreparedVolume& v, std::span<const ShadingL
 #endif
 }
 
+void intersect_packets(const PreparedVolume& v, std::span<PacketRay> rays) {
+  size_t first = 0;
+#if IMX_PACKET_LANES
+  const glm::mat4& m = v.world_to_index;
+  const glm::vec3 hi = glm::vec3(v.grid.dims - 1);
+  const __m256 zero = _mm256_setzero_ps(), tiny = splat(1e-12f), sign = splat(-0.0f);
+  for (; first + kLanes <= rays.size(); first += kLanes) {
+    alignas(32) float o[3][kLanes], d[3][kLanes];
+    for (int l = 0; l < kLanes; ++l)
+      for (int a = 0; a < 3; ++a)
+        o[a][l] = rays[first + l].ray.origin[a], d[a][l] = rays[first + l].ray.dir[a];
+    __m256 wo[3], wd[3];
+    for (int a = 0; a < 3; ++a) wo[a] = _mm256_load_ps(o[a]), wd[a] = _mm256_load_ps(d[a]);
+    __m256 t0 = zero, t1 = splat(INFINITY), outside = zero;
+    for (int a = 0; a < 3; ++a) {
+      // Row a of the index map: the ray's origin and direction in index space.
+      const __m256 io =
+          _mm256_fmadd_ps(splat(m[2][a]), wo[2],
+                          _mm256_fmadd_ps(splat(m[1][a]), wo[1],
+                                          _mm256_fmadd_ps(splat(m[0][a]), wo[0], splat(m[3][a]))));
+      const __m256 id = dot3(splat(m[0][a]), splat(m[1][a]), splat(m[2][a]), wd[0], wd[1], wd[2]);
+      const __m256 parallel = _mm256_cmp_ps(_mm256_andnot_ps(sign, id), tiny, _CMP_LT_OQ);
+      const __m256 beyond = _mm256_or_ps(_mm256_cmp_ps(io, zero, _CMP_LT_OQ),
+                                         _mm256_cmp_ps(io, splat(hi[a]), _CMP_GT_OQ));
+      outside = _mm256_or_ps(outside, _mm256_and_ps(parallel, beyond));
+      const __m256 inv = _mm256_div_ps(splat(1.0f), id);
+      const __m256 ta = _mm256_mul_ps(_mm256_sub_ps(zero, io), inv);
+      const __m256 tb = _mm256_mul_ps(_mm256_sub_ps(splat(hi[a]), io), inv);
+      const __m256 swap = _mm256_cmp_ps(ta, tb, _CMP_GT_OQ);
+      const __m256 near = _mm256_blendv_ps(ta, tb, swap), far = _mm256_blendv_ps(tb, ta, swap);
+      // As std::max(t0, near) and std::min(t1, far): a NaN bound leaves the interval alone.
+      t0 = _mm256_blendv_ps(_mm256_max_ps(near, t0), t0, parallel);
+      t1 = _mm256_blendv_ps(_mm256_min_ps(far, t1), t1, parallel);
+    }
+    for (const ClipPlane& c : v.object->clip_planes) {
+      const glm::vec3 n(c.normal), p(c.point);
+      const __m256 side =
+          dot3(_mm256_sub_ps(wo[0], splat(p.x)), _mm256_sub_ps(wo[1], splat(p.y)),
+               _mm256_sub_ps(wo[2], splat(p.z)), splat(n.x), splat(n.y), splat(n.z));
+      const __m256 rate = dot3(wd[0], wd[1], wd[2], splat(n.x), splat(n.y), splat(n.z));
+      const __m256 parallel = _mm256_cmp_ps(_mm256_andnot_ps(sign, rate), tiny, _CMP_LT_OQ);
+      outside =
+          _mm256_or_ps(outside, _mm256_and_ps(parallel, _mm256_cmp_ps(side, zero, _CMP_LT_OQ)));
+      const __m256 t = _mm256_div_ps(_mm256_xor_ps(side, sign), rate);
+      const __m256 entering = _mm256_cmp_ps(rate, zero, _CMP_GT_OQ);
+      t0 = _mm256_blendv_ps(t0, _mm256_max_ps(t, t0), _mm256_andnot_ps(parallel, entering));
+      t1 = _mm256_blendv_ps(t1, _mm256_min_ps(t, t1),
+                            _mm256_andnot_ps(parallel, _mm256_cmp_ps(rate, zero, _CMP_LE_OQ)));
+    }
+    t0 = _mm256_blendv_ps(t0, zero, outside);
+    t1 = _mm256_blendv_ps(t1, splat(-1.0f), outside);
+    alignas(32) float lo[kLanes], up[kLanes];
+    _mm256_store_ps(lo, t0), _mm256_store_ps(up, t1);
+    for (int l = 0; l < kLanes; ++l) rays[first + l].t0 = lo[l], rays[first + l].t1 = up[l];
+  }
+#endif
+  for (; first < rays.size(); ++first) {
+    const RayInterval span = v.intersect(rays[first].ray);
+    rays[first].t0 = span.t0, rays[first].t1 = span.t1;
+  }
+}
+
 void composite_packets(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
                        std::span<const ShadingLight> lights, float ert, std::span<glm::vec4> out) {
 #if IMX_PACKET_LANES

@@ -25,6 +25,10 @@ struct PacketRay {
 // it marches each ray with VolumeMarcher, with the same results.
 bool packet_marching_supported(const PreparedVolume& v, std::span<const ShadingLight> lights);
 
+// Sets each ray's [t0, t1] to PreparedVolume::intersect(ray), eight rays at a time in lanes
+// where the build has AVX2 (the same interval up to float rounding).
+void intersect_packets(const PreparedVolume& v, std::span<PacketRay> rays);
+
 // out[i] = the premultiplied colour that VolumeMarcher(v, rays[i].ray, rays[i].t0, rays[i].t1,
 // step, lights, SlabExtent::grid).composite() makes from (0, 0, 0, 0) with termination at
 // `ert`, up to float reassociation. Rays go in packets of eight in batch order, so neighbouring

@@ -183,6 +183,38 @@ TEST(PacketMarcher, JumpsOverWideEmptySpaceAsTheMarcherDoes) {
   expect_same_as_marcher(v, rays, step, kLights, 0.99f);
 }
 
+// The box and clip-plane test in lanes against PreparedVolume::intersect: rays that miss, rays
+// parallel to a grid axis or a plane, and a batch that is not a multiple of eight.
+TEST(PacketMarcher, IntersectsAsThePreparedVolumeDoes) {
+  std::mt19937 rng(51);
+  VolumeObject obj;
+  obj.name = "blobs";
+  obj.data = std::make_shared<VolumeData>(test::blob_volume<uint8_t>({30, 25, 20}, rng));
+  obj.index_to_world = glm::dmat4(glm::dmat3(1.0, 0.0, 0.0, 0.0, 1.2, 0.0, 0.0, 0.0, 0.8));
+  obj.clip_planes = {{glm::dvec3(15, 15, 8), glm::normalize(glm::dvec3(0.3, -1.0, 0.2))},
+                     {glm::dvec3(0, 0, 12), glm::dvec3(0, 0, -1)}};
+  obj.transfer_function = test::random_tf(rng, 0.0f, 255.0f);
+  PreparedVolume v = prepared(obj, 1.0f, {SkipMode::distance, Classification::preintegrated});
+  std::vector<PacketRay> rays = random_rays(rng, v, 203, glm::vec3(15.0f, 15.0f, 8.0f), 40.0f);
+  for (int k = 0; k < 12; ++k) {  // along x (parallel to y, z and the second plane), in and out
+    const float y = k < 6 ? 10.0f + k : -5.0f - k;
+    rays[static_cast<size_t>(k)].ray = Ray{glm::vec3(-20.0f, y, 5.0f + k), glm::vec3(1, 0, 0)};
+  }
+  int hits = 0;
+  intersect_packets(v, rays);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    RayInterval want = v.intersect(rays[i].ray);
+    const bool got_empty = RayInterval{rays[i].t0, rays[i].t1}.empty();
+    ASSERT_EQ(want.empty(), got_empty) << "ray " << i;
+    if (want.empty()) continue;
+    ++hits;
+    EXPECT_NEAR(rays[i].t0, want.t0, 1e-4f * (1.0f + std::abs(want.t0))) << "ray " << i;
+    EXPECT_NEAR(rays[i].t1, want.t1, 1e-4f * (1.0f + std::abs(want.t1))) << "ray " << i;
+  }
+  EXPECT_GT(hits, 40);
+  EXPECT_LT(hits, static_cast<int>(rays.size()) - 40);
+}
+
 // A fractional shininess runs in lanes (the same specular table); what the lanes do not handle
 // (post-classification, a shininess below 1, which has no table) goes to VolumeMarcher: the
 // same answers either way.
