@@ -293,7 +293,13 @@ class PacketKernel {
         const __m256 none =
             _mm256_cmp_ps(_mm256_load_ps(L_.front), _mm256_load_ps(L_.t1), _CMP_NLT_UQ);
         empty = fresh & static_cast<unsigned>(_mm256_movemask_ps(none));
-        if (bricks_ && (fresh & ~empty)) empty |= settle(fresh & ~empty);
+        if (bricks_ && (fresh & ~empty)) {
+          // The lanes' rays for the brick walk, kept until the packet is filled again.
+          const float* const origin[3] = {L_.ox, L_.oy, L_.oz};
+          const float* const dir[3] = {L_.dx, L_.dy, L_.dz};
+          brick_rays_ = bricks_->load(origin, dir);
+          empty |= settle(fresh & ~empty);
+        }
       }
       for (unsigned m = empty; m; m &= m - 1) out_[L_.ray[__builtin_ctz(m)]] = glm::vec4(0.0f);
       live |= fresh & ~empty;
@@ -337,12 +343,9 @@ class PacketKernel {
   // the piece it is in, and looks again once it leaves that brick. Returns the lanes with nothing
   // left to march.
   unsigned settle(unsigned m) {
-    const float* const origin[3] = {L_.ox, L_.oy, L_.oz};
-    const float* const dir[3] = {L_.dx, L_.dy, L_.dz};
-    const LaneBricks::Rays ray = bricks_->load(origin, dir);
     const __m256 front = _mm256_load_ps(L_.front), t1 = _mm256_load_ps(L_.t1);
     __m256 enter = t1, leave = _mm256_load_ps(L_.occupied_until);
-    const unsigned none = bricks_->first_occupied(ray, m, front, t1, enter, leave);
+    const unsigned none = bricks_->first_occupied(brick_rays_, m, front, t1, enter, leave);
     const __m256 walked = lane_mask(m & ~none);
     _mm256_store_ps(L_.occupied_until,
                     _mm256_blendv_ps(_mm256_load_ps(L_.occupied_until), leave, walked));
@@ -577,6 +580,7 @@ class PacketKernel {
   LaneGrid<T> grid_;
   std::optional<LaneGradients> gradients_;  // empty: gradients on the fly
   std::optional<LaneBricks> bricks_;        // empty: no skipping
+  LaneBricks::Rays brick_rays_{};
   std::span<const PacketRay> rays_;
   std::span<glm::vec4> out_;
   std::span<const ShadingLight> lights_;
