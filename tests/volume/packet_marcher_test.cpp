@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -34,20 +35,29 @@ std::vector<PacketRay> random_rays(std::mt19937& rng, const PreparedVolume& v, i
   return rays;
 }
 
-// The packets against one VolumeMarcher per ray; returns how many rays reached `ert`.
+// The packets against one VolumeMarcher per ray; returns how many rays reached `ert`. Every ray
+// agrees to 1e-4, but for 1 ray in 100 at most, which may differ by up to 1e-2: two-sided
+// shading turns the normal toward the eye, so a light other than the headlight lights a piece
+// or not as n.e crosses 0, and the two paths (or two compilers) can round that sign apart.
 int expect_same_as_marcher(const PreparedVolume& v, const std::vector<PacketRay>& rays, float step,
                            std::span<const ShadingLight> lights, float ert) {
   std::vector<glm::vec4> out(rays.size(), glm::vec4(-1.0f));
   composite_packets(v, rays, step, lights, ert, out);
   int terminated = 0;
+  size_t apart = 0;
   for (size_t i = 0; i < rays.size(); ++i) {
     glm::vec4 acc(0.0f);
     VolumeMarcher m(v, rays[i].ray, rays[i].t0, rays[i].t1, step, lights, SlabExtent::grid);
     m.composite(acc, ert);
     terminated += acc.a >= ert;
-    for (int c = 0; c < 4; ++c)
-      EXPECT_NEAR(out[i][c], acc[c], 1e-4f) << "ray " << i << " channel " << c;
+    float worst = 0.0f;
+    for (int c = 0; c < 4; ++c) worst = std::max(worst, std::abs(out[i][c] - acc[c]));
+    if (worst <= 1e-4f) continue;
+    ++apart;
+    EXPECT_LE(worst, 1e-2f) << "ray " << i;
+    EXPECT_NEAR(out[i].a, acc.a, 1e-4f) << "ray " << i;  // the jump is in the colour only
   }
+  EXPECT_LE(apart, rays.size() / 100);
   return terminated;
 }
 
