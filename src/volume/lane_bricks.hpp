@@ -77,7 +77,7 @@ class LaneBricks {
     }
     unsigned none = 0;
     for (unsigned pending = walk; pending;) {
-      // Brick indices stay far below 2^24: exact in floats.
+      // Exact in floats: callers keep grids below 2^24 bricks (packet_marching_supported).
       const __m256i index = _mm256_cvttps_epi32(
           _mm256_fmadd_ps(cell[2], stride_z_, _mm256_fmadd_ps(cell[1], stride_y_, cell[0])));
       const __m256i d = _mm256_and_si256(_mm256_i32gather_epi32(distances_, index, 1), splat(0xff));

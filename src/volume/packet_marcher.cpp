@@ -616,6 +616,8 @@ bool packet_marching_supported(const PreparedVolume& v, std::span<const ShadingL
   const double voxels = static_cast<double>(d.x) * d.y * d.z;
   const bool int16_gradients = v.accel.gradients && !v.accel.gradients->packed();
   if (voxels * (int16_gradients ? 6.0 : 1.0) + 4.0 >= 2147483647.0) return false;
+  // LaneBricks computes brick indices in floats, exact below 2^24 bricks.
+  if (v.accel.occupancy && v.accel.occupancy->grid().count() >= (size_t{1} << 24)) return false;
   const Shading& s = v.object->shading;
   if (!s.enabled) return true;
   return lights.size() <= static_cast<size_t>(RayShading::kMaxLights) && !v.specular.exact();
