@@ -347,10 +347,10 @@ class PacketKernel {
     L_.ray[l] = static_cast<int32_t>(i);
   }
 
-  // VolumeMarcher::skip_empty for the lanes in m, which have left their occupied brick: each
-  // finds the next occupied brick, moves to the last grid point before it if that lies beyond
-  // the piece it is in, and looks again once it leaves that brick. Returns the lanes with nothing
-  // left to march.
+  // VolumeMarcher::skip_empty for the lanes in m (fresh ones, or ones past their occupied
+  // brick): each finds the next occupied brick, moves to the last grid point before it if that
+  // lies beyond the piece it is in, and looks again once it leaves that brick. Returns the lanes
+  // with nothing left to march.
   unsigned settle(unsigned m) {
     const __m256 front = _mm256_load_ps(L_.front), t1 = _mm256_load_ps(L_.t1);
     __m256 enter = t1, leave = _mm256_load_ps(L_.occupied_until);
