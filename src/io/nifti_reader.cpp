@@ -19,8 +19,6 @@ namespace imx::detail {
 
 namespace {
 
-// deflate cannot expand data more than about 1032:1; larger claims are corrupt headers.
-
 std::optional<RawType> raw_type(int datatype) {
   switch (datatype) {
     case DT_INT8:

@@ -35,7 +35,8 @@ class RayShading {
   }
 
   // The premultiplied colour `c` lit with world-space normal direction `n` (any length):
-  // exactly blinn_phong(shading, C / A, n, ...) * A, without the division.
+  // blinn_phong(shading, C / A, n, ...) * A without the division, the specular power read from
+  // the table (relative error ~3e-5).
   glm::vec4 apply(const glm::vec4& c, glm::vec3 n) const {
     if (count_ < 0) {
       if (c.a <= 0.0f) return c;

@@ -93,10 +93,9 @@ class TfEmptiness {
     return prefix_[hi + 1] == prefix_[lo];
   }
 
-  std::vector<uint32_t> prefix_;
-  std::vector<int> next_;  // next_[i]: first entry >= i with alpha > 0 (size when none)
-  std::vector<int> prev_;  // prev_[i]: last entry <= i with alpha > 0 (-1 when none)  //
-                           // prefix_[i]: entries below i with alpha > 0
+  std::vector<uint32_t> prefix_;  // prefix_[i]: entries below i with alpha > 0
+  std::vector<int> next_;         // next_[i]: first entry >= i with alpha > 0 (size when none)
+  std::vector<int> prev_;         // prev_[i]: last entry <= i with alpha > 0 (-1 when none)
   float lo_ = 0.0f, inv_step_ = 1.0f;
   int size_ = 0;
   // Each maximal run [r0, r1] of transparent entries as the values v with r0 <= position(v) <=

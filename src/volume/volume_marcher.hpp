@@ -28,9 +28,9 @@ namespace imx {
 // With SlabExtent::visible (the default; pre-integration only), each slab is trimmed to the part
 // of its piece where the linear scalar ramp has non-zero TF opacity, centred on where its light
 // comes from: the same visibility, but a depth extent that tells slab methods where within a step
-// a medium begins and absorbs (e.g. where two opaque volumes meet). It is shaded where its light comes from (the table's opacity-weighted centre),
-// not at the midpoint. SlabExtent::grid keeps whole pieces shaded at their midpoints, as a
-// conventional ray caster does.
+// a medium begins and absorbs (e.g. where two opaque volumes meet). It is also shaded there (the
+// table's opacity-weighted centre), not at the midpoint. SlabExtent::grid keeps whole pieces
+// shaded at their midpoints, as a conventional ray caster does.
 enum class SlabExtent { grid, visible };
 
 class VolumeMarcher {
