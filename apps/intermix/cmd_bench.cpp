@@ -82,23 +82,39 @@ double median_of(std::vector<double> ms) {
   return n % 2 ? ms[n / 2] : 0.5 * (ms[n / 2 - 1] + ms[n / 2]);
 }
 
-// Times `frames` renders after one warm-up; returns each frame's milliseconds.
-std::vector<double> time_frames(const Scene& scene, const RenderOptions& options, int frames,
-                                const std::string& label) {
-  ProgressBar bar(fmt::format("bench {}", label), show_progress());
-  render(scene, options);  // warm-up: caches, page faults, thread pool
+// One timed row: a method on one variant's scene.
+struct BenchRow {
+  const Scene* scene;
+  RenderOptions options;
   std::vector<double> ms;
+  double peak_mib = 0.0;
+};
+
+// Times `frames` renders of every row, in rounds that render each row once, so that a machine
+// that slows down or speeds up during the run weighs on every row alike. Each row has one
+// warm-up render first (caches, page faults, thread pool); its peak memory is read after it.
+void time_rounds(std::vector<BenchRow>& rows, int frames) {
+  ProgressBar bar("bench", show_progress());
+  const double total = static_cast<double>(rows.size()) * (frames + 1);
+  int done = 0;
+  for (BenchRow& row : rows) {
+    render(*row.scene, row.options);
+    row.peak_mib = peak_resident_mib();
+    bar.update(++done / total);
+  }
   for (int f = 0; f < frames; ++f) {
-    Scene frame = scene;
-    frame.camera = jittered(scene.camera, f % 2 == 0 ? 0.5 : -0.5);
-    auto start = std::chrono::steady_clock::now();
-    render(frame, options);
-    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                     .count());
-    bar.update(static_cast<double>(f + 1) / frames);
+    for (BenchRow& row : rows) {
+      Scene frame = *row.scene;
+      frame.camera = jittered(row.scene->camera, f % 2 == 0 ? 0.5 : -0.5);
+      auto start = std::chrono::steady_clock::now();
+      render(frame, row.options);
+      row.ms.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+              .count());
+      bar.update(++done / total);
+    }
   }
   bar.finish();
-  return ms;
 }
 
 }  // namespace
@@ -179,39 +195,54 @@ Command add_bench(CLI::App& app) {
       check_vtk_peer(run.peer);
     }
 
-    nlohmann::json rows = nlohmann::json::array();
+    // The rows in order, timed in rounds (or, with --change, one after another, since each
+    // re-render follows a render of the unchanged scene).
+    std::vector<BenchRow> timed;
+    std::vector<std::string> labels;
+    std::vector<size_t> variant_of;
+    std::vector<ChangeTiming> changes;
     for (const std::string& method : methods) {
       for (size_t v = 0; v < variants.size(); ++v) {
-        const Scene& scene = scenes[v];
-        std::string label = named ? fmt::format("{}/{}", method, variants[v].label) : method;
         RenderOptions options;
         options.method = method;
         options.spp = o->spp;
         options.threads = o->threads;
-        ChangeTiming change;
-        if (!o->change.empty())
-          change = time_change(scene, o->scene, assignments[v], o->change, options, o->frames);
-        std::vector<double> ms =
-            o->change.empty() ? time_frames(scene, options, o->frames, label) : change.ms;
-        double median = median_of(ms);
-        int spp = o->spp > 0             ? o->spp
-                  : scene.render.spp > 0 ? scene.render.spp
-                                         : default_spp(method);
-        double rays = static_cast<double>(scene.image.width) * scene.image.height * spp;
-        rows.push_back({{"label", label},
-                        {"method", method},
-                        {"variant", named ? variants[v].label : ""},
-                        {"frames", o->frames},
-                        {"ms_median", median},
-                        {"ms_min", *std::min_element(ms.begin(), ms.end())},
-                        {"ms_max", *std::max_element(ms.begin(), ms.end())},
-                        {"rays_per_s", rays / (median / 1000.0)},
-                        {"peak_rss_mib", peak_resident_mib()}});
-        if (!o->change.empty())
-          rows.back().update({{"change", o->change},
-                              {"stages", change.stages},
-                              {"stages_run", change.stages_run}});
+        timed.push_back({&scenes[v], options, {}, 0.0});
+        labels.push_back(named ? fmt::format("{}/{}", method, variants[v].label) : method);
+        variant_of.push_back(v);
+        if (!o->change.empty()) {
+          changes.push_back(
+              time_change(scenes[v], o->scene, assignments[v], o->change, options, o->frames));
+          timed.back().ms = changes.back().ms;
+          timed.back().peak_mib = peak_resident_mib();
+        }
       }
+    }
+    if (o->change.empty()) time_rounds(timed, o->frames);
+
+    nlohmann::json rows = nlohmann::json::array();
+    for (size_t k = 0; k < timed.size(); ++k) {
+      const BenchRow& row = timed[k];
+      const Scene& scene = *row.scene;
+      const std::string& method = row.options.method;
+      double median = median_of(row.ms);
+      int spp = o->spp > 0             ? o->spp
+                : scene.render.spp > 0 ? scene.render.spp
+                                       : default_spp(method);
+      double rays = static_cast<double>(scene.image.width) * scene.image.height * spp;
+      rows.push_back({{"label", labels[k]},
+                      {"method", method},
+                      {"variant", named ? variants[variant_of[k]].label : ""},
+                      {"frames", o->frames},
+                      {"ms_median", median},
+                      {"ms_min", *std::min_element(row.ms.begin(), row.ms.end())},
+                      {"ms_max", *std::max_element(row.ms.begin(), row.ms.end())},
+                      {"rays_per_s", rays / (median / 1000.0)},
+                      {"peak_rss_mib", row.peak_mib}});
+      if (!o->change.empty())
+        rows.back().update({{"change", o->change},
+                            {"stages", changes[k].stages},
+                            {"stages_run", changes[k].stages_run}});
     }
 
     if (o->vtk) {
