@@ -226,9 +226,7 @@ Command add_bench(CLI::App& app) {
       const Scene& scene = *row.scene;
       const std::string& method = row.options.method;
       double median = median_of(row.ms);
-      int spp = o->spp > 0             ? o->spp
-                : scene.render.spp > 0 ? scene.render.spp
-                                       : default_spp(method);
+      int spp = o->spp > 0 ? o->spp : scene.render.spp > 0 ? scene.render.spp : default_spp(method);
       double rays = static_cast<double>(scene.image.width) * scene.image.height * spp;
       rows.push_back({{"label", labels[k]},
                       {"method", method},
