@@ -36,20 +36,6 @@ CameraModel::CameraModel(const Camera& camera, int width, int height)
   }
 }
 
-Ray CameraModel::ray(double px, double py) const {
-  double sx = (2.0 * px / width_ - 1.0) * half_height_ * aspect_;
-  double sy = (1.0 - 2.0 * py / height_) * half_height_;
-  Ray r;
-  if (perspective_) {
-    r.origin = glm::vec3(eye_);
-    r.dir = glm::vec3(glm::normalize(forward_ + sx * right_ + sy * up_));
-  } else {
-    r.origin = glm::vec3(eye_ + sx * right_ + sy * up_);
-    r.dir = glm::vec3(forward_);
-  }
-  return r;
-}
-
 glm::dvec3 CameraModel::to_camera(const glm::dvec3& world) const {
   glm::dvec3 d = world - eye_;
   return {glm::dot(d, right_), glm::dot(d, up_), glm::dot(d, forward_)};
