@@ -30,6 +30,17 @@ class CameraModel {
     return r;
   }
 
+  // The rays as a linear map of the image position: ray(px, py) starts at `at + px * per_x +
+  // py * per_y` (orthographic) or runs along its normalized value (perspective).
+  struct PixelBasis {
+    glm::dvec3 at, per_x, per_y;
+  };
+  PixelBasis pixel_basis() const {
+    const double wide = half_height_ * aspect_;
+    const glm::dvec3 at = (perspective_ ? forward_ : eye_) - wide * right_ + half_height_ * up_;
+    return {at, (2.0 * wide / width_) * right_, (-2.0 * half_height_ / height_) * up_};
+  }
+
   // Camera-space coordinates of a world point: x right, y up, z forward (depth along view).
   glm::dvec3 to_camera(const glm::dvec3& world) const;
   glm::dvec3 to_world(const glm::dvec3& camera_space) const;

@@ -56,6 +56,7 @@ Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const Mdv
   const glm::vec4 background = scene.image.background;
   const glm::vec4 empty = over_background(glm::vec4(0.0f), background);
   const TileRect box = pixels_meeting_box(v, frame.camera);
+  const PacketCamera camera(frame.camera);
   for_each_tile(
       w, h, kTileSize, options.threads,
       [&](const TileRect& tile, int) {
@@ -71,10 +72,22 @@ Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const Mdv
           rays[n] = {frame.camera.ray(x + 0.5, y + 0.5)};
           pixel[n++] = {x, y};
         };
-        for (int y = tile.y0; y < tile.y1; y += 2)
-          for (int x = tile.x0; x < tile.x1; x += 4)
+        for (int y = tile.y0; y < tile.y1; y += 2) {
+          for (int x = tile.x0; x < tile.x1; x += 4) {
+            const bool whole = x + 4 <= tile.x1 && y + 2 <= tile.y1;
+            if (whole && visible && x >= box.x0 && x + 4 <= box.x1 && y >= box.y0 &&
+                y + 2 <= box.y1) {
+              camera.block(x, y, rays + n);
+              for (int k = 0; k < 8; ++k) {
+                image.at(x + k % 4, y + k / 4) = empty;
+                pixel[n++] = {x + k % 4, y + k / 4};
+              }
+              continue;
+            }
             for (int dy = 0; dy < 2 && y + dy < tile.y1; ++dy)
               for (int dx = 0; dx < 4 && x + dx < tile.x1; ++dx) add(x + dx, y + dy);
+          }
+        }
         // The box test in lanes, then only the rays that meet the volume, in the same order.
         intersect_packets(v, std::span<PacketRay>(rays, n));
         int kept = 0;

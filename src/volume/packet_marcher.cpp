@@ -628,6 +628,42 @@ bool packet_marching_supported(const PreparedVolume& v, std::span<const ShadingL
 #endif
 }
 
+PacketCamera::PacketCamera(const CameraModel& camera)
+    : camera_(camera),
+      at_(camera.pixel_basis().at),
+      per_x_(camera.pixel_basis().per_x),
+      per_y_(camera.pixel_basis().per_y),
+      eye_(camera.eye()),
+      forward_(camera.forward()),
+      perspective_(camera.perspective()) {}
+
+void PacketCamera::block(int x, int y, PacketRay* out) const {
+#if IMX_PACKET_LANES
+  const __m256 px = _mm256_add_ps(splat(static_cast<float>(x)),
+                                  _mm256_setr_ps(0.5f, 1.5f, 2.5f, 3.5f, 0.5f, 1.5f, 2.5f, 3.5f));
+  const __m256 py = _mm256_add_ps(splat(static_cast<float>(y)),
+                                  _mm256_setr_ps(0.5f, 0.5f, 0.5f, 0.5f, 1.5f, 1.5f, 1.5f, 1.5f));
+  __m256 v[3];
+  for (int a = 0; a < 3; ++a)
+    v[a] =
+        _mm256_fmadd_ps(py, splat(per_y_[a]), _mm256_fmadd_ps(px, splat(per_x_[a]), splat(at_[a])));
+  alignas(32) float point[3][kLanes];
+  if (perspective_) {
+    const __m256 inv =
+        _mm256_div_ps(splat(1.0f), _mm256_sqrt_ps(dot3(v[0], v[1], v[2], v[0], v[1], v[2])));
+    for (int a = 0; a < 3; ++a) _mm256_store_ps(point[a], _mm256_mul_ps(v[a], inv));
+  } else {
+    for (int a = 0; a < 3; ++a) _mm256_store_ps(point[a], v[a]);
+  }
+  for (int l = 0; l < kLanes; ++l) {
+    const glm::vec3 p(point[0][l], point[1][l], point[2][l]);
+    out[l].ray = perspective_ ? Ray{eye_, p} : Ray{p, forward_};
+  }
+#else
+  for (int l = 0; l < 8; ++l) out[l].ray = camera_.ray(x + (l % 4) + 0.5, y + (l / 4) + 0.5);
+#endif
+}
+
 void intersect_packets(const PreparedVolume& v, std::span<PacketRay> rays) {
   size_t first = 0;
 #if IMX_PACKET_LANES

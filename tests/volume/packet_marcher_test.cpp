@@ -225,6 +225,33 @@ TEST(PacketMarcher, IntersectsAsThePreparedVolumeDoes) {
   EXPECT_LT(hits, static_cast<int>(rays.size()) - 40);
 }
 
+// Both projections, a wide image and a tall one, blocks anywhere in the image.
+TEST(PacketCamera, GivesTheCameraModelsRays) {
+  Camera cam;
+  cam.eye = {40.0, -300.0, 120.0};
+  cam.target = {5.0, 10.0, -20.0};
+  cam.up = {0.1, 0.0, 1.0};
+  for (Projection projection : {Projection::perspective, Projection::orthographic}) {
+    cam.projection = projection;
+    for (glm::ivec2 size : {glm::ivec2(96, 40), glm::ivec2(33, 120)}) {
+      const CameraModel model(cam, size.x, size.y);
+      const PacketCamera lanes(model);
+      for (glm::ivec2 at :
+           {glm::ivec2(0, 0), glm::ivec2(12, 6), glm::ivec2(size.x - 4, size.y - 2)}) {
+        PacketRay block[8];
+        lanes.block(at.x, at.y, block);
+        for (int k = 0; k < 8; ++k) {
+          const Ray want = model.ray(at.x + k % 4 + 0.5, at.y + k / 4 + 0.5);
+          for (int a = 0; a < 3; ++a) {
+            EXPECT_NEAR(block[k].ray.dir[a], want.dir[a], 1e-6f) << "lane " << k;
+            EXPECT_NEAR(block[k].ray.origin[a], want.origin[a], 1e-4f) << "lane " << k;
+          }
+        }
+      }
+    }
+  }
+}
+
 // A fractional shininess runs in lanes (the same specular table); what the lanes do not handle
 // (post-classification, a shininess below 1, which has no table) goes to VolumeMarcher: the
 // same answers either way.
