@@ -9,8 +9,8 @@
 #include "volume/brick_dda.hpp"
 #include "volume/brick_min_max.hpp"
 #include "volume/brick_occupancy.hpp"
-#include "volume/chebyshev_distance.hpp"
 #include "volume/lane_bricks.hpp"
+#include "volume/octant_distance.hpp"
 #include "volume/preintegration_table.hpp"
 #include "volume/tf_emptiness.hpp"
 #include "volume/tf_lut.hpp"
@@ -159,7 +159,7 @@ void BM_BrickDdaWithJumps(benchmark::State& state) {
       BrickDda dda(mm.grid(), rays.origin[i], rays.dir[i], rays.t0[i], rays.t1[i]);
       while (!dda.done()) {
         ++stops;
-        uint8_t d = occ.distance(dda.brick());
+        uint8_t d = occ.distance(dda.brick(), dda.octant());
         if (d == 0) {
           benchmark::DoNotOptimize(dda.span());
           ++visible;
@@ -182,7 +182,8 @@ void BM_FirstOccupiedBrickDda(benchmark::State& state) {
   for (auto _ : state) {
     for (size_t i = 0; i < rays.origin.size(); ++i) {
       BrickDda dda(mm.grid(), rays.origin[i], rays.dir[i], rays.t0[i], rays.t1[i]);
-      while (!dda.done() && occ.distance(dda.brick()) != 0) dda.skip(occ.distance(dda.brick()));
+      while (!dda.done() && !occ.occupied(dda.brick()))
+        dda.skip(occ.distance(dda.brick(), dda.octant()));
       benchmark::DoNotOptimize(dda.span());
     }
   }
@@ -263,11 +264,11 @@ BENCHMARK(BM_TfChangeRebuild)->Unit(benchmark::kMicrosecond);
 
 void BM_DistanceMap(benchmark::State& state) {
   int n = static_cast<int>(state.range(0));
-  std::vector<uint8_t> occ(static_cast<size_t>(n) * n * n), out(occ.size());
+  std::vector<uint8_t> occ(static_cast<size_t>(n) * n * n), out(kOctants * occ.size());
   std::mt19937 rng(5);
   for (auto& o : occ) o = rng() % 64 == 0;
   for (auto _ : state) {
-    chebyshev_distance(occ, glm::ivec3(n), out);
+    octant_distance(occ, glm::ivec3(n), out);
     benchmark::DoNotOptimize(out.data());
   }
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(occ.size()));

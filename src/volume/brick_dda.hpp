@@ -73,10 +73,15 @@ class BrickDda {
     t_max_[a] = crossing(a, cell_[a]);
   }
 
-  // Skips the bricks within Chebyshev distance d-1 of the current one, which the caller knows
-  // are all empty (its distance-map value is d): the ray leaves that cube of bricks where it
-  // first crosses one of the cube's far faces, and continues in the brick just beyond, exactly
-  // as a run of next() would have. skip(1) == next().
+  // The octant the ray moves into (octant_distance()): bit a set where it steps down axis a.
+  int octant() const {
+    return (step_.x < 0 ? 1 : 0) | (step_.y < 0 ? 2 : 0) | (step_.z < 0 ? 4 : 0);
+  }
+
+  // Skips the bricks up to d-1 ahead of the current one on every axis, which the caller knows
+  // are all empty (its distance-map value toward octant() is d): the ray leaves that cube of
+  // bricks where it first crosses one of the cube's far faces, and continues in the brick just
+  // beyond, exactly as a run of next() would have. skip(1) == next().
   void skip(int d) {
     if (d <= 1) {
       next();

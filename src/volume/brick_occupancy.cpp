@@ -3,12 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "volume/chebyshev_distance.hpp"
-
 namespace imx {
 
 BrickOccupancy::BrickOccupancy(const BrickMinMax& ranges, const TfEmptiness& tf)
-    : grid_(ranges.grid()), distance_(grid_.count() + kSpareBytes) {
+    : grid_(ranges.grid()), distance_(kOctants * grid_.count() + kSpareBytes) {
   std::vector<uint8_t> occupied(grid_.count());
   std::span<const glm::vec2> r = ranges.ranges();
   for (size_t n = 0; n < r.size(); ++n) {
@@ -17,7 +15,7 @@ BrickOccupancy::BrickOccupancy(const BrickMinMax& ranges, const TfEmptiness& tf)
     occupied[n] = tf.is_empty(r[n].x - slack, r[n].y + slack) ? 0 : 1;
     occupied_count_ += occupied[n];
   }
-  chebyshev_distance(occupied, grid_.dims, std::span(distance_).first(grid_.count()));
+  octant_distance(occupied, grid_.dims, std::span(distance_).first(kOctants * grid_.count()));
 }
 
 }  // namespace imx

@@ -1,5 +1,5 @@
 // BrickOccupancy: which bricks the current TF makes visible, and how far each empty one is from
-// one.
+// one in each direction.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -7,6 +7,7 @@
 
 #include "volume/brick_grid.hpp"
 #include "volume/brick_min_max.hpp"
+#include "volume/octant_distance.hpp"
 #include "volume/tf_emptiness.hpp"
 
 namespace imx {
@@ -17,13 +18,14 @@ class BrickOccupancy {
   BrickOccupancy(const BrickMinMax& ranges, const TfEmptiness& tf);
 
   const BrickGrid& grid() const { return grid_; }
-  bool occupied(glm::ivec3 b) const { return distance_[grid_.index(b)] == 0; }
-  // 0 for an occupied brick, else the Chebyshev distance in bricks to the nearest occupied one
-  // (saturated at 255, which is also the value when no brick is occupied).
-  uint8_t distance(glm::ivec3 b) const { return distance_[grid_.index(b)]; }
-  std::span<const uint8_t> distances() const { return std::span(distance_).first(grid_.count()); }
-  // distances() followed by kSpareBytes readable bytes, so that a 32-bit load at any brick
-  // stays inside (lane gathers).
+  bool occupied(glm::ivec3 b) const { return distance_[kOctants * grid_.index(b)] == 0; }
+  // 0 for an occupied brick, else the Chebyshev distance in bricks to the nearest occupied one in
+  // `octant` (octant_distance(): all a ray moving that way may jump over).
+  uint8_t distance(glm::ivec3 b, int octant) const {
+    return distance_[kOctants * grid_.index(b) + octant];
+  }
+  // octant_distance() of the occupied bricks (kOctants bytes per brick), followed by kSpareBytes
+  // readable bytes, so that a 32-bit load at any entry stays inside (lane gathers).
   const uint8_t* padded_distances() const { return distance_.data(); }
   static constexpr size_t kSpareBytes = 3;
   size_t occupied_count() const { return occupied_count_; }

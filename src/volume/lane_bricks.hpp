@@ -10,9 +10,10 @@
 namespace imx::lanes {
 
 // The brick walk of BrickDda in lanes. From each lane's position it finds the first occupied
-// brick ahead, jumping over the cube of empty bricks that a brick's distance-map value vouches
-// for (one brick at a time with SkipMode::bricks), and lands in the brick BrickDda::skip lands
-// in: the exit axis steps past the cube's far face, the others take the brick at the exit point.
+// brick ahead, jumping over the cube of empty bricks ahead that a brick's distance toward the
+// ray's octant vouches for (one brick at a time with SkipMode::bricks), and lands in the brick
+// BrickDda::skip lands in: the exit axis steps past the cube's far face, the others take the
+// brick at the exit point.
 class LaneBricks {
  public:
   LaneBricks(const BrickOccupancy& occ, SkipMode mode)
@@ -37,6 +38,7 @@ class LaneBricks {
     __m256 toward[3];    // +1, -1 or 0: where the next brick along that axis is
     __m256 backward[3];  // all ones where the ray moves down that axis
     __m256 edge[3];      // the brick after which the ray leaves the grid (-1: never)
+    __m256i octant;      // BrickDda::octant(): which of a brick's distances applies
   };
 
   // The rays of eight origins and directions in index space (structure of arrays, 32-byte
@@ -44,6 +46,7 @@ class LaneBricks {
   Rays load(const float* const origin[3], const float* const dir[3]) const {
     Rays r;
     const __m256 zero = _mm256_setzero_ps(), one = splat(1.0f);
+    r.octant = _mm256_setzero_si256();
     for (int a = 0; a < 3; ++a) {
       const __m256 o = _mm256_mul_ps(_mm256_load_ps(origin[a]), inv_size_);
       const __m256 d = _mm256_load_ps(dir[a]);
@@ -58,6 +61,8 @@ class LaneBricks {
       r.toward[a] =
           _mm256_or_ps(_mm256_and_ps(forward, one), _mm256_and_ps(r.backward[a], splat(-1.0f)));
       r.edge[a] = _mm256_blendv_ps(splat(-1.0f), _mm256_and_ps(forward, last_[a]), crosses);
+      r.octant = _mm256_or_si256(
+          r.octant, _mm256_and_si256(_mm256_castps_si256(r.backward[a]), splat(1 << a)));
     }
     return r;
   }
@@ -77,9 +82,11 @@ class LaneBricks {
     }
     unsigned none = 0;
     for (unsigned pending = walk; pending;) {
-      // Exact in floats: callers keep grids below 2^24 bricks (packet_marching_supported).
-      const __m256i index = _mm256_cvttps_epi32(
+      // Exact in floats: callers keep grids below 2^24 bricks (packet_marching_supported), so
+      // the entry index stays below 2^27.
+      const __m256i brick = _mm256_cvttps_epi32(
           _mm256_fmadd_ps(cell[2], stride_z_, _mm256_fmadd_ps(cell[1], stride_y_, cell[0])));
+      const __m256i index = _mm256_or_si256(_mm256_slli_epi32(brick, 3), ray.octant);
       const __m256i d = _mm256_and_si256(_mm256_i32gather_epi32(distances_, index, 1), splat(0xff));
       const __m256 occupied = _mm256_castsi256_ps(_mm256_cmpeq_epi32(d, _mm256_setzero_si256()));
       // The cube of empty bricks reaches `reach` bricks ahead of this one (with SkipMode::bricks,

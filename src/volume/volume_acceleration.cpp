@@ -92,7 +92,6 @@ VolumeAcceleration accelerate(const VolumeObject& v, const TfLut& lut, float ste
     a.emptiness = std::make_shared<const TfEmptiness>(lut);
     a.occupancy = occupancies.get(v.data, OccupancyKey{settings.brick_size, tf_fingerprint(lut)},
                                   [&] { return BrickOccupancy(*r, *a.emptiness); });
-
   }
   if (settings.classification == Classification::preintegrated) {
     // The table spans the data as well as the TF, so ramps beyond the TF points integrate the

@@ -122,7 +122,7 @@ class VolumeMarcher {
       return false;
     }
     while (!dda_.done()) {
-      int d = v_->accel.occupancy->distance(dda_.brick());
+      int d = v_->accel.occupancy->distance(dda_.brick(), dda_.octant());
       if (d == 0) break;
       if (v_->accel.skip == SkipMode::distance)
         dda_.skip(d);

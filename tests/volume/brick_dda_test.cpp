@@ -11,7 +11,7 @@
 #include "volume/brick_dda.hpp"
 #include "volume/brick_min_max.hpp"
 #include "volume/brick_occupancy.hpp"
-#include "volume/chebyshev_distance.hpp"
+#include "volume/octant_distance.hpp"
 #include "volume/prepared_volume.hpp"
 
 namespace imx {
@@ -81,7 +81,7 @@ std::vector<Visit> walk(const PlacedGrid& s, const Ray& r, RayInterval iv,
   for (int guard = 0; !dda.done() && guard < 100000; ++guard) {
     out.push_back({dda.brick(), dda.t_enter(), dda.t_exit()});
     if (skip && !skip->occupied(dda.brick()))
-      dda.skip(skip->distance(dda.brick()));
+      dda.skip(skip->distance(dda.brick(), dda.octant()));
     else
       dda.next();
   }
@@ -249,22 +249,22 @@ TEST(BrickDda, DistanceJumpsNeverSkipAnOccupiedBrick) {
   EXPECT_LT(stats.on_faces * 4, stats.checked) << "too many points left out as on a face";
 }
 
-TEST(BrickOccupancy, DistanceIsTheChebyshevTransformOfOccupancy) {
+TEST(BrickOccupancy, DistanceIsTheOctantTransformOfOccupancy) {
   std::mt19937 rng(23);
   VolumeData vol = test::blob_volume<int16_t>({70, 50, 60}, rng, 4.0f, -500.0f, 3);
   BrickMinMax mm(AnyGrid(vol), 8);
   TfLut lut(test::random_tf(rng, -400.0f, 520.0f));
   BrickOccupancy occ(mm, TfEmptiness(lut));
   const BrickGrid& g = occ.grid();
-  std::vector<uint8_t> flags(g.count()), dist(g.count());
+  std::vector<uint8_t> flags(g.count()), dist(kOctants * g.count());
   TfEmptiness e(lut);
   for (size_t n = 0; n < g.count(); ++n) {
     glm::vec2 r = mm.ranges()[n];
-    flags[n] = occ.distances()[n] == 0;
+    flags[n] = occ.padded_distances()[kOctants * n] == 0;
     ASSERT_EQ(flags[n] == 0, e.is_empty(r.x - 1e-2f, r.y + 1e-2f)) << n;
   }
-  chebyshev_distance(flags, g.dims, dist);
-  EXPECT_TRUE(std::equal(dist.begin(), dist.end(), occ.distances().begin()));
+  octant_distance(flags, g.dims, dist);
+  EXPECT_TRUE(std::equal(dist.begin(), dist.end(), occ.padded_distances()));
   EXPECT_GT(occ.occupied_count(), 0u);
   EXPECT_LT(occ.occupied_count(), g.count());
 }
