@@ -5,6 +5,7 @@
 
 #include "core/colour.hpp"
 #include "core/parallel.hpp"
+#include "methods/brick_coverage.hpp"
 #include "methods/frame_setup.hpp"
 #include "methods/mdvr_kernel.hpp"
 #include "methods/per_sample_render.hpp"
@@ -21,29 +22,6 @@ bool packets_apply(const Scene& scene, const FrameSetup& frame, int spp) {
          packet_marching_supported(frame.volumes[0], frame.lights);
 }
 
-// The pixels whose centre rays can meet the volume's box: the bounding rectangle of its corners'
-// projections, a pixel wider each side for rounding (the box is convex). The whole image when a
-// corner lies behind the eye.
-TileRect pixels_meeting_box(const PreparedVolume& v, const CameraModel& camera) {
-  const TileRect all{0, 0, camera.width(), camera.height()};
-  const glm::dvec3 hi = glm::dvec3(v.grid.dims - 1);
-  const glm::dmat4& to_world = v.object->index_to_world;
-  glm::dvec2 lo(INFINITY), up(-INFINITY);
-  for (int corner = 0; corner < 8; ++corner) {
-    const glm::dvec3 p((corner & 1) ? hi.x : 0.0, (corner & 2) ? hi.y : 0.0,
-                       (corner & 4) ? hi.z : 0.0);
-    const glm::dvec3 c = camera.to_camera(glm::dvec3(to_world * glm::dvec4(p, 1.0)));
-    if (camera.perspective() && !(c.z > camera.near_plane())) return all;
-    const glm::dvec2 q = camera.project_camera(c);
-    lo = glm::min(lo, q), up = glm::max(up, q);
-  }
-  if (!std::isfinite(lo.x) || !std::isfinite(lo.y) || !std::isfinite(up.x) || !std::isfinite(up.y))
-    return all;
-  auto clamp = [](double x, int n) { return static_cast<int>(std::clamp(x, 0.0, double(n))); };
-  return {clamp(std::floor(lo.x) - 1.0, all.x1), clamp(std::floor(lo.y) - 1.0, all.y1),
-          clamp(std::ceil(up.x) + 1.0, all.x1), clamp(std::ceil(up.y) + 1.0, all.y1)};
-}
-
 // render_per_sample with trace_mdvr for that case: per tile, the rays that meet the volume go
 // through composite_packets() together (pixel centres, as stratified_offsets(1)).
 Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const MdvrParams& params,
@@ -55,7 +33,9 @@ Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const Mdv
   Image image(w, h);
   const glm::vec4 background = scene.image.background;
   const glm::vec4 empty = over_background(glm::vec4(0.0f), background);
-  const TileRect box = pixels_meeting_box(v, frame.camera);
+  // Rays that can meet no occupied brick would find nothing to march (40-55% of the rays that
+  // meet the box, in ct-head and FLAIR).
+  const BrickCoverage coverage(v, frame.camera);
   const PacketCamera camera(frame.camera);
   for_each_tile(
       w, h, kTileSize, options.threads,
@@ -68,15 +48,14 @@ Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const Mdv
         // (ct-head 36.0 against 37.5 ms in rows of 8).
         auto add = [&](int x, int y) {
           image.at(x, y) = empty;
-          if (!visible || x < box.x0 || x >= box.x1 || y < box.y0 || y >= box.y1) return;
+          if (!visible || !coverage.covered(x, y)) return;
           rays[n] = {frame.camera.ray(x + 0.5, y + 0.5)};
           pixel[n++] = {x, y};
         };
         for (int y = tile.y0; y < tile.y1; y += 2) {
           for (int x = tile.x0; x < tile.x1; x += 4) {
             const bool whole = x + 4 <= tile.x1 && y + 2 <= tile.y1;
-            if (whole && visible && x >= box.x0 && x + 4 <= box.x1 && y >= box.y0 &&
-                y + 2 <= box.y1) {
+            if (whole && visible && coverage.covered(x, y)) {
               camera.block(x, y, rays + n);
               for (int k = 0; k < 8; ++k) {
                 image.at(x + k % 4, y + k / 4) = empty;
