@@ -629,8 +629,7 @@ bool packet_marching_supported(const PreparedVolume& v, std::span<const ShadingL
 }
 
 PacketCamera::PacketCamera(const CameraModel& camera)
-    : camera_(camera),
-      at_(camera.pixel_basis().at),
+    : at_(camera.pixel_basis().at),
       per_x_(camera.pixel_basis().per_x),
       per_y_(camera.pixel_basis().per_y),
       eye_(camera.eye()),
@@ -660,7 +659,12 @@ void PacketCamera::block(int x, int y, PacketRay* out) const {
     out[l].ray = perspective_ ? Ray{eye_, p} : Ray{p, forward_};
   }
 #else
-  for (int l = 0; l < 8; ++l) out[l].ray = camera_.ray(x + (l % 4) + 0.5, y + (l / 4) + 0.5);
+  for (int l = 0; l < 8; ++l) {
+    const float px = static_cast<float>(x + l % 4) + 0.5f,
+                py = static_cast<float>(y + l / 4) + 0.5f;
+    const glm::vec3 p = at_ + px * per_x_ + py * per_y_;
+    out[l].ray = perspective_ ? Ray{eye_, glm::normalize(p)} : Ray{p, forward_};
+  }
 #endif
 }
 

@@ -28,7 +28,6 @@ class PacketCamera {
   void block(int x, int y, PacketRay* out) const;
 
  private:
-  const CameraModel& camera_;
   glm::vec3 at_, per_x_, per_y_;  // CameraModel::pixel_basis in floats
   glm::vec3 eye_, forward_;
   bool perspective_;
