@@ -11,27 +11,29 @@
 namespace imx {
 namespace {
 
-// A stretch of the ramp: premultiplied (C, A) and the first moment of its absorbed light,
-// sum of a_i * x_i over its pieces with x_i a position along the whole ramp. Positions are
-// absolute, so that `over` composes moments without knowing where a stretch starts.
+// A stretch of the ramp: premultiplied (C, A) and the first two moments of its absorbed light,
+// sums of a_i * x_i and a_i * x_i^2 over its pieces with x_i a position along the whole ramp.
+// Positions are absolute, so that `over` composes moments without knowing where a stretch
+// starts; in doubles, since the second moment is recovered by a difference of large sums.
 struct Stretch {
   glm::vec4 c{0.0f};
-  float moment = 0.0f;
+  double moment = 0.0, moment2 = 0.0;
 };
 
 // `front` over `back`, premultiplied.
 inline Stretch over(const Stretch& front, const Stretch& back) {
   float t = 1.0f - front.c.a;
-  return {front.c + t * back.c, front.moment + t * back.moment};
+  return {front.c + t * back.c, front.moment + t * back.moment, front.moment2 + t * back.moment2};
 }
 
-// The opacity-weighted centre (0 front, 1 back) of a homogeneous segment of opacity a:
-// 1/k - e^-k / (1 - e^-k) for optical depth k = -ln(1 - a).
-float homogeneous_centre(float a) {
-  if (a >= 1.0f) return 0.0f;
+// The mean and mean square of where the light of a homogeneous segment of opacity a comes from
+// (0 front, 1 back): density k e^-kx / (1 - e^-k) for optical depth k = -ln(1 - a).
+glm::dvec2 homogeneous_moments(float a) {
+  if (a >= 1.0f) return glm::dvec2(0.0);
   double k = -std::log1p(-static_cast<double>(a));
-  if (k < 1e-4) return static_cast<float>(0.5 - k / 12.0);
-  return static_cast<float>(1.0 / k - std::exp(-k) / -std::expm1(-k));
+  if (k < 1e-4) return {0.5 - k / 12.0, 1.0 / 3.0 - k / 12.0};
+  const double tail = std::exp(-k) / -std::expm1(-k);  // e^-k / (1 - e^-k)
+  return {1.0 / k - tail, 2.0 / (k * k) - (1.0 + 2.0 / k) * tail};
 }
 
 // w[f] = e[f] over ... over e[f+n-1] for every f, in O(e.size()) whatever n (van Herk /
@@ -77,19 +79,22 @@ PreintegrationTable::PreintegrationTable(const TfLut& lut, float dt, float lo, f
     glm::vec4 c = lut.lookup(value(i));
     float a = correct_opacity(c.a, dt, dt0);
     entries_[static_cast<size_t>(i) * size + i] = glm::vec4(glm::vec3(c) * a, a);
-    moments_[static_cast<size_t>(i) * size + i] = homogeneous_centre(a) * a;
+    moments_[static_cast<size_t>(i) * size + i] = glm::vec2(homogeneous_moments(a) * double{a});
   }
 
   // A ramp over n bins is n bin-segments of length dt/n each, every one m pieces of dt/(n m).
   parallel_for(bins, threads, [&](long begin, long end) {
     std::vector<Stretch> rising(pieces), falling(pieces), up(bins), down(bins), pre(bins),
         suf(bins), w(bins);
-    // Stores window w (starting `first` bins into its ramp) as entry k: (C, A) and the centre
-    // along the window, as centre x A, in [0, 1].
+    // Stores window w (starting `first` bins into its ramp) as entry k: (C, A) and the moments
+    // of its light along the window (0 front, 1 back), times A.
     auto store = [&](size_t k, const Stretch& w, int first, int n) {
       entries_[k] = w.c;
-      float origin = static_cast<float>(first * m), extent = static_cast<float>(n * m);
-      moments_[k] = std::clamp((w.moment - origin * w.c.a) / extent, 0.0f, w.c.a);
+      const double origin = first * m, extent = n * m, a = w.c.a;
+      const double m1 = (w.moment - origin * a) / extent;
+      const double m2 =
+          (w.moment2 - 2.0 * origin * w.moment + origin * origin * a) / (extent * extent);
+      moments_[k] = glm::vec2(std::clamp(m1, 0.0, a), std::clamp(m2, 0.0, a));
     };
     for (long nn = begin; nn < end; ++nn) {
       const int n = static_cast<int>(nn) + 1;
@@ -97,8 +102,9 @@ PreintegrationTable::PreintegrationTable(const TfLut& lut, float dt, float lo, f
       for (int p = 0; p < pieces; ++p) {
         float a = -std::expm1(log_t[p] * len);
         glm::vec4 c(rgb[p] * a, a);
-        rising[p] = {c, a * (static_cast<float>(p) + 0.5f)};
-        falling[pieces - 1 - p] = {c, a * (static_cast<float>(pieces - 1 - p) + 0.5f)};
+        const double x = p + 0.5, y = pieces - 1 - p + 0.5;
+        rising[p] = {c, a * x, a * x * x};
+        falling[pieces - 1 - p] = {c, a * y, a * y * y};
       }
       for (int k = 0; k < bins; ++k) {
         const Stretch* q = rising.data() + static_cast<size_t>(k) * m;

@@ -2,6 +2,7 @@
 // §2).
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -13,7 +14,9 @@ namespace imx {
 // A non-owning view of a table with the pure lookup the ray marcher calls per segment.
 struct PreintegrationView {
   const glm::vec4* data = nullptr;  // size x size, row = front value s_f, column = back value s_b
-  const float* moments = nullptr;   // size x size: centre x A, beside each entry of `data`
+  // size x size beside each entry of `data`: the mean and the mean square of where its light
+  // comes from along the segment, each times A (so that they interpolate with A)
+  const glm::vec2* moments = nullptr;
   int size = 0;
   float lo = 0.0f;        // scalar at index 0
   float inv_step = 1.0f;  // (size - 1) / (hi - lo)
@@ -25,14 +28,26 @@ struct PreintegrationView {
     return bilinear(data + k.offset, k);
   }
 
-  // As lookup(), and `centre`: where along the segment (0 front, 1 back) its light comes from,
-  // weighted by opacity; 0.5 where the segment is transparent.
-  glm::vec4 lookup(float s_f, float s_b, float& centre) const {
+  // Where along a segment (0 front, 1 back) its light comes from, weighted by the light each
+  // point adds: the mean and the standard deviation of that position.
+  struct Light {
+    float centre = 0.5f;  // 0.5 for a transparent segment
+    float spread = 0.0f;
+  };
+
+  // As lookup(), and where the segment's light comes from.
+  glm::vec4 lookup(float s_f, float s_b, Light& light) const {
     Cell k = cell(s_f, s_b);
     glm::vec4 c = bilinear(data + k.offset, k);
-    float m = bilinear(moments + k.offset, k);
-    centre = c.a > 0.0f ? std::clamp(m / c.a, 0.0f, 1.0f) : 0.5f;
+    light = light_of(c.a, bilinear(moments + k.offset, k));
     return c;
+  }
+
+  static Light light_of(float a, glm::vec2 moments) {
+    if (!(a > 0.0f)) return {};
+    const float mean = std::clamp(moments.x / a, 0.0f, 1.0f);
+    const float variance = moments.y / a - mean * mean;
+    return {mean, variance > 0.0f ? std::sqrt(variance) : 0.0f};
   }
 
  private:
@@ -65,9 +80,10 @@ struct PreintegrationView {
 // straight rgb: C = integral of rgb * tau * transmittance, A = 1 - exp(-integral of tau). The
 // colour is unshaded emission: the marcher scales it by Blinn-Phong at the segment midpoint.
 // The diagonal is exactly post-classification: A = 1 - (1 - a)^(dt/dt0), C = rgb * A.
-// Beside each entry the table keeps its opacity-weighted centre (the first moment of the
-// absorbed light along the segment), so that a marcher can shade where the light comes from:
-// near the back of a ramp that enters a medium, near the front of an opaque one.
+// Beside each entry the table keeps the first two moments of where along the segment its light
+// comes from (each point weighted by the light it adds, its opacity times the transmittance in
+// front of it), so that a marcher can shade where the light comes from: near the back of a ramp
+// that enters a medium, near the front of an opaque one, spread out in a thin one.
 class PreintegrationTable {
  public:
   static constexpr int kDefaultSize = 256;
@@ -90,10 +106,10 @@ class PreintegrationTable {
   }
   glm::vec4 lookup(float s_f, float s_b) const { return view().lookup(s_f, s_b); }
   glm::vec4 entry(int f, int b) const { return entries_[static_cast<size_t>(f) * size_ + b]; }
-  // Entry (f, b)'s centre along the segment, 0 at the front, 1 at the back (0.5 if transparent).
-  float centre(int f, int b) const {
+  // Where entry (f, b)'s light comes from along the segment, 0 at the front, 1 at the back.
+  PreintegrationView::Light light(int f, int b) const {
     size_t k = static_cast<size_t>(f) * size_ + b;
-    return entries_[k].a > 0.0f ? std::clamp(moments_[k] / entries_[k].a, 0.0f, 1.0f) : 0.5f;
+    return PreintegrationView::light_of(entries_[k].a, moments_[k]);
   }
   // The scalar value of table index i.
   float value(int i) const { return lo_ + (hi_ - lo_) * static_cast<float>(i) / (size_ - 1); }
@@ -105,7 +121,7 @@ class PreintegrationTable {
 
  private:
   std::vector<glm::vec4> entries_;
-  std::vector<float> moments_;  // centre x A per entry, so that it interpolates with A
+  std::vector<glm::vec2> moments_;  // PreintegrationView::moments
   int size_ = 0;
   float lo_ = 0.0f, hi_ = 1.0f, inv_step_ = 1.0f;
   float dt_ = 0.0f;

@@ -93,11 +93,11 @@ class VolumeMarcher {
       // Inside occupied bricks most pieces are still transparent: the O(1) range test spares
       // them the table lookup (the same test that empties bricks).
       if (v_->accel.emptiness && v_->accel.emptiness->is_empty_between(s_f, s_b)) continue;
-      float centre = 0.5f;
-      glm::vec4 c = classify(s_f, s_b, static_cast<float>(back - front), centre);
+      PreintegrationView::Light light;
+      glm::vec4 c = classify(s_f, s_b, static_cast<float>(back - front), light);
       if (c.a <= 0.0f) continue;
-      if (v_->object->shading.enabled) c = shade(c, front + centre * (back - front));
-      if (trim_) trim(s_f, s_b, centre, front, back);
+      if (v_->object->shading.enabled) c = shade(c, front, back, light);
+      if (trim_) trim(s_f, s_b, light.centre, front, back);
       out = Slab::between(static_cast<float>(front), static_cast<float>(back), c);
       return true;
     }
@@ -157,10 +157,11 @@ class VolumeMarcher {
     front = front + u.x * len;
   }
 
-  // (C, A) of the piece; for visible slabs also where along it to shade (else `centre` is kept).
-  glm::vec4 classify(float s_f, float s_b, float len, float& centre) const {
+  // (C, A) of the piece; for visible slabs also where its light comes from (else `light` is
+  // kept: the midpoint).
+  glm::vec4 classify(float s_f, float s_b, float len, PreintegrationView::Light& light) const {
     if (preint_.data) {
-      glm::vec4 c = centre_ ? preint_.lookup(s_f, s_b, centre) : preint_.lookup(s_f, s_b);
+      glm::vec4 c = centre_ ? preint_.lookup(s_f, s_b, light) : preint_.lookup(s_f, s_b);
       if (len >= 0.9999f * step_ || c.a <= 0.0f) return c;
       // A piece shorter than the table's step: the same medium over less distance.
       float a = c.a >= 1.0f ? 1.0f : 1.0f - std::pow(1.0f - c.a, len / step_);
@@ -171,8 +172,22 @@ class VolumeMarcher {
     return glm::vec4(glm::vec3(tf) * a, a);
   }
 
-  glm::vec4 shade(const glm::vec4& c, double t_mid) const {
-    glm::vec3 p = index_at(t_mid);
+  // Blinn-Phong over the piece [front, back] whose light comes from around `light`: at that one
+  // point when the light is concentrated, else the mean of two points a standard deviation
+  // either side of its centre: the two-point quadrature over the light's distribution, exact for
+  // shading that varies quadratically along the piece, as where the normal turns within it.
+  glm::vec4 shade(const glm::vec4& c, double front, double back,
+                  PreintegrationView::Light light) const {
+    const double len = back - front;
+    if (light.spread < kMinSpread) return shade_at(c, front + light.centre * len);
+    const double a = std::max(0.0f, light.centre - light.spread);
+    const double b = std::min(1.0f, light.centre + light.spread);
+    return 0.5f * (shade_at(c, front + a * len) + shade_at(c, front + b * len));
+  }
+  static constexpr float kMinSpread = 1.0f / 64.0f;  // of a piece: one point is as good
+
+  glm::vec4 shade_at(const glm::vec4& c, double t) const {
+    glm::vec3 p = index_at(t);
     glm::vec3 g = v_->accel.gradients ? v_->accel.gradients->sample(p) : v_->grid.gradient(p);
     return shading_.apply(c, v_->gradient_to_world * g);
   }

@@ -100,22 +100,29 @@ TEST(Preintegration, RampsMatchFineIntegration) {
   }
 }
 
-// Ground-truth centre of a ramp: the opacity-weighted mean position (0 front, 1 back) of the
-// light the fine steps of fine_ramp() absorb; 0.5 where nothing is absorbed.
-double fine_centre(const TfLut& lut, double s_f, double s_b, double dt, int n = 20000) {
-  double transmittance = 1.0, moment = 0.0;
+// Ground truth of where a ramp's light comes from: the mean and standard deviation of the
+// position (0 front, 1 back) of the light the fine steps of fine_ramp() absorb, weighted by it;
+// {0.5, 0} where nothing is absorbed.
+PreintegrationView::Light fine_light(const TfLut& lut, double s_f, double s_b, double dt,
+                                     int n = 20000) {
+  double transmittance = 1.0, moment = 0.0, moment2 = 0.0;
   for (int i = 0; i < n; ++i) {
     double s = s_f + (s_b - s_f) * (i + 0.5) / n;
     float a_lut = lut.lookup(static_cast<float>(s)).a;
     double a = a_lut >= 1.0f ? 1.0 : 1.0 - std::pow(1.0 - a_lut, dt / n / lut.unit_distance());
-    moment += transmittance * a * (i + 0.5) / n;
+    double x = (i + 0.5) / n;
+    moment += transmittance * a * x;
+    moment2 += transmittance * a * x * x;
     transmittance *= 1.0 - a;
   }
   double absorbed = 1.0 - transmittance;
-  return absorbed > 0.0 ? moment / absorbed : 0.5;
+  if (!(absorbed > 0.0)) return {};
+  double mean = moment / absorbed;
+  return {static_cast<float>(mean),
+          static_cast<float>(std::sqrt(std::max(0.0, moment2 / absorbed - mean * mean)))};
 }
 
-TEST(Preintegration, CentresMatchFineIntegration) {
+TEST(Preintegration, LightMatchesFineIntegration) {
   TfLut lut(spiky());
   std::mt19937 rng(3);
   for (float dt : {0.25f, 1.0f, 4.0f}) {
@@ -126,7 +133,10 @@ TEST(Preintegration, CentresMatchFineIntegration) {
       if (n % 7 == 0) b = f;                      // homogeneous: the closed form
       if (table.entry(f, b).a < 1e-4f) continue;  // the centre of almost nothing is noise
       // The table places each of its 32 pieces per bin at its midpoint: within half a piece.
-      ASSERT_NEAR(table.centre(f, b), fine_centre(lut, table.value(f), table.value(b), dt), 0.016)
+      const PreintegrationView::Light want = fine_light(lut, table.value(f), table.value(b), dt);
+      ASSERT_NEAR(table.light(f, b).centre, want.centre, 0.016)
+          << "dt " << dt << " f " << f << " b " << b;
+      ASSERT_NEAR(table.light(f, b).spread, want.spread, 0.016)
           << "dt " << dt << " f " << f << " b " << b;
     }
   }
@@ -134,14 +144,16 @@ TEST(Preintegration, CentresMatchFineIntegration) {
   // a faint homogeneous medium from its middle.
   TfLut soft(smooth());
   PreintegrationTable table(soft, 4.0f);
-  float centre = 0.0f;
-  table.view().lookup(-900.0f, 690.0f, centre);
-  EXPECT_GT(centre, 0.6f);
-  table.view().lookup(690.0f, -900.0f, centre);
-  EXPECT_LT(centre, 0.4f);
+  PreintegrationView::Light light;
+  table.view().lookup(-900.0f, 690.0f, light);
+  EXPECT_GT(light.centre, 0.6f);
+  table.view().lookup(690.0f, -900.0f, light);
+  EXPECT_LT(light.centre, 0.4f);
+  // A faint homogeneous medium: evenly spread, with the deviation of a uniform position.
   PreintegrationTable thin(soft, 0.01f);
-  thin.view().lookup(100.0f, 100.0f, centre);
-  EXPECT_NEAR(centre, 0.5f, 1e-3f);
+  thin.view().lookup(100.0f, 100.0f, light);
+  EXPECT_NEAR(light.centre, 0.5f, 1e-3f);
+  EXPECT_NEAR(light.spread, std::sqrt(1.0f / 12.0f), 1e-3f);
 }
 
 TEST(Preintegration, OpacityIsDirectionIndependentAndOpaqueIsSafe) {

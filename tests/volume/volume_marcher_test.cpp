@@ -221,9 +221,9 @@ TEST(VolumeMarcher, VisibleSlabsAreCentredOnTheirLight) {
   ASSERT_GT(r.slabs.size(), 15u);
   for (const Slab& s : r.slabs) {
     float x0 = std::ceil(s.t_back - 1e-4f) - 11.0f;  // the piece's front value s_f
-    float centre = 0.0f;
-    v.accel.preint->view().lookup(x0, x0 + 1.0f, centre);
-    float light = x0 + 10.0f + centre, mid = s.t_back - 0.5f * s.thickness;
+    PreintegrationView::Light at;
+    v.accel.preint->view().lookup(x0, x0 + 1.0f, at);
+    float light = x0 + 10.0f + at.centre, mid = s.t_back - 0.5f * s.thickness;
     if (s.thickness > 1.0f / 16.0f + 1e-4f) {
       EXPECT_NEAR(mid, light, 1e-3f) << "piece at x " << x0;
     }
