@@ -203,6 +203,39 @@ TEST(VolumeMarcher, VisibleSlabsAreShadedAtTheirLightsCentre) {
       << truth.r << " " << centred.r << " " << midpoint.r;
 }
 
+// A thin medium spreads a step's light over the whole step, and the normal turns sharply within
+// it: along the ray (y = 4) the gradient is (2, 8 (x - 14.5), 0), so the diffuse term peaks in
+// the middle of the step [14, 15], to which clip planes cut the volume. One shading point at the
+// light's centre (the middle) sees only the peak; the two-point quadrature over the light comes
+// close to the fine march's average.
+TEST(VolumeMarcher, SpreadLightIsShadedByTwoPointQuadrature) {
+  VolumeObject obj;
+  obj.name = "turning normal";
+  obj.data = field_volume({64, 8, 4}, [](int i, int j, int) {
+    return static_cast<float>(2 * i + 8 * (i - 14.5) * (j - 4));
+  });
+  obj.shading = {true, 0.0f, 1.0f, 0.0f, 1.0f};  // diffuse only: brightness is the normal's tilt
+  obj.transfer_function.points = {{-1000.0, glm::vec4(1, 1, 1, 0.05f)},
+                                  {1000.0, glm::vec4(1, 1, 1, 0.05f)}};
+  obj.clip_planes = {{glm::dvec3(14, 0, 0), glm::dvec3(1, 0, 0)},
+                     {glm::dvec3(15, 0, 0), glm::dvec3(-1, 0, 0)}};
+  const ShadingLight headlight;
+  Ray ray{{-10.0f, 4.0f, 1.5f}, {1.0f, 0.0f, 0.0f}};  // t = x + 10, a sample at every integer x
+  auto composite_at = [&](float step, Classification c, SlabExtent extent) {
+    PreparedVolume v = prepared(obj, step, {SkipMode::none, c});
+    return march(v, ray, step, extent, {&headlight, 1}).composite;
+  };
+  glm::vec4 truth = composite_at(1.0f / 64.0f, Classification::post, SlabExtent::grid);
+  ASSERT_GT(truth.a, 0.02f);
+  glm::vec4 quadrature = composite_at(1.0f, Classification::preintegrated, SlabExtent::visible);
+  glm::vec4 midpoint = composite_at(1.0f, Classification::preintegrated, SlabExtent::grid);
+  float quadrature_error = std::abs(quadrature.r / quadrature.a - truth.r / truth.a),
+        midpoint_error = std::abs(midpoint.r / midpoint.a - truth.r / truth.a);
+  EXPECT_GT(midpoint_error, 0.15f);
+  EXPECT_LT(quadrature_error, 0.35f * midpoint_error)
+      << truth.r / truth.a << " " << quadrature.r / quadrature.a << " " << midpoint.r / midpoint.a;
+}
+
 // A visible slab is centred on its light: where the ramp enters an opaque medium mid-step, the
 // slab starts near the entry and spans twice the distance to the opacity-weighted centre, so that
 // an even spread of its opacity (what OVI splits) has the true first moment.
