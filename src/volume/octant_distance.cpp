@@ -1,7 +1,6 @@
 #include "volume/octant_distance.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cstddef>
 #include <vector>
 

@@ -171,10 +171,28 @@ TEST(VolumeMarcher, PreintegrationFollowsASharpPeakPostClassificationMisses) {
   EXPECT_LT(std::abs(pre.a - truth.a), 0.2f * std::abs(post.a - truth.a));
 }
 
+// One headlit ray along x through `obj` (t = x + 10, a sample at every integer x), composited
+// three ways: the truth (a fine post-classified march shaded at every tiny step), visible slabs
+// and grid slabs shaded at their midpoints, both pre-integrated at a 1-voxel step.
+struct ShadedMarches {
+  glm::vec4 truth, visible, midpoint;
+};
+ShadedMarches shaded_marches(const VolumeObject& obj) {
+  const ShadingLight headlight;
+  Ray ray{{-10.0f, 4.0f, 1.5f}, {1.0f, 0.0f, 0.0f}};
+  auto composite_at = [&](float step, Classification c, SlabExtent extent) {
+    PreparedVolume v = prepared(obj, step, {SkipMode::none, c});
+    return march(v, ray, step, extent, {&headlight, 1}).composite;
+  };
+  return {composite_at(1.0f / 64.0f, Classification::post, SlabExtent::grid),
+          composite_at(1.0f, Classification::preintegrated, SlabExtent::visible),
+          composite_at(1.0f, Classification::preintegrated, SlabExtent::grid)};
+}
+
 // Visible slabs are shaded where their light comes from. Along the ray (y = 4) the scalar is 2x
 // and the normal turns with x (gradient (2, x - 14.9, 0)), facing the headlight at x = 14.9,
 // where the TF turns opaque near the back of the step [14, 15]: shading that step at its
-// midpoint sees a tilted normal. Judged by a fine post-classified march shaded at every tiny step.
+// midpoint sees a tilted normal.
 TEST(VolumeMarcher, VisibleSlabsAreShadedAtTheirLightsCentre) {
   VolumeObject obj;
   obj.name = "turning ramp";
@@ -185,22 +203,14 @@ TEST(VolumeMarcher, VisibleSlabsAreShadedAtTheirLightsCentre) {
   obj.transfer_function.points = {{29.0, glm::vec4(1, 1, 1, 0)},
                                   {30.0, glm::vec4(1, 1, 1, 0.9f)},
                                   {80.0, glm::vec4(1, 1, 1, 0.9f)}};
-  const ShadingLight headlight;
-  Ray ray{{-10.0f, 4.0f, 1.5f}, {1.0f, 0.0f, 0.0f}};  // t = x + 10, a sample at every integer x
-  auto composite_at = [&](float step, Classification c, SlabExtent extent) {
-    PreparedVolume v = prepared(obj, step, {SkipMode::none, c});
-    return march(v, ray, step, extent, {&headlight, 1}).composite;
-  };
-  glm::vec4 truth = composite_at(1.0f / 64.0f, Classification::post, SlabExtent::grid);
-  ASSERT_GT(truth.a, 0.5f);
-  glm::vec4 centred = composite_at(1.0f, Classification::preintegrated, SlabExtent::visible);
-  glm::vec4 midpoint = composite_at(1.0f, Classification::preintegrated, SlabExtent::grid);
-  EXPECT_NEAR(centred.a, midpoint.a, 1e-6f);  // where it is shaded changes only the colour
-  float centred_error = std::abs(centred.r - truth.r),
-        midpoint_error = std::abs(midpoint.r - truth.r);
+  const ShadedMarches m = shaded_marches(obj);
+  ASSERT_GT(m.truth.a, 0.5f);
+  EXPECT_NEAR(m.visible.a, m.midpoint.a, 1e-6f);  // where it is shaded changes only the colour
+  float centred_error = std::abs(m.visible.r - m.truth.r),
+        midpoint_error = std::abs(m.midpoint.r - m.truth.r);
   EXPECT_GT(midpoint_error, 0.01f);
   EXPECT_LT(centred_error, 0.5f * midpoint_error)
-      << truth.r << " " << centred.r << " " << midpoint.r;
+      << m.truth.r << " " << m.visible.r << " " << m.midpoint.r;
 }
 
 // A thin medium spreads a step's light over the whole step, and the normal turns sharply within
@@ -214,26 +224,19 @@ TEST(VolumeMarcher, SpreadLightIsShadedByTwoPointQuadrature) {
   obj.data = field_volume({64, 8, 4}, [](int i, int j, int) {
     return static_cast<float>(2 * i + 8 * (i - 14.5) * (j - 4));
   });
-  obj.shading = {true, 0.0f, 1.0f, 0.0f, 1.0f};  // diffuse only: brightness is the normal's tilt
+  obj.shading = {true, 0.0f, 1.0f, 0.0f, 1.0f};
   obj.transfer_function.points = {{-1000.0, glm::vec4(1, 1, 1, 0.05f)},
                                   {1000.0, glm::vec4(1, 1, 1, 0.05f)}};
   obj.clip_planes = {{glm::dvec3(14, 0, 0), glm::dvec3(1, 0, 0)},
                      {glm::dvec3(15, 0, 0), glm::dvec3(-1, 0, 0)}};
-  const ShadingLight headlight;
-  Ray ray{{-10.0f, 4.0f, 1.5f}, {1.0f, 0.0f, 0.0f}};  // t = x + 10, a sample at every integer x
-  auto composite_at = [&](float step, Classification c, SlabExtent extent) {
-    PreparedVolume v = prepared(obj, step, {SkipMode::none, c});
-    return march(v, ray, step, extent, {&headlight, 1}).composite;
-  };
-  glm::vec4 truth = composite_at(1.0f / 64.0f, Classification::post, SlabExtent::grid);
-  ASSERT_GT(truth.a, 0.02f);
-  glm::vec4 quadrature = composite_at(1.0f, Classification::preintegrated, SlabExtent::visible);
-  glm::vec4 midpoint = composite_at(1.0f, Classification::preintegrated, SlabExtent::grid);
-  float quadrature_error = std::abs(quadrature.r / quadrature.a - truth.r / truth.a),
-        midpoint_error = std::abs(midpoint.r / midpoint.a - truth.r / truth.a);
+  const ShadedMarches m = shaded_marches(obj);
+  ASSERT_GT(m.truth.a, 0.02f);
+  auto brightness = [](glm::vec4 c) { return c.r / c.a; };
+  float quadrature_error = std::abs(brightness(m.visible) - brightness(m.truth)),
+        midpoint_error = std::abs(brightness(m.midpoint) - brightness(m.truth));
   EXPECT_GT(midpoint_error, 0.15f);
   EXPECT_LT(quadrature_error, 0.35f * midpoint_error)
-      << truth.r / truth.a << " " << quadrature.r / quadrature.a << " " << midpoint.r / midpoint.a;
+      << brightness(m.truth) << " " << brightness(m.visible) << " " << brightness(m.midpoint);
 }
 
 // A visible slab is centred on its light: where the ramp enters an opaque medium mid-step, the
