@@ -261,7 +261,7 @@ class PacketKernel {
           // - the others keep marching until every such lane needs a look or the first has
           //   waited kMaxLookDelay steps. A walk costs the same for one lane as for eight and
           //   several times a step, and the next brick is mostly occupied anyway (ct-head and
-          //   FLAIR about 7% faster than looking at once, save a lone lane that waits a step).
+          //   FLAIR about 7% faster than when only a lone lane waited, for one step).
           // A deferred look marches pieces a look would have skipped: they are transparent
           // unless one spans two empty bricks whose value ranges straddle a visible value, as
           // plain marching has it too (no 8-bit image here changed).
