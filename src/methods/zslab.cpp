@@ -59,13 +59,14 @@ Image render_streamed(const Scene& scene, int spp, const RenderOptions& options,
         for (size_t k = 0; k < end; ++k) {
           const bool surfaces = z.stages[k].kind == ZslabStage::Kind::surfaces;
           if (surfaces) z.rasterize(k, tile, fragments);
-          for_each_sample(z, tile, [&](int, int, const Ray& ray, size_t i) {
+          for_each_sample(z, tile, [&](int x, int y, const Ray& ray, size_t i) {
             std::span<const Fragment> f = surfaces ? fragments.of(i) : std::span<const Fragment>();
             if (surfaces && f.empty()) return;
             uint32_t c = current(i);
             int count = zt[c].load(i, in_slots);
             SlabList out(std::span<Slab>(out_slots, static_cast<size_t>(n)));
-            if (!z.run_deferred(k, ray, f, std::span<const Slab>(in_slots, count), out)) return;
+            if (!z.run_deferred(k, x, y, ray, f, std::span<const Slab>(in_slots, count), out))
+              return;
             zt[1 - c].store(i, out.items());
             flags[i / 32] ^= 1u << (i % 32);
           });
@@ -74,7 +75,7 @@ Image render_streamed(const Scene& scene, int spp, const RenderOptions& options,
         size_t done = 0;
         for_each_sample(z, tile, [&](int x, int y, const Ray& ray, size_t i) {
           int count = zt[current(i)].load(i, in_slots);
-          sum += z.run_final(end, ray, std::span<const Slab>(in_slots, count));
+          sum += z.run_final(end, x, y, ray, std::span<const Slab>(in_slots, count));
           if (++done == z.offsets.size()) {
             image.at(x, y) = over_background(sum * weight, scene.image.background);
             sum = glm::vec4(0.0f);
@@ -164,7 +165,7 @@ Image render_zslab_cached(const Scene& scene, int spp, const RenderOptions& opti
         }
         int count = input ? input->load(g, in_slots) : 0;
         SlabList out(std::span<Slab>(out_slots, static_cast<size_t>(n)));
-        if (z.run_deferred(k, ray, f, std::span<const Slab>(in_slots, count), out))
+        if (z.run_deferred(k, x, y, ray, f, std::span<const Slab>(in_slots, count), out))
           output->store(g, out.items());
         else if (input)
           output->copy(g, *input, g);
@@ -197,7 +198,7 @@ Image render_zslab_cached(const Scene& scene, int spp, const RenderOptions& opti
         for_each_sample(z, tile, [&](int x, int y, const Ray& ray, size_t i) {
           size_t g = (static_cast<size_t>(y) * w + x) * spx + i % spx;
           int count = input ? input->load(g, slots) : 0;
-          sum += z.run_final(end, ray, std::span<const Slab>(slots, count));
+          sum += z.run_final(end, x, y, ray, std::span<const Slab>(slots, count));
           if (i % spx + 1 == spx) {
             image->at(x, y) = over_background(sum * weight, scene.image.background);
             sum = glm::vec4(0.0f);

@@ -111,6 +111,8 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
     PreparedVolume& pv = frame.volumes[v];
     if (pv.object->style == VolumeStyle::dvr)
       pv.accel = accelerate(*pv.object, pv.lut, step, march);
+    coverage_.emplace_back();
+    if (pv.accel.occupancy) coverage_.back().emplace(pv, frame.camera);
   }
 
   // Polygon objects and planes first, in scene order, as many per stage as fit the RT layers.
@@ -229,14 +231,16 @@ void ZslabFrame::rasterize(size_t k, const TileRect& tile, SampleFragments& out)
   if (k < rasterizers_.size() && rasterizers_[k]) rasterizers_[k]->rasterize(tile, offsets, out);
 }
 
-bool ZslabFrame::run_deferred(size_t k, const Ray& ray, std::span<const Fragment> fragments,
-                              std::span<const Slab> stored, SlabList& out) const {
+bool ZslabFrame::run_deferred(size_t k, int x, int y, const Ray& ray,
+                              std::span<const Fragment> fragments, std::span<const Slab> stored,
+                              SlabList& out) const {
   const ZslabStage& st = stages[k];
   if (st.kind == ZslabStage::Kind::surfaces) {
     StageThickness th{st.thickness, footprint_at_0_, footprint_per_mm_};
     return run_surface_stage(fragments, th, stored, out, params);
   }
   const PreparedVolume& v = frame.volumes[st.volume];
+  if (!may_show(st.volume, x, y)) return false;
   RayInterval span = v.intersect(ray);
   if (span.empty()) return false;
   Slab local[kMaxZslabLayers];
@@ -259,8 +263,9 @@ bool ZslabFrame::run_deferred(size_t k, const Ray& ray, std::span<const Fragment
   return true;
 }
 
-glm::vec4 ZslabFrame::run_final(size_t k, const Ray& ray, std::span<const Slab> stored) const {
-  if (k < stages.size() && stages[k].on_the_fly) {
+glm::vec4 ZslabFrame::run_final(size_t k, int x, int y, const Ray& ray,
+                                std::span<const Slab> stored) const {
+  if (k < stages.size() && stages[k].on_the_fly && may_show(stages[k].volume, x, y)) {
     const PreparedVolume& v = frame.volumes[stages[k].volume];
     RayInterval span = v.intersect(ray);
     if (!span.empty()) {

@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 
 #include "core/ray.hpp"
 #include "intermix/scene.hpp"
+#include "methods/brick_coverage.hpp"
 #include "methods/frame_setup.hpp"
 #include "methods/zslab_buffer.hpp"
 #include "methods/zslab_kernel.hpp"
@@ -40,11 +42,13 @@ class ZslabFrame {
   // Builds the rasterizers of the surface stages from `first` on (before any parallel loop).
   void prepare(size_t first = 0);
 
-  // Runs deferred stage `k` on one sample: false when the stage does not touch it.
-  bool run_deferred(size_t k, const Ray& ray, std::span<const Fragment> fragments,
+  // Runs deferred stage `k` on one sample of pixel (x, y): false when the stage does not touch
+  // it.
+  bool run_deferred(size_t k, int x, int y, const Ray& ray, std::span<const Fragment> fragments,
                     std::span<const Slab> stored, SlabList& out) const;
-  // Runs the on-the-fly stage `k` (or, with k out of range, just accumulates) on one sample.
-  glm::vec4 run_final(size_t k, const Ray& ray, std::span<const Slab> stored) const;
+  // Runs the on-the-fly stage `k` (or, with k out of range, just accumulates) on one sample of
+  // pixel (x, y).
+  glm::vec4 run_final(size_t k, int x, int y, const Ray& ray, std::span<const Slab> stored) const;
 
   // Fragments of surface stage `k` for every sample of `tile`; empty for other stages.
   void rasterize(size_t k, const TileRect& tile, SampleFragments& out) const;
@@ -63,7 +67,14 @@ class ZslabFrame {
   bool hybrid = true;
 
  private:
+  // Whether volume v's dvr march can find anything in pixel (x, y) (BrickCoverage, which keeps
+  // rays that would only walk empty bricks from being marched).
+  bool may_show(size_t v, int x, int y) const {
+    return !coverage_[v] || coverage_[v]->covered(x, y);
+  }
+
   std::vector<std::shared_ptr<const Rasterizer>> rasterizers_;  // per stage, surfaces only
+  std::vector<std::optional<BrickCoverage>> coverage_;          // per volume, dvr with occupancy
   float footprint_at_0_ = 0.0f, footprint_per_mm_ = 0.0f;
   uint64_t frame_key_ = 0;
 };

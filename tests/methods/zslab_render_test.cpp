@@ -16,6 +16,7 @@
 #include "intermix/scene.hpp"
 #include "methods/zslab.hpp"
 #include "methods/zslab_frame.hpp"
+#include "volume/volume_marcher.hpp"
 
 namespace imx {
 namespace {
@@ -118,6 +119,58 @@ Scene transparent_two_volumes() {
     for (int i : {2, 3})
       extra.push_back(fmt::format("objects.{}.transfer_function.points.{}.4=0.1", v, i));
   return two_volumes(extra);
+}
+
+// A volume stage leaves out the samples of pixels that no occupied brick of its volume reaches
+// (BrickCoverage), but never one whose ray the marcher finds anything on: checked pixel by pixel
+// on a wide and a tall image, where swapping x and y would leave out the wrong pixels.
+TEST(ZslabRender, VolumeStagesLeaveOutOnlyRaysWithNothingToMarch) {
+  for (const char* size : {"image.width=64", "image.height=64"}) {
+    const Scene s = two_volumes({size, "camera.target=[20,-20,20]"});
+    ZslabFrame z(s, 1, false);
+    int marched = 0, left_out = 0;
+    for (size_t k = 0; k < z.stages.size(); ++k) {
+      if (z.stages[k].kind != ZslabStage::Kind::volume) continue;
+      const PreparedVolume& v = z.frame.volumes[static_cast<size_t>(z.stages[k].volume)];
+      for (int y = 0; y < s.image.height; ++y)
+        for (int x = 0; x < s.image.width; ++x) {
+          const Ray ray = z.frame.camera.ray(x + 0.5, y + 0.5);
+          const RayInterval span = v.intersect(ray);
+          if (span.empty()) continue;
+          VolumeMarcher marcher(v, ray, span.t0, span.t1, z.stages[k].step, z.frame.lights);
+          Slab first;
+          const bool something = marcher.next(first);
+          Slab slots[kMaxZslabLayers];
+          SlabList out(std::span<Slab>(slots, static_cast<size_t>(z.params.layers)));
+          const bool ran = z.run_deferred(k, x, y, ray, {}, {}, out);
+          if (something) {
+            EXPECT_TRUE(ran) << size << " stage " << k << " pixel " << x << ", " << y;
+            ++marched;
+          } else if (!ran) {
+            ++left_out;
+          }
+        }
+    }
+    EXPECT_GT(marched, 500) << size;
+    EXPECT_GT(left_out, 100) << size;
+    // The hybrid's last volume, cast on the fly, likewise.
+    ZslabFrame h(s, 1, true);
+    const size_t last = h.stages.size() - 1;
+    ASSERT_TRUE(h.stages[last].on_the_fly);
+    const PreparedVolume& v = h.frame.volumes[static_cast<size_t>(h.stages[last].volume)];
+    for (int y = 0; y < s.image.height; ++y)
+      for (int x = 0; x < s.image.width; ++x) {
+        const Ray ray = h.frame.camera.ray(x + 0.5, y + 0.5);
+        const RayInterval span = v.intersect(ray);
+        if (span.empty()) continue;
+        VolumeMarcher marcher(v, ray, span.t0, span.t1, h.stages[last].step, h.frame.lights);
+        Slab first;
+        if (marcher.next(first)) {
+          EXPECT_GT(h.run_final(last, x, y, ray, {}).a, 0.0f)
+              << size << " pixel " << x << ", " << y;
+        }
+      }
+  }
 }
 
 TEST(ZslabRender, LastVolumeSettingChoosesTheLastStage) {
@@ -236,7 +289,7 @@ TEST(ZslabRender, OverflowTailNeverExceedsTheCapacity) {
         for (size_t k = 0; k < z.stages.size(); ++k) {
           std::vector<Slab> slots(n + 4, sentinel);
           SlabList out(std::span<Slab>(slots.data(), static_cast<size_t>(n)));
-          if (!z.run_deferred(k, ray, {}, stored, out)) continue;
+          if (!z.run_deferred(k, x, y, ray, {}, stored, out)) continue;
           ASSERT_LE(out.size(), n);
           for (int i = n; i < n + 4; ++i) ASSERT_EQ(slots[i].color, sentinel.color);
           for (int i = 1; i < out.size(); ++i) ASSERT_GE(out[i].front(), out[i - 1].t_back - 1e-3f);
