@@ -11,20 +11,34 @@ BrickCoverage::BrickCoverage(const PreparedVolume& v, const CameraModel& camera)
       columns_((width_ + kBlockWidth - 1) / kBlockWidth),
       rows_((height_ + kBlockHeight - 1) / kBlockHeight),
       blocks_(static_cast<size_t>(columns_) * rows_, 0) {
-  // Without occupancy the whole grid is one brick.
+  // Cells of `group`^3 bricks, at most kMaxCells a side, so that the per-frame work stays small
+  // whatever the brick size: a cell is occupied when any of its bricks is. Without occupancy the
+  // whole grid is one cell.
+  constexpr int kMaxCells = 32;
   const glm::ivec3 voxels = v.grid.dims;
-  const BrickGrid grid = v.accel.occupancy
-                             ? v.accel.occupancy->grid()
-                             : BrickGrid(voxels, std::max({voxels.x, voxels.y, voxels.z}));
-  // The image positions of the bricks' corners: a lattice of (dims + 1)^3 points.
-  const glm::ivec3 n = grid.dims + 1;
+  const BrickOccupancy* occ = v.accel.occupancy.get();
+  const glm::ivec3 bricks = occ ? occ->grid().dims : glm::ivec3(1);
+  const int group = (std::max({bricks.x, bricks.y, bricks.z}) + kMaxCells - 1) / kMaxCells;
+  const glm::ivec3 cells = (bricks + group - 1) / group;
+  const glm::dvec3 cell_size = occ ? glm::dvec3(double(occ->grid().size) * group)
+                                   : glm::dvec3(glm::max(voxels - 1, glm::ivec3(1)));
+  std::vector<uint8_t> occupied(static_cast<size_t>(cells.x) * cells.y * cells.z, occ ? 0 : 1);
+  if (occ)
+    for (int k = 0; k < bricks.z; ++k)
+      for (int j = 0; j < bricks.y; ++j)
+        for (int i = 0; i < bricks.x; ++i)
+          if (occ->occupied({i, j, k}))
+            occupied[(static_cast<size_t>(k / group) * cells.y + j / group) * cells.x + i / group] =
+                1;
+
+  // The image positions of the cells' corners: a lattice of (cells + 1)^3 points.
+  const glm::ivec3 n = cells + 1;
   std::vector<glm::dvec2> at(static_cast<size_t>(n.x) * n.y * n.z);
   const glm::dmat4& to_world = v.object->index_to_world;
   for (int k = 0; k < n.z; ++k)
     for (int j = 0; j < n.y; ++j)
       for (int i = 0; i < n.x; ++i) {
-        const glm::dvec3 p =
-            glm::min(glm::dvec3(i, j, k) * double(grid.size), glm::dvec3(voxels - 1));
+        const glm::dvec3 p = glm::min(glm::dvec3(i, j, k) * cell_size, glm::dvec3(voxels - 1));
         const glm::dvec3 c = camera.to_camera(glm::dvec3(to_world * glm::dvec4(p, 1.0)));
         const glm::dvec2 q = camera.project_camera(c);
         if ((camera.perspective() && !(c.z > camera.near_plane())) || !std::isfinite(q.x) ||
@@ -34,10 +48,10 @@ BrickCoverage::BrickCoverage(const PreparedVolume& v, const CameraModel& camera)
         }
         at[(static_cast<size_t>(k) * n.y + j) * n.x + i] = q;
       }
-  for (int k = 0; k < grid.dims.z; ++k)
-    for (int j = 0; j < grid.dims.y; ++j)
-      for (int i = 0; i < grid.dims.x; ++i) {
-        if (v.accel.occupancy && !v.accel.occupancy->occupied({i, j, k})) continue;
+  for (int k = 0; k < cells.z; ++k)
+    for (int j = 0; j < cells.y; ++j)
+      for (int i = 0; i < cells.x; ++i) {
+        if (!occupied[(static_cast<size_t>(k) * cells.y + j) * cells.x + i]) continue;
         glm::dvec2 lo(INFINITY), hi(-INFINITY);
         for (int c = 0; c < 8; ++c) {
           const size_t m =

@@ -15,8 +15,10 @@ class BrickCoverage {
 
   // Conservative: a block is covered when a pixel centre in it may lie within the screen
   // rectangle (a pixel wider each side, for rounding) of the corners of an occupied brick's region
-  // (BrickGrid::first_voxel..last_voxel), or of the whole grid when `v` has no occupancy. Every
-  // block is covered when a corner lies behind the eye (or the eye inside the grid).
+  // (BrickGrid::first_voxel..last_voxel), or of the whole grid when `v` has no occupancy. Grids of
+  // more than 32 bricks a side are taken in cells of several bricks, occupied when any of them
+  // is, so that the work per frame stays below 33^3 corners. Every block is covered when a corner
+  // lies behind the eye (or the eye inside the grid).
   BrickCoverage(const PreparedVolume& v, const CameraModel& camera);
 
   // Whether the block holding pixel (x, y) is covered.

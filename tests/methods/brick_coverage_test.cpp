@@ -26,9 +26,10 @@ bool meets_occupied_brick(const PreparedVolume& v, const CameraModel& camera, in
 // Every pixel whose ray meets an occupied brick is covered, in both projections, from random
 // sides and from inside the grid; returns how many pixels whose rays meet only empty bricks are
 // not covered.
-int check_coverage(const VolumeObject& obj) {
-  const PreparedVolume v =
-      test::prepared(obj, 1.0f, {SkipMode::distance, Classification::preintegrated});
+int check_coverage(const VolumeObject& obj, int brick_size = 8) {
+  const PreparedVolume v = test::prepared(
+      obj, 1.0f,
+      {SkipMode::distance, Classification::preintegrated, GradientSource::precomputed, brick_size});
   EXPECT_GT(v.accel.occupancy->occupied_count(), 0u);
   EXPECT_LT(v.accel.occupancy->occupied_count(), v.accel.occupancy->grid().count() / 2);
   Camera cam;
@@ -78,15 +79,24 @@ TEST(BrickCoverage, CoversEveryRayThatMeetsBlobs) {
       3000);
 }
 
-// One bright voxel: the few bricks around it are all that is occupied, so the coverage is tight
-// and a rectangle a pixel too small, or one brick left out, shows.
-TEST(BrickCoverage, CoversEveryRayThatMeetsTheBricksOfOneVoxel) {
+VolumeData one_bright_voxel() {
   VolumeData data;
   data.dims = {48, 40, 36};
   std::vector<uint8_t> voxels(static_cast<size_t>(48) * 40 * 36, 0);
   voxels[(static_cast<size_t>(20) * 40 + 15) * 48 + 24] = 255;
   data.voxels = std::move(voxels);
-  EXPECT_GT(check_coverage(volume_object(std::move(data))), 10000);
+  return data;
+}
+
+// One bright voxel: the few bricks around it are all that is occupied, so the coverage is tight
+// and a rectangle a pixel too small, or one brick left out, shows.
+TEST(BrickCoverage, CoversEveryRayThatMeetsTheBricksOfOneVoxel) {
+  EXPECT_GT(check_coverage(volume_object(one_bright_voxel())), 10000);
+}
+
+// One-voxel bricks make 47 a side, which the coverage takes in cells of 2 x 2 x 2 bricks.
+TEST(BrickCoverage, CoversEveryRayWhenBricksAreTakenInCells) {
+  EXPECT_GT(check_coverage(volume_object(one_bright_voxel()), 1), 10000);
 }
 
 }  // namespace
