@@ -78,7 +78,7 @@ struct PreintegrationView {
 // which the scalar goes linearly from value(f) to value(b), with extinction
 // tau(s) = -ln(1 - a(s)) / dt0 from the LUT's alpha per unit_distance dt0, and colour the LUT's
 // straight rgb: C = integral of rgb * tau * transmittance, A = 1 - exp(-integral of tau). The
-// colour is unshaded emission: the marcher scales it by Blinn-Phong at the segment midpoint.
+// colour is unshaded emission: the marcher scales it by Blinn-Phong along the segment.
 // The diagonal is exactly post-classification: A = 1 - (1 - a)^(dt/dt0), C = rgb * A.
 // Beside each entry the table keeps the first two moments of where along the segment its light
 // comes from (each point weighted by the light it adds, its opacity times the transmittance in

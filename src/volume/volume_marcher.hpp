@@ -22,15 +22,16 @@ namespace imx {
 // values at its ends (opacity-corrected for pieces shorter than the step at the span's ends) or
 // post-classified at the mean of the two, then Blinn-Phong shaded at its midpoint. Pieces that
 // lie wholly in bricks the TF makes empty are skipped without sampling, with a 3D DDA over the
-// bricks and, in distance mode, jumps over the empty bricks around. Empty slabs are not emitted;
+// bricks and, in distance mode, jumps over the empty bricks ahead. Empty slabs are not emitted;
 // the caller applies early ray termination by no longer asking.
 //
 // With SlabExtent::visible (the default; pre-integration only), each slab is trimmed to the part
 // of its piece where the linear scalar ramp has non-zero TF opacity, centred on where its light
 // comes from: the same visibility, but a depth extent that tells slab methods where within a step
-// a medium begins and absorbs (e.g. where two opaque volumes meet). It is also shaded there (the
-// table's opacity-weighted centre), not at the midpoint. SlabExtent::grid keeps whole pieces
-// shaded at their midpoints, as a conventional ray caster does.
+// a medium begins and absorbs (e.g. where two opaque volumes meet). It is also shaded where its
+// light comes from, not at the midpoint: at the table's opacity-weighted centre, or at two points
+// a standard deviation either side of it when the light is spread. SlabExtent::grid keeps whole
+// pieces shaded at their midpoints, as a conventional ray caster does.
 enum class SlabExtent { grid, visible };
 
 class VolumeMarcher {
