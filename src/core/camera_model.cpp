@@ -34,6 +34,9 @@ CameraModel::CameraModel(const Camera& camera, int width, int height)
       throw Error(fmt::format("camera.ortho_height: {} must be positive", camera.ortho_height));
     half_height_ = camera.ortho_height * 0.5;
   }
+  const double wide = half_height_ * aspect_;
+  basis_ = {(perspective_ ? forward_ : eye_) - wide * right_ + half_height_ * up_,
+            (2.0 * wide / width_) * right_, (-2.0 * half_height_ / height_) * up_};
 }
 
 glm::dvec3 CameraModel::to_camera(const glm::dvec3& world) const {

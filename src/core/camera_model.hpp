@@ -12,33 +12,21 @@ class CameraModel {
  public:
   CameraModel(const Camera& camera, int width, int height);
 
-  // The ray through image position (px, py). Perspective rays start at the eye;
-  // orthographic rays start on the plane through the eye, perpendicular to the view.
-  // Inline: called once per pixel, and returning the Ray through memory from an out-of-line
-  // call cost a store-forwarding stall per ray in the packet tile loop.
-  Ray ray(double px, double py) const {
-    double sx = (2.0 * px / width_ - 1.0) * half_height_ * aspect_;
-    double sy = (1.0 - 2.0 * py / height_) * half_height_;
-    Ray r;
-    if (perspective_) {
-      r.origin = glm::vec3(eye_);
-      r.dir = glm::vec3(glm::normalize(forward_ + sx * right_ + sy * up_));
-    } else {
-      r.origin = glm::vec3(eye_ + sx * right_ + sy * up_);
-      r.dir = glm::vec3(forward_);
-    }
-    return r;
-  }
-
   // The rays as a linear map of the image position: ray(px, py) starts at `at + px * per_x +
   // py * per_y` (orthographic) or runs along its normalized value (perspective).
   struct PixelBasis {
     glm::dvec3 at, per_x, per_y;
   };
-  PixelBasis pixel_basis() const {
-    const double wide = half_height_ * aspect_;
-    const glm::dvec3 at = (perspective_ ? forward_ : eye_) - wide * right_ + half_height_ * up_;
-    return {at, (2.0 * wide / width_) * right_, (-2.0 * half_height_ / height_) * up_};
+  const PixelBasis& pixel_basis() const { return basis_; }
+
+  // The ray through image position (px, py). Perspective rays start at the eye;
+  // orthographic rays start on the plane through the eye, perpendicular to the view.
+  // Inline: called once per pixel, and returning the Ray through memory from an out-of-line
+  // call cost a store-forwarding stall per ray in the packet tile loop.
+  Ray ray(double px, double py) const {
+    const glm::dvec3 p = basis_.at + px * basis_.per_x + py * basis_.per_y;
+    return perspective_ ? Ray{glm::vec3(eye_), glm::vec3(glm::normalize(p))}
+                        : Ray{glm::vec3(p), glm::vec3(forward_)};
   }
 
   // Camera-space coordinates of a world point: x right, y up, z forward (depth along view).
@@ -72,6 +60,7 @@ class CameraModel {
   double half_height_;  // tan(fov/2) for perspective, ortho_height/2 for orthographic
   double aspect_;
   double near_ = 1e-3;
+  PixelBasis basis_;
 };
 
 }  // namespace imx
