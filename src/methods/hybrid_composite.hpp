@@ -2,7 +2,7 @@
 // resolved for a pixel, intermixed with the ray's volumes. Volume hits (iso, mip, xray) join the
 // surfaces first; every marched volume but the last is intermixed into a stored array, the last
 // one on the fly with early ray termination. Zero-thickness surfaces split the volume's slabs
-// exactly at their depth, so for them this is depth peeling with ray-cast segments in between.
+// exactly at their depth: ray-cast segments with the surfaces composited in between.
 // Pure: the caller provides the scratch storage; no allocation.
 #pragma once
 #include <span>

@@ -1,8 +1,11 @@
-// Depth peeling kernel (SPEC §7): the first L layers of a pixel, each the nearest fragment
-// strictly behind the previous layer (on equal depths the first in scene order wins the depth
-// test, as on a GPU), with the volume segments between them ray-cast. Fragments behind the last
-// layer are lost. Pure.
+// Depth peeling kernel (SPEC §7, seed 001): the first L layers of a pixel, each the nearest
+// fragment strictly behind the previous layer (on equal depths the first in scene order wins the
+// depth test, as on a GPU), with the volume segments between them ray-cast. Fragments behind the
+// last layer are lost. As in seed 001, a segment ends where the depth test fails for a sample:
+// whole steps are cast and each layer is composited at the step boundary nearest to it (`dfb`
+// cuts the steps exactly at each surface). Pure.
 #pragma once
+#include <cmath>
 #include <span>
 
 #include <glm/vec4.hpp>
@@ -11,6 +14,24 @@
 #include "methods/hybrid_composite.hpp"
 
 namespace imx {
+
+// Where seed 001's per-sample depth test puts a layer at depth t: the boundary nearest t of the
+// step that holds it, for each volume marched there (steps are the cells of the grid k * step,
+// cut at the volume's entry and exit, as VolumeMarcher takes them); outside every volume, t.
+inline float nearest_step_boundary(const RayVolumes& rv, float t, float step) {
+  double best = t, best_distance = INFINITY;
+  const double cell = std::floor(double(t) / step);
+  for (int v = 0; v < rv.count; ++v) {
+    if (!rv.marched[v] || !(t > rv.span[v].t0 && t < rv.span[v].t1)) continue;
+    for (double b : {std::max<double>(rv.span[v].t0, cell * step),
+                     std::min<double>(rv.span[v].t1, (cell + 1.0) * step)})
+      if (std::abs(b - t) < best_distance) {
+        best = b;
+        best_distance = std::abs(b - t);
+      }
+  }
+  return static_cast<float>(best);
+}
 
 // `layers` holds at least L slabs. `fragments` arrive in any order and are sorted in place.
 inline glm::vec4 trace_peel(const Ray& ray, std::span<Fragment> fragments, int peel_layers,
@@ -26,6 +47,8 @@ inline glm::vec4 trace_peel(const Ray& ray, std::span<Fragment> fragments, int p
     layers[n++] = Slab{f.t, 0.0f, f.color};
   }
   const RayVolumes rv(ray, volumes, hp.step, hp.iso_bisections, lights);
+  for (Slab& layer : layers.first(n))
+    layer.t_back = nearest_step_boundary(rv, layer.t_back, hp.step);
   return composite_hybrid(ray, layers.first(n), rv, volumes, lights, hp, scratch);
 }
 

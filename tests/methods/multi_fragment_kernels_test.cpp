@@ -136,12 +136,38 @@ TEST(MultiFragmentKernels, SurfaceInsideAVolumeMatchesTheReference) {
   std::vector<Fragment> sorted = f;
   glm::vec4 ref = trace_reference(fx.ray, sorted, vols, {}, rp);
   EXPECT_TRUE(near4(fx.dfb(f, false, vols), ref, 2e-3f));
-  EXPECT_TRUE(near4(fx.peel(f, 4, vols), ref, 2e-3f));
   EXPECT_TRUE(near4(fx.dfb(f, true, vols), ref, 2e-2f));  // 0.5 mm slabs blend with the medium
+}
+
+TEST(MultiFragmentKernels, PeelCompositesEachLayerAtTheNearestStepBoundary) {
+  Fixture fx;
+  VolumeObject obj = test::homogeneous_volume(0.1f, {0.2f, 0.4f, 1.0f});
+  std::vector<PreparedVolume> vols{PreparedVolume(obj)};
+  fx.ray = Ray{{0.3f, 0.2f, -100.0f}, {0, 0, 1}};  // volume over t in [90, 110], steps of 1 mm
+  fx.hp.step = 1.0f;
+  std::vector<Fragment> f = {{97.3f, colour(1, 0, 0, 0.6f), 0, 1},
+                             {104.6f, colour(0, 1, 0, 0.5f), 1, 1}};
+  ReferenceParams rp;
+  rp.step = 0.05;
+  rp.ert = 1.0f;
+  // Seed 001's depth test per sample: the layers land on the boundaries at 97 and 105.
+  std::vector<Fragment> on_grid = {{97.0f, f[0].color, 0, 1}, {105.0f, f[1].color, 1, 1}};
+  glm::vec4 peel = fx.peel(f, 4, vols);
+  EXPECT_TRUE(near4(peel, trace_reference(fx.ray, on_grid, vols, {}, rp), 2e-3f));
+  // ... not at their exact depths (0.3 and 0.4 mm of medium move across them)
+  EXPECT_FALSE(near4(peel, trace_reference(fx.ray, f, vols, {}, rp), 4e-3f));
   // peeling one layer loses the green surface but keeps the medium behind the red one
   glm::vec4 one = fx.peel(f, 1, vols);
-  EXPECT_LT(one.g, ref.g);
+  EXPECT_LT(one.g, peel.g);
   EXPECT_NEAR(one.a, 1.0f - (1.0f - 0.6f) * std::pow(0.9f, 20.0f), 2e-3f);
+
+  // The first step is cut at the entry: the volume now spans [90.5, 110.5], and a layer at 90.7
+  // lands on 90.5 (in front of the medium), not on the grid point 91.
+  fx.ray.origin.z = -100.5f;
+  std::vector<Fragment> near_entry = {{90.7f, colour(1, 0, 0, 0.6f), 0, 1}};
+  std::vector<Fragment> at_entry = {{90.5f, near_entry[0].color, 0, 1}};
+  EXPECT_TRUE(
+      near4(fx.peel(near_entry, 4, vols), trace_reference(fx.ray, at_entry, vols, {}, rp), 2e-3f));
 }
 
 TEST(MultiFragmentKernels, WeightedBlendIsExactForOneLayerAndOrderIndependent) {
