@@ -122,52 +122,51 @@ TEST(MultiFragmentKernels, KBufferOverflowKeepsTotalOpacity) {
   EXPECT_TRUE(near4(fx.kbuffer(f, 20, false), want, 1e-6f));
 }
 
-TEST(MultiFragmentKernels, SurfaceInsideAVolumeMatchesTheReference) {
-  Fixture fx;
+// Two surfaces inside a homogeneous medium on a ray that meets it over t in [90, 110], cast in
+// steps of 1 mm, and the fine reference that answers for them.
+struct SurfacesInAMedium : Fixture {
   VolumeObject obj = test::homogeneous_volume(0.1f, {0.2f, 0.4f, 1.0f});
   std::vector<PreparedVolume> vols{PreparedVolume(obj)};
-  fx.ray = Ray{{0.3f, 0.2f, -100.0f}, {0, 0, 1}};  // volume over t in [90, 110]
-  fx.hp.step = 1.0f;
   std::vector<Fragment> f = {{97.3f, colour(1, 0, 0, 0.6f), 0, 1},
                              {104.6f, colour(0, 1, 0, 0.5f), 1, 1}};
-  ReferenceParams rp;
-  rp.step = 0.05;
-  rp.ert = 1.0f;
-  std::vector<Fragment> sorted = f;
-  glm::vec4 ref = trace_reference(fx.ray, sorted, vols, {}, rp);
-  EXPECT_TRUE(near4(fx.dfb(f, false, vols), ref, 2e-3f));
-  EXPECT_TRUE(near4(fx.dfb(f, true, vols), ref, 2e-2f));  // 0.5 mm slabs blend with the medium
+  SurfacesInAMedium() {
+    ray = Ray{{0.3f, 0.2f, -100.0f}, {0, 0, 1}};
+    hp.step = 1.0f;
+  }
+  glm::vec4 reference(std::vector<Fragment> surfaces) const {
+    ReferenceParams rp;
+    rp.step = 0.05;
+    rp.ert = 1.0f;
+    return trace_reference(ray, surfaces, vols, {}, rp);
+  }
+};
+
+TEST(MultiFragmentKernels, SurfaceInsideAVolumeMatchesTheReference) {
+  SurfacesInAMedium m;
+  glm::vec4 ref = m.reference(m.f);
+  EXPECT_TRUE(near4(m.dfb(m.f, false, m.vols), ref, 2e-3f));
+  EXPECT_TRUE(near4(m.dfb(m.f, true, m.vols), ref, 2e-2f));  // 0.5 mm slabs blend with the medium
 }
 
 TEST(MultiFragmentKernels, PeelCompositesEachLayerAtTheNearestStepBoundary) {
-  Fixture fx;
-  VolumeObject obj = test::homogeneous_volume(0.1f, {0.2f, 0.4f, 1.0f});
-  std::vector<PreparedVolume> vols{PreparedVolume(obj)};
-  fx.ray = Ray{{0.3f, 0.2f, -100.0f}, {0, 0, 1}};  // volume over t in [90, 110], steps of 1 mm
-  fx.hp.step = 1.0f;
-  std::vector<Fragment> f = {{97.3f, colour(1, 0, 0, 0.6f), 0, 1},
-                             {104.6f, colour(0, 1, 0, 0.5f), 1, 1}};
-  ReferenceParams rp;
-  rp.step = 0.05;
-  rp.ert = 1.0f;
-  // Seed 001's depth test per sample: the layers land on the boundaries at 97 and 105.
-  std::vector<Fragment> on_grid = {{97.0f, f[0].color, 0, 1}, {105.0f, f[1].color, 1, 1}};
-  glm::vec4 peel = fx.peel(f, 4, vols);
-  EXPECT_TRUE(near4(peel, trace_reference(fx.ray, on_grid, vols, {}, rp), 2e-3f));
+  SurfacesInAMedium m;
+  // Seed 001's depth test per sample: the layers land on the boundaries at 97 and 105 ...
+  glm::vec4 peel = m.peel(m.f, 4, m.vols);
+  EXPECT_TRUE(
+      near4(peel, m.reference({{97.0f, m.f[0].color, 0, 1}, {105.0f, m.f[1].color, 1, 1}}), 2e-3f));
   // ... not at their exact depths (0.3 and 0.4 mm of medium move across them)
-  EXPECT_FALSE(near4(peel, trace_reference(fx.ray, f, vols, {}, rp), 4e-3f));
+  EXPECT_FALSE(near4(peel, m.reference(m.f), 4e-3f));
   // peeling one layer loses the green surface but keeps the medium behind the red one
-  glm::vec4 one = fx.peel(f, 1, vols);
+  glm::vec4 one = m.peel(m.f, 1, m.vols);
   EXPECT_LT(one.g, peel.g);
   EXPECT_NEAR(one.a, 1.0f - (1.0f - 0.6f) * std::pow(0.9f, 20.0f), 2e-3f);
 
   // The first step is cut at the entry: the volume now spans [90.5, 110.5], and a layer at 90.7
   // lands on 90.5 (in front of the medium), not on the grid point 91.
-  fx.ray.origin.z = -100.5f;
-  std::vector<Fragment> near_entry = {{90.7f, colour(1, 0, 0, 0.6f), 0, 1}};
-  std::vector<Fragment> at_entry = {{90.5f, near_entry[0].color, 0, 1}};
+  m.ray.origin.z = -100.5f;
+  glm::vec4 red = m.f[0].color;
   EXPECT_TRUE(
-      near4(fx.peel(near_entry, 4, vols), trace_reference(fx.ray, at_entry, vols, {}, rp), 2e-3f));
+      near4(m.peel({{90.7f, red, 0, 1}}, 4, m.vols), m.reference({{90.5f, red, 0, 1}}), 2e-3f));
 }
 
 TEST(MultiFragmentKernels, WeightedBlendIsExactForOneLayerAndOrderIndependent) {
