@@ -10,18 +10,18 @@ namespace imx {
 
 Image render_peel(const Scene& scene, int spp, const RenderOptions& options) {
   const FragmentContext ctx(scene, "peel", true);
-  const int peel_layers = scene.render.peel_layers;
+  const PeelParams params{scene.render.peel_layers, scene.render.peel_rest == "unsorted"};
   return render_fragment_method(scene, ctx.frame, spp, options, FragmentOrder::arrival, [&] {
     struct Kernel {
       const FragmentContext* ctx;
-      int peel_layers;
+      PeelParams params;
       std::vector<Slab> layers, a, b;
       glm::vec4 operator()(const Ray& ray, std::span<Fragment> row) {
-        return trace_peel(ray, row, peel_layers, ctx->frame.volumes, ctx->frame.lights, ctx->hybrid,
+        return trace_peel(ray, row, params, ctx->frame.volumes, ctx->frame.lights, ctx->hybrid,
                           layers, {a, b});
       }
     };
-    return Kernel{&ctx, peel_layers, std::vector<Slab>(std::max(peel_layers, 1)),
+    return Kernel{&ctx, params, std::vector<Slab>(params.layers + 1),
                   std::vector<Slab>(kRayScratchSlabs), std::vector<Slab>(kRayScratchSlabs)};
   });
 }

@@ -1,10 +1,11 @@
 // Depth peeling kernel (SPEC §7, seed 001): the first L layers of a pixel, each the nearest
 // fragment strictly behind the previous layer (on equal depths the first in scene order wins the
 // depth test, as on a GPU), with the volume segments between them ray-cast. Fragments behind the
-// last layer are lost. As in seed 001, a segment ends where the depth test fails for a sample:
-// whole steps are cast and each layer is composited at the step boundary nearest to it (`dfb`
-// cuts the steps exactly at each surface). Pure.
+// last layer are lost, or blended in arrival order by one more pass. As in seed 001, a segment ends
+// where the depth test fails for a sample: whole steps are cast and each layer is composited at the
+// step boundary nearest to it (`dfb` cuts the steps exactly at each surface). Pure.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <span>
 
@@ -33,18 +34,36 @@ inline float nearest_step_boundary(const RayVolumes& rv, float t, float step) {
   return static_cast<float>(best);
 }
 
-// `layers` holds at least L slabs. `fragments` arrive in any order and are sorted in place.
-inline glm::vec4 trace_peel(const Ray& ray, std::span<Fragment> fragments, int peel_layers,
-                            std::span<const PreparedVolume> volumes,
+struct PeelParams {
+  int layers = 4;              // L, the depth-peeling passes
+  bool unsorted_rest = false;  // composite the fragments behind layer L-1 unsorted, or lose them
+};
+
+// `layers` holds at least L + 1 slabs. `fragments` are in arrival order.
+inline glm::vec4 trace_peel(const Ray& ray, std::span<const Fragment> fragments,
+                            const PeelParams& pp, std::span<const PreparedVolume> volumes,
                             std::span<const ShadingLight> lights, const HybridParams& hp,
                             std::span<Slab> layers, const HybridScratch& scratch) {
-  std::span<Fragment> sorted = dfb_sort(fragments, int(fragments.size()));
-  const size_t max_layers = std::min<size_t>(std::max(peel_layers, 0), layers.size());
+  const size_t max_layers = std::min<size_t>(std::max(pp.layers, 0), layers.size() - 1);
   size_t n = 0;
-  for (const Fragment& f : sorted) {
-    if (n == max_layers) break;
-    if (n > 0 && !(f.t > layers[n - 1].t_back)) continue;  // not behind the last peel
-    layers[n++] = Slab{f.t, 0.0f, f.color};
+  const Fragment* last = nullptr;
+  while (n < max_layers) {  // one pass: the nearest fragment strictly behind the last layer
+    const Fragment* nearest = nullptr;
+    for (const Fragment& f : fragments)
+      if ((!last || f.t > last->t) && (!nearest || fragment_before(f, *nearest))) nearest = &f;
+    if (!nearest) break;
+    layers[n++] = Slab{nearest->t, 0.0f, nearest->color};
+    last = nearest;
+  }
+  if (pp.unsorted_rest && last) {  // one more pass blends the rest in arrival order, at its front
+    glm::vec4 rest(0.0f);
+    float front = INFINITY;
+    for (const Fragment& f : fragments)
+      if (f.t > last->t) {
+        rest = over(rest, f.color);
+        front = std::min(front, f.t);
+      }
+    if (front < INFINITY) layers[n++] = Slab{front, 0.0f, rest};
   }
   const RayVolumes rv(ray, volumes, hp.step, hp.iso_bisections, lights);
   for (Slab& layer : layers.first(n))

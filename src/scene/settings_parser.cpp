@@ -82,7 +82,7 @@ RenderSettings parse_render(const JsonReader& r) {
                 "interpolation", "beta",        "skipping",    "classification",
                 "gradients",     "brick_size",  "k",           "fragment_cap",
                 "thickness",     "slab_format", "last_volume", "overflow",
-                "packets"});
+                "packets",       "peel_rest"});
   RenderSettings s;
   if (auto v = r.find("method")) {
     s.method = v->string();
@@ -100,6 +100,7 @@ RenderSettings parse_render(const JsonReader& r) {
   if (auto v = r.find("layers")) s.layers = v->integer(4, 64);
   if (auto v = r.find("rt_layers")) s.rt_layers = v->integer(1, 64);
   if (auto v = r.find("peel_layers")) s.peel_layers = v->integer(1, 1024);
+  if (auto v = r.find("peel_rest")) s.peel_rest = v->choice({"lost", "unsorted"});
   if (auto v = r.find("interpolation")) s.interpolation = v->choice({"ovi", "hvi", "blend"});
   if (auto v = r.find("beta")) s.beta = v->number(Range::closed(0.0, 1.0));
   if (auto v = r.find("skipping")) s.skipping = v->choice({"none", "bricks", "distance"});

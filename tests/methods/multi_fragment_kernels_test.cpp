@@ -45,8 +45,9 @@ struct Fixture {
   glm::vec4 kbuffer(const std::vector<Fragment>& f, int k, bool merge) {
     return trace_kbuffer(ray, f, merge ? fixed : zero, {}, {}, hp, {k, merge}, {resolved, {a, b}});
   }
-  glm::vec4 peel(std::vector<Fragment> f, int layers, std::span<const PreparedVolume> v = {}) {
-    return trace_peel(ray, f, layers, v, {}, hp, fragments, {a, b});
+  glm::vec4 peel(std::vector<Fragment> f, int layers, std::span<const PreparedVolume> v = {},
+                 bool unsorted_rest = false) {
+    return trace_peel(ray, f, {layers, unsorted_rest}, v, {}, hp, fragments, {a, b});
   }
 };
 
@@ -96,6 +97,21 @@ TEST(MultiFragmentKernels, PeelLosesLayersBeyondLAndCoplanarTies) {
   EXPECT_TRUE(near4(fx.peel(f, 2), want, 1e-6f));
   std::reverse(f.begin(), f.end());
   EXPECT_TRUE(near4(fx.peel(f, 2), want, 1e-6f));
+}
+
+TEST(MultiFragmentKernels, PeelCanBlendTheRestInArrivalOrder) {
+  Fixture fx;
+  std::vector<Fragment> f = {{40.0f, colour(1, 1, 0, 0.5f), 4, 1},
+                             {10.0f, colour(1, 0, 0, 0.5f), 0, 1},
+                             {10.0f, colour(0, 1, 0, 0.5f), 1, 1},
+                             {20.0f, colour(0, 0, 1, 0.5f), 2, 1},
+                             {30.0f, colour(1, 1, 1, 0.5f), 3, 1}};
+  // Two layers (red at 10, blue at 20); one more pass blends the fragments behind blue in the
+  // order they arrived (yellow at 40 over white at 30). Green ties with red and stays lost.
+  glm::vec4 want = over(over(f[1].color, f[3].color), over(f[0].color, f[4].color));
+  EXPECT_TRUE(near4(fx.peel(f, 2, {}, true), want, 1e-6f));
+  EXPECT_TRUE(near4(fx.peel(f, 2), over(f[1].color, f[3].color), 1e-6f));
+  EXPECT_TRUE(near4(fx.peel(f, 5, {}, true), fx.peel(f, 5), 1e-6f));  // nothing left behind
 }
 
 TEST(MultiFragmentKernels, MergingMethodsBlendCoplanarSurfacesWhateverTheirOrder) {

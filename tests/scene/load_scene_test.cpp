@@ -59,7 +59,7 @@ TEST(ParseScene, SceneWideSettings) {
                 "color": [1, 0.5, 0]}, {"type": "headlight"}],
     "render": {"method": "zslab-hybrid", "spp": 9, "step_mm": 0.5, "reference_step_fraction": 0.25,
                "ert_threshold": 1, "layers": 16, "rt_layers": 2, "peel_layers": 6,
-               "interpolation": "blend", "beta": 0.5},
+               "peel_rest": "unsorted", "interpolation": "blend", "beta": 0.5},
     "objects": []
   })");
   EXPECT_EQ(s.camera.eye, glm::dvec3(0, -500, 0));
@@ -82,6 +82,7 @@ TEST(ParseScene, SceneWideSettings) {
   EXPECT_EQ(s.render.layers, 16);
   EXPECT_EQ(s.render.rt_layers, 2);
   EXPECT_EQ(s.render.peel_layers, 6);
+  EXPECT_EQ(s.render.peel_rest, "unsorted");
   EXPECT_EQ(s.render.interpolation, "blend");
   EXPECT_EQ(s.render.beta, 0.5);
 }
@@ -565,6 +566,8 @@ TEST(ParseSceneErrors, LastVolumeMustNameAVolume) {
 TEST(ParseSceneErrors, OverflowIsGreedyOrTail) {
   EXPECT_CONTAINS(parse_error(zslab_scene(R"({"overflow": "tale"})")),
                   "render.overflow: \"tale\" is not one of greedy, tail (did you mean 'tail'?)");
+  EXPECT_CONTAINS(parse_error(zslab_scene(R"({"peel_rest": "sorted"})")),
+                  "render.peel_rest: \"sorted\" is not one of lost, unsorted");
 }
 
 TEST(ParseSceneErrors, VolumeSettings) {
