@@ -44,7 +44,8 @@ inline glm::vec4 trace_peel(const Ray& ray, std::span<const Fragment> fragments,
                             const PeelParams& pp, std::span<const PreparedVolume> volumes,
                             std::span<const ShadingLight> lights, const HybridParams& hp,
                             std::span<Slab> layers, const HybridScratch& scratch) {
-  const size_t max_layers = std::min<size_t>(std::max(pp.layers, 0), layers.size() - 1);
+  const size_t max_layers =
+      std::min<size_t>(std::max(pp.layers, 0), std::max<size_t>(layers.size(), 1) - 1);
   size_t n = 0;
   const Fragment* last = nullptr;
   while (n < max_layers) {  // one pass: the nearest fragment strictly behind the last layer
