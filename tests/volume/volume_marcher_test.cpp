@@ -48,6 +48,16 @@ std::shared_ptr<VolumeData> field_volume(glm::ivec3 dims, Field field) {
   return data;
 }
 
+// A volume `length` voxels long whose value is its x index, and a ray along x that meets voxel x
+// at t = x + 10, so samples fall on integer x.
+VolumeObject ramp_along_x(int length) {
+  VolumeObject obj;
+  obj.name = "ramp";
+  obj.data = field_volume({length, 4, 4}, [](int i, int, int) { return static_cast<float>(i); });
+  return obj;
+}
+const Ray kAlongX{{-10.0f, 1.5f, 1.5f}, {1.0f, 0.0f, 0.0f}};
+
 // Skipping may only drop pieces that sampling would have found empty: with post-classification
 // the slabs must be identical, with pre-integration the composite within table rounding.
 TEST(VolumeMarcher, SkippingChangesNothingButTheWork) {
@@ -153,15 +163,12 @@ TEST(VolumeMarcher, VisibleExtentsNarrowSlabsWithinTheirPieces) {
 // A ramp along x crosses a TF spike between two samples: pre-integration sees it, post-
 // classification at the step's mean value misses it. Both are judged by fine integration.
 TEST(VolumeMarcher, PreintegrationFollowsASharpPeakPostClassificationMisses) {
-  VolumeObject obj;
-  obj.name = "ramp";
-  obj.data = field_volume({64, 4, 4}, [](int i, int, int) { return static_cast<float>(i); });
+  VolumeObject obj = ramp_along_x(64);
   obj.transfer_function.points = {{30.15, glm::vec4(1, 0.5f, 0, 0)},
                                   {30.25, glm::vec4(1, 0.5f, 0, 0.9f)},
                                   {30.35, glm::vec4(1, 0.5f, 0, 0)}};
-  Ray ray{{-10.0f, 1.5f, 1.5f}, {1.0f, 0.0f, 0.0f}};  // t = x + 10: samples at integer x
   auto composite_at = [&](float step, Classification c) {
-    return march(prepared(obj, step, {SkipMode::none, c}), ray, step).composite;
+    return march(prepared(obj, step, {SkipMode::none, c}), kAlongX, step).composite;
   };
   glm::vec4 truth = composite_at(1.0f / 256.0f, Classification::post);
   ASSERT_GT(truth.a, 0.01f);
@@ -243,17 +250,14 @@ TEST(VolumeMarcher, SpreadLightIsShadedByTwoPointQuadrature) {
 // slab starts near the entry and spans twice the distance to the opacity-weighted centre, so that
 // an even spread of its opacity (what OVI splits) has the true first moment.
 TEST(VolumeMarcher, VisibleSlabsAreCentredOnTheirLight) {
-  VolumeObject obj;
-  obj.name = "ramp";
-  obj.data = field_volume({32, 4, 4}, [](int i, int, int) { return static_cast<float>(i); });
+  VolumeObject obj = ramp_along_x(32);
   obj.transfer_function.points = {{10.25, glm::vec4(1, 1, 1, 0)},
                                   {10.35, glm::vec4(1, 1, 1, 0.95f)},
                                   {17.0, glm::vec4(1, 1, 1, 0.95f)},
                                   {22.0, glm::vec4(1, 1, 1, 0.1f)},
                                   {31.0, glm::vec4(1, 1, 1, 0.1f)}};
   PreparedVolume v = prepared(obj, 1.0f, {SkipMode::bricks, Classification::preintegrated});
-  Ray ray{{-10.0f, 1.5f, 1.5f}, {1.0f, 0.0f, 0.0f}};  // t = x + 10: pieces [x, x + 1]
-  MarchResult r = march(v, ray, 1.0f, SlabExtent::visible);
+  MarchResult r = march(v, kAlongX, 1.0f, SlabExtent::visible);  // pieces [x, x + 1]
   ASSERT_GT(r.slabs.size(), 15u);
   for (const Slab& s : r.slabs) {
     float x0 = std::ceil(s.t_back - 1e-4f) - 11.0f;  // the piece's front value s_f
