@@ -21,8 +21,8 @@ class CameraModel {
 
   // The ray through image position (px, py). Perspective rays start at the eye;
   // orthographic rays start on the plane through the eye, perpendicular to the view.
-  // Inline: called once per pixel, and returning the Ray through memory from an out-of-line
-  // call cost a store-forwarding stall per ray in the packet tile loop.
+  // Inline: called once per pixel (per-pixel methods, the packet tiles' partial blocks), and
+  // returning the Ray through memory from an out-of-line call cost a store-forwarding stall.
   Ray ray(double px, double py) const {
     const glm::dvec3 p = basis_.at + px * basis_.per_x + py * basis_.per_y;
     return perspective_ ? Ray{glm::vec3(eye_), glm::vec3(glm::normalize(p))}

@@ -9,8 +9,7 @@ BrickCoverage::BrickCoverage(const PreparedVolume& v, const CameraModel& camera)
     : width_(camera.width()),
       height_(camera.height()),
       columns_((width_ + kBlockWidth - 1) / kBlockWidth),
-      rows_((height_ + kBlockHeight - 1) / kBlockHeight),
-      blocks_(static_cast<size_t>(columns_) * rows_, 0) {
+      blocks_(static_cast<size_t>(columns_) * ((height_ + kBlockHeight - 1) / kBlockHeight), 0) {
   // Cells of `group`^3 bricks, at most kMaxCells a side, so that the per-frame work stays small
   // whatever the brick size: a cell is occupied when any of its bricks is. Without occupancy the
   // whole grid is one cell.

@@ -30,7 +30,7 @@ class BrickCoverage {
   // Marks the blocks whose pixel centres may lie in [lo, hi] (image positions).
   void mark(glm::dvec2 lo, glm::dvec2 hi);
 
-  int width_, height_, columns_, rows_;
+  int width_, height_, columns_;
   std::vector<uint8_t> blocks_;
 };
 

@@ -21,7 +21,7 @@ namespace imx {
 // cut at the volume's entry and exit, as VolumeMarcher takes them); outside every volume, t.
 inline float nearest_step_boundary(const RayVolumes& rv, float t, float step) {
   double best = t, best_distance = INFINITY;
-  const double cell = std::floor(double(t) / step);
+  const double cell = grid_cell(t, step);
   for (int v = 0; v < rv.count; ++v) {
     if (!rv.marched[v] || !(t > rv.span[v].t0 && t < rv.span[v].t1)) continue;
     for (double b : {std::max<double>(rv.span[v].t0, cell * step),

@@ -111,8 +111,7 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
     PreparedVolume& pv = frame.volumes[v];
     if (pv.object->style == VolumeStyle::dvr)
       pv.accel = accelerate(*pv.object, pv.lut, step, march);
-    coverage_.emplace_back();
-    if (pv.accel.occupancy) coverage_.back().emplace(pv, frame.camera);
+    coverage_.emplace_back(pv, frame.camera);
   }
 
   // Polygon objects and planes first, in scene order, as many per stage as fit the RT layers.

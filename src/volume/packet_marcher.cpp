@@ -326,9 +326,7 @@ class PacketKernel {
     L_.dx[l] = d.x, L_.dy[l] = d.y, L_.dz[l] = d.z;
     L_.front[l] = pr.t0;
     L_.t1[l] = pr.t1;
-    double cell = std::floor(pr.t0 / step_);
-    while ((cell + 1.0) * step_ <= pr.t0) cell += 1.0;
-    L_.next_cell[l] = static_cast<float>(cell + 1.0);
+    L_.next_cell[l] = static_cast<float>(grid_cell(pr.t0, step_) + 1.0);
     L_.have_front[l] = 0;
     L_.occupied_until[l] = -INFINITY;
     L_.r[l] = L_.g[l] = L_.b[l] = L_.a[l] = 0.0f;
@@ -591,7 +589,7 @@ class PacketKernel {
   std::optional<LaneGradients> gradients_;  // empty: gradients on the fly
   std::optional<LaneBricks> bricks_;        // empty: no skipping
   LaneBricks::Rays brick_rays_{};
-  int look_delay_ = 0;  // steps since a lane's look was first put off
+  int look_delay_ = 0;  // steps with a look put off since the last look
   std::span<const PacketRay> rays_;
   std::span<glm::vec4> out_;
   std::span<const ShadingLight> lights_;

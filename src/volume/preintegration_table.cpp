@@ -7,6 +7,7 @@
 
 #include "core/parallel.hpp"
 #include "intermix/error.hpp"
+#include "slab/over.hpp"
 
 namespace imx {
 namespace {
@@ -23,7 +24,8 @@ struct Stretch {
 // `front` over `back`, premultiplied.
 inline Stretch over(const Stretch& front, const Stretch& back) {
   float t = 1.0f - front.c.a;
-  return {front.c + t * back.c, front.moment + t * back.moment, front.moment2 + t * back.moment2};
+  return {imx::over(front.c, back.c), front.moment + t * back.moment,
+          front.moment2 + t * back.moment2};
 }
 
 // The mean and mean square of where the light of a homogeneous segment of opacity a comes from

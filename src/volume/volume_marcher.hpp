@@ -34,6 +34,14 @@ namespace imx {
 // pieces shaded at their midpoints, as a conventional ray caster does.
 enum class SlabExtent { grid, visible };
 
+// The cell k of the sampling grid [k, k+1) * step that holds t, guarding against rounding at its
+// ends. Every marcher cuts its steps on this grid.
+inline double grid_cell(double t, double step) {
+  double cell = std::floor(t / step);
+  while ((cell + 1.0) * step <= t) cell += 1.0;
+  return cell;
+}
+
 class VolumeMarcher {
  public:
   VolumeMarcher() = default;
@@ -105,11 +113,7 @@ class VolumeMarcher {
     return false;
   }
 
-  // The grid cell [k, k+1) * step holding t_ (guarding against rounding at its ends).
-  void align_cell() {
-    cell_ = std::floor(t_ / step_);
-    while ((cell_ + 1.0) * step_ <= t_) cell_ += 1.0;
-  }
+  void align_cell() { cell_ = grid_cell(t_, step_); }
 
   glm::vec3 index_at(double t) const { return origin_ + static_cast<float>(t) * dir_; }
 
@@ -176,7 +180,8 @@ class VolumeMarcher {
   // Blinn-Phong over the piece [front, back] whose light comes from around `light`: at that one
   // point when the light is concentrated, else the mean of two points a standard deviation
   // either side of its centre: the two-point quadrature over the light's distribution, exact for
-  // shading that varies quadratically along the piece, as where the normal turns within it.
+  // shading that varies quadratically along the piece, as where the normal turns within it (while
+  // both points lie in the piece; one past an end is clamped to it).
   glm::vec4 shade(const glm::vec4& c, double front, double back,
                   PreintegrationView::Light light) const {
     const double len = back - front;

@@ -133,16 +133,17 @@ bool marches_something(const ZslabFrame& z, size_t k, int x, int y) {
 }
 
 // A volume stage leaves out the samples of pixels that no occupied brick of its volume reaches
-// (BrickCoverage), but never one whose ray the marcher finds anything on: checked pixel by pixel
-// on a wide and a tall image, where swapping x and y would leave out the wrong pixels, in the
-// deferred stages of zslab and in the on-the-fly stage of the hybrid.
+// (BrickCoverage; that it leaves pixels out is tested there), but never one whose ray the marcher
+// finds anything on: checked pixel by pixel on a wide and a tall image, where swapping x and y
+// would leave out the wrong pixels, in the deferred stages of zslab and in the on-the-fly stage
+// of the hybrid.
 TEST(ZslabRender, VolumeStagesLeaveOutOnlyRaysWithNothingToMarch) {
   for (const char* size : {"image.width=64", "image.height=64"}) {
     const Scene s = two_volumes({size, "camera.target=[20,-20,20]"});
     const ZslabFrame z(s, 1, false), hybrid(s, 1, true);
     const size_t last = hybrid.stages.size() - 1;
     ASSERT_TRUE(hybrid.stages[last].on_the_fly);
-    int marched = 0, left_out = 0;
+    int marched = 0;
     for (int y = 0; y < s.image.height; ++y)
       for (int x = 0; x < s.image.width; ++x) {
         const Ray ray = z.frame.camera.ray(x + 0.5, y + 0.5);
@@ -154,8 +155,6 @@ TEST(ZslabRender, VolumeStagesLeaveOutOnlyRaysWithNothingToMarch) {
           if (marches_something(z, k, x, y)) {
             EXPECT_TRUE(ran) << size << " stage " << k << " pixel " << x << ", " << y;
             ++marched;
-          } else if (!ran) {
-            ++left_out;
           }
         }
         if (marches_something(hybrid, last, x, y)) {
@@ -164,7 +163,6 @@ TEST(ZslabRender, VolumeStagesLeaveOutOnlyRaysWithNothingToMarch) {
         }
       }
     EXPECT_GT(marched, 500) << size;
-    EXPECT_GT(left_out, 100) << size;
   }
 }
 

@@ -154,8 +154,8 @@ TEST(PacketMarcher, WalksBricksAlongAxesAsTheMarcherDoes) {
         rays.push_back({Ray{p - 40.0f * d, d}, 0.0f, 0.0f});
       }
   }
-  int with_work = 0;
   for (SkipMode mode : {SkipMode::distance, SkipMode::bricks}) {
+    int with_work = 0;
     PreparedVolume v =
         prepared(obj, step, {mode, Classification::preintegrated, GradientSource::precomputed, 4});
     for (PacketRay& r : rays) {
@@ -163,9 +163,9 @@ TEST(PacketMarcher, WalksBricksAlongAxesAsTheMarcherDoes) {
       r.t0 = span.t0, r.t1 = span.t1;
       with_work += !span.empty();
     }
+    EXPECT_GT(with_work, static_cast<int>(rays.size()) / 2);  // most rays cross the grid
     for (float ert : {0.5f, 0.99f}) expect_same_as_marcher(v, rays, step, kLights, ert);
   }
-  EXPECT_GT(with_work, static_cast<int>(rays.size()));  // most rays cross the grid
 }
 
 // Small visible cores far apart in a large empty grid: distance skipping jumps many bricks at a
