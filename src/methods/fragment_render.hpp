@@ -16,8 +16,9 @@
 namespace imx {
 
 // `make_kernel()` is called once per tile; the object it returns is called as
-// `kernel(const Ray&, std::span<Fragment>)` (the sample's fragments, which it may reorder) and
-// returns the premultiplied colour of one sample ray.
+// `kernel(const Ray&, std::span<Fragment>, VolumeMask)` (the sample's fragments, which it may
+// reorder, and the volumes that may show in its pixel) and returns the premultiplied colour of
+// one sample ray.
 template <class MakeKernel>
 Image render_fragment_method(const Scene& scene, const FrameSetup& frame, int spp,
                              const RenderOptions& options, FragmentOrder order,
@@ -39,11 +40,12 @@ Image render_fragment_method(const Scene& scene, const FrameSetup& frame, int sp
         for (int y = tile.y0; y < tile.y1; ++y)
           for (int x = tile.x0; x < tile.x1; ++x) {
             glm::vec4 sum(0.0f);
+            const VolumeMask may_show = frame.volumes_may_show(x, y);
             for (const glm::vec2& o : offsets) {
               std::span<Fragment> row(fragments.fragments.data() + fragments.offsets[sample],
                                       fragments.offsets[sample + 1] - fragments.offsets[sample]);
               ++sample;
-              sum += kernel(frame.camera.ray(x + o.x, y + o.y), row);
+              sum += kernel(frame.camera.ray(x + o.x, y + o.y), row, may_show);
             }
             image.at(x, y) = over_background(sum * weight, background);
           }

@@ -29,9 +29,12 @@ void FrameSetup::require_per_sample_support(const char* method) const {
 }
 
 void FrameSetup::accelerate(float step, const MarchSettings& settings) {
-  for (PreparedVolume& v : volumes)
+  coverage.clear();
+  for (PreparedVolume& v : volumes) {
     if (v.object->style == VolumeStyle::dvr)
       v.accel = imx::accelerate(*v.object, v.lut, step, settings);
+    coverage.emplace_back(v, camera);
+  }
 }
 
 }  // namespace imx

@@ -5,7 +5,9 @@
 #include "core/blinn_phong.hpp"
 #include "core/camera_model.hpp"
 #include "intermix/scene.hpp"
+#include "methods/brick_coverage.hpp"
 #include "volume/prepared_volume.hpp"
+#include "volume/ray_volumes.hpp"
 
 namespace imx {
 
@@ -14,12 +16,22 @@ struct FrameSetup {
   std::vector<PreparedVolume> volumes;  // Scene::volumes order
   std::vector<ShadingLight> lights;
   double min_pitch = 1.0;  // smallest voxel spacing over the scene's volumes, mm (1 without any)
+  std::vector<BrickCoverage> coverage;  // per volume, from accelerate() (empty before)
 
   explicit FrameSetup(const Scene& scene);
 
   // Gives every volume the skipping structures, pre-integration table and gradients that
-  // `settings` asks for at ray step `step` mm (from caches that outlive the frame).
+  // `settings` asks for at ray step `step` mm (from caches that outlive the frame), and the
+  // screen blocks its occupied bricks can show in.
   void accelerate(float step, const MarchSettings& settings);
+
+  // The volumes whose dvr march may find something in pixel (x, y): all before accelerate().
+  VolumeMask volumes_may_show(int x, int y) const {
+    VolumeMask mask = kEveryVolume;
+    for (size_t k = 0; k < coverage.size(); ++k)
+      if (!coverage[k].covered(x, y)) mask &= ~(VolumeMask{1} << k);
+    return mask;
+  }
 
   // Throws imx::Error naming `method` when the scene has more volumes than a ray can hold.
   void require_per_sample_support(const char* method) const;

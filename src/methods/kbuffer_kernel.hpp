@@ -22,11 +22,12 @@ inline glm::vec4 trace_kbuffer(const Ray& ray, std::span<const Fragment> fragmen
                                const SurfaceThickness& thickness,
                                std::span<const PreparedVolume> volumes,
                                std::span<const ShadingLight> lights, const HybridParams& hp,
-                               const KPlusSettings& p, const KBufferScratch& s) {
+                               const KPlusSettings& p, const KBufferScratch& s,
+                               VolumeMask may_show = kEveryVolume) {
   KPlusBuffer buffer(p);
   for (const Fragment& f : fragments) buffer.insert(thickness.slab(f));
   std::span<const Slab> surfaces = s.resolved.first(buffer.resolve(s.resolved));
-  const RayVolumes rv(ray, volumes, hp.step, hp.iso_bisections, lights);
+  const RayVolumes rv(ray, volumes, hp.step, hp.iso_bisections, lights, may_show);
   return composite_hybrid(ray, surfaces, rv, volumes, lights, hp, s.hybrid);
 }
 

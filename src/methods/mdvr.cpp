@@ -5,7 +5,6 @@
 
 #include "core/colour.hpp"
 #include "core/parallel.hpp"
-#include "methods/brick_coverage.hpp"
 #include "methods/frame_setup.hpp"
 #include "methods/mdvr_kernel.hpp"
 #include "methods/per_sample_render.hpp"
@@ -35,7 +34,7 @@ Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const Mdv
   const glm::vec4 empty = over_background(glm::vec4(0.0f), background);
   // Rays that can meet no occupied brick would find nothing to march (40-55% of the rays that
   // meet the box, in ct-head and FLAIR).
-  const BrickCoverage coverage(v, frame.camera);
+  const BrickCoverage& coverage = frame.coverage[0];
   const PacketCamera camera(frame.camera);
   for_each_tile(
       w, h, kTileSize, options.threads,
@@ -96,10 +95,11 @@ Image render_mdvr(const Scene& scene, int spp, const RenderOptions& options) {
   params.ert = static_cast<float>(scene.render.ert_threshold);
   frame.accelerate(params.step, MarchSettings::from(scene.render));
   if (packets_apply(scene, frame, spp)) return render_mdvr_packets(scene, frame, params, options);
-  return render_per_sample(scene, frame, spp, options,
-                           [&](const Ray& ray, std::span<const Fragment> fragments) {
-                             return trace_mdvr(ray, fragments, frame.volumes, frame.lights, params);
-                           });
+  return render_per_sample(
+      scene, frame, spp, options,
+      [&](const Ray& ray, std::span<const Fragment> fragments, VolumeMask may_show) {
+        return trace_mdvr(ray, fragments, frame.volumes, frame.lights, params, may_show);
+      });
 }
 
 }  // namespace imx

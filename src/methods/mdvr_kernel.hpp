@@ -73,8 +73,9 @@ void composite_steps_of_several(const Ray& ray, const RayVolumes& rv,
 
 inline glm::vec4 trace_mdvr(const Ray& ray, std::span<const Fragment> surfaces,
                             std::span<const PreparedVolume> volumes,
-                            std::span<const ShadingLight> lights, const MdvrParams& p) {
-  const RayVolumes rv(ray, volumes, p.step, p.iso_bisections, lights);
+                            std::span<const ShadingLight> lights, const MdvrParams& p,
+                            VolumeMask may_show = kEveryVolume) {
+  const RayVolumes rv(ray, volumes, p.step, p.iso_bisections, lights, may_show);
 
   size_t si = 0;
   int hi = 0;

@@ -16,9 +16,9 @@ Image render_peel(const Scene& scene, int spp, const RenderOptions& options) {
       const FragmentContext* ctx;
       PeelParams params;
       std::vector<Slab> layers, a, b;
-      glm::vec4 operator()(const Ray& ray, std::span<Fragment> row) {
+      glm::vec4 operator()(const Ray& ray, std::span<Fragment> row, VolumeMask may_show) {
         return trace_peel(ray, row, params, ctx->frame.volumes, ctx->frame.lights, ctx->hybrid,
-                          layers, {a, b});
+                          layers, {a, b}, may_show);
       }
     };
     return Kernel{&ctx, params, std::vector<Slab>(params.layers + 1),

@@ -43,7 +43,8 @@ struct PeelParams {
 inline glm::vec4 trace_peel(const Ray& ray, std::span<const Fragment> fragments,
                             const PeelParams& pp, std::span<const PreparedVolume> volumes,
                             std::span<const ShadingLight> lights, const HybridParams& hp,
-                            std::span<Slab> layers, const HybridScratch& scratch) {
+                            std::span<Slab> layers, const HybridScratch& scratch,
+                            VolumeMask may_show = kEveryVolume) {
   const size_t max_layers =
       std::min<size_t>(std::max(pp.layers, 0), std::max<size_t>(layers.size(), 1) - 1);
   size_t n = 0;
@@ -66,7 +67,7 @@ inline glm::vec4 trace_peel(const Ray& ray, std::span<const Fragment> fragments,
       }
     if (front < INFINITY) layers[n++] = Slab{front, 0.0f, rest};
   }
-  const RayVolumes rv(ray, volumes, hp.step, hp.iso_bisections, lights);
+  const RayVolumes rv(ray, volumes, hp.step, hp.iso_bisections, lights, may_show);
   for (Slab& layer : layers.first(n))
     layer.t_back = nearest_step_boundary(rv, layer.t_back, hp.step);
   return composite_hybrid(ray, layers.first(n), rv, volumes, lights, hp, scratch);

@@ -62,8 +62,8 @@ void for_each_contribution(const Ray& ray, std::span<const Fragment> fragments,
 inline glm::vec4 trace_wboit(const Ray& ray, std::span<const Fragment> fragments,
                              std::span<const PreparedVolume> volumes,
                              std::span<const ShadingLight> lights, const HybridParams& hp,
-                             const DepthRange& range) {
-  const RayVolumes rv(ray, volumes, hp.step, hp.iso_bisections, lights);
+                             const DepthRange& range, VolumeMask may_show = kEveryVolume) {
+  const RayVolumes rv(ray, volumes, hp.step, hp.iso_bisections, lights, may_show);
   WeightedBlend blend;
   for_each_contribution(ray, fragments, volumes, lights, hp, rv,
                         [&](const glm::vec4& c, float t) { blend.add(c, t, range); });

@@ -105,14 +105,8 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
 
   // Every volume is cast at the scene's common step (the smallest voxel pitch unless the scene
   // sets one), as in MDVR: a coarse volume cast at its own pitch costs ~2 dB on two-volumes.
-  const MarchSettings march = MarchSettings::from(r);
   const float step = static_cast<float>(r.step_mm > 0.0 ? r.step_mm : frame.min_pitch);
-  for (size_t v = 0; v < frame.volumes.size(); ++v) {
-    PreparedVolume& pv = frame.volumes[v];
-    if (pv.object->style == VolumeStyle::dvr)
-      pv.accel = accelerate(*pv.object, pv.lut, step, march);
-    coverage_.emplace_back(pv, frame.camera);
-  }
+  frame.accelerate(step, MarchSettings::from(r));
 
   // Polygon objects and planes first, in scene order, as many per stage as fit the RT layers.
   const bool has_volumes = !scene.volumes.empty();

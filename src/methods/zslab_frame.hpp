@@ -11,7 +11,6 @@
 
 #include "core/ray.hpp"
 #include "intermix/scene.hpp"
-#include "methods/brick_coverage.hpp"
 #include "methods/frame_setup.hpp"
 #include "methods/zslab_buffer.hpp"
 #include "methods/zslab_kernel.hpp"
@@ -68,10 +67,9 @@ class ZslabFrame {
  private:
   // Whether volume v's dvr march can find anything in pixel (x, y) (BrickCoverage, which keeps
   // rays that would only walk empty bricks from being marched).
-  bool may_show(size_t v, int x, int y) const { return coverage_[v].covered(x, y); }
+  bool may_show(size_t v, int x, int y) const { return frame.coverage[v].covered(x, y); }
 
   std::vector<std::shared_ptr<const Rasterizer>> rasterizers_;  // per stage, surfaces only
-  std::vector<BrickCoverage> coverage_;                         // per volume
   float footprint_at_0_ = 0.0f, footprint_per_mm_ = 0.0f;
   uint64_t frame_key_ = 0;
 };

@@ -4,6 +4,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <span>
 
 #include "core/blinn_phong.hpp"
@@ -16,6 +17,10 @@ namespace imx {
 
 inline constexpr int kMaxRayVolumes = 16;
 
+// Bit k set: volume k's dvr march may find something on the ray (FrameSetup::volumes_may_show).
+using VolumeMask = uint32_t;
+inline constexpr VolumeMask kEveryVolume = ~VolumeMask{0};
+
 struct RayVolumes {
   int count = 0;                      // volumes considered (at most kMaxRayVolumes)
   RayInterval span[kMaxRayVolumes];   // each volume's part of the ray
@@ -26,9 +31,9 @@ struct RayVolumes {
   double t_last = -INFINITY;
 
   // Intersects the ray with every volume; finds iso crossings and projections on the grid
-  // k * step.
+  // k * step. Dvr volumes outside `may_show` are not marched: they would find nothing.
   RayVolumes(const Ray& ray, std::span<const PreparedVolume> volumes, double step, int bisections,
-             std::span<const ShadingLight> lights) {
+             std::span<const ShadingLight> lights, VolumeMask may_show = kEveryVolume) {
     count = static_cast<int>(std::min<size_t>(volumes.size(), kMaxRayVolumes));
     for (int k = 0; k < count; ++k) {
       const PreparedVolume& v = volumes[k];
@@ -40,7 +45,7 @@ struct RayVolumes {
           hits[hit_count++] = h;
       } else if (v.object->style == VolumeStyle::mip || v.object->style == VolumeStyle::xray) {
         if (project_volume(v, ray, span[k].t0, span[k].t1, step, h)) hits[hit_count++] = h;
-      } else if (v.lut.max_opacity() > 0.0f) {
+      } else if (v.lut.max_opacity() > 0.0f && (may_show >> k & 1u)) {
         marched[k] = true;
         t_first = std::min<double>(t_first, span[k].t0);
         t_last = std::max<double>(t_last, span[k].t1);
