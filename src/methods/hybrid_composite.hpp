@@ -37,7 +37,7 @@ inline glm::vec4 composite_hybrid(const Ray& ray, std::span<const Slab> surfaces
                                   const RayVolumes& rv, std::span<const PreparedVolume> volumes,
                                   std::span<const ShadingLight> lights, const HybridParams& p,
                                   const HybridScratch& scratch) {
-  IntermixSettings stored{p.interpolation, 1.0f, Overflow::tail, true};
+  IntermixSettings stored{p.interpolation, p.ert, Overflow::tail, true};
   std::span<const Slab> current = surfaces;
   std::span<Slab> spare = scratch.a, other = scratch.b;
   auto into_spare = [&](auto&& feed) {
@@ -62,7 +62,8 @@ inline glm::vec4 composite_hybrid(const Ray& ray, std::span<const Slab> surfaces
     if (!rv.marched[v]) continue;
     into_spare([&](auto& kernel) {
       VolumeMarcher m(volumes[v], ray, rv.span[v].t0, rv.span[v].t1, p.step, lights);
-      for (Slab s; m.next(s);) kernel.push(s);
+      for (Slab s; m.next(s);)
+        if (!kernel.push(s)) break;
     });
   }
   if (last < 0) return accumulate(current, p.ert).color;
