@@ -1,5 +1,5 @@
 // BrickCoverage: which blocks of 4 x 2 pixels a volume's occupied bricks can show in, so that
-// `mdvr`'s packets and zSlab's volume stages march no ray that would find nothing.
+// no method marches a ray that would find nothing (FrameSetup builds one per volume).
 #pragma once
 #include <cstdint>
 #include <vector>

@@ -37,6 +37,7 @@ inline glm::vec4 composite_hybrid(const Ray& ray, std::span<const Slab> surfaces
                                   const RayVolumes& rv, std::span<const PreparedVolume> volumes,
                                   std::span<const ShadingLight> lights, const HybridParams& p,
                                   const HybridScratch& scratch) {
+  // Stored stages stop at the ERT opacity too: behind it the last stage's own ERT has fired.
   IntermixSettings stored{p.interpolation, p.ert, Overflow::tail, true};
   std::span<const Slab> current = surfaces;
   std::span<Slab> spare = scratch.a, other = scratch.b;

@@ -12,12 +12,12 @@ Image render_reference(const Scene& scene, int spp, const RenderOptions& options
   ReferenceParams params;
   params.step = scene.render.step_mm > 0.0 ? scene.render.step_mm
                                            : frame.min_pitch * scene.render.reference_step_fraction;
-  return render_per_sample(
-      // Every volume: the reference builds no skipping structures.
-      scene, frame, spp, options,
-      [&](const Ray& ray, std::span<const Fragment> fragments, VolumeMask) {
-        return trace_reference(ray, fragments, frame.volumes, frame.lights, params);
-      });
+  // The volume mask is all ones: the reference builds no skipping structures (no accelerate()).
+  return render_per_sample(scene, frame, spp, options,
+                           [&](const Ray& ray, std::span<const Fragment> fragments, VolumeMask) {
+                             return trace_reference(ray, fragments, frame.volumes, frame.lights,
+                                                    params);
+                           });
 }
 
 }  // namespace imx
