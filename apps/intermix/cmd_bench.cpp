@@ -84,10 +84,12 @@ double median_of(std::vector<double> ms) {
 
 // One timed row: a method on one variant's scene.
 struct BenchRow {
-  const Scene* scene;
+  const Scene* scene = nullptr;
   RenderOptions options;
+  std::string label, variant;  // variant: empty unless variants are named
   std::vector<double> ms;
   double peak_mib = 0.0;
+  ChangeTiming change;  // with --change: the stages of the frame and those re-run
 };
 
 // Times `frames` renders of every row, in rounds that render each row once, so that a machine
@@ -198,39 +200,39 @@ Command add_bench(CLI::App& app) {
     // The rows in order, timed in rounds (or, with --change, one after another, since each
     // re-render follows a render of the unchanged scene).
     std::vector<BenchRow> timed;
-    std::vector<std::string> labels;
-    std::vector<size_t> variant_of;
-    std::vector<ChangeTiming> changes;
     for (const std::string& method : methods) {
       for (size_t v = 0; v < variants.size(); ++v) {
-        RenderOptions options;
-        options.method = method;
-        options.spp = o->spp;
-        options.threads = o->threads;
-        timed.push_back({&scenes[v], options, {}, 0.0});
-        labels.push_back(named ? fmt::format("{}/{}", method, variants[v].label) : method);
-        variant_of.push_back(v);
-        if (!o->change.empty()) {
-          changes.push_back(
-              time_change(scenes[v], o->scene, assignments[v], o->change, options, o->frames));
-          timed.back().ms = changes.back().ms;
-          timed.back().peak_mib = peak_resident_mib();
+        BenchRow row;
+        row.scene = &scenes[v];
+        row.label = method;
+        row.options.method = method;
+        row.options.spp = o->spp;
+        row.options.threads = o->threads;
+        if (named) {
+          row.variant = variants[v].label;
+          row.label = fmt::format("{}/{}", method, row.variant);
         }
+        if (!o->change.empty()) {
+          row.change =
+              time_change(scenes[v], o->scene, assignments[v], o->change, row.options, o->frames);
+          row.ms = row.change.ms;
+          row.peak_mib = peak_resident_mib();
+        }
+        timed.push_back(std::move(row));
       }
     }
     if (o->change.empty()) time_rounds(timed, o->frames);
 
     nlohmann::json rows = nlohmann::json::array();
-    for (size_t k = 0; k < timed.size(); ++k) {
-      const BenchRow& row = timed[k];
+    for (const BenchRow& row : timed) {
       const Scene& scene = *row.scene;
       const std::string& method = row.options.method;
       double median = median_of(row.ms);
       int spp = o->spp > 0 ? o->spp : scene.render.spp > 0 ? scene.render.spp : default_spp(method);
       double rays = static_cast<double>(scene.image.width) * scene.image.height * spp;
-      rows.push_back({{"label", labels[k]},
+      rows.push_back({{"label", row.label},
                       {"method", method},
-                      {"variant", named ? variants[variant_of[k]].label : ""},
+                      {"variant", row.variant},
                       {"frames", o->frames},
                       {"ms_median", median},
                       {"ms_min", *std::min_element(row.ms.begin(), row.ms.end())},
@@ -239,8 +241,8 @@ Command add_bench(CLI::App& app) {
                       {"peak_rss_mib", row.peak_mib}});
       if (!o->change.empty())
         rows.back().update({{"change", o->change},
-                            {"stages", changes[k].stages},
-                            {"stages_run", changes[k].stages_run}});
+                            {"stages", row.change.stages},
+                            {"stages_run", row.change.stages_run}});
     }
 
     if (o->vtk) {

@@ -25,11 +25,17 @@ struct FrameSetup {
   // screen blocks its occupied bricks can show in.
   void accelerate(float step, const MarchSettings& settings);
 
-  // The volumes whose dvr march may find something in pixel (x, y): all before accelerate().
+  // Whether volume v's march may find something in pixel (x, y): an occupied brick of it can
+  // show there (BrickCoverage), or accelerate() has not run.
+  bool may_show(size_t v, int x, int y) const {
+    return v >= coverage.size() || coverage[v].covered(x, y);
+  }
+
+  // may_show() of every volume as one bit each.
   VolumeMask volumes_may_show(int x, int y) const {
     VolumeMask mask = kEveryVolume;
     for (size_t k = 0; k < coverage.size(); ++k)
-      if (!coverage[k].covered(x, y)) mask &= ~(VolumeMask{1} << k);
+      if (!may_show(k, x, y)) mask &= ~(VolumeMask{1} << k);
     return mask;
   }
 

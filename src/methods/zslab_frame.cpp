@@ -233,7 +233,7 @@ bool ZslabFrame::run_deferred(size_t k, int x, int y, const Ray& ray,
     return run_surface_stage(fragments, th, stored, out, params);
   }
   const PreparedVolume& v = frame.volumes[st.volume];
-  if (!may_show(st.volume, x, y)) return false;
+  if (!frame.may_show(st.volume, x, y)) return false;
   RayInterval span = v.intersect(ray);
   if (span.empty()) return false;
   Slab local[kMaxZslabLayers];
@@ -258,7 +258,7 @@ bool ZslabFrame::run_deferred(size_t k, int x, int y, const Ray& ray,
 
 glm::vec4 ZslabFrame::run_final(size_t k, int x, int y, const Ray& ray,
                                 std::span<const Slab> stored) const {
-  if (k < stages.size() && stages[k].on_the_fly && may_show(stages[k].volume, x, y)) {
+  if (k < stages.size() && stages[k].on_the_fly && frame.may_show(stages[k].volume, x, y)) {
     const PreparedVolume& v = frame.volumes[stages[k].volume];
     RayInterval span = v.intersect(ray);
     if (!span.empty()) {

@@ -65,10 +65,6 @@ class ZslabFrame {
   bool hybrid = true;
 
  private:
-  // Whether volume v's dvr march can find anything in pixel (x, y) (BrickCoverage, which keeps
-  // rays that would only walk empty bricks from being marched).
-  bool may_show(size_t v, int x, int y) const { return frame.coverage[v].covered(x, y); }
-
   std::vector<std::shared_ptr<const Rasterizer>> rasterizers_;  // per stage, surfaces only
   float footprint_at_0_ = 0.0f, footprint_per_mm_ = 0.0f;
   uint64_t frame_key_ = 0;

@@ -6,28 +6,18 @@
 #include <filesystem>
 
 #include "intermix/scene.hpp"
+#include "marcher_finds.hpp"
 #include "volume/ray_volumes.hpp"
-#include "volume/volume_marcher.hpp"
 
 namespace imx {
 namespace {
-
-// Whether the marcher finds anything on `ray` in volume v.
-bool marches_something(const FrameSetup& frame, size_t v, const Ray& ray, float step) {
-  const RayInterval span = frame.volumes[v].intersect(ray);
-  if (span.empty()) return false;
-  VolumeMarcher marcher(frame.volumes[v], ray, span.t0, span.t1, step, frame.lights);
-  Slab first;
-  return marcher.next(first);
-}
 
 // A wide and a tall image, so that swapping x and y would leave out the wrong pixels; the target
 // off centre, so that many rays meet a volume's box but none of its occupied bricks.
 TEST(FrameSetup, VolumesMayShowLeavesOutOnlyRaysWithNothingToMarch) {
   for (const char* size : {"image.width=64", "image.height=64"}) {
-    const Scene s =
-        load_scene(std::filesystem::path(IMX_EXAMPLES_DIR) / "two-volumes.json",
-                   {"image.width=40", "image.height=40", size});
+    const Scene s = load_scene(std::filesystem::path(IMX_EXAMPLES_DIR) / "two-volumes.json",
+                               {"image.width=40", "image.height=40", size});
     FrameSetup frame(s);
     ASSERT_EQ(frame.volumes.size(), 2u);
     EXPECT_EQ(frame.volumes_may_show(0, 0), kEveryVolume) << "nothing is known before accelerate";
@@ -43,7 +33,7 @@ TEST(FrameSetup, VolumesMayShowLeavesOutOnlyRaysWithNothingToMarch) {
         for (size_t v = 0; v < 2; ++v) {
           const bool may_show = (mask >> v & 1u) != 0;
           EXPECT_EQ(masked.marched[v], all.marched[v] && may_show) << x << ", " << y;
-          if (marches_something(frame, v, ray, step)) {
+          if (test::marcher_finds_something(frame.volumes[v], ray, step, frame.lights)) {
             EXPECT_TRUE(may_show) << size << " volume " << v << " pixel " << x << ", " << y;
             ++marched;
           } else if (all.marched[v] && !may_show) {

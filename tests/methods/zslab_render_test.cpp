@@ -14,9 +14,9 @@
 #include "intermix/render.hpp"
 #include "intermix/renderer.hpp"
 #include "intermix/scene.hpp"
+#include "marcher_finds.hpp"
 #include "methods/zslab.hpp"
 #include "methods/zslab_frame.hpp"
-#include "volume/volume_marcher.hpp"
 
 namespace imx {
 namespace {
@@ -123,13 +123,9 @@ Scene transparent_two_volumes() {
 
 // Whether the marcher finds anything on the centre ray of pixel (x, y) in volume stage k.
 bool marches_something(const ZslabFrame& z, size_t k, int x, int y) {
-  const PreparedVolume& v = z.frame.volumes[static_cast<size_t>(z.stages[k].volume)];
-  const Ray ray = z.frame.camera.ray(x + 0.5, y + 0.5);
-  const RayInterval span = v.intersect(ray);
-  if (span.empty()) return false;
-  VolumeMarcher marcher(v, ray, span.t0, span.t1, z.stages[k].step, z.frame.lights);
-  Slab first;
-  return marcher.next(first);
+  return test::marcher_finds_something(z.frame.volumes[static_cast<size_t>(z.stages[k].volume)],
+                                       z.frame.camera.ray(x + 0.5, y + 0.5), z.stages[k].step,
+                                       z.frame.lights);
 }
 
 // A volume stage leaves out the samples of pixels that no occupied brick of its volume reaches

@@ -62,7 +62,6 @@ TEST(LaneBricks, FindTheFirstOccupiedBrickAsBrickDdaDoes) {
       }
       const float* const origin[3] = {o[0], o[1], o[2]};
       const float* const dir[3] = {d[0], d[1], d[2]};
-
       for (const PreparedVolume* v : {&bricks, &distance}) {
         LaneBricks walker(*v->accel.occupancy, v->accel.skip);
         alignas(32) float enter[kLanes], leave[kLanes];
