@@ -88,11 +88,19 @@ struct Material {
   Shading shading{true};
 };
 
+// A homogeneous medium filling a closed mesh that is a CSG primitive (SPEC §8).
+struct MeshInterior {
+  glm::vec3 color{1.0f};
+  float opacity = 0.0f;        // of unit_distance mm of the medium
+  double unit_distance = 1.0;  // mm
+};
+
 struct MeshObject {
   std::string name;
   std::shared_ptr<const Mesh> mesh;  // world space: the object's transform is already applied
   Material material;
-  std::optional<double> thickness;  // mm; empty means "auto" (SPEC §4 / §6 defaults)
+  std::optional<double> thickness;       // mm; empty means "auto" (SPEC §4 / §6 defaults)
+  std::optional<MeshInterior> interior;  // only on CSG primitives
 };
 
 // A rectangle in world space; with a volume it shows that volume's values through window/level.
@@ -115,6 +123,27 @@ enum class ObjectKind : uint8_t { volume, mesh, plane };
 struct ObjectRef {
   ObjectKind kind;
   int index;
+};
+
+// Constructive solid geometry over volumes and closed meshes (SPEC §8, docs/csg.md).
+enum class CsgOp : uint8_t { primitive, union_of, intersection, difference };
+
+// Where a primitive counts as present: inside its region (a mesh's interior, a volume's box cut
+// by its clip planes), or there and where its transfer function gives opacity (volumes only).
+enum class CsgPresence : uint8_t { region, opacity };
+
+// One node of a CSG expression: a primitive (an object of the scene) or a binary operator.
+struct CsgNode {
+  CsgOp op = CsgOp::primitive;
+  ObjectRef object{ObjectKind::volume, -1};  // primitive: the object
+  CsgPresence presence = CsgPresence::region;
+  int a = -1, b = -1;  // operator: its operands, indices into CsgExpression::nodes
+};
+
+// The scene's "csg" block as a tree; n-ary operators are folded into binary nodes.
+struct CsgExpression {
+  std::vector<CsgNode> nodes;
+  int root = -1;
 };
 
 struct RenderSettings {
@@ -141,6 +170,14 @@ struct RenderSettings {
   std::string last_volume;  // zSlab: the volume rendered last (cast on the fly); empty = auto
   std::string overflow = "greedy";  // zSlab: a full ZT array folds by greedy or tail merging
   bool packets = true;  // mdvr: one-volume scenes march 8 rays at once (AVX2); same image
+  std::string csg_simplify = "merge";   // clipping-state simplification: none, merge or full
+  double csg_presence_threshold = 0.0;  // TF opacity per unit_distance above which a volume counts
+  int csg_max_states = 4096;            // normalization stops with an error beyond this
+  std::string mixing = "inclusive";     // co-located volumes: inclusive (M1) or exclusive
+  // Exclusive mixing: names in priority order; an inner list is a group mixed inclusively.
+  // Empty: scene order.
+  std::vector<std::vector<std::string>> mixing_priority;
+  double mixing_threshold = 0.0;  // exclusive: TF opacity per unit_distance a winner must exceed
 };
 
 struct Scene {
@@ -150,7 +187,8 @@ struct Scene {
   std::vector<VolumeObject> volumes;
   std::vector<MeshObject> meshes;
   std::vector<PlaneObject> planes;
-  std::vector<ObjectRef> order;  // every object, in the order of the scene file
+  std::vector<ObjectRef> order;      // every object, in the order of the scene file
+  std::optional<CsgExpression> csg;  // the "csg" block; empty without one or with "csg": null
   RenderSettings render;
   std::filesystem::path file;  // the scene file, when loaded from one
 };

@@ -37,8 +37,7 @@ void check_name(const JsonReader& r, const std::string& name) {
 Scene parse_document(const nlohmann::json& root, const std::filesystem::path& base_dir,
                      const std::string& origin) {
   JsonReader r(root, origin);
-  if (auto csg = r.find("csg")) csg->fail("CSG is not supported yet");
-  r.check_keys({"description", "camera", "image", "lights", "objects", "render"});
+  r.check_keys({"description", "camera", "image", "lights", "objects", "csg", "render"});
   Scene scene;
   if (auto v = r.find("description")) v->string();
   if (auto v = r.find("camera")) scene.camera = detail::parse_camera(*v);
@@ -82,7 +81,15 @@ Scene parse_document(const nlohmann::json& root, const std::filesystem::path& ba
     }
   }
   scene.order = std::move(order);
-  if (auto v = r.find("render")) detail::check_last_volume(*v, scene, types);
+  if (auto v = r.find("csg")) scene.csg = detail::parse_csg(*v, scene);
+  detail::check_interiors(objects, scene);
+  std::optional<JsonReader> render = r.find("render");
+  if (render) {
+    detail::check_last_volume(*render, scene, types);
+    detail::check_mixing_priority(*render, scene, types);
+  }
+  // A CSG scene is meant for the csg method unless it asks for another (CSG.md §4.2).
+  if (scene.csg && !(render && render->has("method"))) scene.render.method = "csg";
   return scene;
 }
 

@@ -1,4 +1,4 @@
-// Parser for a "mesh" object: a mesh file or a primitive, its transform and material.
+// Parser for a "mesh" object: a mesh file or a primitive, its transform, material and interior.
 #include <exception>
 #include <system_error>
 
@@ -99,16 +99,28 @@ Material parse_material(const JsonReader& r) {
   return m;
 }
 
+// The medium inside a closed mesh; load_scene checks that the mesh is a CSG primitive.
+MeshInterior parse_interior(const JsonReader& r) {
+  r.check_keys({"color", "opacity", "unit_distance"});
+  MeshInterior interior;
+  if (auto v = r.find("color")) interior.color = v->color();
+  if (auto v = r.find("opacity"))
+    interior.opacity = static_cast<float>(v->number(Range::closed(0.0, 1.0)));
+  if (auto v = r.find("unit_distance")) interior.unit_distance = v->number(Range::positive());
+  return interior;
+}
+
 }  // namespace
 
 MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context) {
-  r.check_keys({"name", "type", "source", "transform", "material", "thickness"});
+  r.check_keys({"name", "type", "source", "transform", "material", "thickness", "interior"});
   MeshObject m;
   m.name = r.get("name").string();
   glm::dmat4 transform(1.0);
   if (auto t = r.find("transform")) transform = parse_transform(*t);
   if (auto v = r.find("material")) m.material = parse_material(*v);
   if (auto v = r.find("thickness")) m.thickness = parse_thickness(*v);
+  if (auto v = r.find("interior")) m.interior = parse_interior(*v);
   std::shared_ptr<const Mesh> mesh = load_mesh_source(r.get("source"), context);
   m.mesh = std::make_shared<const Mesh>(transform_mesh(*mesh, transform));
   return m;

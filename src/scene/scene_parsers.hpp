@@ -37,6 +37,17 @@ int find_volume(const JsonReader& at, const std::string& name, const Scene& scen
 // maps every object's name to its type, for a clear message when it names a mesh or a plane.
 void check_last_volume(const JsonReader& render, const Scene& scene,
                        const std::map<std::string, std::string>& object_types);
+// Throws unless every name in render.mixing_priority is one of `scene`'s volumes, listed once.
+void check_mixing_priority(const JsonReader& render, const Scene& scene,
+                           const std::map<std::string, std::string>& object_types);
+
+// The "csg" block over `scene`'s parsed objects; nullopt for "csg": null. Throws for a name
+// that is not a dvr volume or a closed mesh, conflicting presences, too many primitives or
+// too deep a nesting. Meshes it names that face inward are flipped in `scene`.
+std::optional<CsgExpression> parse_csg(const JsonReader& r, Scene& scene);
+// Throws at objects[i].interior for a mesh with an interior that is not a primitive of
+// scene.csg; `objects` are the readers of the scene's objects, in scene.order's order.
+void check_interiors(const std::vector<JsonReader>& objects, const Scene& scene);
 
 // {"matrix": 4x4 row-major} or {"translate", "rotate_deg", "scale"} as T * Rz * Ry * Rx * S.
 // Throws when an entry is not finite or the transform is singular or not affine.

@@ -10,10 +10,31 @@ namespace imx::detail {
 namespace {
 
 constexpr int kMaxImageSize = 16384;
+constexpr int kMaxCsgStates = 1000000;
 
 bool is_perfect_square(int n) {
   int r = static_cast<int>(std::lround(std::sqrt(static_cast<double>(n))));
   return r * r == n;
+}
+
+// Names, or lists of names mixed as one group; the names are checked once the objects are read.
+std::vector<std::vector<std::string>> parse_mixing_priority(const JsonReader& r) {
+  if (!r.json().is_array())
+    r.fail("expected a list of volume names or of lists of names, got " + r.describe());
+  std::vector<std::vector<std::string>> groups;
+  for (const JsonReader& e : r.elements()) {
+    std::vector<std::string> group;
+    if (e.json().is_string()) {
+      group.push_back(e.string());
+    } else if (e.json().is_array()) {
+      if (e.size() == 0) e.fail("an empty group (a group lists the volumes mixed together)");
+      for (const JsonReader& name : e.elements()) group.push_back(name.string());
+    } else {
+      e.fail("expected a volume name or a list of names, got " + e.describe());
+    }
+    groups.push_back(std::move(group));
+  }
+  return groups;
 }
 
 }  // namespace
@@ -77,12 +98,13 @@ std::vector<Light> parse_lights(const JsonReader& r) {
 }
 
 RenderSettings parse_render(const JsonReader& r) {
-  r.check_keys({"method",        "spp",         "step_mm",     "reference_step_fraction",
-                "ert_threshold", "layers",      "rt_layers",   "peel_layers",
-                "interpolation", "beta",        "skipping",    "classification",
-                "gradients",     "brick_size",  "k",           "fragment_cap",
-                "thickness",     "slab_format", "last_volume", "overflow",
-                "packets",       "peel_rest"});
+  r.check_keys({"method", "spp", "step_mm", "reference_step_fraction", "ert_threshold", "layers",
+                "rt_layers", "peel_layers", "interpolation", "beta", "skipping", "classification",
+                "gradients", "brick_size", "k", "fragment_cap", "thickness", "slab_format",
+                "last_volume", "overflow", "packets", "peel_rest",
+                // CSG, and how co-located volumes mix
+                "csg_simplify", "csg_presence_threshold", "csg_max_states", "mixing",
+                "mixing_priority", "mixing_threshold"});
   RenderSettings s;
   if (auto v = r.find("method")) {
     s.method = v->string();
@@ -114,6 +136,13 @@ RenderSettings parse_render(const JsonReader& r) {
   if (auto v = r.find("last_volume")) s.last_volume = v->string();  // checked with the objects
   if (auto v = r.find("overflow")) s.overflow = v->choice({"greedy", "tail"});
   if (auto v = r.find("packets")) s.packets = v->boolean();
+  if (auto v = r.find("csg_simplify")) s.csg_simplify = v->choice({"none", "merge", "full"});
+  if (auto v = r.find("csg_presence_threshold"))
+    s.csg_presence_threshold = v->number(Range::closed(0.0, 1.0));
+  if (auto v = r.find("csg_max_states")) s.csg_max_states = v->integer(1, kMaxCsgStates);
+  if (auto v = r.find("mixing")) s.mixing = v->choice({"inclusive", "exclusive"});
+  if (auto v = r.find("mixing_priority")) s.mixing_priority = parse_mixing_priority(*v);
+  if (auto v = r.find("mixing_threshold")) s.mixing_threshold = v->number(Range::closed(0.0, 1.0));
   return s;
 }
 
@@ -122,6 +151,25 @@ void check_last_volume(const JsonReader& render, const Scene& scene,
   std::optional<JsonReader> v = render.find("last_volume");
   if (!v || scene.render.last_volume.empty()) return;
   find_volume(*v, scene.render.last_volume, scene, object_types);
+}
+
+void check_mixing_priority(const JsonReader& render, const Scene& scene,
+                           const std::map<std::string, std::string>& object_types) {
+  std::optional<JsonReader> v = render.find("mixing_priority");
+  if (!v) return;
+  std::map<std::string, std::string> seen;  // name -> where it is listed
+  auto check = [&](const JsonReader& at) {
+    const std::string name = at.string();
+    find_volume(at, name, scene, object_types);
+    if (auto [it, fresh] = seen.emplace(name, at.path()); !fresh)
+      at.fail(fmt::format("'{}' is already at {} (a volume has one priority)", name, it->second));
+  };
+  for (const JsonReader& e : v->elements()) {
+    if (e.json().is_array())
+      for (const JsonReader& name : e.elements()) check(name);
+    else
+      check(e);
+  }
 }
 
 }  // namespace imx::detail

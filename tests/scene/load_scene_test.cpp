@@ -612,10 +612,5 @@ TEST(ParseSceneErrors, VolumeSettings) {
   EXPECT_CONTAINS(msg, "objects[0].transfer_function: expected an object, got null");
 }
 
-TEST(ParseSceneErrors, CsgIsNotSupportedYet) {
-  EXPECT_CONTAINS(parse_error(R"({"objects": [], "csg": {"op": "difference"}})"),
-                  "scene.json: csg: CSG is not supported yet");
-}
-
 }  // namespace
 }  // namespace imx

@@ -58,6 +58,25 @@ TEST(Overrides, NonJsonValuesAreStrings) {
   EXPECT_EQ(j["render"]["interpolation"], "");
 }
 
+TEST(Overrides, ReachIntoCsgExpressions) {
+  json j = json::parse(R"({"csg": {"op": "union", "a": {"op": "difference", "a": "x", "b": "y"},
+                                    "of": ["p", "q", "r"]}})");
+  apply_override(j, "csg.a.b=ball", "s.json");
+  EXPECT_EQ(j["csg"]["a"]["b"], "ball");  // a bare word: a string
+  apply_override(j, "csg.of.2=ball", "s.json");
+  EXPECT_EQ(j["csg"]["of"][2], "ball");
+  apply_override(j, R"(csg.of[0]={"object": "ct", "presence": "region"})", "s.json");
+  EXPECT_EQ(j["csg"]["of"][0]["presence"], "region");
+  EXPECT_CONTAINS(error_of([&] { apply_override(j, "csg.of.3=ball", "s.json"); }),
+                  "csg.of has 3 elements, there is no element 3");
+  apply_override(j, "csg=null", "s.json");
+  EXPECT_TRUE(j["csg"].is_null());
+  // From null, a path builds the operator up again.
+  apply_override(j, "csg.op=intersection", "s.json");
+  apply_override(j, "csg.a=ball", "s.json");
+  EXPECT_EQ(j["csg"], json::parse(R"({"op": "intersection", "a": "ball"})"));
+}
+
 TEST(Overrides, BadPathsNameTheOverride) {
   json j = sample();
   std::string msg = error_of([&] { apply_override(j, "image.width.x=3", "s.json"); });
