@@ -59,8 +59,10 @@ void composite_steps_of_several(const Ray& ray, const RayVolumes& rv,
     const float same_step = back - 1e-3f * p.step;
     float front = back;
     int k = 0;
+    // A head thinner than the tolerance (a span may end just past a grid point) is taken when
+    // it ends the step, so that every round consumes one and the loop ends.
     for (int m = 0; m < n; ++m)
-      if (live[m] && heads[m].front() < same_step) {
+      if (live[m] && (heads[m].front() < same_step || heads[m].t_back <= back)) {
         front = std::min(front, heads[m].front());
         step_colors[k++] = heads[m].color;
         live[m] = marchers[m].next(heads[m]);

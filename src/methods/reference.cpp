@@ -1,6 +1,10 @@
 #include "methods/reference.hpp"
 
+#include <optional>
+
+#include "methods/csg_frame.hpp"
 #include "methods/frame_setup.hpp"
+#include "methods/mixing_plan.hpp"
 #include "methods/per_sample_render.hpp"
 #include "methods/reference_kernel.hpp"
 
@@ -12,11 +16,16 @@ Image render_reference(const Scene& scene, int spp, const RenderOptions& options
   ReferenceParams params;
   params.step = scene.render.step_mm > 0.0 ? scene.render.step_mm
                                            : frame.min_pitch * scene.render.reference_step_fraction;
+  const MixingPlan mixing(scene);
+  params.mixing = mixing.view();
+  std::optional<CsgFrame> csg;
+  if (scene.csg) csg.emplace(scene, frame, /*with_states=*/false);
+  const std::optional<CsgView> csg_view = csg ? std::optional(csg->view()) : std::nullopt;
   // The volume mask is all ones: the reference builds no skipping structures (no accelerate()).
   return render_per_sample(scene, frame, spp, options,
                            [&](const Ray& ray, std::span<const Fragment> fragments, VolumeMask) {
                              return trace_reference(ray, fragments, frame.volumes, frame.lights,
-                                                    params);
+                                                    params, csg_view ? &*csg_view : nullptr);
                            });
 }
 

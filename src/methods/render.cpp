@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include "intermix/error.hpp"
+#include "methods/csg.hpp"
 #include "methods/dfb.hpp"
 #include "methods/kbuffer.hpp"
 #include "methods/mdvr.hpp"
@@ -17,15 +18,18 @@ namespace imx {
 namespace {
 
 // Every method of this build: its name, its samples per pixel when neither the scene nor the
-// caller sets them, and its entry point. One line per method.
+// caller sets them, its entry point, and whether it renders a scene's csg block and exclusive
+// mixing. One line per method.
 struct MethodEntry {
   const char* name;
   int default_spp;
   Image (*render)(const Scene&, int spp, const RenderOptions&);
+  bool renders_csg = false;
 };
 
 constexpr MethodEntry kMethods[] = {
-    {"reference", kReferenceDefaultSpp, render_reference},
+    {"reference", kReferenceDefaultSpp, render_reference, true},
+    {"csg", 1, render_csg, true},
     {"mdvr", 1, render_mdvr},
     {"zslab", 1, render_zslab},
     {"zslab-hybrid", 1, render_zslab_hybrid},
@@ -55,8 +59,20 @@ int default_spp(const std::string& method) {
 Image render(const Scene& scene, const RenderOptions& options) {
   const std::string method = options.method.empty() ? scene.render.method : options.method;
   int spp = options.spp > 0 ? options.spp : scene.render.spp;
-  for (const MethodEntry& m : kMethods)
-    if (method == m.name) return m.render(scene, spp > 0 ? spp : m.default_spp, options);
+  for (const MethodEntry& m : kMethods) {
+    if (method != m.name) continue;
+    if (scene.csg && !m.renders_csg)
+      throw Error(fmt::format(
+          "method '{}' does not render CSG (the scene has a csg block); use csg or reference, "
+          "or --set csg=null",
+          method));
+    if (scene.render.mixing == "exclusive" && !m.renders_csg)
+      throw Error(fmt::format(
+          "method '{}' mixes volumes inclusively only (render.mixing is exclusive); use csg or "
+          "reference, or --set render.mixing=inclusive",
+          method));
+    return m.render(scene, spp > 0 ? spp : m.default_spp, options);
+  }
   throw Error(fmt::format("method '{}' is not available; this build has: {}", method,
                           fmt::join(available_methods(), ", ")));
 }

@@ -18,7 +18,9 @@ Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 Image Renderer::render(const Scene& scene, const RenderOptions& options) {
   const std::string method = options.method.empty() ? scene.render.method : options.method;
   impl_->stats = {};
-  if (method != "zslab" && method != "zslab-hybrid") return imx::render(scene, options);
+  // imx::render refuses a CSG scene for the methods that do not render it.
+  if (scene.csg || (method != "zslab" && method != "zslab-hybrid"))
+    return imx::render(scene, options);
   if (impl_->zslab_method != method) impl_->zslab = {};
   impl_->zslab_method = method;
   int spp = options.spp > 0 ? options.spp : scene.render.spp > 0 ? scene.render.spp : 1;

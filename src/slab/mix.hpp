@@ -1,6 +1,7 @@
 // mix: order-independent combination of co-located visibility (SPEC §4 pairwise, §5 M1).
 #pragma once
 #include <algorithm>
+#include <cstdint>
 #include <span>
 
 #include <glm/vec3.hpp>
@@ -40,6 +41,30 @@ inline glm::vec4 mix_m1(std::span<const glm::vec4> v) {
     alpha_sum += c.a;
     transmittance *= 1.0f - c.a;
   }
+  return m1_visibility(colour_sum, alpha_sum, 1.0f - transmittance);
+}
+
+// Exclusive mixing (SPEC §5) of n aligned visibilities: v[i] has priority rank[i] (lower ranks
+// first; equal ranks form a group mixed by M1). The best-ranked group with a member whose opacity
+// exceeds its threshold[i] wins alone; when none does, the worst-ranked group with any opacity
+// wins (seed 004's rule for two volumes, generalized).
+inline glm::vec4 mix_exclusive(std::span<const glm::vec4> v, std::span<const uint8_t> rank,
+                               std::span<const float> threshold) {
+  int best = 256, worst = -1;
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (v[i].a > threshold[i]) best = std::min<int>(best, rank[i]);
+    if (v[i].a > 0.0f) worst = std::max<int>(worst, rank[i]);
+  }
+  const int winner = best < 256 ? best : worst;
+  glm::vec3 colour_sum(0.0f);
+  float alpha_sum = 0.0f;
+  float transmittance = 1.0f;
+  for (size_t i = 0; i < v.size(); ++i)
+    if (rank[i] == winner) {
+      colour_sum += glm::vec3(v[i]);
+      alpha_sum += v[i].a;
+      transmittance *= 1.0f - v[i].a;
+    }
   return m1_visibility(colour_sum, alpha_sum, 1.0f - transmittance);
 }
 

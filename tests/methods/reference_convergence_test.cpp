@@ -39,7 +39,8 @@ TEST_P(ReferenceConvergence, SupersamplingAndStepHaveConverged) {
 
 INSTANTIATE_TEST_SUITE_P(Examples, ReferenceConvergence,
                          testing::Values("ct-head", "ct-implant", "two-volumes", "coplanar", "mpr",
-                                         "shells", "fusion"),
+                                         "shells", "fusion", "csg-cutaway", "csg-smile",
+                                         "csg-sliced", "csg-mixing"),
                          [](const auto& info) {
                            std::string n = info.param;
                            std::replace(n.begin(), n.end(), '-', '_');

@@ -109,5 +109,34 @@ TEST(MixM1, SlabsCoverTheUnionOfTheirIntervals) {
   EXPECT_TRUE(mix_m1(std::span<const Slab>()).is_empty());
 }
 
+TEST(MixExclusive, TheFirstInPriorityAboveTheThresholdWinsAlone) {
+  const std::vector<glm::vec4> v = {{0.1f, 0, 0, 0.2f}, {0, 0.3f, 0, 0.6f}, {0, 0, 0.4f, 0.8f}};
+  const std::vector<float> none(3, 0.0f);
+  // Priority order 2, 0, 1: the third wins.
+  EXPECT_TRUE(near4(mix_exclusive(v, std::vector<uint8_t>{1, 2, 0}, none), v[2], 1e-7f));
+  EXPECT_TRUE(near4(mix_exclusive(v, std::vector<uint8_t>{0, 1, 2}, none), v[0], 1e-7f));
+  // A threshold the first does not pass hands the win to the next.
+  EXPECT_TRUE(
+      near4(mix_exclusive(v, std::vector<uint8_t>{0, 1, 2}, std::vector<float>{0.5f, 0.5f, 0.5f}),
+            v[1], 1e-7f));
+}
+
+TEST(MixExclusive, WhenNoneExceedsTheThresholdTheLastPresentWins) {
+  const std::vector<glm::vec4> v = {{0.1f, 0, 0, 0.2f}, {0, 0.1f, 0, 0.3f}, glm::vec4(0.0f)};
+  const std::vector<float> high(3, 0.9f);
+  // Rank 2 has no opacity: it is not present, so rank 1 is the last present one.
+  EXPECT_TRUE(near4(mix_exclusive(v, std::vector<uint8_t>{0, 1, 2}, high), v[1], 1e-7f));
+  EXPECT_TRUE(near4(mix_exclusive(std::vector<glm::vec4>(2, glm::vec4(0.0f)),
+                                  std::vector<uint8_t>{0, 1}, std::vector<float>(2, 0.0f)),
+                    glm::vec4(0.0f), 1e-7f));
+}
+
+TEST(MixExclusive, AGroupIsMixedInclusively) {
+  const std::vector<glm::vec4> v = {{0.2f, 0, 0, 0.4f}, {0, 0.25f, 0, 0.5f}, {0, 0, 0.9f, 0.9f}};
+  const std::vector<glm::vec4> group = {v[0], v[1]};
+  EXPECT_TRUE(near4(mix_exclusive(v, std::vector<uint8_t>{0, 0, 1}, std::vector<float>(3, 0.0f)),
+                    mix_m1(group), 1e-7f));
+}
+
 }  // namespace
 }  // namespace imx
