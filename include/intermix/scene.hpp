@@ -71,6 +71,14 @@ struct ClipPlane {
   glm::dvec3 normal{0.0, 0.0, 1.0};
 };
 
+// A closed mesh restricting a volume (SPEC §7 clip geometry): the volume is sampled only inside
+// it (probing) or only outside it (cutting). The mesh itself is drawn with its own material, or
+// not at all when the material's opacity is 0.
+struct ClipMesh {
+  int mesh = -1;             // index into Scene::meshes; closed and facing outward
+  bool keep_inside = false;  // true: probing, false: cutting
+};
+
 struct VolumeObject {
   std::string name;
   std::shared_ptr<const VolumeData> data;
@@ -80,6 +88,7 @@ struct VolumeObject {
   double iso_value = 0.0;
   Shading shading;
   std::vector<ClipPlane> clip_planes;
+  std::vector<ClipMesh> clip_meshes;  // a sample shows only where every one of them keeps it
 };
 
 struct Material {

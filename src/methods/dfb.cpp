@@ -22,9 +22,9 @@ Image render(const Scene& scene, int spp, const RenderOptions& options, bool mer
       const FragmentContext* ctx;
       DfbParams p;
       std::vector<Slab> fragments, merged, a, b;
-      glm::vec4 operator()(const Ray& ray, std::span<Fragment> row, VolumeMask may_show) {
+      glm::vec4 operator()(const Ray& ray, std::span<Fragment> row, const VolumeFilter& filter) {
         return trace_dfb(ray, row, ctx->thickness, ctx->frame.volumes, ctx->frame.lights,
-                         ctx->hybrid, p, DfbScratch{fragments, merged, {a, b}}, may_show);
+                         ctx->hybrid, p, DfbScratch{fragments, merged, {a, b}}, filter);
       }
     };
     return Kernel{&ctx,

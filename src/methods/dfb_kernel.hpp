@@ -30,8 +30,7 @@ inline glm::vec4 trace_dfb(const Ray& ray, std::span<Fragment> fragments,
                            const SurfaceThickness& thickness,
                            std::span<const PreparedVolume> volumes,
                            std::span<const ShadingLight> lights, const HybridParams& hp,
-                           const DfbParams& p, const DfbScratch& s,
-                           VolumeMask may_show = kEveryVolume) {
+                           const DfbParams& p, const DfbScratch& s, VolumeFilter filter = {}) {
   std::span<Fragment> sorted = dfb_sort(fragments, std::min<int>(p.cap, int(s.fragments.size())));
   for (size_t i = 0; i < sorted.size(); ++i) s.fragments[i] = thickness.slab(sorted[i]);
   std::span<const Slab> surfaces = s.fragments.first(sorted.size());
@@ -39,7 +38,7 @@ inline glm::vec4 trace_dfb(const Ray& ray, std::span<Fragment> fragments,
     std::span<Slab> out = s.merged.first(std::min<size_t>(std::max(p.layers, 1), s.merged.size()));
     surfaces = out.first(resolve_merge(surfaces, out, hp.interpolation));
   }
-  const RayVolumes rv(ray, volumes, hp.step, hp.iso_bisections, lights, may_show);
+  const RayVolumes rv(ray, volumes, hp.step, hp.iso_bisections, lights, filter);
   return composite_hybrid(ray, surfaces, rv, volumes, lights, hp, s.hybrid);
 }
 

@@ -2,11 +2,13 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include <fmt/format.h>
 
 #include "core/parallel.hpp"
 #include "intermix/error.hpp"
+#include "methods/clip_intervals.hpp"
 #include "methods/frame_setup.hpp"
 #include "raster/rasterizer.hpp"
 #include "slab/over.hpp"
@@ -21,6 +23,7 @@ Image first_hit_depth(const Scene& scene, const std::string& name, float opacity
   one.meshes.clear();
   one.planes.clear();
   one.order.clear();
+  for (VolumeObject& v : one.volumes) v.clip_meshes.clear();  // a cutter alone is drawn too
   int volume = -1;
   for (const ObjectRef& ref : scene.order) {
     if (ref.kind == ObjectKind::volume && scene.volumes[ref.index].name == name) volume = ref.index;
@@ -57,14 +60,28 @@ Image first_hit_depth(const Scene& scene, const std::string& name, float opacity
   const float step = v.min_pitch;
   if (v.object->style == VolumeStyle::dvr)
     v.accel = accelerate(*v.object, v.lut, step, MarchSettings::from(scene.render));
+  // A clipped volume keeps what its clip meshes leave of each ray.
+  std::optional<Rasterizer> clip_raster;
+  if (frame.clip.clips(static_cast<size_t>(volume)))
+    clip_raster.emplace(scene, frame.camera, frame.volumes, 16, RasterObjects::clip);
   for_each_tile(w, h, 16, threads, [&](const TileRect& tile, int) {
+    SampleFragments clip;
+    if (clip_raster) clip_raster->rasterize(tile, std::span<const glm::vec2>(&centre, 1), clip);
+    size_t s = 0;
     for (int y = tile.y0; y < tile.y1; ++y)
-      for (int x = tile.x0; x < tile.x1; ++x) {
+      for (int x = tile.x0; x < tile.x1; ++x, ++s) {
         Ray ray = frame.camera.ray(x + 0.5, y + 0.5);
         RayInterval span = v.intersect(ray);
         if (span.empty()) continue;
+        ClipPieces pieces;
+        KeptSpan kept(span);
+        if (clip_raster) {
+          clip_volume(clip.of(s), frame.clip.view(), static_cast<size_t>(volume), pieces);
+          kept = KeptSpan(span, pieces);
+        }
+        if (kept.empty()) continue;
         if (v.object->style == VolumeStyle::dvr) {
-          VolumeMarcher marcher(v, ray, span.t0, span.t1, step, frame.lights);
+          VolumeMarcher marcher(v, ray, kept, step, frame.lights);
           glm::vec4 acc(0.0f);
           Slab s;
           while (marcher.next(s)) {
@@ -78,10 +95,9 @@ Image first_hit_depth(const Scene& scene, const std::string& name, float opacity
           }
         } else {
           VolumeHit hit;
-          bool found =
-              v.object->style == VolumeStyle::iso
-                  ? find_iso_crossing(v, ray, span.t0, span.t1, step, 10, frame.lights, hit)
-                  : project_volume(v, ray, span.t0, span.t1, step, hit);
+          bool found = v.object->style == VolumeStyle::iso
+                           ? find_iso_crossing(v, ray, kept, step, 10, frame.lights, hit)
+                           : project_volume(v, ray, kept, step, hit);
           if (found) depth.at(x, y).r = static_cast<float>(hit.t);
         }
       }

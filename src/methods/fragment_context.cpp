@@ -3,13 +3,17 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <vector>
+
+#include "raster/rasterizer.hpp"
 
 namespace imx {
 
 namespace {
 
 // Depth bounds of the scene's points for the camera: perspective t is at least the view depth
-// and at most the distance to the eye; orthographic t is the view depth.
+// and at most the distance to the eye; orthographic t is the view depth. Cutters that do not
+// show have no fragments to weigh, so they do not count.
 DepthRange scene_depth_range(const Scene& scene, const CameraModel& camera) {
   double lo = INFINITY, hi = 0.0;
   auto add = [&](const glm::dvec3& world) {
@@ -17,9 +21,10 @@ DepthRange scene_depth_range(const Scene& scene, const CameraModel& camera) {
     lo = std::min(lo, c.z);
     hi = std::max(hi, camera.perspective() ? glm::length(c) : c.z);
   };
-  for (const MeshObject& m : scene.meshes)
-    if (m.mesh)
-      for (const glm::vec3& p : m.mesh->positions) add(glm::dvec3(p));
+  const std::vector<bool> shown = shown_meshes(scene);
+  for (size_t k = 0; k < scene.meshes.size(); ++k)
+    if (scene.meshes[k].mesh && shown[k])
+      for (const glm::vec3& p : scene.meshes[k].mesh->positions) add(glm::dvec3(p));
   for (const PlaneObject& p : scene.planes) {
     glm::dvec3 n = glm::normalize(p.normal);
     glm::dvec3 v = glm::normalize(p.up - glm::dot(p.up, n) * n);

@@ -11,7 +11,7 @@
 namespace imx {
 
 FrameSetup::FrameSetup(const Scene& scene)
-    : camera(scene.camera, scene.image.width, scene.image.height) {
+    : camera(scene.camera, scene.image.width, scene.image.height), clip(scene) {
   volumes.reserve(scene.volumes.size());
   double pitch = std::numeric_limits<double>::infinity();
   for (const VolumeObject& v : scene.volumes) {

@@ -1,4 +1,5 @@
-// FrameSetup: what every method prepares once per frame (camera, volumes, lights, step).
+// FrameSetup: what every method prepares once per frame (camera, volumes, lights, step, clip
+// geometry).
 #pragma once
 #include <vector>
 
@@ -6,6 +7,7 @@
 #include "core/camera_model.hpp"
 #include "intermix/scene.hpp"
 #include "methods/brick_coverage.hpp"
+#include "methods/clip_plan.hpp"
 #include "volume/prepared_volume.hpp"
 #include "volume/ray_volumes.hpp"
 
@@ -17,6 +19,7 @@ struct FrameSetup {
   std::vector<ShadingLight> lights;
   double min_pitch = 1.0;  // smallest voxel spacing over the scene's volumes, mm (1 without any)
   std::vector<BrickCoverage> coverage;  // per volume, from accelerate() (empty before)
+  ClipPlan clip;                        // the volumes' clip meshes
 
   explicit FrameSetup(const Scene& scene);
 

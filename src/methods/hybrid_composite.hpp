@@ -62,7 +62,7 @@ inline glm::vec4 composite_hybrid(const Ray& ray, std::span<const Slab> surfaces
   for (int v = 0; v < last; ++v) {
     if (!rv.marched[v]) continue;
     into_spare([&](auto& kernel) {
-      VolumeMarcher m(volumes[v], ray, rv.span[v].t0, rv.span[v].t1, p.step, lights);
+      VolumeMarcher m(volumes[v], ray, rv.kept(v), p.step, lights);
       for (Slab s; m.next(s);)
         if (!kernel.push(s)) break;
     });
@@ -72,7 +72,7 @@ inline glm::vec4 composite_hybrid(const Ray& ray, std::span<const Slab> surfaces
   DiscardSink sink;
   IntermixSettings final_stage{p.interpolation, p.ert, Overflow::tail, true};
   Intermixer<DiscardSink> kernel(current, sink, final_stage);
-  VolumeMarcher m(volumes[last], ray, rv.span[last].t0, rv.span[last].t1, p.step, lights);
+  VolumeMarcher m(volumes[last], ray, rv.kept(last), p.step, lights);
   for (Slab s; m.next(s);)
     if (!kernel.push(s)) break;
   kernel.finish();

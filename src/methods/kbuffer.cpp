@@ -19,9 +19,9 @@ Image render(const Scene& scene, int spp, const RenderOptions& options, bool mer
       const FragmentContext* ctx;
       KPlusSettings p;
       std::vector<Slab> resolved, a, b;
-      glm::vec4 operator()(const Ray& ray, std::span<Fragment> row, VolumeMask may_show) {
+      glm::vec4 operator()(const Ray& ray, std::span<Fragment> row, const VolumeFilter& filter) {
         return trace_kbuffer(ray, row, ctx->thickness, ctx->frame.volumes, ctx->frame.lights,
-                             ctx->hybrid, p, KBufferScratch{resolved, {a, b}}, may_show);
+                             ctx->hybrid, p, KBufferScratch{resolved, {a, b}}, filter);
       }
     };
     return Kernel{&ctx, p, std::vector<Slab>(kMaxKBufferSize + 1),

@@ -23,11 +23,11 @@ inline glm::vec4 trace_kbuffer(const Ray& ray, std::span<const Fragment> fragmen
                                std::span<const PreparedVolume> volumes,
                                std::span<const ShadingLight> lights, const HybridParams& hp,
                                const KPlusSettings& p, const KBufferScratch& s,
-                               VolumeMask may_show = kEveryVolume) {
+                               VolumeFilter filter = {}) {
   KPlusBuffer buffer(p);
   for (const Fragment& f : fragments) buffer.insert(thickness.slab(f));
   std::span<const Slab> surfaces = s.resolved.first(buffer.resolve(s.resolved));
-  const RayVolumes rv(ray, volumes, hp.step, hp.iso_bisections, lights, may_show);
+  const RayVolumes rv(ray, volumes, hp.step, hp.iso_bisections, lights, filter);
   return composite_hybrid(ray, surfaces, rv, volumes, lights, hp, s.hybrid);
 }
 

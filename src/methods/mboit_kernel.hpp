@@ -89,8 +89,8 @@ struct PowerMoments {
 inline glm::vec4 trace_mboit(const Ray& ray, std::span<const Fragment> fragments,
                              std::span<const PreparedVolume> volumes,
                              std::span<const ShadingLight> lights, const HybridParams& hp,
-                             const DepthRange& range, VolumeMask may_show = kEveryVolume) {
-  const RayVolumes rv(ray, volumes, hp.step, hp.iso_bisections, lights, may_show);
+                             const DepthRange& range, VolumeFilter filter = {}) {
+  const RayVolumes rv(ray, volumes, hp.step, hp.iso_bisections, lights, filter);
   PowerMoments moments;
   for_each_contribution(ray, fragments, volumes, lights, hp, rv, [&](const glm::vec4& c, float t) {
     moments.add(c.a, moment_depth(t, range));

@@ -13,11 +13,13 @@
 namespace imx {
 namespace {
 
-// One dvr volume and nothing else at one sample per pixel: trace_mdvr is then exactly
-// VolumeMarcher::composite per ray, which the rays of a tile can share in vector lanes.
+// One dvr volume and nothing else (nothing clipping it either) at one sample per pixel:
+// trace_mdvr is then exactly VolumeMarcher::composite per ray, which the rays of a tile can
+// share in vector lanes.
 bool packets_apply(const Scene& scene, const FrameSetup& frame, int spp) {
   return scene.render.packets && spp == 1 && scene.meshes.empty() && scene.planes.empty() &&
-         frame.volumes.size() == 1 && frame.volumes[0].object->style == VolumeStyle::dvr &&
+         frame.clip.empty() && frame.volumes.size() == 1 &&
+         frame.volumes[0].object->style == VolumeStyle::dvr &&
          packet_marching_supported(frame.volumes[0], frame.lights);
 }
 
@@ -95,8 +97,8 @@ Image render_mdvr(const Scene& scene, int spp, const RenderOptions& options) {
   if (packets_apply(scene, frame, spp)) return render_mdvr_packets(scene, frame, params, options);
   return render_per_sample(
       scene, frame, spp, options,
-      [&](const Ray& ray, std::span<const Fragment> fragments, VolumeMask may_show) {
-        return trace_mdvr(ray, fragments, frame.volumes, frame.lights, params, may_show);
+      [&](const Ray& ray, std::span<const Fragment> fragments, const VolumeFilter& filter) {
+        return trace_mdvr(ray, fragments, frame.volumes, frame.lights, params, filter);
       });
 }
 

@@ -45,8 +45,7 @@ void composite_steps_of_several(const Ray& ray, const RayVolumes& rv,
   int n = 0;
   for (int v = 0; v < rv.count; ++v) {
     if (!rv.marched[v]) continue;
-    new (&marchers[n]) VolumeMarcher(volumes[v], ray, rv.span[v].t0, rv.span[v].t1, p.step, lights,
-                                     SlabExtent::grid);
+    new (&marchers[n]) VolumeMarcher(volumes[v], ray, rv.kept(v), p.step, lights, SlabExtent::grid);
     live[n] = marchers[n].next(heads[n]);
     ++n;
   }
@@ -76,8 +75,8 @@ void composite_steps_of_several(const Ray& ray, const RayVolumes& rv,
 inline glm::vec4 trace_mdvr(const Ray& ray, std::span<const Fragment> surfaces,
                             std::span<const PreparedVolume> volumes,
                             std::span<const ShadingLight> lights, const MdvrParams& p,
-                            VolumeMask may_show = kEveryVolume) {
-  const RayVolumes rv(ray, volumes, p.step, p.iso_bisections, lights, may_show);
+                            VolumeFilter filter = {}) {
+  const RayVolumes rv(ray, volumes, p.step, p.iso_bisections, lights, filter);
 
   size_t si = 0;
   int hi = 0;
@@ -103,8 +102,7 @@ inline glm::vec4 trace_mdvr(const Ray& ray, std::span<const Fragment> surfaces,
     }
   if (marched == 1) {
     // One volume: its slabs are the grid steps, nothing to mix.
-    VolumeMarcher m(volumes[only], ray, rv.span[only].t0, rv.span[only].t1, p.step, lights,
-                    SlabExtent::grid);
+    VolumeMarcher m(volumes[only], ray, rv.kept(only), p.step, lights, SlabExtent::grid);
     if (surfaces.empty() && rv.hit_count == 0) {
       m.composite(acc, p.ert);  // nothing to interleave: the march runs in one call
     } else {

@@ -10,9 +10,9 @@ namespace imx {
 Image render_wboit(const Scene& scene, int spp, const RenderOptions& options) {
   const FragmentContext ctx(scene, "wboit", true);
   return render_fragment_method(scene, ctx.frame, spp, options, FragmentOrder::arrival, [&] {
-    return [&](const Ray& ray, std::span<Fragment> row, VolumeMask may_show) {
+    return [&](const Ray& ray, std::span<Fragment> row, const VolumeFilter& filter) {
       return trace_wboit(ray, row, ctx.frame.volumes, ctx.frame.lights, ctx.hybrid, ctx.depth_range,
-                         may_show);
+                         filter);
     };
   });
 }
@@ -20,9 +20,9 @@ Image render_wboit(const Scene& scene, int spp, const RenderOptions& options) {
 Image render_mboit(const Scene& scene, int spp, const RenderOptions& options) {
   const FragmentContext ctx(scene, "mboit", true);
   return render_fragment_method(scene, ctx.frame, spp, options, FragmentOrder::arrival, [&] {
-    return [&](const Ray& ray, std::span<Fragment> row, VolumeMask may_show) {
+    return [&](const Ray& ray, std::span<Fragment> row, const VolumeFilter& filter) {
       return trace_mboit(ray, row, ctx.frame.volumes, ctx.frame.lights, ctx.hybrid, ctx.depth_range,
-                         may_show);
+                         filter);
     };
   });
 }

@@ -16,9 +16,9 @@ Image render_peel(const Scene& scene, int spp, const RenderOptions& options) {
       const FragmentContext* ctx;
       PeelParams params;
       std::vector<Slab> layers, a, b;
-      glm::vec4 operator()(const Ray& ray, std::span<Fragment> row, VolumeMask may_show) {
+      glm::vec4 operator()(const Ray& ray, std::span<Fragment> row, const VolumeFilter& filter) {
         return trace_peel(ray, row, params, ctx->frame.volumes, ctx->frame.lights, ctx->hybrid,
-                          layers, {a, b}, may_show);
+                          layers, {a, b}, filter);
       }
     };
     return Kernel{&ctx, params, std::vector<Slab>(params.layers + 1),

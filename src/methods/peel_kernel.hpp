@@ -18,18 +18,24 @@ namespace imx {
 
 // Where seed 001's per-sample depth test puts a layer at depth t: the boundary nearest t of the
 // step that holds it, for each volume marched there (steps are the cells of the grid k * step,
-// cut at the volume's entry and exit, as VolumeMarcher takes them); outside every volume, t.
+// cut at the ends of the pieces the ray keeps of the volume, as VolumeMarcher takes them);
+// outside every kept piece, t.
 inline float nearest_step_boundary(const RayVolumes& rv, float t, float step) {
   double best = t, best_distance = INFINITY;
   const double cell = grid_cell(t, step);
   for (int v = 0; v < rv.count; ++v) {
-    if (!rv.marched[v] || !(t > rv.span[v].t0 && t < rv.span[v].t1)) continue;
-    for (double b : {std::max<double>(rv.span[v].t0, cell * step),
-                     std::min<double>(rv.span[v].t1, (cell + 1.0) * step)})
-      if (std::abs(b - t) < best_distance) {
-        best = b;
-        best_distance = std::abs(b - t);
-      }
+    if (!rv.marched[v]) continue;
+    const KeptSpan kept = rv.kept(v);
+    for (int i = 0; i < kept.size(); ++i) {
+      const RayInterval piece = kept[i];
+      if (!(t > piece.t0 && t < piece.t1)) continue;
+      for (double b : {std::max<double>(piece.t0, cell * step),
+                       std::min<double>(piece.t1, (cell + 1.0) * step)})
+        if (std::abs(b - t) < best_distance) {
+          best = b;
+          best_distance = std::abs(b - t);
+        }
+    }
   }
   return static_cast<float>(best);
 }
@@ -44,7 +50,7 @@ inline glm::vec4 trace_peel(const Ray& ray, std::span<const Fragment> fragments,
                             const PeelParams& pp, std::span<const PreparedVolume> volumes,
                             std::span<const ShadingLight> lights, const HybridParams& hp,
                             std::span<Slab> layers, const HybridScratch& scratch,
-                            VolumeMask may_show = kEveryVolume) {
+                            VolumeFilter filter = {}) {
   const size_t max_layers =
       std::min<size_t>(std::max(pp.layers, 0), std::max<size_t>(layers.size(), 1) - 1);
   size_t n = 0;
@@ -67,7 +73,7 @@ inline glm::vec4 trace_peel(const Ray& ray, std::span<const Fragment> fragments,
       }
     if (front < INFINITY) layers[n++] = Slab{front, 0.0f, rest};
   }
-  const RayVolumes rv(ray, volumes, hp.step, hp.iso_bisections, lights, may_show);
+  const RayVolumes rv(ray, volumes, hp.step, hp.iso_bisections, lights, filter);
   for (Slab& layer : layers.first(n))
     layer.t_back = nearest_step_boundary(rv, layer.t_back, hp.step);
   return composite_hybrid(ray, layers.first(n), rv, volumes, lights, hp, scratch);

@@ -7,14 +7,14 @@
 
 namespace imx {
 
-// `kernel(const Ray&, std::span<const Fragment>, VolumeMask)` returns the premultiplied colour
-// of one ray.
+// `kernel(const Ray&, std::span<const Fragment>, const VolumeFilter&)` returns the premultiplied
+// colour of one ray.
 template <class Kernel>
 Image render_per_sample(const Scene& scene, const FrameSetup& frame, int spp,
                         const RenderOptions& options, const Kernel& kernel) {
   return render_fragment_method(scene, frame, spp, options, FragmentOrder::depth, [&] {
-    return [&](const Ray& ray, std::span<Fragment> fragments, VolumeMask may_show) {
-      return kernel(ray, std::span<const Fragment>(fragments), may_show);
+    return [&](const Ray& ray, std::span<Fragment> fragments, const VolumeFilter& filter) {
+      return kernel(ray, std::span<const Fragment>(fragments), filter);
     };
   });
 }

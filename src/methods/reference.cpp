@@ -21,12 +21,14 @@ Image render_reference(const Scene& scene, int spp, const RenderOptions& options
   std::optional<CsgFrame> csg;
   if (scene.csg) csg.emplace(scene, frame, /*with_states=*/false);
   const std::optional<CsgView> csg_view = csg ? std::optional(csg->view()) : std::nullopt;
-  // The volume mask is all ones: the reference builds no skipping structures (no accelerate()).
-  return render_per_sample(scene, frame, spp, options,
-                           [&](const Ray& ray, std::span<const Fragment> fragments, VolumeMask) {
-                             return trace_reference(ray, fragments, frame.volumes, frame.lights,
-                                                    params, csg_view ? &*csg_view : nullptr);
-                           });
+  // The volume mask is all ones: the reference builds no skipping structures (no accelerate());
+  // what clip geometry keeps of each volume it takes from the filter.
+  return render_per_sample(
+      scene, frame, spp, options,
+      [&](const Ray& ray, std::span<const Fragment> fragments, const VolumeFilter& filter) {
+        return trace_reference(ray, fragments, frame.volumes, frame.lights, params,
+                               csg_view ? &*csg_view : nullptr, filter);
+      });
 }
 
 }  // namespace imx

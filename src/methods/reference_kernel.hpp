@@ -124,15 +124,19 @@ struct ReferenceCsg {
 };
 
 // Premultiplied RGBA seen along `ray`. `surfaces` are the ray's fragments sorted by t;
-// `volumes` at most kMaxRayVolumes (the caller checks). With `csg`, the expression decides
+// `volumes` at most kMaxRayVolumes (the caller checks). A volume that clip geometry restricts
+// (`filter`) is sampled only in the pieces the ray keeps of it: the walk is cut at their ends as
+// at the volume's entry and exit. With `csg`, the expression decides
 // which samples of its primitives show and which of their surfaces are drawn (SPEC §8): a
 // piece shows its CSG volumes and interior media where the expression holds at its midpoint,
 // a group of CSG surfaces is drawn where the expression's value differs either side of it.
 inline glm::vec4 trace_reference(const Ray& ray, std::span<const Fragment> surfaces,
                                  std::span<const PreparedVolume> volumes,
                                  std::span<const ShadingLight> lights, const ReferenceParams& p,
-                                 const CsgView* csg = nullptr) {
-  const RayVolumes rv(ray, volumes, p.step, p.iso_bisections, lights);
+                                 const CsgView* csg = nullptr, VolumeFilter filter = {}) {
+  // Every volume may show: the reference builds no skipping structures.
+  const RayVolumes rv(ray, volumes, p.step, p.iso_bisections, lights,
+                      VolumeFilter(kEveryVolume, filter.clip));
   std::optional<ReferenceCsg> cs;
   if (csg) cs.emplace(*csg, rv, volumes, ray, surfaces);
   auto in_csg = [&](int v) { return csg && csg->primitive_of_volume[v] >= 0; };
@@ -153,11 +157,18 @@ inline glm::vec4 trace_reference(const Ray& ray, std::span<const Fragment> surfa
     for (int k = 0; k < rv.count; ++k) {
       // A CSG volume's span ends change what is present even where it shows nothing.
       if (!rv.marched[k] && !(in_csg(k) && !rv.span[k].empty())) continue;
-      if (t < rv.span[k].t0) {
-        boundary = std::min<double>(boundary, rv.span[k].t0);
-      } else if (t < rv.span[k].t1) {
-        boundary = std::min<double>(boundary, rv.span[k].t1);
-        active |= rv.marched[k];
+      const KeptSpan kept = rv.kept(k);
+      for (int i = 0; i < kept.size(); ++i) {
+        const RayInterval piece = kept[i];
+        if (t < piece.t0) {
+          boundary = std::min<double>(boundary, piece.t0);
+          break;
+        }
+        if (t < piece.t1) {
+          boundary = std::min<double>(boundary, piece.t1);
+          active |= rv.marched[k];
+          break;
+        }
       }
     }
     double t_next = std::min(ts, boundary);
@@ -180,7 +191,7 @@ inline glm::vec4 trace_reference(const Ray& ray, std::span<const Fragment> surfa
             mix.add(c);
         };
         for (int k = 0; k < rv.count; ++k)
-          if (rv.marched[k] && rv.span[k].t0 <= m && m < rv.span[k].t1 &&
+          if (rv.marched[k] && rv.kept(k).contains(m) &&
               (!in_csg(k) || (shows && present >> csg->primitive_of_volume[k] & 1u)))
             add(classify_sample(volumes[k], ray, m, len, lights),
                 p.mixing.exclusive ? p.mixing.rank[k] : 0, volumes[k].lut.unit_distance());

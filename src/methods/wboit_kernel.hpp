@@ -54,7 +54,7 @@ void for_each_contribution(const Ray& ray, std::span<const Fragment> fragments,
   for (int i = 0; i < rv.hit_count; ++i) add(rv.hits[i].color, static_cast<float>(rv.hits[i].t));
   for (int v = 0; v < rv.count; ++v) {
     if (!rv.marched[v]) continue;
-    VolumeMarcher m(volumes[v], ray, rv.span[v].t0, rv.span[v].t1, hp.step, lights);
+    VolumeMarcher m(volumes[v], ray, rv.kept(v), hp.step, lights);
     for (Slab s; m.next(s);) add(s.color, s.t_back - 0.5f * s.thickness);
   }
 }
@@ -62,8 +62,8 @@ void for_each_contribution(const Ray& ray, std::span<const Fragment> fragments,
 inline glm::vec4 trace_wboit(const Ray& ray, std::span<const Fragment> fragments,
                              std::span<const PreparedVolume> volumes,
                              std::span<const ShadingLight> lights, const HybridParams& hp,
-                             const DepthRange& range, VolumeMask may_show = kEveryVolume) {
-  const RayVolumes rv(ray, volumes, hp.step, hp.iso_bisections, lights, may_show);
+                             const DepthRange& range, VolumeFilter filter = {}) {
+  const RayVolumes rv(ray, volumes, hp.step, hp.iso_bisections, lights, filter);
   WeightedBlend blend;
   for_each_contribution(ray, fragments, volumes, lights, hp, rv,
                         [&](const glm::vec4& c, float t) { blend.add(c, t, range); });

@@ -37,6 +37,17 @@ void report(const RenderOptions& options, int done, int total) {
   if (options.progress) options.progress(static_cast<double>(done) / total);
 }
 
+// Whether stage k (the on-the-fly one when k is past the deferred stages) casts a clipped volume.
+bool clipped_stage(const ZslabFrame& z, size_t k) {
+  return k < z.stages.size() && z.stages[k].kind == ZslabStage::Kind::volume &&
+         z.frame.clip.clips(z.stages[k].volume);
+}
+
+// Sample i's clip-mesh fragments, when `clip` holds the tile's.
+std::span<const Fragment> clip_row(const SampleFragments& clip, bool have, size_t i) {
+  return have ? clip.of(i) : std::span<const Fragment>();
+}
+
 // Stateless pipeline: every stage runs on one tile's ping-pong ZT-buffers before the next tile;
 // a flag bit per sample says which of the two holds its array (untouched samples cost nothing).
 Image render_streamed(const Scene& scene, int spp, const RenderOptions& options, bool hybrid) {
@@ -54,7 +65,8 @@ Image render_streamed(const Scene& scene, int spp, const RenderOptions& options,
         ZtBuffer zt[2] = {ZtBuffer(samples, n, z.format), ZtBuffer(samples, n, z.format)};
         std::vector<uint32_t> flags((samples + 31) / 32, 0u);
         auto current = [&](size_t i) { return (flags[i / 32] >> (i % 32)) & 1u; };
-        SampleFragments fragments;
+        SampleFragments fragments, clip;
+        const bool have_clip = z.rasterize_clip(tile, clip);
         Slab in_slots[kMaxZslabLayers], out_slots[kMaxZslabLayers];
         for (size_t k = 0; k < end; ++k) {
           const bool surfaces = z.stages[k].kind == ZslabStage::Kind::surfaces;
@@ -65,7 +77,8 @@ Image render_streamed(const Scene& scene, int spp, const RenderOptions& options,
             uint32_t c = current(i);
             int count = zt[c].load(i, in_slots);
             SlabList out(std::span<Slab>(out_slots, static_cast<size_t>(n)));
-            if (!z.run_deferred(k, x, y, ray, f, std::span<const Slab>(in_slots, count), out))
+            if (!z.run_deferred(k, x, y, ray, f, std::span<const Slab>(in_slots, count), out,
+                                clip_row(clip, have_clip, i)))
               return;
             zt[1 - c].store(i, out.items());
             flags[i / 32] ^= 1u << (i % 32);
@@ -75,7 +88,8 @@ Image render_streamed(const Scene& scene, int spp, const RenderOptions& options,
         size_t done = 0;
         for_each_sample(z, tile, [&](int x, int y, const Ray& ray, size_t i) {
           int count = zt[current(i)].load(i, in_slots);
-          sum += z.run_final(end, x, y, ray, std::span<const Slab>(in_slots, count));
+          sum += z.run_final(end, x, y, ray, std::span<const Slab>(in_slots, count),
+                             clip_row(clip, have_clip, i));
           if (++done == z.offsets.size()) {
             image.at(x, y) = over_background(sum * weight, scene.image.background);
             sum = glm::vec4(0.0f);
@@ -152,9 +166,11 @@ Image render_zslab_cached(const Scene& scene, int spp, const RenderOptions& opti
   for (size_t k = first; k < end; ++k) {
     auto output = std::make_shared<ZtBuffer>(total, n, z.format);
     const bool surfaces = z.stages[k].kind == ZslabStage::Kind::surfaces;
+    const bool clipped = clipped_stage(z, k);
     for_each_tile(w, h, kTileSize, options.threads, [&](const TileRect& tile, int) {
-      SampleFragments fragments;
+      SampleFragments fragments, clip;
       if (surfaces) z.rasterize(k, tile, fragments);
+      const bool have_clip = clipped && z.rasterize_clip(tile, clip);
       Slab in_slots[kMaxZslabLayers], out_slots[kMaxZslabLayers];
       for_each_sample(z, tile, [&](int x, int y, const Ray& ray, size_t i) {
         size_t g = (static_cast<size_t>(y) * w + x) * spx + i % spx;
@@ -165,7 +181,8 @@ Image render_zslab_cached(const Scene& scene, int spp, const RenderOptions& opti
         }
         int count = input ? input->load(g, in_slots) : 0;
         SlabList out(std::span<Slab>(out_slots, static_cast<size_t>(n)));
-        if (z.run_deferred(k, x, y, ray, f, std::span<const Slab>(in_slots, count), out))
+        if (z.run_deferred(k, x, y, ray, f, std::span<const Slab>(in_slots, count), out,
+                           clip_row(clip, have_clip, i)))
           output->store(g, out.items());
         else if (input)
           output->copy(g, *input, g);
@@ -180,7 +197,11 @@ Image render_zslab_cached(const Scene& scene, int spp, const RenderOptions& opti
       e.output = output;
       for (uint32_t o : z.stages[k].objects) {
         const ObjectRef& ref = scene.order[o];
-        if (ref.kind == ObjectKind::volume) e.keep_alive.push_back(scene.volumes[ref.index].data);
+        if (ref.kind == ObjectKind::volume) {
+          e.keep_alive.push_back(scene.volumes[ref.index].data);
+          for (const ClipMesh& c : scene.volumes[ref.index].clip_meshes)
+            e.keep_alive.push_back(scene.meshes[c.mesh].mesh);
+        }
         if (ref.kind == ObjectKind::mesh) e.keep_alive.push_back(scene.meshes[ref.index].mesh);
         if (ref.kind == ObjectKind::plane && scene.planes[ref.index].volume >= 0)
           e.keep_alive.push_back(scene.volumes[scene.planes[ref.index].volume].data);
@@ -190,15 +211,19 @@ Image render_zslab_cached(const Scene& scene, int spp, const RenderOptions& opti
 
   auto image = std::make_shared<Image>(w, h);
   const float weight = 1.0f / static_cast<float>(spx);
+  const bool clipped_final = clipped_stage(z, end);
   for_each_tile(
       w, h, kTileSize, options.threads,
       [&](const TileRect& tile, int) {
         Slab slots[kMaxZslabLayers];
+        SampleFragments clip;
+        const bool have_clip = clipped_final && z.rasterize_clip(tile, clip);
         glm::vec4 sum(0.0f);
         for_each_sample(z, tile, [&](int x, int y, const Ray& ray, size_t i) {
           size_t g = (static_cast<size_t>(y) * w + x) * spx + i % spx;
           int count = input ? input->load(g, slots) : 0;
-          sum += z.run_final(end, x, y, ray, std::span<const Slab>(slots, count));
+          sum += z.run_final(end, x, y, ray, std::span<const Slab>(slots, count),
+                             clip_row(clip, have_clip, i));
           if (i % spx + 1 == spx) {
             image->at(x, y) = over_background(sum * weight, scene.image.background);
             sum = glm::vec4(0.0f);

@@ -28,14 +28,18 @@ void hash_shading(StageHash& h, const Shading& s) {
   h.add(s.enabled).add(s.ambient).add(s.diffuse).add(s.specular).add(s.shininess);
 }
 
-// Data are hashed by identity: the stage cache holds the scene's data alive while it keeps a key.
-void hash_volume(StageHash& h, const VolumeObject& v) {
+// Data are hashed by identity: the stage cache holds the scene's data alive while it keeps a key
+// (a clipped volume's stage keeps its clip meshes too).
+void hash_volume(StageHash& h, const Scene& scene, const VolumeObject& v) {
   h.add(v.data.get()).add(v.index_to_world).add(v.style).add(v.iso_value);
   h.add(v.transfer_function.unit_distance).add(v.transfer_function.points.size());
   for (const TfPoint& p : v.transfer_function.points) h.add(p.value).add(p.rgba);
   hash_shading(h, v.shading);
   h.add(v.clip_planes.size());
   for (const ClipPlane& c : v.clip_planes) h.add(c.point).add(c.normal);
+  h.add(v.clip_meshes.size());
+  for (const ClipMesh& c : v.clip_meshes)
+    h.add(scene.meshes.at(static_cast<size_t>(c.mesh)).mesh.get()).add(c.keep_inside);
 }
 
 void hash_mesh(StageHash& h, const MeshObject& m) {
@@ -109,7 +113,9 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
   frame.accelerate(step, MarchSettings::from(r));
 
   // Polygon objects and planes first, in scene order, as many per stage as fit the RT layers.
+  // Cutters that do not show (clip meshes of opacity 0) are in no stage: they only clip.
   const bool has_volumes = !scene.volumes.empty();
+  const std::vector<bool> shown = shown_meshes(scene);
   const size_t per_stage =
       static_cast<size_t>(std::max(1, r.rt_layers / std::max(1, r.peel_layers)));
   ZslabStage group;
@@ -120,6 +126,7 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
   for (size_t k = 0; k < scene.order.size(); ++k) {
     const ObjectRef& ref = scene.order[k];
     if (ref.kind == ObjectKind::volume) continue;
+    if (ref.kind == ObjectKind::mesh && !shown[ref.index]) continue;
     std::optional<double> d = r.thickness;
     StageHash h;
     h.add(group.content).add(ref.kind);
@@ -178,7 +185,7 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
     const PreparedVolume& pv = frame.volumes[st.volume];
     st.on_the_fly = hybrid && i + 1 == volume_order.size() && pv.object->style == VolumeStyle::dvr;
     StageHash h;
-    hash_volume(h, *pv.object);
+    hash_volume(h, scene, *pv.object);
     st.content = h.add(st.step).add(st.on_the_fly).value();
     stages.push_back(std::move(st));
   }
@@ -198,6 +205,14 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
 }
 
 void ZslabFrame::prepare(size_t first) {
+  // The clip meshes' fragments, for the volume stages from `first` on that are clipped.
+  if (!clip_rasterizer_)
+    for (size_t k = first; k < stages.size(); ++k)
+      if (stages[k].kind == ZslabStage::Kind::volume && frame.clip.clips(stages[k].volume)) {
+        clip_rasterizer_ = std::make_shared<const Rasterizer>(scene, frame.camera, frame.volumes,
+                                                              16, RasterObjects::clip);
+        break;
+      }
   for (size_t k = first; k < stages.size(); ++k) {
     const ZslabStage& st = stages[k];
     if (st.kind != ZslabStage::Kind::surfaces || rasterizers_[k]) continue;
@@ -205,7 +220,8 @@ void ZslabFrame::prepare(size_t first) {
     Scene sub;
     sub.camera = scene.camera;
     sub.image = scene.image;
-    sub.volumes = scene.volumes;  // planes sample them by index
+    sub.volumes = scene.volumes;                                // planes sample them by index
+    for (VolumeObject& v : sub.volumes) v.clip_meshes.clear();  // they name the scene's meshes
     for (uint32_t o : st.objects) {
       const ObjectRef& ref = scene.order[o];
       if (ref.kind == ObjectKind::mesh) {
@@ -224,9 +240,22 @@ void ZslabFrame::rasterize(size_t k, const TileRect& tile, SampleFragments& out)
   if (k < rasterizers_.size() && rasterizers_[k]) rasterizers_[k]->rasterize(tile, offsets, out);
 }
 
+bool ZslabFrame::rasterize_clip(const TileRect& tile, SampleFragments& out) const {
+  if (!clip_rasterizer_) return false;
+  clip_rasterizer_->rasterize(tile, offsets, out);
+  return true;
+}
+
+KeptSpan ZslabFrame::kept(int volume, RayInterval span, std::span<const Fragment> clip,
+                          ClipPieces& pieces) const {
+  if (!frame.clip.clips(static_cast<size_t>(volume))) return KeptSpan(span);
+  clip_volume(clip, frame.clip.view(), static_cast<size_t>(volume), pieces);
+  return KeptSpan(span, pieces);
+}
+
 bool ZslabFrame::run_deferred(size_t k, int x, int y, const Ray& ray,
                               std::span<const Fragment> fragments, std::span<const Slab> stored,
-                              SlabList& out) const {
+                              SlabList& out, std::span<const Fragment> clip) const {
   const ZslabStage& st = stages[k];
   if (st.kind == ZslabStage::Kind::surfaces) {
     StageThickness th{st.thickness, footprint_at_0_, footprint_per_mm_};
@@ -236,18 +265,20 @@ bool ZslabFrame::run_deferred(size_t k, int x, int y, const Ray& ray,
   if (!frame.may_show(st.volume, x, y)) return false;
   RayInterval span = v.intersect(ray);
   if (span.empty()) return false;
+  ClipPieces pieces;
+  const KeptSpan what = kept(st.volume, span, clip, pieces);
+  if (what.empty()) return false;
   Slab local[kMaxZslabLayers];
   SlabList own(std::span<Slab>(local, static_cast<size_t>(params.layers)));
   if (v.object->style == VolumeStyle::dvr) {
     if (v.lut.max_opacity() <= 0.0f) return false;
-    VolumeMarcher marcher(v, ray, span.t0, span.t1, st.step, frame.lights);
+    VolumeMarcher marcher(v, ray, what, st.step, frame.lights);
     collect_slabs(marcher, own, params.mix.a_ert, params.mix.overflow);
   } else {
     VolumeHit hit;
     bool found = v.object->style == VolumeStyle::iso
-                     ? find_iso_crossing(v, ray, span.t0, span.t1, st.step, kIsoBisections,
-                                         frame.lights, hit)
-                     : project_volume(v, ray, span.t0, span.t1, st.step, hit);
+                     ? find_iso_crossing(v, ray, what, st.step, kIsoBisections, frame.lights, hit)
+                     : project_volume(v, ray, what, st.step, hit);
     if (found && hit.color.a > 0.0f)
       own.push_back(virtual_slab(static_cast<float>(hit.t), st.step, hit.color));
   }
@@ -257,12 +288,15 @@ bool ZslabFrame::run_deferred(size_t k, int x, int y, const Ray& ray,
 }
 
 glm::vec4 ZslabFrame::run_final(size_t k, int x, int y, const Ray& ray,
-                                std::span<const Slab> stored) const {
+                                std::span<const Slab> stored,
+                                std::span<const Fragment> clip) const {
   if (k < stages.size() && stages[k].on_the_fly && frame.may_show(stages[k].volume, x, y)) {
     const PreparedVolume& v = frame.volumes[stages[k].volume];
     RayInterval span = v.intersect(ray);
-    if (!span.empty()) {
-      VolumeMarcher marcher(v, ray, span.t0, span.t1, stages[k].step, frame.lights);
+    ClipPieces pieces;
+    const KeptSpan what = span.empty() ? KeptSpan() : kept(stages[k].volume, span, clip, pieces);
+    if (!what.empty()) {
+      VolumeMarcher marcher(v, ray, what, stages[k].step, frame.lights);
       return trace_hybrid(stored, marcher, params.mix);
     }
   }

@@ -11,6 +11,7 @@
 
 #include "core/ray.hpp"
 #include "intermix/scene.hpp"
+#include "methods/clip_intervals.hpp"
 #include "methods/frame_setup.hpp"
 #include "methods/zslab_buffer.hpp"
 #include "methods/zslab_kernel.hpp"
@@ -41,15 +42,21 @@ class ZslabFrame {
   void prepare(size_t first = 0);
 
   // Runs deferred stage `k` on one sample of pixel (x, y): false when the stage does not touch
-  // it.
+  // it. `clip`: the sample's clip-mesh fragments (rasterize_clip), which a clipped volume's
+  // stage needs.
   bool run_deferred(size_t k, int x, int y, const Ray& ray, std::span<const Fragment> fragments,
-                    std::span<const Slab> stored, SlabList& out) const;
+                    std::span<const Slab> stored, SlabList& out,
+                    std::span<const Fragment> clip = {}) const;
   // Runs the on-the-fly stage `k` (or, with k out of range, just accumulates) on one sample of
   // pixel (x, y).
-  glm::vec4 run_final(size_t k, int x, int y, const Ray& ray, std::span<const Slab> stored) const;
+  glm::vec4 run_final(size_t k, int x, int y, const Ray& ray, std::span<const Slab> stored,
+                      std::span<const Fragment> clip = {}) const;
 
   // Fragments of surface stage `k` for every sample of `tile`; empty for other stages.
   void rasterize(size_t k, const TileRect& tile, SampleFragments& out) const;
+  // The clip meshes' fragments of every sample of `tile`, sorted by depth, when a volume stage
+  // prepared from the first one on is clipped; else false and `out` untouched.
+  bool rasterize_clip(const TileRect& tile, SampleFragments& out) const;
 
   // Hash of everything all stages share (camera, image, samples, settings, lights).
   uint64_t frame_key() const { return frame_key_; }
@@ -65,7 +72,12 @@ class ZslabFrame {
   bool hybrid = true;
 
  private:
+  // What the ray keeps of `volume` within its span, from the sample's clip fragments.
+  KeptSpan kept(int volume, RayInterval span, std::span<const Fragment> clip,
+                ClipPieces& pieces) const;
+
   std::vector<std::shared_ptr<const Rasterizer>> rasterizers_;  // per stage, surfaces only
+  std::shared_ptr<const Rasterizer> clip_rasterizer_;           // the clip meshes, when needed
   float footprint_at_0_ = 0.0f, footprint_per_mm_ = 0.0f;
   uint64_t frame_key_ = 0;
 };

@@ -38,6 +38,7 @@ int64_t ceil_div(int64_t a, int64_t b) {
 struct ObjectInfo {
   uint32_t order_index = 0;  // index into Scene::order, the fragment's object id
   bool is_plane = false;
+  bool shaded = true;  // false: only depth and facing are needed (clip meshes for the clip step)
   // Mesh.
   Material material;
   bool has_normals = false;
@@ -112,6 +113,10 @@ struct Rasterizer::Impl {
     f.t = static_cast<float>(t);
     f.object = obj.order_index;
     f.front_facing = src.front_facing;
+    if (!obj.shaded) {
+      f.color = glm::vec4(0.0f);
+      return true;
+    }
     if (obj.is_plane) {
       float grey = 1.0f;
       if (obj.volume) {
@@ -264,8 +269,47 @@ void Rasterizer::Impl::build_bins() {
                      [&](size_t b) { bin_items[cursor[b]++] = static_cast<uint32_t>(i); });
 }
 
+namespace {
+
+// Per mesh: whether some volume names it in its clip list (SPEC §7); indices out of range are
+// ignored here (ClipPlan reports them).
+std::vector<bool> clip_meshes(const Scene& scene) {
+  std::vector<bool> clips(scene.meshes.size(), false);
+  for (const VolumeObject& v : scene.volumes)
+    for (const ClipMesh& c : v.clip_meshes)
+      if (c.mesh >= 0 && static_cast<size_t>(c.mesh) < clips.size()) clips[c.mesh] = true;
+  return clips;
+}
+
+// Per mesh: a CSG primitive, whose fragments its method needs whatever its material.
+std::vector<bool> csg_meshes(const Scene& scene) {
+  std::vector<bool> csg(scene.meshes.size(), false);
+  if (scene.csg)
+    for (const CsgNode& n : scene.csg->nodes)
+      if (n.op == CsgOp::primitive && n.object.kind == ObjectKind::mesh && n.object.index >= 0 &&
+          static_cast<size_t>(n.object.index) < csg.size())
+        csg[n.object.index] = true;
+  return csg;
+}
+
+// A clip mesh of opacity 0 only cuts; a CSG primitive's fragments are needed whatever it shows.
+bool only_cuts(const Scene& scene, size_t mesh, const std::vector<bool>& clips,
+               const std::vector<bool>& csg) {
+  return clips[mesh] && !(scene.meshes[mesh].material.opacity > 0.0f) && !csg[mesh];
+}
+
+}  // namespace
+
+std::vector<bool> shown_meshes(const Scene& scene) {
+  const std::vector<bool> clips = clip_meshes(scene), csg = csg_meshes(scene);
+  std::vector<bool> shown(scene.meshes.size());
+  for (size_t m = 0; m < shown.size(); ++m) shown[m] = !only_cuts(scene, m, clips, csg);
+  return shown;
+}
+
 Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
-                       std::span<const PreparedVolume> volumes, int tile_size)
+                       std::span<const PreparedVolume> volumes, int tile_size,
+                       RasterObjects objects)
     : tile_size_(tile_size) {
   if (tile_size <= 0)
     throw Error(fmt::format("rasterizer: tile size {} must be positive", tile_size));
@@ -310,6 +354,8 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
 
   auto to_camera = [&](const glm::vec3& p) { return camera.to_camera(glm::dvec3(p)); };
   std::vector<bool> mesh_seen(scene.meshes.size(), false), plane_seen(scene.planes.size(), false);
+  const std::vector<bool> clips = clip_meshes(scene), csg = csg_meshes(scene);
+  const bool clip_only = objects == RasterObjects::clip;
   std::vector<glm::dvec3> cam_positions;
   for (size_t k = 0; k < scene.order.size(); ++k) {
     const ObjectRef& ref = scene.order[k];
@@ -321,11 +367,13 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
                               is_mesh ? "mesh" : "plane", ref.index, count));
     ObjectInfo info;
     info.order_index = static_cast<uint32_t>(k);
+    info.shaded = !clip_only;
     const uint32_t object = static_cast<uint32_t>(im.objects.size());
 
     if (is_mesh) {
       mesh_seen[ref.index] = true;
       const MeshObject& mo = scene.meshes[ref.index];
+      if (clip_only ? !clips[ref.index] : only_cuts(scene, ref.index, clips, csg)) continue;
       if (!mo.mesh) throw Error(fmt::format("mesh '{}': has no mesh data", mo.name));
       const Mesh& mesh = *mo.mesh;
       const bool has_normals = !mesh.normals.empty();
@@ -357,6 +405,7 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
       }
     } else {
       plane_seen[ref.index] = true;
+      if (clip_only) continue;
       const PlaneObject& pl = scene.planes[ref.index];
       if (!all_finite(pl.center) || !all_finite(pl.normal) || !all_finite(pl.up))
         throw Error(fmt::format("plane '{}': center, normal and up must be finite", pl.name));

@@ -32,6 +32,15 @@ struct SampleFragments {
 // store pass of an order-dependent fragment buffer such as the k+-buffer).
 enum class FragmentOrder { depth, arrival };
 
+// Which objects a rasterizer gives fragments of: every mesh and plane that shows (all but the
+// clip meshes of material opacity 0, which only cut; CSG primitives always show), or the clip
+// meshes alone, unshaded (colour 0), for the clip step (SPEC §7).
+enum class RasterObjects { shown, clip };
+
+// Per mesh of `scene`: whether a RasterObjects::shown rasterizer draws it (not a clip mesh of
+// material opacity 0 that is no CSG primitive).
+std::vector<bool> shown_meshes(const Scene& scene);
+
 class Rasterizer {
  public:
   // Prepares every mesh and plane of the scene for the camera: camera-space triangles clipped
@@ -40,8 +49,9 @@ class Rasterizer {
   // they are kept by pointer and must outlive the rasterizer, the scene need not.
   // A plane's height runs along `up` made perpendicular to its normal, its width along
   // cross(height, normal). Throws imx::Error naming the mesh, plane or order entry at fault.
+  // Fragment object ids are Scene::order indices whichever `objects` are drawn.
   Rasterizer(const Scene& scene, const CameraModel& camera, std::span<const PreparedVolume> volumes,
-             int tile_size);
+             int tile_size, RasterObjects objects = RasterObjects::shown);
 
   // Fills `out` with the fragments of every sample of `tile` (a tile of the same tile_size grid).
   // Sample s of pixel (x, y) lies at image position (x + offsets[s].x, y + offsets[s].y);

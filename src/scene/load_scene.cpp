@@ -81,6 +81,7 @@ Scene parse_document(const nlohmann::json& root, const std::filesystem::path& ba
     }
   }
   scene.order = std::move(order);
+  detail::parse_clip_meshes(objects, scene);
   if (auto v = r.find("csg")) scene.csg = detail::parse_csg(*v, scene);
   detail::check_interiors(objects, scene);
   std::optional<JsonReader> render = r.find("render");

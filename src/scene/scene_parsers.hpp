@@ -45,6 +45,12 @@ void check_mixing_priority(const JsonReader& render, const Scene& scene,
 // that is not a dvr volume or a closed mesh, conflicting presences, too many primitives or
 // too deep a nesting. Meshes it names that face inward are flipped in `scene`.
 std::optional<CsgExpression> parse_csg(const JsonReader& r, Scene& scene);
+// Every volume's "clip" list: names of closed meshes and what to keep of them, into
+// VolumeObject::clip_meshes. Throws for a name that is not a closed mesh, a keep that is not
+// inside or outside, a mesh named twice in one list, or more than 64 clip meshes. Meshes that
+// face inward are flipped in `scene`. `objects` are the readers of the scene's objects, in
+// scene.order's order.
+void parse_clip_meshes(const std::vector<JsonReader>& objects, Scene& scene);
 // Throws at objects[i].interior for a mesh with an interior that is not a primitive of
 // scene.csg; `objects` are the readers of the scene's objects, in scene.order's order.
 void check_interiors(const std::vector<JsonReader>& objects, const Scene& scene);

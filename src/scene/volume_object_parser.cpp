@@ -106,7 +106,7 @@ std::vector<ClipPlane> parse_clip_planes(const JsonReader& r) {
 
 VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   r.check_keys({"name", "type", "source", "transform", "style", "iso_value", "transfer_function",
-                "shading", "clip_planes"});
+                "shading", "clip_planes", "clip"});
   VolumeObject v;
   v.name = r.get("name").string();
   glm::dmat4 transform(1.0);
@@ -131,6 +131,7 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   }
   if (auto s = r.find("shading")) v.shading = parse_shading(*s);
   if (auto c = r.find("clip_planes")) v.clip_planes = parse_clip_planes(*c);
+  // "clip" names meshes, which come later in the file: parse_clip_meshes reads it.
   // The source last: reading a large file is the slowest step, so cheap errors come first.
   v.data = load_volume_source(r.get("source"), context);
   v.index_to_world = transform * v.data->index_to_world;

@@ -7,6 +7,7 @@
 
 #include "core/blinn_phong.hpp"
 #include "core/ray.hpp"
+#include "volume/kept_span.hpp"
 #include "volume/prepared_volume.hpp"
 
 namespace imx {
@@ -58,6 +59,17 @@ inline bool find_iso_crossing(const PreparedVolume& v, const Ray& ray, double t0
     a = b;
     fa = fb;
   }
+  return false;
+}
+
+// The first crossing within the pieces of a span that a ray keeps (clip geometry): each piece is
+// searched on its own, so a piece that starts beyond the iso-value has no crossing at its start.
+inline bool find_iso_crossing(const PreparedVolume& v, const Ray& ray, const KeptSpan& kept,
+                              double step, int bisections, std::span<const ShadingLight> lights,
+                              VolumeHit& hit) {
+  for (int i = 0; i < kept.size(); ++i)
+    if (find_iso_crossing(v, ray, kept[i].t0, kept[i].t1, step, bisections, lights, hit))
+      return true;
   return false;
 }
 

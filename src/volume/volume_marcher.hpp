@@ -12,6 +12,7 @@
 #include "slab/over.hpp"
 #include "slab/slab.hpp"
 #include "volume/brick_dda.hpp"
+#include "volume/kept_span.hpp"
 #include "volume/prepared_volume.hpp"
 #include "volume/ray_shading.hpp"
 
@@ -58,6 +59,7 @@ class VolumeMarcher {
         step_(step),
         t_(t0),
         t1_(t1),
+        end_(t1),
         preint_(v.accel.preint ? v.accel.preint->view() : PreintegrationView()),
         dda_(v.accel.occupancy && t1 > t0
                  ? BrickDda(v.accel.occupancy->grid(), origin_, dir_, t0, t1)
@@ -65,6 +67,20 @@ class VolumeMarcher {
     centre_ = extent == SlabExtent::visible && preint_.data;
     trim_ = centre_ && v.accel.emptiness;
     align_cell();
+  }
+
+  // Only the pieces of the span that clip geometry keeps, in order: the slabs of one marcher per
+  // piece, one after the other. The gaps are jumped like empty space; the brick walk over the
+  // whole kept extent serves every piece, as it only ever moves forward. The pieces `kept` points
+  // to must outlive the marcher.
+  VolumeMarcher(const PreparedVolume& v, const Ray& ray, const KeptSpan& kept, float step,
+                std::span<const ShadingLight> lights, SlabExtent extent = SlabExtent::visible)
+      : VolumeMarcher(v, ray, kept.empty() ? 0.0f : kept.front(), kept.empty() ? 0.0f : kept.back(),
+                      step, lights, extent) {
+    if (kept.size() < 2) return;
+    t1_ = kept[0].t1;
+    kept_ = kept;
+    piece_ = 0;
   }
 
   // The next slab with any visibility, in depth order; false once the span is used up.
@@ -88,6 +104,29 @@ class VolumeMarcher {
   // The loop with the voxel type resolved once per slab, so sampling inlines.
   template <class Grid>
   [[gnu::always_inline]] bool next_in(const Grid& grid, Slab& out) {
+    do {
+      if (next_in_piece(grid, out)) return true;
+    } while (next_piece());
+    return false;
+  }
+
+  // Moves to the next kept piece, where a marcher of its own would start, or further in when a
+  // jump over empty bricks already went past its start (pieces it went past are done).
+  bool next_piece() {
+    while (piece_ + 1 < kept_.size()) {
+      const RayInterval p = kept_[++piece_];
+      if (!(p.t1 > t_)) continue;
+      t_ = std::max<double>(t_, p.t0);
+      t1_ = p.t1;
+      align_cell();
+      have_front_ = false;
+      return true;
+    }
+    return false;
+  }
+
+  template <class Grid>
+  [[gnu::always_inline]] bool next_in_piece(const Grid& grid, Slab& out) {
     while (t_ < t1_) {
       double back = std::min<double>(t1_, (cell_ + 1.0) * step_);
       if (v_->accel.occupancy && t_ >= occupied_until_ && skip_empty(back)) continue;
@@ -134,7 +173,7 @@ class VolumeMarcher {
       else
         dda_.next();
     }
-    double resume = dda_.done() ? t1_ : dda_.t_enter();
+    double resume = dda_.done() ? end_ : dda_.t_enter();  // done: empty to the end
     if (resume < back) return false;
     t_ = std::max(back, std::floor(resume / step_) * step_);
     align_cell();
@@ -205,13 +244,16 @@ class VolumeMarcher {
   double t_ = 0.0;
   double cell_ = 0.0;                  // index k of the grid cell [k, k+1) * step holding t_
   double occupied_until_ = -INFINITY;  // the ray is in an occupied brick up to here
-  float t1_ = 0.0f;
+  float t1_ = 0.0f;                    // the end of the piece being marched
+  float end_ = 0.0f;                   // the end of the last piece
   PreintegrationView preint_;
   BrickDda dda_;
   float s_front_ = 0.0f;
   bool have_front_ = false;
   bool centre_ = false;  // shade visible slabs at their light's centre (needs the table)
   bool trim_ = false;    // trim them to the visible ramp (needs the emptiness table too)
+  KeptSpan kept_;        // with two or more pieces: the pieces, t1_ ends piece_
+  int piece_ = 0;
 };
 
 }  // namespace imx

@@ -40,7 +40,7 @@ TEST_P(ReferenceConvergence, SupersamplingAndStepHaveConverged) {
 INSTANTIATE_TEST_SUITE_P(Examples, ReferenceConvergence,
                          testing::Values("ct-head", "ct-implant", "two-volumes", "coplanar", "mpr",
                                          "shells", "fusion", "csg-cutaway", "csg-smile",
-                                         "csg-sliced", "csg-mixing"),
+                                         "csg-sliced", "csg-mixing", "clip-head"),
                          [](const auto& info) {
                            std::string n = info.param;
                            std::replace(n.begin(), n.end(), '-', '_');

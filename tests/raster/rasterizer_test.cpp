@@ -609,6 +609,41 @@ TEST(Rasterizer, ManyLayersAreSortedStably) {
   }
 }
 
+// Clip geometry (SPEC §7): a clip mesh of opacity 0 only cuts, so the ordinary rows leave it out;
+// the clip rows hold the clip meshes alone, unshaded, with Scene::order ids either way.
+TEST(Rasterizer, ClipMeshesHaveRowsOfTheirOwn) {
+  Scene scene = make_scene(32, 32);
+  VolumeObject v;  // only its clip list matters here
+  v.name = "ct";
+  scene.order.push_back({ObjectKind::volume, 0});
+  scene.volumes.push_back(v);
+  Material hidden;
+  hidden.opacity = 0.0f;
+  add_mesh(scene, test::box({-30, -30, -30}, {30, 30, 30}), hidden, "cutter");     // order 1
+  add_mesh(scene, test::box({-10, -80, -10}, {10, -60, 10}), {}, "drawn");         // order 2
+  add_mesh(scene, test::box({-50, -50, -50}, {50, -40, 50}), {}, "shown cutter");  // order 3
+  scene.volumes[0].clip_meshes = {{0, false}, {2, true}};
+  CameraModel camera(scene.camera, scene.image.width, scene.image.height);
+  const auto offsets = grid_offsets(1);
+  FrameFragments shown = rasterize_frame(Rasterizer(scene, camera, {}, 16), camera, offsets);
+  FrameFragments clip =
+      rasterize_frame(Rasterizer(scene, camera, {}, 16, RasterObjects::clip), camera, offsets);
+  const std::vector<Fragment>& a = shown.at(16, 16, 0);
+  const std::vector<Fragment>& b = clip.at(16, 16, 0);
+  ASSERT_EQ(a.size(), 4u);  // "drawn" and "shown cutter", front and back
+  ASSERT_EQ(b.size(), 4u);  // "cutter" and "shown cutter"
+  for (const Fragment& f : a) EXPECT_TRUE(f.object == 2u || f.object == 3u) << f.object;
+  for (const Fragment& f : b) {
+    EXPECT_TRUE(f.object == 1u || f.object == 3u) << f.object;
+    EXPECT_EQ(f.color, glm::vec4(0.0f));
+  }
+  EXPECT_EQ(b.front().object, 3u);
+  EXPECT_EQ(b.front().front_facing, 1u);
+  EXPECT_EQ(b.back().object, 1u);
+  EXPECT_EQ(b.back().front_facing, 0u);
+  EXPECT_EQ(shown_meshes(scene), (std::vector<bool>{false, true, true}));
+}
+
 TEST(Rasterizer, ReportsBadInputNamingTheCulprit) {
   CameraModel camera(Camera{}, 32, 32);
   auto message = [&](const Scene& scene, std::span<const PreparedVolume> volumes = {}) {

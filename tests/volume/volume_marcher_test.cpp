@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -9,6 +10,7 @@
 
 #include "random_volumes.hpp"
 #include "slab/over.hpp"
+#include "volume/kept_span.hpp"
 
 namespace imx {
 namespace {
@@ -272,6 +274,66 @@ TEST(VolumeMarcher, VisibleSlabsAreCentredOnTheirLight) {
       EXPECT_LT(s.thickness, 0.65f);
     }
   }
+}
+
+// Clip geometry keeps pieces of a span: one marcher over the pieces gives exactly the slabs of one
+// marcher per piece, one after the other, whatever it skipped in the gaps (the brick walk over the
+// whole span serves every piece). Pieces reaching beyond the span are clamped to it.
+TEST(VolumeMarcher, MarchingPiecesEqualsMarchingEachPiece) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  int rays = 0, gaps_with_slabs = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    VolumeObject obj;
+    obj.name = "blobs";
+    obj.data = std::make_shared<VolumeData>(test::blob_volume<uint8_t>({37, 29, 33}, rng));
+    obj.index_to_world = glm::dmat4(glm::dmat3(0.9, 0.1, 0.0, -0.1, 1.1, 0.0, 0.0, 0.2, 1.3));
+    obj.transfer_function = test::random_tf(rng, 0.0f, 255.0f);
+    obj.shading.enabled = trial % 2 == 0;
+    for (SkipMode skip : {SkipMode::none, SkipMode::distance})
+      for (Classification c : {Classification::post, Classification::preintegrated}) {
+        const float step = 0.7f;
+        const PreparedVolume v = prepared(
+            obj, step, {skip, c, GradientSource::on_the_fly, skip == SkipMode::none ? 8 : 4});
+        const ShadingLight light = resolve_light(Light{});
+        for (int r = 0; r < 30; ++r) {
+          const Ray ray = random_ray(rng, glm::vec3(18, 20, 22), 30.0f);
+          const RayInterval span = v.intersect(ray);
+          if (span.empty()) continue;
+          ++rays;
+          // Up to 8 random pieces from just before the span to just past it.
+          ClipPieces clip;
+          std::vector<float> cuts;
+          const int n = 1 + static_cast<int>(u(rng) * 2 * kMaxClipPieces);
+          const float len = span.t1 - span.t0;
+          for (int k = 0; k < n; ++k) cuts.push_back(span.t0 - 0.1f * len + 1.2f * len * u(rng));
+          std::sort(cuts.begin(), cuts.end());
+          for (size_t k = 0; k + 1 < cuts.size(); k += 2) clip.add(cuts[k], cuts[k + 1]);
+          const KeptSpan kept(span, clip);
+          for (SlabExtent extent : {SlabExtent::grid, SlabExtent::visible}) {
+            std::vector<Slab> whole, each;
+            VolumeMarcher m(v, ray, kept, step, {&light, 1}, extent);
+            for (Slab s; m.next(s);) whole.push_back(s);
+            for (int k = 0; k < kept.size(); ++k) {
+              VolumeMarcher one(v, ray, kept[k].t0, kept[k].t1, step, {&light, 1}, extent);
+              for (Slab s; one.next(s);) each.push_back(s);
+            }
+            ASSERT_EQ(whole.size(), each.size());
+            for (size_t i = 0; i < whole.size(); ++i) {
+              EXPECT_EQ(whole[i].t_back, each[i].t_back);
+              EXPECT_EQ(whole[i].thickness, each[i].thickness);
+              EXPECT_EQ(whole[i].color, each[i].color);
+              EXPECT_TRUE(kept.contains(whole[i].t_back - 0.5f * whole[i].thickness));
+            }
+            // The gaps held something that was not marched (else the test proves little).
+            if (extent == SlabExtent::grid && march(v, ray, step).slabs.size() > whole.size())
+              ++gaps_with_slabs;
+          }
+        }
+      }
+  }
+  EXPECT_GT(rays, 200);
+  EXPECT_GT(gaps_with_slabs, 100);
 }
 
 }  // namespace

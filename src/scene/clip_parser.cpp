@@ -1,0 +1,89 @@
+// Parser for the volumes' "clip" lists: closed meshes that keep a volume's inside or outside.
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "io/mesh_topology.hpp"
+#include "scene/edit_distance.hpp"
+#include "scene/scene_parsers.hpp"
+
+namespace imx::detail {
+namespace {
+
+constexpr size_t kMaxClipMeshes = 64;  // one winding each per ray (methods/clip_intervals.hpp)
+
+std::string plural(size_t n, const char* word) {
+  return fmt::format("{} {}{}", n, word, n == 1 ? "" : "s");
+}
+
+const char* kind_name(ObjectKind kind) {
+  return kind == ObjectKind::volume ? "volume" : kind == ObjectKind::mesh ? "mesh" : "plane";
+}
+
+}  // namespace
+
+void parse_clip_meshes(const std::vector<JsonReader>& objects, Scene& scene) {
+  std::vector<std::string> names;
+  std::map<std::string, ObjectRef> by_name;
+  for (const ObjectRef& ref : scene.order) {
+    const std::string& name = ref.kind == ObjectKind::volume ? scene.volumes[ref.index].name
+                              : ref.kind == ObjectKind::mesh ? scene.meshes[ref.index].name
+                                                             : scene.planes[ref.index].name;
+    names.push_back(name);
+    by_name.emplace(name, ref);
+  }
+  std::vector<bool> admitted(scene.meshes.size(), false);
+  size_t distinct = 0;
+  for (size_t i = 0; i < scene.order.size() && i < objects.size(); ++i) {
+    if (scene.order[i].kind != ObjectKind::volume) continue;
+    std::optional<JsonReader> list = objects[i].find("clip");
+    if (!list) continue;
+    list->expect_array();
+    VolumeObject& volume = scene.volumes[scene.order[i].index];
+    std::map<int, size_t> seen;  // mesh -> its position in this list
+    for (size_t j = 0; j < list->size(); ++j) {
+      const JsonReader entry = list->at(j);
+      entry.expect_object();
+      entry.check_keys({"mesh", "keep"});
+      const JsonReader mesh_at = entry.get("mesh");
+      const std::string name = mesh_at.string();
+      const bool keep_inside = entry.get("keep").choice({"inside", "outside"}) == "inside";
+      auto found = by_name.find(name);
+      if (found == by_name.end())
+        mesh_at.fail(fmt::format("no object named '{}'{}", name, did_you_mean(name, names)));
+      if (found->second.kind != ObjectKind::mesh)
+        mesh_at.fail(fmt::format("'{}' is a {}; clip geometry is a closed mesh", name,
+                                 kind_name(found->second.kind)));
+      const int m = found->second.index;
+      if (auto [it, fresh] = seen.emplace(m, j); !fresh)
+        mesh_at.fail(
+            fmt::format("'{}' is already clip[{}] of volume '{}'", name, it->second, volume.name));
+      if (!admitted[m]) {
+        if (distinct == kMaxClipMeshes)
+          mesh_at.fail(fmt::format("at most {} different clip meshes in a scene; '{}' is the {}th",
+                                   kMaxClipMeshes, name, kMaxClipMeshes + 1));
+        MeshObject& mesh = scene.meshes[m];
+        const MeshTopology topology = check_closed(*mesh.mesh);
+        if (topology.open_edges > 0)
+          mesh_at.fail(fmt::format("mesh '{}' is not closed: {} (clip geometry needs an inside)",
+                                   name, plural(topology.open_edges, "open edge")));
+        if (topology.unpaired_edges > 0)
+          mesh_at.fail(fmt::format("mesh '{}' is not consistently wound: {} without its reverse",
+                                   name, plural(topology.unpaired_edges, "directed edge")));
+        // Inside is where the winding is positive: an inward-facing mesh is turned outward. Each
+        // MeshObject owns the mesh its transform produced, so this flips no other object.
+        if (topology.signed_volume < 0.0)
+          mesh.mesh = std::make_shared<const Mesh>(flipped(*mesh.mesh));
+        admitted[m] = true;
+        ++distinct;
+      }
+      volume.clip_meshes.push_back(ClipMesh{m, keep_inside});
+    }
+  }
+}
+
+}  // namespace imx::detail
