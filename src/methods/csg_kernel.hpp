@@ -91,7 +91,8 @@ class CsgSource {
       } else {
         r_ = 0;
       }
-      marcher_ = VolumeMarcher(*volume_, *ray_, t0, t1, step_, lights_, SlabExtent::grid);
+      // In place: assigning a built marcher copies it (as mdvr's kernel notes).
+      new (&marcher_) VolumeMarcher(*volume_, *ray_, t0, t1, step_, lights_, SlabExtent::grid);
       live_ = true;
     }
   }
@@ -138,7 +139,8 @@ inline glm::vec4 trace_csg(const Ray& ray, std::span<const Fragment> row,
                            const CsgView& csg, const MixingView& mixing, CsgScratch scratch,
                            VolumeMask may_show = kEveryVolume, CsgIntervals* stats = nullptr) {
   const RayVolumes rv(ray, volumes, p.step, p.iso_bisections, lights, may_show);
-  CsgVolumeSpan spans[kMaxCsgPrimitives];
+  CsgVolumeSpan spans[kMaxCsgPrimitives];  // only the first primitive_count are read
+  for (int k = 0; k < csg.primitive_count; ++k) spans[k] = CsgVolumeSpan{};
   for (int v = 0; v < rv.count; ++v)
     if (int k = csg.primitive_of_volume[v]; k >= 0) spans[k] = {rv.span[v].t0, rv.span[v].t1};
   auto opacity_present = [&](int k, float t) {

@@ -12,6 +12,7 @@
 #include "intermix/metrics.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "methods/z_fighting_probe.hpp"
 
 namespace imx {
 namespace {
@@ -267,6 +268,71 @@ TEST(CsgRender, MethodsThatMixInclusivelyRefuseExclusiveMixing) {
     ADD_FAILURE() << "mdvr mixed exclusively";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("inclusively only"), std::string::npos) << e.what();
+  }
+}
+
+TEST(CsgRender, ACoplanarCutterShowsNoZFighting) {  // A1, shared faces
+  RenderOptions options;
+  options.method = "csg";
+  options.spp = 1;
+  const ZFightingStats s = measure_z_fighting(scene_from(box_with_hole(40.0)), options);
+  EXPECT_GT(s.pixels, 200);
+  EXPECT_LT(s.std_dev, 1e-6);
+  EXPECT_LT(s.speckle, 1e-6);
+  EXPECT_LT(s.jitter_change, 1e-6);
+}
+
+TEST(CsgRender, SixtyFourPrimitivesWorkUpToTheLast) {  // A6
+  // A 120 x 10 x 120 box minus 63 cylinders through it on an 8 x 8 grid of 14 mm (one cell
+  // left solid); the last cylinder is primitive 63.
+  std::string objects = R"({"name": "plate", "type": "mesh",
+      "source": {"primitive": "box", "size": [120, 10, 120]}, "material": )" +
+                        flat("[1, 0, 0]") + "}";
+  std::string holes;
+  std::vector<glm::ivec2> centres;
+  for (int cell = 1; cell < 64; ++cell) {
+    const glm::ivec2 c(-49 + 14 * (cell % 8), -49 + 14 * (cell / 8));
+    centres.push_back(c);
+    const std::string name = fmt::format("hole{}", cell);
+    objects += fmt::format(
+        R"(, {{"name": "{}", "type": "mesh",
+              "source": {{"primitive": "cylinder", "radius": 3, "height": 30, "segments": 24}},
+              "transform": {{"translate": [{}, 0, {}], "rotate_deg": [90, 0, 0]}},
+              "material": {}}})",
+        name, c.x, c.y, flat("[0, 1, 0]", 0.0));
+    holes += (holes.empty() ? "\"" : ", \"") + name + "\"";
+  }
+  const Scene scene =
+      scene_from(ortho_scene("[0, 200, 0]", "[0, 0, 1]", 128, objects,
+                             fmt::format(R"({{"op": "difference", "of": ["plate", {}]}})", holes)));
+  const Image image = render_with(scene, "csg", 1);
+  // World x runs to the image's left when looking along -y with z up; z runs up.
+  auto pixel = [&](glm::ivec2 c) { return image.at(63 - c.x, 63 - c.y); };
+  for (const glm::ivec2& c : centres) EXPECT_EQ(pixel(c).a, 0.0f) << c.x << ", " << c.y;
+  EXPECT_GT(pixel({-49, -49}).a, 0.99f);  // the solid cell
+  EXPECT_GT(pixel({-42, -42}).a, 0.99f);  // between holes
+}
+
+TEST(CsgRender, TooManyStatesIsAnErrorNamingTheCount) {
+  // (a1 ∪ b1) ∩ ... ∩ (a13 ∪ b13) expands to 2^13 = 8192 products.
+  std::string objects, expr;
+  for (int k = 0; k < 13; ++k) {
+    for (const char* side : {"a", "b"})
+      objects += fmt::format(
+          R"({}{{"name": "{}{}", "type": "mesh", "source": {{"primitive": "sphere", "radius": 10}},
+                "material": {}}})",
+          objects.empty() ? "" : ", ", side, k, flat("[1, 1, 1]"));
+    const std::string pair = fmt::format(R"({{"op": "union", "a": "a{}", "b": "b{}"}})", k, k);
+    expr = expr.empty() ? pair
+                        : fmt::format(R"({{"op": "intersection", "a": {}, "b": {}}})", expr, pair);
+  }
+  const Scene scene = scene_from(ortho_scene("[0, 200, 0]", "[0, 0, 1]", 8, objects, expr));
+  try {
+    render_with(scene, "csg", 1);
+    ADD_FAILURE() << "rendered 8192 products";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("8192"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("4096"), std::string::npos) << e.what();
   }
 }
 
