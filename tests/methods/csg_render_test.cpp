@@ -102,6 +102,32 @@ TEST(CsgRender, RotatedGrazingViewMatchesTheReference) {  // Q7
   EXPECT_LT(compare_images(fast, truth).frac_over_16, 0.001);
 }
 
+TEST(CsgRender, SphereMeshMinusAHalfSpaceShowsTheCutFaceInTheCuttersColour) {  // A2
+  // A UV sphere of radius 40 and 64 segments minus the box x > 0. Its section at x = 0 is a
+  // regular 64-gon of area 32 R^2 sin(2 pi / 64) (the disk would be 5026.5 mm^2).
+  const std::string objects =
+      R"({"name": "ball", "type": "mesh", "source": {"primitive": "sphere", "radius": 40,
+          "segments": 64}, "material": )" +
+      flat("[1, 0, 0]") + R"(}, {"name": "half", "type": "mesh",
+          "source": {"primitive": "box", "size": [100, 200, 200]},
+          "transform": {"translate": [50, 0, 0]}, "material": )" +
+      flat("[0, 1, 0]") + "}";
+  const std::string csg = R"({"op": "difference", "a": "ball", "b": "half"})";
+  const double section = 32.0 * 40.0 * 40.0 * std::sin(2.0 * std::numbers::pi / 64.0);
+  // Seen from the cut side: the cut face, which belongs to the cutter.
+  const Image cut = render_with(
+      scene_from(ortho_scene("[300, 0, 0]", "[0, 0, 1]", 128, objects, csg)), "csg", 16);
+  Coverage c = coverage(cut, 1);
+  EXPECT_NEAR(c.sum, section, 0.003 * section);
+  EXPECT_EQ(c.of_colour, c.opaque);
+  // From the other side: the same outline in the sphere's colour.
+  const Image back = render_with(
+      scene_from(ortho_scene("[-300, 0, 0]", "[0, 0, 1]", 128, objects, csg)), "csg", 16);
+  c = coverage(back, 0);
+  EXPECT_NEAR(c.sum, section, 0.003 * section);
+  EXPECT_EQ(c.of_colour, c.opaque);
+}
+
 // A3: the sphere phantom (value 44.8 mm - |p|) as an opaque ball, minus the half-space x > 0.
 std::string half_ball(const char* op) {
   const std::string objects = R"(
