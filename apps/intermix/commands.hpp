@@ -15,6 +15,7 @@ Command add_phantom(CLI::App& app);
 Command add_bench(CLI::App& app);
 Command add_band(CLI::App& app);
 Command add_zfight(CLI::App& app);
+Command add_csg(CLI::App& app);
 
 // Shared by commands: whether to show progress bars (stderr is a terminal and not --quiet).
 bool show_progress();

@@ -38,6 +38,8 @@ int main(int argc, char** argv) {
   add("band", "PSNR in the band around two objects' intersection curves", imx::cli::add_band);
   add("zfight", "z-fighting metric of methods where coplanar surfaces coincide",
       imx::cli::add_zfight);
+  add("csg", "a CSG scene's primitives, products, clipping states and intervals per ray",
+      imx::cli::add_csg);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 
 #include "csg/csg_view.hpp"
 #include "csg/mesh_windings.hpp"
@@ -27,9 +28,10 @@ struct CsgRange {
   bool needs_test = false;             // visibility depends on which opacity-presence volumes show
 };
 
-// Where each CSG volume primitive's span lies on the ray (empty: t1 <= t0).
+// Where each CSG volume primitive's span lies on the ray (empty: t1 <= t0, as {}). No member
+// initializers: the kernel keeps an uninitialized array of 64 per ray and fills what it reads.
 struct CsgVolumeSpan {
-  float t0 = 0.0f, t1 = -1.0f;
+  float t0, t1;
 };
 
 struct CsgIntervals {

@@ -91,7 +91,8 @@ class CsgSource {
       } else {
         r_ = 0;
       }
-      marcher_ = VolumeMarcher(*volume_, *ray_, t0, t1, step_, lights_, SlabExtent::grid);
+      // In place: assigning a built marcher copies it (as mdvr's kernel notes).
+      new (&marcher_) VolumeMarcher(*volume_, *ray_, t0, t1, step_, lights_, SlabExtent::grid);
       live_ = true;
     }
   }
@@ -129,6 +130,26 @@ class CsgSource {
   double t_ = 0.0, t_end_ = 0.0;  // a medium's position in its range
 };
 
+// Classifies one sample ray (trace_csg and `intermix csg --intervals`): the CSG volumes' spans from
+// `rv` (not its `marched` flags: a transparent volume still has a region), presence of opacity
+// volumes by one TF lookup at depth t, then classify_csg_ray. `surfaces` needs row.size() entries,
+// `ranges` csg_range_capacity(row.size()).
+inline CsgIntervals classify_csg_sample(const Ray& ray, std::span<const Fragment> row,
+                                        std::span<const PreparedVolume> volumes,
+                                        const RayVolumes& rv, const CsgView& csg,
+                                        std::span<Fragment> surfaces, std::span<CsgRange> ranges) {
+  CsgVolumeSpan spans[kMaxCsgPrimitives];  // only the first primitive_count are read
+  for (int k = 0; k < csg.primitive_count; ++k) spans[k] = CsgVolumeSpan{};
+  for (int v = 0; v < rv.count; ++v)
+    if (int k = csg.primitive_of_volume[v]; k >= 0) spans[k] = {rv.span[v].t0, rv.span[v].t1};
+  auto opacity_present = [&](int k, float t) {
+    const PreparedVolume& v = volumes[csg.volume_of_primitive[k]];
+    return v.lut.lookup(v.grid.sample(v.to_index(ray.at(t)))).a > csg.presence_threshold;
+  };
+  return classify_csg_ray(row, csg, std::span<const CsgVolumeSpan>(spans, csg.primitive_count),
+                          opacity_present, surfaces, ranges);
+}
+
 // Premultiplied RGBA seen along `ray` through a CSG scene: mdvr's steps and binary surfaces,
 // with the expression deciding which CSG steps and surfaces show. Without CSG primitives on the
 // ray and with a union of every volume it is trace_mdvr's image, bit for bit.
@@ -138,16 +159,8 @@ inline glm::vec4 trace_csg(const Ray& ray, std::span<const Fragment> row,
                            const CsgView& csg, const MixingView& mixing, CsgScratch scratch,
                            VolumeMask may_show = kEveryVolume, CsgIntervals* stats = nullptr) {
   const RayVolumes rv(ray, volumes, p.step, p.iso_bisections, lights, may_show);
-  CsgVolumeSpan spans[kMaxCsgPrimitives];
-  for (int v = 0; v < rv.count; ++v)
-    if (int k = csg.primitive_of_volume[v]; k >= 0) spans[k] = {rv.span[v].t0, rv.span[v].t1};
-  auto opacity_present = [&](int k, float t) {
-    const PreparedVolume& v = volumes[csg.volume_of_primitive[k]];
-    return v.lut.lookup(v.grid.sample(v.to_index(ray.at(t)))).a > csg.presence_threshold;
-  };
   const CsgIntervals iv =
-      classify_csg_ray(row, csg, std::span<const CsgVolumeSpan>(spans, csg.primitive_count),
-                       opacity_present, scratch.surfaces, scratch.ranges);
+      classify_csg_sample(ray, row, volumes, rv, csg, scratch.surfaces, scratch.ranges);
   if (stats) *stats = iv;
   const std::span<const Fragment> surfaces(scratch.surfaces.data(), iv.surface_count);
   const std::span<const CsgRange> ranges(scratch.ranges.data(), iv.range_count);

@@ -82,8 +82,10 @@ Scene parse_document(const nlohmann::json& root, const std::filesystem::path& ba
   }
   scene.order = std::move(order);
   detail::parse_clip_meshes(objects, scene);
-  if (auto v = r.find("csg")) scene.csg = detail::parse_csg(*v, scene);
-  detail::check_interiors(objects, scene);
+  std::optional<JsonReader> csg = r.find("csg");
+  if (csg) scene.csg = detail::parse_csg(*csg, scene);
+  // "csg": null keeps the interiors a CSG file declares: it is the file's baseline without CSG.
+  if (!(csg && csg->json().is_null())) detail::check_interiors(objects, scene);
   std::optional<JsonReader> render = r.find("render");
   if (render) {
     detail::check_last_volume(*render, scene, types);

@@ -12,6 +12,7 @@
 #include "intermix/metrics.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "methods/z_fighting_probe.hpp"
 
 namespace imx {
 namespace {
@@ -99,6 +100,32 @@ TEST(CsgRender, RotatedGrazingViewMatchesTheReference) {  // Q7
   const Image fast = render_with(scene, "csg", 1);
   const Image truth = render_with(scene, "reference", 1);
   EXPECT_LT(compare_images(fast, truth).frac_over_16, 0.001);
+}
+
+TEST(CsgRender, SphereMeshMinusAHalfSpaceShowsTheCutFaceInTheCuttersColour) {  // A2
+  // A UV sphere of radius 40 and 64 segments minus the box x > 0. Its section at x = 0 is a
+  // regular 64-gon of area 32 R^2 sin(2 pi / 64) (the disk would be 5026.5 mm^2).
+  const std::string objects =
+      R"({"name": "ball", "type": "mesh", "source": {"primitive": "sphere", "radius": 40,
+          "segments": 64}, "material": )" +
+      flat("[1, 0, 0]") + R"(}, {"name": "half", "type": "mesh",
+          "source": {"primitive": "box", "size": [100, 200, 200]},
+          "transform": {"translate": [50, 0, 0]}, "material": )" +
+      flat("[0, 1, 0]") + "}";
+  const std::string csg = R"({"op": "difference", "a": "ball", "b": "half"})";
+  const double section = 32.0 * 40.0 * 40.0 * std::sin(2.0 * std::numbers::pi / 64.0);
+  // Seen from the cut side: the cut face, which belongs to the cutter.
+  const Image cut = render_with(
+      scene_from(ortho_scene("[300, 0, 0]", "[0, 0, 1]", 128, objects, csg)), "csg", 16);
+  Coverage c = coverage(cut, 1);
+  EXPECT_NEAR(c.sum, section, 0.003 * section);
+  EXPECT_EQ(c.of_colour, c.opaque);
+  // From the other side: the same outline in the sphere's colour.
+  const Image back = render_with(
+      scene_from(ortho_scene("[-300, 0, 0]", "[0, 0, 1]", 128, objects, csg)), "csg", 16);
+  c = coverage(back, 0);
+  EXPECT_NEAR(c.sum, section, 0.003 * section);
+  EXPECT_EQ(c.of_colour, c.opaque);
 }
 
 // A3: the sphere phantom (value 44.8 mm - |p|) as an opaque ball, minus the half-space x > 0.
@@ -267,6 +294,71 @@ TEST(CsgRender, MethodsThatMixInclusivelyRefuseExclusiveMixing) {
     ADD_FAILURE() << "mdvr mixed exclusively";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("inclusively only"), std::string::npos) << e.what();
+  }
+}
+
+TEST(CsgRender, ACoplanarCutterShowsNoZFighting) {  // A1, shared faces
+  RenderOptions options;
+  options.method = "csg";
+  options.spp = 1;
+  const ZFightingStats s = measure_z_fighting(scene_from(box_with_hole(40.0)), options);
+  EXPECT_GT(s.pixels, 200);
+  EXPECT_LT(s.std_dev, 1e-6);
+  EXPECT_LT(s.speckle, 1e-6);
+  EXPECT_LT(s.jitter_change, 1e-6);
+}
+
+TEST(CsgRender, SixtyFourPrimitivesWorkUpToTheLast) {  // A6
+  // A 120 x 10 x 120 box minus 63 cylinders through it on an 8 x 8 grid of 14 mm (one cell
+  // left solid); the last cylinder is primitive 63.
+  std::string objects = R"({"name": "plate", "type": "mesh",
+      "source": {"primitive": "box", "size": [120, 10, 120]}, "material": )" +
+                        flat("[1, 0, 0]") + "}";
+  std::string holes;
+  std::vector<glm::ivec2> centres;
+  for (int cell = 1; cell < 64; ++cell) {
+    const glm::ivec2 c(-49 + 14 * (cell % 8), -49 + 14 * (cell / 8));
+    centres.push_back(c);
+    const std::string name = fmt::format("hole{}", cell);
+    objects += fmt::format(
+        R"(, {{"name": "{}", "type": "mesh",
+              "source": {{"primitive": "cylinder", "radius": 3, "height": 30, "segments": 24}},
+              "transform": {{"translate": [{}, 0, {}], "rotate_deg": [90, 0, 0]}},
+              "material": {}}})",
+        name, c.x, c.y, flat("[0, 1, 0]", 0.0));
+    holes += (holes.empty() ? "\"" : ", \"") + name + "\"";
+  }
+  const Scene scene =
+      scene_from(ortho_scene("[0, 200, 0]", "[0, 0, 1]", 128, objects,
+                             fmt::format(R"({{"op": "difference", "of": ["plate", {}]}})", holes)));
+  const Image image = render_with(scene, "csg", 1);
+  // World x runs to the image's left when looking along -y with z up; z runs up.
+  auto pixel = [&](glm::ivec2 c) { return image.at(63 - c.x, 63 - c.y); };
+  for (const glm::ivec2& c : centres) EXPECT_EQ(pixel(c).a, 0.0f) << c.x << ", " << c.y;
+  EXPECT_GT(pixel({-49, -49}).a, 0.99f);  // the solid cell
+  EXPECT_GT(pixel({-42, -42}).a, 0.99f);  // between holes
+}
+
+TEST(CsgRender, TooManyStatesIsAnErrorNamingTheCount) {
+  // (a1 ∪ b1) ∩ ... ∩ (a13 ∪ b13) expands to 2^13 = 8192 products.
+  std::string objects, expr;
+  for (int k = 0; k < 13; ++k) {
+    for (const char* side : {"a", "b"})
+      objects += fmt::format(
+          R"({}{{"name": "{}{}", "type": "mesh", "source": {{"primitive": "sphere", "radius": 10}},
+                "material": {}}})",
+          objects.empty() ? "" : ", ", side, k, flat("[1, 1, 1]"));
+    const std::string pair = fmt::format(R"({{"op": "union", "a": "a{}", "b": "b{}"}})", k, k);
+    expr = expr.empty() ? pair
+                        : fmt::format(R"({{"op": "intersection", "a": {}, "b": {}}})", expr, pair);
+  }
+  const Scene scene = scene_from(ortho_scene("[0, 200, 0]", "[0, 0, 1]", 8, objects, expr));
+  try {
+    render_with(scene, "csg", 1);
+    ADD_FAILURE() << "rendered 8192 products";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("8192"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("4096"), std::string::npos) << e.what();
   }
 }
 
