@@ -165,21 +165,9 @@ inline glm::vec4 trace_csg(const Ray& ray, std::span<const Fragment> row,
   const std::span<const Fragment> surfaces(scratch.surfaces.data(), iv.surface_count);
   const std::span<const CsgRange> ranges(scratch.ranges.data(), iv.range_count);
 
-  size_t si = 0;
-  int hi = 0;
   glm::vec4 acc(0.0f);
-  // Composites, in depth order, every surface and volume hit not behind depth `t`.
-  auto composite_surfaces_until = [&](double t) {
-    while (acc.a < p.ert) {
-      bool has_s = si < surfaces.size() && surfaces[si].t <= t;
-      bool has_h = hi < rv.hit_count && rv.hits[hi].t <= t;
-      if (!has_s && !has_h) break;
-      if (has_h && (!has_s || rv.hits[hi].t <= surfaces[si].t))
-        acc = over(acc, rv.hits[hi++].color);
-      else
-        acc = over(acc, surfaces[si++].color);
-    }
-  };
+  SurfacesInDepthOrder in_order{surfaces, rv};
+  auto composite_surfaces_until = [&](double t) { in_order.composite_until(t, acc, p.ert); };
 
   // The sources, built in place only for what this ray meets (as in mdvr).
   static_assert(std::is_trivially_destructible_v<CsgSource>);

@@ -9,7 +9,7 @@
 #include "methods/csg_frame.hpp"
 #include "methods/csg_kernel.hpp"
 #include "methods/frame_setup.hpp"
-#include "methods/mdvr_kernel.hpp"
+#include "methods/mdvr.hpp"
 #include "methods/sample_pattern.hpp"
 #include "raster/rasterizer.hpp"
 
@@ -46,10 +46,7 @@ CsgRayStatistics csg_ray_statistics(const Scene& scene, int threads) {
   // The frame exactly as render_csg prepares it, so the classification is the method's own.
   FrameSetup frame(scene);
   frame.require_per_sample_support("csg");
-  MdvrParams params;
-  params.step =
-      static_cast<float>(scene.render.step_mm > 0.0 ? scene.render.step_mm : frame.min_pitch);
-  frame.accelerate(params.step, MarchSettings::from(scene.render));
+  const MdvrParams params = prepare_mdvr(scene, frame);
   const CsgFrame csg_frame(scene, frame, /*with_states=*/true);
   const CsgView csg = csg_frame.view();
 

@@ -86,14 +86,19 @@ Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const Mdv
 
 }  // namespace
 
-Image render_mdvr(const Scene& scene, int spp, const RenderOptions& options) {
-  FrameSetup frame(scene);
-  frame.require_per_sample_support("mdvr");
+MdvrParams prepare_mdvr(const Scene& scene, FrameSetup& frame) {
   MdvrParams params;
   params.step =
       static_cast<float>(scene.render.step_mm > 0.0 ? scene.render.step_mm : frame.min_pitch);
   params.ert = static_cast<float>(scene.render.ert_threshold);
   frame.accelerate(params.step, MarchSettings::from(scene.render));
+  return params;
+}
+
+Image render_mdvr(const Scene& scene, int spp, const RenderOptions& options) {
+  FrameSetup frame(scene);
+  frame.require_per_sample_support("mdvr");
+  const MdvrParams params = prepare_mdvr(scene, frame);
   if (packets_apply(scene, frame, spp)) return render_mdvr_packets(scene, frame, params, options);
   return render_per_sample(
       scene, frame, spp, options,

@@ -3,8 +3,14 @@
 #include "intermix/image.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "methods/frame_setup.hpp"
+#include "methods/mdvr_kernel.hpp"
 
 namespace imx {
+
+// mdvr's step (render.step_mm, else the smallest voxel pitch) and ERT, with the frame's volumes
+// accelerated for that step; csg marches the same way.
+MdvrParams prepare_mdvr(const Scene& scene, FrameSetup& frame);
 
 Image render_mdvr(const Scene& scene, int spp, const RenderOptions& options);
 

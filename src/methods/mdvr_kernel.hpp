@@ -72,18 +72,17 @@ void composite_steps_of_several(const Ray& ray, const RayVolumes& rv,
   }
 }
 
-inline glm::vec4 trace_mdvr(const Ray& ray, std::span<const Fragment> surfaces,
-                            std::span<const PreparedVolume> volumes,
-                            std::span<const ShadingLight> lights, const MdvrParams& p,
-                            VolumeFilter filter = {}) {
-  const RayVolumes rv(ray, volumes, p.step, p.iso_bisections, lights, filter);
-
+// A ray's surfaces and volume hits (iso, projections), composited in depth order whole before
+// the first step behind them: the binary depth test of mdvr and of the kernels built on it.
+struct SurfacesInDepthOrder {
+  std::span<const Fragment> surfaces;  // by depth
+  const RayVolumes& rv;
   size_t si = 0;
   int hi = 0;
-  glm::vec4 acc(0.0f);
-  // Composites, in depth order, every surface and volume hit not behind depth `t`.
-  auto composite_surfaces_until = [&](double t) {
-    while (acc.a < p.ert) {
+
+  // Composites every surface and hit not behind depth `t`, while `acc` is below `ert`.
+  void composite_until(double t, glm::vec4& acc, float ert) {
+    while (acc.a < ert) {
       bool has_s = si < surfaces.size() && surfaces[si].t <= t;
       bool has_h = hi < rv.hit_count && rv.hits[hi].t <= t;
       if (!has_s && !has_h) break;
@@ -92,7 +91,18 @@ inline glm::vec4 trace_mdvr(const Ray& ray, std::span<const Fragment> surfaces,
       else
         acc = over(acc, surfaces[si++].color);
     }
-  };
+  }
+};
+
+inline glm::vec4 trace_mdvr(const Ray& ray, std::span<const Fragment> surfaces,
+                            std::span<const PreparedVolume> volumes,
+                            std::span<const ShadingLight> lights, const MdvrParams& p,
+                            VolumeFilter filter = {}) {
+  const RayVolumes rv(ray, volumes, p.step, p.iso_bisections, lights, filter);
+
+  glm::vec4 acc(0.0f);
+  SurfacesInDepthOrder in_order{surfaces, rv};
+  auto composite_surfaces_until = [&](double t) { in_order.composite_until(t, acc, p.ert); };
 
   int marched = 0, only = 0;
   for (int v = 0; v < rv.count; ++v)
