@@ -1,6 +1,7 @@
 // ClipState: one product of a CSG sum of products as a row of 1/0/2 digits over primitive bits.
 #pragma once
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -42,6 +43,21 @@ constexpr bool may_accept(ClipState s, PrimitiveMask inside, PrimitiveMask geome
                           PrimitiveMask used) {
   return (s.ones & ~inside) == 0 && (s.zeros & inside & geometric) == 0 &&
          (~s.zeros & used & inside) != 0;
+}
+
+// Some state matches `present`: the per-sample visibility test (inline: it runs per step).
+inline bool matches_any(std::span<const ClipState> states, PrimitiveMask present) {
+  for (const ClipState& s : states)
+    if (matches(s, present)) return true;
+  return false;
+}
+
+// Some state may accept an interval whose region mask is `inside` (may_accept of each).
+inline bool may_accept_any(std::span<const ClipState> states, PrimitiveMask inside,
+                           PrimitiveMask geometric, PrimitiveMask used) {
+  for (const ClipState& s : states)
+    if (may_accept(s, inside, geometric, used)) return true;
+  return false;
 }
 
 // The state's first n digits, primitive 0 leftmost, e.g. "102".

@@ -36,12 +36,7 @@ struct CsgView {
 
   // E(present) by the clipping states. The table may treat "nothing present" as a don't care
   // (csg_simplify full); the expression is false there.
-  bool value(PrimitiveMask present) const {
-    if (present == 0) return false;
-    for (const ClipState& s : states)  // inline: it runs once per step
-      if (matches(s, present)) return true;
-    return false;
-  }
+  bool value(PrimitiveMask present) const { return present != 0 && matches_any(states, present); }
 };
 
 }  // namespace imx

@@ -76,11 +76,6 @@ CsgIntervals classify_csg_ray(std::span<const Fragment> row, const CsgView& view
 
   PrimitiveMask volumes_inside = 0;
   auto inside = [&] { return windings.inside | volumes_inside; };
-  auto accepted = [&](PrimitiveMask mask) {
-    for (const ClipState& s : view.states)
-      if (may_accept(s, mask, view.geometric, view.used)) return true;
-    return false;
-  };
   // Some state holds whatever the opacity-presence primitives inside do.
   auto certain = [&](PrimitiveMask mask) {
     for (const ClipState& s : view.states)
@@ -107,7 +102,9 @@ CsgIntervals classify_csg_ray(std::span<const Fragment> row, const CsgView& view
     if (after_group) ++out.intervals;
     const bool contiguous = prev_accepted;
     const PrimitiveMask mask = inside();
-    if (!(prev_accepted = mask != 0 && accepted(mask))) return;
+    if (!(prev_accepted =
+              mask != 0 && may_accept_any(view.states, mask, view.geometric, view.used)))
+      return;
     const bool test = !certain(mask);
     const PrimitiveMask g = mask & view.geometric;
     CsgRange* last = out.range_count > 0 ? &ranges[out.range_count - 1] : nullptr;

@@ -242,14 +242,4 @@ CsgTable build_table(std::span<const CsgProduct> products, int primitive_count,
   return t;
 }
 
-bool matches_any(std::span<const ClipState> states, PrimitiveMask present) noexcept {
-  return std::any_of(states.begin(), states.end(),
-                     [&](ClipState s) { return matches(s, present); });
-}
-
-bool accepts_interval(const CsgTable& t, PrimitiveMask inside) noexcept {
-  return std::any_of(t.states.begin(), t.states.end(),
-                     [&](ClipState s) { return may_accept(s, inside, t.geometric, t.used); });
-}
-
 }  // namespace imx

@@ -57,10 +57,4 @@ CsgTable build_table(std::span<const CsgProduct> products, int primitive_count,
                      PrimitiveMask geometric, CsgSimplify level, std::span<const CsgBox> boxes,
                      int max_states, CsgTableReport* report = nullptr);
 
-// Some state matches `present` (the per-sample visibility test).
-bool matches_any(std::span<const ClipState> states, PrimitiveMask present) noexcept;
-
-// Some state may accept an interval whose region mask is `inside` (SPEC §8's exact rule).
-bool accepts_interval(const CsgTable& t, PrimitiveMask inside) noexcept;
-
 }  // namespace imx

@@ -169,17 +169,17 @@ TEST(StateTable, PerRayTests) {
     EXPECT_TRUE(matches_any(t.states, 0b01));
     EXPECT_FALSE(matches_any(t.states, 0b11));
     EXPECT_FALSE(matches_any(t.states, 0b10));
-    EXPECT_TRUE(accepts_interval(t, 0b01));
-    EXPECT_FALSE(accepts_interval(t, 0b10));
-    EXPECT_FALSE(accepts_interval(t, 0));
+    EXPECT_TRUE(may_accept_any(t.states, 0b01, t.geometric, t.used));
+    EXPECT_FALSE(may_accept_any(t.states, 0b10, t.geometric, t.used));
+    EXPECT_FALSE(may_accept_any(t.states, 0, t.geometric, t.used));
     // Inside both: B cuts for sure only when it is present wherever it is inside.
-    EXPECT_EQ(accepts_interval(t, 0b11), geometric == 0);
+    EXPECT_EQ(may_accept_any(t.states, 0b11, t.geometric, t.used), geometric == 0);
   }
   // 22 has no 1-digit, yet an interval inside nothing must still be skipped.
   CsgTable u = build_table(normalize(test::expr("0|1")), 2, 0b11, CsgSimplify::full, {}, 4096);
   ASSERT_EQ(as_digits(u.states, 2), Digits{"22"});
-  EXPECT_FALSE(accepts_interval(u, 0));
-  EXPECT_TRUE(accepts_interval(u, 0b10));
+  EXPECT_FALSE(may_accept_any(u.states, 0, u.geometric, u.used));
+  EXPECT_TRUE(may_accept_any(u.states, 0b10, u.geometric, u.used));
 }
 
 // The example scenes' expressions (example_states.py): state counts per level, up to 64 primitives.
