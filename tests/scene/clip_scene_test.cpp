@@ -15,17 +15,8 @@ namespace imx {
 namespace {
 
 using test::error_of;
-
-Scene parse(const std::string& text, const std::vector<std::string>& overrides = {},
-            const std::filesystem::path& base_dir = {}) {
-  return parse_scene(text, base_dir, "scene.json", overrides);
-}
-
-std::string parse_error(const std::string& text, const std::vector<std::string>& overrides = {}) {
-  std::string message = error_of([&] { parse(text, overrides); });
-  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-  return message;
-}
+using test::parse;
+using test::parse_error;
 
 // Volumes "ct" and "pet" (clip lists given), meshes "ball" and "brick", an open "sheet", a
 // plane "axial", and `more` objects.

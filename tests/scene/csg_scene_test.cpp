@@ -17,19 +17,8 @@ namespace imx {
 namespace {
 
 using test::error_of;
-
-Scene parse(const std::string& text, const std::vector<std::string>& overrides = {},
-            const std::filesystem::path& base_dir = {}) {
-  return parse_scene(text, base_dir, "scene.json", overrides);
-}
-
-// The error, after checking that it is one line: a message per failure, no stack of them.
-std::string parse_error(const std::string& text, const std::vector<std::string>& overrides = {},
-                        const std::filesystem::path& base_dir = {}) {
-  std::string message = error_of([&] { parse(text, overrides, base_dir); });
-  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-  return message;
-}
+using test::parse;
+using test::parse_error;
 
 std::string volume(const std::string& name, const std::string& extra = "") {
   return fmt::format(

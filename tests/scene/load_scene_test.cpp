@@ -11,14 +11,8 @@ namespace imx {
 namespace {
 
 using test::error_of;
-
-Scene parse(const std::string& text, const std::vector<std::string>& overrides = {}) {
-  return parse_scene(text, std::filesystem::path(), "scene.json", overrides);
-}
-
-std::string parse_error(const std::string& text, const std::vector<std::string>& overrides = {}) {
-  return error_of([&] { parse(text, overrides); });
-}
+using test::parse;
+using test::parse_error;
 
 // A scene whose objects array is `objects` (JSON text).
 std::string with_objects(const std::string& objects) {

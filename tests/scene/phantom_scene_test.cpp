@@ -8,10 +8,8 @@ namespace imx {
 namespace {
 
 using test::error_of;
-
-Scene parse(const std::string& text, const std::vector<std::string>& overrides = {}) {
-  return parse_scene(text, std::filesystem::path(), "scene.json", overrides);
-}
+using test::parse;
+using test::parse_error;
 
 const std::string kTwoHeads = R"({"objects": [
   {"name": "ct", "type": "volume", "source": {"phantom": "ct-head", "size": 16},

@@ -1,4 +1,5 @@
-// Helpers for the scene tests: error capture, temporary folders and mesh topology checks.
+// Helpers for the scene tests: parsing and error capture, temporary folders and mesh topology
+// checks.
 #pragma once
 #include <unistd.h>
 #include <filesystem>
@@ -7,12 +8,14 @@
 #include <map>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <glm/glm.hpp>
 
 #include "intermix/error.hpp"
 #include "intermix/mesh.hpp"
+#include "intermix/scene.hpp"
 
 namespace imx::test {
 
@@ -24,6 +27,21 @@ inline std::string error_of(const std::function<void()>& fn) {
     return e.what();
   }
   return "(no error)";
+}
+
+// A scene from JSON text, named "scene.json" in its errors.
+inline Scene parse(const std::string& text, const std::vector<std::string>& overrides = {},
+                   const std::filesystem::path& base_dir = {}) {
+  return parse_scene(text, base_dir, "scene.json", overrides);
+}
+
+// The error parsing `text` gives, after checking that it is one line: a message per failure.
+inline std::string parse_error(const std::string& text,
+                               const std::vector<std::string>& overrides = {},
+                               const std::filesystem::path& base_dir = {}) {
+  std::string message = error_of([&] { parse(text, overrides, base_dir); });
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  return message;
 }
 
 #define EXPECT_CONTAINS(text, part) \
