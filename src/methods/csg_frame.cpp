@@ -46,6 +46,15 @@ CsgFrame::CsgFrame(const Scene& scene, const FrameSetup& frame, bool with_states
   primitive_of_object_.assign(scene.order.size(), -1);
   primitive_of_volume_.assign(frame.volumes.size(), -1);
   if (!scene.csg) return;  // no primitives: every object renders as it would without CSG
+  // Clip geometry and a csg block do not combine yet: what a clip mesh does to a CSG volume's
+  // presence is undecided, and the expression can hold the clip itself.
+  for (const VolumeObject& v : scene.volumes)
+    if (!v.clip_meshes.empty())
+      throw Error(fmt::format(
+          "volume '{}' has clip meshes and the scene has a csg block, which do not combine; "
+          "express the clip in the csg block (e.g. a difference with the mesh), or --set "
+          "objects.{}.clip=[]",
+          v.name, v.name));
   const CsgExpr expr = compile_expression(*scene.csg, primitives_);
   program_ = compile_program(expr);
 

@@ -17,13 +17,6 @@ namespace imx {
 
 namespace {
 
-// The first volume with clip meshes, or null.
-const VolumeObject* clipped_volume(const Scene& scene) {
-  for (const VolumeObject& v : scene.volumes)
-    if (!v.clip_meshes.empty()) return &v;
-  return nullptr;
-}
-
 // Every method of this build: its name, its samples per pixel when neither the scene nor the
 // caller sets them, its entry point, and whether it renders a scene's csg block and exclusive
 // mixing. One line per method.
@@ -68,14 +61,6 @@ Image render(const Scene& scene, const RenderOptions& options) {
   int spp = options.spp > 0 ? options.spp : scene.render.spp;
   for (const MethodEntry& m : kMethods) {
     if (method != m.name) continue;
-    // Clip geometry and a csg block do not combine yet: what a clip mesh does to a CSG volume's
-    // presence is undecided (the csg block can express the clip itself).
-    if (const VolumeObject* v = scene.csg ? clipped_volume(scene) : nullptr)
-      throw Error(fmt::format(
-          "volume '{}' has clip meshes and the scene has a csg block, which do not combine; "
-          "express the clip in the csg block (e.g. a difference with the mesh), or --set "
-          "objects.{}.clip=[]",
-          v->name, v->name));
     if (scene.csg && !m.renders_csg)
       throw Error(fmt::format(
           "method '{}' does not render CSG (the scene has a csg block); use csg or reference, "

@@ -179,19 +179,22 @@ TEST(ClipRender, ZslabKeptStagesFollowTheCutter) {
 // What does not combine is refused with one clear line: clip meshes with a csg block, a clip
 // mesh index that is no mesh of the scene (scenes built in code).
 TEST(ClipRender, RefusesWhatDoesNotCombine) {
-  auto message = [](const Scene& s) {
+  auto message = [](const Scene& s, const char* method = "mdvr") {
     try {
-      render_with(s, "mdvr");
+      render_with(s, method);
     } catch (const Error& e) {
       return std::string(e.what());
     }
     return std::string("(no error)");
   };
   Scene csg = clip_head({R"(csg={"op": "difference", "a": "ct", "b": "ball"})"});
-  const std::string e = message(csg);
-  EXPECT_NE(e.find("volume 'ct' has clip meshes and the scene has a csg block"), std::string::npos)
-      << e;
-  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  for (const char* method : {"csg", "reference"}) {  // the methods that render CSG
+    const std::string e = message(csg, method);
+    EXPECT_NE(e.find("volume 'ct' has clip meshes and the scene has a csg block"),
+              std::string::npos)
+        << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  }
   Scene bad = clip_head();
   bad.volumes[0].clip_meshes[0].mesh = 7;
   EXPECT_NE(message(bad).find("volume 'ct': clip mesh index 7 is not a mesh of the scene"),
