@@ -362,5 +362,19 @@ TEST(CsgRender, TooManyStatesIsAnErrorNamingTheCount) {
   }
 }
 
+TEST(CsgRender, ImagesDoNotDependOnTheThreadCount) {  // Q5
+  const Scene scene = load_scene(std::filesystem::path(IMX_EXAMPLES_DIR) / "csg-cutaway.json",
+                                 {"image.width=40", "image.height=40"});
+  for (const char* method : {"csg", "reference"}) {
+    RenderOptions options;
+    options.method = method;
+    options.spp = 4;
+    options.threads = 1;
+    const Image one = render(scene, options);
+    options.threads = 2;
+    EXPECT_TRUE(identical(one, render(scene, options))) << method;
+  }
+}
+
 }  // namespace
 }  // namespace imx
