@@ -1,4 +1,5 @@
 #include "io/atomic_file.hpp"
+#include "io/regular_file.hpp"
 
 #include <atomic>
 #include <cerrno>
@@ -51,6 +52,7 @@ void remove_quietly(const std::filesystem::path& p) {
 
 void write_file_atomically(const std::filesystem::path& file,
                            const std::function<void(std::ostream&)>& write) {
+  require_regular_or_new_file(file);  // renaming over a device or FIFO would replace it
   std::filesystem::path tmp = create_temporary(file);
   try {
     {

@@ -17,6 +17,7 @@
 #include "intermix/io.hpp"
 #include "io/mesh_primitives.hpp"
 #include "io/ply_reader.hpp"
+#include "io/regular_file.hpp"
 
 namespace imx {
 namespace {
@@ -98,11 +99,7 @@ Mesh read_with_assimp(const std::filesystem::path& file) {
 }  // namespace
 
 Mesh read_mesh(const std::filesystem::path& file) {
-  std::error_code ec;
-  if (!std::filesystem::exists(file, ec))
-    throw Error(fmt::format("{}: no such file", file.string()));
-  if (std::filesystem::is_directory(file, ec))
-    throw Error(fmt::format("{}: is a directory, not a mesh file", file.string()));
+  require_regular_file(file);
   // Debian 12's assimp hangs or crashes on some malformed PLY files: those are read here.
   Mesh mesh = is_ply(file) ? detail::read_ply(file) : read_with_assimp(file);
   if (mesh.triangles.empty())

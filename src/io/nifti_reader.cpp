@@ -14,6 +14,7 @@
 #include "io/gzip.hpp"
 #include "io/nifti.hpp"
 #include "io/raw_voxels.hpp"
+#include "io/regular_file.hpp"
 
 namespace imx::detail {
 
@@ -137,6 +138,8 @@ VolumeData read_nifti(const std::filesystem::path& file) {
   // The first volume is the first count voxels after the header (a 4D series gives its first
   // time point). Read with znzlib rather than nifti_read_collapsed_image, which frees the
   // caller's buffer when a read fails.
+  require_regular_file(nim->iname, fmt::format("{} (voxel data of {})", nim->iname,
+                                               what));  // a .hdr's .img may be anything
   znzFile opened = znzopen(nim->iname, "rb", nifti_is_gzfile(nim->iname));
   if (znz_isnull(opened)) throw Error(fmt::format("{}: cannot open the voxel data", what));
   std::unique_ptr<znzFile, int (*)(znzFile*)> close(&opened, Xznzclose);

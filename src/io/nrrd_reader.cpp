@@ -15,6 +15,7 @@
 #include "io/header_text.hpp"
 #include "io/nrrd.hpp"
 #include "io/raw_voxels.hpp"
+#include "io/regular_file.hpp"
 
 namespace imx::detail {
 
@@ -362,6 +363,7 @@ VolumeData read_nrrd(const std::filesystem::path& file) {
     if (data_path.is_relative()) data_path = file.parent_path() / data_path;
     data_what = fmt::format("{} (data file of {})", data_path.string(), what);
     in.close();
+    require_regular_file(data_path, data_what);
     in.open(data_path, std::ios::binary);
     if (!in) throw Error(fmt::format("{}: cannot open the data file", data_what));
     start = 0;

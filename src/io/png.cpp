@@ -13,6 +13,7 @@
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "io/atomic_file.hpp"
+#include "io/regular_file.hpp"
 
 namespace imx {
 
@@ -80,6 +81,7 @@ void write_png(const Image& image, const std::filesystem::path& file, bool linea
 
 Image read_png(const std::filesystem::path& file, bool linear) {
   const std::string what = file.string();
+  require_regular_file(file);
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(file.c_str(), "rb"), std::fclose);
   if (!f) {
     std::error_code ec;

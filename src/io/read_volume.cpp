@@ -8,6 +8,7 @@
 #include "io/metaimage.hpp"
 #include "io/nifti.hpp"
 #include "io/nrrd.hpp"
+#include "io/regular_file.hpp"
 
 namespace imx {
 
@@ -22,11 +23,7 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 
 VolumeData read_volume(const std::filesystem::path& file) {
   const std::string what = file.string();
-  std::error_code ec;
-  auto status = std::filesystem::status(file, ec);
-  if (!std::filesystem::exists(status)) throw Error(fmt::format("{}: no such file", what));
-  if (std::filesystem::is_directory(status))
-    throw Error(fmt::format("{}: is a folder, not a volume file", what));
+  require_regular_file(file);
 
   std::string name = file.filename().string();
   std::transform(name.begin(), name.end(), name.begin(),

@@ -8,6 +8,7 @@
 
 #include "intermix/error.hpp"
 #include "intermix/scene.hpp"
+#include "io/regular_file.hpp"
 #include "scene/overrides.hpp"
 #include "scene/scene_parsers.hpp"
 
@@ -114,11 +115,7 @@ Scene parse_scene(const std::string& json_text, const std::filesystem::path& bas
 }
 
 Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
-  std::error_code ec;
-  if (!std::filesystem::exists(file, ec))
-    throw Error(fmt::format("{}: no such file", file.string()));
-  if (std::filesystem::is_directory(file, ec))
-    throw Error(fmt::format("{}: is a directory, not a scene file", file.string()));
+  require_regular_file(file);
   std::ifstream in(file, std::ios::binary);
   if (!in) throw Error(fmt::format("{}: cannot open the file", file.string()));
   std::ostringstream text;

@@ -52,7 +52,7 @@ TEST(AtomicFile, RenameOntoAFolderFailsCleanly) {
   std::filesystem::create_directories(dir / "taken" / "child");
   test::expect_error(
       [&] { write_file_atomically(dir / "taken", [](std::ostream& out) { out << "x"; }); },
-      {"taken", "rename"});
+      {"taken", "is a directory", "only regular files are written"});
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"taken"});
 }
 

@@ -28,7 +28,7 @@ TEST(ReadVolume, UnknownExtensionListsTheSupportedOnes) {
 TEST(ReadVolume, AFolderIsNotAVolume) {
   TempDir dir;
   std::filesystem::create_directory(dir / "d.nrrd");
-  expect_error([&] { read_volume(dir / "d.nrrd"); }, {"d.nrrd", "folder"});
+  expect_error([&] { read_volume(dir / "d.nrrd"); }, {"d.nrrd", "is a directory"});
 }
 
 TEST(ReadVolume, ExtensionsAreCaseInsensitive) {

@@ -1,6 +1,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include <sys/stat.h>
+
 #include <gtest/gtest.h>
 
 #include "intermix/io.hpp"
@@ -604,6 +606,20 @@ TEST(ParseSceneErrors, VolumeSettings) {
     load_scene(file, {"objects.0.transfer_function=null"});
   });
   EXPECT_CONTAINS(msg, "objects[0].transfer_function: expected an object, got null");
+}
+
+TEST(LoadScene, AFifoIsRefusedUnopenedAsSceneAndAsVolumeSource) {
+  test::TempDir dir;
+  const std::filesystem::path scene = dir.path() / "pipe.json";
+  ASSERT_EQ(::mkfifo(scene.c_str(), 0600), 0);
+  EXPECT_CONTAINS(error_of([&] { load_scene(scene); }), "pipe.json: is a FIFO (named pipe)");
+  ASSERT_EQ(::mkfifo((dir.path() / "ct.nrrd").c_str(), 0600), 0);
+  const std::filesystem::path file =
+      dir.write("s.json",
+                R"({"objects": [{"name": "ct", "type": "volume", "source": {"file": "ct.nrrd"},
+                   "transfer_function": {"points": [[0, 1, 1, 1, 1]]}}]})");
+  EXPECT_CONTAINS(error_of([&] { load_scene(file); }), "objects[0].source.file");
+  EXPECT_CONTAINS(error_of([&] { load_scene(file); }), "is a FIFO");
 }
 
 }  // namespace

@@ -1,0 +1,58 @@
+#include "io/regular_file.hpp"
+
+#include <system_error>
+
+#include <fmt/format.h>
+
+#include "intermix/error.hpp"
+
+namespace imx {
+namespace {
+
+const char* kind_of(std::filesystem::file_type type) {
+  switch (type) {
+    case std::filesystem::file_type::directory:
+      return "is a directory, not a file";
+    case std::filesystem::file_type::fifo:
+      return "is a FIFO (named pipe), not a regular file";
+    case std::filesystem::file_type::character:
+      return "is a character device, not a regular file";
+    case std::filesystem::file_type::block:
+      return "is a block device, not a regular file";
+    case std::filesystem::file_type::socket:
+      return "is a socket, not a regular file";
+    default:
+      return "is not a regular file";
+  }
+}
+
+// The file's type with symbolic links followed; throws for a link loop or an unreadable path.
+std::filesystem::file_type type_of(const std::filesystem::path& file, const std::string& what) {
+  std::error_code ec;
+  const std::filesystem::file_status st = std::filesystem::status(file, ec);
+  if (ec == std::errc::too_many_symbolic_link_levels)
+    throw Error(fmt::format("{}: symbolic link loop (too many levels of links)", what));
+  if (ec && st.type() != std::filesystem::file_type::not_found)
+    throw Error(fmt::format("{}: cannot look at the file: {}", what, ec.message()));
+  return st.type();
+}
+
+}  // namespace
+
+void require_regular_file(const std::filesystem::path& file, const std::string& what) {
+  const std::string name = what.empty() ? file.string() : what;
+  const std::filesystem::file_type type = type_of(file, name);
+  if (type == std::filesystem::file_type::not_found)
+    throw Error(fmt::format("{}: no such file", name));
+  if (type != std::filesystem::file_type::regular)
+    throw Error(fmt::format("{}: {}", name, kind_of(type)));
+}
+
+void require_regular_or_new_file(const std::filesystem::path& file) {
+  const std::filesystem::file_type type = type_of(file, file.string());
+  if (type != std::filesystem::file_type::not_found && type != std::filesystem::file_type::regular)
+    throw Error(
+        fmt::format("{}: {}; only regular files are written", file.string(), kind_of(type)));
+}
+
+}  // namespace imx
