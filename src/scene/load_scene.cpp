@@ -11,6 +11,7 @@
 #include "io/regular_file.hpp"
 #include "scene/overrides.hpp"
 #include "scene/scene_parsers.hpp"
+#include "scene/strict_json.hpp"
 
 namespace imx {
 namespace {
@@ -103,7 +104,7 @@ Scene parse_scene(const std::string& json_text, const std::filesystem::path& bas
                   const std::string& origin, const std::vector<std::string>& overrides) {
   nlohmann::json root;
   try {
-    root = nlohmann::json::parse(json_text);
+    root = detail::parse_strict_json(json_text, origin);
   } catch (const nlohmann::json::exception& e) {
     throw Error(fmt::format("{}: invalid JSON: {}", origin, readable(e.what())));
   }

@@ -8,6 +8,7 @@
 
 #include "intermix/error.hpp"
 #include "scene/edit_distance.hpp"
+#include "scene/strict_json.hpp"
 
 namespace imx::detail {
 namespace {
@@ -77,7 +78,7 @@ void apply_override(nlohmann::json& root, const std::string& assignment,
 
   nlohmann::json value;
   try {
-    value = nlohmann::json::parse(text);
+    value = parse_strict_json(text, fmt::format("{}: --set {}", origin, path));
   } catch (const nlohmann::json::exception&) {
     value = text;  // not JSON: a bare word such as a method or object name
   }

@@ -622,5 +622,29 @@ TEST(LoadScene, AFifoIsRefusedUnopenedAsSceneAndAsVolumeSource) {
   EXPECT_CONTAINS(error_of([&] { load_scene(file); }), "is a FIFO");
 }
 
+TEST(ParseSceneErrors, ADuplicateKeyIsAnErrorNamingWhereItIs) {
+  EXPECT_CONTAINS(parse_error(R"({"image": {"width": 64, "width": 32}})"),
+                  "scene.json: image: key 'width' appears twice in the same object");
+  EXPECT_CONTAINS(
+      parse_error(R"({"objects": [{"name": "a", "type": "mesh"}, {"name": "b", "name": "c"}]})"),
+      "scene.json: objects[1]: key 'name' appears twice");
+  EXPECT_CONTAINS(parse_error(R"({"render": {}, "render": {}})"),
+                  "scene.json: key 'render' appears twice");
+  // The same key in different objects is fine.
+  EXPECT_NO_THROW(
+      parse(R"({"image": {"width": 8}, "camera": {"eye": [0, -1, 0]}, "objects": []})"));
+}
+
+TEST(ParseSceneErrors, DeepNestingIsAnErrorNotAStackOverflow) {
+  for (int depth : {100000, 2000}) {
+    const std::string deep = std::string(depth, '[') + std::string(depth, ']');
+    EXPECT_CONTAINS(parse_error(R"({"description": )" + deep + "}"),
+                    "scene.json: JSON nested deeper than 1024 levels");
+    EXPECT_CONTAINS(parse_error("{}", {"image.width=" + deep}), "nested deeper than 1024");
+  }
+  EXPECT_CONTAINS(parse_error("{}", {R"(image={"width": 8, "width": 9})"}),
+                  "--set image: key 'width' appears twice");
+}
+
 }  // namespace
 }  // namespace imx
