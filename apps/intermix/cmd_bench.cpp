@@ -13,6 +13,7 @@
 
 #include "bench_change.hpp"
 #include "commands.hpp"
+#include "core/parallel.hpp"
 #include "core/progress_bar.hpp"
 #include "intermix/error.hpp"
 #include "intermix/render.hpp"
@@ -139,7 +140,8 @@ Command add_bench(CLI::App& app) {
   app.add_option("--width", o->width, "image width")->check(CLI::PositiveNumber);
   app.add_option("--height", o->height, "image height")->check(CLI::PositiveNumber);
   app.add_option("--spp", o->spp, "samples per pixel")->check(CLI::PositiveNumber);
-  app.add_option("--threads", o->threads, "worker threads (default: all cores)");
+  app.add_option("--threads", o->threads, "worker threads (default: all cores)")
+      ->check(CLI::Range(0, kMaxThreads));
   app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");
   app.add_flag("--vtk", o->vtk,
                "also time the VTK peer (vtk_peer.py) on the same scene, image size and sample "

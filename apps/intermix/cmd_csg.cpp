@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "core/parallel.hpp"
 #include "csg/clip_state.hpp"
 #include "csg/csg_expr.hpp"
 #include "csg/state_table.hpp"
@@ -175,7 +176,7 @@ Command add_csg(CLI::App& app) {
   app.add_option("--height", o->height, "image height for --intervals (overrides the scene)")
       ->check(CLI::PositiveNumber);
   app.add_option("--threads", o->threads, "worker threads for --intervals (default: all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, kMaxThreads));
   app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");
   return [o]() {
     std::vector<std::string> overrides = o->overrides;

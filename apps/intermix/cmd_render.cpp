@@ -31,7 +31,7 @@ Command add_render(CLI::App& app) {
   app.add_option("--spp", o->spp, "samples per pixel, a perfect square (1, 4, 16, 64, ...)")
       ->check(CLI::PositiveNumber);
   app.add_option("--threads", o->threads, "worker threads (default: all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, kMaxThreads));
   app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");
   app.add_flag("--linear", o->linear, "write linear instead of sRGB-encoded colour");
   return [o]() {

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "core/parallel.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
 #include "methods/z_fighting_probe.hpp"
@@ -25,7 +26,8 @@ Command add_zfight(CLI::App& app) {
   app.add_option("--width", o->width, "image width")->check(CLI::PositiveNumber);
   app.add_option("--height", o->height, "image height")->check(CLI::PositiveNumber);
   app.add_option("--spp", o->spp, "samples per pixel")->check(CLI::PositiveNumber);
-  app.add_option("--threads", o->threads, "worker threads (default: all cores)");
+  app.add_option("--threads", o->threads, "worker threads (default: all cores)")
+      ->check(CLI::Range(0, kMaxThreads));
   app.add_option("--jitter", o->jitter, "camera shift in pixels, x y (default 0.37 0.21)")
       ->expected(2);
   app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");

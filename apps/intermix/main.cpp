@@ -16,8 +16,12 @@ bool quiet_flag = false;
 bool show_progress() {
   return !quiet_flag && stderr_is_terminal();
 }
-bool quiet() { return quiet_flag; }
-void set_quiet(bool quiet) { quiet_flag = quiet; }
+bool quiet() {
+  return quiet_flag;
+}
+void set_quiet(bool quiet) {
+  quiet_flag = quiet;
+}
 }  // namespace imx::cli
 
 int main(int argc, char** argv) {

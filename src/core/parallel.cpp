@@ -5,14 +5,20 @@
 #include <mutex>
 #include <thread>
 
+#include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/info.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "intermix/error.hpp"
+
 namespace imx {
 
 int resolve_thread_count(int requested) {
+  if (requested > kMaxThreads)
+    throw Error(
+        fmt::format("threads {} is more than the {} this build allows", requested, kMaxThreads));
   int cores = std::max(1, tbb::info::default_concurrency());
   return requested <= 0 ? cores : requested;
 }

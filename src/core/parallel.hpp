@@ -10,7 +10,12 @@ struct TileRect {
   int height() const { return y1 - y0; }
 };
 
-// Number of threads `requested` resolves to (0 = all cores).
+// The most worker threads a caller may ask for: far above any core count here, far below what
+// makes TBB's arena fail (2^31 - 1 crashed inside TBB).
+inline constexpr int kMaxThreads = 1024;
+
+// Number of threads `requested` resolves to (0 or less = all cores); throws imx::Error above
+// kMaxThreads.
 int resolve_thread_count(int requested);
 
 // Calls fn(tile, tile_index) for every tile of a width x height image, in parallel on up to

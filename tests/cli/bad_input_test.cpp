@@ -1,4 +1,6 @@
 // Bad input: one clear message naming the culprit, a non-zero exit, and no output file.
+#include <cstdlib>
+
 #include <gtest/gtest.h>
 
 #include "cli_runner.hpp"
@@ -6,7 +8,8 @@
 namespace imx::test {
 namespace {
 
-const char* kQuad = R"({"name": "q", "type": "mesh", "source": {"primitive": "quad", "size": [50, 50]}})";
+const char* kQuad =
+    R"({"name": "q", "type": "mesh", "source": {"primitive": "quad", "size": [50, 50]}})";
 
 std::string scene_with(const std::string& objects, const std::string& extra = "") {
   return std::string(R"({"image": {"width": 32, "height": 32}, "objects": [)") + objects + "]" +
@@ -17,8 +20,8 @@ void expect_failure(const std::filesystem::path& dir, const std::string& scene_t
                     const std::vector<std::string>& culprits, const std::string& extra_args = "") {
   write_text(dir / "scene.json", scene_text);
   auto out = dir / "out.png";
-  CliResult r = run_cli("render " + (dir / "scene.json").string() + " -o " + out.string() + " " +
-                        extra_args);
+  CliResult r =
+      run_cli("render " + (dir / "scene.json").string() + " -o " + out.string() + " " + extra_args);
   EXPECT_NE(r.exit_code, 0) << r.output;
   for (const std::string& c : culprits) EXPECT_NE(r.output.find(c), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(out));
@@ -47,8 +50,8 @@ TEST(CliBadInput, MissingFile) {
   expect_failure(dir,
                  scene_with(R"({"name": "m", "type": "mesh", "source": {"file": "nowhere.stl"}})"),
                  {"nowhere.stl"});
-  CliResult r = run_cli("render " + (dir / "absent.json").string() + " -o " +
-                        (dir / "x.png").string());
+  CliResult r =
+      run_cli("render " + (dir / "absent.json").string() + " -o " + (dir / "x.png").string());
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("absent.json"), std::string::npos) << r.output;
 }
@@ -63,23 +66,24 @@ TEST(CliBadInput, ZeroOrNegativeSize) {
 TEST(CliBadInput, NonFiniteTransform) {
   auto dir = temp_dir("nan-transform");
   // JSON has no NaN literal; an overflowing number is the way such values arrive.
-  expect_failure(dir,
-                 scene_with(R"({"name": "m", "type": "mesh", "source": {"primitive": "quad", "size": [5, 5]},
+  expect_failure(
+      dir,
+      scene_with(R"({"name": "m", "type": "mesh", "source": {"primitive": "quad", "size": [5, 5]},
                      "transform": {"translate": [1e999, 0, 0]}})"),
-                 {"scene.json", "1e999"});
+      {"scene.json", "1e999"});
   // A degenerate matrix cannot place an object.
-  expect_failure(dir,
-                 scene_with(R"({"name": "m", "type": "mesh", "source": {"primitive": "quad", "size": [5, 5]},
+  expect_failure(
+      dir,
+      scene_with(R"({"name": "m", "type": "mesh", "source": {"primitive": "quad", "size": [5, 5]},
                      "transform": {"scale": [1, 0, 1]}})"),
-                 {"objects[0].transform"});
+      {"objects[0].transform"});
   // A NaN in a volume file's space directions.
   write_text(dir / "nan.nhdr",
              "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nspace: left-posterior-superior\n"
              "space directions: (nan,0,0) (0,1,0) (0,0,1)\nspace origin: (0,0,0)\n"
              "encoding: raw\ndata file: nan.raw\n");
   write_text(dir / "nan.raw", std::string(8, '\1'));
-  expect_failure(dir,
-                 scene_with(R"({"name": "v", "type": "volume", "source": {"file": "nan.nhdr"},
+  expect_failure(dir, scene_with(R"({"name": "v", "type": "volume", "source": {"file": "nan.nhdr"},
                      "transfer_function": {"points": [[0, 1, 1, 1, 1]]}})"),
                  {"nan.nhdr"});
 }
@@ -91,8 +95,7 @@ TEST(CliBadInput, TruncatedNrrd) {
              "endian: little\nspace directions: (1,0,0) (0,1,0) (0,0,1)\n"
              "space origin: (0,0,0)\nspace: left-posterior-superior\n\n" +
                  std::string(100, '\0'));
-  expect_failure(dir,
-                 scene_with(R"({"name": "v", "type": "volume", "source": {"file": "cut.nrrd"},
+  expect_failure(dir, scene_with(R"({"name": "v", "type": "volume", "source": {"file": "cut.nrrd"},
                      "transfer_function": {"points": [[0, 1, 1, 1, 1]]}})"),
                  {"cut.nrrd"});
   CliResult r = run_cli("info " + (dir / "cut.nrrd").string());
@@ -103,6 +106,23 @@ TEST(CliBadInput, TruncatedNrrd) {
 TEST(CliBadInput, UnknownMethodListsTheAvailableOnes) {
   auto dir = temp_dir("method");
   expect_failure(dir, scene_with(kQuad), {"zslab-wrong", "reference"}, "--method zslab-wrong");
+}
+
+TEST(CliBadInput, AThreadCountTbbCannotTakeIsRefused) {
+  auto dir = temp_dir("threads");
+  expect_failure(dir, scene_with(kQuad), {"--threads", "2147483647", "1024"},
+                 "--threads 2147483647");
+}
+
+TEST(CliBadInput, OutputOntoAFifoIsRefusedAndTheFifoKept) {
+  auto dir = temp_dir("fifo-out");
+  write_text(dir / "scene.json", scene_with(kQuad));
+  const auto out = dir / "out.png";
+  ASSERT_EQ(std::system(("mkfifo " + out.string()).c_str()), 0);
+  CliResult r = run_cli("render " + (dir / "scene.json").string() + " -o " + out.string());
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("is a FIFO"), std::string::npos) << r.output;
+  EXPECT_TRUE(std::filesystem::is_fifo(out));
 }
 
 }  // namespace
