@@ -4,7 +4,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <fmt/format.h>
+
 #include "commands.hpp"
+#include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/metrics.hpp"
 
@@ -25,6 +28,9 @@ Command add_compare(CLI::App& app) {
   app.add_flag("--json", o->json, "print one JSON object on stdout");
   return [o]() {
     Image a = read_png(o->a), b = read_png(o->b);
+    if (a.width() != b.width() || a.height() != b.height())
+      throw Error(fmt::format("images differ in size: {} is {}x{}, {} is {}x{}", o->a, a.width(),
+                              a.height(), o->b, b.width(), b.height()));
     ImageComparison c = compare_images(a, b);
     if (!o->heat_map.empty()) write_png(error_heat_map(a, b, o->scale), o->heat_map);
     if (o->json) {

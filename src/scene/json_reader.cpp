@@ -1,6 +1,7 @@
 #include "scene/json_reader.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -131,6 +132,10 @@ double JsonReader::number(Range range) const {
   if (!value_->is_number()) fail("expected a number, got " + describe());
   double v = value_->get<double>();
   if (!std::isfinite(v)) fail(text() + " is not a finite number");
+  // The renderer computes in float: a larger number becomes inf, and NaN downstream.
+  if (std::abs(v) > std::numeric_limits<float>::max())
+    fail(fmt::format("{} is too large: numbers are used as floats (at most {:g})", text(),
+                     std::numeric_limits<float>::max()));
   if (!range.contains(v)) fail(text() + " " + range.violation());
   return v;
 }

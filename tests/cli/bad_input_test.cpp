@@ -125,5 +125,17 @@ TEST(CliBadInput, OutputOntoAFifoIsRefusedAndTheFifoKept) {
   EXPECT_TRUE(std::filesystem::is_fifo(out));
 }
 
+TEST(CliBadInput, ImagesOfDifferentSizesAreNamedWithTheirSizes) {
+  auto dir = temp_dir("compare-sizes");
+  write_text(dir / "scene.json", scene_with(kQuad));
+  const std::string scene = (dir / "scene.json").string();
+  ASSERT_EQ(run_cli("render " + scene + " -o " + (dir / "a.png").string()).exit_code, 0);
+  ASSERT_EQ(run_cli("render " + scene + " --width 16 -o " + (dir / "b.png").string()).exit_code, 0);
+  CliResult r = run_cli("compare " + (dir / "a.png").string() + " " + (dir / "b.png").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("a.png is 32x32"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("b.png is 16x32"), std::string::npos) << r.output;
+}
+
 }  // namespace
 }  // namespace imx::test

@@ -483,10 +483,10 @@ TEST(ParseSceneErrors, TransformsMustBeFiniteAndInvertible) {
   EXPECT_CONTAINS(parse_error(with_objects(kSphere), {"objects.0.transform.scale=1e400"}),
                   "objects[0].transform.scale: expected a number or an array of 3 numbers, got "
                   "string \"1e400\"");
-  // Finite entries whose product overflows.
+  // Entries finite as doubles but not as floats are refused where they stand.
   EXPECT_CONTAINS(parse_error(with_objects(sphere_with +
                                            R"(, "transform": {"scale": [1e300, 1e300, 1e300]}})")),
-                  "objects[0].transform: transform is singular");
+                  "objects[0].transform.scale[0]: 1e+300 is too large");
 }
 
 TEST(ParseSceneErrors, NamesMustBeUniqueAndUsable) {
@@ -644,6 +644,19 @@ TEST(ParseSceneErrors, DeepNestingIsAnErrorNotAStackOverflow) {
   }
   EXPECT_CONTAINS(parse_error("{}", {R"(image={"width": 8, "width": 9})"}),
                   "--set image: key 'width' appears twice");
+}
+
+TEST(ParseSceneErrors, NumbersTooLargeForAFloatAreRefusedWithTheirPath) {
+  const std::string volume =
+      R"({"objects": [{"name": "ct", "type": "volume", "source": {"phantom": "cube", "size": 8},
+          "transfer_function": {"points": [[1e300, 1, 1, 1, 1]]}}]})";
+  EXPECT_CONTAINS(parse_error(volume),
+                  "objects[0].transfer_function.points[0][0]: 1e+300 is too large");
+  EXPECT_CONTAINS(parse_error(R"({"camera": {"eye": [0, -1e308, 0]}, "objects": []})"),
+                  "camera.eye[1]: -1e+308 is too large: numbers are used as floats");
+  EXPECT_CONTAINS(parse_error(R"({"objects": []})", {"camera.ortho_height=1e308"}),
+                  "camera.ortho_height: 1e+308 is too large");
+  EXPECT_NO_THROW(parse(R"({"camera": {"eye": [0, -1e30, 0]}, "objects": []})"));
 }
 
 }  // namespace
