@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -59,6 +60,15 @@ int16_t host_order(int16_t v, bool swapped) {
   return swapped ? static_cast<int16_t>(__builtin_bswap16(static_cast<uint16_t>(v))) : v;
 }
 
+float host_order(float v, bool swapped) {
+  if (!swapped) return v;
+  uint32_t bits;
+  std::memcpy(&bits, &v, sizeof bits);
+  bits = __builtin_bswap32(bits);
+  std::memcpy(&v, &bits, sizeof v);
+  return v;
+}
+
 // Checks the header fields nifticlib would reject, so bad files get one message naming the
 // file rather than nifticlib's console output (which it prints whatever its debug level).
 void check_header(const std::string& what) {
@@ -91,6 +101,32 @@ void check_header(const std::string& what) {
         fmt::format("{}: datatype {} ({}) is not supported (supported: integers of 8 to 64 bits, "
                     "float32, float64)",
                     what, datatype, nifti_datatype_string(datatype)));
+  // nifticlib reads a single-file image with a vox_offset inside the header from byte 348, and
+  // turns non-finite placement into 0: both are refused here instead.
+  const float offset = host_order(h.vox_offset, swapped);
+  if (std::memcmp(h.magic, "n+1", 4) == 0 && !(offset >= 352.0f && offset < 2147483648.0f))
+    throw Error(fmt::format("{}: vox_offset is {}; a .nii file's data starts at byte 352 or later",
+                            what, offset));
+  auto finite = [&](const char* field, float value) {
+    if (!std::isfinite(host_order(value, swapped)))
+      throw Error(fmt::format("{}: {} is {}, not a finite number", what, field,
+                              host_order(value, swapped)));
+  };
+  if (host_order(h.sform_code, swapped) > 0)
+    for (int k = 0; k < 4; ++k) {
+      finite(fmt::format("srow_x[{}]", k).c_str(), h.srow_x[k]);
+      finite(fmt::format("srow_y[{}]", k).c_str(), h.srow_y[k]);
+      finite(fmt::format("srow_z[{}]", k).c_str(), h.srow_z[k]);
+    }
+  if (host_order(h.qform_code, swapped) > 0) {
+    finite("quatern_b", h.quatern_b);
+    finite("quatern_c", h.quatern_c);
+    finite("quatern_d", h.quatern_d);
+    finite("qoffset_x", h.qoffset_x);
+    finite("qoffset_y", h.qoffset_y);
+    finite("qoffset_z", h.qoffset_z);
+    for (int k = 0; k < 4; ++k) finite(fmt::format("pixdim[{}]", k).c_str(), h.pixdim[k]);
+  }
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <sstream>
 
+#include <limits>
+
 #include <gtest/gtest.h>
 #include <nifti/nifti1.h>
 
@@ -184,6 +186,25 @@ TEST(NiftiReaderErrors, BadHeaderTwoDimensionsAndUnsupportedType) {
   h = basic_header(30000, 30000, 30000, DT_UINT8, 8);
   write_gz(dir / "huge.nii.gz", file_bytes(h, ""));
   expect_error([&] { read_volume(dir / "huge.nii.gz"); }, {"huge.nii.gz", "voxels"});
+}
+
+TEST(NiftiReaderErrors, AVoxOffsetInsideTheHeaderAndNonFinitePlacementAreRefused) {
+  TempDir dir;
+  nifti_1_header h = basic_header(2, 2, 2, DT_UINT8, 8);
+  h.vox_offset = 0.0f;  // nifticlib would read the data from byte 348
+  test::write_bytes(dir / "off.nii", file_bytes(h, std::string(8, '\0')));
+  expect_error([&] { read_volume(dir / "off.nii"); }, {"off.nii", "vox_offset is 0", "352"});
+  h = basic_header(2, 2, 2, DT_UINT8, 8);
+  h.sform_code = 1;
+  h.srow_x[0] = h.srow_y[1] = h.srow_z[2] = 1.0f;
+  h.srow_y[3] = std::numeric_limits<float>::quiet_NaN();  // nifticlib would make it 0
+  test::write_bytes(dir / "srow.nii", file_bytes(h, std::string(8, '\0')));
+  expect_error([&] { read_volume(dir / "srow.nii"); }, {"srow.nii", "srow_y[3] is nan"});
+  h = basic_header(2, 2, 2, DT_UINT8, 8);
+  h.qform_code = 1;
+  h.qoffset_z = std::numeric_limits<float>::infinity();
+  test::write_bytes(dir / "q.nii", file_bytes(h, std::string(8, '\0')));
+  expect_error([&] { read_volume(dir / "q.nii"); }, {"q.nii", "qoffset_z is inf"});
 }
 
 // ---- the shared real files
