@@ -227,9 +227,7 @@ inline glm::vec4 trace_csg(const Ray& ray, std::span<const Fragment> row,
     uint8_t step_ranks[kMaxSources];
     float step_thresholds[kMaxSources];
     while (acc.a < p.ert) {
-      float back = INFINITY;
-      for (int m = 0; m < n; ++m)
-        if (live[m]) back = std::min(back, heads[m].t_back);
+      const float back = nearest_back(heads, live, n);
       if (back == INFINITY) break;
       const float same_step = back - 1e-3f * p.step;
       float front = back;

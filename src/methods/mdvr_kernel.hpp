@@ -27,6 +27,15 @@ struct MdvrParams {
   int iso_bisections = 10;
 };
 
+// The nearest back depth among the `n` heads that are `live` (INFINITY when none is): the end of
+// the grid step the mdvr-style loops take next.
+inline float nearest_back(const Slab* heads, const bool* live, int n) {
+  float back = INFINITY;
+  for (int m = 0; m < n; ++m)
+    if (live[m]) back = std::min(back, heads[m].t_back);
+  return back;
+}
+
 // The steps of several volumes: each marcher holds its next slab (a pending head); the heads that
 // lie in the nearest grid step are mixed (M1) and composited together. The conventional method
 // knows only the grid steps, so its marchers emit whole pieces (SlabExtent::grid).
@@ -51,9 +60,7 @@ void composite_steps_of_several(const Ray& ray, const RayVolumes& rv,
   }
   glm::vec4 step_colors[kMaxRayVolumes];
   while (acc.a < p.ert) {
-    float back = INFINITY;
-    for (int m = 0; m < n; ++m)
-      if (live[m]) back = std::min(back, heads[m].t_back);
+    const float back = nearest_back(heads, live, n);
     if (back == INFINITY) break;
     const float same_step = back - 1e-3f * p.step;
     float front = back;
