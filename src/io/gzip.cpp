@@ -16,6 +16,8 @@ namespace {
 constexpr size_t kChunk = size_t{1} << 18;
 // zlib counts in 32-bit uInt: feed larger outputs in pieces below that.
 constexpr size_t kMaxPiece = size_t{1} << 30;
+// Inflated bytes past what the caller asked for that are still read to reach the checksum.
+constexpr size_t kMaxSurplus = size_t{1} << 20;
 
 std::string zlib_message(const z_stream& z, int code) {
   return z.msg ? z.msg : fmt::format("zlib error {}", code);
@@ -26,8 +28,8 @@ std::string zlib_message(const z_stream& z, int code) {
 void check_inflatable(size_t needed, size_t compressed, const std::string& what) {
   if (static_cast<double>(needed) > kMaxInflateRatio * static_cast<double>(compressed) + 4096.0)
     throw Error(
-        fmt::format("{}: expected {} bytes of voxel data, but {} bytes of compressed "
-                    "data cannot hold that much",
+        fmt::format("{}: the header asks for {} bytes of data, but {} compressed bytes cannot "
+                    "inflate to that much (deflate expands at most about 1032:1)",
                     what, needed, compressed));
 }
 
@@ -38,35 +40,40 @@ size_t gunzip(std::istream& in, size_t skip, std::span<uint8_t> out, const std::
   std::unique_ptr<z_stream, int (*)(z_stream*)> guard(&z, inflateEnd);
 
   std::vector<uint8_t> input(kChunk);
-  std::vector<uint8_t> scratch(std::min(skip, kChunk));
-  size_t written = 0;
+  std::vector<uint8_t> scratch(kChunk);
+  size_t written = 0, surplus = 0;
   bool input_done = false;
-  while (written < out.size()) {
-    if (z.avail_in == 0 && !input_done) {
-      in.read(reinterpret_cast<char*>(input.data()), static_cast<std::streamsize>(input.size()));
-      z.next_in = input.data();
-      z.avail_in = static_cast<uInt>(in.gcount());
-      if (z.avail_in == 0) input_done = true;
-    }
-    bool skipping = skip > 0;
-    uint8_t* dst = skipping ? scratch.data() : out.data() + written;
-    size_t room =
-        skipping ? std::min(skip, scratch.size()) : std::min(out.size() - written, kMaxPiece);
+  auto refill = [&] {
+    in.read(reinterpret_cast<char*>(input.data()), static_cast<std::streamsize>(input.size()));
+    z.next_in = input.data();
+    z.avail_in = static_cast<uInt>(in.gcount());
+    if (z.avail_in == 0) input_done = true;
+  };
+  // Inflate to the end of the stream even once `out` is full, so that zlib checks the trailer's
+  // checksum: a corrupt stream must not pass because the header asked for less than it holds.
+  while (true) {
+    if (z.avail_in == 0 && !input_done) refill();
+    const bool skipping = skip > 0, full = !skipping && written == out.size();
+    uint8_t* dst = skipping || full ? scratch.data() : out.data() + written;
+    size_t room = skipping ? std::min(skip, scratch.size())
+                  : full   ? scratch.size()
+                           : std::min(out.size() - written, kMaxPiece);
     z.next_out = dst;
     z.avail_out = static_cast<uInt>(room);
     int rc = inflate(&z, Z_NO_FLUSH);
     size_t produced = room - z.avail_out;
     if (skipping)
       skip -= produced;
+    else if (full)
+      surplus += produced;
     else
       written += produced;
+    if (surplus > kMaxSurplus)
+      throw Error(fmt::format("{}: the compressed data holds more than the {} bytes expected", what,
+                              out.size()));
     if (rc == Z_STREAM_END) {
       // Concatenated gzip members form one stream; anything else after the end is ignored.
-      if (z.avail_in == 0 && !input_done) {
-        in.read(reinterpret_cast<char*>(input.data()), static_cast<std::streamsize>(input.size()));
-        z.next_in = input.data();
-        z.avail_in = static_cast<uInt>(in.gcount());
-      }
+      if (z.avail_in == 0 && !input_done) refill();
       if (z.avail_in >= 2 && z.next_in[0] == 0x1f && z.next_in[1] == 0x8b) {
         inflateReset(&z);
         continue;
@@ -74,8 +81,10 @@ size_t gunzip(std::istream& in, size_t skip, std::span<uint8_t> out, const std::
       break;
     }
     if (rc == Z_BUF_ERROR && z.avail_in == 0) {
-      if (input_done) break;  // truncated: the caller reports the shortfall
-      continue;               // needs more input: the loop reads it
+      if (!input_done) continue;        // needs more input: the loop reads it
+      if (written < out.size()) break;  // truncated: the caller reports the shortfall
+      throw Error(
+          fmt::format("{}: the gzip data ends before its checksum (truncated file?)", what));
     }
     if (rc != Z_OK)
       throw Error(fmt::format("{}: corrupt gzip data ({})", what, zlib_message(z, rc)));

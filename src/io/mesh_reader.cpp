@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstring>
@@ -12,6 +13,7 @@
 #include <assimp/Importer.hpp>
 #include <glm/glm.hpp>
 
+#include "core/limits.hpp"
 #include "core/math.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
@@ -105,9 +107,21 @@ Mesh read_mesh(const std::filesystem::path& file) {
   if (mesh.triangles.empty())
     throw Error(fmt::format("{}: the file holds no triangles", file.string()));
   if (mesh.normals.size() != mesh.positions.size()) compute_smooth_normals(mesh);
-  for (const glm::vec3& p : mesh.positions)
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      throw Error(fmt::format("{}: a vertex position is not finite", file.string()));
+  for (size_t i = 0; i < mesh.positions.size(); ++i) {
+    const glm::vec3& p = mesh.positions[i];
+    if (!(std::abs(p.x) <= kMaxCoordinateMm && std::abs(p.y) <= kMaxCoordinateMm &&
+          std::abs(p.z) <= kMaxCoordinateMm))
+      throw Error(
+          fmt::format("{}: vertex {} at ({:g}, {:g}, {:g}) is not a finite position within "
+                      "{:g} mm of the origin",
+                      file.string(), i, p.x, p.y, p.z, kMaxCoordinateMm));
+  }
+  for (size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const glm::uvec3& t = mesh.triangles[f];
+    if (std::max({t.x, t.y, t.z}) >= mesh.positions.size())
+      throw Error(fmt::format("{}: triangle {} uses vertex {}, but the file has {} vertices",
+                              file.string(), f, std::max({t.x, t.y, t.z}), mesh.positions.size()));
+  }
   return mesh;
 }
 

@@ -284,7 +284,7 @@ VolumeData read_metaimage(const std::filesystem::path& file) {
           "{}: expected {} bytes of voxel data ({}x{}x{} {}), found {} "
           "(truncated file?)",
           data_what, needed, v.dims.x, v.dims.y, v.dims.z, raw_type_name(type), available));
-    v.voxels = load_voxels(type, count, big_endian, [&](std::span<uint8_t> bytes) {
+    v.voxels = load_voxels(type, count, big_endian, data_what, [&](std::span<uint8_t> bytes) {
       in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
       if (static_cast<size_t>(in.gcount()) != bytes.size())
         throw Error(fmt::format("{}: expected {} bytes of voxel data, found {}", data_what,

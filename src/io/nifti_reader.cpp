@@ -183,7 +183,7 @@ VolumeData read_nifti(const std::filesystem::path& file) {
     throw Error(
         fmt::format("{}: cannot seek to the voxel data at byte {}", what, nim->iname_offset));
   bool swap = nim->byteorder != nifti_short_order();
-  v.voxels = load_voxels(*type, count, swap, [&](std::span<uint8_t> bytes) {
+  v.voxels = load_voxels(*type, count, swap, what, [&](std::span<uint8_t> bytes) {
     size_t done = 0;
     while (done < bytes.size()) {
       size_t want = std::min(bytes.size() - done, size_t{1} << 28);

@@ -405,7 +405,7 @@ VolumeData read_nrrd(const std::filesystem::path& file) {
                               data_what, needed, dims.x, dims.y, dims.z, raw_type_name(type),
                               found));
     in.seekg(static_cast<std::streamoff>(offset));
-    v.voxels = load_voxels(type, count, big_endian, [&](std::span<uint8_t> bytes) {
+    v.voxels = load_voxels(type, count, big_endian, data_what, [&](std::span<uint8_t> bytes) {
       in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
       if (static_cast<size_t>(in.gcount()) != bytes.size())
         throw Error(fmt::format("{}: expected {} bytes of voxel data, found {}", data_what,

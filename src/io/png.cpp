@@ -12,7 +12,9 @@
 #include "core/colour.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
+#include "intermix/limits.hpp"
 #include "io/atomic_file.hpp"
+#include "io/gzip.hpp"
 #include "io/regular_file.hpp"
 
 namespace imx {
@@ -21,6 +23,16 @@ namespace {
 
 // Images beyond this are corrupt files or not for this renderer (spng's own cap is 2^31-1).
 constexpr uint32_t kMaxPngSide = 1u << 16;
+
+// Bytes of the filtered scanlines the IDAT stream inflates to (at least: interlacing adds).
+size_t filtered_size(const spng_ihdr& ihdr) {
+  int channels = 1;
+  if (ihdr.color_type == SPNG_COLOR_TYPE_TRUECOLOR) channels = 3;
+  if (ihdr.color_type == SPNG_COLOR_TYPE_GRAYSCALE_ALPHA) channels = 2;
+  if (ihdr.color_type == SPNG_COLOR_TYPE_TRUECOLOR_ALPHA) channels = 4;
+  const uint64_t row_bits = uint64_t{ihdr.width} * channels * ihdr.bit_depth;
+  return static_cast<size_t>(uint64_t{ihdr.height} * (1 + (row_bits + 7) / 8));
+}
 
 using SpngContext = std::unique_ptr<spng_ctx, void (*)(spng_ctx*)>;
 
@@ -103,6 +115,14 @@ Image read_png(const std::filesystem::path& file, bool linear) {
   int fmt_out = wide ? SPNG_FMT_RGBA16 : SPNG_FMT_RGBA8;
   size_t bytes = 0;
   rc = spng_decoded_image_size(ctx.get(), fmt_out, &bytes);
+  if (rc == 0) {
+    // The filtered rows are deflated in the file: a tiny file cannot hold a huge image.
+    std::error_code ec;
+    detail::check_inflatable(filtered_size(ihdr),
+                             static_cast<size_t>(std::filesystem::file_size(file, ec)), what);
+    check_memory(bytes + uint64_t{ihdr.width} * ihdr.height * sizeof(glm::vec4),
+                 fmt::format("{}: a {}x{} PNG", what, ihdr.width, ihdr.height));
+  }
   std::vector<uint8_t> buffer(rc == 0 ? bytes : 0);
   if (rc == 0)
     rc = spng_decode_image(ctx.get(), buffer.data(), buffer.size(), fmt_out, SPNG_DECODE_TRNS);

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
+#include "intermix/limits.hpp"
 #include "io/gzip.hpp"
 
 namespace imx::detail {
@@ -109,8 +110,14 @@ std::vector<Dst> convert(std::span<const uint8_t> bytes, size_t count) {
 
 }  // namespace
 
-VoxelStorage load_voxels(RawType type, size_t count, bool swap_bytes,
+VoxelStorage load_voxels(RawType type, size_t count, bool swap_bytes, const std::string& what,
                          const std::function<void(std::span<uint8_t>)>& fill) {
+  const bool native =
+      type == RawType::u8 || type == RawType::i16 || type == RawType::u16 || type == RawType::f32;
+  const size_t stored_size = storage_type_for(type) == VoxelType::f32 ? 4 : 2;
+  // A converted type holds the file's bytes and the converted voxels at once.
+  check_memory(count * raw_type_size(type) + (native ? 0 : count * stored_size),
+               fmt::format("{}: {} voxels of {}", what, count, raw_type_name(type)));
   switch (type) {
     case RawType::u8:
       return load_native<uint8_t>(count, false, fill);
@@ -144,7 +151,7 @@ VoxelStorage load_voxels(RawType type, size_t count, bool swap_bytes,
 
 VoxelStorage load_gzip_voxels(std::istream& in, size_t skip, RawType type, size_t count,
                               bool swap_bytes, const std::string& what) {
-  return load_voxels(type, count, swap_bytes, [&](std::span<uint8_t> bytes) {
+  return load_voxels(type, count, swap_bytes, what, [&](std::span<uint8_t> bytes) {
     size_t found = gunzip(in, skip, bytes, what);
     if (found != bytes.size())
       throw Error(

@@ -28,7 +28,8 @@ inline constexpr size_t kMaxVoxels = size_t{1} << 31;
 // bytes it is given (count * raw_type_size), in file order, or throw. When the file type is
 // the storage type the bytes land straight in the result, so no second copy is made.
 // `swap_bytes` reverses every element's bytes (big-endian data on this little-endian host).
-VoxelStorage load_voxels(RawType type, size_t count, bool swap_bytes,
+// Checks the memory budget first (check_memory), naming `what`.
+VoxelStorage load_voxels(RawType type, size_t count, bool swap_bytes, const std::string& what,
                          const std::function<void(std::span<uint8_t>)>& fill);
 
 // load_voxels from gzip (or zlib) data at `in`'s position, after dropping `skip` inflated bytes.

@@ -13,6 +13,8 @@
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
+#include "core/limits.hpp"
+
 namespace imx::detail {
 
 // An interval of allowed numbers; open or closed at either end, unbounded by default.
@@ -28,6 +30,12 @@ struct Range {
   static Range open_closed(double lo, double hi) { return {lo, hi, true, false}; }
   static Range positive() { return {0.0, std::numeric_limits<double>::infinity(), true, false}; }
   static Range non_negative() { return {0.0, std::numeric_limits<double>::infinity()}; }
+  // A world position, mm (core/limits.hpp).
+  static Range coordinate() { return closed(-kMaxCoordinateMm, kMaxCoordinateMm); }
+  // A size or distance, mm.
+  static Range length() { return closed(kMinLengthMm, kMaxLengthMm); }
+  // A gain such as a light's intensity or a shading coefficient.
+  static Range gain() { return closed(0.0, 1000.0); }
 
   bool contains(double v) const;
   // "is not in [0, 1]", "must be > 0", ...

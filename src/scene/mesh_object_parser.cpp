@@ -20,11 +20,11 @@ int segments(const JsonReader& src) {
 
 // A size given as one number (all edges equal) or as `n` numbers.
 std::vector<double> sizes(const JsonReader& r, size_t n) {
-  if (r.json().is_number()) return std::vector<double>(n, r.number(Range::positive()));
+  if (r.json().is_number()) return std::vector<double>(n, r.number(Range::length()));
   if (!r.json().is_array())
     r.fail(fmt::format("expected a positive number or an array of {} positive numbers, got {}", n,
                        r.describe()));
-  return r.numbers(n, Range::positive());
+  return r.numbers(n, Range::length());
 }
 
 Mesh make_primitive(const JsonReader& src) {
@@ -32,7 +32,7 @@ Mesh make_primitive(const JsonReader& src) {
       src.get("primitive").choice({"sphere", "box", "cylinder", "torus", "quad"});
   if (kind == "sphere") {
     src.check_keys({"primitive", "radius", "segments"});
-    return make_sphere(src.get("radius").number(Range::positive()), segments(src));
+    return make_sphere(src.get("radius").number(Range::length()), segments(src));
   }
   if (kind == "box") {
     src.check_keys({"primitive", "size"});
@@ -41,14 +41,14 @@ Mesh make_primitive(const JsonReader& src) {
   }
   if (kind == "cylinder") {
     src.check_keys({"primitive", "radius", "height", "segments"});
-    return make_cylinder(src.get("radius").number(Range::positive()),
-                         src.get("height").number(Range::positive()), segments(src));
+    return make_cylinder(src.get("radius").number(Range::length()),
+                         src.get("height").number(Range::length()), segments(src));
   }
   if (kind == "torus") {
     src.check_keys({"primitive", "major_radius", "minor_radius", "segments"});
-    double major = src.get("major_radius").number(Range::positive());
+    double major = src.get("major_radius").number(Range::length());
     JsonReader minor_reader = src.get("minor_radius");
-    double minor = minor_reader.number(Range::positive());
+    double minor = minor_reader.number(Range::length());
     if (minor >= major)
       minor_reader.fail(
           fmt::format("{} must be less than major_radius {} (the torus would "
@@ -106,7 +106,7 @@ MeshInterior parse_interior(const JsonReader& r) {
   if (auto v = r.find("color")) interior.color = v->color();
   if (auto v = r.find("opacity"))
     interior.opacity = static_cast<float>(v->number(Range::closed(0.0, 1.0)));
-  if (auto v = r.find("unit_distance")) interior.unit_distance = v->number(Range::positive());
+  if (auto v = r.find("unit_distance")) interior.unit_distance = v->number(Range::length());
   return interior;
 }
 

@@ -26,10 +26,9 @@ Shading parse_shading(const JsonReader& r) {
   Shading s;
   s.enabled = true;
   if (auto v = r.find("enabled")) s.enabled = v->boolean();
-  if (auto v = r.find("ambient")) s.ambient = static_cast<float>(v->number(Range::non_negative()));
-  if (auto v = r.find("diffuse")) s.diffuse = static_cast<float>(v->number(Range::non_negative()));
-  if (auto v = r.find("specular"))
-    s.specular = static_cast<float>(v->number(Range::non_negative()));
+  if (auto v = r.find("ambient")) s.ambient = static_cast<float>(v->number(Range::gain()));
+  if (auto v = r.find("diffuse")) s.diffuse = static_cast<float>(v->number(Range::gain()));
+  if (auto v = r.find("specular")) s.specular = static_cast<float>(v->number(Range::gain()));
   if (auto v = r.find("shininess"))
     s.shininess = static_cast<float>(v->number(Range::closed(0.0, 10000.0)));
   return s;

@@ -49,7 +49,7 @@ PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
   if (volume != nullptr) world_bounds(*volume, lo, hi);
 
   if (auto v = r.find("center"))
-    p.center = v->vec3();
+    p.center = v->vec3(Range::coordinate());
   else if (volume != nullptr)
     p.center = 0.5 * (lo + hi);
   else
@@ -65,9 +65,9 @@ PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
   }
   if (auto v = r.find("size")) {
     if (v->json().is_number())
-      p.size = glm::dvec2(v->number(Range::positive()));
+      p.size = glm::dvec2(v->number(Range::length()));
     else if (v->json().is_array())
-      p.size = v->vec2(Range::positive());
+      p.size = v->vec2(Range::length());
     else
       v->fail("expected a positive number or [width, height], got " + v->describe());
   } else if (volume != nullptr) {

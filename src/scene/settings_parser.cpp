@@ -42,15 +42,15 @@ std::vector<std::vector<std::string>> parse_mixing_priority(const JsonReader& r)
 Camera parse_camera(const JsonReader& r) {
   r.check_keys({"eye", "target", "up", "fov_deg", "projection", "ortho_height"});
   Camera cam;
-  if (auto v = r.find("eye")) cam.eye = v->vec3();
-  if (auto v = r.find("target")) cam.target = v->vec3();
+  if (auto v = r.find("eye")) cam.eye = v->vec3(Range::coordinate());
+  if (auto v = r.find("target")) cam.target = v->vec3(Range::coordinate());
   if (auto v = r.find("up")) cam.up = v->direction();
   if (auto v = r.find("fov_deg")) cam.fov_deg = v->number(Range::open(0.0, 180.0));
   if (auto v = r.find("projection"))
     cam.projection = v->choice({"perspective", "orthographic"}) == "perspective"
                          ? Projection::perspective
                          : Projection::orthographic;
-  if (auto v = r.find("ortho_height")) cam.ortho_height = v->number(Range::positive());
+  if (auto v = r.find("ortho_height")) cam.ortho_height = v->number(Range::length());
   glm::dvec3 view = cam.target - cam.eye;
   if (glm::length(view) < 1e-9)
     r.fail(fmt::format("eye and target are the same point [{}, {}, {}]", cam.eye.x, cam.eye.y,
@@ -90,7 +90,7 @@ std::vector<Light> parse_lights(const JsonReader& r) {
     else if (auto v = e.find("direction"))
       v->fail("only directional lights have a direction (a headlight shines along the view)");
     if (auto v = e.find("intensity"))
-      light.intensity = static_cast<float>(v->number(Range::non_negative()));
+      light.intensity = static_cast<float>(v->number(Range::gain()));
     if (auto v = e.find("color")) light.color = v->color();
     lights.push_back(light);
   }

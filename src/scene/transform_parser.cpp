@@ -36,7 +36,7 @@ glm::dmat4 parse_transform(const JsonReader& r) {
     m = parse_matrix(*v);
   } else {
     glm::dvec3 translate(0.0), rotate(0.0), scale(1.0);
-    if (auto v = r.find("translate")) translate = v->vec3();
+    if (auto v = r.find("translate")) translate = v->vec3(Range::coordinate());
     if (auto v = r.find("rotate_deg")) rotate = v->vec3();
     if (auto v = r.find("scale")) {
       if (v->json().is_number())
@@ -60,6 +60,15 @@ glm::dmat4 parse_transform(const JsonReader& r) {
   double det = glm::determinant(a);
   if (!(norm > 0.0) || std::abs(det) <= 1e-9 * norm)
     r.fail(fmt::format("transform is singular (determinant {})", det));
+  for (int axis = 0; axis < 3; ++axis) {
+    double stretch = glm::length(a[axis]);
+    if (stretch < kMinScale || stretch > kMaxScale)
+      r.fail(fmt::format("transform stretches axis {} by {:g}; allowed: {:g} to {:g}", "xyz"[axis],
+                         stretch, kMinScale, kMaxScale));
+    if (std::abs(m[3][axis]) > kMaxCoordinateMm)
+      r.fail(fmt::format("transform moves {} by {:g} mm; allowed: within {:g} mm of the origin",
+                         "xyz"[axis], m[3][axis], kMaxCoordinateMm));
+  }
   return m;
 }
 

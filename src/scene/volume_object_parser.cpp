@@ -1,5 +1,6 @@
 // Parser for a "volume" object: its source, placement, style, transfer function and clipping.
 #include <algorithm>
+#include <cmath>
 #include <exception>
 #include <functional>
 #include <system_error>
@@ -86,7 +87,12 @@ TransferFunction parse_transfer_function(const JsonReader& r) {
                       point.value, tf.points.back().value));
     tf.points.push_back(point);
   }
-  if (auto v = r.find("unit_distance")) tf.unit_distance = v->number(Range::positive());
+  // The table is indexed in float: the whole span must be a finite float too.
+  if (!std::isfinite(static_cast<float>(tf.points.back().value) -
+                     static_cast<float>(tf.points.front().value)))
+    points.fail(fmt::format("the values span [{}, {}], wider than a float can hold",
+                            tf.points.front().value, tf.points.back().value));
+  if (auto v = r.find("unit_distance")) tf.unit_distance = v->number(Range::length());
   return tf;
 }
 
@@ -95,7 +101,7 @@ std::vector<ClipPlane> parse_clip_planes(const JsonReader& r) {
   for (const JsonReader& e : r.elements()) {
     e.check_keys({"point", "normal"});
     ClipPlane plane;
-    plane.point = e.get("point").vec3();
+    plane.point = e.get("point").vec3(Range::coordinate());
     plane.normal = e.get("normal").direction();
     planes.push_back(plane);
   }

@@ -1,6 +1,7 @@
 #include "volume/tf_lut.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include <fmt/format.h>
 
@@ -43,6 +44,11 @@ TfLut::TfLut(const TransferFunction& tf) {
   lo_ = static_cast<float>(tf.points.front().value);
   hi_ = static_cast<float>(tf.points.back().value);
   if (hi_ <= lo_) hi_ = lo_ + 1.0f;
+  if (!std::isfinite(hi_ - lo_))
+    throw Error(
+        fmt::format("transfer_function.points: the values span [{}, {}], wider than a "
+                    "float can hold",
+                    tf.points.front().value, tf.points.back().value));
   inv_step_ = static_cast<float>(kSize - 1) / (hi_ - lo_);
   table_.resize(kSize);
   for (int i = 0; i < kSize; ++i) {

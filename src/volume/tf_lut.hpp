@@ -21,7 +21,7 @@ class TfLut {
   // Straight RGB and the opacity of unit_distance() mm, linearly interpolated between entries.
   glm::vec4 lookup(float value) const {
     float x = (value - lo_) * inv_step_;
-    x = std::clamp(x, 0.0f, static_cast<float>(kSize - 1));
+    x = x > 0.0f ? std::min(x, static_cast<float>(kSize - 1)) : 0.0f;  // NaN goes to 0
     int i = std::min(static_cast<int>(x), kSize - 2);
     float f = x - static_cast<float>(i);
     return table_[i] + f * (table_[i + 1] - table_[i]);

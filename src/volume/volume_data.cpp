@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "core/limits.hpp"
 #include "core/math.hpp"
 #include "intermix/error.hpp"
 #include "intermix/volume.hpp"
@@ -57,10 +58,32 @@ void VolumeData::validate(const std::string& what) const {
   if (stored != voxel_count())
     throw Error(fmt::format("{}: holds {} voxels, dimensions {}x{}x{} need {}", what, stored,
                             dims.x, dims.y, dims.z, voxel_count()));
+  if (const auto* f = std::get_if<std::vector<float>>(&voxels)) {
+    // A NaN or inf voxel has no place on a transfer function and breaks every min/max bound.
+    auto bad = std::find_if(f->begin(), f->end(), [](float v) { return !std::isfinite(v); });
+    if (bad != f->end()) {
+      size_t at = static_cast<size_t>(bad - f->begin());
+      size_t count = std::count_if(bad, f->end(), [](float v) { return !std::isfinite(v); });
+      size_t row = static_cast<size_t>(dims.x), slice = row * static_cast<size_t>(dims.y);
+      throw Error(
+          fmt::format("{}: voxel ({}, {}, {}) is {} ({} non-finite voxels in all); "
+                      "voxel values must be finite",
+                      what, at % row, at % slice / row, at / slice, *bad, count));
+    }
+  }
   if (!all_finite(index_to_world))
     throw Error(fmt::format("{}: the index-to-world transform has a non-finite entry", what));
   if (std::abs(glm::determinant(glm::dmat3(index_to_world))) < 1e-12)
     throw Error(fmt::format("{}: the index-to-world transform is singular", what));
+  const glm::dvec3 pitch = spacing();
+  for (int axis = 0; axis < 3; ++axis) {
+    if (pitch[axis] < kMinLengthMm || pitch[axis] > kMaxLengthMm)
+      throw Error(fmt::format("{}: voxel spacing {:g} mm along axis {} is outside {:g} to {:g} mm",
+                              what, pitch[axis], axis, kMinLengthMm, kMaxLengthMm));
+    if (std::abs(index_to_world[3][axis]) > kMaxCoordinateMm)
+      throw Error(fmt::format("{}: origin {:g} mm along axis {} is more than {:g} mm from 0", what,
+                              index_to_world[3][axis], axis, kMaxCoordinateMm));
+  }
 }
 
 }  // namespace imx

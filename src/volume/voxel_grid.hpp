@@ -21,7 +21,7 @@ struct VoxelGrid {
   // operation of every ray marcher, and compilers otherwise keep it a call.
   [[gnu::always_inline]] float sample(glm::vec3 p) const {
     glm::vec3 hi = glm::vec3(dims - 1);
-    p = glm::clamp(p, glm::vec3(0.0f), hi);
+    p = {clamp_index(p.x, hi.x), clamp_index(p.y, hi.y), clamp_index(p.z, hi.z)};
     glm::ivec3 i0 = glm::min(glm::ivec3(p), glm::max(dims - 2, glm::ivec3(0)));
     glm::vec3 f = p - glm::vec3(i0);
     size_t sx = 1, sy = static_cast<size_t>(dims.x), sz = sy * dims.y;
@@ -46,6 +46,9 @@ struct VoxelGrid {
                             sample(p + glm::vec3(0, 1, 0)) - sample(p - glm::vec3(0, 1, 0)),
                             sample(p + glm::vec3(0, 0, 1)) - sample(p - glm::vec3(0, 0, 1)));
   }
+
+  // v clamped to [0, hi], NaN to 0: the index sample() computes from it is always in the grid.
+  static float clamp_index(float v, float hi) { return v > 0.0f ? (v < hi ? v : hi) : 0.0f; }
 
   bool inside(glm::vec3 p) const {
     return p.x >= 0.0f && p.y >= 0.0f && p.z >= 0.0f && p.x <= dims.x - 1 && p.y <= dims.y - 1 &&

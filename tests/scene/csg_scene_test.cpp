@@ -457,7 +457,7 @@ TEST(CsgSceneErrors, InteriorValues) {
   EXPECT_CONTAINS(error(R"("interior": {"opacity": 2})"),
                   "scene.json: objects[0].interior.opacity: 2 is not in [0, 1]");
   EXPECT_CONTAINS(error(R"("interior": {"unit_distance": 0})"),
-                  "scene.json: objects[0].interior.unit_distance: 0 must be > 0");
+                  "scene.json: objects[0].interior.unit_distance: 0 is not in [1e-06, 1000000]");
   EXPECT_CONTAINS(error(R"("interior": {"colour": [1, 0, 0]})"),
                   "scene.json: objects[0].interior.colour: unknown key (did you mean 'color'?)");
   EXPECT_CONTAINS(error(R"("interior": {"color": [2, 0, 0]})"),

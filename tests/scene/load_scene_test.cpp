@@ -421,7 +421,7 @@ TEST(ParseSceneErrors, OutOfRangeValues) {
   EXPECT_CONTAINS(parse_error(R"({"objects": [], "render": {"layers": 2}})"),
                   "render.layers: 2 is not in [4, 64]");
   EXPECT_CONTAINS(parse_error(R"({"objects": [], "lights": [{"intensity": -1}]})"),
-                  "lights[0].intensity: -1 must be >= 0");
+                  "lights[0].intensity: -1 is not in [0, 1000]");
   EXPECT_CONTAINS(parse_error(with_objects(R"({"name": "t", "type": "mesh", "source":
       {"primitive": "torus", "major_radius": 2, "minor_radius": 3}})")),
                   "objects[0].source.minor_radius: 3 must be less than major_radius 2");
@@ -585,7 +585,7 @@ TEST(ParseSceneErrors, VolumeSettings) {
   EXPECT_CONTAINS(error("objects.ct.transfer_function.points=[]"),
                   "objects[0].transfer_function.points: needs at least one point");
   EXPECT_CONTAINS(error("objects.ct.transfer_function.unit_distance=0"),
-                  "objects[0].transfer_function.unit_distance: 0 must be > 0");
+                  "objects[0].transfer_function.unit_distance: 0 is not in [1e-06, 1000000]");
   EXPECT_CONTAINS(error("objects.ct.style=iso"), "objects[0]: missing required key 'iso_value'");
   EXPECT_CONTAINS(error("objects.ct.style=surface"), "objects[0].style: \"surface\" is not one of");
   EXPECT_CONTAINS(error("objects.ct.source.size=64"), "objects[0].source.size: only phantoms");
@@ -656,7 +656,27 @@ TEST(ParseSceneErrors, NumbersTooLargeForAFloatAreRefusedWithTheirPath) {
                   "camera.eye[1]: -1e+308 is too large: numbers are used as floats");
   EXPECT_CONTAINS(parse_error(R"({"objects": []})", {"camera.ortho_height=1e308"}),
                   "camera.ortho_height: 1e+308 is too large");
-  EXPECT_NO_THROW(parse(R"({"camera": {"eye": [0, -1e30, 0]}, "objects": []})"));
+}
+
+TEST(ParseSceneErrors, GeometryOutsideTheLimitsIsRefusedWithItsPath) {
+  // Finite as floats, but their squares and products would not be.
+  EXPECT_CONTAINS(parse_error(R"({"camera": {"eye": [0, -1e30, 0]}, "objects": []})"),
+                  "camera.eye[1]: -1e+30 is not in [-1000000, 1000000]");
+  EXPECT_CONTAINS(parse_error(R"({"objects": []})", {"camera.ortho_height=1e30"}),
+                  "camera.ortho_height: 1e+30 is not in [1e-06, 1000000]");
+  EXPECT_CONTAINS(parse_error(with_objects(R"({"name": "b", "type": "mesh", "source":
+      {"primitive": "sphere", "radius": 1e-30}})")),
+                  "objects[0].source.radius: 1e-30 is not in [1e-06, 1000000]");
+  EXPECT_CONTAINS(parse_error(with_objects(R"({"name": "b", "type": "mesh", "source":
+      {"primitive": "sphere", "radius": 1}, "transform": {"scale": 1e20}})")),
+                  "objects[0].transform: transform stretches axis x by 1e+20");
+  EXPECT_CONTAINS(parse_error(with_objects(R"({"name": "b", "type": "mesh", "source":
+      {"primitive": "sphere", "radius": 1}, "transform": {"matrix":
+      [[1, 0, 0, 0], [0, 1, 0, 5e9], [0, 0, 1, 0], [0, 0, 0, 1]]}})")),
+                  "transform moves y by 5e+09 mm");
+  EXPECT_CONTAINS(parse_error(R"({"objects": [], "lights": [{"intensity": 1e30}]})"),
+                  "lights[0].intensity: 1e+30 is not in [0, 1000]");
+  EXPECT_NO_THROW(parse(R"({"camera": {"eye": [0, -1e6, 0]}, "objects": []})"));
 }
 
 }  // namespace

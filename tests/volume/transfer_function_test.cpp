@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 
 #include "intermix/error.hpp"
@@ -54,6 +55,31 @@ TEST(OpacityCorrection, MatchesTheClosedForm) {
   EXPECT_NEAR(correct_opacity(0.19f, 0.25f, 0.5f), 1.0f - std::sqrt(0.81f), 1e-6f);
   EXPECT_EQ(correct_opacity(0.0f, 3.0f, 1.0f), 0.0f);
   EXPECT_EQ(correct_opacity(1.0f, 0.1f, 1.0f), 1.0f);
+}
+
+}  // namespace
+}  // namespace imx
+
+namespace imx {
+namespace {
+
+TEST(TransferFunction, NonFiniteAndExtremeValuesReadTheEndEntries) {
+  TfLut lut(ramp());
+  EXPECT_EQ(lut.lookup(std::numeric_limits<float>::quiet_NaN()), lut.entries().front());
+  EXPECT_EQ(lut.lookup(-std::numeric_limits<float>::max()), lut.entries().front());
+  EXPECT_EQ(lut.lookup(std::numeric_limits<float>::max()), lut.entries().back());
+  EXPECT_EQ(lut.lookup(std::numeric_limits<float>::infinity()), lut.entries().back());
+}
+
+TEST(TransferFunction, ASpanWiderThanAFloatIsRefused) {
+  TransferFunction tf;
+  tf.points = {{-3e38, {0, 0, 0, 0}}, {3e38, {1, 1, 1, 1}}};
+  try {
+    TfLut lut(tf);
+    ADD_FAILURE() << "a span of 6e38 should be refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("wider than a float"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
