@@ -32,9 +32,9 @@ Command add_band(CLI::App& app) {
       ->required()
       ->delimiter(',')
       ->expected(2);
-  app.add_option("--radius", o->radius, "band half-width in pixels")->check(CLI::NonNegativeNumber);
+  app.add_option("--radius", o->radius, "band half-width in pixels")->check(in_range(0, 4096));
   app.add_option("--opacity", o->opacity, "accumulated opacity that counts as a volume's hit")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(in_range(0.0, 1.0));
   app.add_option("--mask-out", o->mask_out, "write the band as a PNG mask");
   app.add_flag("--json", o->json, "print one JSON object on stdout");
   return [o]() {

@@ -136,12 +136,12 @@ Command add_bench(CLI::App& app) {
                  "LABEL:key=value,key=value: extra --set overrides timed as their own row for "
                  "every method (repeatable; 'LABEL:' alone is the scene as it is)");
   app.add_option("--frames", o->frames, "timed frames after one warm-up frame")
-      ->check(CLI::PositiveNumber);
-  app.add_option("--width", o->width, "image width")->check(CLI::PositiveNumber);
-  app.add_option("--height", o->height, "image height")->check(CLI::PositiveNumber);
-  app.add_option("--spp", o->spp, "samples per pixel")->check(CLI::PositiveNumber);
+      ->check(in_range(1, 100000));
+  app.add_option("--width", o->width, "image width")->check(in_range(1, kMaxImageSide));
+  app.add_option("--height", o->height, "image height")->check(in_range(1, kMaxImageSide));
+  app.add_option("--spp", o->spp, "samples per pixel")->check(in_range(1, kMaxSpp));
   app.add_option("--threads", o->threads, "worker threads (default: all cores)")
-      ->check(CLI::Range(0, kMaxThreads));
+      ->check(in_range(0, kMaxThreads));
   app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");
   app.add_flag("--vtk", o->vtk,
                "also time the VTK peer (vtk_peer.py) on the same scene, image size and sample "

@@ -24,7 +24,7 @@ Command add_compare(CLI::App& app) {
   app.add_option("b", o->b, "second image")->required();
   app.add_option("--heat-map", o->heat_map, "write a PNG heat map of the per-pixel error");
   app.add_option("--scale", o->scale, "heat-map gain: an error of 1/scale is full heat")
-      ->check(CLI::PositiveNumber);
+      ->check(in_range(1e-6, 1e6));
   app.add_flag("--json", o->json, "print one JSON object on stdout");
   return [o]() {
     Image a = read_png(o->a), b = read_png(o->b);

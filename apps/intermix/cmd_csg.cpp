@@ -172,11 +172,11 @@ Command add_csg(CLI::App& app) {
                "also classify one ray per pixel as the csg method does: intervals per ray (PSI), "
                "accepted ranges, per-step tests, inconsistent rays");
   app.add_option("--width", o->width, "image width for --intervals (overrides the scene)")
-      ->check(CLI::PositiveNumber);
+      ->check(in_range(1, kMaxImageSide));
   app.add_option("--height", o->height, "image height for --intervals (overrides the scene)")
-      ->check(CLI::PositiveNumber);
+      ->check(in_range(1, kMaxImageSide));
   app.add_option("--threads", o->threads, "worker threads for --intervals (default: all cores)")
-      ->check(CLI::Range(0, kMaxThreads));
+      ->check(in_range(0, kMaxThreads));
   app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");
   return [o]() {
     std::vector<std::string> overrides = o->overrides;

@@ -25,13 +25,13 @@ Command add_render(CLI::App& app) {
   app.add_option("-o,--output", o->output, "output PNG")->required();
   app.add_option("--method", o->method, "rendering method (default: the scene's, else reference)");
   app.add_option("--width", o->width, "image width in pixels (overrides the scene)")
-      ->check(CLI::PositiveNumber);
+      ->check(in_range(1, kMaxImageSide));
   app.add_option("--height", o->height, "image height in pixels (overrides the scene)")
-      ->check(CLI::PositiveNumber);
+      ->check(in_range(1, kMaxImageSide));
   app.add_option("--spp", o->spp, "samples per pixel, a perfect square (1, 4, 16, 64, ...)")
-      ->check(CLI::PositiveNumber);
+      ->check(in_range(1, kMaxSpp));
   app.add_option("--threads", o->threads, "worker threads (default: all cores)")
-      ->check(CLI::Range(0, kMaxThreads));
+      ->check(in_range(0, kMaxThreads));
   app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");
   app.add_flag("--linear", o->linear, "write linear instead of sRGB-encoded colour");
   return [o]() {

@@ -23,11 +23,11 @@ Command add_zfight(CLI::App& app) {
   auto o = std::make_shared<Options>();
   app.add_option("scene", o->scene, "scene file (JSON) with coplanar surfaces")->required();
   app.add_option("--method", o->methods, "method to measure (repeatable; default: the scene's)");
-  app.add_option("--width", o->width, "image width")->check(CLI::PositiveNumber);
-  app.add_option("--height", o->height, "image height")->check(CLI::PositiveNumber);
-  app.add_option("--spp", o->spp, "samples per pixel")->check(CLI::PositiveNumber);
+  app.add_option("--width", o->width, "image width")->check(in_range(1, kMaxImageSide));
+  app.add_option("--height", o->height, "image height")->check(in_range(1, kMaxImageSide));
+  app.add_option("--spp", o->spp, "samples per pixel")->check(in_range(1, kMaxSpp));
   app.add_option("--threads", o->threads, "worker threads (default: all cores)")
-      ->check(CLI::Range(0, kMaxThreads));
+      ->check(in_range(0, kMaxThreads));
   app.add_option("--jitter", o->jitter, "camera shift in pixels, x y (default 0.37 0.21)")
       ->expected(2);
   app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");

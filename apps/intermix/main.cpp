@@ -1,13 +1,17 @@
 // intermix: the command-line program (render, compare, info, phantom, bench).
+#include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <map>
+#include <new>
 
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
 #include "core/progress_bar.hpp"
 #include "intermix/error.hpp"
+#include "intermix/limits.hpp"
 
 namespace imx::cli {
 namespace {
@@ -22,6 +26,43 @@ bool quiet() {
 void set_quiet(bool quiet) {
   quiet_flag = quiet;
 }
+
+namespace {
+
+// "8G", "512M", "1.5GiB", "300k", or bytes: a size in bytes, 0 when the text is none of those.
+uint64_t parse_byte_size(const std::string& text) {
+  size_t used = 0;
+  double number = 0.0;
+  try {
+    number = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return 0;
+  }
+  std::string unit = text.substr(used);
+  for (char& c : unit) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (unit.size() > 1 && unit.back() == 'b') unit.pop_back();  // "GB", "GiB"
+  if (unit.size() > 1 && unit.back() == 'i') unit.pop_back();
+  double scale = unit.empty()  ? 1.0
+                 : unit == "k" ? 1024.0
+                 : unit == "m" ? 1024.0 * 1024
+                 : unit == "g" ? 1024.0 * 1024 * 1024
+                 : unit == "t" ? 1024.0 * 1024 * 1024 * 1024
+                               : 0.0;
+  double bytes = number * scale;
+  return std::isfinite(bytes) && bytes >= 1.0 && bytes < 1.8e19 ? static_cast<uint64_t>(bytes) : 0;
+}
+
+}  // namespace
+
+CLI::Validator byte_size() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        return parse_byte_size(text) != 0
+                   ? std::string()
+                   : text + " is not a size (give bytes, or a number with K, M, G or T)";
+      },
+      "SIZE");
+}
 }  // namespace imx::cli
 
 int main(int argc, char** argv) {
@@ -29,6 +70,15 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   bool quiet = false;
   app.add_flag("-q,--quiet", quiet, "no progress bars or timing lines");
+  std::string max_memory;
+  bool allow_external_data = false;
+  app.add_option("--max-memory", max_memory,
+                 fmt::format("memory one input or frame may ask for, e.g. 8G (default: half of "
+                             "physical memory, {})",
+                             imx::format_bytes(imx::default_memory_budget())))
+      ->check(imx::cli::byte_size());
+  app.add_flag("--allow-external-data", allow_external_data,
+               "let volume headers name data files outside their own folder");
   std::map<CLI::App*, imx::cli::Command> commands;
   auto add = [&](const char* name, const char* help, auto adder) {
     CLI::App* sub = app.add_subcommand(name, help);
@@ -50,10 +100,20 @@ int main(int argc, char** argv) {
     return app.exit(e);
   }
   imx::cli::set_quiet(quiet);
+  imx::InputLimits limits;
+  if (!max_memory.empty()) limits.max_memory = imx::cli::parse_byte_size(max_memory);
+  limits.allow_external_data = allow_external_data;
+  imx::set_input_limits(limits);
   try {
     for (CLI::App* sub : app.get_subcommands()) return commands.at(sub)();
   } catch (const imx::Error& e) {
     std::fprintf(stderr, "intermix: error: %s\n", e.what());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr,
+                 "intermix: error: out of memory: the machine could not give what the input asked "
+                 "for within the memory budget of %s (lower it with --max-memory)\n",
+                 imx::format_bytes(imx::input_limits().max_memory).c_str());
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "intermix: unexpected error: %s\n", e.what());

@@ -10,6 +10,7 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <assimp/Importer.hpp>
 #include <glm/glm.hpp>
 
@@ -17,8 +18,12 @@
 #include "core/math.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
+#include "io/assimp_guard.hpp"
+#include "io/gltf_check.hpp"
+#include "io/header_text.hpp"
 #include "io/mesh_primitives.hpp"
 #include "io/ply_reader.hpp"
+#include "io/polygon_check.hpp"
 #include "io/regular_file.hpp"
 
 namespace imx {
@@ -31,39 +36,44 @@ glm::dmat4 to_glm(const aiMatrix4x4& m) {
   return out;
 }
 
-// Appends the triangles of every mesh under `node`, in world (file) units.
-void collect(const aiScene& scene, const aiNode& node, const glm::dmat4& parent, Mesh& out,
-             bool& all_have_normals) {
-  const glm::dmat4 m = parent * to_glm(node.mTransformation);
-  const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(m)));
-  const bool mirrored = glm::determinant(glm::dmat3(m)) < 0.0;
-  for (unsigned k = 0; k < node.mNumMeshes; ++k) {
-    const aiMesh& mesh = *scene.mMeshes[node.mMeshes[k]];
-    const auto base = static_cast<uint32_t>(out.positions.size());
-    all_have_normals = all_have_normals && mesh.HasNormals();
-    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
-      const aiVector3D& p = mesh.mVertices[v];
-      out.positions.emplace_back(transform_point(m, {p.x, p.y, p.z}));
-      glm::dvec3 n(0.0);
-      if (mesh.HasNormals()) {
-        const aiVector3D& a = mesh.mNormals[v];
-        n = normal_matrix * glm::dvec3(a.x, a.y, a.z);
-        double len = glm::length(n);
-        // assimp leaves NaN normals on degenerate faces: a zero normal means "none" to shading.
-        n = (std::isfinite(len) && len > 0.0) ? n / len : glm::dvec3(0.0);
+// Appends the triangles of every mesh in the node tree, in world (file) units. An explicit
+// stack: a file's tree may be deep.
+void collect(const aiScene& scene, Mesh& out, bool& all_have_normals) {
+  std::vector<std::pair<const aiNode*, glm::dmat4>> stack{{scene.mRootNode, glm::dmat4(1.0)}};
+  while (!stack.empty()) {
+    auto [node, parent] = stack.back();
+    stack.pop_back();
+    const glm::dmat4 m = parent * to_glm(node->mTransformation);
+    const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(m)));
+    const bool mirrored = glm::determinant(glm::dmat3(m)) < 0.0;
+    for (unsigned k = 0; k < node->mNumMeshes; ++k) {
+      if (node->mMeshes[k] >= scene.mNumMeshes) continue;
+      const aiMesh& mesh = *scene.mMeshes[node->mMeshes[k]];
+      const auto base = static_cast<uint32_t>(out.positions.size());
+      all_have_normals = all_have_normals && mesh.HasNormals();
+      for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+        const aiVector3D& p = mesh.mVertices[v];
+        out.positions.emplace_back(transform_point(m, {p.x, p.y, p.z}));
+        glm::dvec3 n(0.0);
+        if (mesh.HasNormals()) {
+          const aiVector3D& a = mesh.mNormals[v];
+          n = normal_matrix * glm::dvec3(a.x, a.y, a.z);
+          double len = glm::length(n);
+          // assimp leaves NaN normals on degenerate faces: a zero normal means "none" to shading.
+          n = (std::isfinite(len) && len > 0.0) ? n / len : glm::dvec3(0.0);
+        }
+        out.normals.emplace_back(n);
       }
-      out.normals.emplace_back(n);
+      for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+        const aiFace& face = mesh.mFaces[f];
+        if (face.mNumIndices != 3) continue;  // points and lines left by the importer
+        glm::uvec3 t(base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]);
+        if (mirrored) std::swap(t.y, t.z);
+        out.triangles.push_back(t);
+      }
     }
-    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
-      const aiFace& face = mesh.mFaces[f];
-      if (face.mNumIndices != 3) continue;  // points and lines left by the importer
-      glm::uvec3 t(base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]);
-      if (mirrored) std::swap(t.y, t.z);
-      out.triangles.push_back(t);
-    }
+    for (unsigned c = node->mNumChildren; c-- > 0;) stack.emplace_back(node->mChildren[c], m);
   }
-  for (unsigned c = 0; c < node.mNumChildren; ++c)
-    collect(scene, *node.mChildren[c], m, out, all_have_normals);
 }
 
 // PLY by extension or by its first line, whatever the extension says.
@@ -76,8 +86,22 @@ bool is_ply(const std::filesystem::path& file) {
   return std::memcmp(head, "ply", 3) == 0 && (head[3] == '\n' || head[3] == '\r');
 }
 
+// The formats assimp reads for intermix, by extension (others are refused rather than handed
+// to one of assimp's forty importers).
+constexpr const char* kAssimpFormats[] = {".obj", ".stl", ".off", ".gltf", ".glb"};
+
 Mesh read_with_assimp(const std::filesystem::path& file) {
+  const std::string ext = detail::lower(file.extension().string());
+  if (std::find(std::begin(kAssimpFormats), std::end(kAssimpFormats), ext) ==
+      std::end(kAssimpFormats))
+    throw Error(fmt::format("{}: '{}' is not a mesh format intermix reads (it reads .ply, {})",
+                            file.string(), ext, fmt::join(kAssimpFormats, ", ")));
+  if (ext == ".gltf" || ext == ".glb") detail::check_gltf(file);
+  if (ext == ".obj") detail::check_obj_polygons(file);
+  if (ext == ".off") detail::check_off(file);
   Assimp::Importer importer;
+  importer.SetIOHandler(new detail::GuardedIOSystem(file));
+  detail::AssimpErrorLog errors;
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   // GenSmoothNormals only fills meshes that have no normals: the file's own normals are kept.
@@ -85,15 +109,15 @@ Mesh read_with_assimp(const std::filesystem::path& file) {
                          aiProcess_GenSmoothNormals | aiProcess_SortByPType;
   const aiScene* scene = importer.ReadFile(file.string(), flags);
   if (scene == nullptr || scene->mRootNode == nullptr ||
-      (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0) {
-    std::string why = importer.GetErrorString();
+      (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || !errors.first_error().empty()) {
+    std::string why = scene == nullptr ? importer.GetErrorString() : errors.first_error();
     throw Error(fmt::format("{}: cannot read the mesh: {}", file.string(),
                             why.empty() ? "assimp returned no scene" : why));
   }
 
   Mesh mesh;
   bool all_have_normals = true;
-  collect(*scene, *scene->mRootNode, glm::dmat4(1.0), mesh, all_have_normals);
+  collect(*scene, mesh, all_have_normals);
   if (!all_have_normals) mesh.normals.clear();
   return mesh;
 }

@@ -245,11 +245,9 @@ VolumeData read_metaimage(const std::filesystem::path& file) {
     if (lower(data_name).rfind("list", 0) == 0 || data_name.find('%') != std::string::npos)
       throw h.bad("ElementDataFile", data_name,
                   "lists several files; only LOCAL or one data file is supported");
-    data_path = std::filesystem::path(data_name);
-    if (data_path.is_relative()) data_path = file.parent_path() / data_path;
+    data_path = resolve_data_file(file, data_name, "field 'ElementDataFile'");
     data_what = fmt::format("{} (data file of {})", data_path.string(), what);
     in.close();
-    require_regular_file(data_path, data_what);
     in.open(data_path, std::ios::binary);
     if (!in) throw Error(fmt::format("{}: cannot open the data file", data_what));
     start = 0;

@@ -359,11 +359,9 @@ VolumeData read_nrrd(const std::filesystem::path& file) {
           fmt::format("{}: field 'data file' lists several files; only one detached data "
                       "file is supported",
                       what));
-    data_path = std::filesystem::path(*name);
-    if (data_path.is_relative()) data_path = file.parent_path() / data_path;
+    data_path = resolve_data_file(file, *name, "field 'data file'");
     data_what = fmt::format("{} (data file of {})", data_path.string(), what);
     in.close();
-    require_regular_file(data_path, data_what);
     in.open(data_path, std::ios::binary);
     if (!in) throw Error(fmt::format("{}: cannot open the data file", data_what));
     start = 0;

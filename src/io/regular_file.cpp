@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
+#include "intermix/limits.hpp"
 
 namespace imx {
 namespace {
@@ -46,6 +47,27 @@ void require_regular_file(const std::filesystem::path& file, const std::string& 
     throw Error(fmt::format("{}: no such file", name));
   if (type != std::filesystem::file_type::regular)
     throw Error(fmt::format("{}: {}", name, kind_of(type)));
+}
+
+std::filesystem::path resolve_data_file(const std::filesystem::path& header,
+                                        const std::string& name, const std::string& reference) {
+  std::filesystem::path data = name;
+  const std::filesystem::path folder = header.parent_path();
+  if (data.is_relative()) data = folder / data;
+  const std::string what = fmt::format("{} (data file of {})", data.string(), header.string());
+  if (!input_limits().allow_external_data) {
+    std::error_code ec;
+    const auto inside = std::filesystem::weakly_canonical(folder.empty() ? "." : folder, ec);
+    const auto target = std::filesystem::weakly_canonical(data, ec);
+    const auto relative = target.lexically_relative(inside);
+    if (ec || relative.empty() || *relative.begin() == "..")
+      throw Error(
+          fmt::format("{}: {} names {}, outside the file's folder; pass "
+                      "--allow-external-data to read it",
+                      header.string(), reference, ec ? data.string() : target.string()));
+  }
+  require_regular_file(data, what);
+  return data;
 }
 
 void require_regular_or_new_file(const std::filesystem::path& file) {

@@ -12,6 +12,13 @@ namespace imx {
 // `what` names the file in the message when given (e.g. "x.raw (data file of x.nhdr)").
 void require_regular_file(const std::filesystem::path& file, const std::string& what = {});
 
+// The data file that `reference` in a header names (e.g. "field 'data file'"): relative names
+// resolve against the header's folder.
+// Unless InputLimits::allow_external_data, it must lie inside that folder once links are
+// resolved, so that a header cannot read any file on the machine. Must be a regular file.
+std::filesystem::path resolve_data_file(const std::filesystem::path& header,
+                                        const std::string& name, const std::string& reference);
+
 // Throws imx::Error naming `file` when it exists and is not a regular file (an output may be new).
 void require_regular_or_new_file(const std::filesystem::path& file);
 

@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include "intermix/error.hpp"
+#include "intermix/limits.hpp"
 #include "methods/csg.hpp"
 #include "methods/dfb.hpp"
 #include "methods/kbuffer.hpp"
@@ -59,6 +60,10 @@ int default_spp(const std::string& method) {
 Image render(const Scene& scene, const RenderOptions& options) {
   const std::string method = options.method.empty() ? scene.render.method : options.method;
   int spp = options.spp > 0 ? options.spp : scene.render.spp;
+  // The image and its per-tile sample buffers; kept stage outputs are checked where they are.
+  check_memory(uint64_t{2} * static_cast<uint64_t>(scene.image.width) *
+                   static_cast<uint64_t>(scene.image.height) * sizeof(glm::vec4),
+               fmt::format("a {}x{} image", scene.image.width, scene.image.height));
   for (const MethodEntry& m : kMethods) {
     if (method != m.name) continue;
     if (scene.csg && !m.renders_csg)

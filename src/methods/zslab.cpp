@@ -2,8 +2,11 @@
 
 #include <algorithm>
 
+#include <fmt/format.h>
+
 #include "core/colour.hpp"
 #include "core/parallel.hpp"
+#include "intermix/limits.hpp"
 #include "methods/stage_hash.hpp"
 #include "methods/zslab_buffer.hpp"
 #include "methods/zslab_frame.hpp"
@@ -124,6 +127,9 @@ Image render_zslab_cached(const Scene& scene, int spp, const RenderOptions& opti
   const int w = scene.image.width, h = scene.image.height;
   const size_t spx = z.offsets.size();
   const size_t total = static_cast<size_t>(w) * h * spx;
+  check_memory(static_cast<uint64_t>(static_cast<double>(total) *
+                                     zslab_stream_bytes_per_sample(scene.render)),
+               fmt::format("zslab's kept stage outputs for {}x{} pixels at {} spp", w, h, spx));
 
   // Stage k's key chains the keys of all stages before it.
   std::vector<uint64_t> keys(z.stages.size());

@@ -1,5 +1,6 @@
 // Bad input: one clear message naming the culprit, a non-zero exit, and no output file.
 #include <cstdlib>
+#include <fstream>
 
 #include <gtest/gtest.h>
 
@@ -135,6 +136,52 @@ TEST(CliBadInput, ImagesOfDifferentSizesAreNamedWithTheirSizes) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("a.png is 32x32"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("b.png is 16x32"), std::string::npos) << r.output;
+}
+
+TEST(CliBadInput, MemoryBudgetIsCheckedBeforeAllocating) {
+  auto dir = temp_dir("memory-budget");
+  write_text(dir / "scene.json", scene_with(kQuad));
+  CliResult r = run_cli("--max-memory 1K render " + (dir / "scene.json").string() + " -o " +
+                        (dir / "out.png").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("a 32x32 image needs 32.0 KiB, more than the memory budget of 1.0 KiB"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.png"));
+  r = run_cli("--max-memory 1M render " + (dir / "scene.json").string() + " -o " +
+              (dir / "out.png").string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  r = run_cli("--max-memory 2x render " + (dir / "scene.json").string() + " -o x.png");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("2x is not a size"), std::string::npos) << r.output;
+}
+
+TEST(CliBadInput, APngClaimingHugeDimensionsIsRefusedBeforeDecoding) {
+  auto dir = temp_dir("png-bomb");
+  // Signature, IHDR for 65536 x 32768 RGBA, a 10-byte IDAT and IEND, 69 bytes in all (CRCs of
+  // IHDR and IEND are right; spng reads the header before it checks the rest).
+  const unsigned char png[] = {
+      0x89, 'P',  'N',  'G',  0x0d, 0x0a, 0x1a, 0x0a, 0,    0,    0,   13,  'I', 'H',
+      'D',  'R',  0,    1,    0,    0,    0,    0,    0x80, 0,    8,   6,   0,   0,
+      0,    0x5d, 0xb0, 0x2f, 0x17, 0,    0,    0,    10,   'I',  'D', 'A', 'T', 0x78,
+      0x9c, 0x63, 0x60, 0x00, 0x00, 0x00, 0x02, 0x00, 0x01, 0,    0,   0,   0,   0,
+      0,    0,    0,    'I',  'E',  'N',  'D',  0xae, 0x42, 0x60, 0x82};
+  std::ofstream(dir / "bomb.png", std::ios::binary)
+      .write(reinterpret_cast<const char*>(png), sizeof png);
+  CliResult r =
+      run_cli("compare " + (dir / "bomb.png").string() + " " + (dir / "bomb.png").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("bomb.png"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("cannot inflate to that much"), std::string::npos) << r.output;
+}
+
+TEST(CliBadInput, RangeErrorsPrintShortBounds) {
+  CliResult r = run_cli("compare a.png b.png --scale 1e400");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("1e400 is not in [1e-06, 1e+06]"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("17976931348623157"), std::string::npos) << r.output;
+  r = run_cli("render x.json -o x.png --spp 5000");
+  EXPECT_NE(r.output.find("5000 is not in [1, 1024]"), std::string::npos) << r.output;
 }
 
 }  // namespace

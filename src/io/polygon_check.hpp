@@ -1,0 +1,19 @@
+// Pre-checks of the polygon formats assimp reads (OBJ, OFF): its triangulation is quadratic in
+// a polygon's corners, and its OFF reader clamps or wraps bad indices instead of failing.
+#pragma once
+#include <filesystem>
+
+namespace imx::detail {
+
+// At most this many corners in one polygon.
+inline constexpr size_t kMaxPolygonCorners = 1024;
+
+// Throws imx::Error naming the file and line when an OBJ face has more than kMaxPolygonCorners
+// corners.
+void check_obj_polygons(const std::filesystem::path& file);
+
+// Throws imx::Error naming the file and face for an OFF file whose counts, corner counts or
+// vertex indices are malformed or out of range.
+void check_off(const std::filesystem::path& file);
+
+}  // namespace imx::detail

@@ -1,0 +1,125 @@
+// Hostile mesh files: bad indices, huge polygons, lying glTF sizes, deep or cyclic node trees,
+// and files the mesh names outside its folder are refused with the file and culprit named.
+#include <filesystem>
+#include <string>
+
+#include <sys/stat.h>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "expect_error.hpp"
+#include "intermix/io.hpp"
+#include "intermix/limits.hpp"
+#include "temp_dir.hpp"
+
+namespace imx {
+namespace {
+
+using test::expect_error;
+using test::TempDir;
+using test::write_bytes;
+
+const std::string kTriangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+// One triangle's buffer, view, accessor (of `count` vertices) and mesh.
+std::string positions(const std::string& count = "3") {
+  return R"("buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,)"
+         R"(AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],
+    "bufferViews": [{"buffer": 0, "byteLength": 36}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "type": "VEC3", "count": )" +
+         count + R"(, "min": [0, 0, 0], "max": [1, 1, 0]}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}])";
+}
+
+std::string gltf(const std::string& nodes, const std::string& rest = positions()) {
+  return R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": )" +
+         nodes + ", " + rest + "}";
+}
+
+TEST(MeshHardening, AValidGltfTriangleLoads) {
+  TempDir dir;
+  write_bytes(dir / "t.gltf", gltf(R"([{"mesh": 0}])"));
+  EXPECT_EQ(read_mesh(dir / "t.gltf").triangles.size(), 1u);
+}
+
+TEST(MeshHardening, OffIndicesOutOfRangeOrNegativeAreRefused) {
+  TempDir dir;
+  write_bytes(dir / "a.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 99\n");
+  expect_error([&] { read_mesh(dir / "a.off"); }, {"a.off", "face 0 uses vertex 99", "3 vertices"});
+  write_bytes(dir / "b.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 -5\n");
+  expect_error([&] { read_mesh(dir / "b.off"); }, {"b.off", "'-5'"});
+  write_bytes(dir / "c.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(read_mesh(dir / "c.off").triangles.size(), 1u);
+}
+
+TEST(MeshHardening, PolygonsWithTooManyCornersAreRefused) {
+  TempDir dir;
+  std::string obj;
+  for (int i = 0; i < 2000; ++i) obj += fmt::format("v {} {} 0\n", i, i % 7);
+  obj += "f";
+  for (int i = 1; i <= 2000; ++i) obj += fmt::format(" {}", i);
+  write_bytes(dir / "p.obj", obj + "\n");
+  expect_error([&] { read_mesh(dir / "p.obj"); }, {"p.obj", "line 2001", "2000 corners"});
+}
+
+TEST(MeshHardening, GlbChunksLongerThanTheFileAreRefused) {
+  TempDir dir;
+  // 12-byte header (length 20), then a JSON chunk header claiming 0xFFFFFFF0 bytes.
+  std::string glb("glTF\x02\0\0\0\x14\0\0\0\xF0\xFF\xFF\xFFJSON", 20);
+  write_bytes(dir / "tiny.glb", glb);
+  expect_error([&] { read_mesh(dir / "tiny.glb"); }, {"tiny.glb", "claims 4294967280 bytes"});
+}
+
+TEST(MeshHardening, GltfSizesThatLieAreRefused) {
+  TempDir dir;
+  write_bytes(
+      dir / "buf.gltf",
+      gltf(R"([{"mesh": 0}])", R"("buffers": [{"byteLength": 4000000000, "uri": "data:,"}])"));
+  expect_error([&] { read_mesh(dir / "buf.gltf"); }, {"buf.gltf", "buffers[0].byteLength"});
+  write_bytes(dir / "acc.gltf", gltf(R"([{"mesh": 0}])", positions("300000000")));
+  expect_error([&] { read_mesh(dir / "acc.gltf"); }, {"acc.gltf", "accessors[0]", "does not fit"});
+}
+
+TEST(MeshHardening, DeepSharedOrCyclicNodeTreesAreRefused) {
+  TempDir dir;
+  std::string chain = "[";
+  for (int i = 0; i < 100000; ++i) chain += "{\"children\": [" + std::to_string(i + 1) + "]},";
+  chain += "{\"mesh\": 0}]";
+  write_bytes(dir / "deep.gltf", gltf(chain));
+  expect_error([&] { read_mesh(dir / "deep.gltf"); }, {"deep.gltf", "deeper than 1024"});
+  write_bytes(dir / "loop.gltf",
+              gltf(R"([{"children": [1]}, {"children": [2]}, {"children": [1]}])"));
+  expect_error([&] { read_mesh(dir / "loop.gltf"); }, {"loop.gltf", "more than one parent"});
+  write_bytes(dir / "ring.gltf", gltf(R"([{"mesh": 0}, {"children": [2]}, {"children": [1]}])"));
+  expect_error([&] { read_mesh(dir / "ring.gltf"); }, {"ring.gltf", "cycle"});
+  write_bytes(dir / "far.gltf", gltf(R"([{"children": [7]}])"));
+  expect_error([&] { read_mesh(dir / "far.gltf"); }, {"far.gltf", "names node 7"});
+  std::string nested(100000, '[');
+  write_bytes(dir / "nest.gltf", gltf(R"([{"mesh": 0, "extras": )" + nested + "}]"));
+  expect_error([&] { read_mesh(dir / "nest.gltf"); }, {"nest.gltf", "nested deeper than 256"});
+}
+
+TEST(MeshHardening, FilesTheMeshNamesFollowTheDataFileRules) {
+  TempDir dir;
+  std::filesystem::create_directories(dir / "m");
+  write_bytes(dir / "outside.mtl", "newmtl red\nKd 1 0 0\n");
+  write_bytes(dir / "m" / "out.obj",
+              "mtllib ../outside.mtl\n" + kTriangle + "usemtl red\nf 1 2 3\n");
+  expect_error([&] { read_mesh(dir / "m" / "out.obj"); },
+               {"out.obj", "outside the file's folder", "--allow-external-data"});
+  ASSERT_EQ(::mkfifo((dir / "m" / "pipe.mtl").c_str(), 0600), 0);
+  write_bytes(dir / "m" / "fifo.obj", "mtllib pipe.mtl\n" + kTriangle + "f 1 2 3\n");
+  expect_error([&] { read_mesh(dir / "m" / "fifo.obj"); }, {"pipe.mtl", "FIFO"});
+  set_input_limits({0, true});
+  EXPECT_EQ(read_mesh(dir / "m" / "out.obj").triangles.size(), 1u);
+  set_input_limits({});
+}
+
+TEST(MeshHardening, FormatsOutsideTheListAreRefused) {
+  TempDir dir;
+  write_bytes(dir / "x.fbx", "Kaydara FBX Binary  \0");
+  expect_error([&] { read_mesh(dir / "x.fbx"); }, {"x.fbx", "'.fbx' is not a mesh format", ".obj"});
+}
+
+}  // namespace
+}  // namespace imx
