@@ -62,8 +62,7 @@ InSlabInterpolation interpolation_of(const RenderSettings& render) {
 FragmentContext::FragmentContext(const Scene& scene, const char* method, bool zero_thickness)
     : frame(scene) {
   frame.require_per_sample_support(method);
-  hybrid.step =
-      static_cast<float>(scene.render.step_mm > 0.0 ? scene.render.step_mm : frame.min_pitch);
+  hybrid.step = static_cast<float>(frame.ray_step(scene.render));
   hybrid.ert = static_cast<float>(scene.render.ert_threshold);
   hybrid.interpolation = interpolation_of(scene.render);
   frame.accelerate(hybrid.step, MarchSettings::from(scene.render));

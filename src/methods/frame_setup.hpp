@@ -13,6 +13,9 @@
 
 namespace imx {
 
+// Steps one ray may take through one volume.
+inline constexpr double kMaxStepsPerRay = 1 << 17;
+
 struct FrameSetup {
   CameraModel camera;
   std::vector<PreparedVolume> volumes;  // Scene::volumes order
@@ -41,6 +44,12 @@ struct FrameSetup {
       if (!may_show(k, x, y)) mask &= ~(VolumeMask{1} << k);
     return mask;
   }
+
+  // The ray step in mm: render.step_mm when set, else the smallest voxel pitch times
+  // `pitch_fraction`. Throws imx::Error when a ray through some volume would take more than
+  // kMaxStepsPerRay steps (a step of 1e-9 mm, or voxels of 0.001 x 0.001 x 1000 mm), naming the
+  // volume, the step and where it comes from.
+  double ray_step(const RenderSettings& settings, double pitch_fraction = 1.0) const;
 
   // Throws imx::Error naming `method` when the scene has more volumes than a ray can hold.
   void require_per_sample_support(const char* method) const;

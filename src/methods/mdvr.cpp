@@ -88,8 +88,7 @@ Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const Mdv
 
 MdvrParams prepare_mdvr(const Scene& scene, FrameSetup& frame) {
   MdvrParams params;
-  params.step =
-      static_cast<float>(scene.render.step_mm > 0.0 ? scene.render.step_mm : frame.min_pitch);
+  params.step = static_cast<float>(frame.ray_step(scene.render));
   params.ert = static_cast<float>(scene.render.ert_threshold);
   frame.accelerate(params.step, MarchSettings::from(scene.render));
   return params;

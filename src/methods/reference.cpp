@@ -14,8 +14,7 @@ Image render_reference(const Scene& scene, int spp, const RenderOptions& options
   FrameSetup frame(scene);
   frame.require_per_sample_support("reference");
   ReferenceParams params;
-  params.step = scene.render.step_mm > 0.0 ? scene.render.step_mm
-                                           : frame.min_pitch * scene.render.reference_step_fraction;
+  params.step = frame.ray_step(scene.render, scene.render.reference_step_fraction);
   const MixingPlan mixing(scene);
   params.mixing = mixing.view();
   std::optional<CsgFrame> csg;

@@ -109,7 +109,7 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
 
   // Every volume is cast at the scene's common step (the smallest voxel pitch unless the scene
   // sets one), as in MDVR: a coarse volume cast at its own pitch costs ~2 dB on two-volumes.
-  const float step = static_cast<float>(r.step_mm > 0.0 ? r.step_mm : frame.min_pitch);
+  const float step = static_cast<float>(frame.ray_step(r));
   frame.accelerate(step, MarchSettings::from(r));
 
   // Polygon objects and planes first, in scene order, as many per stage as fit the RT layers.

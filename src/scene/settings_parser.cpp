@@ -115,7 +115,7 @@ RenderSettings parse_render(const JsonReader& r) {
     if (!is_perfect_square(s.spp))
       v->fail(fmt::format("{} is not a perfect square (1, 4, 9, 16, 25, ...)", s.spp));
   }
-  if (auto v = r.find("step_mm")) s.step_mm = v->number(Range::positive());
+  if (auto v = r.find("step_mm")) s.step_mm = v->number(Range::length());
   if (auto v = r.find("reference_step_fraction"))
     s.reference_step_fraction = v->number(Range::open_closed(0.0, 1.0));
   if (auto v = r.find("ert_threshold")) s.ert_threshold = v->number(Range::open_closed(0.0, 1.0));

@@ -417,7 +417,7 @@ TEST(ParseSceneErrors, OutOfRangeValues) {
   EXPECT_CONTAINS(parse_error(R"({"objects": [], "image": {"background": [0, 0, 2]}})"),
                   "image.background[2]: 2 is not in [0, 1]");
   EXPECT_CONTAINS(parse_error(R"({"objects": [], "render": {"step_mm": -1}})"),
-                  "render.step_mm: -1 must be > 0");
+                  "render.step_mm: -1 is not in [1e-06, 1000000]");
   EXPECT_CONTAINS(parse_error(R"({"objects": [], "render": {"layers": 2}})"),
                   "render.layers: 2 is not in [4, 64]");
   EXPECT_CONTAINS(parse_error(R"({"objects": [], "lights": [{"intensity": -1}]})"),
