@@ -101,7 +101,11 @@ void time_rounds(std::vector<BenchRow>& rows, int frames) {
   const double total = static_cast<double>(rows.size()) * (frames + 1);
   int done = 0;
   for (BenchRow& row : rows) {
-    render(*row.scene, row.options);
+    try {
+      render(*row.scene, row.options);
+    } catch (const Error& e) {
+      throw Error(fmt::format("{}: row {}: {}", row.scene->file.string(), row.label, e.what()));
+    }
     row.peak_mib = peak_resident_mib();
     bar.update(++done / total);
   }

@@ -7,6 +7,7 @@
 #include "commands.hpp"
 #include "core/parallel.hpp"
 #include "core/progress_bar.hpp"
+#include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
@@ -46,7 +47,12 @@ Command add_render(CLI::App& app) {
     ProgressBar bar("render", show_progress());
     options.progress = [&bar](double f) { bar.update(f); };
     auto start = std::chrono::steady_clock::now();
-    Image image = render(scene, options);
+    Image image;
+    try {
+      image = render(scene, options);
+    } catch (const Error& e) {
+      throw Error(fmt::format("{}: {}", o->scene, e.what()));  // what the method refused
+    }
     double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     bar.finish();

@@ -160,12 +160,13 @@ struct RenderSettings {
   int spp = 0;           // samples per pixel, a perfect square; 0 = the method's default
   double step_mm = 0.0;  // ray step; 0 = the method's default
   double reference_step_fraction =
-      0.125;                       // reference step as a fraction of the smallest voxel pitch
-  double ert_threshold = 0.99;     // early ray termination opacity; 1 disables
-  int layers = 8;                  // ZT-buffer slabs per pixel (N)
-  int rt_layers = 4;               // RT-buffer surface layers (M)
-  int peel_layers = 4;             // depth-peeling passes per polygon object (L)
-  std::string peel_rest = "lost";  // peel: fragments behind layer L-1 are lost or "unsorted"
+      0.125;                             // reference step as a fraction of the smallest voxel pitch
+  double ert_threshold = 0.99;           // early ray termination opacity; 1 disables
+  static constexpr int kMaxLayers = 16;  // the largest `layers` and `rt_layers` zslab holds
+  int layers = 8;                        // ZT-buffer slabs per pixel (N)
+  int rt_layers = 4;                     // RT-buffer surface layers (M)
+  int peel_layers = 4;                   // depth-peeling passes per polygon object (L)
+  std::string peel_rest = "lost";        // peel: fragments behind layer L-1 are lost or "unsorted"
   std::string interpolation = "ovi";
   double beta = 1.0;
   std::string skipping = "distance";             // empty-space skipping: none, bricks, distance

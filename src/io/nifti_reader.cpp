@@ -77,6 +77,11 @@ void check_header(const std::string& what) {
   nifti_1_header h{};
   size_t got = znzread(&h, 1, sizeof h, f);
   znzclose(f);
+  if (got != sizeof h && nifti_is_gzfile(what.c_str()))
+    throw Error(
+        fmt::format("{}: corrupt or truncated gzip data: {} of the 348 header bytes "
+                    "inflate",
+                    what, got > sizeof h ? 0 : got));
   if (got != sizeof h)
     throw Error(fmt::format("{}: too short for a NIfTI-1 header ({} of 348 bytes)", what,
                             got > sizeof h ? 0 : got));
@@ -196,6 +201,10 @@ VolumeData read_nifti(const std::filesystem::path& file) {
           fmt::format("{}: expected {} bytes of voxel data, found {} (file truncated or "
                       "corrupt)",
                       what, bytes.size(), done));
+    // One more byte makes gzip reach its trailer when the data ends here, and check the CRC.
+    uint8_t extra;
+    if (nifti_is_gzfile(nim->iname) && znzread(&extra, 1, 1, opened) > 1)
+      throw Error(fmt::format("{}: corrupt gzip data (its checksum does not match)", what));
   });
 
   // Intensity scaling, as the NIfTI standard defines it: slope 0 means "none".

@@ -9,6 +9,7 @@
 
 #include <glm/vec4.hpp>
 
+#include "intermix/scene.hpp"
 #include "raster/fragment.hpp"
 #include "slab/accumulate.hpp"
 #include "slab/intermix_kernel.hpp"
@@ -17,8 +18,8 @@
 
 namespace imx {
 
-inline constexpr int kMaxZslabLayers = 16;  // the largest N (ZT slabs per pixel)
-inline constexpr int kMaxRtLayers = 16;     // the largest M (RT surface layers per pixel)
+inline constexpr int kMaxZslabLayers = RenderSettings::kMaxLayers;  // the largest N (ZT slabs)
+inline constexpr int kMaxRtLayers = RenderSettings::kMaxLayers;     // the largest M (RT layers)
 
 // Per-sample settings of a zSlab pipeline.
 struct ZslabParams {

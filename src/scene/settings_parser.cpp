@@ -119,8 +119,8 @@ RenderSettings parse_render(const JsonReader& r) {
   if (auto v = r.find("reference_step_fraction"))
     s.reference_step_fraction = v->number(Range::open_closed(0.0, 1.0));
   if (auto v = r.find("ert_threshold")) s.ert_threshold = v->number(Range::open_closed(0.0, 1.0));
-  if (auto v = r.find("layers")) s.layers = v->integer(4, 64);
-  if (auto v = r.find("rt_layers")) s.rt_layers = v->integer(1, 64);
+  if (auto v = r.find("layers")) s.layers = v->integer(4, RenderSettings::kMaxLayers);
+  if (auto v = r.find("rt_layers")) s.rt_layers = v->integer(1, RenderSettings::kMaxLayers);
   if (auto v = r.find("peel_layers")) s.peel_layers = v->integer(1, 1024);
   if (auto v = r.find("peel_rest")) s.peel_rest = v->choice({"lost", "unsorted"});
   if (auto v = r.find("interpolation")) s.interpolation = v->choice({"ovi", "hvi", "blend"});

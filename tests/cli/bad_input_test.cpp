@@ -184,5 +184,18 @@ TEST(CliBadInput, RangeErrorsPrintShortBounds) {
   EXPECT_NE(r.output.find("5000 is not in [1, 1024]"), std::string::npos) << r.output;
 }
 
+TEST(CliBadInput, WhatAMethodRefusesNamesTheSceneFile) {
+  auto dir = temp_dir("method-error");
+  const std::string fog =
+      R"({"name": "fog", "type": "volume", "source": {"phantom": "cube", "size": 8},
+          "transfer_function": {"points": [[0, 1, 1, 1, 0.1]]}})";
+  expect_failure(dir, scene_with(fog, R"(, "render": {"step_mm": 1e-5})"),
+                 {(dir / "scene.json").string() + ": render.step_mm gives a ray step of 1e-05 mm",
+                  "volume 'fog'", "more than the 131072 allowed"},
+                 "--method mdvr");
+  expect_failure(dir, scene_with(fog, R"(, "render": {"layers": 64})"),
+                 {"render.layers: 64 is not in [4, 16]"});
+}
+
 }  // namespace
 }  // namespace imx::test
