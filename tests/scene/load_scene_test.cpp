@@ -419,7 +419,7 @@ TEST(ParseSceneErrors, OutOfRangeValues) {
   EXPECT_CONTAINS(parse_error(R"({"objects": [], "render": {"step_mm": -1}})"),
                   "render.step_mm: -1 is not in [1e-06, 1000000]");
   EXPECT_CONTAINS(parse_error(R"({"objects": [], "render": {"layers": 2}})"),
-                  "render.layers: 2 is not in [4, 64]");
+                  "render.layers: 2 is not in [4, 16]");
   EXPECT_CONTAINS(parse_error(R"({"objects": [], "lights": [{"intensity": -1}]})"),
                   "lights[0].intensity: -1 is not in [0, 1000]");
   EXPECT_CONTAINS(parse_error(with_objects(R"({"name": "t", "type": "mesh", "source":
