@@ -1,0 +1,33 @@
+// Mesh files through read_mesh: the first byte picks the file extension (kExtensions), the
+// rest is the file. read_mesh takes .obj, .stl, .off, .gltf and .glb through assimp (after its
+// own checks of glTF, OBJ and OFF) and reads .ply by hand.
+#include <exception>
+#include <iterator>
+
+#include "harness.hpp"
+#include "intermix/io.hpp"
+
+namespace {
+constexpr const char* kExtensions[] = {".obj", ".stl", ".off", ".gltf", ".glb", ".ply"};
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  using namespace imx::fuzz;
+  if (size < 1) return 0;
+  const ScratchDir& dir = scratch();
+  dir.clear();
+  const char* ext = kExtensions[data[0] % std::size(kExtensions)];
+  std::filesystem::path file = dir.write(std::string("in") + ext, data + 1, size - 1);
+  try {
+    imx::Mesh mesh = imx::read_mesh(file);
+    // The renderer indexes positions by these: they must be in range.
+    for (const auto& t : mesh.triangles)
+      if (t.x >= mesh.positions.size() || t.y >= mesh.positions.size() ||
+          t.z >= mesh.positions.size())
+        __builtin_trap();
+    accepted(ext);
+  } catch (const std::exception& e) {
+    refused(e);
+  }
+  return 0;
+}

@@ -1,0 +1,24 @@
+// The hand-written PLY reader (ascii, binary little- and big-endian), through read_mesh.
+#include <exception>
+
+#include "harness.hpp"
+#include "intermix/io.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  using namespace imx::fuzz;
+  const ScratchDir& dir = scratch();
+  dir.clear();
+  std::filesystem::path file = dir.write("in.ply", data, size);
+  try {
+    imx::Mesh mesh = imx::read_mesh(file);
+    // The renderer indexes positions by these: they must be in range.
+    for (const auto& t : mesh.triangles)
+      if (t.x >= mesh.positions.size() || t.y >= mesh.positions.size() ||
+          t.z >= mesh.positions.size())
+        __builtin_trap();
+    accepted("mesh");
+  } catch (const std::exception& e) {
+    refused(e);
+  }
+  return 0;
+}

@@ -1,0 +1,141 @@
+// Shared pieces of the libFuzzer harnesses: a per-process scratch folder for readers that take a
+// file path, and input splitting.
+#pragma once
+#include <signal.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <variant>
+
+#include "intermix/limits.hpp"
+#include "intermix/volume.hpp"
+
+namespace imx::fuzz {
+
+// A memory budget well below libFuzzer's -malloc_limit_mb (2048): an input that asks for more must
+// be refused by intermix's own check (--max-memory's), never reach the allocator.
+inline const bool kBudgetSet = (set_input_limits({uint64_t{768} << 20, false}), true);
+
+// The folder the harness writes its inputs to: $IMX_FUZZ_TMP, else /dev/shm (no disk writes),
+// else $TMPDIR, else /tmp; one subfolder per process, removed at exit.
+class ScratchDir {
+ public:
+  ScratchDir() {
+    namespace fs = std::filesystem;
+    fs::path base;
+    if (const char* env = std::getenv("IMX_FUZZ_TMP"); env != nullptr && *env != '\0')
+      base = env;
+    else if (::access("/dev/shm", W_OK) == 0)
+      base = "/dev/shm";
+    else if (const char* tmp = std::getenv("TMPDIR"); tmp != nullptr && *tmp != '\0')
+      base = tmp;
+    else
+      base = "/tmp";
+    remove_stale(base);
+    dir_ = base / ("imx-fuzz-" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  ~ScratchDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(dir_, ec);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+
+  // Empties the folder, so that nothing a previous input wrote can be read by this one.
+  void clear() const {
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(dir_, ec))
+      std::filesystem::remove_all(entry.path(), ec);
+  }
+
+  // Writes `size` bytes to `name` inside the folder and returns its path.
+  std::filesystem::path write(const std::string& name, const void* data, size_t size) const {
+    std::filesystem::path p = dir_ / name;
+    std::ofstream out(p, std::ios::binary | std::ios::trunc);
+    if (size > 0) out.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
+    out.close();
+    if (!out) std::abort();  // the harness itself is broken: a full /dev/shm, say
+    return p;
+  }
+  std::filesystem::path write(const std::string& name, std::string_view data) const {
+    return write(name, data.data(), data.size());
+  }
+
+  const std::filesystem::path& path() const { return dir_; }
+
+ private:
+  // Removes the folders of harness processes that are gone (a crash skips the destructor).
+  static void remove_stale(const std::filesystem::path& base) {
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(base, ec)) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind("imx-fuzz-", 0) != 0) continue;
+      char* end = nullptr;
+      const long pid = std::strtol(name.c_str() + 9, &end, 10);
+      if (pid <= 0 || *end != '\0') continue;
+      if (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH)
+        std::filesystem::remove_all(entry.path(), ec);
+    }
+  }
+
+  std::filesystem::path dir_;
+};
+
+inline ScratchDir& scratch() {
+  static ScratchDir dir;
+  return dir;
+}
+
+// Splits `input` at the first `marker`: {before, after, true}, or {input, "", false}.
+struct Split {
+  std::string_view head, tail;
+  bool found = false;
+};
+inline Split split_at(std::string_view input, std::string_view marker) {
+  size_t at = input.find(marker);
+  if (at == std::string_view::npos) return {input, {}, false};
+  return {input.substr(0, at), input.substr(at + marker.size()), true};
+}
+
+// With IMX_FUZZ_VERBOSE set, prints why an input was refused (to check that seeds load).
+inline void refused(const std::exception& e) {
+  static const bool verbose = std::getenv("IMX_FUZZ_VERBOSE") != nullptr;
+  if (verbose) std::fprintf(stderr, "refused: %s\n", e.what());
+}
+inline void accepted(const char* what) {
+  static const bool verbose = std::getenv("IMX_FUZZ_VERBOSE") != nullptr;
+  if (verbose) std::fprintf(stderr, "accepted: %s\n", what);
+}
+
+// A volume a reader returned must hold as many voxels as its dimensions say (every later stage
+// indexes by them); the rest of VolumeData::validate is left to the scene loader.
+inline void check_volume(const VolumeData& v) {
+  const size_t stored = std::visit([](const auto& s) { return s.size(); }, v.voxels);
+  if (v.dims.x <= 0 || v.dims.y <= 0 || v.dims.z <= 0 || stored != v.voxel_count()) {
+    std::fprintf(stderr, "fuzz: the reader returned %dx%dx%d dimensions with %zu voxels\n",
+                 v.dims.x, v.dims.y, v.dims.z, stored);
+    __builtin_trap();
+  }
+}
+
+inline std::string_view as_view(const uint8_t* data, size_t size) {
+  return {reinterpret_cast<const char*>(data), size};
+}
+
+// Detached-header volumes (NRRD .nhdr, MetaImage .mhd): the input is the header, this marker
+// line, then the bytes of the data file, which the harness writes as "data.raw" beside it.
+inline constexpr std::string_view kDataMarker = "\n@@DATA@@\n";
+
+}  // namespace imx::fuzz
