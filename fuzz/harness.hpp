@@ -138,4 +138,29 @@ inline std::string_view as_view(const uint8_t* data, size_t size) {
 // line, then the bytes of the data file, which the harness writes as "data.raw" beside it.
 inline constexpr std::string_view kDataMarker = "\n@@DATA@@\n";
 
+// One input through a volume reader: written as `attached`, or, when it holds kDataMarker, split
+// into a detached header `detached` and its data file "data.raw" beside it. Only the reader
+// runs: validate() and range() would double the time of large volumes.
+template <class Reader>
+int fuzz_volume_reader(const uint8_t* data, size_t size, const char* attached,
+                       const char* detached, Reader read) {
+  const ScratchDir& dir = scratch();
+  dir.clear();
+  Split parts = split_at(as_view(data, size), kDataMarker);
+  std::filesystem::path file;
+  if (parts.found) {
+    file = dir.write(detached, std::string(parts.head) + "\n");
+    dir.write("data.raw", parts.tail);
+  } else {
+    file = dir.write(attached, parts.head);
+  }
+  try {
+    check_volume(read(file));
+    accepted("volume");
+  } catch (const std::exception& e) {
+    refused(e);
+  }
+  return 0;
+}
+
 }  // namespace imx::fuzz
