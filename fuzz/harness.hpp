@@ -142,8 +142,8 @@ inline constexpr std::string_view kDataMarker = "\n@@DATA@@\n";
 // into a detached header `detached` and its data file "data.raw" beside it. Only the reader
 // runs: validate() and range() would double the time of large volumes.
 template <class Reader>
-int fuzz_volume_reader(const uint8_t* data, size_t size, const char* attached,
-                       const char* detached, Reader read) {
+int fuzz_volume_reader(const uint8_t* data, size_t size, const char* attached, const char* detached,
+                       Reader read) {
   const ScratchDir& dir = scratch();
   dir.clear();
   Split parts = split_at(as_view(data, size), kDataMarker);

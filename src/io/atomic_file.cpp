@@ -113,8 +113,7 @@ class ArmedPath {
     if (s.size() >= kMaxPath) return;  // not cleaned up on a signal, but still written
     for (int i = 0; i < kSlots; ++i) {
       int expected = kFree;
-      if (g_slots[i].state.compare_exchange_strong(expected, kFilling,
-                                                   std::memory_order_acquire)) {
+      if (g_slots[i].state.compare_exchange_strong(expected, kFilling, std::memory_order_acquire)) {
         std::memcpy(g_slots[i].path, s.c_str(), s.size() + 1);
         g_slots[i].state.store(kArmed, std::memory_order_release);
         slot_ = i;

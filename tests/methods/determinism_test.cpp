@@ -109,8 +109,8 @@ TEST_P(Determinism, ImagesAreByteIdenticalAtOneTwoAndThreeThreads) {
     EXPECT_GT(non_background_pixels(images[0]), 200) << method << " on " << example.file;
     for (int i = 1; i < 3; ++i) {
       std::string diff = difference(images[0], images[i]);
-      EXPECT_TRUE(diff.empty()) << method << " on " << example.file << ": 1 thread vs "
-                                << i + 1 << " threads: " << diff;
+      EXPECT_TRUE(diff.empty()) << method << " on " << example.file << ": 1 thread vs " << i + 1
+                                << " threads: " << diff;
     }
   }
   EXPECT_GE(rendered, 3) << method;
