@@ -19,6 +19,7 @@
 #include <variant>
 
 #include "intermix/limits.hpp"
+#include "intermix/mesh.hpp"
 #include "intermix/volume.hpp"
 
 namespace imx::fuzz {
@@ -128,6 +129,13 @@ inline void check_volume(const VolumeData& v) {
                  v.dims.x, v.dims.y, v.dims.z, stored);
     __builtin_trap();
   }
+}
+
+// A mesh a reader returned must index only its own vertices: the renderer indexes by them.
+inline void check_mesh(const Mesh& m) {
+  for (const auto& t : m.triangles)
+    if (t.x >= m.positions.size() || t.y >= m.positions.size() || t.z >= m.positions.size())
+      __builtin_trap();
 }
 
 inline std::string_view as_view(const uint8_t* data, size_t size) {
