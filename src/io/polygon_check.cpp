@@ -33,6 +33,10 @@ void check_obj_polygons(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   std::string line;
   for (size_t number = 1; std::getline(in, line); ++number) {
+    // assimp's OBJ parser takes a NUL for the end of its buffer and reads on past it.
+    if (line.find('\0') != std::string::npos)
+      throw Error(fmt::format("{}: line {}: a NUL byte (an OBJ file is text)", file.string(),
+                              number));
     size_t at = 0;
     if (next_word(line, at) != "f") continue;
     size_t corners = 0;

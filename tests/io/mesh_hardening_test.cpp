@@ -60,6 +60,8 @@ TEST(MeshHardening, PolygonsWithTooManyCornersAreRefused) {
   for (int i = 1; i <= 2000; ++i) obj += fmt::format(" {}", i);
   write_bytes(dir / "p.obj", obj + "\n");
   expect_error([&] { read_mesh(dir / "p.obj"); }, {"p.obj", "line 2001", "2000 corners"});
+  write_bytes(dir / "nul.obj", std::string("p  q mtllib endsol\0", 19));  // found by fuzz_mesh
+  expect_error([&] { read_mesh(dir / "nul.obj"); }, {"nul.obj", "line 1: a NUL byte"});
 }
 
 TEST(MeshHardening, GlbChunksLongerThanTheFileAreRefused) {
