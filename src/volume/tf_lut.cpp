@@ -12,7 +12,8 @@ namespace imx {
 glm::vec4 evaluate_transfer_function(const TransferFunction& tf, double value) {
   const auto& p = tf.points;
   if (p.empty()) return glm::vec4(0.0f);
-  if (value <= p.front().value) return p.front().rgba;
+  // A NaN passes both end tests and would make upper_bound return end(): give the first point.
+  if (!(value > p.front().value)) return p.front().rgba;
   if (value >= p.back().value) return p.back().rgba;
   auto it = std::upper_bound(p.begin(), p.end(), value,
                              [](double v, const TfPoint& q) { return v < q.value; });

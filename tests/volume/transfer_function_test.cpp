@@ -69,6 +69,9 @@ TEST(TransferFunction, NonFiniteAndExtremeValuesReadTheEndEntries) {
   EXPECT_EQ(lut.lookup(-std::numeric_limits<float>::max()), lut.entries().front());
   EXPECT_EQ(lut.lookup(std::numeric_limits<float>::max()), lut.entries().back());
   EXPECT_EQ(lut.lookup(std::numeric_limits<float>::infinity()), lut.entries().back());
+  // The exact evaluator too: a NaN gives the first point instead of reading past the last.
+  EXPECT_EQ(evaluate_transfer_function(ramp(), std::numeric_limits<double>::quiet_NaN()),
+            ramp().points.front().rgba);
 }
 
 TEST(TransferFunction, ASpanWiderThanAFloatIsRefused) {
