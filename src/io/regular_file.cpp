@@ -56,9 +56,10 @@ std::filesystem::path resolve_data_file(const std::filesystem::path& header,
   if (data.is_relative()) data = folder / data;
   const std::string what = fmt::format("{} (data file of {})", data.string(), header.string());
   if (!input_limits().allow_external_data) {
-    std::error_code ec;
-    const auto inside = std::filesystem::weakly_canonical(folder.empty() ? "." : folder, ec);
+    std::error_code folder_ec, ec;  // either failing refuses the file
+    const auto inside = std::filesystem::weakly_canonical(folder.empty() ? "." : folder, folder_ec);
     const auto target = std::filesystem::weakly_canonical(data, ec);
+    if (folder_ec) ec = folder_ec;
     const auto relative = target.lexically_relative(inside);
     if (ec || relative.empty() || *relative.begin() == "..")
       throw Error(
