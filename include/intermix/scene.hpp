@@ -89,6 +89,7 @@ struct VolumeObject {
   Shading shading;
   std::vector<ClipPlane> clip_planes;
   std::vector<ClipMesh> clip_meshes;  // a sample shows only where every one of them keeps it
+  std::optional<glm::dvec2> display_window;  // the source's own centre and width (DICOM tags)
 };
 
 struct Material {
@@ -201,6 +202,7 @@ struct Scene {
   std::optional<CsgExpression> csg;  // the "csg" block; empty without one or with "csg": null
   RenderSettings render;
   std::filesystem::path file;  // the scene file, when loaded from one
+  std::vector<std::string> notes;  // what loading chose for the user (a series, a mesh's space)
 };
 
 // Loads and validates a JSON scene file; relative paths resolve against its folder.

@@ -65,7 +65,7 @@ Scene parse_document(const nlohmann::json& root, const std::filesystem::path& ba
     types[name] = kinds.back();
   }
 
-  detail::SceneContext context{base_dir, {}, {}};
+  detail::SceneContext context{base_dir, {}, {}, {}};
   for (size_t i = 0; i < objects.size(); ++i)
     if (kinds[i] == "volume")
       scene.volumes.push_back(detail::parse_volume_object(objects[i], context));
@@ -95,6 +95,7 @@ Scene parse_document(const nlohmann::json& root, const std::filesystem::path& ba
   }
   // A CSG scene is meant for the csg method unless it asks for another (CSG.md §4.2).
   if (scene.csg && !(render && render->has("method"))) scene.render.method = "csg";
+  scene.notes = std::move(context.notes);
   return scene;
 }
 

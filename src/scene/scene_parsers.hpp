@@ -20,6 +20,7 @@ struct SceneContext {
   std::filesystem::path base_dir;
   std::map<std::string, std::shared_ptr<const VolumeData>> volumes;
   std::map<std::string, std::shared_ptr<const Mesh>> meshes;
+  std::vector<std::string> notes;  // moved into Scene::notes when loading ends
 
   // A "file" value resolved against base_dir; throws naming the resolved path when missing.
   std::filesystem::path resolve_file(const JsonReader& file) const;
