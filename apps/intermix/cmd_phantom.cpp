@@ -1,5 +1,4 @@
-// intermix phantom NAME -o OUT.nrrd|OUT.mha: writes a built-in phantom volume.
-#include <algorithm>
+// intermix phantom NAME -o OUT.nrrd|.mha|.nii.gz|.nii: writes a built-in phantom volume.
 #include <cstdio>
 #include <filesystem>
 
@@ -12,21 +11,6 @@
 
 namespace imx::cli {
 
-namespace {
-
-// The writer follows the extension, checked before the phantom is built (which takes a while).
-enum class VolumeFormat { nrrd, metaimage };
-
-VolumeFormat format_for(const std::string& output) {
-  std::string ext = std::filesystem::path(output).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (ext == ".nrrd" || ext == ".nhdr") return VolumeFormat::nrrd;
-  if (ext == ".mha") return VolumeFormat::metaimage;
-  throw Error(fmt::format("{}: unknown output format '{}' (supported: .nrrd, .mha)", output, ext));
-}
-
-}  // namespace
 
 Command add_phantom(CLI::App& app) {
   struct Options {
@@ -37,17 +21,17 @@ Command add_phantom(CLI::App& app) {
   auto o = std::make_shared<Options>();
   app.add_option("name", o->name, fmt::format("phantom: {}", fmt::join(phantom_names(), ", ")))
       ->required();
-  app.add_option("-o,--output", o->output, "output file: .nrrd (NRRD) or .mha (MetaImage)")
+  app.add_option("-o,--output", o->output, "output file: .nrrd, .mha, .nii.gz or .nii")
       ->required();
   app.add_option("--size", o->size, "voxels along the largest axis");
   app.add_flag("--raw", o->raw, "write uncompressed voxels");
   return [o]() {
-    VolumeFormat format = format_for(o->output);
+    // The extension is checked before the phantom is built, which takes a while.
+    if (!can_write_volume(o->output))
+      throw Error(fmt::format("{}: unknown output format (supported: .nrrd, .mha, .nii.gz, .nii)",
+                              o->output));
     VolumeData v = make_phantom(o->name, o->size);
-    if (format == VolumeFormat::nrrd)
-      write_nrrd(v, o->output, !o->raw);
-    else
-      write_metaimage(v, o->output, !o->raw);
+    write_volume(v, o->output, !o->raw);
     if (!quiet())
       std::fprintf(stderr, "intermix: phantom %s %dx%dx%d %s -> %s\n", o->name.c_str(), v.dims.x,
                    v.dims.y, v.dims.z, voxel_type_name(v.type()), o->output.c_str());

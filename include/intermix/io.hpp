@@ -2,6 +2,7 @@
 // phantoms.
 #pragma once
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,8 +24,53 @@ void write_nrrd(const VolumeData& volume, const std::filesystem::path& file, boo
 void write_metaimage(const VolumeData& volume, const std::filesystem::path& file,
                      bool compress = true);
 
-// Reads a triangle mesh through assimp (OBJ, PLY, STL, glTF, ...), triangulated, in file units.
+// Writes a NIfTI-1 .nii file (gzip-compressed when `gzip`, for .nii.gz), atomically. The
+// affine goes to the sform exactly and to the qform as its nearest rotation, both RAS.
+void write_nifti(const VolumeData& volume, const std::filesystem::path& file, bool gzip = true);
+
+// Writes `volume` in the format its extension names: .nii.gz, .nii, .nrrd or .mha, atomically.
+// `compress` applies to NRRD and MetaImage (NIfTI follows the .gz). Throws imx::Error naming
+// the file for any other extension; can_write_volume says beforehand.
+void write_volume(const VolumeData& volume, const std::filesystem::path& file,
+                  bool compress = true);
+bool can_write_volume(const std::filesystem::path& file);
+
+// Which way a mesh file's x and y axes point: LPS (intermix's world, DICOM) or RAS (3D Slicer
+// before 4.11, FreeSurfer, GIfTI). RAS becomes LPS by negating x and y (a rotation).
+enum class MeshSpace { lps, ras };
+// Where the space of a mesh file came from.
+enum class MeshSpaceSource { assumed, header, format, option };
+
+struct MeshReadOptions {
+  std::optional<MeshSpace> space;  // overrides what the file says
+  double crease_angle_deg = 60.0;  // computed normals: sharper edges keep a normal per side
+};
+
+// What read_mesh_file found out about the file besides its mesh.
+struct MeshFileInfo {
+  MeshSpace space = MeshSpace::lps;  // the file's space; the mesh is in LPS whatever it is
+  MeshSpaceSource space_source = MeshSpaceSource::assumed;
+  bool file_normals = false;  // per-vertex normals from the file, else computed (angle-weighted)
+  bool file_colors = false;   // per-vertex colours from the file
+};
+
+struct MeshFile {
+  Mesh mesh;
+  MeshFileInfo info;
+};
+
+// Reads a triangle mesh (.obj, .stl, .off, .gltf, .glb through assimp; .ply and GIfTI .gii by
+// hand and through libgiftiio), triangulated, in LPS mm. The space is options.space, else a
+// 3D Slicer header comment (SPACE=RAS / SPACE=LPS in an STL header, the leading comments of
+// an OBJ, a PLY comment), else the format's own (GIfTI: RAS), else LPS. Normals come from the
+// file where it stores them per vertex (not STL's per-facet ones), else are computed
+// angle-weighted with vertices split at edges sharper than the crease angle.
+// Throws imx::Error naming the file and the fault.
+MeshFile read_mesh_file(const std::filesystem::path& file, const MeshReadOptions& options = {});
+// read_mesh_file(file).mesh.
 Mesh read_mesh(const std::filesystem::path& file);
+// "LPS" or "RAS".
+const char* mesh_space_name(MeshSpace space);
 
 // Names of the built-in volume phantoms.
 std::vector<std::string> phantom_names();

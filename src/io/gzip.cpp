@@ -92,7 +92,8 @@ size_t gunzip(std::istream& in, size_t skip, std::span<uint8_t> out, const std::
   return written;
 }
 
-void gzip(std::span<const uint8_t> data, std::ostream& out, int level, const std::string& what) {
+void gzip(std::span<const std::span<const uint8_t>> parts, std::ostream& out, int level,
+          const std::string& what) {
   z_stream z{};
   // 15 + 16: largest window with a gzip wrapper, as NRRD's "encoding: gzip" expects.
   if (deflateInit2(&z, level, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
@@ -100,24 +101,35 @@ void gzip(std::span<const uint8_t> data, std::ostream& out, int level, const std
   std::unique_ptr<z_stream, int (*)(z_stream*)> guard(&z, deflateEnd);
 
   std::vector<uint8_t> buffer(kChunk);
-  size_t consumed = 0;
+  size_t part = 0, consumed = 0;  // the part being fed and how much of it zlib has
   int rc = Z_OK;
   do {
-    if (z.avail_in == 0 && consumed < data.size()) {
-      size_t piece = std::min(data.size() - consumed, kMaxPiece);
-      z.next_in = const_cast<Bytef*>(data.data() + consumed);
+    while (z.avail_in == 0 && part < parts.size()) {
+      if (consumed == parts[part].size()) {
+        ++part;
+        consumed = 0;
+        continue;
+      }
+      size_t piece = std::min(parts[part].size() - consumed, kMaxPiece);
+      z.next_in = const_cast<Bytef*>(parts[part].data() + consumed);
       z.avail_in = static_cast<uInt>(piece);
       consumed += piece;
     }
-    int flush = consumed == data.size() ? Z_FINISH : Z_NO_FLUSH;
+    const bool last = part == parts.size() ||
+                      (part + 1 == parts.size() && consumed == parts[part].size());
     z.next_out = buffer.data();
     z.avail_out = static_cast<uInt>(buffer.size());
-    rc = deflate(&z, flush);
+    rc = deflate(&z, last ? Z_FINISH : Z_NO_FLUSH);
     if (rc == Z_STREAM_ERROR) throw Error(fmt::format("{}: zlib failed to compress", what));
     out.write(reinterpret_cast<const char*>(buffer.data()),
               static_cast<std::streamsize>(buffer.size() - z.avail_out));
     if (!out) throw Error(fmt::format("{}: writing failed (disk full?)", what));
   } while (rc != Z_STREAM_END);
+}
+
+void gzip(std::span<const uint8_t> data, std::ostream& out, int level, const std::string& what) {
+  const std::span<const uint8_t> parts[] = {data};
+  gzip(parts, out, level, what);
 }
 
 }  // namespace imx::detail

@@ -24,5 +24,8 @@ void check_inflatable(size_t needed, size_t compressed, const std::string& what)
 // Writes `data` to `out` as one gzip member at zlib's compression `level` (1 fast .. 9 small).
 // Throws imx::Error naming `what` when zlib fails.
 void gzip(std::span<const uint8_t> data, std::ostream& out, int level, const std::string& what);
+// The same for data in several pieces, compressed as one: no copy to join them.
+void gzip(std::span<const std::span<const uint8_t>> parts, std::ostream& out, int level,
+          const std::string& what);
 
 }  // namespace imx::detail
