@@ -1,6 +1,7 @@
 // Mesh files through read_mesh: the first byte picks the file extension (kExtensions), the
 // rest is the file. read_mesh takes .obj, .stl, .off, .gltf and .glb through assimp (after its
-// own checks of glTF, OBJ and OFF) and reads .ply by hand.
+// own checks of glTF, OBJ and OFF), reads .ply by hand and .gii through libgiftiio (after its
+// own check). New extensions go at the end: a seed's first byte keeps its meaning.
 #include <exception>
 #include <iterator>
 
@@ -8,7 +9,7 @@
 #include "intermix/io.hpp"
 
 namespace {
-constexpr const char* kExtensions[] = {".obj", ".stl", ".off", ".gltf", ".glb", ".ply"};
+constexpr const char* kExtensions[] = {".obj", ".stl", ".off", ".gltf", ".glb", ".ply", ".gii"};
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -131,8 +131,11 @@ inline void check_volume(const VolumeData& v) {
   }
 }
 
-// A mesh a reader returned must index only its own vertices: the renderer indexes by them.
+// A mesh a reader returned must index only its own vertices, with no normals or colours but
+// one per vertex: the renderer indexes by them.
 inline void check_mesh(const Mesh& m) {
+  if (!m.normals.empty() && m.normals.size() != m.positions.size()) __builtin_trap();
+  if (!m.colors.empty() && m.colors.size() != m.positions.size()) __builtin_trap();
   for (const auto& t : m.triangles)
     if (t.x >= m.positions.size() || t.y >= m.positions.size() || t.z >= m.positions.size())
       __builtin_trap();

@@ -182,6 +182,7 @@ Command add_bench(CLI::App& app) {
       scenes.push_back(load_scene(o->scene, assignments.back()));
     }
     const Scene& base = scenes.front();
+    print_notes(base.notes);
     std::vector<std::string> methods = o->methods;
     if (methods.empty()) methods.push_back(base.render.method);
 

@@ -1,4 +1,4 @@
-// intermix info FILE | --phantom NAME: what a volume or mesh holds.
+// intermix info FILE | --phantom NAME | --presets: what a volume or mesh holds; the preset names.
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
@@ -9,8 +9,12 @@
 
 #include "commands.hpp"
 #include "core/math.hpp"
+#include "intermix/dicom.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
+#include "presets/colormap.hpp"
+#include "presets/volume_presets.hpp"
+#include "presets/window_presets.hpp"
 
 namespace imx::cli {
 
@@ -50,16 +54,26 @@ nlohmann::json describe(const VolumeData& v) {
           {"range", {lo, hi}}};
 }
 
-nlohmann::json describe(const Mesh& m) {
+// A mesh file as read: bounds in LPS, the space the file was in and who said so.
+nlohmann::json describe(const MeshFile& file) {
+  const Mesh& m = file.mesh;
   glm::vec3 lo(INFINITY), hi(-INFINITY);
   for (const glm::vec3& p : m.positions) {
     lo = glm::min(lo, p);
     hi = glm::max(hi, p);
   }
+  const char* from = "default (no header names one)";
+  if (file.info.space_source == MeshSpaceSource::header) from = "header (SPACE= comment)";
+  if (file.info.space_source == MeshSpaceSource::format) from = "format (GIfTI is RAS)";
+  if (file.info.space_source == MeshSpaceSource::option) from = "option";
   return {{"kind", "mesh"},
-          {"vertices", m.positions.size()},
+          {"vertices", file.info.file_vertices},
+          {"shading_vertices", m.positions.size()},
           {"triangles", m.triangles.size()},
-          {"has_normals", !m.normals.empty()},
+          {"space", mesh_space_name(file.info.space)},
+          {"space_from", from},
+          {"normals", file.info.file_normals ? "file" : "computed (angle-weighted, crease 60 deg)"},
+          {"colors", file.info.file_colors},
           {"bounds", {{lo.x, lo.y, lo.z}, {hi.x, hi.y, hi.z}}}};
 }
 
@@ -70,31 +84,91 @@ void print_human(const nlohmann::json& j) {
 
 }  // namespace
 
+// The series of a DICOM folder, DICOMDIR or file; with `series`, that series as a volume.
+nlohmann::json describe_dicom(const std::string& source, const std::string& series) {
+  if (!series.empty()) {
+    DicomReadOptions options;
+    options.series = series;
+    DicomVolume d = read_dicom(source, options);
+    nlohmann::json j = describe(d.volume);
+    j["series"] = d.series.id;
+    j["series_uid"] = d.series.uid;
+    j["description"] = d.series.description;
+    j["modality"] = d.series.modality;
+    j["slices_acquired"] = d.series.slices;
+    j["units"] = d.units;
+    if (d.window) j["window"] = {d.window->x, d.window->y};
+    j["notes"] = d.notes;
+    return j;
+  }
+  nlohmann::json list = nlohmann::json::array();
+  for (const DicomSeriesInfo& s : list_dicom_series(source))
+    list.push_back({{"id", s.id},
+                    {"number", s.number},
+                    {"description", s.description},
+                    {"modality", s.modality},
+                    {"size", {s.columns, s.rows}},
+                    {"slices", s.slices},
+                    {"localizer", s.localizer},
+                    {"uid", s.uid}});
+  return {{"kind", "dicom"}, {"series", list}};
+}
+
+void print_dicom_series(const nlohmann::json& j) {
+  std::printf("%-8s %-28s %-8s %-10s %7s  %s\n", "series", "description", "modality", "size",
+              "slices", "uid");
+  for (const nlohmann::json& s : j["series"])
+    std::printf("%-8s %-28s %-8s %-10s %7d  %s%s\n", s["id"].get<std::string>().c_str(),
+                s["description"].get<std::string>().c_str(),
+                s["modality"].get<std::string>().c_str(),
+                fmt::format("{}x{}", s["size"][0].get<int>(), s["size"][1].get<int>()).c_str(),
+                s["slices"].get<int>(), s["uid"].get<std::string>().c_str(),
+                s["localizer"].get<bool>() ? " (localizer)" : "");
+}
+
 Command add_info(CLI::App& app) {
   struct Options {
-    std::string file, phantom;
+    std::string file, phantom, series;
     int size = 128;
     bool json = false;
+    bool presets = false;
   };
   auto o = std::make_shared<Options>();
   app.add_option(
       "file", o->file,
-      "volume (.nrrd, .nhdr, .nii, .nii.gz, .mha, .mhd) or mesh (.obj, .ply, .stl, ...)");
+      "volume (.nrrd, .nhdr, .nii, .nii.gz, .mha, .mhd, a DICOM folder, DICOMDIR or .dcm) or "
+      "mesh (.obj, .ply, .stl, ...)");
   app.add_option("--phantom", o->phantom, "describe a built-in phantom instead of a file");
   app.add_option("--size", o->size, "phantom size (voxels along the largest axis)");
   app.add_flag("--json", o->json, "print one JSON object on stdout");
+  app.add_option("--series", o->series,
+                 "DICOM: describe this series (number, id or UID) as a volume, not the list");
+  app.add_flag("--presets", o->presets,
+               "list the transfer-function, window and colour-map names scenes may use");
   return [o]() {
     nlohmann::json j;
-    if (!o->phantom.empty()) {
+    if (o->presets) {
+      j = {{"kind", "presets"},
+           {"transfer_function", volume_preset_names()},
+           {"window", window_preset_names()},
+           {"colormap", std::vector<std::string>(kColormapNames.begin(), kColormapNames.end())}};
+    } else if (!o->phantom.empty()) {
       j = describe(make_phantom(o->phantom, o->size));
       j["phantom"] = o->phantom;
     } else if (o->file.empty()) {
       throw Error("info: give a FILE or --phantom NAME");
+    } else if (is_dicom_source(o->file)) {
+      j = describe_dicom(o->file, o->series);
+      j["file"] = o->file;
+      if (!o->json && o->series.empty()) {
+        print_dicom_series(j);
+        return 0;
+      }
     } else if (is_volume_file(o->file)) {
       j = describe(read_volume(o->file));
       j["file"] = o->file;
     } else {
-      j = describe(read_mesh(o->file));
+      j = describe(read_mesh_file(o->file));
       j["file"] = o->file;
     }
     if (o->json)

@@ -40,6 +40,7 @@ Command add_render(CLI::App& app) {
     if (o->width > 0) overrides.push_back(fmt::format("image.width={}", o->width));
     if (o->height > 0) overrides.push_back(fmt::format("image.height={}", o->height));
     Scene scene = load_scene(o->scene, overrides);
+    print_notes(scene.notes);
     RenderOptions options;
     options.method = o->method;
     options.spp = o->spp;

@@ -2,6 +2,7 @@
 #pragma once
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
@@ -18,6 +19,7 @@ Command add_bench(CLI::App& app);
 Command add_band(CLI::App& app);
 Command add_zfight(CLI::App& app);
 Command add_csg(CLI::App& app);
+Command add_convert(CLI::App& app);
 
 // A number in [lo, hi], with both bounds in the error message as short numbers (CLI11's own
 // range checks print all 309 digits of DBL_MAX).
@@ -40,5 +42,7 @@ inline constexpr int kMaxSpp = 1024;
 bool show_progress();
 bool quiet();
 void set_quiet(bool quiet);
+// Prints each of what loading chose for the user ("note: ..." on stderr), unless quiet.
+void print_notes(const std::vector<std::string>& notes);
 
 }  // namespace imx::cli

@@ -23,6 +23,10 @@ bool show_progress() {
 bool quiet() {
   return quiet_flag;
 }
+void print_notes(const std::vector<std::string>& notes) {
+  if (quiet_flag) return;
+  for (const std::string& note : notes) std::fprintf(stderr, "intermix: note: %s\n", note.c_str());
+}
 void set_quiet(bool quiet) {
   quiet_flag = quiet;
 }
@@ -87,7 +91,10 @@ int main(int argc, char** argv) {
   add("render", "render a scene file to PNG", imx::cli::add_render);
   add("compare", "PSNR, SSIM and error fractions between two PNG images", imx::cli::add_compare);
   add("info", "describe a volume or mesh file, or a built-in phantom", imx::cli::add_info);
-  add("phantom", "write a built-in phantom volume as NRRD", imx::cli::add_phantom);
+  add("phantom", "write a built-in phantom volume as NRRD, MetaImage or NIfTI",
+      imx::cli::add_phantom);
+  add("convert", "write a volume (a DICOM series, NRRD, ...) as NIfTI, NRRD or MetaImage",
+      imx::cli::add_convert);
   add("bench", "time methods on a scene: median/min/max ms per frame", imx::cli::add_bench);
   add("band", "PSNR in the band around two objects' intersection curves", imx::cli::add_band);
   add("zfight", "z-fighting metric of methods where coplanar surfaces coincide",

@@ -12,7 +12,9 @@
 
 namespace imx {
 
-// Reads a volume; the format comes from the extension (.nrrd/.nhdr, .nii/.nii.gz, .mha/.mhd).
+// Reads a volume; the format comes from the extension (.nrrd/.nhdr, .nii/.nii.gz, .mha/.mhd),
+// and a folder, DICOMDIR or DICOM file gives its largest series (read_dicom, intermix/dicom.hpp,
+// chooses another and says what it chose).
 // World space is LPS: NIfTI's RAS is converted, MetaImage is LPS already (as in ITK).
 // Throws imx::Error naming the file and the fault.
 VolumeData read_volume(const std::filesystem::path& file);
@@ -52,6 +54,7 @@ struct MeshFileInfo {
   MeshSpaceSource space_source = MeshSpaceSource::assumed;
   bool file_normals = false;  // per-vertex normals from the file, else computed (angle-weighted)
   bool file_colors = false;   // per-vertex colours from the file
+  size_t file_vertices = 0;   // vertices as read, before computed normals weld and split them
 };
 
 struct MeshFile {

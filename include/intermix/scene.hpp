@@ -88,7 +88,7 @@ struct VolumeObject {
   double iso_value = 0.0;
   Shading shading;
   std::vector<ClipPlane> clip_planes;
-  std::vector<ClipMesh> clip_meshes;  // a sample shows only where every one of them keeps it
+  std::vector<ClipMesh> clip_meshes;         // a sample shows only where every one of them keeps it
   std::optional<glm::dvec2> display_window;  // the source's own centre and width (DICOM tags)
 };
 
@@ -113,6 +113,9 @@ struct MeshObject {
   std::optional<MeshInterior> interior;  // only on CSG primitives
 };
 
+// How a plane maps its windowed value in [0, 1] to colour (src/presets/colormap.hpp).
+enum class Colormap : uint8_t { grey, hot, inferno, viridis };
+
 // A rectangle in world space; with a volume it shows that volume's values through window/level.
 struct PlaneObject {
   std::string name;
@@ -123,6 +126,7 @@ struct PlaneObject {
   int volume = -1;                 // index into Scene::volumes, or -1
   glm::dvec2 window{40.0, 400.0};  // centre, width (data values)
   glm::vec3 color{1.0f};           // multiplies the grey value; the colour when there is no volume
+  Colormap colormap = Colormap::grey;  // the windowed value's colour, before `color`
   float opacity = 1.0f;
   std::optional<double> thickness;
 };
@@ -201,7 +205,7 @@ struct Scene {
   std::vector<ObjectRef> order;      // every object, in the order of the scene file
   std::optional<CsgExpression> csg;  // the "csg" block; empty without one or with "csg": null
   RenderSettings render;
-  std::filesystem::path file;  // the scene file, when loaded from one
+  std::filesystem::path file;      // the scene file, when loaded from one
   std::vector<std::string> notes;  // what loading chose for the user (a series, a mesh's space)
 };
 

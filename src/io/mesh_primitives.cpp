@@ -197,26 +197,11 @@ Mesh transform_mesh(const Mesh& mesh, const glm::dmat4& m) {
     double len = glm::length(t);
     out.normals.emplace_back(len > 0.0 ? t / len : glm::dvec3(0.0));
   }
+  out.colors = mesh.colors;
   out.triangles = mesh.triangles;
   if (det < 0.0)
     for (glm::uvec3& t : out.triangles) std::swap(t.y, t.z);
   return out;
-}
-
-void compute_smooth_normals(Mesh& mesh) {
-  std::vector<glm::dvec3> sum(mesh.positions.size(), glm::dvec3(0.0));
-  for (const glm::uvec3& t : mesh.triangles) {
-    glm::dvec3 a(mesh.positions[t.x]), b(mesh.positions[t.y]), c(mesh.positions[t.z]);
-    glm::dvec3 n = glm::cross(b - a, c - a);  // length is twice the area: the weight
-    sum[t.x] += n;
-    sum[t.y] += n;
-    sum[t.z] += n;
-  }
-  mesh.normals.resize(mesh.positions.size());
-  for (size_t i = 0; i < sum.size(); ++i) {
-    double len = glm::length(sum[i]);
-    mesh.normals[i] = std::isfinite(len) && len > 0.0 ? glm::vec3(sum[i] / len) : glm::vec3(0.0f);
-  }
 }
 
 }  // namespace imx

@@ -30,11 +30,8 @@ Mesh make_torus(double major_radius, double minor_radius, int segments);
 Mesh make_quad(const glm::dvec2& size);
 
 // The mesh with positions transformed by the affine `m` and normals by its inverse transpose,
-// renormalized; a mirroring transform also reverses the winding so that it stays outward.
+// renormalized, colours kept; a mirroring transform also reverses the winding so that it stays
+// outward.
 Mesh transform_mesh(const Mesh& mesh, const glm::dmat4& m);
-
-// Sets every vertex normal to the area-weighted mean of its triangles' normals (zero for a
-// vertex no triangle with area uses).
-void compute_smooth_normals(Mesh& mesh);
 
 }  // namespace imx

@@ -14,17 +14,20 @@
 #include <assimp/Importer.hpp>
 #include <glm/glm.hpp>
 
+#include "core/colour.hpp"
 #include "core/limits.hpp"
 #include "core/math.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "io/assimp_guard.hpp"
+#include "io/gifti_reader.hpp"
 #include "io/gltf_check.hpp"
 #include "io/header_text.hpp"
-#include "io/mesh_primitives.hpp"
+#include "io/mesh_space.hpp"
 #include "io/ply_reader.hpp"
 #include "io/polygon_check.hpp"
 #include "io/regular_file.hpp"
+#include "io/vertex_normals.hpp"
 
 namespace imx {
 namespace {
@@ -38,7 +41,8 @@ glm::dmat4 to_glm(const aiMatrix4x4& m) {
 
 // Appends the triangles of every mesh in the node tree, in world (file) units. An explicit
 // stack: a file's tree may be deep.
-void collect(const aiScene& scene, Mesh& out, bool& all_have_normals) {
+void collect(const aiScene& scene, Mesh& out, bool& all_have_normals, bool& all_have_colors,
+             bool srgb_colors) {
   std::vector<std::pair<const aiNode*, glm::dmat4>> stack{{scene.mRootNode, glm::dmat4(1.0)}};
   while (!stack.empty()) {
     auto [node, parent] = stack.back();
@@ -51,6 +55,7 @@ void collect(const aiScene& scene, Mesh& out, bool& all_have_normals) {
       const aiMesh& mesh = *scene.mMeshes[node->mMeshes[k]];
       const auto base = static_cast<uint32_t>(out.positions.size());
       all_have_normals = all_have_normals && mesh.HasNormals();
+      all_have_colors = all_have_colors && mesh.HasVertexColors(0);
       for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
         const aiVector3D& p = mesh.mVertices[v];
         out.positions.emplace_back(transform_point(m, {p.x, p.y, p.z}));
@@ -63,6 +68,14 @@ void collect(const aiScene& scene, Mesh& out, bool& all_have_normals) {
           n = (std::isfinite(len) && len > 0.0) ? n / len : glm::dvec3(0.0);
         }
         out.normals.emplace_back(n);
+        glm::vec3 color(1.0f);
+        if (mesh.HasVertexColors(0)) {
+          const aiColor4D& c = mesh.mColors[0][v];
+          color = srgb_colors ? glm::vec3(srgb_decode(c.r), srgb_decode(c.g), srgb_decode(c.b))
+                              : glm::clamp(glm::vec3(c.r, c.g, c.b), 0.0f, 1.0f);
+          if (!all_finite(color)) color = glm::vec3(1.0f);
+        }
+        out.colors.push_back(color);
       }
       for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
         const aiFace& face = mesh.mFaces[f];
@@ -90,12 +103,12 @@ bool is_ply(const std::filesystem::path& file) {
 // to one of assimp's forty importers).
 constexpr const char* kAssimpFormats[] = {".obj", ".stl", ".off", ".gltf", ".glb"};
 
-Mesh read_with_assimp(const std::filesystem::path& file) {
-  const std::string ext = detail::lower(file.extension().string());
+Mesh read_with_assimp(const std::filesystem::path& file, const std::string& ext) {
   if (std::find(std::begin(kAssimpFormats), std::end(kAssimpFormats), ext) ==
       std::end(kAssimpFormats))
-    throw Error(fmt::format("{}: '{}' is not a mesh format intermix reads (it reads .ply, {})",
-                            file.string(), ext, fmt::join(kAssimpFormats, ", ")));
+    throw Error(
+        fmt::format("{}: '{}' is not a mesh format intermix reads (it reads .ply, .gii, {})",
+                    file.string(), ext, fmt::join(kAssimpFormats, ", ")));
   if (ext == ".gltf" || ext == ".glb") detail::check_gltf(file);
   if (ext == ".obj") detail::check_obj_polygons(file);
   if (ext == ".off") detail::check_off(file);
@@ -104,9 +117,9 @@ Mesh read_with_assimp(const std::filesystem::path& file) {
   detail::AssimpErrorLog errors;
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  // GenSmoothNormals only fills meshes that have no normals: the file's own normals are kept.
-  const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                         aiProcess_GenSmoothNormals | aiProcess_SortByPType;
+  // No GenSmoothNormals: read_mesh_file computes missing normals the same way for every format.
+  const unsigned flags =
+      aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType;
   const aiScene* scene = importer.ReadFile(file.string(), flags);
   if (scene == nullptr || scene->mRootNode == nullptr ||
       (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || !errors.first_error().empty()) {
@@ -116,21 +129,35 @@ Mesh read_with_assimp(const std::filesystem::path& file) {
   }
 
   Mesh mesh;
-  bool all_have_normals = true;
-  collect(*scene, mesh, all_have_normals);
-  if (!all_have_normals) mesh.normals.clear();
+  bool all_have_normals = true, all_have_colors = true;
+  // glTF stores linear colours; OBJ (and STL) colours are display values, sRGB-encoded.
+  collect(*scene, mesh, all_have_normals, all_have_colors, ext != ".gltf" && ext != ".glb");
+  // STL's normals are per facet: as vertex normals they would keep every STL faceted.
+  if (!all_have_normals || ext == ".stl") mesh.normals.clear();
+  if (!all_have_colors) mesh.colors.clear();
   return mesh;
 }
 
 }  // namespace
 
-Mesh read_mesh(const std::filesystem::path& file) {
+MeshFile read_mesh_file(const std::filesystem::path& file, const MeshReadOptions& options) {
   require_regular_file(file);
+  if (!(options.crease_angle_deg >= 0.0 && options.crease_angle_deg <= 180.0))
+    throw Error(fmt::format("{}: crease angle {:g} degrees is not in [0, 180]", file.string(),
+                            options.crease_angle_deg));
   // Debian 12's assimp hangs or crashes on some malformed PLY files: those are read here.
-  Mesh mesh = is_ply(file) ? detail::read_ply(file) : read_with_assimp(file);
+  const bool ply = is_ply(file);
+  const std::string ext = ply ? ".ply" : detail::lower(file.extension().string());
+  MeshFile out;
+  Mesh& mesh = out.mesh;
+  if (ply)
+    mesh = detail::read_ply(file);
+  else if (ext == ".gii")
+    mesh = detail::read_gifti(file);
+  else
+    mesh = read_with_assimp(file, ext);
   if (mesh.triangles.empty())
     throw Error(fmt::format("{}: the file holds no triangles", file.string()));
-  if (mesh.normals.size() != mesh.positions.size()) compute_smooth_normals(mesh);
   for (size_t i = 0; i < mesh.positions.size(); ++i) {
     const glm::vec3& p = mesh.positions[i];
     if (!(std::abs(p.x) <= kMaxCoordinateMm && std::abs(p.y) <= kMaxCoordinateMm &&
@@ -146,7 +173,30 @@ Mesh read_mesh(const std::filesystem::path& file) {
       throw Error(fmt::format("{}: triangle {} uses vertex {}, but the file has {} vertices",
                               file.string(), f, std::max({t.x, t.y, t.z}), mesh.positions.size()));
   }
-  return mesh;
+
+  MeshFileInfo& info = out.info;
+  if (options.space) {
+    info.space = *options.space;
+    info.space_source = MeshSpaceSource::option;
+  } else if (auto header = detail::header_space(file, ext)) {
+    info.space = *header;
+    info.space_source = MeshSpaceSource::header;
+  } else if (ext == ".gii") {
+    info.space = MeshSpace::ras;  // GIfTI coordinates are NIfTI's
+    info.space_source = MeshSpaceSource::format;
+  }
+  if (info.space == MeshSpace::ras) detail::flip_ras_lps(mesh);
+
+  if (mesh.colors.size() != mesh.positions.size()) mesh.colors.clear();
+  info.file_colors = !mesh.colors.empty();
+  info.file_normals = mesh.normals.size() == mesh.positions.size();
+  info.file_vertices = mesh.positions.size();
+  if (!info.file_normals) detail::compute_vertex_normals(mesh, options.crease_angle_deg);
+  return out;
+}
+
+Mesh read_mesh(const std::filesystem::path& file) {
+  return read_mesh_file(file).mesh;
 }
 
 }  // namespace imx

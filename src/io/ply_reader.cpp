@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 #include <glm/glm.hpp>
 
+#include "core/colour.hpp"
 #include "intermix/error.hpp"
 
 namespace imx::detail {
@@ -161,14 +162,15 @@ class PlyParser {
     size_t body = parse_header();
     BodyReader reader(data_, body, format_);
     Mesh mesh;
-    bool has_normals = false;
-    for (const Element& e : elements_) read_element(reader, e, mesh, has_normals);
+    bool has_normals = false, has_colors = false;
+    for (const Element& e : elements_) read_element(reader, e, mesh, has_normals, has_colors);
     for (const glm::uvec3& t : mesh.triangles)
       if (t.x >= mesh.positions.size() || t.y >= mesh.positions.size() ||
           t.z >= mesh.positions.size())
         fail(fmt::format("a face uses vertex {} of {}", std::max({t.x, t.y, t.z}),
                          mesh.positions.size()));
     if (!has_normals) mesh.normals.clear();
+    if (!has_colors) mesh.colors.clear();
     return mesh;
   }
 
@@ -254,19 +256,33 @@ class PlyParser {
     return -1;
   }
 
-  void read_element(BodyReader& reader, const Element& e, Mesh& mesh, bool& has_normals) {
+  // A colour channel as stored: 8-bit (or 16-bit) integers over their range, floats in [0, 1];
+  // either way sRGB-encoded display values, as the 8-bit convention of PLY writers has them.
+  static float channel(double value, Type type) {
+    double unit = type == Type::f32 || type == Type::f64   ? value
+                  : type == Type::u16 || type == Type::i16 ? value / 65535.0
+                                                           : value / 255.0;
+    return srgb_decode(static_cast<float>(std::isfinite(unit) ? unit : 1.0));
+  }
+
+  void read_element(BodyReader& reader, const Element& e, Mesh& mesh, bool& has_normals,
+                    bool& has_colors) {
     if (e.properties.empty()) return;  // nothing to read, however large the count
     const bool is_vertex = e.name == "vertex";
     const bool is_face = e.name == "face";
-    int x = -1, y = -1, z = -1, nx = -1, ny = -1, nz = -1, indices = -1;
+    int x = -1, y = -1, z = -1, nx = -1, ny = -1, nz = -1, indices = -1, r = -1, g = -1, b = -1;
     if (is_vertex) {
       x = find(e, {"x"}), y = find(e, {"y"}), z = find(e, {"z"});
       if (x < 0 || y < 0 || z < 0) fail("the vertex element lacks an x, y or z property");
       nx = find(e, {"nx"}), ny = find(e, {"ny"}), nz = find(e, {"nz"});
       has_normals = nx >= 0 && ny >= 0 && nz >= 0;
+      r = find(e, {"red", "diffuse_red"}), g = find(e, {"green", "diffuse_green"});
+      b = find(e, {"blue", "diffuse_blue"});
+      has_colors = r >= 0 && g >= 0 && b >= 0;  // an alpha channel is read past, not used
       // Each vertex needs at least one byte or character: bound the allocation by the file.
       if (e.count > data_.size()) fail("the vertex count exceeds the file size");
       mesh.positions.reserve(e.count);
+      if (has_colors) mesh.colors.reserve(e.count);
     }
     if (is_face)
       for (size_t i = 0; i < e.properties.size(); ++i)
@@ -307,6 +323,10 @@ class PlyParser {
           double len = glm::length(n);
           mesh.normals.emplace_back(std::isfinite(len) && len > 0.0 ? n / len : glm::dvec3(0.0));
         }
+        if (has_colors)
+          mesh.colors.emplace_back(channel(scalars[r], e.properties[r].type),
+                                   channel(scalars[g], e.properties[g].type),
+                                   channel(scalars[b], e.properties[b].type));
       }
     }
   }

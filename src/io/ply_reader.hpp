@@ -7,9 +7,10 @@
 
 namespace imx::detail {
 
-// Reads a PLY file (ascii, binary little- or big-endian): vertex x/y/z and optional nx/ny/nz,
-// faces from the "vertex_indices" (or "vertex_index") list, fan-triangulated; other elements
-// and properties are skipped. Normals are left empty when the file has none. Every count,
+// Reads a PLY file (ascii, binary little- or big-endian): vertex x/y/z, optional nx/ny/nz and
+// red/green/blue (sRGB, made linear; alpha is skipped), faces from the "vertex_indices" (or
+// "vertex_index") list, fan-triangulated; other elements and properties are skipped. Normals
+// and colours are left empty when the file has none. Every count,
 // index and byte is checked, so a malformed file gives an imx::Error naming it and the fault.
 Mesh read_ply(const std::filesystem::path& file);
 

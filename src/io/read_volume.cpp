@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include "intermix/dicom.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "io/metaimage.hpp"
@@ -23,6 +24,8 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 
 VolumeData read_volume(const std::filesystem::path& file) {
   const std::string what = file.string();
+  // A folder, a DICOMDIR or a DICOM file: the largest image series (read_dicom chooses).
+  if (is_dicom_source(file)) return read_dicom(file).volume;
   require_regular_file(file);
 
   std::string name = file.filename().string();
@@ -33,7 +36,7 @@ VolumeData read_volume(const std::filesystem::path& file) {
   if (ends_with(name, ".mha") || ends_with(name, ".mhd")) return detail::read_metaimage(file);
   throw Error(
       fmt::format("{}: unknown volume format '{}' (supported: .nrrd, .nhdr, .nii, .nii.gz, .mha, "
-                  ".mhd)",
+                  ".mhd, DICOM)",
                   what, file.extension().string()));
 }
 

@@ -50,7 +50,7 @@ void hash_mesh(StageHash& h, const MeshObject& m) {
 
 void hash_plane(StageHash& h, const Scene& scene, const PlaneObject& p) {
   h.add(p.center).add(p.normal).add(p.up).add(p.size).add(p.volume).add(p.window).add(p.color);
-  h.add(p.opacity);
+  h.add(p.opacity).add(p.colormap);
   hash_optional(h, p.thickness);
   if (p.volume >= 0 && static_cast<size_t>(p.volume) < scene.volumes.size()) {
     const VolumeObject& v = scene.volumes[p.volume];

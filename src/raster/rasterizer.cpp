@@ -10,6 +10,7 @@
 #include "core/blinn_phong.hpp"
 #include "core/math.hpp"
 #include "intermix/error.hpp"
+#include "presets/colormap.hpp"
 #include "raster/clip_polygon.hpp"
 #include "raster/edge_function.hpp"
 #include "raster/shade_fragment.hpp"
@@ -42,11 +43,13 @@ struct ObjectInfo {
   // Mesh.
   Material material;
   bool has_normals = false;
+  bool has_colors = false;  // per-vertex colours scale the material colour
   // Plane.
   glm::vec3 plane_color{1.0f};
   float plane_opacity = 1.0f;
   const PreparedVolume* volume = nullptr;
   float window_centre = 0.0f, window_width = 1.0f;
+  Colormap colormap = Colormap::grey;
 };
 
 // One input triangle before clipping: its plane in camera space and its shading attributes.
@@ -56,6 +59,7 @@ struct SourceTriangle {
   glm::dvec3 corner{0.0};              // camera-space first vertex
   glm::vec3 dual1{0.0f}, dual2{0.0f};  // barycentrics: b_i = dot(dual_i, p - corner)
   std::array<glm::vec3, 3> normals;    // world-space vertex normals, or the geometric normal x3
+  std::array<glm::vec3, 3> colors;     // linear vertex colours (ObjectInfo::has_colors only)
   uint32_t object = 0;                 // index into Impl::objects
   uint32_t front_facing = 0;
 };
@@ -92,7 +96,8 @@ struct Rasterizer::Impl {
   explicit Impl(const CameraModel& c) : camera(c) {}
 
   void add_triangle(const std::array<glm::dvec3, 3>& world, const std::array<glm::dvec3, 3>& cam,
-                    const std::array<glm::vec3, 3>* vertex_normals, uint32_t object);
+                    const std::array<glm::vec3, 3>* vertex_normals,
+                    const std::array<glm::vec3, 3>* vertex_colors, uint32_t object);
   void build_bins();
 
   // Screen coordinates of image position (px, py): its ray's camera-space direction (x/z, y/z)
@@ -123,25 +128,35 @@ struct Rasterizer::Impl {
         float value = 0.0f;
         if (!sample_plane_volume(*obj.volume, glm::vec3(camera.to_world(hit)), value)) return false;
         grey = window_level(value, obj.window_centre, obj.window_width);
+        // Grey keeps its original arithmetic, so grey planes render the same bytes as before.
+        if (obj.colormap != Colormap::grey) {
+          f.color = shade_plane_fragment(obj.plane_color, obj.plane_opacity,
+                                         colormap_rgb(obj.colormap, grey));
+          return true;
+        }
       }
       f.color = shade_plane_fragment(obj.plane_color, obj.plane_opacity, grey);
       return true;
     }
     glm::vec3 normal = src.normals[0];
-    if (obj.material.shading.enabled && obj.has_normals) {
+    glm::vec3 base = obj.material.color;
+    const bool smooth = obj.material.shading.enabled && obj.has_normals;
+    if (smooth || obj.has_colors) {
       // Barycentrics of the 3D hit point: perspective-correct by construction.
       glm::vec3 rel(hit - src.corner);
       float b1 = std::max(0.0f, glm::dot(src.dual1, rel));
       float b2 = std::max(0.0f, glm::dot(src.dual2, rel));
       float b0 = std::max(0.0f, 1.0f - b1 - b2);
-      normal = (b0 * src.normals[0] + b1 * src.normals[1] + b2 * src.normals[2]) /
-               std::max(b0 + b1 + b2, 1e-12f);
+      const float inv = 1.0f / std::max(b0 + b1 + b2, 1e-12f);
+      if (smooth) normal = (b0 * src.normals[0] + b1 * src.normals[1] + b2 * src.normals[2]) * inv;
+      if (obj.has_colors)
+        base *= (b0 * src.colors[0] + b1 * src.colors[1] + b2 * src.colors[2]) * inv;
     }
     glm::dvec3 dir =
         camera.perspective()
             ? glm::normalize(s.x * camera.right() + s.y * camera.up() + camera.forward())
             : camera.forward();
-    f.color = shade_mesh_fragment(obj.material, normal, -glm::vec3(dir), lights);
+    f.color = shade_mesh_fragment(obj.material, base, normal, -glm::vec3(dir), lights);
     return true;
   }
 
@@ -169,6 +184,7 @@ struct Rasterizer::Impl {
 void Rasterizer::Impl::add_triangle(const std::array<glm::dvec3, 3>& world,
                                     const std::array<glm::dvec3, 3>& cam,
                                     const std::array<glm::vec3, 3>* vertex_normals,
+                                    const std::array<glm::vec3, 3>* vertex_colors,
                                     uint32_t object) {
   glm::dvec3 n_world = glm::cross(world[1] - world[0], world[2] - world[0]);
   double len = glm::length(n_world);
@@ -194,6 +210,7 @@ void Rasterizer::Impl::add_triangle(const std::array<glm::dvec3, 3>& world,
     src.normals = *vertex_normals;
   else
     src.normals.fill(glm::vec3(n_world));
+  if (vertex_colors) src.colors = *vertex_colors;
   src.object = object;
 
   // Trivial accept/reject before paying for the clipper.
@@ -380,8 +397,13 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
       if (has_normals && mesh.normals.size() != mesh.positions.size())
         throw Error(fmt::format("mesh '{}': {} normals for {} positions", mo.name,
                                 mesh.normals.size(), mesh.positions.size()));
+      const bool has_colors = !mesh.colors.empty();
+      if (has_colors && mesh.colors.size() != mesh.positions.size())
+        throw Error(fmt::format("mesh '{}': {} colours for {} positions", mo.name,
+                                mesh.colors.size(), mesh.positions.size()));
       info.material = mo.material;
       info.has_normals = has_normals;
+      info.has_colors = has_colors;
       im.objects.push_back(info);
       // One transform per vertex: shared edges then clip and project bit-identically.
       cam_positions.resize(mesh.positions.size());
@@ -398,10 +420,12 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
                                            glm::dvec3(mesh.positions[tri[2]])};
         std::array<glm::dvec3, 3> cam = {cam_positions[tri[0]], cam_positions[tri[1]],
                                          cam_positions[tri[2]]};
-        std::array<glm::vec3, 3> normals;
+        std::array<glm::vec3, 3> normals, colors;
         if (has_normals)
           normals = {mesh.normals[tri[0]], mesh.normals[tri[1]], mesh.normals[tri[2]]};
-        im.add_triangle(world, cam, has_normals ? &normals : nullptr, object);
+        if (has_colors) colors = {mesh.colors[tri[0]], mesh.colors[tri[1]], mesh.colors[tri[2]]};
+        im.add_triangle(world, cam, has_normals ? &normals : nullptr,
+                        has_colors ? &colors : nullptr, object);
       }
     } else {
       plane_seen[ref.index] = true;
@@ -425,6 +449,7 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
         info.volume = &volumes[pl.volume];
         info.window_centre = static_cast<float>(pl.window.x);
         info.window_width = static_cast<float>(pl.window.y);
+        info.colormap = pl.colormap;
       }
       info.is_plane = true;
       info.plane_color = pl.color;
@@ -444,9 +469,9 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
       std::array<glm::dvec3, 4> cam;
       for (int c = 0; c < 4; ++c) cam[c] = camera.to_camera(corners[c]);
       im.add_triangle({corners[0], corners[1], corners[2]}, {cam[0], cam[1], cam[2]}, nullptr,
-                      object);
+                      nullptr, object);
       im.add_triangle({corners[0], corners[2], corners[3]}, {cam[0], cam[2], cam[3]}, nullptr,
-                      object);
+                      nullptr, object);
     }
   }
   for (size_t i = 0; i < mesh_seen.size(); ++i)

@@ -11,13 +11,20 @@
 
 namespace imx {
 
-// A mesh fragment: Blinn-Phong lit material colour, premultiplied by the material's opacity.
-// `normal` need not be unit length; `to_eye` is the unit vector back along the ray.
+// A mesh fragment: Blinn-Phong lit `base` colour (the material's, times the vertex colour where
+// the mesh has them), premultiplied by the material's opacity. `normal` need not be unit
+// length; `to_eye` is the unit vector back along the ray.
+inline glm::vec4 shade_mesh_fragment(const Material& material, const glm::vec3& base,
+                                     const glm::vec3& normal, const glm::vec3& to_eye,
+                                     std::span<const ShadingLight> lights) {
+  glm::vec3 rgb = blinn_phong(material.shading, base, normal, to_eye, lights);
+  return {rgb * material.opacity, material.opacity};
+}
+// The same with the material's own colour.
 inline glm::vec4 shade_mesh_fragment(const Material& material, const glm::vec3& normal,
                                      const glm::vec3& to_eye,
                                      std::span<const ShadingLight> lights) {
-  glm::vec3 rgb = blinn_phong(material.shading, material.color, normal, to_eye, lights);
-  return {rgb * material.opacity, material.opacity};
+  return shade_mesh_fragment(material, material.color, normal, to_eye, lights);
 }
 
 // Grey level of `value` through a window of (centre, width): 0 below it, 1 above, linear inside.
@@ -28,6 +35,11 @@ inline float window_level(float value, float centre, float width) {
 // A plane fragment (unlit): `grey` times the plane colour, premultiplied by its opacity.
 inline glm::vec4 shade_plane_fragment(const glm::vec3& color, float opacity, float grey) {
   return {grey * opacity * color, opacity};
+}
+
+// A plane fragment through a colour map (unlit): `rgb` times the plane colour, premultiplied.
+inline glm::vec4 shade_plane_fragment(const glm::vec3& color, float opacity, const glm::vec3& rgb) {
+  return {rgb * color * opacity, opacity};
 }
 
 // The value a plane shows at a world point of `volume`; false where the point lies outside the

@@ -61,27 +61,61 @@ Mesh make_primitive(const JsonReader& src) {
   return make_quad({s[0], s[1]});
 }
 
-// The mesh a "source" names, in its own units (files are read once per scene).
-std::shared_ptr<const Mesh> load_mesh_source(const JsonReader& src, SceneContext& context) {
+// The note for a space that the file chose, not the scene: empty when the scene chose it or
+// nothing said anything (LPS).
+std::string space_note(const std::string& name, const std::filesystem::path& file,
+                       const MeshFileInfo& info) {
+  const std::string shown = file.filename().string();
+  const std::string to = info.space == MeshSpace::ras ? "converted to LPS" : "used as it is";
+  if (info.space_source == MeshSpaceSource::header)
+    return fmt::format("mesh '{}': {} says SPACE={}; {}", name, shown, mesh_space_name(info.space),
+                       to);
+  if (info.space_source == MeshSpaceSource::format)
+    return fmt::format("mesh '{}': {} is GIfTI, whose coordinates are RAS; {}", name, shown, to);
+  return {};
+}
+
+// The mesh a "source" names, in LPS and its own units (files are read once per scene and set
+// of reading options; the note on its space is given for the first object that reads it).
+std::shared_ptr<const Mesh> load_mesh_source(const JsonReader& src, const std::string& name,
+                                             SceneContext& context) {
   // Every key a source may have first, so that a misspelt "file" gets a suggestion.
   src.check_keys({"file", "primitive", "radius", "size", "height", "major_radius", "minor_radius",
-                  "segments"});
+                  "segments", "space", "crease_angle_deg"});
   const bool file = src.has("file"), primitive = src.has("primitive");
   if (file == primitive)
     src.fail(file ? "give either \"file\" or \"primitive\", not both"
                   : "needs \"file\" (a mesh file) or \"primitive\" (sphere, box, cylinder, "
                     "torus or quad)");
-  if (primitive) return std::make_shared<const Mesh>(make_primitive(src));
-  src.check_keys({"file"});
+  if (primitive) {
+    for (const char* key : {"space", "crease_angle_deg"})
+      if (auto v = src.find(key))
+        v->fail(
+            fmt::format("\"{}\" applies to mesh files; primitives are made in LPS with "
+                        "their own normals",
+                        key));
+    return std::make_shared<const Mesh>(make_primitive(src));
+  }
+  src.check_keys({"file", "space", "crease_angle_deg"});
+  MeshReadOptions options;
+  if (auto v = src.find("space"))
+    options.space = v->choice({"LPS", "RAS"}) == "RAS" ? MeshSpace::ras : MeshSpace::lps;
+  if (auto v = src.find("crease_angle_deg"))
+    options.crease_angle_deg = v->number(Range::closed(0.0, 180.0));
   JsonReader file_reader = src.get("file");
   std::filesystem::path path = context.resolve_file(file_reader);
   std::error_code ec;
   std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
-  std::string key = (ec ? path : canonical).string();
+  std::string key = fmt::format("{}\n{}\n{}", (ec ? path : canonical).string(),
+                                options.space ? mesh_space_name(*options.space) : "file",
+                                options.crease_angle_deg);
   if (auto it = context.meshes.find(key); it != context.meshes.end()) return it->second;
   std::shared_ptr<const Mesh> mesh;
   try {
-    mesh = std::make_shared<const Mesh>(read_mesh(path));
+    MeshFile read = read_mesh_file(path, options);
+    if (std::string note = space_note(name, path, read.info); !note.empty())
+      context.notes.push_back(std::move(note));
+    mesh = std::make_shared<const Mesh>(std::move(read.mesh));
   } catch (const std::exception& e) {
     file_reader.fail(e.what());
   }
@@ -121,7 +155,7 @@ MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context) {
   if (auto v = r.find("material")) m.material = parse_material(*v);
   if (auto v = r.find("thickness")) m.thickness = parse_thickness(*v);
   if (auto v = r.find("interior")) m.interior = parse_interior(*v);
-  std::shared_ptr<const Mesh> mesh = load_mesh_source(r.get("source"), context);
+  std::shared_ptr<const Mesh> mesh = load_mesh_source(r.get("source"), m.name, context);
   m.mesh = std::make_shared<const Mesh>(transform_mesh(*mesh, transform));
   return m;
 }

@@ -6,6 +6,9 @@
 #include <glm/glm.hpp>
 
 #include "core/math.hpp"
+#include "presets/colormap.hpp"
+#include "presets/window_presets.hpp"
+#include "scene/edit_distance.hpp"
 #include "scene/scene_parsers.hpp"
 
 namespace imx::detail {
@@ -32,12 +35,42 @@ glm::dvec3 default_up(const glm::dvec3& normal) {
   return glm::normalize(axis - glm::dot(axis, normal) * normal);
 }
 
+std::string join(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+// [centre, width] or the name of one of 3D Slicer's window/level presets ("ct-brain").
+glm::dvec2 parse_window(const JsonReader& v) {
+  if (v.json().is_string()) {
+    const std::string name = v.string();
+    if (std::optional<glm::dvec2> w = find_window_preset(name)) return *w;
+    const std::vector<std::string> names = window_preset_names();
+    v.fail(fmt::format("{} is not a window preset{}; they are: {}", v.text(),
+                       did_you_mean(name, names), join(names)));
+  }
+  if (!v.json().is_array())
+    v.fail("expected [centre, width] or a window preset name, got " + v.describe());
+  glm::dvec2 w = v.vec2();
+  if (!(w.y > 0.0)) v.at(1).fail(fmt::format("window width {} must be > 0", w.y));
+  return w;
+}
+
+Colormap parse_colormap(const JsonReader& v) {
+  const std::string name =
+      v.choice({kColormapNames[0], kColormapNames[1], kColormapNames[2], kColormapNames[3]});
+  for (size_t i = 0; i < kColormapNames.size(); ++i)
+    if (name == kColormapNames[i]) return static_cast<Colormap>(i);
+  return Colormap::grey;
+}
+
 }  // namespace
 
 PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
                                const std::map<std::string, std::string>& object_types) {
-  r.check_keys({"name", "type", "center", "normal", "up", "size", "volume", "window", "color",
-                "opacity", "thickness"});
+  r.check_keys({"name", "type", "center", "normal", "up", "size", "volume", "window", "colormap",
+                "color", "opacity", "thickness"});
   PlaneObject p;
   p.name = r.get("name").string();
   const VolumeObject* volume = nullptr;
@@ -75,11 +108,11 @@ PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
   } else {
     r.fail("missing required key 'size' (only a plane with a \"volume\" defaults to covering it)");
   }
-  if (auto v = r.find("window")) {
-    glm::dvec2 w = v->vec2();
-    if (!(w.y > 0.0)) v->at(1).fail(fmt::format("window width {} must be > 0", w.y));
-    p.window = w;
-  }
+  if (auto v = r.find("window"))
+    p.window = parse_window(*v);
+  else if (volume != nullptr && volume->display_window && volume->display_window->y > 0.0)
+    p.window = *volume->display_window;  // the source's own window (DICOM WindowCenter/Width)
+  if (auto v = r.find("colormap")) p.colormap = parse_colormap(*v);
   if (auto v = r.find("color")) p.color = v->color();
   if (auto v = r.find("opacity"))
     p.opacity = static_cast<float>(v->number(Range::closed(0.0, 1.0)));

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
 
 #include "intermix/scene.hpp"
 #include "scene/json_reader.hpp"
@@ -20,7 +21,8 @@ struct SceneContext {
   std::filesystem::path base_dir;
   std::map<std::string, std::shared_ptr<const VolumeData>> volumes;
   std::map<std::string, std::shared_ptr<const Mesh>> meshes;
-  std::vector<std::string> notes;  // moved into Scene::notes when loading ends
+  std::vector<std::string> notes;                  // moved into Scene::notes when loading ends
+  std::map<std::string, glm::dvec2> windows = {};  // DICOM series' own windows, by volume key
 
   // A "file" value resolved against base_dir; throws naming the resolved path when missing.
   std::filesystem::path resolve_file(const JsonReader& file) const;
@@ -64,6 +66,17 @@ glm::dmat4 parse_transform(const JsonReader& r);
 Shading parse_shading(const JsonReader& r);
 // A positive number of mm, or "auto" (nullopt).
 std::optional<double> parse_thickness(const JsonReader& r);
+
+// A transfer function and, for a preset or a Slicer file, the shading it comes with (used when
+// the volume gives none).
+struct ParsedTransferFunction {
+  TransferFunction transfer_function;
+  std::optional<Shading> shading;
+};
+// {"points": [[value, r, g, b, a], ...]}, {"preset": "ct-bone"} (3D Slicer's presets; Slicer's
+// names work too) or {"file": "x.vp" | "x.json", "name": map in a ParaView file}; "shift" and
+// "scale" move the points (presets/tf_adjust.hpp), "unit_distance" sets the alphas' mm.
+ParsedTransferFunction parse_transfer_function(const JsonReader& r, SceneContext& context);
 
 VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context);
 MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context);

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "intermix/dicom.hpp"
 #include "intermix/io.hpp"
 #include "scene/edit_distance.hpp"
 #include "scene/scene_parsers.hpp"
@@ -23,8 +24,10 @@ std::string join(const std::vector<std::string>& names) {
 }
 
 // Loads (or reuses) the volume a "source" names; errors from the readers get the JSON path.
-std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, SceneContext& context) {
-  src.check_keys({"phantom", "size", "file"});
+// A DICOM source (folder, DICOMDIR, DICM file) also gives its series' window.
+std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, SceneContext& context,
+                                                     std::optional<glm::dvec2>* window) {
+  src.check_keys({"phantom", "size", "file", "series", "units", "slice_spacing_mm"});
   const bool phantom = src.has("phantom"), file = src.has("file");
   if (phantom == file)
     src.fail(phantom ? "give either \"phantom\" or \"file\", not both"
@@ -47,14 +50,52 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
   } else {
     if (auto v = src.find("size")) v->fail("only phantoms have a size");
     culprit = src.get("file");
-    std::filesystem::path path = context.resolve_file(culprit);
+    std::filesystem::path path(culprit.string());
+    if (path.is_relative() && !context.base_dir.empty()) path = context.base_dir / path;
     std::error_code ec;
+    if (!std::filesystem::is_directory(path, ec))  // a DICOM folder is a valid "file" too
+      path = context.resolve_file(culprit);
     std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
     key = "file:" + (ec ? path : canonical).string();
     what = path.string();
-    load = [path] { return read_volume(path); };
+    if (is_dicom_source(path)) {
+      DicomReadOptions options;
+      if (auto v = src.find("series")) {
+        options.series = v->json().is_number_integer() ? std::to_string(v->json().get<long long>())
+                                                       : v->string();
+        key += ":series=" + options.series;
+      }
+      if (auto v = src.find("units")) {
+        options.units = v->choice({"suv"});
+        key += ":units=suv";
+      }
+      if (auto v = src.find("slice_spacing_mm")) {
+        options.slice_spacing_mm = v->number(Range::length());
+        key += fmt::format(":spacing={}", *options.slice_spacing_mm);
+      }
+      load = [path, options, key, &context] {
+        DicomVolume d = read_dicom(path, options);
+        for (const std::string& note : d.notes)
+          context.notes.push_back(fmt::format("{}: {}", path.string(), note));
+        if (d.window) context.windows[key] = *d.window;
+        return std::move(d.volume);
+      };
+    } else {
+      for (const char* dicom_only : {"series", "units", "slice_spacing_mm"})
+        if (auto v = src.find(dicom_only))
+          v->fail(fmt::format("only DICOM sources (a folder, DICOMDIR or .dcm file) take \"{}\"",
+                              dicom_only));
+      load = [path] { return read_volume(path); };
+    }
   }
-  if (auto it = context.volumes.find(key); it != context.volumes.end()) return it->second;
+  auto window_of = [&] {
+    if (window == nullptr) return;
+    if (auto it = context.windows.find(key); it != context.windows.end()) *window = it->second;
+  };
+  if (auto it = context.volumes.find(key); it != context.volumes.end()) {
+    window_of();
+    return it->second;
+  }
   std::shared_ptr<const VolumeData> data;
   try {
     VolumeData volume = load();
@@ -64,36 +105,8 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     culprit.fail(e.what());
   }
   context.volumes.emplace(key, data);
+  window_of();
   return data;
-}
-
-TransferFunction parse_transfer_function(const JsonReader& r) {
-  r.check_keys({"points", "unit_distance"});
-  TransferFunction tf;
-  JsonReader points = r.get("points");
-  if (points.size() == 0) points.fail("needs at least one point [value, r, g, b, a]");
-  for (const JsonReader& p : points.elements()) {
-    if (!p.json().is_array() || p.json().size() != 5)
-      p.fail("expected a point [value, r, g, b, a], got " + p.describe());
-    TfPoint point;
-    point.value = p.at(0).number();
-    for (int c = 0; c < 4; ++c)
-      point.rgba[c] =
-          static_cast<float>(p.at(static_cast<size_t>(c) + 1).number(Range::closed(0.0, 1.0)));
-    if (!tf.points.empty() && point.value < tf.points.back().value)
-      p.at(0).fail(
-          fmt::format("value {} is below the previous point's {} (points must be sorted "
-                      "by value)",
-                      point.value, tf.points.back().value));
-    tf.points.push_back(point);
-  }
-  // The table is indexed in float: the whole span must be a finite float too.
-  if (!std::isfinite(static_cast<float>(tf.points.back().value) -
-                     static_cast<float>(tf.points.front().value)))
-    points.fail(fmt::format("the values span [{}, {}], wider than a float can hold",
-                            tf.points.front().value, tf.points.back().value));
-  if (auto v = r.find("unit_distance")) tf.unit_distance = v->number(Range::length());
-  return tf;
 }
 
 std::vector<ClipPlane> parse_clip_planes(const JsonReader& r) {
@@ -128,18 +141,24 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
     v.iso_value = iso->number();
   else if (v.style == VolumeStyle::iso)
     r.fail("missing required key 'iso_value' (the style is iso)");
+  std::optional<Shading> preset_shading;  // a preset's own, when the volume gives none
   if (auto tf = r.find("transfer_function")) {
-    v.transfer_function = parse_transfer_function(*tf);
+    ParsedTransferFunction parsed = parse_transfer_function(*tf, context);
+    v.transfer_function = std::move(parsed.transfer_function);
+    preset_shading = parsed.shading;
   } else if (v.style == VolumeStyle::iso) {
     v.transfer_function.points = {TfPoint{v.iso_value, glm::vec4(1.0f)}};  // white, opaque
   } else {
     r.fail("missing required key 'transfer_function' (needed by every style but iso)");
   }
-  if (auto s = r.find("shading")) v.shading = parse_shading(*s);
+  if (auto s = r.find("shading"))
+    v.shading = parse_shading(*s);
+  else if (preset_shading)
+    v.shading = *preset_shading;
   if (auto c = r.find("clip_planes")) v.clip_planes = parse_clip_planes(*c);
   // "clip" names meshes, which come later in the file: parse_clip_meshes reads it.
   // The source last: reading a large file is the slowest step, so cheap errors come first.
-  v.data = load_volume_source(r.get("source"), context);
+  v.data = load_volume_source(r.get("source"), context, &v.display_window);
   v.index_to_world = transform * v.data->index_to_world;
   return v;
 }

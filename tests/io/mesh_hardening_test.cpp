@@ -52,6 +52,26 @@ TEST(MeshHardening, OffIndicesOutOfRangeOrNegativeAreRefused) {
   EXPECT_EQ(read_mesh(dir / "c.off").triangles.size(), 1u);
 }
 
+TEST(MeshHardening, OffIsReadALineAVertexAndALineAFace) {
+  // assimp reads one vertex and one face per line: a file counted as a stream of numbers
+  // passed the check and then crashed assimp (found by fuzz_mesh).
+  TempDir dir;
+  const std::string faces = "3 0 1 2\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  write_bytes(dir / "ok.off", "OFF\n4 4 6\n0 0 0\n1 0 0 9 9\n0 1 0\n0 0 1\n" + faces);
+  EXPECT_EQ(read_mesh(dir / "ok.off").triangles.size(), 4u) << "extra columns are skipped";
+  write_bytes(dir / "split.off", "OFF\n4 4 6\n0 0\n0\n1 0 0\n0 1 0\n0 0 1\n" + faces);
+  expect_error([&] { read_mesh(dir / "split.off"); }, {"split.off", "line 3", "vertex 0 has 2"});
+  write_bytes(dir / "face.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1\n2\n");
+  expect_error([&] { read_mesh(dir / "face.off"); }, {"face.off", "line 6", "a face is one line"});
+  write_bytes(dir / "key.off", "\x02OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expect_error([&] { read_mesh(dir / "key.off"); }, {"key.off", "does not start with OFF"});
+  write_bytes(dir / "nul.off", std::string("OFF\n3 1 0\n0 0 0\n1 0\0 0\n0 1 0\n3 0 1 2\n", 37));
+  expect_error([&] { read_mesh(dir / "nul.off"); }, {"nul.off", "line 4: a NUL byte"});
+  write_bytes(dir / "comment.off",
+              "# made by hand\nOFF\n# counts\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(read_mesh(dir / "comment.off").triangles.size(), 1u);
+}
+
 TEST(MeshHardening, PolygonsWithTooManyCornersAreRefused) {
   TempDir dir;
   std::string obj;

@@ -25,10 +25,10 @@ TEST(ReadVolume, UnknownExtensionListsTheSupportedOnes) {
   expect_error([&] { read_volume(dir / "scan.gz"); }, {"scan.gz", ".nii.gz"});
 }
 
-TEST(ReadVolume, AFolderIsNotAVolume) {
+TEST(ReadVolume, AFolderIsReadAsDicomAndAnEmptyOneSaysSo) {
   TempDir dir;
   std::filesystem::create_directory(dir / "d.nrrd");
-  expect_error([&] { read_volume(dir / "d.nrrd"); }, {"d.nrrd", "is a directory"});
+  expect_error([&] { read_volume(dir / "d.nrrd"); }, {"d.nrrd", "no DICOM image"});
 }
 
 TEST(ReadVolume, ExtensionsAreCaseInsensitive) {

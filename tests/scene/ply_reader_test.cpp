@@ -82,7 +82,9 @@ TEST(ReadPly, SmoothNormalsWhenTheFileHasNone) {
   test::TempDir dir;
   auto file = dir.write("t.ply", binary_tetra(true));
   Mesh m = read_mesh(file);
-  ASSERT_EQ(m.normals.size(), 4u);
+  // The corner tetrahedron's edges are all sharper than 60 degrees: each corner splits.
+  ASSERT_EQ(m.normals.size(), m.positions.size());
+  EXPECT_GT(m.positions.size(), 4u);
   for (const glm::vec3& n : m.normals) EXPECT_NEAR(glm::length(n), 1.0f, 1e-5f);
 }
 

@@ -1,0 +1,260 @@
+#include "io/dicom/dicom_header.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <set>
+
+#include <fmt/format.h>
+#include <gdcmReader.h>
+#include <glm/geometric.hpp>
+
+#include "intermix/error.hpp"
+#include "io/dicom/dicom_structure.hpp"
+#include "io/dicom/dicom_tags.hpp"
+
+namespace imx::detail {
+
+namespace {
+
+constexpr int kMaxFrames = 1 << 16;           // far more than any scanner writes into one file
+constexpr uintmax_t kMaxMetaBytes = 1 << 16;  // the file meta group is a few hundred bytes
+
+std::optional<glm::dvec3> vec3_of(const gdcm::DataSet& ds, uint16_t g, uint16_t e) {
+  std::vector<double> v = tag_numbers(ds, g, e);
+  if (v.size() < 3) return std::nullopt;
+  return glm::dvec3(v[0], v[1], v[2]);
+}
+
+// Reads ImageOrientationPatient into the frame when both directions are usable unit vectors.
+void read_orientation(const gdcm::DataSet& ds, DicomFrame& f) {
+  std::vector<double> v = tag_numbers(ds, 0x0020, 0x0037);
+  if (v.size() < 6) return;
+  glm::dvec3 r(v[0], v[1], v[2]), c(v[3], v[4], v[5]);
+  double lr = glm::length(r), lc = glm::length(c);
+  if (!(lr > 0.5 && lr < 1.5 && lc > 0.5 && lc < 1.5)) return;
+  f.row_direction = r / lr;
+  f.column_direction = c / lc;
+}
+
+void read_spacing(const gdcm::DataSet& ds, DicomFrame& f) {
+  std::vector<double> v = tag_numbers(ds, 0x0028, 0x0030);
+  if (v.size() >= 2 && v[0] > 0.0 && v[1] > 0.0) f.pixel_spacing = glm::dvec2(v[0], v[1]);
+}
+
+void read_rescale(const gdcm::DataSet& ds, DicomFrame& f) {
+  if (auto s = tag_number(ds, 0x0028, 0x1053)) f.slope = *s;
+  if (auto i = tag_number(ds, 0x0028, 0x1052)) f.intercept = *i;
+}
+
+void read_window(const gdcm::DataSet& ds, DicomFrame& f) {
+  auto c = tag_number(ds, 0x0028, 0x1050), w = tag_number(ds, 0x0028, 0x1051);
+  if (c && w && *w > 0.0) f.window = glm::dvec2(*c, *w);
+}
+
+// The data set of the first item of sequence (g,e) inside `ds`, kept alive by `holder`.
+const gdcm::DataSet* first_item(const gdcm::DataSet& ds, uint16_t g, uint16_t e,
+                                gdcm::SmartPointer<gdcm::SequenceOfItems>& holder) {
+  holder = tag_sequence(ds, g, e);
+  if (!holder || holder->GetNumberOfItems() < 1) return nullptr;
+  return &holder->GetItem(1).GetNestedDataSet();
+}
+
+// Applies one functional-groups item (shared or per-frame) to a frame.
+void apply_functional_groups(const gdcm::DataSet& group, DicomFrame& f) {
+  gdcm::SmartPointer<gdcm::SequenceOfItems> hold;
+  if (const gdcm::DataSet* s = first_item(group, 0x0020, 0x9113, hold))  // PlanePosition
+    if (auto p = vec3_of(*s, 0x0020, 0x0032)) f.position = p;
+  if (const gdcm::DataSet* s = first_item(group, 0x0020, 0x9116, hold))  // PlaneOrientation
+    read_orientation(*s, f);
+  if (const gdcm::DataSet* s = first_item(group, 0x0028, 0x9110, hold))  // PixelMeasures
+    read_spacing(*s, f);
+  if (const gdcm::DataSet* s = first_item(group, 0x0028, 0x9145, hold))  // PixelValueTransf.
+    read_rescale(*s, f);
+  if (const gdcm::DataSet* s = first_item(group, 0x0028, 0x9132, hold))  // FrameVOILUT
+    read_window(*s, f);
+}
+
+void read_suv_tags(const gdcm::DataSet& ds, DicomSuvTags& t) {
+  t.units = tag_text(ds, 0x0054, 0x1001);
+  t.decay_correction = tag_text(ds, 0x0054, 0x1102);
+  t.weight_kg = tag_number(ds, 0x0010, 0x1030);
+  if (auto tm = tag_text(ds, 0x0008, 0x0031)) t.series_time_s = parse_dicom_time(*tm);
+  if (auto tm = tag_text(ds, 0x0008, 0x0032)) t.acquisition_time_s = parse_dicom_time(*tm);
+  gdcm::SmartPointer<gdcm::SequenceOfItems> hold;
+  if (const gdcm::DataSet* r = first_item(ds, 0x0054, 0x0016, hold)) {
+    t.has_radiopharmaceutical = true;
+    t.total_dose_bq = tag_number(*r, 0x0018, 0x1074);
+    t.half_life_s = tag_number(*r, 0x0018, 0x1075);
+    if (auto tm = tag_text(*r, 0x0018, 0x1072)) t.start_time_s = parse_dicom_time(*tm);
+    if (!t.start_time_s)  // RadiopharmaceuticalStartDateTime: YYYYMMDDHHMMSS.frac
+      if (auto dt = tag_text(*r, 0x0018, 0x1078); dt && dt->size() >= 10)
+        t.start_time_s = parse_dicom_time(dt->substr(8));
+  }
+}
+
+}  // namespace
+
+bool looks_like_dicom(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  char head[132] = {};
+  in.read(head, sizeof head);
+  const std::streamsize got = in.gcount();
+  if (got == 132 && std::memcmp(head + 128, "DICM", 4) == 0) return true;
+  // A bare data set (ACR-NEMA style) starts with a group 0008 element, little endian.
+  return got >= 8 && head[0] == 0x08 && head[1] == 0x00;
+}
+
+bool well_formed_file_meta(const std::filesystem::path& file) {
+  std::error_code ec;
+  const uintmax_t size = std::filesystem::file_size(file, ec);
+  if (ec) return false;
+  std::ifstream in(file, std::ios::binary);
+  std::vector<unsigned char> head(static_cast<size_t>(std::min<uintmax_t>(size, kMaxMetaBytes)));
+  in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
+  if (in.gcount() != static_cast<std::streamsize>(head.size())) return false;
+  if (head.size() < 132 || std::memcmp(head.data() + 128, "DICM", 4) != 0)
+    return head.size() >= 8 && head[0] == 0x08 && head[1] == 0x00;  // no meta group at all
+  // GDCM asserts (aborts) on a meta element that is a sequence, of undefined length or cut
+  // short: each must be explicit VR little endian, with a known VR, inside the file.
+  static const char* const kLongVrs[] = {"OB", "OD", "OF", "OL", "OV", "OW",
+                                         "UC", "UN", "UR", "UT", "SV", "UV"};
+  static const char* const kShortVrs[] = {"AE", "AS", "AT", "CS", "DA", "DS", "DT",
+                                          "FL", "FD", "IS", "LO", "LT", "PN", "SH",
+                                          "SL", "SS", "ST", "TM", "UI", "UL", "US"};
+  size_t at = 132;
+  int elements = 0;
+  while (at + 8 <= head.size()) {
+    const unsigned group = head[at] | (head[at + 1] << 8);
+    const unsigned element = head[at + 2] | (head[at + 3] << 8);
+    if (group != 0x0002) break;
+    if (elements == 0 && element != 0x0000) return false;  // GDCM needs the group length first
+    const char vr[3] = {static_cast<char>(head[at + 4]), static_cast<char>(head[at + 5]), 0};
+    auto in_list = [&](const auto& list) {
+      return std::any_of(std::begin(list), std::end(list),
+                         [&](const char* v) { return std::strcmp(v, vr) == 0; });
+    };
+    uint64_t length = 0;
+    size_t value = 0;
+    if (in_list(kShortVrs)) {
+      length = head[at + 6] | (head[at + 7] << 8);
+      value = at + 8;
+    } else if (in_list(kLongVrs)) {
+      if (at + 12 > head.size()) return false;
+      length = static_cast<uint64_t>(head[at + 8]) | (static_cast<uint64_t>(head[at + 9]) << 8) |
+               (static_cast<uint64_t>(head[at + 10]) << 16) |
+               (static_cast<uint64_t>(head[at + 11]) << 24);
+      if (length == 0xffffffffu) return false;
+      value = at + 12;
+    } else {
+      return false;  // SQ or not a VR
+    }
+    if (elements == 0 && (std::strcmp(vr, "UL") != 0 || length != 4)) return false;
+    if (value + length > head.size()) return false;
+    at = value + static_cast<size_t>(length);
+    ++elements;
+  }
+  return elements > 0 && at + 8 <= head.size();  // a data set follows
+}
+
+std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& file) {
+  quiet_gdcm();
+  if (!looks_like_dicom(file)) return std::nullopt;
+  const std::string broken = fmt::format(
+      "{}: a DICOM file that cannot be read (truncated or "
+      "corrupt)",
+      file.string());
+  if (!well_formed_file_meta(file)) throw Error(broken);
+  if (std::string fault = check_dicom_structure(file); !fault.empty())
+    throw Error(fmt::format("{}: {}", broken, fault));
+  gdcm::Reader reader;
+  reader.SetFileName(file.c_str());
+  // The pixel data is skipped, not read: the stream then stops just after its element header.
+  std::set<gdcm::Tag> skip{gdcm::Tag(0x7fe0, 0x0010)};
+  bool ok = false;
+  size_t pixel_offset = static_cast<size_t>(-1);
+  try {
+    ok = reader.ReadUpToTag(gdcm::Tag(0x7fe0, 0x0010), skip);
+    pixel_offset = reader.GetStreamCurrentPosition();
+  } catch (...) {
+    ok = false;
+  }
+  if (!ok) throw Error(broken);
+  const gdcm::DataSet& ds = reader.GetFile().GetDataSet();
+  std::error_code size_ec;
+  const uintmax_t file_size = std::filesystem::file_size(file, size_ec);
+
+  DicomFileHeader h;
+  h.file = file;
+  auto rows = tag_us(ds, 0x0028, 0x0010), columns = tag_us(ds, 0x0028, 0x0011);
+  if (!rows || !columns || *rows == 0 || *columns == 0) return std::nullopt;
+  h.rows = *rows;
+  h.columns = *columns;
+  h.series_uid = tag_text(ds, 0x0020, 0x000e).value_or("");
+  h.sop_uid = tag_text(ds, 0x0008, 0x0018).value_or("");
+  h.description = tag_text(ds, 0x0008, 0x103e).value_or("");
+  h.modality = tag_text(ds, 0x0008, 0x0060).value_or("");
+  h.photometric = tag_text(ds, 0x0028, 0x0004).value_or("");
+  h.rescale_type = tag_text(ds, 0x0028, 0x1054).value_or("");
+  h.series_number =
+      static_cast<int>(std::clamp(tag_number(ds, 0x0020, 0x0011).value_or(0.0), -1e9, 1e9));
+  h.instance_number =
+      static_cast<int>(std::clamp(tag_number(ds, 0x0020, 0x0013).value_or(0.0), -1e9, 1e9));
+  std::string image_type = tag_text(ds, 0x0008, 0x0008).value_or("");
+  std::transform(image_type.begin(), image_type.end(), image_type.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+  h.localizer = image_type.find("LOCALIZER") != std::string::npos;
+  if (!size_ec && pixel_offset < file_size) {
+    h.has_pixel_data = true;
+    h.pixel_bytes = file_size - pixel_offset;
+  }
+  h.transfer_syntax =
+      tag_text(reader.GetFile().GetHeader(), 0x0002, 0x0010).value_or("1.2.840.10008.1.2");
+  h.bits_allocated = tag_us(ds, 0x0028, 0x0100).value_or(0);
+  h.bits_stored = tag_us(ds, 0x0028, 0x0101).value_or(h.bits_allocated);
+  h.high_bit = tag_us(ds, 0x0028, 0x0102).value_or(h.bits_stored - 1);
+  h.pixel_representation = tag_us(ds, 0x0028, 0x0103).value_or(0);
+  h.samples_per_pixel = tag_us(ds, 0x0028, 0x0002).value_or(1);
+  h.slice_spacing = tag_number(ds, 0x0018, 0x0088);
+  if (!h.slice_spacing || !(*h.slice_spacing > 0.0))
+    h.slice_spacing = tag_number(ds, 0x0018, 0x0050);
+  if (h.slice_spacing && !(*h.slice_spacing > 0.0)) h.slice_spacing.reset();
+
+  double frames = tag_number(ds, 0x0028, 0x0008).value_or(1.0);
+  if (!(frames >= 1.0 && frames <= kMaxFrames && frames == std::floor(frames)))
+    throw Error(fmt::format("{}: NumberOfFrames (0028,0008) is {}, expected 1 to {}", file.string(),
+                            frames, kMaxFrames));
+  h.frame_count = static_cast<int>(frames);
+
+  // The top-level tags hold for every frame; functional groups override them.
+  DicomFrame base;
+  base.file = file;
+  base.position = vec3_of(ds, 0x0020, 0x0032);
+  read_orientation(ds, base);
+  read_spacing(ds, base);
+  read_rescale(ds, base);
+  read_window(ds, base);
+  gdcm::SmartPointer<gdcm::SequenceOfItems> shared_hold;
+  if (const gdcm::DataSet* shared = first_item(ds, 0x5200, 0x9229, shared_hold))
+    apply_functional_groups(*shared, base);
+  gdcm::SmartPointer<gdcm::SequenceOfItems> per_frame = tag_sequence(ds, 0x5200, 0x9230);
+  for (int f = 0; f < h.frame_count; ++f) {
+    DicomFrame frame = base;
+    frame.frame = f;
+    if (per_frame && static_cast<size_t>(f) < per_frame->GetNumberOfItems())
+      apply_functional_groups(per_frame->GetItem(static_cast<size_t>(f) + 1).GetNestedDataSet(),
+                              frame);
+    h.frames.push_back(std::move(frame));
+  }
+  // A legacy multi-frame file (no per-frame groups) stacks its frames along the normal.
+  if (!per_frame && h.frame_count > 1 && base.position && base.row_direction) {
+    const glm::dvec3 normal = glm::cross(*base.row_direction, *base.column_direction);
+    for (DicomFrame& f : h.frames)
+      f.position = *base.position + normal * (f.frame * h.slice_spacing.value_or(1.0));
+  }
+  read_suv_tags(ds, h.suv);
+  return h;
+}
+
+}  // namespace imx::detail

@@ -1,0 +1,71 @@
+// What one DICOM file says about its images before any pixel is decoded: series, size, pixel
+// format and, per frame, placement and rescale (from per-frame functional groups when present).
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+namespace imx::detail {
+
+// One 2D image of a file: the file itself, or one frame of a multi-frame file.
+struct DicomFrame {
+  std::filesystem::path file;
+  int frame = 0;                            // index within the file
+  std::optional<glm::dvec3> position;       // ImagePositionPatient of the first pixel's centre
+  std::optional<glm::dvec3> row_direction;  // ImageOrientationPatient: along a row (columns grow)
+  std::optional<glm::dvec3> column_direction;  // down a column (rows grow)
+  std::optional<glm::dvec2> pixel_spacing;     // PixelSpacing as stored: between rows, columns
+  double slope = 1.0, intercept = 0.0;         // RescaleSlope, RescaleIntercept
+  std::optional<glm::dvec2> window;            // WindowCenter, WindowWidth (first values)
+};
+
+// The tags SUV by body weight needs, as found (nullopt: absent or malformed).
+struct DicomSuvTags {
+  std::optional<std::string> units;             // (0054,1001)
+  std::optional<std::string> decay_correction;  // (0054,1102)
+  std::optional<double> weight_kg;              // PatientWeight (0010,1030)
+  bool has_radiopharmaceutical = false;         // (0054,0016) with an item
+  std::optional<double> total_dose_bq;          // RadionuclideTotalDose (0018,1074)
+  std::optional<double> half_life_s;            // RadionuclideHalfLife (0018,1075)
+  std::optional<double> start_time_s;           // RadiopharmaceuticalStartTime (0018,1072)
+  std::optional<double> series_time_s;          // SeriesTime (0008,0031)
+  std::optional<double> acquisition_time_s;     // AcquisitionTime (0008,0032)
+};
+
+struct DicomFileHeader {
+  std::filesystem::path file;
+  std::string series_uid, sop_uid, description, modality, photometric, rescale_type;
+  int series_number = 0;
+  int instance_number = 0;
+  int rows = 0, columns = 0, frame_count = 1;
+  bool localizer = false;
+  bool has_pixel_data = false;
+  uint64_t pixel_bytes = 0;     // bytes in the file from the pixel data's value on
+  std::string transfer_syntax;  // (0002,0010)
+  int bits_allocated = 0, bits_stored = 0, high_bit = 0, pixel_representation = 0;
+  int samples_per_pixel = 1;
+  std::optional<double> slice_spacing;  // SpacingBetweenSlices, else SliceThickness
+  std::vector<DicomFrame> frames;       // frame_count of them
+  DicomSuvTags suv;
+};
+
+// True when `file` starts like a DICOM file: the "DICM" preamble, or (old files without one) a
+// first element of group 0008.
+bool looks_like_dicom(const std::filesystem::path& file);
+
+// True when the file meta group (0002) after the preamble is well formed enough for GDCM, whose
+// meta reader aborts on some malformed elements instead of failing.
+bool well_formed_file_meta(const std::filesystem::path& file);
+
+// The header of an image file; nullopt when the file is not DICOM or holds no image (no Rows or
+// Columns: a DICOMDIR, a structured report). Throws imx::Error for a file that starts like DICOM
+// but cannot be read (truncated, corrupt) and for an unusable header (a frame count out of
+// bounds).
+std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& file);
+
+}  // namespace imx::detail

@@ -1,0 +1,309 @@
+#include "io/dicom/dicom_pixels.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <gdcmImageReader.h>
+
+#include "intermix/error.hpp"
+#include "intermix/limits.hpp"
+#include "io/dicom/dicom_tags.hpp"
+
+namespace imx::detail {
+
+namespace {
+
+enum class Stored { u8, i8, u16, i16, u32, i32, f32, f64 };
+
+size_t stored_size(Stored t) {
+  switch (t) {
+    case Stored::u8:
+    case Stored::i8:
+      return 1;
+    case Stored::u16:
+    case Stored::i16:
+      return 2;
+    case Stored::u32:
+    case Stored::i32:
+    case Stored::f32:
+      return 4;
+    default:
+      return 8;
+  }
+}
+
+// Undecoded or decoded pixel values in host order, as stored (before rescale).
+struct RawPixels {
+  const char* data = nullptr;
+  Stored type = Stored::u16;
+  int bits_stored = 16, high_bit = 15;
+};
+
+// Stored value i, with the bits outside BitsStored (overlays, or a sign extension) replaced by
+// the sign of the stored value.
+template <class T>
+int64_t stored_value(const char* buffer, size_t i, int shift, int bits, bool is_signed) {
+  T raw;
+  std::memcpy(&raw, buffer + i * sizeof(T), sizeof(T));
+  if (bits >= static_cast<int>(sizeof(T) * 8)) return static_cast<int64_t>(raw);
+  uint64_t u = static_cast<uint64_t>(static_cast<std::make_unsigned_t<T>>(raw)) >> shift;
+  u &= (uint64_t{1} << bits) - 1;
+  if (is_signed && (u >> (bits - 1)) != 0) return static_cast<int64_t>(u) - (int64_t{1} << bits);
+  return static_cast<int64_t>(u);
+}
+
+template <class T>
+void rescale_integers(const RawPixels& raw, size_t base, size_t plane, const DicomFrame& meta,
+                      float* dst) {
+  constexpr int allocated = static_cast<int>(sizeof(T) * 8);
+  int shift = 0, used = allocated;
+  if (raw.bits_stored > 0 && raw.bits_stored < allocated && raw.high_bit >= raw.bits_stored - 1 &&
+      raw.high_bit < allocated) {
+    shift = raw.high_bit + 1 - raw.bits_stored;
+    used = raw.bits_stored;
+  }
+  const bool is_signed = std::is_signed_v<T>;
+  for (size_t i = 0; i < plane; ++i)
+    dst[i] = static_cast<float>(
+        static_cast<double>(stored_value<T>(raw.data, base + i, shift, used, is_signed)) *
+            meta.slope +
+        meta.intercept);
+}
+
+template <class T>
+void rescale_floats(const RawPixels& raw, size_t base, size_t plane, const DicomFrame& meta,
+                    float* dst) {
+  for (size_t i = 0; i < plane; ++i) {
+    T v;
+    std::memcpy(&v, raw.data + (base + i) * sizeof(T), sizeof(T));
+    dst[i] = static_cast<float>(static_cast<double>(v) * meta.slope + meta.intercept);
+  }
+}
+
+std::optional<Stored> integer_type(int bits_allocated, bool is_signed) {
+  switch (bits_allocated) {
+    case 8:
+      return is_signed ? Stored::i8 : Stored::u8;
+    case 16:
+      return is_signed ? Stored::i16 : Stored::u16;
+    case 32:
+      return is_signed ? Stored::i32 : Stored::u32;
+    default:
+      return std::nullopt;
+  }
+}
+
+// Reused per thread: a fresh buffer of a slice's size is a fresh mapping, faulted in page by page.
+std::vector<char>& scratch_buffer() {
+  thread_local std::vector<char> buffer;
+  return buffer;
+}
+
+// Native little-endian data is read straight from the file (as dcm2niix does): GDCM would parse
+// the whole file again and copy the pixels twice.
+bool read_native(const DicomFileHeader& h, size_t count, RawPixels& raw) {
+  const std::string& ts = h.transfer_syntax;
+  if (ts != "1.2.840.10008.1.2" && ts != "1.2.840.10008.1.2.1") return false;
+  if (h.samples_per_pixel != 1) return false;
+  std::optional<Stored> type = integer_type(h.bits_allocated, h.pixel_representation == 1);
+  if (!type) return false;
+  const uint64_t bytes = count * stored_size(*type);
+  if (h.pixel_bytes < bytes) return false;  // reported as truncated by the caller
+  std::error_code ec;
+  const uintmax_t size = std::filesystem::file_size(h.file, ec);
+  if (ec || size < h.pixel_bytes) return false;
+  std::ifstream in(h.file, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(size - h.pixel_bytes));
+  std::vector<char>& buffer = scratch_buffer();
+  buffer.resize(bytes);
+  in.read(buffer.data(), static_cast<std::streamsize>(bytes));
+  if (in.gcount() != static_cast<std::streamsize>(bytes)) return false;
+  raw.data = buffer.data();
+  raw.type = *type;
+  raw.bits_stored = h.bits_stored;
+  raw.high_bit = h.high_bit;
+  return true;
+}
+
+// Everything else through GDCM's codecs (RLE, JPEG, JPEG-LS, JPEG 2000, big endian, ...).
+void read_with_gdcm(const DicomFileHeader& header, size_t count, RawPixels& raw) {
+  const std::string what = header.file.string();
+  gdcm::ImageReader reader;
+  reader.SetFileName(header.file.c_str());
+  bool read = false;
+  try {
+    read = reader.Read();
+  } catch (...) {
+    read = false;
+  }
+  if (!read)
+    throw Error(
+        fmt::format("{}: GDCM cannot read the image (truncated or corrupt file, or an "
+                    "unsupported encoding)",
+                    what));
+  const gdcm::Image& image = reader.GetImage();
+  const gdcm::PixelFormat& pf = image.GetPixelFormat();
+  if (pf.GetSamplesPerPixel() != 1)
+    throw Error(
+        fmt::format("{}: unsupported photometric interpretation: {} samples per pixel "
+                    "(colour); only greyscale images are read",
+                    what, pf.GetSamplesPerPixel()));
+  const unsigned frames = image.GetNumberOfDimensions() >= 3 ? image.GetDimension(2) : 1;
+  if (image.GetColumns() != static_cast<unsigned>(header.columns) ||
+      image.GetRows() != static_cast<unsigned>(header.rows) ||
+      frames != static_cast<unsigned>(header.frame_count))
+    throw Error(fmt::format("{}: the image is {}x{}x{}, the header says {}x{}x{}", what,
+                            image.GetColumns(), image.GetRows(), frames, header.columns,
+                            header.rows, header.frame_count));
+  switch (pf.GetScalarType()) {
+    case gdcm::PixelFormat::UINT8:
+      raw.type = Stored::u8;
+      break;
+    case gdcm::PixelFormat::INT8:
+      raw.type = Stored::i8;
+      break;
+    case gdcm::PixelFormat::UINT16:
+      raw.type = Stored::u16;
+      break;
+    case gdcm::PixelFormat::INT16:
+      raw.type = Stored::i16;
+      break;
+    case gdcm::PixelFormat::UINT32:
+      raw.type = Stored::u32;
+      break;
+    case gdcm::PixelFormat::INT32:
+      raw.type = Stored::i32;
+      break;
+    case gdcm::PixelFormat::FLOAT32:
+      raw.type = Stored::f32;
+      break;
+    case gdcm::PixelFormat::FLOAT64:
+      raw.type = Stored::f64;
+      break;
+    default:
+      throw Error(
+          fmt::format("{}: unsupported pixel format (BitsAllocated {}, "
+                      "PixelRepresentation {})",
+                      what, pf.GetBitsAllocated(), pf.GetPixelRepresentation()));
+  }
+  const unsigned long length = image.GetBufferLength();
+  if (length != count * stored_size(raw.type))
+    throw Error(fmt::format("{}: GDCM reports {} bytes of pixels, expected {}", what, length,
+                            count * stored_size(raw.type)));
+  std::vector<char>& buffer = scratch_buffer();
+  buffer.resize(length);
+  bool decoded = false;
+  try {
+    decoded = image.GetBuffer(buffer.data());
+  } catch (...) {
+    decoded = false;
+  }
+  if (!decoded) {
+    const char* ts = image.GetTransferSyntax().GetString();
+    throw Error(
+        fmt::format("{}: cannot decode the pixel data (transfer syntax {}): truncated or "
+                    "corrupt",
+                    what, ts != nullptr ? ts : "unknown"));
+  }
+  raw.data = buffer.data();
+  raw.bits_stored = pf.GetBitsStored();
+  raw.high_bit = pf.GetHighBit();
+}
+
+}  // namespace
+
+DecodedFrames decode_dicom_frames(const DicomFileHeader& header) {
+  quiet_gdcm();
+  const std::string what = header.file.string();
+  if (!header.has_pixel_data)
+    throw Error(fmt::format("{}: no pixel data (7FE0,0010) in this file", what));
+  if (header.photometric != "MONOCHROME1" && header.photometric != "MONOCHROME2")
+    throw Error(
+        fmt::format("{}: unsupported photometric interpretation '{}' (0028,0004): only "
+                    "greyscale MONOCHROME1 and MONOCHROME2 images are read",
+                    what, header.photometric));
+  const size_t plane = static_cast<size_t>(header.rows) * header.columns;
+  const size_t count = plane * static_cast<size_t>(header.frame_count);
+  // GDCM keeps the file in memory and decodes to a buffer of up to 8 bytes a value; the floats
+  // come on top.
+  check_memory(count * 12, fmt::format("{} ({}x{}x{} pixels)", what, header.columns, header.rows,
+                                       header.frame_count));
+  // Native (uncompressed) data must hold every pixel: GDCM pads a short element with zeros.
+  const gdcm::TransferSyntax::TSType ts_type =
+      gdcm::TransferSyntax::GetTSType(header.transfer_syntax.c_str());
+  if (ts_type != gdcm::TransferSyntax::TS_END && !gdcm::TransferSyntax(ts_type).IsEncapsulated() &&
+      header.bits_allocated % 8 == 0) {
+    const uint64_t needed = count * static_cast<uint64_t>(header.bits_allocated / 8);
+    if (header.pixel_bytes < needed)
+      throw Error(fmt::format("{}: truncated pixel data: {} of {} bytes", what, header.pixel_bytes,
+                              needed));
+  }
+
+  // GDCM asserts on some of these rather than failing: refuse them first.
+  if (header.samples_per_pixel != 1)
+    throw Error(
+        fmt::format("{}: unsupported photometric interpretation: {} samples per pixel "
+                    "(SamplesPerPixel (0028,0002)); only greyscale images are read",
+                    what, header.samples_per_pixel));
+  const int ba = header.bits_allocated;
+  if ((ba != 8 && ba != 16 && ba != 32 && ba != 64) || header.bits_stored < 1 ||
+      header.bits_stored > ba || header.high_bit < header.bits_stored - 1 ||
+      header.high_bit >= ba || header.pixel_representation > 1)
+    throw Error(
+        fmt::format("{}: unsupported pixel format: BitsAllocated {}, BitsStored {}, "
+                    "HighBit {}, PixelRepresentation {}",
+                    what, ba, header.bits_stored, header.high_bit, header.pixel_representation));
+  RawPixels raw;
+  if (!read_native(header, count, raw)) read_with_gdcm(header, count, raw);
+  const bool floats = raw.type == Stored::f32 || raw.type == Stored::f64;
+  DecodedFrames out;
+  out.integer_pixels = !floats;
+  out.frames.resize(static_cast<size_t>(header.frame_count));
+  for (size_t f = 0; f < out.frames.size(); ++f) {
+    const DicomFrame& meta = header.frames[f];
+    std::vector<float>& dst = out.frames[f];
+    dst.resize(plane);
+    const size_t base = f * plane;
+    switch (raw.type) {
+      case Stored::u8:
+        rescale_integers<uint8_t>(raw, base, plane, meta, dst.data());
+        break;
+      case Stored::i8:
+        rescale_integers<int8_t>(raw, base, plane, meta, dst.data());
+        break;
+      case Stored::u16:
+        rescale_integers<uint16_t>(raw, base, plane, meta, dst.data());
+        break;
+      case Stored::i16:
+        rescale_integers<int16_t>(raw, base, plane, meta, dst.data());
+        break;
+      case Stored::u32:
+        rescale_integers<uint32_t>(raw, base, plane, meta, dst.data());
+        break;
+      case Stored::i32:
+        rescale_integers<int32_t>(raw, base, plane, meta, dst.data());
+        break;
+      case Stored::f32:
+        rescale_floats<float>(raw, base, plane, meta, dst.data());
+        break;
+      case Stored::f64:
+        rescale_floats<double>(raw, base, plane, meta, dst.data());
+        break;
+    }
+    // Integers times a modest slope stay finite; anything else is checked.
+    if (floats || !(std::abs(meta.slope) < 1e20 && std::abs(meta.intercept) < 1e30))
+      for (float v : dst)
+        if (!std::isfinite(v))
+          throw Error(
+              fmt::format("{}: frame {} holds a value that is not finite after rescale "
+                          "(slope {}, intercept {})",
+                          what, f + 1, meta.slope, meta.intercept));
+  }
+  std::vector<char>& buffer = scratch_buffer();
+  if (buffer.capacity() > (size_t{64} << 20)) std::vector<char>().swap(buffer);  // keep small ones
+  return out;
+}
+
+}  // namespace imx::detail

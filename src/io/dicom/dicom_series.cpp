@@ -1,0 +1,231 @@
+#include "io/dicom/dicom_series.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <map>
+#include <system_error>
+
+#include <fmt/format.h>
+#include <gdcmReader.h>
+#include <glm/geometric.hpp>
+
+#include "intermix/error.hpp"
+#include "io/dicom/dicom_structure.hpp"
+#include "io/dicom/dicom_tags.hpp"
+
+namespace imx::detail {
+
+namespace {
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+// A DICOMDIR by name or by its media storage class (Philips writes one called DIRFILE).
+bool is_dicomdir(const std::filesystem::path& file) {
+  if (lower(file.filename().string()) == "dicomdir") return true;
+  if (!looks_like_dicom(file) || !well_formed_file_meta(file) ||
+      !check_dicom_structure(file).empty())
+    return false;
+  gdcm::Reader reader;
+  reader.SetFileName(file.c_str());
+  std::set<gdcm::Tag> skip;
+  try {
+    if (!reader.ReadUpToTag(gdcm::Tag(0x0004, 0x1220), skip)) return false;
+  } catch (...) {
+    return false;
+  }
+  return tag_text(reader.GetFile().GetHeader(), 0x0002, 0x0002).value_or("") ==
+         "1.2.840.10008.1.3.10";
+}
+
+std::vector<std::filesystem::path> files_under(const std::filesystem::path& folder) {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> files;
+  std::error_code ec;
+  // Links to folders are not followed (no loops); links to files are.
+  fs::recursive_directory_iterator it(folder, fs::directory_options::skip_permission_denied, ec);
+  if (ec) throw Error(fmt::format("{}: cannot read the folder: {}", folder.string(), ec.message()));
+  for (; it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    if (ec) break;
+    if (it.depth() >= kMaxDicomDepth) it.disable_recursion_pending();
+    std::error_code type_ec;
+    if (!it->is_regular_file(type_ec)) continue;  // folders, FIFOs, devices, broken links
+    if (files.size() >= static_cast<size_t>(kMaxDicomFiles))
+      throw Error(fmt::format("{}: more than {} files below it; name the series' own folder",
+                              folder.string(), kMaxDicomFiles));
+    files.push_back(it->path());
+  }
+  if (ec) throw Error(fmt::format("{}: cannot read the folder: {}", folder.string(), ec.message()));
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+bool same_direction(const std::optional<glm::dvec3>& a, const std::optional<glm::dvec3>& b) {
+  if (a.has_value() != b.has_value()) return false;
+  return !a || glm::dot(*a, *b) > 0.9999;  // within about 0.8 degrees
+}
+
+bool same_orientation(const DicomFrame& a, const DicomFrame& b) {
+  return same_direction(a.row_direction, b.row_direction) &&
+         same_direction(a.column_direction, b.column_direction);
+}
+
+}  // namespace
+
+std::string describe_series(const DicomSeriesInfo& s) {
+  return fmt::format("{} '{}' {} {}x{}, {} slice{}{}", s.id, s.description,
+                     s.modality.empty() ? "?" : s.modality, s.columns, s.rows, s.slices,
+                     s.slices == 1 ? "" : "s", s.localizer ? " (localizer)" : "");
+}
+
+std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& source,
+                                                std::vector<std::string>* broken) {
+  namespace fs = std::filesystem;
+  const std::string what = source.string();
+  std::error_code ec;
+  fs::file_status status = fs::status(source, ec);
+  if (ec || !fs::exists(status)) throw Error(fmt::format("{}: no such file or folder", what));
+  std::vector<DicomFileHeader> headers;
+  bool folder = fs::is_directory(status);
+  if (!folder) {
+    if (!fs::is_regular_file(status))
+      throw Error(fmt::format("{}: not a regular file or folder", what));
+    if (is_dicomdir(source)) {
+      folder = true;  // its records often name paths that moved: the folder is the truth
+    } else {
+      std::optional<DicomFileHeader> h = read_dicom_header(source);
+      if (!h) {
+        if (looks_like_dicom(source))
+          throw Error(
+              fmt::format("{}: a DICOM file without an image (no Rows (0028,0010) or "
+                          "Columns (0028,0011)), or not readable as DICOM",
+                          what));
+        throw Error(fmt::format("{}: not a DICOM file (no DICM preamble)", what));
+      }
+      headers.push_back(std::move(*h));
+    }
+  }
+  if (folder) {
+    const fs::path dir = fs::is_directory(status) ? source : source.parent_path();
+    std::vector<std::string> unreadable;
+    for (const fs::path& f : files_under(dir.empty() ? fs::path(".") : dir)) {
+      try {
+        if (std::optional<DicomFileHeader> h = read_dicom_header(f))
+          headers.push_back(std::move(*h));
+      } catch (const Error& e) {
+        unreadable.push_back(e.what());
+      }
+    }
+    if (broken != nullptr) *broken = unreadable;
+    if (headers.empty() && !unreadable.empty()) throw Error(unreadable.front());
+    if (headers.empty())
+      throw Error(fmt::format("{}: no DICOM image files in {}", what,
+                              fs::is_directory(status) ? "this folder" : "its folder"));
+  }
+
+  // Group by series UID, size, localizer-ness, then by orientation within those.
+  std::map<std::tuple<std::string, int, int, bool>, std::vector<std::vector<DicomFileHeader>>>
+      keyed;
+  for (DicomFileHeader& h : headers) {
+    auto& clusters = keyed[{h.series_uid, h.rows, h.columns, h.localizer}];
+    auto it = std::find_if(clusters.begin(), clusters.end(), [&](const auto& c) {
+      return same_orientation(c.front().frames.front(), h.frames.front());
+    });
+    if (it == clusters.end()) {
+      clusters.emplace_back();
+      it = clusters.end() - 1;
+    }
+    it->push_back(std::move(h));
+  }
+  std::map<std::string, std::vector<DicomSeriesGroup>> by_uid;
+  for (auto& [key, clusters] : keyed)
+    for (auto& files : clusters) {
+      DicomSeriesGroup g;
+      const DicomFileHeader& first = files.front();
+      g.info.uid = first.series_uid;
+      g.info.number = first.series_number;
+      g.info.description = first.description;
+      g.info.modality = first.modality;
+      g.info.rows = first.rows;
+      g.info.columns = first.columns;
+      g.info.localizer = first.localizer;
+      g.info.row_direction = first.frames.front().row_direction.value_or(glm::dvec3(0.0));
+      g.info.column_direction = first.frames.front().column_direction.value_or(glm::dvec3(0.0));
+      for (const DicomFileHeader& h : files) {
+        g.info.slices += h.frame_count;
+        g.info.files.push_back(h.file);
+      }
+      g.headers = std::move(files);
+      by_uid[g.info.uid].push_back(std::move(g));
+    }
+  std::vector<DicomSeriesGroup> out;
+  for (auto& [uid, parts] : by_uid) {
+    std::stable_sort(parts.begin(), parts.end(), [](const auto& a, const auto& b) {
+      if (a.info.localizer != b.info.localizer) return !a.info.localizer;
+      return a.info.slices > b.info.slices;
+    });
+    for (size_t p = 0; p < parts.size(); ++p) {
+      parts[p].info.part = parts.size() > 1 ? static_cast<int>(p) + 1 : 0;
+      parts[p].info.id = parts.size() > 1 ? fmt::format("{}.{}", parts[p].info.number, p + 1)
+                                          : fmt::format("{}", parts[p].info.number);
+      out.push_back(std::move(parts[p]));
+    }
+  }
+  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) {
+    return std::tie(a.info.number, a.info.part, a.info.uid) <
+           std::tie(b.info.number, b.info.part, b.info.uid);
+  });
+  return out;
+}
+
+const DicomSeriesGroup& choose_series(const std::vector<DicomSeriesGroup>& groups,
+                                      const std::string& choice,
+                                      const std::filesystem::path& source, std::string& note) {
+  auto listing = [&] {
+    std::string s;
+    for (const DicomSeriesGroup& g : groups) s += "\n  " + describe_series(g.info);
+    return s;
+  };
+  const DicomSeriesGroup* chosen = nullptr;
+  if (choice.empty()) {
+    auto voxels = [](const DicomSeriesGroup& g) {
+      return static_cast<double>(g.info.rows) * g.info.columns * g.info.slices;
+    };
+    for (const DicomSeriesGroup& g : groups)  // largest non-localizer, else largest
+      if (chosen == nullptr || (chosen->info.localizer && !g.info.localizer) ||
+          (chosen->info.localizer == g.info.localizer && voxels(g) > voxels(*chosen)))
+        chosen = &g;
+  } else {
+    std::vector<const DicomSeriesGroup*> matches;
+    for (const DicomSeriesGroup& g : groups)
+      if (g.info.id == choice || g.info.uid == choice || std::to_string(g.info.number) == choice)
+        matches.push_back(&g);
+    if (matches.empty())
+      throw Error(
+          fmt::format("{}: no series '{}'; the series are (id 'description' modality "
+                      "size):{}",
+                      source.string(), choice, listing()));
+    if (matches.size() > 1) {
+      std::string which;
+      for (const DicomSeriesGroup* g : matches)
+        which += fmt::format("\n  {} (UID {})", describe_series(g->info), g->info.uid);
+      const bool same_ids = std::all_of(matches.begin(), matches.end(),
+                                        [&](const auto* g) { return g->info.id == choice; });
+      throw Error(fmt::format("{}: series '{}' is ambiguous: it matches {} series:{}\ngive {}",
+                              source.string(), choice, matches.size(), which,
+                              same_ids ? "a SeriesInstanceUID"
+                                       : fmt::format("an id such as '{}', or a SeriesInstanceUID",
+                                                     matches.front()->info.id)));
+    }
+    chosen = matches.front();
+  }
+  if (groups.size() > 1)
+    note = fmt::format("loaded series {} '{}' of {} series", chosen->info.id,
+                       chosen->info.description, groups.size());
+  return *chosen;
+}
+
+}  // namespace imx::detail

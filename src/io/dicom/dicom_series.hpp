@@ -1,0 +1,37 @@
+// Finding DICOM image files under a folder, DICOMDIR or file, grouping them into series, and
+// choosing the series a read asks for.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "intermix/dicom.hpp"
+#include "io/dicom/dicom_header.hpp"
+
+namespace imx::detail {
+
+inline constexpr int kMaxDicomFiles = 100000;
+inline constexpr int kMaxDicomDepth = 16;
+
+struct DicomSeriesGroup {
+  DicomSeriesInfo info;
+  std::vector<DicomFileHeader> headers;
+};
+
+// Every image series under `source`, sorted as list_dicom_series says. Files that start like
+// DICOM but cannot be read are skipped, their messages added to `broken` when given. Throws
+// imx::Error naming `source` when it holds no DICOM image.
+std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& source,
+                                                std::vector<std::string>* broken = nullptr);
+
+// One line about a series: "201 'STD BRAIN 5MM' CT 512x512, 28 slices".
+std::string describe_series(const DicomSeriesInfo& s);
+
+// The series `choice` names (see DicomReadOptions::series), else the largest non-localizer
+// series; `note` receives "loaded series ... of N series" when there was more than one.
+// Throws imx::Error listing the series when the choice matches none or several.
+const DicomSeriesGroup& choose_series(const std::vector<DicomSeriesGroup>& groups,
+                                      const std::string& choice,
+                                      const std::filesystem::path& source, std::string& note);
+
+}  // namespace imx::detail

@@ -1,0 +1,130 @@
+#include "io/dicom/dicom_tags.hpp"
+
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <mutex>
+#include <string_view>
+
+#include <fmt/format.h>
+#include <gdcmTrace.h>
+
+namespace imx::detail {
+
+void quiet_gdcm() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    gdcm::Trace::SetDebug(false);
+    gdcm::Trace::SetWarning(false);
+    gdcm::Trace::SetError(false);
+  });
+}
+
+std::string tag_name(uint16_t group, uint16_t element) {
+  return fmt::format("({:04X},{:04X})", group, element);
+}
+
+namespace {
+
+const gdcm::ByteValue* byte_value(const gdcm::DataSet& ds, uint16_t group, uint16_t element) {
+  const gdcm::Tag tag(group, element);
+  if (!ds.FindDataElement(tag)) return nullptr;
+  const gdcm::DataElement& de = ds.GetDataElement(tag);
+  if (de.IsEmpty()) return nullptr;
+  const gdcm::ByteValue* bv = de.GetByteValue();
+  if (bv == nullptr || bv->GetPointer() == nullptr || bv->GetLength() == 0) return nullptr;
+  return bv;
+}
+
+std::optional<double> parse_number(std::string_view s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  if (s.empty()) return std::nullopt;
+  double v = 0.0;
+  auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || end != s.data() + s.size() || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+}  // namespace
+
+std::optional<std::string> tag_text(const gdcm::DataSet& ds, uint16_t group, uint16_t element) {
+  const gdcm::ByteValue* bv = byte_value(ds, group, element);
+  if (bv == nullptr) return std::nullopt;
+  std::string s(bv->GetPointer(), bv->GetLength());
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\0')) s.pop_back();
+  while (!s.empty() && s.front() == ' ') s.erase(s.begin());
+  if (s.empty()) return std::nullopt;
+  return s;
+}
+
+std::vector<double> tag_numbers(const gdcm::DataSet& ds, uint16_t group, uint16_t element) {
+  std::optional<std::string> text = tag_text(ds, group, element);
+  std::vector<double> out;
+  if (!text) return out;
+  std::string_view rest = *text;
+  while (true) {
+    size_t cut = rest.find('\\');
+    std::optional<double> v = parse_number(rest.substr(0, cut));
+    if (!v) return {};
+    out.push_back(*v);
+    if (cut == std::string_view::npos) break;
+    rest.remove_prefix(cut + 1);
+  }
+  return out;
+}
+
+std::optional<double> tag_number(const gdcm::DataSet& ds, uint16_t group, uint16_t element) {
+  std::vector<double> v = tag_numbers(ds, group, element);
+  if (v.empty()) return std::nullopt;
+  return v.front();
+}
+
+std::optional<int> tag_us(const gdcm::DataSet& ds, uint16_t group, uint16_t element) {
+  const gdcm::ByteValue* bv = byte_value(ds, group, element);
+  if (bv == nullptr || bv->GetLength() < 2) return std::nullopt;
+  uint16_t v = 0;
+  std::memcpy(&v, bv->GetPointer(), sizeof v);
+  return static_cast<int>(v);
+}
+
+gdcm::SmartPointer<gdcm::SequenceOfItems> tag_sequence(const gdcm::DataSet& ds, uint16_t group,
+                                                       uint16_t element) {
+  const gdcm::Tag tag(group, element);
+  if (!ds.FindDataElement(tag)) return nullptr;
+  try {
+    gdcm::SmartPointer<gdcm::SequenceOfItems> sq = ds.GetDataElement(tag).GetValueAsSQ();
+    if (sq && sq->GetNumberOfItems() == 0) return nullptr;
+    return sq;
+  } catch (...) {  // GDCM parses undefined-VR sequences on demand and may throw on bad bytes
+    return nullptr;
+  }
+}
+
+std::optional<double> parse_dicom_time(const std::string& tm) {
+  std::string digits;
+  size_t i = 0;
+  for (; i < tm.size() && tm[i] != '.'; ++i) {
+    if (tm[i] == ':') continue;  // the old ACR-NEMA form HH:MM:SS
+    if (!std::isdigit(static_cast<unsigned char>(tm[i]))) return std::nullopt;
+    digits.push_back(tm[i]);
+  }
+  if (digits.size() < 2 || digits.size() > 6 || digits.size() % 2 != 0) return std::nullopt;
+  int h = std::stoi(digits.substr(0, 2));
+  int m = digits.size() >= 4 ? std::stoi(digits.substr(2, 2)) : 0;
+  int s = digits.size() >= 6 ? std::stoi(digits.substr(4, 2)) : 0;
+  if (h > 23 || m > 59 || s > 60) return std::nullopt;
+  double fraction = 0.0;
+  if (i < tm.size()) {
+    std::string frac = tm.substr(i);  // ".123456"
+    if (frac.size() > 7) return std::nullopt;
+    for (size_t k = 1; k < frac.size(); ++k)
+      if (!std::isdigit(static_cast<unsigned char>(frac[k]))) return std::nullopt;
+    if (frac.size() > 1) fraction = std::stod("0" + frac);
+  }
+  return h * 3600.0 + m * 60.0 + s + fraction;
+}
+
+}  // namespace imx::detail

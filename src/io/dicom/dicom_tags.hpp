@@ -1,0 +1,42 @@
+// Reading DICOM element values from a GDCM data set without GDCM's asserting Attribute
+// templates: text and numbers from the raw bytes, every failure an empty result.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <gdcmDataSet.h>
+#include <gdcmSequenceOfItems.h>
+#include <gdcmSmartPointer.h>
+
+namespace imx::detail {
+
+// Turns GDCM's console warnings and errors off, once per process (ours name the file instead).
+void quiet_gdcm();
+
+// "(0028,0010)": for messages.
+std::string tag_name(uint16_t group, uint16_t element);
+
+// The value of a string element (CS, DS, IS, LO, UI, TM, ...) without trailing spaces and NULs;
+// nullopt when absent or empty.
+std::optional<std::string> tag_text(const gdcm::DataSet& ds, uint16_t group, uint16_t element);
+
+// The backslash-separated numbers of a DS or IS element; empty when absent or when any value
+// does not parse as a finite number.
+std::vector<double> tag_numbers(const gdcm::DataSet& ds, uint16_t group, uint16_t element);
+
+// The first number of a DS or IS element.
+std::optional<double> tag_number(const gdcm::DataSet& ds, uint16_t group, uint16_t element);
+
+// A US (unsigned 16-bit binary) element; GDCM holds binary values in host order.
+std::optional<int> tag_us(const gdcm::DataSet& ds, uint16_t group, uint16_t element);
+
+// The items of a sequence element; null when absent or not a readable sequence.
+gdcm::SmartPointer<gdcm::SequenceOfItems> tag_sequence(const gdcm::DataSet& ds, uint16_t group,
+                                                       uint16_t element);
+
+// Seconds since midnight of a TM value ("HHMMSS.frac", also "HH:MM:SS"); nullopt when malformed.
+std::optional<double> parse_dicom_time(const std::string& tm);
+
+}  // namespace imx::detail

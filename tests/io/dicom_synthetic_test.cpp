@@ -1,0 +1,432 @@
+// DICOM reading on small series written here with GDCM: rescale and types, geometry (tilt,
+// uneven spacing), SUV, and one clear error for each kind of bad input.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <gdcmDataElement.h>
+#include <gdcmItem.h>
+#include <gdcmSequenceOfItems.h>
+#include <gdcmWriter.h>
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include "expect_error.hpp"
+#include "intermix/dicom.hpp"
+#include "io/dicom/dicom_suv.hpp"
+#include "temp_dir.hpp"
+
+namespace imx {
+namespace {
+
+namespace fs = std::filesystem;
+using test::expect_error;
+using test::TempDir;
+
+struct Slice {
+  std::string series_uid = "1.2.3.4";
+  int series_number = 1;
+  std::string sop_uid;  // default: from the file name
+  std::string modality = "CT";
+  std::string photometric = "MONOCHROME2";
+  int samples = 1;
+  int rows = 4, columns = 3;
+  glm::dvec3 position{0.0};
+  std::string orientation = "1\\0\\0\\0\\1\\0";
+  std::string spacing = "0.5\\0.8";  // between rows, between columns
+  std::string slope = "1", intercept = "0";
+  std::vector<int16_t> pixels;  // rows * columns; default: 10 * index + slice-independent
+  bool pixel_data = true;
+  std::string window_center, window_width;
+  bool pet = false;  // add PET SUV tags
+  std::string pet_units = "BQML";
+  bool pet_weight = true;
+};
+
+void put_text(gdcm::DataSet& ds, uint16_t g, uint16_t e, gdcm::VR vr, std::string v) {
+  if (v.size() % 2 != 0) v.push_back(vr == gdcm::VR::UI ? '\0' : ' ');
+  gdcm::DataElement de(gdcm::Tag(g, e));
+  de.SetVR(vr);
+  de.SetByteValue(v.data(), static_cast<uint32_t>(v.size()));
+  ds.Replace(de);
+}
+
+void put_us(gdcm::DataSet& ds, uint16_t g, uint16_t e, uint16_t v) {
+  gdcm::DataElement de(gdcm::Tag(g, e));
+  de.SetVR(gdcm::VR::US);
+  de.SetByteValue(reinterpret_cast<const char*>(&v), 2);
+  ds.Replace(de);
+}
+
+void write_slice(const fs::path& file, const Slice& s) {
+  gdcm::Writer w;
+  gdcm::DataSet& ds = w.GetFile().GetDataSet();
+  const std::string sop =
+      s.sop_uid.empty()
+          ? fmt::format("1.2.3.4.5.{}",
+                        std::hash<std::string>()(file.filename().string()) % 100000000)
+          : s.sop_uid;
+  put_text(ds, 0x0008, 0x0016, gdcm::VR::UI,
+           s.pet ? "1.2.840.10008.5.1.4.1.1.128" : "1.2.840.10008.5.1.4.1.1.2");
+  put_text(ds, 0x0008, 0x0018, gdcm::VR::UI, sop);
+  put_text(ds, 0x0008, 0x0060, gdcm::VR::CS, s.modality);
+  put_text(ds, 0x0008, 0x103e, gdcm::VR::LO, "SYNTHETIC");
+  put_text(ds, 0x0020, 0x000e, gdcm::VR::UI, s.series_uid);
+  put_text(ds, 0x0020, 0x0011, gdcm::VR::IS, std::to_string(s.series_number));
+  put_text(ds, 0x0020, 0x0032, gdcm::VR::DS,
+           fmt::format("{}\\{}\\{}", s.position.x, s.position.y, s.position.z));
+  put_text(ds, 0x0020, 0x0037, gdcm::VR::DS, s.orientation);
+  put_us(ds, 0x0028, 0x0002, static_cast<uint16_t>(s.samples));
+  put_text(ds, 0x0028, 0x0004, gdcm::VR::CS, s.photometric);
+  put_us(ds, 0x0028, 0x0010, static_cast<uint16_t>(s.rows));
+  put_us(ds, 0x0028, 0x0011, static_cast<uint16_t>(s.columns));
+  put_text(ds, 0x0028, 0x0030, gdcm::VR::DS, s.spacing);
+  put_us(ds, 0x0028, 0x0100, 16);
+  put_us(ds, 0x0028, 0x0101, 16);
+  put_us(ds, 0x0028, 0x0102, 15);
+  put_us(ds, 0x0028, 0x0103, 1);
+  put_text(ds, 0x0028, 0x1052, gdcm::VR::DS, s.intercept);
+  put_text(ds, 0x0028, 0x1053, gdcm::VR::DS, s.slope);
+  if (!s.window_center.empty()) {
+    put_text(ds, 0x0028, 0x1050, gdcm::VR::DS, s.window_center);
+    put_text(ds, 0x0028, 0x1051, gdcm::VR::DS, s.window_width);
+  }
+  if (s.pet) {
+    put_text(ds, 0x0054, 0x1001, gdcm::VR::CS, s.pet_units);
+    put_text(ds, 0x0054, 0x1102, gdcm::VR::CS, "START");
+    if (s.pet_weight) put_text(ds, 0x0010, 0x1030, gdcm::VR::DS, "70");
+    put_text(ds, 0x0008, 0x0031, gdcm::VR::TM, "110000");
+    put_text(ds, 0x0008, 0x0032, gdcm::VR::TM, "110500");
+    gdcm::Item item;
+    gdcm::DataSet& nested = item.GetNestedDataSet();
+    put_text(nested, 0x0018, 0x1072, gdcm::VR::TM, "100000.00");
+    put_text(nested, 0x0018, 0x1074, gdcm::VR::DS, "370000000");
+    put_text(nested, 0x0018, 0x1075, gdcm::VR::DS, "6586.2");
+    gdcm::SmartPointer<gdcm::SequenceOfItems> sq = new gdcm::SequenceOfItems;
+    sq->SetLengthToUndefined();
+    sq->AddItem(item);
+    gdcm::DataElement de(gdcm::Tag(0x0054, 0x0016));
+    de.SetVR(gdcm::VR::SQ);
+    de.SetValue(*sq);
+    de.SetVLToUndefined();
+    ds.Replace(de);
+  }
+  if (s.pixel_data) {
+    std::vector<int16_t> px = s.pixels;
+    const size_t n = static_cast<size_t>(s.rows) * s.columns * s.samples;
+    if (px.empty())
+      for (size_t i = 0; i < n; ++i) px.push_back(static_cast<int16_t>(10 * i));
+    gdcm::DataElement de(gdcm::Tag(0x7fe0, 0x0010));
+    de.SetVR(gdcm::VR::OW);
+    de.SetByteValue(reinterpret_cast<const char*>(px.data()), static_cast<uint32_t>(px.size() * 2));
+    ds.Replace(de);
+  }
+  w.GetFile().GetHeader().SetDataSetTransferSyntax(gdcm::TransferSyntax::ExplicitVRLittleEndian);
+  w.SetFileName(file.c_str());
+  ASSERT_TRUE(w.Write()) << file;
+}
+
+// Slices at the given positions along z, named s0.dcm, s1.dcm, ...
+void write_series(const TempDir& dir, const std::vector<double>& z, Slice base = {}) {
+  for (size_t i = 0; i < z.size(); ++i) {
+    base.position = glm::dvec3(-10, 20, z[i]);
+    write_slice(dir / fmt::format("s{}.dcm", i), base);
+  }
+}
+
+TEST(DicomSynthetic, RescaledIntegersGetTheSmallestType) {
+  TempDir dir;
+  Slice s;
+  s.intercept = "-1024";
+  write_series(dir, {0, 2, 4}, s);
+  DicomVolume d = read_dicom(dir.path());
+  EXPECT_EQ(d.volume.type(), VoxelType::i16);
+  EXPECT_EQ(d.volume.dims, glm::ivec3(3, 4, 3));
+  EXPECT_DOUBLE_EQ(d.volume.value_at(2, 1, 0), 10.0 * 5 - 1024);
+  // Spacing: PixelSpacing is between rows (j) then columns (i).
+  EXPECT_DOUBLE_EQ(d.volume.spacing().x, 0.8);
+  EXPECT_DOUBLE_EQ(d.volume.spacing().y, 0.5);
+  EXPECT_NEAR(d.volume.spacing().z, 2.0, 1e-12);
+  EXPECT_EQ(glm::dvec3(d.volume.index_to_world[3]), glm::dvec3(-10, 20, 0));
+
+  TempDir small;
+  write_series(small, {0, 1});  // 0..110
+  EXPECT_EQ(read_dicom(small.path()).volume.type(), VoxelType::u8);
+}
+
+TEST(DicomSynthetic, FractionalOrDifferingSlopesGiveFloat) {
+  TempDir dir;
+  Slice s;
+  s.slope = "0.5";
+  write_series(dir, {0, 1}, s);
+  DicomVolume d = read_dicom(dir.path());
+  EXPECT_EQ(d.volume.type(), VoxelType::f32);
+  EXPECT_DOUBLE_EQ(d.volume.value_at(1, 0, 1), 5.0);
+
+  TempDir mixed;
+  Slice a, b;
+  b.slope = "2";
+  a.position = glm::dvec3(0, 0, 0);
+  b.position = glm::dvec3(0, 0, 1);
+  write_slice(mixed / "a.dcm", a);
+  write_slice(mixed / "b.dcm", b);
+  DicomVolume m = read_dicom(mixed.path());
+  EXPECT_EQ(m.volume.type(), VoxelType::f32);
+  EXPECT_DOUBLE_EQ(m.volume.value_at(1, 0, 0), 10.0);
+  EXPECT_DOUBLE_EQ(m.volume.value_at(1, 0, 1), 20.0);  // its own slope
+}
+
+TEST(DicomSynthetic, SlicesAreSortedByPositionNotFileName) {
+  TempDir dir;
+  for (int i = 0; i < 3; ++i) {
+    Slice s;
+    s.position = glm::dvec3(0, 0, 10.0 - 5.0 * i);  // s0 is the highest
+    s.pixels.assign(12, static_cast<int16_t>(i));
+    write_slice(dir / fmt::format("s{}.dcm", i), s);
+  }
+  DicomVolume d = read_dicom(dir.path());
+  EXPECT_EQ(d.volume.value_at(0, 0, 0), 2.0);  // the lowest slice first
+  EXPECT_EQ(d.volume.value_at(0, 0, 2), 0.0);
+  EXPECT_NEAR(d.volume.index_to_world[3].z, 0.0, 1e-12);
+}
+
+TEST(DicomSynthetic, EvenTiltIsAShearWithoutResampling) {
+  TempDir dir;
+  for (int i = 0; i < 4; ++i) {
+    Slice s;
+    s.orientation = "1\\0\\0\\0\\0.8\\-0.6";     // columns tilted about x
+    s.position = glm::dvec3(1, 2, 3 + 2.0 * i);  // stacked along z, not along the normal
+    write_slice(dir / fmt::format("s{}.dcm", i), s);
+  }
+  DicomVolume d = read_dicom(dir.path());
+  EXPECT_EQ(d.volume.dims.z, 4);
+  EXPECT_EQ(d.volume.type(), VoxelType::u8);  // not resampled
+  const glm::dmat4& m = d.volume.index_to_world;
+  EXPECT_LT(glm::length(glm::dvec3(m[2]) - glm::dvec3(0, 0, 2)), 1e-9);
+  EXPECT_LT(glm::length(glm::dvec3(m[1]) - 0.5 * glm::dvec3(0, 0.8, -0.6)), 1e-9);
+  // Voxel (i, j, k) at IPP_k + i dcol row + j drow col.
+  glm::dvec3 w(m * glm::dvec4(2, 3, 1, 1));
+  EXPECT_LT(glm::length(w - (glm::dvec3(1, 2, 5) + 2 * 0.8 * glm::dvec3(1, 0, 0) +
+                             3 * 0.5 * glm::dvec3(0, 0.8, -0.6))),
+            1e-9);
+}
+
+TEST(DicomSynthetic, UnevenSpacingIsResampledWithLinearBlends) {
+  TempDir dir;
+  const std::vector<double> z = {0, 1, 2, 4, 6};
+  for (size_t i = 0; i < z.size(); ++i) {
+    Slice s;
+    s.position = glm::dvec3(0, 0, z[i]);
+    s.pixels.assign(12, static_cast<int16_t>(100 * i));
+    write_slice(dir / fmt::format("s{}.dcm", i), s);
+  }
+  DicomVolume d = read_dicom(dir.path());
+  ASSERT_EQ(d.volume.dims.z, 7);  // 1 mm, the smallest gap
+  EXPECT_EQ(d.volume.type(), VoxelType::f32);
+  const double expected[] = {0, 100, 200, 250, 300, 350, 400};  // z = 3 and 5 are blends
+  for (int k = 0; k < 7; ++k) EXPECT_NEAR(d.volume.value_at(1, 2, k), expected[k], 1e-4) << k;
+  ASSERT_FALSE(d.notes.empty());
+  EXPECT_NE(d.notes.back().find("gaps from 1 to 2 mm"), std::string::npos) << d.notes.back();
+
+  DicomReadOptions coarse;
+  coarse.slice_spacing_mm = 1.5;  // 6 mm in 4 steps of 1.5
+  DicomVolume c = read_dicom(dir.path(), coarse);
+  ASSERT_EQ(c.volume.dims.z, 5);
+  EXPECT_NEAR(c.volume.value_at(0, 0, 1), 150.0, 1e-4);  // z 1.5
+  EXPECT_NEAR(c.volume.value_at(0, 0, 3), 325.0, 1e-4);  // z 4.5
+  EXPECT_NEAR(c.volume.spacing().z, 1.5, 1e-12);
+}
+
+TEST(DicomSynthetic, WindowAndUnits) {
+  TempDir dir;
+  Slice s;
+  s.window_center = "40\\50";
+  s.window_width = "400\\500";
+  write_series(dir, {0, 1}, s);
+  DicomVolume d = read_dicom(dir.path());
+  ASSERT_TRUE(d.window.has_value());
+  EXPECT_EQ(*d.window, glm::dvec2(40, 400));
+  EXPECT_EQ(d.units, "HU");
+}
+
+TEST(DicomSynthetic, SuvByBodyWeightWithDecayCorrection) {
+  TempDir dir;
+  Slice s;
+  s.modality = "PT";
+  s.pet = true;
+  write_series(dir, {0, 3}, s);
+  DicomVolume bq = read_dicom(dir.path());
+  EXPECT_EQ(bq.units, "BQML");
+  DicomReadOptions o;
+  o.units = "suv";
+  DicomVolume suv = read_dicom(dir.path(), o);
+  EXPECT_EQ(suv.units, "g/ml");
+  // 70 kg, 370 MBq injected at 10:00, half-life 6586.2 s, series at 11:00.
+  const double factor = 70000.0 / (370e6 * std::pow(2.0, -3600.0 / 6586.2));
+  EXPECT_NEAR(suv.volume.value_at(2, 3, 1), bq.volume.value_at(2, 3, 1) * factor,
+              1e-6 * bq.volume.value_at(2, 3, 1) * factor);
+  EXPECT_EQ(suv.volume.type(), VoxelType::f32);
+
+  detail::DicomSuvTags tags;
+  tags.units = "BQML";
+  tags.weight_kg = 80;
+  tags.has_radiopharmaceutical = true;
+  tags.total_dose_bq = 400e6;
+  tags.half_life_s = 6586.2;
+  tags.start_time_s = 23 * 3600.0 + 30 * 60;  // injected before midnight
+  tags.series_time_s = 0.5 * 3600;
+  EXPECT_NEAR(detail::suv_body_weight_factor(tags, "x"),
+              80000.0 / (400e6 * std::pow(2.0, -3600.0 / 6586.2)), 1e-12);
+  tags.decay_correction = "ADMIN";
+  EXPECT_NEAR(detail::suv_body_weight_factor(tags, "x"), 80000.0 / 400e6, 1e-15);
+}
+
+TEST(DicomSynthetic, SuvErrorsNameTheMissingTag) {
+  TempDir ct;
+  write_series(ct, {0, 1});
+  DicomReadOptions o;
+  o.units = "suv";
+  expect_error([&] { read_dicom(ct.path(), o); }, {"suv", "Units (0054,1001)"});
+  TempDir pet;
+  Slice s;
+  s.modality = "PT";
+  s.pet = true;
+  s.pet_weight = false;
+  write_series(pet, {0, 1}, s);
+  expect_error([&] { read_dicom(pet.path(), o); }, {"PatientWeight (0010,1030)"});
+  o.units = "percent";
+  expect_error([&] { read_dicom(pet.path(), o); }, {"units 'percent'"});
+}
+
+// --- bad input: one clear error each --------------------------------------------------------
+
+TEST(DicomErrors, FolderWithoutDicom) {
+  TempDir dir;
+  test::write_bytes(dir / "readme.txt", "not an image\n");
+  test::write_bytes(dir / "fake.dcm", std::string(300, 'x'));
+  fs::create_directories(dir / "empty");
+  expect_error([&] { read_dicom(dir.path()); }, {dir.path().string(), "no DICOM image files"});
+  expect_error([&] { read_dicom(dir / "fake.dcm"); }, {"fake.dcm", "not a DICOM file"});
+  expect_error([&] { read_dicom(dir / "nothing"); }, {"no such file or folder"});
+}
+
+TEST(DicomErrors, TwoSeriesAndAnAmbiguousChoice) {
+  TempDir dir;
+  Slice a, b;
+  b.series_uid = "1.2.3.99";  // same SeriesNumber 1, another series
+  for (int i = 0; i < 3; ++i) {
+    a.position.z = i;
+    write_slice(dir / fmt::format("a{}.dcm", i), a);
+  }
+  for (int i = 0; i < 2; ++i) {
+    b.position.z = i;
+    write_slice(dir / fmt::format("b{}.dcm", i), b);
+  }
+  ASSERT_EQ(list_dicom_series(dir.path()).size(), 2u);
+  DicomReadOptions o;
+  o.series = "1";
+  expect_error([&] { read_dicom(dir.path(), o); }, {"series '1' is ambiguous", "matches 2"});
+  o.series = "7";
+  expect_error([&] { read_dicom(dir.path(), o); }, {"no series '7'", "1 'SYNTHETIC' CT 3x4"});
+  o.series = "1.2.3.99";  // by UID
+  EXPECT_EQ(read_dicom(dir.path(), o).volume.dims.z, 2);
+  DicomVolume largest = read_dicom(dir.path());
+  EXPECT_EQ(largest.volume.dims.z, 3);
+  ASSERT_FALSE(largest.notes.empty());
+  EXPECT_NE(largest.notes.front().find("of 2 series"), std::string::npos);
+}
+
+TEST(DicomErrors, LocalizerAndOtherOrientationAreSeriesOfTheirOwn) {
+  TempDir dir;
+  write_series(dir, {0, 1, 2, 3});
+  Slice sagittal;
+  sagittal.orientation = "0\\1\\0\\0\\0\\-1";
+  write_slice(dir / "sag.dcm", sagittal);
+  std::vector<DicomSeriesInfo> list = list_dicom_series(dir.path());
+  ASSERT_EQ(list.size(), 2u);
+  EXPECT_EQ(list[0].id, "1.1");
+  EXPECT_EQ(list[0].slices, 4);
+  EXPECT_EQ(list[1].id, "1.2");
+  EXPECT_EQ(read_dicom(dir.path()).volume.dims.z, 4);  // the largest
+}
+
+TEST(DicomErrors, MissingSlice) {
+  TempDir dir;
+  write_series(dir, {0, 2, 4, 8, 10});
+  expect_error([&] { read_dicom(dir.path()); }, {"missing slice", "4.000 mm", "s2.dcm", "s3.dcm"});
+}
+
+TEST(DicomErrors, DuplicatePositions) {
+  TempDir dir;
+  write_series(dir, {0, 2, 4});
+  Slice again;
+  again.position = glm::dvec3(-10, 20, 2);
+  write_slice(dir / "copy.dcm", again);
+  expect_error([&] { read_dicom(dir.path()); }, {"duplicate slice position", "copy.dcm", "s1.dcm"});
+}
+
+TEST(DicomErrors, NoPixelData) {
+  TempDir dir;
+  Slice s;
+  s.pixel_data = false;
+  write_slice(dir / "empty.dcm", s);
+  expect_error([&] { read_dicom(dir / "empty.dcm"); }, {"empty.dcm", "no pixel data (7FE0,0010)"});
+}
+
+TEST(DicomErrors, TruncatedSlice) {
+  TempDir dir;
+  Slice s;
+  s.rows = s.columns = 64;
+  write_series(dir, {0, 1, 2}, s);
+  std::string bytes = test::read_bytes(dir / "s1.dcm");
+  test::write_bytes(dir / "s1.dcm", bytes.substr(0, bytes.size() - 3000));
+  expect_error([&] { read_dicom(dir.path()); }, {"s1.dcm"});
+  // Cut inside the header, too: the file is skipped as not DICOM, and the gap is reported.
+  test::write_bytes(dir / "s1.dcm", bytes.substr(0, 200));
+  expect_error([&] { read_dicom(dir.path()); }, {"s1.dcm"});
+}
+
+TEST(DicomErrors, UnsupportedPhotometricInterpretation) {
+  TempDir dir;
+  Slice s;
+  s.photometric = "RGB";
+  s.samples = 3;
+  write_slice(dir / "colour.dcm", s);
+  expect_error([&] { read_dicom(dir / "colour.dcm"); },
+               {"colour.dcm", "unsupported photometric interpretation 'RGB'"});
+  Slice p;
+  p.photometric = "PALETTE COLOR";
+  write_slice(dir / "palette.dcm", p);
+  expect_error([&] { read_dicom(dir / "palette.dcm"); },
+               {"unsupported photometric interpretation 'PALETTE COLOR'"});
+}
+
+TEST(DicomErrors, GarbageAfterAValidPreambleDoesNotCrash) {
+  TempDir dir;
+  std::string bytes(128, '\0');
+  bytes += "DICM";
+  for (int i = 0; i < 2000; ++i) bytes.push_back(static_cast<char>((i * 7919) % 251));
+  test::write_bytes(dir / "x.dcm", bytes);
+  expect_error([&] { read_dicom(dir / "x.dcm"); }, {"x.dcm"});
+}
+
+TEST(DicomErrors, MalformedElementsAreRefusedBeforeGdcmParsesThem) {
+  TempDir dir;
+  // A bare data set whose first element's length is cut short (GDCM asserts on it).
+  test::write_bytes(dir / "short.dcm", std::string("\x08\x00\x08\x26UR\x00\x00", 8));
+  expect_error([&] { read_dicom(dir / "short.dcm"); }, {"short.dcm", "cannot be read"});
+  // A valid slice followed by an element that claims 4 GB (GDCM would allocate it).
+  write_slice(dir / "big.dcm", Slice{});
+  std::string bytes = test::read_bytes(dir / "big.dcm");
+  bytes += std::string("\xe1\x7f\x10\x00OB\x00\x00\x00\x00\x00\xf0", 12);
+  test::write_bytes(dir / "big.dcm", bytes);
+  expect_error([&] { read_dicom(dir / "big.dcm"); }, {"big.dcm", "claims"});
+  // A folder of only such files says why, rather than "no DICOM files".
+  expect_error([&] { list_dicom_series(dir.path()); }, {"cannot be read"});
+}
+
+}  // namespace
+}  // namespace imx
