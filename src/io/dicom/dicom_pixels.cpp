@@ -263,7 +263,7 @@ DecodedFrames decode_dicom_frames(const DicomFileHeader& header) {
   out.frames.resize(static_cast<size_t>(header.frame_count));
   for (size_t f = 0; f < out.frames.size(); ++f) {
     const DicomFrame& meta = header.frames[f];
-    std::vector<float>& dst = out.frames[f];
+    FloatPlane& dst = out.frames[f];
     dst.resize(plane);
     const size_t base = f * plane;
     switch (raw.type) {

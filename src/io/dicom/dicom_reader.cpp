@@ -88,12 +88,12 @@ VoxelStorage fill(const detail::AcquiredSeries& a, const detail::SliceGrid& grid
   std::vector<T> out(plane * grid.blends.size());
   tbb::parallel_for(size_t{0}, grid.blends.size(), [&](size_t k) {
     const detail::SliceBlend b = grid.blends[k];
-    const std::vector<float>& lo = a.values[static_cast<size_t>(b.lower)];
+    const detail::FloatPlane& lo = a.values[static_cast<size_t>(b.lower)];
     T* dst = out.data() + k * plane;
     if (b.weight == 0.0 && scale == 1.0) {
       for (size_t i = 0; i < plane; ++i) dst[i] = static_cast<T>(lo[i]);
     } else {
-      const std::vector<float>& hi = a.values[static_cast<size_t>(b.lower) + 1 < a.values.size()
+      const detail::FloatPlane& hi = a.values[static_cast<size_t>(b.lower) + 1 < a.values.size()
                                                   ? static_cast<size_t>(b.lower) + 1
                                                   : static_cast<size_t>(b.lower)];
       const double w = b.weight;

@@ -7,6 +7,7 @@
 
 #include "intermix/dicom.hpp"
 #include "io/dicom/dicom_header.hpp"
+#include "io/dicom/dicom_pixels.hpp"
 #include "io/dicom/dicom_stack.hpp"
 
 namespace imx::detail {
@@ -14,7 +15,7 @@ namespace imx::detail {
 struct AcquiredSeries {
   DicomSeriesInfo info;
   DicomStack stack;                        // frames sorted along the slice normal
-  std::vector<std::vector<float>> values;  // per sorted frame: rescaled, rows * columns
+  std::vector<FloatPlane> values;  // per sorted frame: rescaled, rows * columns
   bool integer_valued = true;              // integer pixels, one integer slope, integer intercepts
   std::string modality, photometric, rescale_type;
   DicomSuvTags suv;  // the first file's
