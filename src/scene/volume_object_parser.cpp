@@ -35,7 +35,14 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
   std::string key, what;
   std::function<VolumeData()> load;
   JsonReader culprit = src;
+  auto refuse_dicom_keys = [&] {
+    for (const char* dicom_only : {"series", "units", "slice_spacing_mm"})
+      if (auto v = src.find(dicom_only))
+        v->fail(fmt::format("only DICOM sources (a folder, DICOMDIR or .dcm file) take \"{}\"",
+                            dicom_only));
+  };
   if (phantom) {
+    refuse_dicom_keys();
     JsonReader name_reader = src.get("phantom");
     std::string name = name_reader.string();
     std::vector<std::string> names = phantom_names();
@@ -50,6 +57,7 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
   } else {
     if (auto v = src.find("size")) v->fail("only phantoms have a size");
     culprit = src.get("file");
+    if (culprit.string().empty()) culprit.fail("the file name is empty");
     std::filesystem::path path(culprit.string());
     if (path.is_relative() && !context.base_dir.empty()) path = context.base_dir / path;
     std::error_code ec;
@@ -81,10 +89,7 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
         return std::move(d.volume);
       };
     } else {
-      for (const char* dicom_only : {"series", "units", "slice_spacing_mm"})
-        if (auto v = src.find(dicom_only))
-          v->fail(fmt::format("only DICOM sources (a folder, DICOMDIR or .dcm file) take \"{}\"",
-                              dicom_only));
+      refuse_dicom_keys();
       load = [path] { return read_volume(path); };
     }
   }

@@ -186,7 +186,9 @@ const DicomSeriesGroup& choose_series(const std::vector<DicomSeriesGroup>& group
                                       const std::filesystem::path& source, std::string& note) {
   auto listing = [&] {
     std::string s;
-    for (const DicomSeriesGroup& g : groups) s += "\n  " + describe_series(g.info);
+    // One line, as every error is: the series separated by semicolons.
+    for (const DicomSeriesGroup& g : groups)
+      s += (s.empty() ? " " : "; ") + describe_series(g.info);
     return s;
   };
   const DicomSeriesGroup* chosen = nullptr;
@@ -211,10 +213,11 @@ const DicomSeriesGroup& choose_series(const std::vector<DicomSeriesGroup>& group
     if (matches.size() > 1) {
       std::string which;
       for (const DicomSeriesGroup* g : matches)
-        which += fmt::format("\n  {} (UID {})", describe_series(g->info), g->info.uid);
+        which += fmt::format("{}{} (UID {})", which.empty() ? " " : "; ", describe_series(g->info),
+                             g->info.uid);
       const bool same_ids = std::all_of(matches.begin(), matches.end(),
                                         [&](const auto* g) { return g->info.id == choice; });
-      throw Error(fmt::format("{}: series '{}' is ambiguous: it matches {} series:{}\ngive {}",
+      throw Error(fmt::format("{}: series '{}' is ambiguous: it matches {} series:{}; give {}",
                               source.string(), choice, matches.size(), which,
                               same_ids ? "a SeriesInstanceUID"
                                        : fmt::format("an id such as '{}', or a SeriesInstanceUID",
