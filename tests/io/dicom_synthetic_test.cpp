@@ -40,6 +40,7 @@ struct Slice {
   std::string slope = "1", intercept = "0";
   std::vector<int16_t> pixels;  // rows * columns; default: 10 * index + slice-independent
   bool pixel_data = true;
+  int bits_stored = 16, high_bit = 15, pixel_representation = 1;
   std::string window_center, window_width;
   bool pet = false;  // add PET SUV tags
   std::string pet_units = "BQML";
@@ -85,9 +86,9 @@ void write_slice(const fs::path& file, const Slice& s) {
   put_us(ds, 0x0028, 0x0011, static_cast<uint16_t>(s.columns));
   put_text(ds, 0x0028, 0x0030, gdcm::VR::DS, s.spacing);
   put_us(ds, 0x0028, 0x0100, 16);
-  put_us(ds, 0x0028, 0x0101, 16);
-  put_us(ds, 0x0028, 0x0102, 15);
-  put_us(ds, 0x0028, 0x0103, 1);
+  put_us(ds, 0x0028, 0x0101, static_cast<uint16_t>(s.bits_stored));
+  put_us(ds, 0x0028, 0x0102, static_cast<uint16_t>(s.high_bit));
+  put_us(ds, 0x0028, 0x0103, static_cast<uint16_t>(s.pixel_representation));
   put_text(ds, 0x0028, 0x1052, gdcm::VR::DS, s.intercept);
   put_text(ds, 0x0028, 0x1053, gdcm::VR::DS, s.slope);
   if (!s.window_center.empty()) {
@@ -135,6 +136,32 @@ void write_series(const TempDir& dir, const std::vector<double>& z, Slice base =
     base.position = glm::dvec3(-10, 20, z[i]);
     write_slice(dir / fmt::format("s{}.dcm", i), base);
   }
+}
+
+TEST(DicomSynthetic, BitsOutsideBitsStoredAreIgnoredAndTheSignExtended) {
+  // 12 of 16 bits: the top four hold an overlay's garbage, bit 11 is the sign when signed.
+  auto values = [](int bits_stored, int high_bit, int representation,
+                   std::vector<uint16_t> stored) {
+    TempDir dir;
+    Slice s;
+    s.rows = 2;
+    s.columns = 2;
+    s.bits_stored = bits_stored;
+    s.high_bit = high_bit;
+    s.pixel_representation = representation;
+    for (uint16_t v : stored) s.pixels.push_back(static_cast<int16_t>(v));
+    write_series(dir, {0.0, 2.0}, s);
+    VolumeData v = read_dicom(dir.path()).volume;
+    return std::vector<double>{v.value_at(0, 0, 0), v.value_at(1, 0, 0), v.value_at(0, 1, 0),
+                               v.value_at(1, 1, 0)};
+  };
+  EXPECT_EQ(values(12, 11, 1, {0xF7FF, 0x0800, 0xA001, 0x5FFF}),
+            (std::vector<double>{2047, -2048, 1, -1}));
+  EXPECT_EQ(values(12, 11, 0, {0xF7FF, 0x0800, 0xA001, 0x5FFF}),
+            (std::vector<double>{2047, 2048, 1, 4095}));
+  // High bit 15: the stored bits are the top twelve, the low four are dropped.
+  EXPECT_EQ(values(12, 15, 1, {0x7FF3, 0x8000, 0x001F, 0xFFF0}),
+            (std::vector<double>{2047, -2048, 1, -1}));
 }
 
 TEST(DicomSynthetic, RescaledIntegersGetTheSmallestType) {

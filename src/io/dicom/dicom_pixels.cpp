@@ -41,19 +41,6 @@ struct RawPixels {
   int bits_stored = 16, high_bit = 15;
 };
 
-// Stored value i, with the bits outside BitsStored (overlays, or a sign extension) replaced by
-// the sign of the stored value.
-template <class T>
-int64_t stored_value(const char* buffer, size_t i, int shift, int bits, bool is_signed) {
-  T raw;
-  std::memcpy(&raw, buffer + i * sizeof(T), sizeof(T));
-  if (bits >= static_cast<int>(sizeof(T) * 8)) return static_cast<int64_t>(raw);
-  uint64_t u = static_cast<uint64_t>(static_cast<std::make_unsigned_t<T>>(raw)) >> shift;
-  u &= (uint64_t{1} << bits) - 1;
-  if (is_signed && (u >> (bits - 1)) != 0) return static_cast<int64_t>(u) - (int64_t{1} << bits);
-  return static_cast<int64_t>(u);
-}
-
 template <class T>
 void rescale_integers(const RawPixels& raw, size_t base, size_t plane, const DicomFrame& meta,
                       float* dst) {
@@ -64,12 +51,23 @@ void rescale_integers(const RawPixels& raw, size_t base, size_t plane, const Dic
     shift = raw.high_bit + 1 - raw.bits_stored;
     used = raw.bits_stored;
   }
-  const bool is_signed = std::is_signed_v<T>;
-  for (size_t i = 0; i < plane; ++i)
-    dst[i] = static_cast<float>(
-        static_cast<double>(stored_value<T>(raw.data, base + i, shift, used, is_signed)) *
-            meta.slope +
-        meta.intercept);
+  // The bits outside BitsStored (overlays, or a sign extension) give way to the stored value's
+  // sign: the used bits go to the top of a 32-bit lane (64 for 32-bit pixels), then back down
+  // with the sign or zeros. No branch, so the loop vectorizes.
+  using Unsigned = std::conditional_t<(sizeof(T) <= 2), uint32_t, uint64_t>;
+  using Signed = std::make_signed_t<Unsigned>;
+  constexpr int wide = static_cast<int>(sizeof(Unsigned) * 8);
+  const int up = wide - used;
+  const char* src = raw.data + base * sizeof(T);
+  for (size_t i = 0; i < plane; ++i) {
+    T stored;
+    std::memcpy(&stored, src + i * sizeof(T), sizeof(T));
+    const Unsigned u = static_cast<Unsigned>(static_cast<std::make_unsigned_t<T>>(stored) >> shift)
+                       << up;
+    const double v = std::is_signed_v<T> ? static_cast<double>(static_cast<Signed>(u) >> up)
+                                         : static_cast<double>(u >> up);
+    dst[i] = static_cast<float>(v * meta.slope + meta.intercept);
+  }
 }
 
 template <class T>

@@ -104,6 +104,26 @@ VoxelStorage fill(const detail::AcquiredSeries& a, const detail::SliceGrid& grid
   return out;
 }
 
+// Smallest and largest value of a plane (finite: the decoder checked), in eight independent
+// lanes so that the compiler vectorizes it; one running pair was a sixth of read_dicom.
+std::pair<float, float> plane_range(const detail::FloatPlane& p) {
+  constexpr int kLanes = 8;
+  float lo[kLanes], hi[kLanes];
+  std::fill(lo, lo + kLanes, std::numeric_limits<float>::infinity());
+  std::fill(hi, hi + kLanes, -std::numeric_limits<float>::infinity());
+  size_t i = 0;
+  for (; i + kLanes <= p.size(); i += kLanes)
+    for (int j = 0; j < kLanes; ++j) {
+      lo[j] = std::min(lo[j], p[i + j]);
+      hi[j] = std::max(hi[j], p[i + j]);
+    }
+  for (; i < p.size(); ++i) {
+    lo[0] = std::min(lo[0], p[i]);
+    hi[0] = std::max(hi[0], p[i]);
+  }
+  return {*std::min_element(lo, lo + kLanes), *std::max_element(hi, hi + kLanes)};
+}
+
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -149,14 +169,8 @@ DicomVolume read_dicom(const std::filesystem::path& source, const DicomReadOptio
 
   const size_t plane = static_cast<size_t>(a.stack.rows) * a.stack.columns;
   std::vector<std::pair<float, float>> ranges(a.values.size());
-  tbb::parallel_for(size_t{0}, a.values.size(), [&](size_t s) {
-    float l = std::numeric_limits<float>::infinity(), h = -l;
-    for (float v : a.values[s]) {
-      l = std::min(l, v);
-      h = std::max(h, v);
-    }
-    ranges[s] = {l, h};
-  });
+  tbb::parallel_for(size_t{0}, a.values.size(),
+                    [&](size_t s) { ranges[s] = plane_range(a.values[s]); });
   float lo = std::numeric_limits<float>::infinity(), hi = -lo;
   for (auto [l, h] : ranges) {
     lo = std::min(lo, l);
