@@ -3,6 +3,7 @@
 #include <limits>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <glm/glm.hpp>
 
 #include "core/math.hpp"
@@ -35,12 +36,6 @@ glm::dvec3 default_up(const glm::dvec3& normal) {
   return glm::normalize(axis - glm::dot(axis, normal) * normal);
 }
 
-std::string join(const std::vector<std::string>& names) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
-}
-
 // [centre, width] or the name of one of 3D Slicer's window/level presets ("ct-brain").
 glm::dvec2 parse_window(const JsonReader& v) {
   if (v.json().is_string()) {
@@ -48,7 +43,7 @@ glm::dvec2 parse_window(const JsonReader& v) {
     if (std::optional<glm::dvec2> w = find_window_preset(name)) return *w;
     const std::vector<std::string> names = window_preset_names();
     v.fail(fmt::format("{} is not a window preset{}; they are: {}", v.text(),
-                       did_you_mean(name, names), join(names)));
+                       did_you_mean(name, names), fmt::join(names, ", ")));
   }
   if (!v.json().is_array())
     v.fail("expected [centre, width] or a window preset name, got " + v.describe());

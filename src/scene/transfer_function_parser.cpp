@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "intermix/error.hpp"
 #include "presets/paraview_colormap.hpp"
@@ -15,12 +16,6 @@
 
 namespace imx::detail {
 namespace {
-
-std::string join(const std::vector<std::string>& names) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
-}
 
 TransferFunction parse_points(const JsonReader& points) {
   TransferFunction tf;
@@ -74,7 +69,7 @@ ParsedTransferFunction parse_transfer_function(const JsonReader& r, SceneContext
     if (!p) {
       const std::vector<std::string> names = volume_preset_names();
       preset->fail(fmt::format("{} is not a volume-rendering preset{}; they are: {}",
-                               preset->text(), did_you_mean(name, names), join(names)));
+                               preset->text(), did_you_mean(name, names), fmt::join(names, ", ")));
     }
     out.transfer_function = to_transfer_function(*p);
     out.shading = to_shading(*p);

@@ -6,6 +6,7 @@
 #include <system_error>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "intermix/dicom.hpp"
 #include "intermix/io.hpp"
@@ -16,12 +17,6 @@ namespace imx::detail {
 namespace {
 
 constexpr int kDefaultPhantomSize = 128;
-
-std::string join(const std::vector<std::string>& names) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
-}
 
 // Loads (or reuses) the volume a "source" names; errors from the readers get the JSON path.
 // A DICOM source (folder, DICOMDIR, DICM file) also gives its series' window.
@@ -48,7 +43,8 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     std::vector<std::string> names = phantom_names();
     if (std::find(names.begin(), names.end(), name) == names.end())
       name_reader.fail(fmt::format("{} is not a built-in phantom{}; they are: {}",
-                                   name_reader.text(), did_you_mean(name, names), join(names)));
+                                   name_reader.text(), did_you_mean(name, names),
+                                   fmt::join(names, ", ")));
     int size = kDefaultPhantomSize;
     if (auto v = src.find("size")) size = v->integer(8, 1024);
     key = fmt::format("phantom:{}:{}", name, size);
