@@ -63,7 +63,13 @@ struct TransferFunction {
   double unit_distance = 1.0;  // mm of material the alphas refer to (SPEC §2, dt0)
 };
 
-enum class VolumeStyle { dvr, iso, mip, xray };
+// dvr: emission-absorption; iso: the first crossing of iso_value; mip / minip: the TF at the
+// largest / smallest value along the ray; xray: a radiograph of the TF's attenuation (SPEC §2).
+enum class VolumeStyle { dvr, iso, mip, minip, xray };
+
+// What xray shows: the line integral of the attenuation (1 - exp(-sum mu dt), thickness shows),
+// or the TF at the mean value along the ray.
+enum class XrayMode { integral, average };
 
 // Keeps the half-space where dot(p - point, normal) >= 0.
 struct ClipPlane {
@@ -86,6 +92,7 @@ struct VolumeObject {
   TransferFunction transfer_function;
   VolumeStyle style = VolumeStyle::dvr;
   double iso_value = 0.0;
+  XrayMode xray_mode = XrayMode::integral;
   Shading shading;
   std::vector<ClipPlane> clip_planes;
   std::vector<ClipMesh> clip_meshes;         // a sample shows only where every one of them keeps it
@@ -184,6 +191,8 @@ struct RenderSettings {
   std::string slab_format = "rgba32f";           // stored slab colour: rgba32f or rgba8
   std::string last_volume;  // zSlab: the volume rendered last (cast on the fly); empty = auto
   std::string overflow = "greedy";  // zSlab: a full ZT array folds by greedy or tail merging
+  // zSlab: every volume at the common step ("common") or each at a step for its own pitch
+  std::string sampling = "per-volume";
   bool packets = true;  // mdvr: one-volume scenes march 8 rays at once (AVX2); same image
   std::string csg_simplify = "merge";   // clipping-state simplification: none, merge or full
   double csg_presence_threshold = 0.0;  // TF opacity per unit_distance above which a volume counts

@@ -9,22 +9,26 @@
 #include "methods/mdvr_kernel.hpp"
 #include "methods/per_sample_render.hpp"
 #include "volume/packet_marcher.hpp"
+#include "volume/packet_projection.hpp"
 
 namespace imx {
 namespace {
 
-// One dvr volume and nothing else (nothing clipping it either) at one sample per pixel:
-// trace_mdvr is then exactly VolumeMarcher::composite per ray, which the rays of a tile can
-// share in vector lanes.
+// One volume and nothing else (nothing clipping it either) at one sample per pixel: trace_mdvr
+// is then exactly VolumeMarcher::composite (dvr) or the one projection or iso hit per ray,
+// which the rays of a tile can share in vector lanes.
 bool packets_apply(const Scene& scene, const FrameSetup& frame, int spp) {
-  return scene.render.packets && spp == 1 && scene.meshes.empty() && scene.planes.empty() &&
-         frame.clip.empty() && frame.volumes.size() == 1 &&
-         frame.volumes[0].object->style == VolumeStyle::dvr &&
-         packet_marching_supported(frame.volumes[0], frame.lights);
+  if (!scene.render.packets || spp != 1 || !scene.meshes.empty() || !scene.planes.empty() ||
+      !frame.clip.empty() || frame.volumes.size() != 1)
+    return false;
+  const PreparedVolume& v = frame.volumes[0];
+  return v.object->style == VolumeStyle::dvr ? packet_marching_supported(v, frame.lights)
+                                             : packet_projection_supported(v);
 }
 
 // render_per_sample with trace_mdvr for that case: per tile, the rays that meet the volume go
-// through composite_packets() together (pixel centres, as stratified_offsets(1)).
+// through composite_packets() or project_packets() together (pixel centres, as
+// stratified_offsets(1)).
 Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const MdvrParams& params,
                           const RenderOptions& options) {
   constexpr int kTileSize = 16;
@@ -73,8 +77,12 @@ Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const Mdv
           if (!RayInterval{rays[k].t0, rays[k].t1}.empty())
             rays[kept] = rays[k], pixel[kept++] = pixel[k];
         n = kept;
-        composite_packets(v, std::span<const PacketRay>(rays, n), params.step, frame.lights,
-                          params.ert, std::span<glm::vec4>(colour, n));
+        if (v.object->style == VolumeStyle::dvr)
+          composite_packets(v, std::span<const PacketRay>(rays, n), params.step, frame.lights,
+                            params.ert, std::span<glm::vec4>(colour, n));
+        else
+          project_packets(v, std::span<const PacketRay>(rays, n), params.step,
+                          params.iso_bisections, frame.lights, std::span<glm::vec4>(colour, n));
         for (int k = 0; k < n; ++k)
           image.at(pixel[k].x, pixel[k].y) = over_background(colour[k], background);
       },

@@ -27,6 +27,8 @@ const char* style_name(VolumeStyle style) {
       return "iso";
     case VolumeStyle::mip:
       return "mip";
+    case VolumeStyle::minip:
+      return "minip";
     case VolumeStyle::xray:
       return "xray";
   }

@@ -125,18 +125,24 @@ std::vector<ClipPlane> parse_clip_planes(const JsonReader& r) {
 }  // namespace
 
 VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
-  r.check_keys({"name", "type", "source", "transform", "style", "iso_value", "transfer_function",
-                "shading", "clip_planes", "clip"});
+  r.check_keys({"name", "type", "source", "transform", "style", "iso_value", "xray_mode",
+                "transfer_function", "shading", "clip_planes", "clip"});
   VolumeObject v;
   v.name = r.get("name").string();
   glm::dmat4 transform(1.0);
   if (auto t = r.find("transform")) transform = parse_transform(*t);
   if (auto s = r.find("style")) {
-    std::string style = s->choice({"dvr", "iso", "mip", "xray"});
-    v.style = style == "dvr"   ? VolumeStyle::dvr
-              : style == "iso" ? VolumeStyle::iso
-              : style == "mip" ? VolumeStyle::mip
-                               : VolumeStyle::xray;
+    std::string style = s->choice({"dvr", "iso", "mip", "minip", "xray"});
+    v.style = style == "dvr"     ? VolumeStyle::dvr
+              : style == "iso"   ? VolumeStyle::iso
+              : style == "mip"   ? VolumeStyle::mip
+              : style == "minip" ? VolumeStyle::minip
+                                 : VolumeStyle::xray;
+  }
+  if (auto m = r.find("xray_mode")) {
+    if (v.style != VolumeStyle::xray) m->fail("xray_mode applies only to style 'xray'");
+    v.xray_mode =
+        m->choice({"integral", "average"}) == "average" ? XrayMode::average : XrayMode::integral;
   }
   if (auto iso = r.find("iso_value"))
     v.iso_value = iso->number();

@@ -9,6 +9,7 @@
 #include "core/ray.hpp"
 #include "volume/kept_span.hpp"
 #include "volume/prepared_volume.hpp"
+#include "volume/range_walk.hpp"
 
 namespace imx {
 
@@ -18,48 +19,62 @@ struct VolumeHit {
   glm::vec4 color{0.0f};  // premultiplied; an iso hit is shaded and has the TF's opacity there
 };
 
+// Refines a sign change of value - iso between lo and hi (f = value - iso at each) with
+// `bisections` halvings and a final linear step inside the last bracket, and shades it.
+inline VolumeHit refine_iso_crossing(const PreparedVolume& v, const Ray& ray, double lo, double hi,
+                                     float flo, float fhi, int bisections,
+                                     std::span<const ShadingLight> lights) {
+  const float iso = static_cast<float>(v.object->iso_value);
+  for (int i = 0; i < bisections; ++i) {
+    double mid = 0.5 * (lo + hi);
+    float fm = v.grid.sample(v.to_index(ray.at(static_cast<float>(mid)))) - iso;
+    if ((fm < 0.0f) == (flo < 0.0f)) {
+      lo = mid;
+      flo = fm;
+    } else {
+      hi = mid;
+      fhi = fm;
+    }
+  }
+  double t = flo == fhi ? 0.5 * (lo + hi) : lo + (hi - lo) * (flo / (flo - fhi));
+  glm::vec3 idx = v.to_index(ray.at(static_cast<float>(t)));
+  glm::vec4 tf = v.lut.lookup(iso);
+  glm::vec3 rgb =
+      blinn_phong(v.object->shading, glm::vec3(tf), v.world_gradient(idx), -ray.dir, lights);
+  return {t, glm::vec4(rgb * tf.a, tf.a)};
+}
+
 // Searches [t0, t1] on the grid of points k * step (anchored at t = 0, so several volumes
-// share sample positions), refines the first sign change with `bisections` halvings and a final
-// linear step inside the last bracket. Returns false when the value never crosses.
+// share sample positions) for the first sign change, skipping bricks whose value range lies on
+// one side of the iso-value where the frame built ranges, and refines it. Returns false when
+// the value never crosses.
 inline bool find_iso_crossing(const PreparedVolume& v, const Ray& ray, double t0, double t1,
                               double step, int bisections, std::span<const ShadingLight> lights,
                               VolumeHit& hit) {
-  float iso = static_cast<float>(v.object->iso_value);
-  auto value_at = [&](double t) {
-    return v.grid.sample(v.to_index(ray.at(static_cast<float>(t)))) - iso;
-  };
-  double a = t0;
-  float fa = value_at(a);
-  while (a < t1) {
-    double b = std::min(t1, (std::floor(a / step) + 1.0) * step);
-    if (b <= a) b = std::min(t1, a + step);
-    float fb = value_at(b);
-    if ((fa < 0.0f) != (fb < 0.0f)) {
-      double lo = a, hi = b;
-      float flo = fa, fhi = fb;
-      for (int i = 0; i < bisections; ++i) {
-        double mid = 0.5 * (lo + hi);
-        float fm = value_at(mid);
-        if ((fm < 0.0f) == (flo < 0.0f)) {
-          lo = mid;
-          flo = fm;
-        } else {
-          hi = mid;
-          fhi = fm;
-        }
-      }
-      double t = flo == fhi ? 0.5 * (lo + hi) : lo + (hi - lo) * (flo / (flo - fhi));
-      glm::vec3 idx = v.to_index(ray.at(static_cast<float>(t)));
-      glm::vec4 tf = v.lut.lookup(iso);
-      glm::vec3 rgb =
-          blinn_phong(v.object->shading, glm::vec3(tf), v.world_gradient(idx), -ray.dir, lights);
-      hit = {t, glm::vec4(rgb * tf.a, tf.a)};
-      return true;
+  const float iso = static_cast<float>(v.object->iso_value);
+  double a = 0.0, b = 0.0;
+  float fa = 0.0f, fb = 0.0f;
+  bool first = true, found = false;
+  auto visit = [&](double t, float s) {
+    const float f = s - iso;
+    if (!first && (fa < 0.0f) != (f < 0.0f)) {
+      b = t, fb = f, found = true;
+      return false;
     }
-    a = b;
-    fa = fb;
-  }
-  return false;
+    first = false;
+    a = t, fa = f;
+    return true;
+  };
+  // Every trilinear value in the brick is on one side: no sign change inside it.
+  auto skip = [&](glm::vec2 r) { return r.x >= iso || r.y < iso; };
+  auto jumped = [&](double t) {
+    a = t;
+    fa = v.grid.sample(v.to_index(ray.at(static_cast<float>(t)))) - iso;
+  };
+  walk_samples(v, ray, t0, t1, step, RangeBricks(skip_ranges(v), v, ray), visit, skip, jumped);
+  if (!found) return false;
+  hit = refine_iso_crossing(v, ray, a, b, fa, fb, bisections, lights);
+  return true;
 }
 
 // The first crossing within the pieces of a span that a ray keeps (clip geometry): each piece is

@@ -21,6 +21,9 @@ PreparedVolume::PreparedVolume(const VolumeObject& v)
   gradient_to_world = glm::mat3(glm::inverseTranspose(linear));
   min_pitch = static_cast<float>(
       std::min({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])}));
+  limits = projection_limits(lut);
+  if (v.style == VolumeStyle::xray && v.xray_mode == XrayMode::integral)
+    attenuation = AttenuationTable(lut);
 }
 
 RayInterval PreparedVolume::intersect(const Ray& ray, float t_min) const {

@@ -6,6 +6,7 @@
 #include "core/specular_table.hpp"
 #include "intermix/scene.hpp"
 #include "volume/any_grid.hpp"
+#include "volume/projection_tables.hpp"
 #include "volume/tf_lut.hpp"
 #include "volume/volume_acceleration.hpp"
 
@@ -25,7 +26,9 @@ struct PreparedVolume {
   glm::mat3 gradient_to_world{1.0f};  // inverse-transpose: index-space gradient -> world space
   float min_pitch = 1.0f;             // smallest voxel spacing in mm
   TfLut lut;
-  SpecularTable specular;    // x^shininess of the volume's shading
+  ProjectionLimits limits;       // the LUT's bounds for MIP and MinIP
+  AttenuationTable attenuation;  // X-ray's line integral (empty for the other styles)
+  SpecularTable specular;        // x^shininess of the volume's shading
   VolumeAcceleration accel;  // empty until a method that marches asks for it
 
   explicit PreparedVolume(const VolumeObject& v);

@@ -1,4 +1,5 @@
-// Projection styles (SPEC §2): maximum intensity (mip) and X-ray (average value) along a ray.
+// Projection styles (SPEC §2): maximum (mip) and minimum (minip) intensity, and X-ray, the line
+// integral of the TF's attenuation (or, as an option, the TF at the mean value) along a ray.
 #pragma once
 #include <cmath>
 
@@ -7,53 +8,86 @@
 #include "core/ray.hpp"
 #include "intermix/scene.hpp"
 #include "volume/iso_crossing.hpp"
+#include "volume/kept_span.hpp"
 #include "volume/prepared_volume.hpp"
+#include "volume/range_walk.hpp"
 
 namespace imx {
 
-// Samples each kept piece [t0, t1] (clip geometry; a whole span is one piece) at the points
-// k * step plus both ends, and classifies the maximum (mip) or the mean over the kept length
-// (xray) value with the TF, whose opacity is taken as it is: a projection is an image of the
-// whole span, not a medium. The hit sits at the maximum's depth (mip) or mid-way between the
-// first piece's start and the last one's end (xray), so it is composited in depth order with the
-// other objects. False when nothing is kept or the TF makes it invisible.
+// Samples each kept piece [t0, t1] (clip geometry; a whole span is one piece) at t0, the points
+// k * step and t1, skipping bricks that cannot change the result where the frame built ranges:
+// - mip / minip: the TF at the largest / smallest value; bricks whose max / min cannot beat the
+//   running value are skipped, and the walk stops once the TF no longer changes beyond it. The
+//   hit sits at that value's first depth.
+// - xray: I = 1 - exp(-sum mu dt) by trapezoids over the attenuation mu, coloured by the
+//   attenuation-weighted TF colour; TF-empty bricks (mu = 0) are skipped. With xray_mode
+//   average, the TF at the mean value over the kept length, its opacity taken as it is.
+// An X-ray hit sits mid-way between the first piece's start and the last one's end, so that it
+// is composited in depth order with the other objects. False when nothing is kept or the result
+// is invisible.
 inline bool project_volume(const PreparedVolume& v, const Ray& ray, const KeptSpan& kept,
                            double step, VolumeHit& hit) {
   if (kept.empty()) return false;
-  auto value_at = [&](double t) {
-    return v.grid.sample(v.to_index(ray.at(static_cast<float>(t))));
-  };
-  float best = 0.0f, sum = 0.0f;
-  double best_t = 0.0, length = 0.0;
-  for (int i = 0; i < kept.size(); ++i) {
-    const double t0 = kept[i].t0, t1 = kept[i].t1;
-    double prev = t0;
-    float prev_value = value_at(t0);
-    if (i == 0 || prev_value > best) {
-      best = prev_value;
-      best_t = t0;
+  const VolumeStyle style = v.object->style;
+  const RangeBricks bricks(skip_ranges(v), v, ray);
+  const auto no_jump = [](double) {};
+  glm::vec4 tf(0.0f);
+  double depth = 0.5 * (static_cast<double>(kept.front()) + kept.back());
+  if (style == VolumeStyle::mip || style == VolumeStyle::minip) {
+    const bool max = style == VolumeStyle::mip;
+    const ProjectionLimits& l = v.limits;
+    float best = max ? l.invisible_up_to : l.invisible_from;
+    double best_t = kept.front();
+    auto visit = [&](double t, float s) {
+      if (max ? s > best : s < best) best = s, best_t = t;
+      return max ? !(best >= l.constant_from) : !(best <= l.constant_up_to);
+    };
+    auto skip = [&](glm::vec2 r) { return max ? r.y <= best : r.x >= best; };
+    for (int i = 0; i < kept.size(); ++i)
+      if (!walk_samples(v, ray, kept[i].t0, kept[i].t1, step, bricks, visit, skip, no_jump)) break;
+    tf = v.lut.lookup(best);
+    depth = best_t;
+  } else if (v.object->xray_mode == XrayMode::integral) {
+    glm::vec4 sum(0.0f), prev(0.0f);  // (mu r, mu g, mu b, mu) integrated, and at the last point
+    double prev_t = 0.0;
+    bool first = true;
+    auto visit = [&](double t, float s) {
+      const glm::vec4 e = v.attenuation.lookup(s);
+      if (!first) sum += (0.5f * static_cast<float>(t - prev_t)) * (prev + e);
+      first = false;
+      prev = e, prev_t = t;
+      return true;
+    };
+    auto skip = [&](glm::vec2 r) { return v.accel.emptiness->is_empty_between(r.x, r.y); };
+    auto jumped = [&](double t) { prev = glm::vec4(0.0f), prev_t = t; };  // mu is 0 in the brick
+    for (int i = 0; i < kept.size(); ++i) {
+      first = true;
+      walk_samples(v, ray, kept[i].t0, kept[i].t1, step, bricks, visit, skip, jumped);
     }
-    // Trapezoids between consecutive points give the mean of the piecewise-linear profile.
-    for (double k = std::floor(t0 / step) + 1.0;; k += 1.0) {
-      double t = std::min(t1, k * step);
-      float s = value_at(t);
-      sum += 0.5f * (prev_value + s) * static_cast<float>(t - prev);
-      if (s > best) {
-        best = s;
-        best_t = t;
-      }
-      prev = t;
-      prev_value = s;
-      if (t >= t1) break;
+    if (!(sum.a > 0.0f)) return false;
+    const float opacity = -std::expm1(-sum.a);
+    tf = glm::vec4(glm::vec3(sum) / sum.a, opacity);
+  } else {
+    float sum = 0.0f, prev = 0.0f, length = 0.0f;
+    double prev_t = 0.0;
+    bool first = true;
+    auto visit = [&](double t, float s) {
+      if (!first) sum += 0.5f * (prev + s) * static_cast<float>(t - prev_t);
+      first = false;
+      prev = s, prev_t = t;
+      return true;
+    };
+    for (int i = 0; i < kept.size(); ++i) {
+      first = true;
+      walk_samples(
+          v, ray, kept[i].t0, kept[i].t1, step, RangeBricks(), visit,
+          [](glm::vec2) { return false; }, no_jump);
+      length += kept[i].t1 - kept[i].t0;
     }
-    length += t1 - t0;
+    tf = v.lut.lookup(length > 0.0f ? sum / length : prev);
   }
-  bool mip = v.object->style == VolumeStyle::mip;
-  float value = mip ? best : (length > 0.0 ? sum / static_cast<float>(length) : best);
-  glm::vec4 tf = v.lut.lookup(value);
-  if (tf.a <= 0.0f) return false;
-  hit = {mip ? best_t : 0.5 * (static_cast<double>(kept.front()) + kept.back()),
-         glm::vec4(glm::vec3(tf) * tf.a, tf.a)};
+  if (!(tf.a > 0.0f)) return false;
+  hit = {depth, glm::vec4(glm::vec3(tf) * tf.a, tf.a)};
   return true;
 }
 

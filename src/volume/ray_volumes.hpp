@@ -1,5 +1,5 @@
 // RayVolumes: where a ray meets each volume of a frame (its span, and the pieces of it clip
-// geometry keeps), the iso-surfaces it crosses and the projections (mip, xray) it sees.
+// geometry keeps), the iso-surfaces it crosses and the projections (mip, minip, xray) it sees.
 // Shared by the per-sample methods; pure, fixed-size, no allocation.
 #pragma once
 #include <algorithm>
@@ -62,7 +62,7 @@ struct RayVolumes {
       VolumeHit h;
       if (v.object->style == VolumeStyle::iso) {
         if (find_iso_crossing(v, ray, what, step, bisections, lights, h)) hits[hit_count++] = h;
-      } else if (v.object->style == VolumeStyle::mip || v.object->style == VolumeStyle::xray) {
+      } else if (v.object->style != VolumeStyle::dvr) {  // mip, minip, xray
         if (project_volume(v, ray, what, step, h)) hits[hit_count++] = h;
       } else if (v.lut.max_opacity() > 0.0f && (filter.may_show >> k & 1u)) {
         marched[k] = true;

@@ -89,6 +89,7 @@ VolumeAcceleration accelerate(const VolumeObject& v, const TfLut& lut, float ste
   std::shared_ptr<const BrickMinMax> r = ranges.get(
       v.data, settings.brick_size, [&] { return BrickMinMax(grid, settings.brick_size); });
   if (settings.skip != SkipMode::none) {
+    a.ranges = r;
     a.emptiness = std::make_shared<const TfEmptiness>(lut);
     a.occupancy = occupancies.get(v.data, OccupancyKey{settings.brick_size, tf_fingerprint(lut)},
                                   [&] { return BrickOccupancy(*r, *a.emptiness); });

@@ -31,6 +31,7 @@ struct MarchSettings {
 // Shared, immutable structures: a frame holds them while tables may be evicted from the caches.
 struct VolumeAcceleration {
   SkipMode skip = SkipMode::none;
+  std::shared_ptr<const BrickMinMax> ranges;          // null when skip == none
   std::shared_ptr<const BrickOccupancy> occupancy;    // null when skip == none
   std::shared_ptr<const TfEmptiness> emptiness;       // null when skip == none
   std::shared_ptr<const PreintegrationTable> preint;  // null for post-classification
