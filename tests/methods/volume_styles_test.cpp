@@ -64,9 +64,10 @@ TEST(VolumeStyles, MipShowsTheMaximumAtItsDepth) {
   EXPECT_NEAR(hit.color.a, peak, 0.02f);
 }
 
-TEST(VolumeStyles, XrayOfAHomogeneousVolumeIsItsValue) {
+TEST(VolumeStyles, XrayAverageOfAHomogeneousVolumeIsItsValue) {
   VolumeObject obj = test::homogeneous_volume(0.3f, {0.2f, 0.4f, 0.6f});
   obj.style = VolumeStyle::xray;
+  obj.xray_mode = XrayMode::average;
   obj.transfer_function.points = {{0.0, glm::vec4(0)}, {2.0, glm::vec4(0.2f, 0.4f, 0.6f, 1.0f)}};
   PreparedVolume v(obj);
   Ray ray{{0, -100, 0}, {0, 1, 0}};
@@ -75,6 +76,23 @@ TEST(VolumeStyles, XrayOfAHomogeneousVolumeIsItsValue) {
   EXPECT_NEAR(hit.t, 100.0, 1e-4);
   EXPECT_NEAR(hit.color.a, 0.5f, 1e-5f);   // TF at value 1
   EXPECT_NEAR(hit.color.b, 0.15f, 1e-5f);  // straight 0.3, premultiplied
+}
+
+// The line integral through 20 mm of a medium whose TF opacity 0.5 per mm stands for an
+// attenuation of ln 2 per mm: 1 - 2^-20 of the light is absorbed, in the medium's colour.
+TEST(VolumeStyles, XrayIntegralOfAHomogeneousVolumeIsItsAttenuation) {
+  VolumeObject obj = test::homogeneous_volume(0.3f, {0.2f, 0.4f, 0.6f});
+  obj.style = VolumeStyle::xray;
+  obj.transfer_function.points = {{0.0, glm::vec4(0)}, {2.0, glm::vec4(0.2f, 0.4f, 0.6f, 1.0f)}};
+  PreparedVolume v(obj);
+  Ray ray{{0, -100, 0}, {0, 1, 0}};
+  VolumeHit hit;
+  ASSERT_TRUE(project_volume(v, ray, 95.0, 97.0, 0.7, hit));
+  EXPECT_NEAR(hit.t, 96.0, 1e-4);
+  EXPECT_NEAR(hit.color.a, 0.75f, 1e-5f);           // two millimetres: 1 - 2^-2
+  EXPECT_NEAR(hit.color.b, 0.75f * 0.3f, 1e-5f);    // the TF colour at value 1, premultiplied
+  ASSERT_TRUE(project_volume(v, ray, 95.0, 98.0, 0.7, hit));
+  EXPECT_NEAR(hit.color.a, 0.875f, 1e-5f);  // thicker shows darker: 1 - 2^-3
 }
 
 // A homogeneous cube clipped to z >= 4: a ray through the removed part sees nothing, a ray along
