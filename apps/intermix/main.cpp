@@ -1,4 +1,4 @@
-// intermix: the command-line program (render, compare, info, phantom, bench).
+// intermix: the command-line program (render, compare, info, phantom, bench, eval, ...).
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -101,6 +101,8 @@ int main(int argc, char** argv) {
       imx::cli::add_zfight);
   add("csg", "a CSG scene's primitives, products, clipping states and intervals per ray",
       imx::cli::add_csg);
+  add("eval", "every method on every scene against the reference: HTML report, JSON, tables",
+      imx::cli::add_eval);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
