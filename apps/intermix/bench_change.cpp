@@ -33,15 +33,23 @@ ChangeTiming time_change(const Scene& base, const std::string& scene_file,
   Renderer renderer;
   ChangeTiming t;
   renderer.render(edited, options);  // warm-up
+  auto ms_since = [](std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+        .count();
+  };
   for (int f = 0; f < frames; ++f) {
     renderer.render(base, options);
     auto start = std::chrono::steady_clock::now();
     renderer.render(edited, options);
-    t.ms.push_back(
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-            .count());
-    t.stages = renderer.last_stats().stages;
-    t.stages_run = renderer.last_stats().stages_run;
+    t.ms.push_back(ms_since(start));
+    const RendererStats& s = renderer.last_stats();
+    t.stages = s.stages;
+    t.stages_run = s.stages_run;
+    t.stages_merged = s.stages_merged;
+    t.kept_bytes_per_pixel = s.kept_bytes_per_pixel;
+    start = std::chrono::steady_clock::now();
+    imx::render(edited, options);
+    t.fresh_ms.push_back(ms_since(start));
   }
   return t;
 }

@@ -246,10 +246,16 @@ Command add_bench(CLI::App& app) {
                       {"ms_max", *std::max_element(row.ms.begin(), row.ms.end())},
                       {"rays_per_s", rays / (median / 1000.0)},
                       {"peak_rss_mib", row.peak_mib}});
-      if (!o->change.empty())
+      if (!o->change.empty()) {
+        const double fresh = median_of(row.change.fresh_ms);
         rows.back().update({{"change", o->change},
                             {"stages", row.change.stages},
-                            {"stages_run", row.change.stages_run}});
+                            {"stages_run", row.change.stages_run},
+                            {"stages_merged", row.change.stages_merged},
+                            {"kept_bytes_per_pixel", row.change.kept_bytes_per_pixel},
+                            {"fresh_ms_median", fresh},
+                            {"vs_fresh", median / fresh}});
+      }
     }
 
     if (o->vtk) {
@@ -287,11 +293,19 @@ Command add_bench(CLI::App& app) {
     } else {
       std::printf("%s at %dx%d\n", o->scene.c_str(), base.image.width, base.image.height);
       const std::string first_label = rows.front()["label"];
-      for (const auto& r : rows)
+      for (const auto& r : rows) {
         std::printf("  %-24s median %9.1f ms  min %9.1f  max %9.1f  (x%.2f of %s)  peak %.0f MiB\n",
                     r["label"].get<std::string>().c_str(), r["ms_median"].get<double>(),
                     r["ms_min"].get<double>(), r["ms_max"].get<double>(), r["ratio"].get<double>(),
                     first_label.c_str(), r["peak_rss_mib"].get<double>());
+        if (r.contains("vs_fresh"))
+          std::printf(
+              "  %-24s %d of %d stages run, %d merged: x%.2f of a fresh frame (%.1f ms), "
+              "%.0f B/pixel kept\n",
+              "", r["stages_run"].get<int>(), r["stages"].get<int>(), r["stages_merged"].get<int>(),
+              r["vs_fresh"].get<double>(), r["fresh_ms_median"].get<double>(),
+              r["kept_bytes_per_pixel"].get<double>());
+      }
     }
     return 0;
   };

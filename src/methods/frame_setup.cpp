@@ -1,6 +1,7 @@
 #include "methods/frame_setup.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include <fmt/format.h>
@@ -55,11 +56,46 @@ void FrameSetup::require_per_sample_support(const char* method) const {
                             volumes.size(), kMaxRayVolumes));
 }
 
+namespace {
+
+// X-ray's average reads every value: a mean of invisible values may be visible.
+bool reads_every_value(const VolumeObject& v) {
+  return v.style == VolumeStyle::xray && v.xray_mode == XrayMode::average;
+}
+
+}  // namespace
+
 void FrameSetup::accelerate(float step, const MarchSettings& settings) {
+  accelerate(std::vector<float>(volumes.size(), step), settings);
+}
+
+std::vector<float> FrameSetup::volume_steps(double common, bool per_volume) const {
+  std::vector<float> steps(volumes.size(), static_cast<float>(common));
+  if (!per_volume) return steps;
+  for (size_t k = 0; k < volumes.size(); ++k) {
+    // Whole multiples only, so that every grid point of a coarse volume is one of the finest
+    // volume's and their slabs stay aligned where both are sampled.
+    const double ratio = std::floor(volumes[k].min_pitch / min_pitch + 1e-3);
+    steps[k] = static_cast<float>(common * std::max(1.0, ratio));
+  }
+  return steps;
+}
+
+void FrameSetup::accelerate(std::span<const float> steps, const MarchSettings& settings) {
   coverage.clear();
-  for (PreparedVolume& v : volumes) {
-    if (v.object->style == VolumeStyle::dvr)
+  for (size_t k = 0; k < volumes.size(); ++k) {
+    PreparedVolume& v = volumes[k];
+    const float step = steps[k];
+    if (v.object->style == VolumeStyle::dvr) {
       v.accel = imx::accelerate(*v.object, v.lut, step, settings);
+    } else if (settings.skip != SkipMode::none && !reads_every_value(*v.object)) {
+      // Projections and iso-surfaces skip by brick ranges only: no tables, no gradients. A ray
+      // that meets no occupied brick sees only invisible values, so coverage holds for them too.
+      MarchSettings ranges_only = settings;
+      ranges_only.classification = Classification::post;
+      ranges_only.gradients = GradientSource::on_the_fly;
+      v.accel = imx::accelerate(*v.object, v.lut, step, ranges_only);
+    }
     coverage.emplace_back(v, camera);
   }
 }

@@ -1,6 +1,7 @@
 // FrameSetup: what every method prepares once per frame (camera, volumes, lights, step, clip
 // geometry).
 #pragma once
+#include <span>
 #include <vector>
 
 #include "core/blinn_phong.hpp"
@@ -30,6 +31,13 @@ struct FrameSetup {
   // `settings` asks for at ray step `step` mm (from caches that outlive the frame), and the
   // screen blocks its occupied bricks can show in.
   void accelerate(float step, const MarchSettings& settings);
+  // The same with volume k prepared at steps[k] mm (one entry per volume).
+  void accelerate(std::span<const float> steps, const MarchSettings& settings);
+
+  // The step each volume is cast at: `common` for all, or with `per_volume`
+  // (render.sampling=per-volume) `common` times the whole number of times the smallest voxel
+  // pitch fits into the volume's own pitch (at least once).
+  std::vector<float> volume_steps(double common, bool per_volume) const;
 
   // Whether volume v's march may find something in pixel (x, y): an occupied brick of it can
   // show there (BrickCoverage), or accelerate() has not run.

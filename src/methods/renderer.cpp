@@ -5,8 +5,8 @@
 namespace imx {
 
 struct Renderer::Impl {
-  ZslabStageCache zslab;
-  std::string zslab_method;  // the method the cache was filled by
+  ZslabStageCache full, hybrid;  // zslab, zslab-hybrid: a viewer may switch between them
+  uint64_t budget = kDefaultKeptBudget;
   RendererStats stats;
 };
 
@@ -21,13 +21,22 @@ Image Renderer::render(const Scene& scene, const RenderOptions& options) {
   // imx::render refuses a CSG scene for the methods that do not render it.
   if (scene.csg || (method != "zslab" && method != "zslab-hybrid"))
     return imx::render(scene, options);
-  if (impl_->zslab_method != method) impl_->zslab = {};
-  impl_->zslab_method = method;
+  const bool hybrid = method == "zslab-hybrid";
+  ZslabStageCache& cache = hybrid ? impl_->hybrid : impl_->full;
+  ZslabStageCache& other = hybrid ? impl_->full : impl_->hybrid;
+  // The method in use gets what the other one leaves of the budget, at least half of it.
+  if (other.kept_bytes() > impl_->budget / 2) other = {};
+  cache.budget_bytes = impl_->budget - other.kept_bytes();
   int spp = options.spp > 0 ? options.spp : scene.render.spp > 0 ? scene.render.spp : 1;
   ZslabStats s;
-  Image image =
-      render_zslab_cached(scene, spp, options, method == "zslab-hybrid", impl_->zslab, &s);
-  impl_->stats = {s.stages, s.stages_run, s.stream_bytes_per_pixel, s.kept_bytes_per_pixel};
+  Image image = render_zslab_cached(scene, spp, options, hybrid, cache, &s);
+  const double pixels = static_cast<double>(scene.image.width) * scene.image.height;
+  impl_->stats = {s.stages,
+                  s.stages_run,
+                  s.stream_bytes_per_pixel,
+                  s.kept_bytes_per_pixel + static_cast<double>(other.kept_bytes()) / pixels,
+                  s.stages_merged,
+                  s.recast_unchanged};
   return image;
 }
 
@@ -35,9 +44,17 @@ const RendererStats& Renderer::last_stats() const {
   return impl_->stats;
 }
 
+void Renderer::set_kept_budget(uint64_t bytes) {
+  impl_->budget = bytes;
+}
+
+uint64_t Renderer::kept_budget() const {
+  return impl_->budget;
+}
+
 void Renderer::clear() {
-  impl_->zslab = {};
-  impl_->zslab_method.clear();
+  impl_->full = {};
+  impl_->hybrid = {};
 }
 
 }  // namespace imx

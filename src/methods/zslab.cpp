@@ -1,6 +1,7 @@
 #include "methods/zslab.hpp"
 
 #include <algorithm>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -10,6 +11,8 @@
 #include "methods/stage_hash.hpp"
 #include "methods/zslab_buffer.hpp"
 #include "methods/zslab_frame.hpp"
+#include "methods/zslab_kept.hpp"
+#include "methods/zslab_object_kernel.hpp"
 
 namespace imx {
 
@@ -119,6 +122,54 @@ double zslab_stream_bytes_per_sample(const RenderSettings& r) {
   return static_cast<double>((2 * r.layers + r.rt_layers) * size) + 1.0 / 8.0;
 }
 
+size_t ZslabStageCache::kept_bytes() const {
+  size_t bytes = prefix.slabs ? prefix.slabs->bytes() : 0;
+  for (const Kept& e : own)
+    if (e.slabs) bytes += e.slabs->bytes();
+  return bytes;
+}
+
+namespace {
+
+// The data stage k's key hashed by identity, kept alive as long as the key is.
+void keep_alive_of(const Scene& scene, const ZslabStage& stage,
+                   std::vector<std::shared_ptr<const void>>& out) {
+  for (uint32_t o : stage.objects) {
+    const ObjectRef& ref = scene.order[o];
+    if (ref.kind == ObjectKind::volume) {
+      out.push_back(scene.volumes[ref.index].data);
+      for (const ClipMesh& c : scene.volumes[ref.index].clip_meshes)
+        out.push_back(scene.meshes[c.mesh].mesh);
+    }
+    if (ref.kind == ObjectKind::mesh) out.push_back(scene.meshes[ref.index].mesh);
+    if (ref.kind == ObjectKind::plane && scene.planes[ref.index].volume >= 0)
+      out.push_back(scene.volumes[scene.planes[ref.index].volume].data);
+  }
+}
+
+// What a ZT-buffer store and load do to a stage's output (thickness clamped, RGBA8 rounding), so
+// merging on the stack gives the bytes of the ping-pong pipeline. Returns the kept length.
+int as_stored(std::span<Slab> slabs, SlabFormat format) {
+  for (size_t k = 0; k < slabs.size(); ++k) {
+    Slab& s = slabs[k];
+    s.thickness = std::max(s.thickness, 0.0f);
+    if (format == SlabFormat::rgba8) s = unpack(pack8(s));
+    if (!(s.thickness >= 0.0f)) return static_cast<int>(k);
+  }
+  return static_cast<int>(slabs.size());
+}
+
+// An array of `samples` x `capacity`: one that `pool` holds in that shape, else a new one.
+std::shared_ptr<KeptSlabArrays> take(std::vector<std::shared_ptr<KeptSlabArrays>>& pool,
+                                     size_t samples, int capacity) {
+  for (auto& p : pool)
+    if (p && p->samples() == samples && p->capacity() == std::max(capacity, 1))
+      return std::exchange(p, nullptr);
+  return std::make_shared<KeptSlabArrays>(samples, capacity);
+}
+
+}  // namespace
+
 Image render_zslab_cached(const Scene& scene, int spp, const RenderOptions& options, bool hybrid,
                           ZslabStageCache& cache, ZslabStats* stats) {
   ZslabFrame z(scene, spp, hybrid);
@@ -127,109 +178,180 @@ Image render_zslab_cached(const Scene& scene, int spp, const RenderOptions& opti
   const int w = scene.image.width, h = scene.image.height;
   const size_t spx = z.offsets.size();
   const size_t total = static_cast<size_t>(w) * h * spx;
-  check_memory(static_cast<uint64_t>(static_cast<double>(total) *
-                                     zslab_stream_bytes_per_sample(scene.render)),
-               fmt::format("zslab's kept stage outputs for {}x{} pixels at {} spp", w, h, spx));
 
-  // Stage k's key chains the keys of all stages before it.
-  std::vector<uint64_t> keys(z.stages.size());
-  uint64_t prev = z.frame_key();
-  for (size_t k = 0; k < z.stages.size(); ++k)
-    prev = keys[k] = StageHash().add(prev).add(z.stages[k].content).value();
-  const uint64_t image_key = StageHash()
-                                 .add(z.stages.empty() ? z.frame_key() : keys.back())
-                                 .add(scene.image.background)
-                                 .value();
-  if (cache.stages.size() != z.stages.size()) cache.stages.assign(z.stages.size(), {});
+  // Own keys hash the frame and the stage's own content only; the prefix key chains the stages
+  // before it, the image key all of them.
+  std::vector<uint64_t> own_key(z.stages.size()), chain(z.stages.size() + 1);
+  std::vector<int> capacity(end);
+  chain[0] = z.frame_key();
+  for (size_t k = 0; k < z.stages.size(); ++k) {
+    own_key[k] = StageHash().add(z.frame_key()).add(z.stages[k].content).value();
+    chain[k + 1] = StageHash().add(chain[k]).add(z.stages[k].content).value();
+    if (k < end) capacity[k] = z.own_capacity(k);
+  }
+  const uint64_t image_key = StageHash().add(chain.back()).add(scene.image.background).value();
 
   ZslabStats st;
   st.stages = static_cast<int>(z.stages.size());
   st.stream_bytes_per_pixel = zslab_stream_bytes_per_sample(scene.render) * spx;
-  if (cache.image && cache.image_key == image_key) {
-    for (const auto& e : cache.stages)
-      if (e.output) st.kept_bytes_per_pixel += static_cast<double>(e.output->bytes()) / (w * h);
+  auto finish_stats = [&]() {
+    st.kept_bytes_per_pixel =
+        static_cast<double>(cache.kept_bytes()) / (static_cast<double>(w) * h);
     if (stats) *stats = st;
+  };
+  if (cache.image && cache.image_key == image_key) {
+    finish_stats();
     return *cache.image;
   }
 
-  // Resume after the last deferred stage whose kept output is still valid.
-  size_t first = 0;
-  for (size_t k = end; k-- > 0;)
-    if (cache.stages[k].output && cache.stages[k].key == keys[k]) {
-      first = k + 1;
-      break;
+  // The budget: own arrays by size, the largest evicted first (ties: the later stage), then the
+  // merged prefix in what they leave. An evicted own array is recomputed each frame.
+  std::vector<bool> keep(end, false);
+  std::vector<size_t> by_size;
+  uint64_t planned = 0;
+  for (size_t k = 0; k < end; ++k)
+    if (capacity[k] > 0) {
+      keep[k] = true;
+      by_size.push_back(k);
+      planned += KeptSlabArrays::bytes_for(total, capacity[k]);
     }
-  std::shared_ptr<const ZtBuffer> input = first > 0 ? cache.stages[first - 1].output : nullptr;
-  z.prepare(first);
-
-  // Kept outputs are limited to what the ping-pong pair and the RT layers would hold, (2N + M)
-  // slabs per sample, given to the stages nearest the end (the inputs of the likeliest edits).
-  const size_t keep =
-      static_cast<size_t>(std::max(1, (2 * n + z.params.rt_layers) / std::max(n, 1)));
-  for (size_t k = 0; k < cache.stages.size(); ++k)
-    if (k + keep < end || k >= end || cache.stages[k].key != keys[k]) cache.stages[k] = {};
-
-  for (size_t k = first; k < end; ++k) {
-    auto output = std::make_shared<ZtBuffer>(total, n, z.format);
-    const bool surfaces = z.stages[k].kind == ZslabStage::Kind::surfaces;
-    const bool clipped = clipped_stage(z, k);
-    for_each_tile(w, h, kTileSize, options.threads, [&](const TileRect& tile, int) {
-      SampleFragments fragments, clip;
-      if (surfaces) z.rasterize(k, tile, fragments);
-      const bool have_clip = clipped && z.rasterize_clip(tile, clip);
-      Slab in_slots[kMaxZslabLayers], out_slots[kMaxZslabLayers];
-      for_each_sample(z, tile, [&](int x, int y, const Ray& ray, size_t i) {
-        size_t g = (static_cast<size_t>(y) * w + x) * spx + i % spx;
-        std::span<const Fragment> f = surfaces ? fragments.of(i) : std::span<const Fragment>();
-        if (surfaces && f.empty()) {
-          if (input) output->copy(g, *input, g);
-          return;
-        }
-        int count = input ? input->load(g, in_slots) : 0;
-        SlabList out(std::span<Slab>(out_slots, static_cast<size_t>(n)));
-        if (z.run_deferred(k, x, y, ray, f, std::span<const Slab>(in_slots, count), out,
-                           clip_row(clip, have_clip, i)))
-          output->store(g, out.items());
-        else if (input)
-          output->copy(g, *input, g);
-      });
-    });
-    ++st.stages_run;
-    input = output;
-    ZslabStageCache::Entry& e = cache.stages[k];
-    e = {};
-    if (k + keep >= end) {
-      e.key = keys[k];
-      e.output = output;
-      for (uint32_t o : z.stages[k].objects) {
-        const ObjectRef& ref = scene.order[o];
-        if (ref.kind == ObjectKind::volume) {
-          e.keep_alive.push_back(scene.volumes[ref.index].data);
-          for (const ClipMesh& c : scene.volumes[ref.index].clip_meshes)
-            e.keep_alive.push_back(scene.meshes[c.mesh].mesh);
-        }
-        if (ref.kind == ObjectKind::mesh) e.keep_alive.push_back(scene.meshes[ref.index].mesh);
-        if (ref.kind == ObjectKind::plane && scene.planes[ref.index].volume >= 0)
-          e.keep_alive.push_back(scene.volumes[scene.planes[ref.index].volume].data);
-      }
-    }
+  std::stable_sort(by_size.begin(), by_size.end(), [&](size_t a, size_t b) {
+    return capacity[a] != capacity[b] ? capacity[a] > capacity[b] : a > b;
+  });
+  for (size_t k : by_size) {
+    if (planned <= cache.budget_bytes) break;
+    keep[k] = false;
+    planned -= KeptSlabArrays::bytes_for(total, capacity[k]);
   }
+
+  // Match the kept own arrays; the rest become storage for this frame's recomputed ones.
+  std::vector<std::shared_ptr<KeptSlabArrays>> pool, matched(end), writing(end);
+  std::vector<ZslabStageCache::Kept> old = std::move(cache.own);
+  cache.own.clear();
+  for (size_t k = 0; k < end; ++k) {
+    if (!keep[k]) continue;
+    for (auto& e : old)
+      if (e.slabs && e.key == own_key[k] && e.slabs->samples() == total &&
+          e.slabs->capacity() == capacity[k]) {
+        matched[k] = e.slabs;
+        cache.own.push_back(std::move(e));
+        break;
+      }
+  }
+  for (auto& e : old)
+    if (e.slabs) pool.push_back(std::move(e.slabs));
+
+  // The first stage whose object must be rendered, and where the merges start.
+  size_t first = end;
+  for (size_t k = 0; k < end && first == end; ++k)
+    if (!matched[k]) first = k;
+  const size_t prefix_at = cache.prefix_stage;
+  const bool prefix_valid = cache.prefix.slabs && prefix_at >= 1 && prefix_at <= first &&
+                            cache.prefix.key == chain[prefix_at] &&
+                            cache.prefix.slabs->samples() == total &&
+                            cache.prefix.slabs->capacity() == n;
+  const size_t start = prefix_valid ? prefix_at : 0;
+  // Keep the merged array before the first changed stage, the input of the likeliest next edit,
+  // when it saves two merges or more (or all of them), within the budget.
+  const uint64_t prefix_bytes = KeptSlabArrays::bytes_for(total, n);
+  const bool write_prefix =
+      first > start && (first >= 2 || first == end) && planned + prefix_bytes <= cache.budget_bytes;
+  std::shared_ptr<KeptSlabArrays> prefix = prefix_valid ? cache.prefix.slabs : nullptr;
+  if (!prefix_valid) cache.prefix = {};
+  if (write_prefix) {
+    if (!prefix) prefix = take(pool, total, n);  // written in place: each sample reads, then writes
+  } else if (!prefix_valid) {
+    prefix = nullptr;
+  } else if (planned + prefix_bytes > cache.budget_bytes) {
+    cache.prefix = {};  // still read this frame, then dropped
+  }
+
+  std::vector<bool> render_stage(end, false);
+  size_t prepare_from = end;
+  bool clip_needed = clipped_stage(z, end);
+  for (size_t k = start; k < end; ++k) {
+    if (matched[k]) continue;
+    render_stage[k] = true;
+    prepare_from = std::min(prepare_from, k);
+    clip_needed = clip_needed || clipped_stage(z, k);
+    if (keep[k]) writing[k] = take(pool, total, capacity[k]);
+    ++st.stages_run;
+  }
+  pool.clear();
+  st.stages_merged = static_cast<int>(end - start);
+  check_memory(planned + (write_prefix || prefix ? prefix_bytes : 0),
+               fmt::format("zslab's kept slab arrays for {}x{} pixels at {} spp", w, h, spx));
+  z.prepare(prepare_from);
 
   auto image = std::make_shared<Image>(w, h);
   const float weight = 1.0f / static_cast<float>(spx);
-  const bool clipped_final = clipped_stage(z, end);
   for_each_tile(
       w, h, kTileSize, options.threads,
       [&](const TileRect& tile, int) {
-        Slab slots[kMaxZslabLayers];
+        std::vector<SampleFragments> fragments(end);
+        for (size_t k = start; k < end; ++k)
+          if (render_stage[k] && z.stages[k].kind == ZslabStage::Kind::surfaces)
+            z.rasterize(k, tile, fragments[k]);
         SampleFragments clip;
-        const bool have_clip = clipped_final && z.rasterize_clip(tile, clip);
+        const bool have_clip = clip_needed && z.rasterize_clip(tile, clip);
+        Slab run[2][kMaxZslabLayers];
+        Slab own[std::max(kMaxOwnSurfaceSlabs, kMaxZslabLayers)];
+        // First each object to render, stage by stage over the tile (one volume's bricks stay
+        // in cache), into its kept array or, when evicted, a tile-local one.
+        std::vector<std::unique_ptr<KeptSlabArrays>> local(end);
+        const size_t tile_samples =
+            static_cast<size_t>(tile.width()) * static_cast<size_t>(tile.height()) * spx;
+        for (size_t k = start; k < end; ++k) {
+          if (!render_stage[k] || capacity[k] == 0) continue;
+          if (!writing[k]) local[k] = std::make_unique<KeptSlabArrays>(tile_samples, capacity[k]);
+          const bool surfaces = z.stages[k].kind == ZslabStage::Kind::surfaces;
+          std::span<Slab> mine(own, static_cast<size_t>(capacity[k]));
+          for_each_sample(z, tile, [&](int x, int y, const Ray& ray, size_t i) {
+            const size_t g = (static_cast<size_t>(y) * w + x) * spx + i % spx;
+            std::span<const Fragment> f =
+                surfaces ? fragments[k].of(i) : std::span<const Fragment>();
+            int m = 0;
+            if (!surfaces || !f.empty())
+              m = z.own_slabs(k, x, y, ray, f, mine, clip_row(clip, have_clip, i));
+            if (writing[k])
+              writing[k]->store(g, mine.first(static_cast<size_t>(m)));
+            else
+              local[k]->store(i, mine.first(static_cast<size_t>(m)));
+          });
+        }
+        // Then per sample the merges in stage order and the final accumulation (or cast).
         glm::vec4 sum(0.0f);
         for_each_sample(z, tile, [&](int x, int y, const Ray& ray, size_t i) {
-          size_t g = (static_cast<size_t>(y) * w + x) * spx + i % spx;
-          int count = input ? input->load(g, slots) : 0;
-          sum += z.run_final(end, x, y, ray, std::span<const Slab>(slots, count),
-                             clip_row(clip, have_clip, i));
+          const size_t g = (static_cast<size_t>(y) * w + x) * spx + i % spx;
+          const std::span<const Fragment> clip_i = clip_row(clip, have_clip, i);
+          int cur = 0;
+          int count = start > 0 ? prefix->load(g, run[0]) : 0;
+          for (size_t k = start; k < end; ++k) {
+            const bool surfaces = z.stages[k].kind == ZslabStage::Kind::surfaces;
+            std::span<const Fragment> f =
+                render_stage[k] && surfaces ? fragments[k].of(i) : std::span<const Fragment>();
+            std::span<const Slab> stored(run[cur], static_cast<size_t>(count));
+            SlabList out(std::span<Slab>(run[1 - cur], static_cast<size_t>(n)));
+            bool touched = false;
+            if (capacity[k] == 0) {  // not split: the whole stage, from its fragments
+              touched =
+                  (!surfaces || !f.empty()) && z.run_deferred(k, x, y, ray, f, stored, out, clip_i);
+            } else {
+              std::span<Slab> mine(own, static_cast<size_t>(capacity[k]));
+              const int m = matched[k]   ? matched[k]->load(g, mine)
+                            : writing[k] ? writing[k]->load(g, mine)
+                                         : local[k]->load(i, mine);
+              touched = z.merge_own(k, stored, mine.first(static_cast<size_t>(m)), out);
+            }
+            if (touched) {
+              count = as_stored(std::span<Slab>(run[1 - cur], static_cast<size_t>(out.size())),
+                                z.format);
+              cur = 1 - cur;
+            }
+            if (write_prefix && k + 1 == first)
+              prefix->store(g, std::span<const Slab>(run[cur], static_cast<size_t>(count)));
+          }
+          sum += z.run_final(end, x, y, ray, std::span<const Slab>(run[cur], count), clip_i);
           if (i % spx + 1 == spx) {
             image->at(x, y) = over_background(sum * weight, scene.image.background);
             sum = glm::vec4(0.0f);
@@ -237,12 +359,29 @@ Image render_zslab_cached(const Scene& scene, int spp, const RenderOptions& opti
         });
       },
       [&](int done, int all) { report(options, done, all); });
-  if (end < z.stages.size()) ++st.stages_run;
+
+  // Refill the cache: the own arrays rendered and kept, the prefix, the image.
+  for (size_t k = start; k < end; ++k)
+    if (writing[k]) {
+      ZslabStageCache::Kept e{own_key[k], writing[k], {}};
+      keep_alive_of(scene, z.stages[k], e.keep_alive);
+      cache.own.push_back(std::move(e));
+    }
+  if (write_prefix) {
+    cache.prefix = {chain[first], prefix, {}};
+    cache.prefix_stage = first;
+    for (size_t k = 0; k < first; ++k) keep_alive_of(scene, z.stages[k], cache.prefix.keep_alive);
+  }
+  if (end < z.stages.size()) {
+    ++st.stages_run;
+    st.recast_unchanged = cache.last_key == own_key[end] && first < end;
+    cache.last_key = own_key[end];
+  } else {
+    cache.last_key = 0;
+  }
   cache.image = image;
   cache.image_key = image_key;
-  for (const auto& e : cache.stages)
-    if (e.output) st.kept_bytes_per_pixel += static_cast<double>(e.output->bytes()) / (w * h);
-  if (stats) *stats = st;
+  finish_stats();
   return *image;
 }
 

@@ -11,33 +11,44 @@
 
 namespace imx {
 
-class ZtBuffer;
-
 // Stateless entries: stages run tile by tile on tile-local buffers, nothing is kept.
 Image render_zslab(const Scene& scene, int spp, const RenderOptions& options);
 Image render_zslab_hybrid(const Scene& scene, int spp, const RenderOptions& options);
 
-// Whole-frame stage outputs kept between frames, keyed by a hash of everything each stage read
-// (its objects, every earlier stage, camera and settings). Slot k belongs to stage k.
+class KeptSlabArrays;
+
+// Object-level reuse (SPEC §4): per deferred stage the object's own slab array, keyed by a hash
+// of the frame (camera, settings) and that stage's own content only, plus one merged array of
+// the stages before `prefix_stage`, so an edit re-renders one object and re-runs the merges after.
 struct ZslabStageCache {
-  struct Entry {
+  struct Kept {
     uint64_t key = 0;
-    std::shared_ptr<const ZtBuffer> output;               // null: not kept
+    std::shared_ptr<KeptSlabArrays> slabs;                // null: not kept
     std::vector<std::shared_ptr<const void>> keep_alive;  // data whose identity the key hashed
   };
-  std::vector<Entry> stages;
+  std::vector<Kept> own;  // in stage order of the frame that filled them
+  Kept prefix;            // the merged (stored) array before stage prefix_stage
+  size_t prefix_stage = 0;
+  uint64_t budget_bytes = uint64_t{512} << 20;  // kept arrays at most; the largest go first
+  uint64_t last_key = 0;                        // the on-the-fly stage's key, last frame
   uint64_t image_key = 0;
   std::shared_ptr<const Image> image;  // the last frame, when nothing it read has changed
+
+  size_t kept_bytes() const;
 };
 
 struct ZslabStats {
   int stages = 0;                       // stages of the frame (the on-the-fly one included)
-  int stages_run = 0;                   // stages that ran (the others came from the cache)
+  int stages_run = 0;                   // stages whose object was rendered (the rest: kept)
+  int stages_merged = 0;                // deferred stages merged again from kept own arrays
+  bool recast_unchanged = false;        // zslab-hybrid re-cast its last volume, unchanged
   double stream_bytes_per_pixel = 0.0;  // tile-local buffers per pixel: (2N + M) slabs
-  double kept_bytes_per_pixel = 0.0;    // whole-frame stage outputs kept for reuse
+  double kept_bytes_per_pixel = 0.0;    // whole-frame arrays kept for reuse
 };
 
-// The same pipeline run stage by stage over the whole frame, reusing and refilling `cache`.
+// The same pipeline with object-level reuse: recomputes the own arrays of the stages whose
+// object changed, merges kept and new own arrays tile by tile, and refills `cache` within its
+// budget. The image equals render_zslab(_hybrid) of the same scene bit for bit.
 Image render_zslab_cached(const Scene& scene, int spp, const RenderOptions& options, bool hybrid,
                           ZslabStageCache& cache, ZslabStats* stats = nullptr);
 

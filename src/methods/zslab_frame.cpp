@@ -86,6 +86,13 @@ Overflow overflow_of(const RenderSettings& r) {
   throw Error(fmt::format("zslab: render.overflow is '{}', expected greedy or tail", r.overflow));
 }
 
+Sampling sampling_of(const RenderSettings& r) {
+  if (r.sampling == "common") return Sampling::common;
+  if (r.sampling == "per-volume") return Sampling::per_volume;
+  throw Error(
+      fmt::format("zslab: render.sampling is '{}', expected common or per-volume", r.sampling));
+}
+
 }  // namespace
 
 ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
@@ -107,10 +114,11 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
   footprint_at_0_ = static_cast<float>(frame.camera.pixel_footprint(0.0));
   footprint_per_mm_ = static_cast<float>(frame.camera.pixel_footprint(1.0)) - footprint_at_0_;
 
-  // Every volume is cast at the scene's common step (the smallest voxel pitch unless the scene
-  // sets one), as in MDVR: a coarse volume cast at its own pitch costs ~2 dB on two-volumes.
-  const float step = static_cast<float>(frame.ray_step(r));
-  frame.accelerate(step, MarchSettings::from(r));
+  // The common step (render.step_mm, else the smallest voxel pitch) as in MDVR; per-volume
+  // sampling casts a coarser volume at a whole multiple of it, pre-integrated at its own step,
+  // and leaves the merging of the unequal slabs to the kernel.
+  steps = frame.volume_steps(frame.ray_step(r), sampling_of(r) == Sampling::per_volume);
+  frame.accelerate(steps, MarchSettings::from(r));
 
   // Polygon objects and planes first, in scene order, as many per stage as fit the RT layers.
   // Cutters that do not show (clip meshes of opacity 0) are in no stage: they only clip.
@@ -166,7 +174,7 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
     double best_score = -2.0;
     for (size_t i = 0; i < volume_order.size(); ++i) {
       int v = scene.order[volume_order[i]].index;
-      double score = transparent_complexity(frame.volumes[v], step);
+      double score = transparent_complexity(frame.volumes[v], steps[v]);
       if (score >= best_score) {
         best_score = score;
         best = i;
@@ -180,7 +188,7 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
     st.kind = ZslabStage::Kind::volume;
     st.objects.push_back(static_cast<uint32_t>(volume_order[i]));
     st.volume = scene.order[volume_order[i]].index;
-    st.step = step;
+    st.step = steps[st.volume];
     st.name = scene.volumes[st.volume].name;
     const PreparedVolume& pv = frame.volumes[st.volume];
     st.on_the_fly = hybrid && i + 1 == volume_order.size() && pv.object->style == VolumeStyle::dvr;
@@ -197,6 +205,7 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
   f.add(params.layers).add(params.rt_layers).add(params.peel_layers);
   f.add(params.mix.interpolation.mode).add(params.mix.interpolation.beta).add(params.mix.a_ert);
   f.add(format).add(hybrid).add(frame.min_pitch).add(r.step_mm).add(params.mix.overflow);
+  f.add(std::string_view(r.sampling));
   f.add(std::string_view(r.classification)).add(std::string_view(r.gradients));
   f.add(std::string_view(r.skipping)).add(r.brick_size);
   for (const ShadingLight& l : frame.lights) f.add(l.headlight).add(l.to_light).add(l.color);

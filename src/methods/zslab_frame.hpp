@@ -31,6 +31,9 @@ struct ZslabStage {
   std::string name;               // the objects' names, for messages
 };
 
+// render.sampling: every volume at the common step, or each at a step for its own pitch.
+enum class Sampling : uint8_t { common, per_volume };
+
 class ZslabFrame {
  public:
   // Plans the stages: polygon objects and planes in scene order (grouped so their peeled layers
@@ -52,6 +55,20 @@ class ZslabFrame {
   glm::vec4 run_final(size_t k, int x, int y, const Ray& ray, std::span<const Slab> stored,
                       std::span<const Fragment> clip = {}) const;
 
+  // Object-level reuse (zslab_stage_run.cpp): deferred stage `k` split into its object's own
+  // slab array, which depends only on the camera and that object, and the merge of that array
+  // into the stored one; merge_own(k, stored, own_slabs(k, ...)) does what run_deferred does.
+  // Slots per sample of stage k's own array; 0 when the stage cannot be split (run it whole).
+  int own_capacity(size_t k) const;
+  // Stage k's own array for one sample into `own` (own_capacity(k) slots): its length, 0 when
+  // the stage does not touch the sample.
+  int own_slabs(size_t k, int x, int y, const Ray& ray, std::span<const Fragment> fragments,
+                std::span<Slab> own, std::span<const Fragment> clip = {}) const;
+  // Merges stage k's own array into `stored` (out: N slots); false, `out` untouched, when `own`
+  // is empty.
+  bool merge_own(size_t k, std::span<const Slab> stored, std::span<const Slab> own,
+                 SlabList& out) const;
+
   // Fragments of surface stage `k` for every sample of `tile`; empty for other stages.
   void rasterize(size_t k, const TileRect& tile, SampleFragments& out) const;
   // The clip meshes' fragments of every sample of `tile`, sorted by depth, when a volume stage
@@ -69,6 +86,7 @@ class ZslabFrame {
   SlabFormat format = SlabFormat::rgba32f;
   std::vector<glm::vec2> offsets;
   std::vector<ZslabStage> stages;
+  std::vector<float> steps;  // per volume (Scene::volumes order), the step it is cast at, mm
   bool hybrid = true;
 
  private:

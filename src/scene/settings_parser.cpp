@@ -101,7 +101,7 @@ RenderSettings parse_render(const JsonReader& r) {
   r.check_keys({"method", "spp", "step_mm", "reference_step_fraction", "ert_threshold", "layers",
                 "rt_layers", "peel_layers", "interpolation", "beta", "skipping", "classification",
                 "gradients", "brick_size", "k", "fragment_cap", "thickness", "slab_format",
-                "last_volume", "overflow", "packets", "peel_rest",
+                "last_volume", "overflow", "sampling", "packets", "peel_rest",
                 // CSG, and how co-located volumes mix
                 "csg_simplify", "csg_presence_threshold", "csg_max_states", "mixing",
                 "mixing_priority", "mixing_threshold"});
@@ -135,6 +135,7 @@ RenderSettings parse_render(const JsonReader& r) {
   if (auto v = r.find("slab_format")) s.slab_format = v->choice({"rgba32f", "rgba8"});
   if (auto v = r.find("last_volume")) s.last_volume = v->string();  // checked with the objects
   if (auto v = r.find("overflow")) s.overflow = v->choice({"greedy", "tail"});
+  if (auto v = r.find("sampling")) s.sampling = v->choice({"common", "per-volume"});
   if (auto v = r.find("packets")) s.packets = v->boolean();
   if (auto v = r.find("csg_simplify")) s.csg_simplify = v->choice({"none", "merge", "full"});
   if (auto v = r.find("csg_presence_threshold"))

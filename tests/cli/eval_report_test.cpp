@@ -2,6 +2,7 @@
 // every image it wrote, and a headless Chromium (when installed) finds the tables.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <regex>
@@ -41,7 +42,8 @@ size_t count(const std::string& text, const std::string& what) {
 class CliEval : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new fs::path(temp_dir("eval"));
+    // ctest runs each test in its own process, in parallel: one folder per process.
+    dir_ = new fs::path(temp_dir("eval-" + std::to_string(getpid())));
     result_ = new CliResult(run_cli("eval " + example("two-volumes") + " " + example("csg-smile") +
                                     " --size 40 --ref-spp 4 --frames 1 --out " +
                                     (*dir_ / "report").string() + " --markdown " +
