@@ -21,7 +21,8 @@ Image render_peel(const Scene& scene, int spp, const RenderOptions& options) {
                           layers, {a, b}, filter);
       }
     };
-    return Kernel{&ctx, params, std::vector<Slab>(params.layers + 1),
+    // L layers, the unsorted rest and the opaque fragment
+    return Kernel{&ctx, params, std::vector<Slab>(params.layers + 2),
                   std::vector<Slab>(kRayScratchSlabs), std::vector<Slab>(kRayScratchSlabs)};
   });
 }

@@ -1,4 +1,5 @@
-// Depth peeling with ray casting between layers (SPEC §7), L = render.peel_layers.
+// Depth peeling with ray casting between layers (SPEC §7), L = render.peel_layers: opaque
+// geometry is a depth buffer that ends each ray, only transparent fragments are peeled.
 #pragma once
 #include "intermix/image.hpp"
 #include "intermix/render.hpp"
