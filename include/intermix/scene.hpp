@@ -178,7 +178,7 @@ struct RenderSettings {
   int layers = 8;                        // ZT-buffer slabs per pixel (N)
   int rt_layers = 4;                     // RT-buffer surface layers (M)
   int peel_layers = 4;                   // depth-peeling passes per polygon object (L)
-  std::string peel_rest = "lost";        // peel: fragments behind layer L-1 are lost or "unsorted"
+  std::string peel_rest = "unsorted";    // peel: fragments behind layer L-1 blended unsorted, or "lost"
   std::string interpolation = "ovi";
   double beta = 1.0;
   std::string skipping = "distance";             // empty-space skipping: none, bricks, distance

@@ -154,7 +154,7 @@ Image render_with(const Scene& scene, const std::string& method) {
 TEST(PeelOpaque, ImplantShowsThroughFourShellsAtFourLayers) {
   // zoomed on the screw head so that every sample ray ends on it, behind four shells
   const std::vector<std::string> head = {"camera.target=[7.5, 0, 13]", "camera.fov_deg=1",
-                                         "render.peel_layers=4"};
+                                         "render.peel_layers=4", "render.peel_rest=lost"};
   Scene scene = implant_shells(head);
   EXPECT_GE(psnr(render_with(scene, "peel"), render_with(scene, "dfb")), 50.0);
   // the view is one where a lost implant shows: the same head at opacity 0.99 is peeled as a
@@ -163,6 +163,16 @@ TEST(PeelOpaque, ImplantShowsThroughFourShellsAtFourLayers) {
   glassy.push_back("objects.screw-head.material.opacity=0.99");
   Scene lost = implant_shells(glassy);
   EXPECT_LT(psnr(render_with(lost, "peel"), render_with(lost, "dfb")), 30.0);
+}
+
+TEST(PeelOpaque, WholeSceneMatchesDfbAtTheDefaults) {
+  // four layers, the rest blended unsorted: the shells' back faces beside the screw are the
+  // fifth to eighth layers
+  Scene scene = implant_shells();
+  ASSERT_EQ(scene.render.peel_layers, 4);
+  EXPECT_GE(psnr(render_with(scene, "peel"), render_with(scene, "dfb")), 50.0);
+  Scene lost = implant_shells({"render.peel_rest=lost"});
+  EXPECT_LT(psnr(render_with(lost, "peel"), render_with(lost, "dfb")), 40.0);
 }
 
 TEST(PeelOpaque, WholeSceneMatchesDfbWithRoomForEveryTransparentLayer) {
