@@ -171,8 +171,10 @@ class ProjectionKernel {
     if (mode_ == Mode::max || mode_ == Mode::min) {
       const __m256 best = _mm256_load_ps(L_.best);
       const bool max = mode_ == Mode::max;
-      const __m256 better =
-          _mm256_and_ps(active, _mm256_cmp_ps(s, best, max ? _CMP_GT_OQ : _CMP_LT_OQ));
+      // The predicate must be a constant: one compare per mode.
+      const __m256 beats =
+          max ? _mm256_cmp_ps(s, best, _CMP_GT_OQ) : _mm256_cmp_ps(s, best, _CMP_LT_OQ);
+      const __m256 better = _mm256_and_ps(active, beats);
       const __m256 nbest = _mm256_blendv_ps(best, s, better);
       _mm256_store_ps(L_.best, nbest);
       _mm256_store_ps(L_.best_t, _mm256_blendv_ps(_mm256_load_ps(L_.best_t), at, better));
