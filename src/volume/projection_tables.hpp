@@ -41,7 +41,6 @@ class AttenuationTable {
     float f = x - static_cast<float>(i);
     return table_[i] + f * (table_[i + 1] - table_[i]);
   }
-  bool empty() const { return table_.empty(); }
   const glm::vec4* data() const { return table_.data(); }
   float lo() const { return lo_; }
   float inv_step() const { return inv_step_; }
