@@ -90,7 +90,6 @@ class ProjectionKernel {
       }
       brick_stride_y_ = g.dims.x;
       brick_stride_z_ = g.dims.x * g.dims.y;
-      if (mode_ == Mode::integral) distances_ = v.accel.occupancy->padded_distances();
       // The TF's empty bricks hold nothing that changes the result: walk past them as DVR does.
       const bool empty_skips = mode_ == Mode::max   ? v.limits.invisible_only_below
                                : mode_ == Mode::min ? v.limits.invisible_only_above
@@ -262,8 +261,7 @@ class ProjectionKernel {
     __m256 judge = need;
     if (bricks_) {
       __m256 leave = t1;
-      const unsigned walking = waiting;
-      const unsigned none = bricks_->first_occupied(brick_rays_, walking, t, t1, target, leave);
+      const unsigned none = bricks_->first_occupied(brick_rays_, waiting, t, t1, target, leave);
       ends = lane_mask(none);
       ahead = _mm256_andnot_ps(ends, _mm256_and_ps(need, _mm256_cmp_ps(target, t, _CMP_GT_OQ)));
       judge = _mm256_andnot_ps(_mm256_or_ps(ends, ahead), need);
@@ -290,15 +288,10 @@ class ProjectionKernel {
       const __m256 at = _mm256_mul_ps(_mm256_sub_ps(face, o[a]), _mm256_load_ps(L_.inv_d[a]));
       exit = _mm256_min_ps(at, exit);
     }
-    __m256 skip;
-    if (mode_ == Mode::integral) {
-      // BrickOccupancy: distance 0 in a brick's first octant byte means the TF shows in it.
-      const __m256i word = _mm256_i32gather_epi32(reinterpret_cast<const int*>(distances_),
-                                                  _mm256_slli_epi32(index, 3), 1);
-      skip = _mm256_castsi256_ps(_mm256_xor_si256(
-          _mm256_cmpeq_epi32(_mm256_and_si256(word, splat(0xff)), _mm256_setzero_si256()),
-          splat(-1)));
-    } else {
+    // X-ray: a lane judged here is in a brick the TF shows in (the occupancy walk passed the
+    // others), whose attenuation counts: nothing to skip.
+    __m256 skip = _mm256_setzero_ps();
+    if (mode_ != Mode::integral) {
       const __m256i at = _mm256_slli_epi32(index, 1);
       const __m256 lo = _mm256_i32gather_ps(ranges_, at, 4);
       const __m256 hi = _mm256_i32gather_ps(ranges_, _mm256_add_epi32(at, splat(1)), 4);
@@ -380,8 +373,7 @@ class ProjectionKernel {
   int look_delay_ = 0;                // points walked with a look put off
   std::optional<LaneBricks> bricks_;  // the TF's empty bricks, where they may be walked past
   LaneBricks::Rays brick_rays_{};
-  const float* ranges_ = nullptr;       // (min, max) per brick; null: no skipping
-  const uint8_t* distances_ = nullptr;  // integral: BrickOccupancy's distances
+  const float* ranges_ = nullptr;  // (min, max) per brick; null: no skipping
   float brick_size_ = 8.0f;
   float brick_last_[3] = {}, voxel_last_[3] = {};
   int brick_stride_y_ = 1, brick_stride_z_ = 1;
