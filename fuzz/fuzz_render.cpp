@@ -16,7 +16,8 @@
 // bytes 4-11: two float32 transfer-function values; bytes 12-13: their opacities (/255); these
 //         are replaced by a preset for pre-integrated integer volumes (see below)
 // byte 14: low 4 bits 1-12 render only that method of available_methods() (faster runs that
-//         still reach every method); 0 and 13-15 render every method
+//         still reach every method); 0 and 13-15 render every method; bit 4 turns mip into
+//         minip and xray into its average mode
 // bytes 15-: voxels, little-endian
 #include <algorithm>
 #include <cmath>
@@ -24,6 +25,7 @@
 #include <cstring>
 #include <exception>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <fmt/format.h>
@@ -98,6 +100,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   static const char* const kStyles[] = {"dvr", "iso", "mip", "xray"};
   const char* style = kStyles[(b0 >> 2) & 3];
+  const bool variant = (byte(data, size, 14) & 0x10) != 0;
+  if (variant && std::string_view(style) == "mip") style = "minip";
+  const char* xray_mode = variant && std::string_view(style) == "xray" ? "average" : "integral";
   const bool shading = (b0 & 0x10) != 0, plane = (b0 & 0x80) != 0;
   const bool second = (b1 & 0x40) != 0, csg = (b1 & 0x80) != 0;
   const bool mesh = (b0 & 0x40) != 0 || csg;
@@ -106,11 +111,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const bool ortho = (b2 & 0x08) != 0, exclusive = (b2 & 0x40) != 0 && second;
 
   std::string volume_fields = fmt::format(
-      R"("type": "volume", "source": {{"file": "vol.nrrd"}}, "style": "{}", "iso_value": {},
+      R"("type": "volume", "source": {{"file": "vol.nrrd"}}, "style": "{}", "iso_value": {},{}
          "transfer_function": {{"points": [[{}, 1, 0.8, 0.6, {}], [{}, 0.6, 0.8, 1, {}]],
                                 "unit_distance": 5}},
          "shading": {{"enabled": {}}})",
-      style, 0.5 * v0 + 0.5 * v1, v0, a0, v1, a1, shading ? "true" : "false");
+      style, 0.5 * v0 + 0.5 * v1,
+      std::string_view(style) == "xray" ? fmt::format(R"( "xray_mode": "{}",)", xray_mode) : "",
+      v0, a0, v1, a1, shading ? "true" : "false");
   std::string objects = fmt::format(R"({{"name": "v", {}}})", volume_fields);
   if (second)
     objects += fmt::format(
