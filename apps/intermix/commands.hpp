@@ -21,6 +21,7 @@ Command add_zfight(CLI::App& app);
 Command add_csg(CLI::App& app);
 Command add_convert(CLI::App& app);
 Command add_eval(CLI::App& app);
+Command add_serve(CLI::App& app);
 
 // A number in [lo, hi], with both bounds in the error message as short numbers (CLI11's own
 // range checks print all 309 digits of DBL_MAX).

@@ -103,6 +103,7 @@ int main(int argc, char** argv) {
       imx::cli::add_csg);
   add("eval", "every method on every scene against the reference: HTML report, JSON, tables",
       imx::cli::add_eval);
+  add("serve", "the interactive viewer: serves the scene to a browser", imx::cli::add_serve);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -10,4 +10,10 @@ class Error : public std::runtime_error {
   explicit Error(const std::string& message) : std::runtime_error(message) {}
 };
 
+// Thrown by render() when RenderOptions::cancel was set: not a failure, the frame is dropped.
+class Cancelled : public Error {
+ public:
+  Cancelled() : Error("rendering cancelled") {}
+};
+
 }  // namespace imx

@@ -85,6 +85,13 @@ VolumeData make_phantom(const std::string& name, int size);
 // unless `linear`), atomically: a temporary file beside it, then a rename.
 void write_png(const Image& image, const std::filesystem::path& file, bool linear = false);
 
+// The same PNG in memory; `what` names the image in errors; a zlib level 0-9 (-1: spng's).
+std::string encode_png(const Image& image, const std::string& what, bool linear = false,
+                       int compression_level = -1);
+
+// What write_png stores: 8-bit straight RGBA, sRGB-encoded unless `linear`, row 0 first.
+std::vector<uint8_t> display_rgba8(const Image& image, bool linear = false);
+
 // Reads an 8-bit or 16-bit PNG back to premultiplied linear RGBA (sRGB decoded unless `linear`).
 Image read_png(const std::filesystem::path& file, bool linear = false);
 

@@ -1,5 +1,6 @@
 // render(): one frame of a scene with a chosen method.
 #pragma once
+#include <atomic>
 #include <functional>
 #include <string>
 #include <vector>
@@ -15,6 +16,11 @@ struct RenderOptions {
   int threads = 0;     // 0: all cores
   // Called now and then with the finished fraction in [0, 1], from one thread at a time.
   std::function<void(double)> progress;
+  // >= 0: only sample `sample_index` of the spp-sample stratified pattern, one per pixel. The
+  // mean of the images for every index in [0, spp) is the spp image (progressive refinement).
+  int sample_index = -1;
+  // When it becomes true, render() stops soon and throws imx::Cancelled (a viewer's new input).
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 // Names of the methods this build implements.

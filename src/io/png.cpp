@@ -45,16 +45,7 @@ uint8_t quantize(float v) {
 
 }  // namespace
 
-void write_png(const Image& image, const std::filesystem::path& file, bool linear) {
-  const std::string what = file.string();
-  if (image.width() <= 0 || image.height() <= 0 || image.empty())
-    throw Error(
-        fmt::format("{}: cannot write an empty {}x{} image", what, image.width(), image.height()));
-  if (static_cast<uint32_t>(image.width()) > kMaxPngSide ||
-      static_cast<uint32_t>(image.height()) > kMaxPngSide)
-    throw Error(fmt::format("{}: image {}x{} is larger than {} pixels on a side", what,
-                            image.width(), image.height(), kMaxPngSide));
-
+std::vector<uint8_t> display_rgba8(const Image& image, bool linear) {
   // Premultiplied linear -> straight alpha, then the display encoding, then 8 bits.
   std::vector<uint8_t> rgba(image.size() * 4);
   for (size_t i = 0; i < image.size(); ++i) {
@@ -64,10 +55,25 @@ void write_png(const Image& image, const std::filesystem::path& file, bool linea
     for (int ch = 0; ch < 3; ++ch) rgba[i * 4 + ch] = quantize(linear ? c[ch] : srgb_encode(c[ch]));
     rgba[i * 4 + 3] = quantize(a);
   }
+  return rgba;
+}
+
+std::string encode_png(const Image& image, const std::string& what, bool linear,
+                       int compression_level) {
+  if (image.width() <= 0 || image.height() <= 0 || image.empty())
+    throw Error(
+        fmt::format("{}: cannot write an empty {}x{} image", what, image.width(), image.height()));
+  if (static_cast<uint32_t>(image.width()) > kMaxPngSide ||
+      static_cast<uint32_t>(image.height()) > kMaxPngSide)
+    throw Error(fmt::format("{}: image {}x{} is larger than {} pixels on a side", what,
+                            image.width(), image.height(), kMaxPngSide));
+  std::vector<uint8_t> rgba = display_rgba8(image, linear);
 
   SpngContext ctx(spng_ctx_new(SPNG_CTX_ENCODER), spng_ctx_free);
   if (!ctx) throw Error(fmt::format("{}: out of memory for the PNG encoder", what));
   spng_set_option(ctx.get(), SPNG_ENCODE_TO_BUFFER, 1);
+  if (compression_level >= 0)
+    spng_set_option(ctx.get(), SPNG_IMG_COMPRESSION_LEVEL, compression_level);
   spng_ihdr ihdr{};
   ihdr.width = static_cast<uint32_t>(image.width());
   ihdr.height = static_cast<uint32_t>(image.height());
@@ -85,9 +91,13 @@ void write_png(const Image& image, const std::filesystem::path& file, bool linea
                                              std::free);
   if (!png || error != 0)
     throw Error(fmt::format("{}: PNG encoding failed: {}", what, spng_strerror(error)));
+  return std::string(static_cast<const char*>(png.get()), size);
+}
 
+void write_png(const Image& image, const std::filesystem::path& file, bool linear) {
+  const std::string png = encode_png(image, file.string(), linear);
   write_file_atomically(file, [&](std::ostream& out) {
-    out.write(static_cast<const char*>(png.get()), static_cast<std::streamsize>(size));
+    out.write(png.data(), static_cast<std::streamsize>(png.size()));
   });
 }
 

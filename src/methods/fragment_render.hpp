@@ -30,7 +30,7 @@ Image render_fragment_method(const Scene& scene, const FrameSetup& frame, int sp
                              const RenderOptions& options, FragmentOrder order,
                              const MakeKernel& make_kernel) {
   constexpr int kTileSize = 16;
-  std::vector<glm::vec2> offsets = stratified_offsets(spp);
+  std::vector<glm::vec2> offsets = frame_offsets(spp, options.sample_index);
   Rasterizer raster(scene, frame.camera, frame.volumes, kTileSize);
   // The clip meshes' fragments come in rows of their own, sorted by depth whatever `order` is:
   // cutters that do not show never reach the method's fragments, and no store pass sees them.

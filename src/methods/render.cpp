@@ -5,6 +5,7 @@
 
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
+#include "methods/cancellable.hpp"
 #include "methods/csg.hpp"
 #include "methods/dfb.hpp"
 #include "methods/kbuffer.hpp"
@@ -76,7 +77,7 @@ Image render(const Scene& scene, const RenderOptions& options) {
           "method '{}' mixes volumes inclusively only (render.mixing is exclusive); use csg or "
           "reference, or --set render.mixing=inclusive",
           method));
-    return m.render(scene, spp > 0 ? spp : m.default_spp, options);
+    return m.render(scene, spp > 0 ? spp : m.default_spp, cancellable(options));
   }
   throw Error(fmt::format("method '{}' is not available; this build has: {}", method,
                           fmt::join(available_methods(), ", ")));

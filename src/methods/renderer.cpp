@@ -1,5 +1,7 @@
 #include "intermix/renderer.hpp"
 
+#include "intermix/error.hpp"
+#include "methods/cancellable.hpp"
 #include "methods/zslab.hpp"
 
 namespace imx {
@@ -29,7 +31,13 @@ Image Renderer::render(const Scene& scene, const RenderOptions& options) {
   cache.budget_bytes = impl_->budget - other.kept_bytes();
   int spp = options.spp > 0 ? options.spp : scene.render.spp > 0 ? scene.render.spp : 1;
   ZslabStats s;
-  Image image = render_zslab_cached(scene, spp, options, hybrid, cache, &s);
+  Image image;
+  try {
+    image = render_zslab_cached(scene, spp, cancellable(options), hybrid, cache, &s);
+  } catch (...) {
+    cache = {};  // a frame stopped midway may have written into kept arrays still listed
+    throw;
+  }
   const double pixels = static_cast<double>(scene.image.width) * scene.image.height;
   impl_->stats = {s.stages,
                   s.stages_run,

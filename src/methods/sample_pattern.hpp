@@ -23,4 +23,13 @@ inline std::vector<glm::vec2> stratified_offsets(int spp) {
   return offsets;
 }
 
+// The offsets a frame samples: the whole pattern, or only entry `sample_index` of it (>= 0).
+inline std::vector<glm::vec2> frame_offsets(int spp, int sample_index) {
+  std::vector<glm::vec2> offsets = stratified_offsets(spp);
+  if (sample_index < 0) return offsets;
+  if (sample_index >= spp)
+    throw Error(fmt::format("sample_index: {} is outside the {}-sample pattern", sample_index, spp));
+  return {offsets[static_cast<size_t>(sample_index)]};
+}
+
 }  // namespace imx

@@ -57,7 +57,7 @@ std::span<const Fragment> clip_row(const SampleFragments& clip, bool have, size_
 // Stateless pipeline: every stage runs on one tile's ping-pong ZT-buffers before the next tile;
 // a flag bit per sample says which of the two holds its array (untouched samples cost nothing).
 Image render_streamed(const Scene& scene, int spp, const RenderOptions& options, bool hybrid) {
-  ZslabFrame z(scene, spp, hybrid);
+  ZslabFrame z(scene, spp, hybrid, options.sample_index);
   z.prepare();
   const size_t end = deferred_end(z);
   const int n = z.params.layers;
@@ -172,7 +172,7 @@ std::shared_ptr<KeptSlabArrays> take(std::vector<std::shared_ptr<KeptSlabArrays>
 
 Image render_zslab_cached(const Scene& scene, int spp, const RenderOptions& options, bool hybrid,
                           ZslabStageCache& cache, ZslabStats* stats) {
-  ZslabFrame z(scene, spp, hybrid);
+  ZslabFrame z(scene, spp, hybrid, options.sample_index);
   const size_t end = deferred_end(z);
   const int n = z.params.layers;
   const int w = scene.image.width, h = scene.image.height;

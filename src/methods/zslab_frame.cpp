@@ -95,8 +95,8 @@ Sampling sampling_of(const RenderSettings& r) {
 
 }  // namespace
 
-ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
-    : scene(s), frame(s), offsets(stratified_offsets(spp)), hybrid(hybrid_cast) {
+ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast, int sample_index)
+    : scene(s), frame(s), offsets(frame_offsets(spp, sample_index)), hybrid(hybrid_cast) {
   const RenderSettings& r = scene.render;
   if (r.layers < 1 || r.layers > kMaxZslabLayers)
     throw Error(fmt::format("zslab: render.layers is {}, this build supports 1 to {}", r.layers,
@@ -202,6 +202,7 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast)
   const Camera& c = scene.camera;
   f.add(c.eye).add(c.target).add(c.up).add(c.fov_deg).add(c.ortho_height).add(c.projection);
   f.add(scene.image.width).add(scene.image.height).add(offsets.size());
+  for (const glm::vec2& o : offsets) f.add(o.x).add(o.y);  // a progressive frame's jitter
   f.add(params.layers).add(params.rt_layers).add(params.peel_layers);
   f.add(params.mix.interpolation.mode).add(params.mix.interpolation.beta).add(params.mix.a_ert);
   f.add(format).add(hybrid).add(frame.min_pitch).add(r.step_mm).add(params.mix.overflow);

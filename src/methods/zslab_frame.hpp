@@ -39,7 +39,7 @@ class ZslabFrame {
   // Plans the stages: polygon objects and planes in scene order (grouped so their peeled layers
   // fit the M RT layers), then volumes, render.last_volume last (empty: the one with the most
   // complex transparent structure); `hybrid` casts that last volume on the fly when it is dvr.
-  ZslabFrame(const Scene& scene, int spp, bool hybrid);
+  ZslabFrame(const Scene& scene, int spp, bool hybrid, int sample_index = -1);
 
   // Builds the rasterizers of the surface stages from `first` on (before any parallel loop).
   void prepare(size_t first = 0);

@@ -147,7 +147,8 @@ MeshInterior parse_interior(const JsonReader& r) {
 }  // namespace
 
 MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context) {
-  r.check_keys({"name", "type", "source", "transform", "material", "thickness", "interior"});
+  r.check_keys(
+      {"name", "type", "source", "transform", "material", "thickness", "interior", "visible"});
   MeshObject m;
   m.name = r.get("name").string();
   glm::dmat4 transform(1.0);
@@ -155,6 +156,11 @@ MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context) {
   if (auto v = r.find("material")) m.material = parse_material(*v);
   if (auto v = r.find("thickness")) m.thickness = parse_thickness(*v);
   if (auto v = r.find("interior")) m.interior = parse_interior(*v);
+  // Hidden: nothing shows, yet the mesh still clips volumes and takes part in CSG.
+  if (!parse_visible(r)) {
+    m.material.opacity = 0.0f;
+    if (m.interior) m.interior->opacity = 0.0f;
+  }
   std::shared_ptr<const Mesh> mesh = load_mesh_source(r.get("source"), m.name, context);
   m.mesh = std::make_shared<const Mesh>(transform_mesh(*mesh, transform));
   return m;

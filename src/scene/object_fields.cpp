@@ -1,4 +1,5 @@
-// Parsers for fields that several object types share: shading, thickness and file sources.
+// Parsers for fields that several object types share: shading, thickness, visibility and file
+// sources.
 #include <system_error>
 
 #include <fmt/format.h>
@@ -43,6 +44,11 @@ std::optional<double> parse_thickness(const JsonReader& r) {
   if (!r.json().is_number())
     r.fail(fmt::format("expected a positive number of mm or \"auto\", got {}", r.describe()));
   return r.number(Range::positive());
+}
+
+bool parse_visible(const JsonReader& object) {
+  if (auto v = object.find("visible")) return v->boolean();
+  return true;
 }
 
 }  // namespace imx::detail

@@ -65,7 +65,7 @@ Colormap parse_colormap(const JsonReader& v) {
 PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
                                const std::map<std::string, std::string>& object_types) {
   r.check_keys({"name", "type", "center", "normal", "up", "size", "volume", "window", "colormap",
-                "color", "opacity", "thickness"});
+                "color", "opacity", "thickness", "visible"});
   PlaneObject p;
   p.name = r.get("name").string();
   const VolumeObject* volume = nullptr;
@@ -111,6 +111,7 @@ PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
   if (auto v = r.find("color")) p.color = v->color();
   if (auto v = r.find("opacity"))
     p.opacity = static_cast<float>(v->number(Range::closed(0.0, 1.0)));
+  if (!parse_visible(r)) p.opacity = 0.0f;  // hidden
   if (auto v = r.find("thickness")) p.thickness = parse_thickness(*v);
   return p;
 }

@@ -66,6 +66,9 @@ glm::dmat4 parse_transform(const JsonReader& r);
 Shading parse_shading(const JsonReader& r);
 // A positive number of mm, or "auto" (nullopt).
 std::optional<double> parse_thickness(const JsonReader& r);
+// An object's "visible" (default true). An invisible object draws nothing but is still data (a
+// plane's volume, a clip mesh, a CSG primitive): its parser zeroes what it would show.
+bool parse_visible(const JsonReader& object);
 
 // A transfer function and, for a preset or a Slicer file, the shading it comes with (used when
 // the volume gives none).

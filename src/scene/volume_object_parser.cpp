@@ -126,7 +126,7 @@ std::vector<ClipPlane> parse_clip_planes(const JsonReader& r) {
 
 VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   r.check_keys({"name", "type", "source", "transform", "style", "iso_value", "xray_mode",
-                "transfer_function", "shading", "clip_planes", "clip"});
+                "transfer_function", "shading", "clip_planes", "clip", "visible"});
   VolumeObject v;
   v.name = r.get("name").string();
   glm::dmat4 transform(1.0);
@@ -158,6 +158,9 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   } else {
     r.fail("missing required key 'transfer_function' (needed by every style but iso)");
   }
+  // Hidden: every alpha 0, so it adds nothing anywhere, while planes still sample its data.
+  if (!parse_visible(r))
+    for (TfPoint& p : v.transfer_function.points) p.rgba.a = 0.0f;
   if (auto s = r.find("shading"))
     v.shading = parse_shading(*s);
   else if (preset_shading)

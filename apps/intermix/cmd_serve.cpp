@@ -1,0 +1,83 @@
+// intermix serve SCENE.json: the interactive viewer in the browser (docs/viewer.md).
+#include <cstdio>
+
+#include <fmt/format.h>
+
+#include "commands.hpp"
+#include "core/parallel.hpp"
+#include "intermix/limits.hpp"
+#include "server/http_server.hpp"
+#include "server/viewer_session.hpp"
+#include "server/viewer_state.hpp"
+
+#ifndef IMX_WEB_DIR
+#define IMX_WEB_DIR "web"
+#endif
+
+namespace imx::cli {
+
+Command add_serve(CLI::App& app) {
+  struct Options {
+    std::string scene, method, bind = "127.0.0.1", web = IMX_WEB_DIR;
+    int port = 8080, spp = 0, threads = 0, width = 0, height = 0;
+    double budget_ms = 45.0;
+    std::vector<std::string> overrides;
+  };
+  auto o = std::make_shared<Options>();
+  app.add_option("scene", o->scene, "scene file (JSON)")->required();
+  app.add_option("--port", o->port, "TCP port (0: any free one, printed)")
+      ->check(in_range(0, 65535));
+  app.add_option("--bind", o->bind,
+                 "address to listen on (default 127.0.0.1; for another machine use an SSH tunnel)");
+  app.add_option("--method", o->method,
+                 "rendering method (default: the scene's render.method, else zslab, csg for CSG)");
+  app.add_option("--spp", o->spp,
+                 "samples per pixel still frames converge to (default: the scene's, else 4)")
+      ->check(in_range(1, 64));
+  app.add_option("--width", o->width, "image width in pixels (overrides the scene)")
+      ->check(in_range(1, kMaxImageSide));
+  app.add_option("--height", o->height, "image height in pixels (overrides the scene)")
+      ->check(in_range(1, kMaxImageSide));
+  app.add_option("--threads", o->threads, "rendering threads (default: all cores)")
+      ->check(in_range(0, kMaxThreads));
+  app.add_option("--frame-budget-ms", o->budget_ms,
+                 "time a frame may take while the user moves (resolution adapts; default 45)")
+      ->check(in_range(1, 10000));
+  app.add_option("--web", o->web, "folder of the page (index.html, viewer.js, viewer.css)");
+  app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");
+  return [o]() {
+    std::vector<std::string> overrides = o->overrides;
+    if (o->width > 0) overrides.push_back(fmt::format("image.width={}", o->width));
+    if (o->height > 0) overrides.push_back(fmt::format("image.height={}", o->height));
+    server::ViewerState state = server::load_viewer_state(o->scene, overrides);
+    print_notes(state.scene.notes);
+    server::SessionOptions session_options;
+    session_options.method = o->method;
+    session_options.spp = o->spp;
+    session_options.threads = o->threads;
+    session_options.moving_budget_ms = o->budget_ms;
+    session_options.log = !quiet();
+    server::ViewerSession session(std::move(state), session_options);
+    server::ServerOptions server_options;
+    server_options.bind = o->bind;
+    server_options.port = static_cast<uint16_t>(o->port);
+    server_options.web_dir = o->web;
+    {
+      server::HttpServer server(session, server_options);
+      std::printf("intermix serve: %s\n", server.url().c_str());
+      std::fflush(stdout);
+      if (!quiet())
+        std::fprintf(stderr,
+                     "intermix serve: %s with %s, converging to %d spp on %d threads; open the "
+                     "address above in a browser, Ctrl+C stops\n",
+                     o->scene.c_str(), session.method().c_str(), session.spp(),
+                     resolve_thread_count(o->threads));
+      server.run();
+      session.stop();  // nothing may send into the network thread once it is gone
+    }
+    if (!quiet()) std::fprintf(stderr, "intermix serve: stopped\n");
+    return 0;
+  };
+}
+
+}  // namespace imx::cli

@@ -1,0 +1,372 @@
+// HttpServer: Boost.Beast on one asio thread. Each TCP connection reads HTTP requests; a GET of
+// the page answers from memory, an upgrade at /ws becomes a WebSocketClient that the session
+// sends to. Every request needs the token; nothing else of the file system is reachable.
+#include "server/http_server.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <deque>
+#include <fstream>
+#include <map>
+#include <random>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <boost/asio/strand.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+
+#include "intermix/error.hpp"
+
+namespace imx::server {
+
+namespace asio = boost::asio;
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace websocket = beast::websocket;
+using tcp = asio::ip::tcp;
+
+namespace {
+
+// Bounds on what one HTTP request may send: the page's requests are a few hundred bytes.
+constexpr uint32_t kMaxHeaderBytes = 16 * 1024;
+constexpr uint64_t kMaxBodyBytes = 1024;
+constexpr auto kHttpTimeout = std::chrono::seconds(30);
+// Frames queued for a client that reads slowly: newer ones replace older unsent ones.
+constexpr size_t kMaxQueuedFrames = 1;
+
+struct PageFile {
+  std::string body;
+  std::string content_type;
+};
+
+// Compares in time that does not depend on where the strings differ.
+bool same_token(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  unsigned char diff = 0;
+  for (size_t i = 0; i < a.size(); ++i) diff |= static_cast<unsigned char>(a[i] ^ b[i]);
+  return diff == 0;
+}
+
+// The value of `key` in a target's query ("/ws?token=abc&x=1"); empty when absent. Tokens are
+// hex, so no percent-decoding is needed: an encoded one simply does not match.
+std::string_view query_value(std::string_view target, std::string_view key) {
+  const size_t q = target.find('?');
+  if (q == std::string_view::npos) return {};
+  std::string_view query = target.substr(q + 1);
+  while (!query.empty()) {
+    const size_t amp = query.find('&');
+    const std::string_view pair = query.substr(0, amp);
+    const size_t eq = pair.find('=');
+    if (eq != std::string_view::npos && pair.substr(0, eq) == key) return pair.substr(eq + 1);
+    if (amp == std::string_view::npos) break;
+    query.remove_prefix(amp + 1);
+  }
+  return {};
+}
+
+std::string_view path_of(std::string_view target) {
+  return target.substr(0, target.find('?'));
+}
+
+std::map<std::string, PageFile> read_page(const std::filesystem::path& dir) {
+  const std::pair<const char*, const char*> files[] = {
+      {"index.html", "text/html; charset=utf-8"},
+      {"viewer.js", "text/javascript; charset=utf-8"},
+      {"viewer.css", "text/css; charset=utf-8"}};
+  std::map<std::string, PageFile> page;
+  for (const auto& [name, type] : files) {
+    const std::filesystem::path file = dir / name;
+    std::ifstream in(file, std::ios::binary);
+    if (!in)
+      throw Error(fmt::format("{}: cannot read the viewer's page (give the web folder with --web)",
+                              file.string()));
+    std::ostringstream text;
+    text << in.rdbuf();
+    page[std::string("/") + name] = {text.str(), type};
+  }
+  page["/"] = page["/index.html"];
+  return page;
+}
+
+// A WebSocket client of the session: reads messages into it, writes what it sends in order.
+class WebSocketClient : public ClientSink, public std::enable_shared_from_this<WebSocketClient> {
+ public:
+  WebSocketClient(tcp::socket socket, ViewerSession& session, std::atomic<int>& clients)
+      : ws_(std::move(socket)), session_(session), clients_(clients) {
+    ++clients_;
+  }
+  ~WebSocketClient() override { --clients_; }
+
+  void start(http::request<http::string_body> request) {
+    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    ws_.read_message_max(kMaxMessageBytes);
+    ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
+      if (ec) return;
+      self->session_.add_client(self);
+      self->joined_ = true;
+      self->read();
+    });
+  }
+
+  void send_text(std::string text) override { enqueue({std::move(text), {}, false, false}); }
+  void send_frame(std::string text, std::string image, bool droppable) override {
+    enqueue({std::move(text), std::move(image), true, droppable});
+  }
+
+ private:
+  struct Outgoing {
+    std::string text;
+    std::string binary;  // sent after text when `has_binary`
+    bool has_binary = false;
+    bool droppable = false;
+  };
+
+  void enqueue(Outgoing message) {
+    asio::post(ws_.get_executor(), [self = shared_from_this(), m = std::move(message)]() mutable {
+      if (self->closed_) return;
+      if (m.droppable) {
+        // Unsent frames (not the one being written, at the front) give way to the newer one.
+        size_t queued = 0;
+        for (size_t i = self->writing_ ? 1 : 0; i < self->queue_.size(); ++i)
+          queued += self->queue_[i].droppable;
+        if (queued >= kMaxQueuedFrames) {
+          auto first = self->queue_.begin() + (self->writing_ ? 1 : 0);
+          self->queue_.erase(std::remove_if(first, self->queue_.end(),
+                                            [](const Outgoing& o) { return o.droppable; }),
+                             self->queue_.end());
+        }
+      }
+      self->queue_.push_back(std::move(m));
+      if (!self->writing_) self->write_next(false);
+    });
+  }
+
+  // Writes the front message's text, then (`binary_part`) its image.
+  void write_next(bool binary_part) {
+    if (queue_.empty() || closed_) {
+      writing_ = false;
+      return;
+    }
+    writing_ = true;
+    const Outgoing& m = queue_.front();
+    ws_.text(!binary_part);
+    const std::string& payload = binary_part ? m.binary : m.text;
+    ws_.async_write(asio::buffer(payload),
+                    [self = shared_from_this(), binary_part](beast::error_code ec, size_t) {
+                      if (ec) return self->close();
+                      if (!binary_part && self->queue_.front().has_binary)
+                        return self->write_next(true);
+                      self->queue_.pop_front();
+                      self->write_next(false);
+                    });
+  }
+
+  void read() {
+    ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code ec, size_t) {
+      if (ec) return self->close();
+      const std::string text = beast::buffers_to_string(self->buffer_.data());
+      self->buffer_.consume(self->buffer_.size());
+      if (self->ws_.got_text())
+        self->session_.on_message(self, text);
+      else
+        self->send_text(
+            R"({"type":"error","message":"message: binary messages are not part of the protocol"})");
+      self->read();
+    });
+  }
+
+  void close() {
+    if (closed_) return;
+    closed_ = true;
+    queue_.clear();
+    if (joined_) session_.remove_client(this);
+  }
+
+  websocket::stream<beast::tcp_stream> ws_;
+  ViewerSession& session_;
+  std::atomic<int>& clients_;
+  beast::flat_buffer buffer_;
+  std::deque<Outgoing> queue_;
+  bool writing_ = false;
+  bool closed_ = false;
+  bool joined_ = false;
+};
+
+// One TCP connection's HTTP requests, until it upgrades to a WebSocket or closes.
+class HttpConnection : public std::enable_shared_from_this<HttpConnection> {
+ public:
+  HttpConnection(tcp::socket socket, ViewerSession& session,
+                 const std::map<std::string, PageFile>& page, const ServerOptions& options,
+                 std::atomic<int>& clients)
+      : stream_(std::move(socket)),
+        session_(session),
+        page_(page),
+        options_(options),
+        clients_(clients) {}
+
+  void read() {
+    parser_.emplace();
+    parser_->header_limit(kMaxHeaderBytes);
+    parser_->body_limit(kMaxBodyBytes);
+    stream_.expires_after(kHttpTimeout);
+    http::async_read(stream_, buffer_, *parser_,
+                     [self = shared_from_this()](beast::error_code ec, size_t) {
+                       if (ec) return self->fail(ec);
+                       self->answer(self->parser_->release());
+                     });
+  }
+
+ private:
+  void fail(beast::error_code ec) {
+    // A request over the limits gets its answer; timeouts and closed connections just end.
+    if (ec == http::error::header_limit || ec == http::error::body_limit)
+      respond(http::status::payload_too_large, "request too large\n", "text/plain", 11, false);
+    else
+      stream_.socket().shutdown(tcp::socket::shutdown_both, ec);
+  }
+
+  void answer(http::request<http::string_body> request) {
+    const std::string_view target(request.target().data(), request.target().size());
+    const bool keep_alive = request.keep_alive();
+    const unsigned version = request.version();
+    if (!same_token(query_value(target, "token"), options_.token))
+      return respond(http::status::forbidden, "forbidden: this address needs the session token\n",
+                     "text/plain", version, false);
+    const std::string path(path_of(target));
+    if (websocket::is_upgrade(request)) {
+      if (path != "/ws")
+        return respond(http::status::not_found, "not found\n", "text/plain", version, false);
+      if (clients_.load() >= options_.max_clients)
+        return respond(http::status::service_unavailable,
+                       fmt::format("this session already has {} clients\n", options_.max_clients),
+                       "text/plain", version, false);
+      stream_.expires_never();
+      auto client = std::make_shared<WebSocketClient>(stream_.release_socket(), session_, clients_);
+      client->start(std::move(request));
+      return;
+    }
+    if (request.method() != http::verb::get && request.method() != http::verb::head)
+      return respond(http::status::method_not_allowed, "only GET\n", "text/plain", version, false);
+    const auto file = page_.find(path);
+    if (file == page_.end())
+      return respond(http::status::not_found, "not found\n", "text/plain", version, keep_alive);
+    respond(http::status::ok, file->second.body, file->second.content_type, version, keep_alive,
+            request.method() == http::verb::head);
+  }
+
+  void respond(http::status status, std::string body, const std::string& type, unsigned version,
+               bool keep_alive, bool head = false) {
+    auto response = std::make_shared<http::response<http::string_body>>(status, version);
+    response->set(http::field::server, "intermix");
+    response->set(http::field::content_type, type);
+    response->set(http::field::cache_control, "no-store");
+    // The token is in the address: no page it links to may learn it.
+    response->set("Referrer-Policy", "no-referrer");
+    response->set("X-Content-Type-Options", "nosniff");
+    response->set("X-Frame-Options", "DENY");
+    response->keep_alive(keep_alive);
+    response->body() = std::move(body);
+    response->prepare_payload();
+    if (head) response->body().clear();
+    http::async_write(stream_, *response,
+                      [self = shared_from_this(), response](beast::error_code ec, size_t) {
+                        if (ec || !response->keep_alive()) {
+                          self->stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
+                          return;
+                        }
+                        self->read();
+                      });
+  }
+
+  beast::tcp_stream stream_;
+  ViewerSession& session_;
+  const std::map<std::string, PageFile>& page_;
+  const ServerOptions& options_;
+  std::atomic<int>& clients_;
+  beast::flat_buffer buffer_;
+  std::optional<http::request_parser<http::string_body>> parser_;
+};
+
+}  // namespace
+
+std::string random_token() {
+  std::random_device device;
+  std::string token;
+  for (int i = 0; i < 4; ++i) token += fmt::format("{:08x}", static_cast<uint32_t>(device()));
+  return token;
+}
+
+struct HttpServer::Impl {
+  Impl(ViewerSession& s, ServerOptions o)
+      : session(s), options(std::move(o)), acceptor(io), signals(io, SIGINT, SIGTERM) {}
+
+  void accept() {
+    acceptor.async_accept(asio::make_strand(io), [this](beast::error_code ec, tcp::socket socket) {
+      if (ec) {
+        if (ec != asio::error::operation_aborted) accept();
+        return;
+      }
+      std::make_shared<HttpConnection>(std::move(socket), session, page, options, clients)->read();
+      accept();
+    });
+  }
+
+  ViewerSession& session;
+  ServerOptions options;
+  std::map<std::string, PageFile> page;
+  std::atomic<int> clients{0};  // before io: the handlers io destroys last still count down
+  asio::io_context io{1};
+  tcp::acceptor acceptor;
+  asio::signal_set signals;
+};
+
+HttpServer::HttpServer(ViewerSession& session, ServerOptions options)
+    : impl_(std::make_unique<Impl>(session, std::move(options))) {
+  Impl& s = *impl_;
+  if (s.options.token.empty()) s.options.token = random_token();
+  s.page = read_page(s.options.web_dir);
+  beast::error_code ec;
+  const auto address = asio::ip::make_address(s.options.bind, ec);
+  if (ec) throw Error(fmt::format("--bind: '{}' is not an IP address", s.options.bind));
+  const tcp::endpoint endpoint(address, s.options.port);
+  s.acceptor.open(endpoint.protocol(), ec);
+  if (!ec) s.acceptor.set_option(asio::socket_base::reuse_address(true), ec);
+  if (!ec) s.acceptor.bind(endpoint, ec);
+  if (!ec) s.acceptor.listen(asio::socket_base::max_listen_connections, ec);
+  if (ec)
+    throw Error(
+        fmt::format("cannot listen on {}:{}: {}", s.options.bind, s.options.port, ec.message()));
+}
+
+HttpServer::~HttpServer() = default;
+
+uint16_t HttpServer::port() const {
+  return impl_->acceptor.local_endpoint().port();
+}
+
+std::string HttpServer::url() const {
+  const std::string host = impl_->options.bind.find(':') != std::string::npos
+                               ? "[" + impl_->options.bind + "]"
+                               : impl_->options.bind;
+  return fmt::format("http://{}:{}/?token={}", host, port(), impl_->options.token);
+}
+
+void HttpServer::run() {
+  Impl& s = *impl_;
+  s.signals.async_wait([&s](beast::error_code ec, int) {
+    if (!ec) s.io.stop();
+  });
+  s.accept();
+  s.io.run();
+}
+
+void HttpServer::stop() {
+  impl_->io.stop();
+}
+
+}  // namespace imx::server

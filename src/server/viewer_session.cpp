@@ -1,0 +1,467 @@
+// ViewerSession: the shared state of one viewer session and the render thread behind it.
+#include "server/viewer_session.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include <fmt/format.h>
+
+#include "intermix/error.hpp"
+#include "intermix/io.hpp"
+#include "intermix/render.hpp"
+#include "io/atomic_file.hpp"
+#include "scene/json_reader.hpp"
+#include "scene/strict_json.hpp"
+#include "server/jpeg_encoder.hpp"
+
+namespace imx::server {
+
+using Json = nlohmann::json;
+using Clock = std::chrono::steady_clock;
+using detail::JsonReader;
+using detail::Range;
+
+namespace {
+
+constexpr int kDefaultViewerSpp = 4;
+constexpr int kMaxViewerSpp = 64;
+constexpr size_t kMaxLatenciesPerReport = 1024;
+constexpr size_t kMaxLatenciesKept = 100000;
+// zlib level of still frames: level 1 encodes several times faster than the default and the
+// frames are sent once each.
+constexpr int kStillPngLevel = 1;
+
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+bool perfect_square(int n) {
+  const int r = static_cast<int>(std::lround(std::sqrt(static_cast<double>(n))));
+  return r * r == n;
+}
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const size_t at = static_cast<size_t>(std::ceil(p * static_cast<double>(values.size()))) - 1;
+  return values[std::min(at, values.size() - 1)];
+}
+
+}  // namespace
+
+int viewer_spp(const Scene& scene, int requested) {
+  const int spp = requested > 0          ? requested
+                  : scene.render.spp > 0 ? scene.render.spp
+                                         : kDefaultViewerSpp;
+  if (spp > kMaxViewerSpp || !perfect_square(spp))
+    throw Error(fmt::format("spp: {} is not a perfect square from 1 to {} (the viewer's range)",
+                            spp, kMaxViewerSpp));
+  return spp;
+}
+
+std::string viewer_method(const ViewerState& state, const std::string& requested) {
+  std::string method = requested;
+  if (method.empty()) {
+    const Json& document = state.document;
+    const auto render = document.find("render");
+    if (render != document.end() && render->is_object() && render->contains("method") &&
+        (*render)["method"].is_string())
+      method = (*render)["method"].get<std::string>();
+    else if (state.scene.csg || state.scene.render.mixing == "exclusive")
+      method = "csg";  // the methods that render CSG and exclusive mixing: csg and reference
+    else
+      method = "zslab";
+  }
+  const std::vector<std::string> methods = available_methods();
+  if (std::find(methods.begin(), methods.end(), method) == methods.end())
+    throw Error(fmt::format("method: '{}' is not available; this build has: {}", method,
+                            fmt::join(methods, ", ")));
+  return method;
+}
+
+// What the render thread takes from the shared state for one frame.
+struct ViewerSession::Snapshot {
+  Scene scene;
+  std::string method;
+  int spp = 1;
+  bool moving = false;
+  uint64_t version = 0;
+  std::vector<std::pair<std::weak_ptr<ClientSink>, long long>> targets;  // sink, its seq
+  std::vector<std::weak_ptr<ClientSink>> screenshot_to;
+};
+
+ViewerSession::ViewerSession(ViewerState state, SessionOptions options)
+    : state_(std::move(state)), options_(std::move(options)) {
+  method_ = last_good_method_ = viewer_method(state_, options_.method);
+  spp_ = viewer_spp(state_.scene, options_.spp);
+  histograms_ = describe_histograms(state_);
+  resolution_ = ResolutionControl(options_.moving_budget_ms);
+  last_input_ = Clock::now();
+  thread_ = std::thread([this] { render_loop(); });
+}
+
+ViewerSession::~ViewerSession() {
+  stop();
+}
+
+void ViewerSession::stop() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+    cancel_ = true;
+  }
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+void ViewerSession::reply_error(ClientSink& client, const std::string& message) {
+  client.send_text(Json{{"type", "error"}, {"message", message}}.dump());
+}
+
+Json ViewerSession::state_message() const {
+  Json m = describe_state(state_);
+  m["type"] = "state";
+  m["method"] = method_;
+  m["spp"] = spp_;
+  return m;
+}
+
+void ViewerSession::broadcast_text(const std::string& text) {
+  for (const Client& c : clients_)
+    if (auto sink = c.sink.lock()) sink->send_text(text);
+}
+
+void ViewerSession::add_client(const std::shared_ptr<ClientSink>& client) {
+  std::lock_guard lock(mutex_);
+  Json hello = describe_state(state_);
+  hello["type"] = "hello";
+  hello["methods"] = available_methods();
+  hello["method"] = method_;
+  hello["spp"] = spp_;
+  hello["image"] = {{"width", state_.scene.image.width}, {"height", state_.scene.image.height}};
+  hello["histograms"] = histograms_;
+  client->send_text(hello.dump());
+  if (!last_frame_text_.empty()) client->send_frame(last_frame_text_, last_frame_image_, true);
+  clients_.push_back({client, client.get(), 0});
+  if (options_.log)
+    std::fprintf(stderr, "intermix serve: client joined (%zu now)\n", clients_.size());
+}
+
+void ViewerSession::remove_client(const ClientSink* client) {
+  std::lock_guard lock(mutex_);
+  std::erase_if(clients_, [&](const Client& c) { return c.id == client || c.sink.expired(); });
+  if (options_.log)
+    std::fprintf(stderr, "intermix serve: client left (%zu now)\n", clients_.size());
+}
+
+void ViewerSession::on_message(const std::shared_ptr<ClientSink>& client, std::string_view text) {
+  try {
+    if (text.size() > kMaxMessageBytes)
+      throw Error(fmt::format("message: {} bytes, more than the {} a message may have", text.size(),
+                              kMaxMessageBytes));
+    Json message;
+    try {
+      message = detail::parse_strict_json(std::string(text), "message");
+    } catch (const Json::parse_error& e) {
+      // nlohmann's text names the line and column; drop its "[json.exception...]" prefix.
+      const std::string what = e.what();
+      const size_t at = what.find("] ");
+      throw Error("message: not JSON: " + (at == std::string::npos ? what : what.substr(at + 2)));
+    }
+    handle(client, message);
+  } catch (const std::exception& e) {  // imx::Error, and whatever else a hostile message finds
+    reply_error(*client, e.what());
+  }
+}
+
+void ViewerSession::handle(const std::shared_ptr<ClientSink>& client, const Json& message) {
+  if (!message.is_object())
+    throw Error(fmt::format("message: expected a JSON object, got {}", message.type_name()));
+  const JsonReader r(message, "message");
+  const std::string type =
+      r.get("type").choice({"camera", "edit", "settings", "save", "screenshot", "stats"});
+  // seq and moving are checked before anything changes, so a refused message changes nothing.
+  if (auto v = r.find("seq")) v->number(Range::closed(0.0, 9e15));
+  if (auto v = r.find("moving")) v->boolean();
+
+  if (type == "camera" || type == "edit") {
+    std::lock_guard lock(mutex_);
+    apply_edit(state_, message);
+    input_applied(client.get(), message);
+  } else if (type == "settings") {
+    r.check_keys({"type", "seq", "moving", "method", "spp"});
+    std::lock_guard lock(mutex_);
+    std::string method = method_;
+    int spp = spp_;
+    if (auto v = r.find("method")) {
+      method = v->string();
+      const std::vector<std::string> methods = available_methods();
+      if (std::find(methods.begin(), methods.end(), method) == methods.end())
+        v->fail(fmt::format("'{}' is not a method of this build; it has: {}", method,
+                            fmt::join(methods, ", ")));
+    }
+    if (auto v = r.find("spp")) {
+      spp = v->integer(1, kMaxViewerSpp);
+      if (!perfect_square(spp)) v->fail(fmt::format("{} is not a perfect square", spp));
+    }
+    method_ = method;
+    spp_ = spp;
+    input_applied(client.get(), message);
+  } else if (type == "save") {
+    r.check_keys({"type"});
+    std::lock_guard lock(mutex_);
+    const std::string path = save();
+    client->send_text(
+        Json{{"type", "saved"}, {"path", path}, {"text", saved_document().dump(2) + "\n"}}.dump());
+  } else if (type == "screenshot") {
+    r.check_keys({"type"});
+    {
+      std::lock_guard lock(mutex_);
+      screenshot_requests_.push_back(client);
+    }
+    wake_.notify_all();
+  } else {  // stats
+    r.check_keys({"type", "latency_ms"});
+    const JsonReader list = r.get("latency_ms");
+    list.expect_array();
+    if (list.size() > kMaxLatenciesPerReport)
+      list.fail(
+          fmt::format("{} values; a report holds at most {}", list.size(), kMaxLatenciesPerReport));
+    std::vector<double> values;
+    for (const JsonReader& v : list.elements()) values.push_back(v.number(Range::closed(0.0, 1e7)));
+    std::lock_guard lock(mutex_);
+    for (double v : values)
+      if (latencies_.size() < kMaxLatenciesKept) latencies_.push_back(v);
+    if (options_.log && !latencies_.empty())
+      std::fprintf(stderr,
+                   "intermix serve: input-to-frame latency over %zu frames: median %.1f ms, "
+                   "95th percentile %.1f ms\n",
+                   latencies_.size(), percentile(latencies_, 0.5), percentile(latencies_, 0.95));
+  }
+}
+
+// After an input changed the state (caller holds the lock): remember the client's seq, restart
+// the frames from this state, cancel a still frame in flight, and show every client the state.
+void ViewerSession::input_applied(const ClientSink* client, const Json& message) {
+  for (Client& c : clients_)
+    if (c.id == client && message.contains("seq"))
+      c.seq = std::max(c.seq, static_cast<long long>(message["seq"].get<double>()));
+  ++version_;
+  moving_ = message.contains("moving") && message["moving"].get<bool>();
+  last_input_ = Clock::now();
+  cancel_ = true;  // only still frames poll it (render_and_send)
+  broadcast_text(state_message().dump());
+  wake_.notify_all();
+}
+
+// The session as a scene file: the edited document with the method and spp it converges with.
+Json ViewerSession::saved_document() const {
+  Json document = state_.document;
+  document["render"]["method"] = method_;
+  document["render"]["spp"] = spp_;
+  return document;
+}
+
+// Writes the session beside its scene file as NAME.viewer.json; returns the path.
+std::string ViewerSession::save() {
+  std::filesystem::path folder = state_.file.parent_path();
+  if (folder.empty()) folder = ".";
+  const std::filesystem::path path = folder / (state_.file.stem().string() + ".viewer.json");
+  const std::string text = saved_document().dump(2) + "\n";
+  write_file_atomically(path, [&](std::ostream& out) {
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  });
+  if (options_.log) std::fprintf(stderr, "intermix serve: saved %s\n", path.string().c_str());
+  return path.string();
+}
+
+bool ViewerSession::take_work(std::unique_lock<std::mutex>& lock, Snapshot& out) {
+  const auto release_after = std::chrono::duration<double, std::milli>(options_.release_after_ms);
+  for (;;) {
+    if (stopping_) return false;
+    if (moving_ && Clock::now() - last_input_ > release_after) moving_ = false;
+    const bool shot = !screenshot_requests_.empty();
+    const bool need_moving =
+        moving_ && rendered_version_ != version_ && failed_version_ != version_;
+    const bool need_still = !moving_ && failed_version_ != version_ &&
+                            (accumulated_version_ != version_ || accumulator_.samples() < spp_);
+    if (shot || need_moving || need_still) {
+      out.scene = state_.scene;  // shares voxels and meshes: the Renderer knows them by identity
+      out.method = method_;
+      out.spp = spp_;
+      out.moving = moving_;
+      out.version = version_;
+      for (const Client& c : clients_) out.targets.emplace_back(c.sink, c.seq);
+      if (shot) out.screenshot_to = std::exchange(screenshot_requests_, {});
+      cancel_ = false;
+      return true;
+    }
+    if (moving_)
+      wake_.wait_for(lock, release_after);
+    else
+      wake_.wait(lock);
+  }
+}
+
+void ViewerSession::render_loop() {
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    Snapshot snapshot;
+    if (!take_work(lock, snapshot)) return;
+    lock.unlock();
+    if (!snapshot.screenshot_to.empty())
+      screenshot(snapshot.screenshot_to, snapshot);
+    else
+      render_and_send(snapshot);
+    lock.lock();
+  }
+}
+
+void ViewerSession::render_and_send(Snapshot& s) {
+  Scene& scene = s.scene;
+  const int full_w = scene.image.width, full_h = scene.image.height;
+  RenderOptions o;
+  o.method = s.method;
+  o.threads = options_.threads;
+  double scale = 1.0;
+  if (s.moving) {
+    // Moving frames are not cancelled: they are short, and one client's stream of them must not
+    // starve another's.
+    scale = resolution_.pick(static_cast<double>(full_w) * full_h);
+    scene.image.width = std::max(1, static_cast<int>(std::lround(full_w * scale)));
+    scene.image.height = std::max(1, static_cast<int>(std::lround(full_h * scale)));
+    o.spp = 1;
+  } else {
+    if (accumulated_version_ != s.version) {
+      accumulator_.reset();
+      accumulated_version_ = s.version;
+    }
+    o.spp = s.spp;
+    o.sample_index = accumulator_.samples();
+    o.cancel = &cancel_;
+  }
+
+  const auto t0 = Clock::now();
+  Image image;
+  try {
+    image = renderer_.render(scene, o);
+  } catch (const Cancelled&) {
+    std::lock_guard lock(mutex_);
+    ++counters_.frames_cancelled;
+    return;
+  } catch (const std::exception& e) {
+    std::lock_guard lock(mutex_);
+    failed_version_ = s.version;
+    std::string message = fmt::format("render with {}: {}", s.method, e.what());
+    if (method_ == s.method && method_ != last_good_method_) {
+      message += fmt::format("; back to {}", last_good_method_);
+      method_ = last_good_method_;
+      ++version_;
+      broadcast_text(state_message().dump());
+    }
+    broadcast_text(Json{{"type", "error"}, {"message", message}}.dump());
+    return;
+  }
+  const double render_ms = ms_since(t0);
+  const RendererStats stats = renderer_.last_stats();
+
+  const auto t1 = Clock::now();
+  std::string encoded;
+  int samples = 1;
+  if (s.moving) {
+    encoded = encode_jpeg(image, options_.jpeg_quality);
+  } else {
+    accumulator_.add(image);
+    samples = accumulator_.samples();
+    encoded =
+        encode_png(samples == 1 ? image : accumulator_.mean(), "frame", false, kStillPngLevel);
+  }
+  const double encode_ms = ms_since(t1);
+  if (s.moving)
+    resolution_.record(static_cast<double>(image.width()) * image.height(), render_ms + encode_ms);
+
+  Json frame = {{"type", "frame"},
+                {"seq", 0},
+                {"width", image.width()},
+                {"height", image.height()},
+                {"format", s.moving ? "jpeg" : "png"},
+                {"samples", samples},
+                {"spp", s.spp},
+                {"final", !s.moving && samples >= s.spp},
+                {"render_ms", render_ms},
+                {"encode_ms", encode_ms},
+                {"stages", stats.stages},
+                {"stages_run", stats.stages_run},
+                {"scale", scale}};
+  std::lock_guard lock(mutex_);
+  // A still frame overtaken by input during its encoding is not worth sending.
+  if (!s.moving && version_ != s.version) {
+    ++counters_.frames_cancelled;
+    return;
+  }
+  rendered_version_ = s.version;
+  for (const auto& [weak, seq] : s.targets)
+    if (auto sink = weak.lock()) {
+      frame["seq"] = seq;
+      sink->send_frame(frame.dump(), encoded, true);
+    }
+  frame["seq"] = 0;
+  last_frame_text_ = frame.dump();
+  last_frame_image_ = std::move(encoded);
+  ++counters_.frames_sent;
+  ++(s.moving ? counters_.moving_frames : counters_.still_frames);
+}
+
+void ViewerSession::screenshot(const std::vector<std::weak_ptr<ClientSink>>& to,
+                               const Snapshot& s) {
+  std::string png, error;
+  int width = s.scene.image.width, height = s.scene.image.height;
+  try {
+    // The converged frame when there is one; else the whole spp frame at once.
+    Image image;
+    if (accumulated_version_ == s.version && accumulator_.samples() >= s.spp) {
+      image = accumulator_.mean();
+    } else {
+      RenderOptions o;
+      o.method = s.method;
+      o.spp = s.spp;
+      o.threads = options_.threads;
+      image = renderer_.render(s.scene, o);
+    }
+    png = encode_png(image, "screenshot");
+  } catch (const std::exception& e) {
+    error = fmt::format("screenshot: {}", e.what());
+  }
+  for (const auto& weak : to)
+    if (auto sink = weak.lock()) {
+      if (!error.empty())
+        reply_error(*sink, error);
+      else
+        sink->send_frame(Json{{"type", "screenshot"}, {"width", width}, {"height", height}}.dump(),
+                         png, false);
+    }
+}
+
+ViewerSession::Counters ViewerSession::counters() const {
+  std::lock_guard lock(mutex_);
+  return counters_;
+}
+
+std::string ViewerSession::method() const {
+  std::lock_guard lock(mutex_);
+  return method_;
+}
+
+int ViewerSession::spp() const {
+  std::lock_guard lock(mutex_);
+  return spp_;
+}
+
+std::vector<double> ViewerSession::latencies() const {
+  std::lock_guard lock(mutex_);
+  return latencies_;
+}
+
+}  // namespace imx::server

@@ -1,0 +1,140 @@
+// ViewerSession: one scene shown to any number of clients. Client messages (docs/viewer.md,
+// protocol) edit the shared ViewerState; a render thread turns the latest state into frames:
+// reduced-resolution JPEG frames while the user moves, then full-resolution PNG frames that
+// accumulate one jittered sample each until the target spp. New input cancels a frame in flight.
+// The session knows nothing of the network: clients are ClientSinks (http_server.cpp's WebSocket
+// connections, or a test's recorder).
+#pragma once
+#include <atomic>
+#include <condition_variable>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <string_view>
+#include <thread>
+#include <vector>
+
+#include "intermix/renderer.hpp"
+#include "server/accumulator.hpp"
+#include "server/resolution_control.hpp"
+#include "server/viewer_state.hpp"
+
+namespace imx::server {
+
+// Where the session's messages go. send() is called from the session's threads and must not
+// block: a sink queues and writes on its own thread.
+class ClientSink {
+ public:
+  virtual ~ClientSink() = default;
+  virtual void send_text(std::string text) = 0;
+  // One frame: its JSON text, then its encoded image as one binary message. A slow client may
+  // drop whole frames (never half of one); the next one shows the newer state.
+  // `droppable` false: never dropped (a screenshot the user asked for).
+  virtual void send_frame(std::string text, std::string image, bool droppable) = 0;
+};
+
+struct SessionOptions {
+  std::string method;              // empty: the scene's render.method, else zslab
+  int spp = 0;                     // samples a still frame converges to; 0: the scene's, else 4
+  double moving_budget_ms = 45.0;  // what a frame may take while the user moves
+  int jpeg_quality = 85;
+  int threads = 0;  // rendering threads, 0: all cores
+  // A "moving" input followed by silence this long counts as released (a client gone mid-drag).
+  double release_after_ms = 400.0;
+  bool log = true;  // one line per client and per latency report on stderr
+};
+
+// The most bytes one client message may have (the WebSocket layer refuses longer ones first).
+inline constexpr size_t kMaxMessageBytes = 64 * 1024;
+
+// The frame rendering the viewer uses while still: the number of samples per pixel `spp` comes
+// from options, the scene, or 4; a perfect square from 1 to 64.
+int viewer_spp(const Scene& scene, int requested);
+
+// The method the viewer starts with: the requested one, else the scene's render.method when the
+// file sets one (`state.document`), else csg for a CSG or exclusive-mixing scene, else zslab
+// (stage reuse for edits).
+std::string viewer_method(const ViewerState& state, const std::string& requested);
+
+class ViewerSession {
+ public:
+  ViewerSession(ViewerState state, SessionOptions options);
+  ~ViewerSession();  // stops the render thread
+  ViewerSession(const ViewerSession&) = delete;
+  ViewerSession& operator=(const ViewerSession&) = delete;
+
+  // Sends `hello` and the latest frame to a new client; it gets every frame and state from now.
+  void add_client(const std::shared_ptr<ClientSink>& client);
+  void remove_client(const ClientSink* client);
+  // One text message from `client`. Errors are answered to that client as `error` messages;
+  // nothing a client sends throws out of here.
+  void on_message(const std::shared_ptr<ClientSink>& client, std::string_view text);
+
+  // Stops the render thread (also done by the destructor).
+  void stop();
+
+  // Counters for tests and logs.
+  struct Counters {
+    int frames_sent = 0;
+    int frames_cancelled = 0;
+    int moving_frames = 0;
+    int still_frames = 0;
+  };
+  Counters counters() const;
+  std::string method() const;
+  int spp() const;
+  // Input-to-frame latencies the clients reported (`stats` messages), in ms.
+  std::vector<double> latencies() const;
+
+ private:
+  struct Client {
+    std::weak_ptr<ClientSink> sink;
+    const ClientSink* id = nullptr;
+    long long seq = 0;  // the latest input of this client applied to the state
+  };
+  struct Snapshot;
+
+  void render_loop();
+  bool take_work(std::unique_lock<std::mutex>& lock, Snapshot& out);
+  void render_and_send(Snapshot& snapshot);
+  void screenshot(const std::vector<std::weak_ptr<ClientSink>>& to, const Snapshot& snapshot);
+  void handle(const std::shared_ptr<ClientSink>& client, const nlohmann::json& message);
+  void input_applied(const ClientSink* client, const nlohmann::json& message);
+  nlohmann::json state_message() const;
+  void broadcast_text(const std::string& text);
+  nlohmann::json saved_document() const;
+  std::string save();
+  static void reply_error(ClientSink& client, const std::string& message);
+
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  ViewerState state_;
+  SessionOptions options_;
+  std::string method_;
+  std::string last_good_method_;
+  int spp_ = 1;
+  nlohmann::json histograms_;
+  std::vector<Client> clients_;
+  uint64_t version_ = 1;  // grows with every change of what the image shows
+  uint64_t rendered_version_ = 0;
+  uint64_t failed_version_ = 0;  // a version whose frame failed is not rendered again
+  bool moving_ = false;
+  std::chrono::steady_clock::time_point last_input_;
+  std::vector<std::weak_ptr<ClientSink>> screenshot_requests_;
+  // The latest frame, for clients that join: its JSON (seq 0) and image.
+  std::string last_frame_text_, last_frame_image_;
+  Counters counters_;
+  std::vector<double> latencies_;
+  bool stopping_ = false;
+  std::atomic<bool> cancel_{false};
+
+  // Render thread only.
+  Renderer renderer_;
+  Accumulator accumulator_;
+  uint64_t accumulated_version_ = 0;
+  ResolutionControl resolution_;
+  std::thread thread_;
+};
+
+}  // namespace imx::server

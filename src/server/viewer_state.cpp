@@ -1,0 +1,465 @@
+// ViewerState: a viewer session's scene as imx::Scene and as scene-file JSON, and the edit
+// messages that change both together.
+#include "server/viewer_state.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <variant>
+
+#include <fmt/format.h>
+#include <glm/glm.hpp>
+
+#include "intermix/error.hpp"
+#include "scene/edit_distance.hpp"
+#include "scene/overrides.hpp"
+#include "scene/scene_parsers.hpp"
+#include "scene/strict_json.hpp"
+
+namespace imx::server {
+namespace {
+
+using detail::JsonReader;
+using detail::Range;
+using Json = nlohmann::json;
+
+// Bounds on one message's lists, far above what an editor sends, so that an edit costs little.
+constexpr size_t kMaxTfPoints = 1024;
+constexpr size_t kMaxClipPlanes = 64;
+// describe_histograms: the most voxels one volume's histogram reads, and the most bins.
+constexpr double kHistogramSamples = 4.0 * 1024 * 1024;
+constexpr int kMaxBins = 4096;
+// Names listed in an unknown-object error.
+constexpr size_t kMaxListedNames = 24;
+
+const char* kind_name(ObjectKind kind) {
+  return kind == ObjectKind::volume ? "volume" : kind == ObjectKind::mesh ? "mesh" : "plane";
+}
+
+// The shortest decimal that reads back as `f`: saved files show 0.95, not 0.949999988079071.
+double tidy(float f) {
+  const double d = std::strtod(fmt::format("{}", f).c_str(), nullptr);
+  return static_cast<float>(d) == f ? d : static_cast<double>(f);
+}
+
+Json vec_json(const glm::dvec3& v) {
+  return Json::array({v.x, v.y, v.z});
+}
+
+Json camera_json(const Camera& c) {
+  return {{"eye", vec_json(c.eye)},
+          {"target", vec_json(c.target)},
+          {"up", vec_json(c.up)},
+          {"fov_deg", c.fov_deg}};
+}
+
+Json points_json(const TransferFunction& tf) {
+  Json points = Json::array();
+  for (const TfPoint& p : tf.points)
+    points.push_back({p.value, tidy(p.rgba.r), tidy(p.rgba.g), tidy(p.rgba.b), tidy(p.rgba.a)});
+  return points;
+}
+
+Json shading_json(const Shading& s) {
+  return {{"enabled", s.enabled},
+          {"ambient", tidy(s.ambient)},
+          {"diffuse", tidy(s.diffuse)},
+          {"specular", tidy(s.specular)},
+          {"shininess", tidy(s.shininess)}};
+}
+
+bool same_shading(const Shading& a, const Shading& b) {
+  return a.enabled == b.enabled && a.ambient == b.ambient && a.diffuse == b.diffuse &&
+         a.specular == b.specular && a.shininess == b.shininess;
+}
+
+bool same_camera(const Camera& a, const Camera& b) {
+  return a.eye == b.eye && a.target == b.target && a.up == b.up && a.fov_deg == b.fov_deg &&
+         a.ortho_height == b.ortho_height && a.projection == b.projection;
+}
+
+// The user's transfer function as the renderer sees it: alphas scaled by the opacity (the
+// document holds exactly these points), all 0 when hidden (what the loader makes of them).
+TransferFunction scaled(const TransferFunction& tf, float opacity) {
+  TransferFunction out = tf;
+  for (TfPoint& p : out.points)
+    p.rgba.a = static_cast<float>(static_cast<double>(p.rgba.a) * static_cast<double>(opacity));
+  return out;
+}
+TransferFunction shown(const TransferFunction& tf, bool visible, float opacity) {
+  return scaled(tf, visible ? opacity : 0.0f);
+}
+
+// A number the document holds at `key` of `object`, as the loader reads it into a float.
+float document_float(const Json& object, const char* key, float fallback) {
+  auto it = object.find(key);
+  return it != object.end() && it->is_number() ? static_cast<float>(it->get<double>()) : fallback;
+}
+
+// The scene-order index of the object a message names; else an error with the nearest name.
+size_t find_object(const ViewerState& state, const JsonReader& at) {
+  const std::string name = at.string();
+  std::vector<std::string> names;
+  for (size_t k = 0; k < state.scene.order.size(); ++k) {
+    const ObjectRef& ref = state.scene.order[k];
+    const std::string& n = ref.kind == ObjectKind::volume ? state.scene.volumes[ref.index].name
+                           : ref.kind == ObjectKind::mesh ? state.scene.meshes[ref.index].name
+                                                          : state.scene.planes[ref.index].name;
+    if (n == name) return k;
+    names.push_back(n);
+  }
+  std::string listed;
+  for (size_t i = 0; i < names.size() && i < kMaxListedNames; ++i)
+    listed += (i ? ", " : "") + names[i];
+  if (names.size() > kMaxListedNames) listed += fmt::format(", ... ({} in all)", names.size());
+  at.fail(fmt::format("{} is not an object of the scene{}; they are: {}", at.text(),
+                      detail::did_you_mean(name, names),
+                      names.empty() ? std::string("(none)") : listed));
+}
+
+// The points of a transfer_function edit, checked by the scene loader's own parser.
+TransferFunction parse_edit_tf(const JsonReader& at, double unit_distance) {
+  if (!at.json().is_array())
+    at.fail("expected an array of points [value, r, g, b, a], got " + at.describe());
+  if (at.size() > kMaxTfPoints)
+    at.fail(fmt::format("{} points; an edit takes at most {}", at.size(), kMaxTfPoints));
+  const Json wrapper = {{"points", at.json()}};
+  const JsonReader reader(wrapper, at.origin(), at.path());
+  detail::SceneContext context;  // points need no files
+  TransferFunction tf;
+  try {
+    tf = detail::parse_transfer_function(reader, context).transfer_function;
+  } catch (const Error& e) {
+    // The wrapper's "points" is the message's own transfer_function: name that instead.
+    std::string message = e.what();
+    const std::string inner = at.path() + ".points";
+    if (size_t p = message.find(inner); p != std::string::npos)
+      message.replace(p, inner.size(), at.path());
+    throw Error(message);
+  }
+  tf.unit_distance = unit_distance;
+  return tf;
+}
+
+// The loader's clip_planes check: a point within bounds and a non-zero normal, normalized.
+std::vector<ClipPlane> parse_edit_clip_planes(const JsonReader& at) {
+  if (!at.json().is_array())
+    at.fail("expected an array of {\"point\": [3], \"normal\": [3]}, got " + at.describe());
+  if (at.size() > kMaxClipPlanes)
+    at.fail(fmt::format("{} clip planes; a volume takes at most {}", at.size(), kMaxClipPlanes));
+  std::vector<ClipPlane> planes;
+  for (const JsonReader& e : at.elements()) {
+    e.check_keys({"point", "normal"});
+    ClipPlane plane;
+    plane.point = e.get("point").vec3(Range::coordinate());
+    plane.normal = e.get("normal").direction();
+    planes.push_back(plane);
+  }
+  return planes;
+}
+
+bool apply_camera(ViewerState& state, const Json& message) {
+  const JsonReader r(message, "camera");
+  r.check_keys({"type", "seq", "moving", "eye", "target", "up", "fov_deg"});
+  // Each field alone first, for a message that names it; then the whole as the loader reads it.
+  if (auto v = r.find("eye")) v->vec3(Range::coordinate());
+  if (auto v = r.find("target")) v->vec3(Range::coordinate());
+  if (auto v = r.find("up")) v->direction();
+  if (auto v = r.find("fov_deg")) v->number(Range::open(0.0, 180.0));
+  auto it = state.document.find("camera");
+  Json camera = it != state.document.end() ? *it : Json::object();
+  for (const char* key : {"eye", "target", "up", "fov_deg"})
+    if (message.contains(key)) camera[key] = message[key];
+  const Camera parsed = detail::parse_camera(JsonReader(camera, "camera"));
+  const bool changed = !same_camera(parsed, state.scene.camera);
+  state.document["camera"] = std::move(camera);
+  state.scene.camera = parsed;
+  return changed;
+}
+
+bool apply_object_edit(ViewerState& state, const Json& message) {
+  const JsonReader m(message, "edit");
+  m.check_keys({"type", "seq", "moving", "object", "visible", "opacity", "transfer_function",
+                "window", "center", "clip_planes"});
+  const size_t k = find_object(state, m.get("object"));
+  const auto found = state.document.find("objects");
+  if (found == state.document.end() || !found->is_array() || k >= found->size() ||
+      k >= state.visible.size() || k >= state.opacity.size())
+    throw Error("edit: the session's scene document does not match its scene");
+  Json& objects = *found;
+  const ObjectRef ref = state.scene.order[k];
+  const JsonReader r(message, fmt::format("edit of '{}'", message["object"].get<std::string>()));
+  // Every field must fit the object's kind before anything is read.
+  const std::pair<const char*, ObjectKind> only[] = {{"transfer_function", ObjectKind::volume},
+                                                     {"clip_planes", ObjectKind::volume},
+                                                     {"window", ObjectKind::plane},
+                                                     {"center", ObjectKind::plane}};
+  for (const auto& [key, kind] : only)
+    if (auto v = r.find(key); v && ref.kind != kind)
+      v->fail(fmt::format("applies to {}s only, and this object is a {}", kind_name(kind),
+                          kind_name(ref.kind)));
+
+  bool visible = state.visible[k];
+  float opacity = state.opacity[k];
+  if (auto v = r.find("visible")) visible = v->boolean();
+  if (auto v = r.find("opacity")) opacity = static_cast<float>(v->number(Range::closed(0.0, 1.0)));
+  Json object = objects[k];  // edited as a copy: nothing changes until every check passed
+  const Json before = object;
+  if (r.has("visible")) {
+    if (visible)
+      object.erase("visible");  // the default
+    else
+      object["visible"] = false;
+  }
+
+  if (ref.kind == ObjectKind::volume) {
+    const size_t i = static_cast<size_t>(ref.index);
+    VolumeObject volume = state.scene.volumes[i];  // shares the data: identity is kept
+    TransferFunction tf = state.transfer_functions[i];
+    if (auto v = r.find("transfer_function")) tf = parse_edit_tf(*v, tf.unit_distance);
+    if (auto v = r.find("clip_planes")) {
+      volume.clip_planes = parse_edit_clip_planes(*v);
+      object["clip_planes"] = v->json();
+    }
+    if (r.has("transfer_function") || r.has("opacity")) {
+      // Explicit points replace a preset or file: keep its shading and unit distance.
+      const Json* old_tf =
+          object.contains("transfer_function") ? &object["transfer_function"] : nullptr;
+      Json written = {{"points", points_json(scaled(tf, opacity))}};
+      if (tf.unit_distance != 1.0 || (old_tf && old_tf->contains("unit_distance")))
+        written["unit_distance"] = tf.unit_distance;
+      object["transfer_function"] = std::move(written);
+      if (!object.contains("shading") && !same_shading(volume.shading, Shading{}))
+        object["shading"] = shading_json(volume.shading);
+    }
+    volume.transfer_function = shown(tf, visible, opacity);
+    const bool changed = object != before;
+    objects[k] = std::move(object);
+    state.scene.volumes[i] = std::move(volume);
+    state.transfer_functions[i] = std::move(tf);
+    state.visible[k] = visible;
+    state.opacity[k] = opacity;
+    return changed;
+  }
+
+  if (ref.kind == ObjectKind::mesh) {
+    const size_t i = static_cast<size_t>(ref.index);
+    MeshObject mesh = state.scene.meshes[i];
+    if (r.has("opacity")) {
+      if (!object.contains("material") || !object["material"].is_object())
+        object["material"] = Json::object();
+      object["material"]["opacity"] = tidy(opacity);
+    }
+    mesh.material.opacity = visible ? opacity : 0.0f;
+    if (mesh.interior) {
+      const float own = object.contains("interior")
+                            ? document_float(object["interior"], "opacity", MeshInterior{}.opacity)
+                            : MeshInterior{}.opacity;
+      mesh.interior->opacity = visible ? own : 0.0f;
+    }
+    const bool changed = object != before;
+    objects[k] = std::move(object);
+    state.scene.meshes[i] = std::move(mesh);
+    state.visible[k] = visible;
+    state.opacity[k] = opacity;
+    return changed;
+  }
+
+  // A plane: the edited JSON goes through the loader's plane parser, so both agree.
+  if (r.has("opacity")) object["opacity"] = tidy(opacity);
+  if (auto v = r.find("center")) {
+    v->vec3(Range::coordinate());
+    object["center"] = v->json();
+  }
+  if (auto v = r.find("window")) {
+    const glm::dvec2 w = v->vec2();
+    if (!(w.y > 0.0)) v->at(1).fail(fmt::format("window width {} must be > 0", w.y));
+    object["window"] = v->json();
+  }
+  std::map<std::string, std::string> types;
+  for (const ObjectRef& o : state.scene.order)
+    types[o.kind == ObjectKind::volume ? state.scene.volumes[o.index].name
+          : o.kind == ObjectKind::mesh ? state.scene.meshes[o.index].name
+                                       : state.scene.planes[o.index].name] = kind_name(o.kind);
+  PlaneObject plane = detail::parse_plane_object(
+      JsonReader(object, r.origin(), fmt::format("objects[{}]", k)), state.scene, types);
+  const bool changed = object != before;
+  objects[k] = std::move(object);
+  state.scene.planes[static_cast<size_t>(ref.index)] = std::move(plane);
+  state.visible[k] = visible;
+  state.opacity[k] = opacity;
+  return changed;
+}
+
+// Calls fn(value) for the finite voxels of a regular subsample of `data` of at most about
+// kHistogramSamples voxels (every voxel of a small volume).
+template <class Fn>
+void for_each_sample(const VolumeData& data, Fn&& fn) {
+  const double voxels = static_cast<double>(data.voxel_count());
+  const size_t stride = voxels > kHistogramSamples
+                            ? static_cast<size_t>(std::ceil(std::cbrt(voxels / kHistogramSamples)))
+                            : 1;
+  const size_t nx = static_cast<size_t>(std::max(data.dims.x, 0));
+  const size_t ny = static_cast<size_t>(std::max(data.dims.y, 0));
+  const size_t nz = static_cast<size_t>(std::max(data.dims.z, 0));
+  std::visit(
+      [&](const auto& v) {
+        if (v.size() < nx * ny * nz) return;  // inconsistent data: validate() refuses it
+        for (size_t z = 0; z < nz; z += stride)
+          for (size_t y = 0; y < ny; y += stride) {
+            const auto* row = v.data() + (z * ny + y) * nx;
+            for (size_t x = 0; x < nx; x += stride)
+              if (const double s = static_cast<double>(row[x]); std::isfinite(s)) fn(s);
+          }
+      },
+      data.voxels);
+}
+
+// Counts of the sampled voxels in `bins` equal bins over their range.
+Json histogram(const VolumeData& data, int bins) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for_each_sample(data, [&](double s) {
+    lo = std::min(lo, s);
+    hi = std::max(hi, s);
+  });
+  std::vector<int64_t> counts(static_cast<size_t>(bins), 0);
+  if (!(lo <= hi)) return {{"range", Json::array({0.0, 0.0})}, {"counts", counts}};
+  const double scale = hi > lo ? bins / (hi - lo) : 0.0;
+  for_each_sample(data, [&](double s) {
+    ++counts[static_cast<size_t>(std::min(bins - 1, static_cast<int>((s - lo) * scale)))];
+  });
+  return {{"range", Json::array({lo, hi})}, {"counts", counts}};
+}
+
+}  // namespace
+
+ViewerState load_viewer_state(const std::filesystem::path& file,
+                              const std::vector<std::string>& overrides) {
+  ViewerState state;
+  state.scene = load_scene(file, overrides);
+  state.file = file;
+  state.initial_camera = state.scene.camera;
+  // The same text through the same steps as load_scene, kept as JSON for saving.
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  try {
+    state.document = detail::parse_strict_json(text.str(), file.string());
+    for (const std::string& assignment : overrides)
+      detail::apply_override(state.document, assignment, file.string());
+  } catch (const nlohmann::json::exception&) {
+    throw Error(fmt::format("{}: the file changed while it was read", file.string()));
+  }
+  const auto found =
+      state.document.is_object() ? state.document.find("objects") : state.document.end();
+  if (found == state.document.end() || !found->is_array() ||
+      found->size() != state.scene.order.size())
+    throw Error(fmt::format("{}: the file changed while it was read", file.string()));
+  const Json& objects = *found;
+
+  std::filesystem::path base_dir = file.parent_path();
+  if (base_dir.empty()) base_dir = ".";
+  state.transfer_functions.resize(state.scene.volumes.size());
+  for (size_t k = 0; k < state.scene.order.size(); ++k) {
+    const Json& object = objects[k];
+    const ObjectRef ref = state.scene.order[k];
+    const auto v = object.find("visible");
+    const bool visible = v == object.end() || !v->is_boolean() || v->get<bool>();
+    state.visible.push_back(visible);
+    float opacity = 1.0f;
+    if (ref.kind == ObjectKind::mesh && object.contains("material"))
+      opacity = document_float(object["material"], "opacity", Material{}.opacity);
+    else if (ref.kind == ObjectKind::plane)
+      opacity = document_float(object, "opacity", PlaneObject{}.opacity);
+    state.opacity.push_back(opacity);
+    if (ref.kind != ObjectKind::volume) continue;
+    const VolumeObject& volume = state.scene.volumes[static_cast<size_t>(ref.index)];
+    TransferFunction& tf = state.transfer_functions[static_cast<size_t>(ref.index)];
+    tf = volume.transfer_function;
+    if (visible) continue;
+    // Hidden in the file: its alphas are 0 in the scene; the file's own are the user's.
+    if (object.contains("transfer_function")) {
+      detail::SceneContext context{base_dir, {}, {}, {}};
+      tf = detail::parse_transfer_function(
+               JsonReader(object["transfer_function"], file.string(),
+                          fmt::format("objects[{}].transfer_function", k)),
+               context)
+               .transfer_function;
+    } else {
+      tf.points = {TfPoint{volume.iso_value, glm::vec4(1.0f)}};  // the loader's iso default
+    }
+  }
+  return state;
+}
+
+bool apply_edit(ViewerState& state, const nlohmann::json& message) {
+  if (!message.is_object())
+    throw Error(fmt::format("message: expected a JSON object, got {}", message.type_name()));
+  const JsonReader r(message, "message");
+  const std::string type = r.get("type").string();
+  if (type == "camera") return apply_camera(state, message);
+  if (type == "edit") return apply_object_edit(state, message);
+  r.get("type").fail(fmt::format(
+      "{} is not an edit: apply_edit takes \"camera\" and \"edit\" (the server handles the "
+      "other types)",
+      r.get("type").text()));
+}
+
+nlohmann::json describe_state(const ViewerState& state) {
+  const Scene& scene = state.scene;
+  Json objects = Json::array();
+  for (size_t k = 0; k < scene.order.size(); ++k) {
+    const ObjectRef ref = scene.order[k];
+    const size_t i = static_cast<size_t>(ref.index);
+    Json o = {{"kind", kind_name(ref.kind)},
+              {"visible", k < state.visible.size() ? bool(state.visible[k]) : true},
+              {"opacity", k < state.opacity.size() ? tidy(state.opacity[k]) : 1.0}};
+    if (ref.kind == ObjectKind::volume) {
+      const VolumeObject& v = scene.volumes[i];
+      o["name"] = v.name;
+      o["transfer_function"] = points_json(
+          i < state.transfer_functions.size() ? state.transfer_functions[i] : v.transfer_function);
+      Json planes = Json::array();
+      for (const ClipPlane& c : v.clip_planes)
+        planes.push_back({{"point", vec_json(c.point)}, {"normal", vec_json(c.normal)}});
+      o["clip_planes"] = std::move(planes);
+    } else if (ref.kind == ObjectKind::mesh) {
+      o["name"] = scene.meshes[i].name;
+    } else {
+      const PlaneObject& p = scene.planes[i];
+      o["name"] = p.name;
+      o["center"] = vec_json(p.center);
+      o["normal"] = vec_json(p.normal);
+      o["up"] = vec_json(p.up);
+      o["size"] = Json::array({p.size.x, p.size.y});
+      o["window"] = Json::array({p.window.x, p.window.y});
+      o["volume"] = p.volume >= 0 && static_cast<size_t>(p.volume) < scene.volumes.size()
+                        ? Json(scene.volumes[static_cast<size_t>(p.volume)].name)
+                        : Json(nullptr);
+    }
+    objects.push_back(std::move(o));
+  }
+  return {{"camera", camera_json(scene.camera)},
+          {"initial_camera", camera_json(state.initial_camera)},
+          {"objects", std::move(objects)}};
+}
+
+nlohmann::json describe_histograms(const ViewerState& state, int bins) {
+  if (bins < 1 || bins > kMaxBins)
+    throw Error(fmt::format("histograms: {} bins, expected 1 to {}", bins, kMaxBins));
+  Json out = Json::object();
+  for (const VolumeObject& v : state.scene.volumes)
+    out[v.name] = v.data ? histogram(*v.data, bins) : Json(nullptr);
+  return out;
+}
+
+std::string saved_scene_text(const ViewerState& state) {
+  return state.document.dump(2) + "\n";
+}
+
+}  // namespace imx::server

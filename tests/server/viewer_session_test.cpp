@@ -1,0 +1,304 @@
+// ViewerSession: frames while moving are reduced JPEGs; still frames accumulate jittered samples
+// to the spp frame render() gives; an edit re-renders only its own stage; several clients see
+// one state; bad messages get an error and change nothing; save writes a scene file that renders
+// what the session converged to.
+#include "server/viewer_session.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "intermix/io.hpp"
+#include "intermix/metrics.hpp"
+#include "intermix/render.hpp"
+#include "intermix/scene.hpp"
+
+namespace imx::server {
+namespace {
+
+using Json = nlohmann::json;
+using namespace std::chrono_literals;
+
+constexpr int kSize = 48;
+
+// What a client received, in order: text messages as JSON, and each frame's image beside it.
+class Recorder : public ClientSink {
+ public:
+  struct Message {
+    Json json;
+    std::string image;
+  };
+
+  void send_text(std::string text) override { push({Json::parse(text), {}}); }
+  void send_frame(std::string text, std::string image, bool) override {
+    push({Json::parse(text), std::move(image)});
+  }
+
+  // Waits (at most 60 s) for a message that satisfies `pred`, returns it and forgets all before.
+  Message wait_for(const std::function<bool(const Json&)>& pred) {
+    std::unique_lock lock(mutex_);
+    Message found;
+    const bool ok = changed_.wait_for(lock, 60s, [&] {
+      for (size_t i = 0; i < messages_.size(); ++i)
+        if (pred(messages_[i].json)) {
+          found = messages_[i];
+          messages_.erase(messages_.begin(), messages_.begin() + static_cast<long>(i) + 1);
+          return true;
+        }
+      return false;
+    });
+    if (!ok) ADD_FAILURE() << "no such message within 60 s";
+    return found;
+  }
+  Message wait_type(const std::string& type) {
+    return wait_for([&](const Json& j) { return j["type"] == type; });
+  }
+  Message wait_final() {
+    return wait_for([](const Json& j) { return j["type"] == "frame" && j["final"] == true; });
+  }
+
+ private:
+  void push(Message m) {
+    std::lock_guard lock(mutex_);
+    messages_.push_back(std::move(m));
+    changed_.notify_all();
+  }
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::vector<Message> messages_;
+};
+
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = std::filesystem::temp_directory_path() /
+            ("imx_viewer_session_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// fusion.json at kSize pixels with small phantoms, copied into `dir` (save writes beside it).
+std::filesystem::path small_fusion(const TempDir& dir) {
+  std::ifstream in(std::filesystem::path(IMX_EXAMPLES_DIR) / "fusion.json");
+  Json scene = Json::parse(in);
+  scene["image"]["width"] = kSize;
+  scene["image"]["height"] = kSize;
+  for (Json& o : scene["objects"])
+    if (o.contains("source") && o["source"].contains("phantom")) o["source"]["size"] = 40;
+  const std::filesystem::path file = dir.path() / "fusion.json";
+  std::ofstream(file) << scene.dump(2);
+  return file;
+}
+
+Image decode(const std::string& png, const TempDir& dir) {
+  const std::filesystem::path file = dir.path() / "frame.png";
+  std::ofstream(file, std::ios::binary) << png;
+  return read_png(file);
+}
+
+SessionOptions quiet_options(int spp) {
+  SessionOptions o;
+  o.spp = spp;
+  o.log = false;
+  return o;
+}
+
+Json camera_message(long long seq, bool moving, double eye_x) {
+  return {{"type", "camera"},
+          {"seq", seq},
+          {"moving", moving},
+          {"eye", {eye_x, -420.0, 200.0}},
+          {"target", {0.0, 0.0, 20.0}}};
+}
+
+TEST(ViewerSession, StillFramesConvergeToTheSppFrame) {
+  TempDir dir;
+  const std::filesystem::path file = small_fusion(dir);
+  ViewerSession session(load_viewer_state(file), quiet_options(4));
+  auto client = std::make_shared<Recorder>();
+  session.add_client(client);
+  const Json hello = client->wait_type("hello").json;
+  EXPECT_EQ(hello["method"], "zslab");
+  EXPECT_EQ(hello["spp"], 4);
+  EXPECT_EQ(hello["objects"].size(), 3u);
+  EXPECT_TRUE(hello["histograms"].contains("ct"));
+  for (int samples = 1; samples <= 4; ++samples) {
+    const auto frame = client->wait_type("frame");
+    EXPECT_EQ(frame.json["samples"], samples);
+    EXPECT_EQ(frame.json["format"], "png");
+    EXPECT_EQ(frame.json["width"], kSize);
+    EXPECT_EQ(frame.json["final"], samples == 4);
+    if (samples == 4) {
+      RenderOptions options;
+      options.method = "zslab";
+      options.spp = 4;
+      const Image expected = render(load_scene(file), options);
+      const std::filesystem::path want = dir.path() / "want.png";
+      write_png(expected, want);
+      // Both went through 8-bit sRGB; the mean of samples differs from the whole frame by float
+      // rounding only.
+      EXPECT_GE(psnr(read_png(want), decode(frame.image, dir)), 60.0);
+    }
+  }
+}
+
+TEST(ViewerSession, MovingFramesAreReducedJpegsThenStillFramesRefine) {
+  TempDir dir;
+  ViewerSession session(load_viewer_state(small_fusion(dir)), quiet_options(4));
+  auto client = std::make_shared<Recorder>();
+  session.add_client(client);
+  client->wait_final();
+  session.on_message(client, camera_message(1, true, -300).dump());
+  const auto moving = client->wait_type("frame");
+  EXPECT_EQ(moving.json["seq"], 1);
+  EXPECT_EQ(moving.json["format"], "jpeg");
+  EXPECT_EQ(moving.json["final"], false);
+  EXPECT_LT(moving.json["scale"].get<double>(), 1.0);  // nothing measured yet: half size
+  EXPECT_LT(moving.json["width"].get<int>(), kSize);
+  session.on_message(client, camera_message(2, false, -300).dump());
+  const auto still = client->wait_type("frame");
+  EXPECT_EQ(still.json["seq"], 2);
+  EXPECT_EQ(still.json["format"], "png");
+  EXPECT_EQ(still.json["width"], kSize);
+  EXPECT_EQ(still.json["samples"], 1);
+  const auto last = client->wait_final();
+  EXPECT_EQ(last.json["seq"], 2);
+  EXPECT_EQ(last.json["samples"], 4);
+}
+
+TEST(ViewerSession, AnEditRerendersOnlyItsStage) {
+  TempDir dir;
+  ViewerSession session(load_viewer_state(small_fusion(dir)), quiet_options(1));
+  auto client = std::make_shared<Recorder>();
+  session.add_client(client);
+  const Json first = client->wait_final().json;
+  ASSERT_GE(first["stages"].get<int>(), 3);
+  EXPECT_EQ(first["stages_run"], first["stages"]);
+  const Json edit = {{"type", "edit"},
+                     {"seq", 1},
+                     {"moving", false},
+                     {"object", "pet"},
+                     {"transfer_function", {{0, 0, 0, 0, 0}, {1000, 1, 0.2, 0, 0.5}}}};
+  session.on_message(client, edit.dump());
+  const auto state = client->wait_type("state");
+  EXPECT_EQ(state.json["objects"][1]["transfer_function"].size(), 2u);
+  const auto frame = client->wait_final();
+  EXPECT_EQ(frame.json["seq"], 1);
+  EXPECT_EQ(frame.json["stages"], first["stages"]);
+  EXPECT_EQ(frame.json["stages_run"], 1);
+}
+
+TEST(ViewerSession, EveryClientSeesEveryEdit) {
+  TempDir dir;
+  ViewerSession session(load_viewer_state(small_fusion(dir)), quiet_options(1));
+  auto a = std::make_shared<Recorder>(), b = std::make_shared<Recorder>();
+  session.add_client(a);
+  a->wait_final();
+  session.add_client(b);
+  b->wait_type("hello");
+  b->wait_type("frame");  // the latest frame, at once
+  session.on_message(a, camera_message(7, false, 300).dump());
+  const Json state = b->wait_type("state").json;
+  EXPECT_EQ(state["camera"]["eye"][0], 300.0);
+  const auto frame_b = b->wait_final();
+  EXPECT_EQ(frame_b.json["seq"], 0);  // b sent nothing
+  EXPECT_EQ(a->wait_final().json["seq"], 7);
+  session.remove_client(b.get());
+  session.on_message(a, camera_message(8, false, 250).dump());
+  EXPECT_EQ(a->wait_final().json["seq"], 8);
+}
+
+TEST(ViewerSession, BadMessagesGetOneErrorAndChangeNothing) {
+  TempDir dir;
+  ViewerSession session(load_viewer_state(small_fusion(dir)), quiet_options(1));
+  auto client = std::make_shared<Recorder>();
+  session.add_client(client);
+  client->wait_final();
+  const std::pair<std::string, std::string> cases[] = {
+      {"{", "message: not JSON: "},
+      {"[1, 2]", "expected a JSON object"},
+      {R"({"type": "launch"})", "launch"},
+      {R"({"type": "edit", "object": "/etc/passwd", "visible": false})", "is not an object"},
+      {R"({"type": "edit", "object": "pet", "window": [1, 2]})", "applies to planes only"},
+      {R"({"type": "camera", "seq": -1, "eye": [1, 2, 3]})", "seq"},
+      {R"({"type": "camera", "moving": "yes"})", "moving"},
+      {R"({"type": "settings", "method": "fastest"})", "fastest"},
+      {R"({"type": "settings", "spp": 3})", "perfect square"},
+      {R"({"type": "stats", "latency_ms": "fast"})", "latency_ms"},
+      {std::string(kMaxMessageBytes + 1, ' '), "bytes"},
+  };
+  for (const auto& [text, part] : cases) {
+    session.on_message(client, text);
+    const Json error = client->wait_type("error").json;
+    EXPECT_NE(error["message"].get<std::string>().find(part), std::string::npos)
+        << text.substr(0, 80) << " -> " << error["message"];
+  }
+  EXPECT_EQ(session.method(), "zslab");
+  EXPECT_EQ(session.spp(), 1);
+  EXPECT_EQ(session.counters().frames_sent, 1);  // nothing was rendered again
+}
+
+TEST(ViewerSession, SettingsChangeMethodAndSpp) {
+  TempDir dir;
+  ViewerSession session(load_viewer_state(small_fusion(dir)), quiet_options(1));
+  auto client = std::make_shared<Recorder>();
+  session.add_client(client);
+  client->wait_final();
+  session.on_message(client, R"({"type": "settings", "seq": 3, "method": "mdvr", "spp": 4})");
+  const Json state = client->wait_type("state").json;
+  EXPECT_EQ(state["method"], "mdvr");
+  EXPECT_EQ(state["spp"], 4);
+  const auto frame = client->wait_final();
+  EXPECT_EQ(frame.json["samples"], 4);
+  EXPECT_EQ(frame.json["seq"], 3);
+}
+
+TEST(ViewerSession, SaveWritesASceneThatRendersTheConvergedFrame) {
+  TempDir dir;
+  const std::filesystem::path file = small_fusion(dir);
+  ViewerSession session(load_viewer_state(file), quiet_options(4));
+  auto client = std::make_shared<Recorder>();
+  session.add_client(client);
+  session.on_message(client, camera_message(1, false, 100).dump());
+  const Json hide = {{"type", "edit"}, {"seq", 2}, {"object", "target"}, {"visible", false}};
+  session.on_message(client, hide.dump());
+  const auto converged = client->wait_for(
+      [](const Json& j) { return j["type"] == "frame" && j["seq"] == 2 && j["final"] == true; });
+  session.on_message(client, R"({"type": "save"})");
+  const Json saved = client->wait_type("saved").json;
+  const std::filesystem::path path = saved["path"].get<std::string>();
+  EXPECT_EQ(path, dir.path() / "fusion.viewer.json");
+  const Scene reloaded = load_scene(path);
+  EXPECT_EQ(reloaded.render.method, "zslab");
+  EXPECT_EQ(reloaded.render.spp, 4);
+  const std::filesystem::path want = dir.path() / "want.png";
+  write_png(render(reloaded), want);
+  EXPECT_GE(psnr(read_png(want), decode(converged.image, dir)), 60.0);
+  // The screenshot is that converged frame, at full quality.
+  session.on_message(client, R"({"type": "screenshot"})");
+  const auto shot = client->wait_type("screenshot");
+  EXPECT_GE(psnr(read_png(want), decode(shot.image, dir)), 60.0);
+}
+
+}  // namespace
+}  // namespace imx::server

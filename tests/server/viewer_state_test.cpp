@@ -1,0 +1,372 @@
+// ViewerState: every edit kind changes the image and the saved scene file renders the same bytes
+// as the session; bad messages get one clear error and change nothing; data keeps its identity.
+#include "server/viewer_state.hpp"
+
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "intermix/error.hpp"
+#include "intermix/render.hpp"
+#include "intermix/scene.hpp"
+
+namespace imx::server {
+namespace {
+
+using Json = nlohmann::json;
+
+constexpr int kSize = 40;
+
+// A fresh folder for this test and process, removed at the end.
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = std::filesystem::temp_directory_path() /
+            ("imx_viewer_state_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  std::filesystem::path write(const std::string& name, const std::string& text) const {
+    std::ofstream(path_ / name) << text;
+    return path_ / name;
+  }
+
+ private:
+  std::filesystem::path path_;
+};
+
+std::filesystem::path example(const std::string& name) {
+  return std::filesystem::path(IMX_EXAMPLES_DIR) / name;
+}
+
+// An example at kSize pixels with its phantoms at `phantom` voxels, so that tests stay fast.
+ViewerState small(const std::string& name, const std::vector<std::string>& volumes,
+                  int phantom = 48) {
+  std::vector<std::string> overrides = {"image.width=" + std::to_string(kSize),
+                                        "image.height=" + std::to_string(kSize)};
+  for (const std::string& v : volumes)
+    overrides.push_back("objects." + v + ".source.size=" + std::to_string(phantom));
+  return load_viewer_state(example(name), overrides);
+}
+
+Image draw(const Scene& scene) {
+  RenderOptions options;
+  options.method = "zslab";
+  options.spp = 1;
+  return render(scene, options);
+}
+
+bool same_bytes(const Image& a, const Image& b) {
+  return a.width() == b.width() && a.height() == b.height() &&
+         std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec4)) == 0;
+}
+
+std::string error_of(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+#define EXPECT_CONTAINS(text, part) \
+  EXPECT_NE(std::string(text).find(part), std::string::npos) << "message: " << (text)
+
+// Applies `message`, then checks that the image changed and that the saved file renders the
+// session's bytes exactly.
+void expect_edit_round_trips(ViewerState& state, const Json& message) {
+  SCOPED_TRACE(message.dump());
+  const Image before = draw(state.scene);
+  EXPECT_TRUE(apply_edit(state, message));
+  const Image after = draw(state.scene);
+  EXPECT_FALSE(same_bytes(before, after)) << "the edit changed nothing";
+  TempDir dir;
+  const std::filesystem::path saved = dir.write("saved.json", saved_scene_text(state));
+  const Scene reloaded = load_scene(saved);
+  EXPECT_TRUE(same_bytes(after, draw(reloaded))) << saved_scene_text(state);
+}
+
+Json edit(const std::string& object, Json fields) {
+  fields["type"] = "edit";
+  fields["seq"] = 1;
+  fields["moving"] = false;
+  fields["object"] = object;
+  return fields;
+}
+
+TEST(ViewerState, LoadsTheSceneAndItsDocument) {
+  ViewerState s = small("ct-implant.json", {"ct"});
+  ASSERT_EQ(s.scene.order.size(), 4u);
+  EXPECT_EQ(s.visible, std::vector<bool>(4, true));
+  EXPECT_EQ(s.opacity, (std::vector<float>{1.0f, 0.5f, 0.5f, 0.6f}));
+  ASSERT_EQ(s.transfer_functions.size(), 1u);
+  EXPECT_EQ(s.transfer_functions[0].points.size(), 4u);
+  EXPECT_EQ(s.document["image"]["width"], kSize);  // overrides are in the document
+  EXPECT_EQ(s.document["objects"][0]["source"]["size"], 48);
+  EXPECT_EQ(s.initial_camera.eye, s.scene.camera.eye);
+  // Saved untouched, the file renders as the session does.
+  TempDir dir;
+  EXPECT_TRUE(
+      same_bytes(draw(s.scene), draw(load_scene(dir.write("s.json", saved_scene_text(s))))));
+}
+
+TEST(ViewerState, CameraEditRoundTrips) {
+  ViewerState s = small("ct-implant.json", {"ct"});
+  s.document["camera"]["projection"] = "perspective";
+  expect_edit_round_trips(s, {{"type", "camera"},
+                              {"seq", 3},
+                              {"moving", true},
+                              {"eye", {300, -400, 100}},
+                              {"target", {0, 0, 20}},
+                              {"up", {0, 0, 2}},
+                              {"fov_deg", 25}});
+  EXPECT_EQ(s.document["camera"]["projection"], "perspective");  // other keys stay
+  EXPECT_EQ(s.scene.camera.up, glm::dvec3(0, 0, 1));
+  EXPECT_EQ(s.scene.camera.fov_deg, 25.0);
+  EXPECT_NE(s.initial_camera.eye, s.scene.camera.eye);
+  // The same camera again changes nothing.
+  EXPECT_FALSE(apply_edit(s, {{"type", "camera"}, {"eye", {300, -400, 100}}}));
+}
+
+TEST(ViewerState, MeshVisibilityAndOpacityRoundTrip) {
+  ViewerState s = small("ct-implant.json", {"ct"});
+  expect_edit_round_trips(s, edit("screw-left", {{"visible", false}}));
+  EXPECT_EQ(s.scene.meshes[0].material.opacity, 0.0f);
+  EXPECT_FALSE(s.visible[1]);
+  EXPECT_EQ(s.opacity[1], 0.5f);  // the user's opacity is kept while hidden
+  EXPECT_EQ(s.document["objects"][1]["visible"], false);
+  expect_edit_round_trips(s, edit("plate", {{"opacity", 0.95}}));
+  EXPECT_EQ(s.scene.meshes[2].material.opacity, 0.95f);
+  EXPECT_EQ(s.document["objects"][3]["material"]["opacity"], 0.95);
+  // Opacity of a hidden mesh: kept, not shown; showing it again uses it.
+  EXPECT_FALSE(apply_edit(s, edit("screw-left", {{"opacity", 0.5}})));
+  EXPECT_EQ(s.scene.meshes[0].material.opacity, 0.0f);
+  expect_edit_round_trips(s, edit("screw-left", {{"visible", true}, {"opacity", 0.9}}));
+  EXPECT_EQ(s.scene.meshes[0].material.opacity, 0.9f);
+  EXPECT_FALSE(s.document["objects"][1].contains("visible"));
+}
+
+TEST(ViewerState, VolumeOpacityAndVisibilityRoundTrip) {
+  ViewerState s = small("fusion.json", {"ct", "pet"});
+  expect_edit_round_trips(s, edit("ct", {{"opacity", 0.3}}));
+  const TransferFunction& user = s.transfer_functions[0];
+  const TransferFunction& shown = s.scene.volumes[0].transfer_function;
+  ASSERT_EQ(user.points.size(), shown.points.size());
+  EXPECT_EQ(user.points[5].rgba.a, 0.06f);  // the user's TF is unscaled
+  EXPECT_FLOAT_EQ(shown.points[5].rgba.a, 0.06f * 0.3f);
+  expect_edit_round_trips(s, edit("pet", {{"visible", false}}));
+  for (const TfPoint& p : s.scene.volumes[1].transfer_function.points) EXPECT_EQ(p.rgba.a, 0.0f);
+  expect_edit_round_trips(s, edit("pet", {{"visible", true}}));
+  EXPECT_EQ(s.scene.volumes[1].transfer_function.points[4].rgba.a, 0.9f);
+}
+
+TEST(ViewerState, TransferFunctionEditRoundTrips) {
+  ViewerState s = small("fusion.json", {"ct", "pet"});
+  s.document["objects"][1]["transfer_function"]["unit_distance"] = 1.0;
+  expect_edit_round_trips(
+      s, edit("pet", {{"transfer_function", {{0, 0, 0, 0, 0}, {3, 0, 1, 0, 0.5}, {12, 0, 1, 1, 1}}},
+                      {"opacity", 0.8}}));
+  EXPECT_EQ(s.transfer_functions[1].points.size(), 3u);
+  EXPECT_EQ(s.transfer_functions[1].points[1].rgba.a, 0.5f);
+  const Json& tf = s.document["objects"][1]["transfer_function"];
+  EXPECT_EQ(tf["points"][1][4], 0.4);  // scaled by the opacity, written tidily
+  EXPECT_EQ(tf["unit_distance"], 1.0);
+}
+
+TEST(ViewerState, PresetBecomesPointsWithItsShading) {
+  TempDir dir;
+  const std::filesystem::path file = dir.write("preset.json", R"({
+    "camera": {"eye": [0, -500, 0], "target": [0, 0, 0], "up": [0, 0, 1]},
+    "image": {"width": 40, "height": 40},
+    "objects": [{"name": "head", "type": "volume", "source": {"phantom": "ct-head", "size": 48},
+                 "transfer_function": {"preset": "ct-bone", "shift": 50}}]})");
+  ViewerState s = load_viewer_state(file);
+  ASSERT_TRUE(s.scene.volumes[0].shading.enabled);  // the preset's shading
+  expect_edit_round_trips(s, edit("head", {{"opacity", 0.5}}));
+  const Json& object = s.document["objects"][0];
+  EXPECT_TRUE(object["transfer_function"].contains("points"));
+  EXPECT_FALSE(object["transfer_function"].contains("preset"));
+  EXPECT_EQ(object["shading"]["enabled"], true);
+}
+
+TEST(ViewerState, PlaneEditsRoundTrip) {
+  ViewerState s = small("mpr.json", {"ct"});
+  expect_edit_round_trips(s, edit("axial", {{"window", {300, 900}}}));
+  EXPECT_EQ(s.scene.planes[0].window, glm::dvec2(300, 900));
+  expect_edit_round_trips(s, edit("axial", {{"center", {0, 0, 40}}}));
+  EXPECT_EQ(s.scene.planes[0].center, glm::dvec3(0, 0, 40));
+  expect_edit_round_trips(s, edit("coronal", {{"opacity", 0.9}}));
+  EXPECT_EQ(s.scene.planes[1].opacity, 0.9f);
+  expect_edit_round_trips(s, edit("sagittal", {{"visible", false}}));
+  EXPECT_EQ(s.scene.planes[2].opacity, 0.0f);
+  EXPECT_EQ(s.opacity[3], 1.0f);
+}
+
+TEST(ViewerState, ClipPlanesEditRoundTrips) {
+  ViewerState s = small("mpr.json", {"ct"});
+  expect_edit_round_trips(
+      s,
+      edit("ct", {{"clip_planes", Json::array({{{"point", {0, 0, 0}}, {"normal", {0, 2, 0}}}})}}));
+  ASSERT_EQ(s.scene.volumes[0].clip_planes.size(), 1u);
+  EXPECT_EQ(s.scene.volumes[0].clip_planes[0].normal, glm::dvec3(0, 1, 0));
+  expect_edit_round_trips(s, edit("ct", {{"clip_planes", Json::array()}}));
+  EXPECT_TRUE(s.scene.volumes[0].clip_planes.empty());
+}
+
+TEST(ViewerState, DataKeepsItsIdentityAcrossEdits) {
+  ViewerState s = small("ct-implant.json", {"ct"});
+  const auto volume = s.scene.volumes[0].data;
+  const auto mesh = s.scene.meshes[1].mesh;
+  apply_edit(s, edit("ct", {{"opacity", 0.5}, {"visible", false}}));
+  apply_edit(s, edit("ct", {{"transfer_function", {{0, 1, 1, 1, 0}, {900, 1, 1, 1, 1}}}}));
+  apply_edit(s, edit("screw-right", {{"opacity", 0.1}}));
+  EXPECT_EQ(s.scene.volumes[0].data.get(), volume.get());
+  EXPECT_EQ(s.scene.meshes[1].mesh.get(), mesh.get());
+}
+
+TEST(ViewerState, HiddenInTheFileKeepsTheUsersValues) {
+  TempDir dir;
+  const std::filesystem::path file = dir.write("hidden.json", R"({
+    "image": {"width": 40, "height": 40},
+    "objects": [
+      {"name": "v", "type": "volume", "source": {"phantom": "ct-head", "size": 32}, "visible": false,
+       "transfer_function": {"points": [[0, 1, 1, 1, 0], [500, 1, 1, 1, 0.5]]}},
+      {"name": "m", "type": "mesh", "source": {"primitive": "sphere", "radius": 20},
+       "material": {"opacity": 0.7}, "visible": false},
+      {"name": "p", "type": "plane", "volume": "v", "normal": [0, 0, 1], "opacity": 0.4,
+       "visible": false}]})");
+  ViewerState s = load_viewer_state(file);
+  EXPECT_EQ(s.visible, std::vector<bool>(3, false));
+  EXPECT_EQ(s.opacity, (std::vector<float>{1.0f, 0.7f, 0.4f}));
+  EXPECT_EQ(s.transfer_functions[0].points[1].rgba.a, 0.5f);
+  EXPECT_EQ(s.scene.volumes[0].transfer_function.points[1].rgba.a, 0.0f);
+  apply_edit(s, edit("v", {{"visible", true}}));
+  apply_edit(s, edit("m", {{"visible", true}}));
+  apply_edit(s, edit("p", {{"visible", true}}));
+  EXPECT_EQ(s.scene.volumes[0].transfer_function.points[1].rgba.a, 0.5f);
+  EXPECT_EQ(s.scene.meshes[0].material.opacity, 0.7f);
+  EXPECT_EQ(s.scene.planes[0].opacity, 0.4f);
+}
+
+TEST(ViewerState, BadMessagesChangeNothing) {
+  ViewerState s = small("mpr.json", {"ct"}, 24);
+  const Json document = s.document;
+  const Image image = draw(s.scene);
+  const struct {
+    Json message;
+    const char* says;
+  } cases[] = {
+      {Json::array(), "expected a JSON object, got array"},
+      {{{"seq", 1}}, "missing required key 'type'"},
+      {{{"type", "settings"}, {"method", "mdvr"}}, "\"settings\" is not an edit"},
+      {{{"type", "camera"}, {"eye", {0, 0, 0}}, {"target", {0, 0, 0}}}, "the same point"},
+      {{{"type", "camera"}, {"up", {-380, -440, 300}}}, "parallel to the view direction"},
+      {{{"type", "camera"}, {"fov_deg", 180}}, "camera: fov_deg: 180 is not in (0, 180)"},
+      {{{"type", "camera"}, {"eye", {0, 0, "x"}}}, "camera: eye[2]: expected a number"},
+      {{{"type", "camera"}, {"eye", {0, 0, 1e300}}}, "camera: eye[2]"},
+      {{{"type", "camera"}, {"fov", 20}}, "camera: fov: unknown key (known keys: type, seq"},
+      {edit("axail", {{"opacity", 0.5}}),
+       "\"axail\" is not an object of the scene (did you mean "
+       "'axial'?); they are: ct, axial, coronal, sagittal"},
+      {edit("ct", {{"opacity", 1.5}}), "edit of 'ct': opacity: 1.5 is not in [0, 1]"},
+      {edit("ct", {{"visible", 1}}), "edit of 'ct': visible: expected true or false"},
+      {edit("ct", {{"opacity", 0.5}, {"window", {1, 2}}}),
+       "edit of 'ct': window: applies to planes only, and this object is a volume"},
+      {edit("axial", {{"transfer_function", {{0, 0, 0, 0, 0}}}}), "applies to volumes only"},
+      {edit("ct", {{"opacity", 0.5}, {"transfer_function", {{5, 0, 0, 0, 0}, {1, 1, 1, 1, 1}}}}),
+       "edit of 'ct': transfer_function[1][0]: value 1 is below the previous point's 5"},
+      {edit("ct", {{"transfer_function", {{0, 0, 0, 0, 2}}}}), "transfer_function[0][4]: 2 is not"},
+      {edit("ct", {{"transfer_function", Json::array()}}), "needs at least one point"},
+      {edit("ct", {{"transfer_function", std::vector<std::vector<int>>(2000, {0, 0, 0, 0, 0})}}),
+       "2000 points; an edit takes at most 1024"},
+      {edit("ct", {{"clip_planes", Json::array({{{"point", {0, 0, 0}}, {"normal", {0, 0, 0}}}})}}),
+       "clip_planes[0].normal: [0,0,0] is not a usable direction"},
+      {edit("ct", {{"clip_planes", Json::array({{{"point", {0, 0, 0}}}})}}),
+       "missing required key 'normal'"},
+      {edit("axial", {{"opacity", 0.2}, {"window", {40, 0}}}),
+       "window[1]: window width 0 must be > 0"},
+      {edit("axial", {{"center", {0, 0, 2e6}}}), "edit of 'axial': center[2]: 2000000.0 is not in"},
+      {edit("axial", {{"normal", {0, 0, 1}}}), "edit: normal: unknown key"},
+  };
+  for (const auto& c : cases) {
+    const std::string message = error_of([&] { apply_edit(s, c.message); });
+    EXPECT_CONTAINS(message, c.says);
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+  EXPECT_EQ(s.document, document);
+  EXPECT_EQ(s.visible, std::vector<bool>(4, true));
+  EXPECT_EQ(s.opacity, (std::vector<float>{1.0f, 1.0f, 0.5f, 1.0f}));
+  EXPECT_TRUE(same_bytes(image, draw(s.scene)));
+}
+
+TEST(ViewerState, DescribesCameraAndObjects) {
+  ViewerState s = small("mpr.json", {"ct"}, 24);
+  apply_edit(s, edit("coronal", {{"visible", false}}));
+  const Json d = describe_state(s);
+  EXPECT_EQ(d["camera"]["fov_deg"], 32.0);
+  EXPECT_EQ(d["initial_camera"]["eye"], Json::array({-380.0, -440.0, 300.0}));
+  ASSERT_EQ(d["objects"].size(), 4u);
+  const Json& ct = d["objects"][0];
+  EXPECT_EQ(ct["name"], "ct");
+  EXPECT_EQ(ct["kind"], "volume");
+  EXPECT_EQ(ct["transfer_function"].size(), 4u);
+  EXPECT_EQ(ct["transfer_function"][2], Json::array({700.0, 1.0, 0.95, 0.85, 0.3}));
+  EXPECT_EQ(ct["clip_planes"][0]["normal"], Json::array({0.0, 0.0, -1.0}));
+  const Json& coronal = d["objects"][2];
+  EXPECT_EQ(coronal["kind"], "plane");
+  EXPECT_EQ(coronal["visible"], false);
+  EXPECT_EQ(coronal["opacity"], 0.5);
+  EXPECT_EQ(coronal["volume"], "ct");
+  EXPECT_EQ(coronal["window"], Json::array({40.0, 400.0}));
+  EXPECT_EQ(coronal["normal"], Json::array({0.0, 1.0, 0.0}));
+  EXPECT_TRUE(coronal.contains("up") && coronal.contains("size") && coronal.contains("center"));
+}
+
+TEST(ViewerState, HistogramsCountEveryVoxelOfASmallVolume) {
+  ViewerState s = small("fusion.json", {"ct", "pet"}, 24);
+  const Json h = describe_histograms(s, 64);
+  ASSERT_TRUE(h.contains("ct") && h.contains("pet"));
+  const auto [lo, hi] = s.scene.volumes[0].data->range();
+  EXPECT_EQ(h["ct"]["range"], Json::array({lo, hi}));
+  ASSERT_EQ(h["ct"]["counts"].size(), 64u);
+  int64_t total = 0;
+  for (const Json& c : h["ct"]["counts"]) total += c.get<int64_t>();
+  EXPECT_EQ(total, static_cast<int64_t>(s.scene.volumes[0].data->voxel_count()));
+  EXPECT_GT(h["ct"]["counts"][0].get<int64_t>(), 0);   // the lowest value falls in the first bin
+  EXPECT_GT(h["ct"]["counts"][63].get<int64_t>(), 0);  // and the highest in the last
+  EXPECT_CONTAINS(error_of([&] { describe_histograms(s, 0); }), "0 bins");
+}
+
+TEST(ViewerState, HistogramsSubsampleALargeVolume) {
+  ViewerState s;
+  VolumeData data;
+  data.dims = {256, 256, 128};  // 8M voxels: every other voxel along each axis is read
+  std::vector<uint16_t> voxels(data.voxel_count());
+  for (size_t i = 0; i < voxels.size(); ++i) voxels[i] = static_cast<uint16_t>(i % 4);
+  data.voxels = std::move(voxels);
+  VolumeObject v;
+  v.name = "big";
+  v.data = std::make_shared<const VolumeData>(std::move(data));
+  s.scene.volumes.push_back(v);
+  const Json h = describe_histograms(s, 4);
+  // x steps by 2 from 0: only the values 0 and 2 are read, 128 * 128 * 64 voxels.
+  EXPECT_EQ(h["big"]["range"], Json::array({0.0, 2.0}));
+  EXPECT_EQ(h["big"]["counts"], Json::array({128 * 128 * 32, 0, 0, 128 * 128 * 32}));
+}
+
+}  // namespace
+}  // namespace imx::server

@@ -1,0 +1,807 @@
+#!/usr/bin/python3
+"""Headless-Chromium test of the viewer (`intermix serve` + web/viewer.js), docs/viewer.md.
+
+    tests/viewer/viewer_browser_test.py --intermix build/intermix --scene examples/fusion.json
+    tests/viewer/viewer_browser_test.py --intermix build/intermix --scene examples/ct-head.json \\
+        --measure 50 --out out/viewer
+
+Test mode (default) serves the scene at 256x256 with zslab and checks, printing each check's
+measured number and PASS/FAIL: the page loads and converges; HTTP and WebSocket refuse a missing
+or wrong token; a canvas drag orbits at >= 10 frames/s; dragging a TF control point changes the
+image and re-runs only the edited volume's stage; toggling an object's visibility changes the
+image; a second (plain WebSocket) client gets `state` messages after the page's edits; the saved
+scene renders (intermix render) to the converged canvas within 40 dB PSNR; screenshots go to
+--out. Exit 0: all passed, 1: a check failed, 77: skipped (no chromium or websocket module).
+
+Measure mode (--measure N) serves the scene as it is and does N short drags, reporting
+input-to-frame latency (median, 95th percentile), frames per second while moving and the time
+from release to 40 dB of the converged frame, as JSON on stdout and in DIR/measure.json.
+
+Needs only Debian's python3-websocket and chromium besides the standard library.
+"""
+
+import argparse
+import base64
+import http.client
+import json
+import math
+import os
+import re
+import select
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import urllib.error
+import urllib.parse
+import urllib.request
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import cdp  # noqa: E402
+from cdp import CdpError, kill_group, websocket  # noqa: E402
+
+SKIP = 77
+TEST_SIZE = 256
+
+
+class Failure(Exception):
+    pass
+
+
+def log(msg):
+    print(msg, flush=True)
+
+
+# ---------------------------------------------------------------- results
+class Checks:
+    def __init__(self):
+        self.results = []
+
+    def check(self, name, ok, measured, detail=''):
+        self.results.append({'check': name, 'pass': bool(ok), 'measured': measured,
+                             'detail': detail})
+        log(f"{'PASS' if ok else 'FAIL'}  {name}: {measured}" + (f'  ({detail})' if detail else ''))
+        return ok
+
+    def failed(self):
+        return [r for r in self.results if not r['pass']]
+
+
+# ---------------------------------------------------------------- the server
+class Server:
+    URL_RE = re.compile(r'intermix serve: (http://\S+)')
+
+    def __init__(self, intermix, scene, args, log_path, cwd):
+        self.cmd = [intermix, 'serve', scene] + args
+        self.log_path = log_path
+        self.cwd = cwd
+        self.proc = None
+        self.url = None
+        self._log = None
+        self._stdout = []
+
+    def start(self):
+        self._log = open(self.log_path, 'wb')
+        self.proc = subprocess.Popen(self.cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                     stderr=self._log, cwd=self.cwd, start_new_session=True)
+
+    def wait_url(self, timeout=60.0):
+        """Reads stdout until the URL line; fails when the server exits or the deadline passes."""
+        deadline = time.monotonic() + timeout
+        buf = b''
+        fd = self.proc.stdout.fileno()
+        while time.monotonic() < deadline:
+            ready, _, _ = select.select([fd], [], [], 0.2)
+            if ready:
+                chunk = os.read(fd, 4096)
+                if not chunk:  # stdout closed: the server is gone or closed it
+                    break
+                buf += chunk
+                m = self.URL_RE.search(buf.decode('utf-8', 'replace'))
+                if m and b'\n' in buf[buf.find(b'intermix serve:'):]:
+                    self.url = m.group(1)
+                    self._stdout.append(buf)
+                    threading.Thread(target=self._drain, daemon=True).start()
+                    return self.url
+            elif self.proc.poll() is not None:
+                break
+        status = self.proc.poll()
+        raise Failure(f"`{' '.join(self.cmd)}` printed no URL line within {timeout:.0f} s "
+                      f"(exit status {status}; stdout {buf[-500:]!r}); its stderr ends:\n"
+                      f"{tail(self.log_path)}")
+
+    def _drain(self):
+        try:
+            while True:
+                chunk = self.proc.stdout.read(4096)
+                if not chunk:
+                    return
+                self._stdout.append(chunk)
+        except (OSError, ValueError):
+            return
+
+    def stop(self, timeout=10.0):
+        """SIGINT, then waits; returns (exit status, seconds) or (None, timeout) if it hung."""
+        if self.proc is None or self.proc.poll() is not None:
+            return (self.proc.returncode if self.proc else None), 0.0
+        t0 = time.monotonic()
+        try:
+            self.proc.send_signal(signal.SIGINT)
+            self.proc.wait(timeout=timeout)
+            return self.proc.returncode, time.monotonic() - t0
+        except subprocess.TimeoutExpired:
+            return None, timeout
+
+    def kill(self):
+        if self.proc is not None:
+            kill_group(self.proc, term_timeout=3)
+        if self._log:
+            self._log.close()
+            self._log = None
+
+
+def tail(path, n=1500):
+    try:
+        with open(path, 'rb') as f:
+            f.seek(0, 2)
+            f.seek(max(0, f.tell() - n))
+            return f.read().decode('utf-8', 'replace')
+    except OSError:
+        return ''
+
+
+# ---------------------------------------------------------------- a second client
+class Watcher:
+    """A plain WebSocket client: records every message the server sends it."""
+
+    def __init__(self, ws_url):
+        self.ws = websocket.create_connection(ws_url, timeout=10, suppress_origin=True)
+        self.messages = []       # (monotonic time, parsed text message)
+        self.binaries = 0
+        self.violations = []     # protocol order problems
+        self.expect_binary = False
+        self.error = None
+        self.lock = threading.Lock()
+        self.stop_flag = threading.Event()
+        self.thread = threading.Thread(target=self._run, daemon=True)
+        self.thread.start()
+
+    def _run(self):
+        sock = self.ws.sock
+        try:
+            while not self.stop_flag.is_set():
+                r, _, _ = select.select([sock], [], [], 0.2)
+                if not r:
+                    continue
+                self.ws.settimeout(10)
+                opcode, data = self.ws.recv_data()
+                now = time.monotonic()
+                if opcode == websocket.ABNF.OPCODE_TEXT:
+                    m = json.loads(data.decode('utf-8'))
+                    with self.lock:
+                        if self.expect_binary:
+                            self.violations.append(f"{m.get('type')} text where a binary "
+                                                   'image was expected')
+                        if not self.messages and m.get('type') != 'hello':
+                            self.violations.append(f"first message is {m.get('type')}, "
+                                                   'not hello')
+                        self.expect_binary = m.get('type') in ('frame', 'screenshot')
+                        self.messages.append((now, m))
+                elif opcode == websocket.ABNF.OPCODE_BINARY:
+                    with self.lock:
+                        if not self.expect_binary:
+                            self.violations.append('a binary message without its frame text')
+                        self.expect_binary = False
+                        self.binaries += 1
+                elif opcode == websocket.ABNF.OPCODE_CLOSE:
+                    return
+        except Exception as e:  # noqa: BLE001 - reported by the check that reads it
+            if not self.stop_flag.is_set():
+                self.error = f'{type(e).__name__}: {e}'
+
+    def of_type(self, kind, since=0.0):
+        with self.lock:
+            return [(t, m) for t, m in self.messages if m.get('type') == kind and t >= since]
+
+    def wait(self, pred, timeout):
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            with self.lock:
+                msgs = list(self.messages)
+            for t, m in msgs:
+                if pred(t, m):
+                    return m
+            time.sleep(0.05)
+        return None
+
+    def close(self):
+        self.stop_flag.set()
+        self.thread.join(timeout=3)
+        try:
+            self.ws.close(timeout=1)
+        except Exception:  # noqa: BLE001
+            pass
+
+
+# ---------------------------------------------------------------- page helpers (JavaScript)
+JS_SNAP = """(() => {
+  const c = document.getElementById('view');
+  const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+  window.__imxSnaps = window.__imxSnaps || {};
+  window.__imxSnaps[%s] = new Uint8ClampedArray(d);
+  return [c.width, c.height];
+})()"""
+
+JS_DIFF = """((a, b) => {
+  let se = 0, changed = 0;
+  const n = a.length / 4;
+  for (let i = 0; i < a.length; i += 4) {
+    let m = 0;
+    for (let k = 0; k < 3; k++) {
+      const d = a[i + k] - b[i + k];
+      se += d * d;
+      m = Math.max(m, Math.abs(d));
+    }
+    if (m > 8) changed++;
+  }
+  return {psnr_db: se ? 10 * Math.log10(255 * 255 / (se / (3 * n))) : 999,
+          changed: changed / n};
+})(window.__imxSnaps[%s], window.__imxSnaps[%s])"""
+
+
+def snap(b, name):
+    return b.evaluate(JS_SNAP % json.dumps(name))
+
+
+def diff(b, a, c):
+    return b.evaluate(JS_DIFF % (json.dumps(a), json.dumps(c)))
+
+
+def wait_converged(b, timeout, what):
+    b.wait_for('Boolean(window.viewerStats && viewerStats.converged)', timeout=timeout,
+               interval=0.03, what=f'a converged frame ({what})')
+
+
+def page_now(b):
+    return b.evaluate('viewer.now()')
+
+
+def frames_between(b, t0, t1=None):
+    cond = 'f.drawn_at >= %r' % t0 + ('' if t1 is None else ' && f.drawn_at <= %r' % t1)
+    return b.evaluate(f'viewerStats.frames.filter((f) => {cond})')
+
+
+def objects_on_page(b):
+    return b.evaluate("""[...document.querySelectorAll('.object')].map((e) => ({
+      name: e.dataset.name, kind: (e.querySelector('.kind') || {}).textContent,
+      visible: (e.querySelector('input.visible') || {}).checked}))""")
+
+
+def canvas_png(b, path):
+    url = b.evaluate("document.getElementById('view').toDataURL('image/png')")
+    prefix = 'data:image/png;base64,'
+    if not url or not url.startswith(prefix):
+        raise Failure(f'canvas.toDataURL gave {str(url)[:60]!r}')
+    with open(path, 'wb') as f:
+        f.write(base64.b64decode(url[len(prefix):]))
+
+
+def percentile(xs, q):
+    if not xs:
+        return None
+    s = sorted(xs)
+    pos = (len(s) - 1) * q
+    lo = math.floor(pos)
+    hi = min(lo + 1, len(s) - 1)
+    return s[lo] + (s[hi] - s[lo]) * (pos - lo)
+
+
+def rnd(x, d=1):
+    return None if x is None else round(x, d)
+
+
+# ---------------------------------------------------------------- HTTP and WebSocket access
+def http_status(url, timeout=10):
+    try:
+        with urllib.request.urlopen(url, timeout=timeout) as r:
+            return r.status, r.read(200000)
+    except urllib.error.HTTPError as e:
+        return e.code, e.read(2000)
+    except (urllib.error.URLError, OSError) as e:
+        return f'error: {e}', b''
+
+
+def raw_http_status(host, port, target, timeout=10):
+    """GET with the request target sent exactly as given (urllib would normalize some)."""
+    c = http.client.HTTPConnection(host, port, timeout=timeout)
+    try:
+        c.request('GET', target)
+        r = c.getresponse()
+        return r.status, r.read(200000)
+    except OSError as e:
+        return f'error: {e}', b''
+    finally:
+        c.close()
+
+
+def ws_status(url, timeout=10):
+    """'open' when the upgrade succeeded, else the HTTP status of the refusal."""
+    try:
+        ws = websocket.create_connection(url, timeout=timeout, suppress_origin=True)
+    except websocket.WebSocketBadStatusException as e:
+        return e.status_code
+    except Exception as e:  # noqa: BLE001
+        return f'error: {type(e).__name__}: {e}'
+    ws.close()
+    return 'open'
+
+
+def check_access(checks, base, token):
+    u = urllib.parse.urlsplit(base)
+    host, port = u.hostname, u.port
+    ws_base = f'ws://{host}:{port}'
+    ok_status, body = http_status(f'{base}/?token={token}')
+    checks.check('b. GET /?token=T serves the page', ok_status == 200 and b'viewer.js' in body,
+                 ok_status)
+    js_status, body = http_status(f'{base}/viewer.js?token={token}')
+    checks.check('b. GET /viewer.js?token=T', js_status == 200 and b'viewerStats' in body,
+                 js_status)
+    for what, url in (('GET / without token', f'{base}/'),
+                      ('GET / with a wrong token', f'{base}/?token=0{token[1:]}wrong'),
+                      ('GET /viewer.js without token', f'{base}/viewer.js'),
+                      ('GET /index.html with an empty token', f'{base}/index.html?token=')):
+        status, _ = http_status(url)
+        checks.check(f'b. {what} -> 403', status == 403, status)
+    for what, target in (('GET /../README.md?token=T', f'/../README.md?token={token}'),
+                         ('GET /%2e%2e/README.md?token=T', f'/%2e%2e/README.md?token={token}'),
+                         ('GET /..%2fREADME.md?token=T', f'/..%2fREADME.md?token={token}')):
+        status, body = raw_http_status(host, port, target)
+        checks.check(f'b. {what} serves nothing outside web/',
+                     status != 200 or b'intermix renders scenes' not in body, status)
+    for what, url in (('WebSocket /ws without token', f'{ws_base}/ws'),
+                      ('WebSocket /ws with a wrong token', f'{ws_base}/ws?token=x{token}')):
+        status = ws_status(url)
+        checks.check(f'b. {what} is refused (403)', status == 403, status)
+
+
+# ---------------------------------------------------------------- test mode
+def run_test(args, out, checks, cleanup):
+    scene = os.path.abspath(args.scene)
+    saved_default = os.path.join(os.path.dirname(scene),
+                                 os.path.splitext(os.path.basename(scene))[0] + '.viewer.json')
+    # The server saves beside the scene: keep a file that was there, remove the test's own.
+    backup = None
+    if os.path.exists(saved_default):
+        backup = os.path.join(out, 'viewer.json.before-test')
+        shutil.copy2(saved_default, backup)
+
+    def restore_saved():
+        if backup:
+            shutil.copy2(backup, saved_default)
+        elif os.path.exists(saved_default):
+            shutil.move(saved_default, os.path.join(out, 'saved-scene.json'))
+    cleanup.append(restore_saved)
+
+    sargs = ['--port', '0', '--bind', '127.0.0.1', '--method', args.method or 'zslab',
+             '--set', f'image.width={TEST_SIZE}', '--set', f'image.height={TEST_SIZE}']
+    if args.spp:
+        sargs += ['--spp', str(args.spp)]
+    for s in args.set:
+        sargs += ['--set', s]
+    t_start = time.monotonic()
+    server = Server(args.intermix, scene, sargs, os.path.join(out, 'server.log'), os.getcwd())
+    server.start()
+    cleanup.append(server.kill)
+    browser = cdp.Browser(chromium=args.chromium, log_path=os.path.join(out, 'chromium.log'))
+    cleanup.append(browser.close)
+    browser.start()
+    url = server.wait_url(60)
+    log(f'server: {url}  (log: {out}/server.log; started in '
+        f'{time.monotonic() - t_start:.1f} s with chromium)')
+    u = urllib.parse.urlsplit(url)
+    token = urllib.parse.parse_qs(u.query).get('token', [''])[0]
+    base = f'{u.scheme}://{u.netloc}'
+    checks.check('server prints its URL with a token', bool(token), url)
+
+    # b. access control
+    check_access(checks, base, token)
+
+    # f. a second client watches the whole session
+    watcher = Watcher(f'ws://{u.netloc}/ws?token={token}')
+    cleanup.append(watcher.close)
+    hello = watcher.wait(lambda t, m: m.get('type') == 'hello', 10)
+    checks.check('f. second client gets hello', hello is not None,
+                 'hello' if hello else 'nothing in 10 s',
+                 f"objects {[o.get('name') for o in hello.get('objects', [])]}, method "
+                 f"{hello.get('method')}, spp {hello.get('spp')}, image {hello.get('image')}"
+                 if hello else '')
+
+    # a. load and converge
+    t0 = time.monotonic()
+    browser.navigate(url, timeout=20)
+    browser.wait_for('Boolean(window.viewerStats && viewerStats.connected)', timeout=10,
+                     what='the page to connect its WebSocket')
+    wait_converged(browser, 30, 'after load')
+    load_s = time.monotonic() - t0
+    last = browser.evaluate('viewerStats.lastFrame')
+    checks.check('a. page loads and converges', last and last.get('final'),
+                 f'{load_s:.2f} s',
+                 f"{last.get('width')}x{last.get('height')} {last.get('format')} "
+                 f"{last.get('samples')}/{last.get('spp')} spp, "
+                 f"{browser.evaluate('viewerStats.framesDrawn')} frames drawn")
+    checks.check('a. converged frame is PNG at the canvas size',
+                 last.get('format') == 'png' and last.get('width') == TEST_SIZE and
+                 last.get('height') == TEST_SIZE and last.get('scale') == 1,
+                 f"{last.get('format')} {last.get('width')}x{last.get('height')} "
+                 f"scale {last.get('scale')}")
+    browser.screenshot(os.path.join(out, 'viewer-loaded.png'))
+    objects = objects_on_page(browser)
+    log(f'      objects on the page: {objects}')
+
+    # c. orbit
+    view = browser.evaluate("viewer.center('#view')")
+    cam0 = browser.evaluate('viewer.camera()')
+    lat0 = browser.evaluate('viewerStats.latencies.length')
+    p0 = page_now(browser)
+    x0, x1 = view['x'] - 0.3 * view['w'], view['x'] + 0.3 * view['w']
+    browser.drag(x0, view['y'] + 10, x1, view['y'] - 10, steps=40, duration=2.0, release=False)
+    p1 = page_now(browser)
+    browser.release(x1, view['y'] - 10)
+    t_orbit = time.monotonic()
+    wait_converged(browser, 20, 'after the orbit')
+    cam1 = browser.evaluate('viewer.camera()')
+    during = frames_between(browser, p0, p1)
+    fps = len(during) / max(1e-9, (p1 - p0) / 1000)
+    lats = browser.evaluate(f'viewerStats.latencies.slice({lat0})')
+    checks.check('c. orbit drag: frames per second while moving >= 10', fps >= 10,
+                 f'{fps:.1f} fps',
+                 f'{len(during)} frames in {(p1 - p0) / 1000:.2f} s; scales '
+                 f"{sorted(set(f['scale'] for f in during))}, formats "
+                 f"{sorted(set(f['format'] for f in during))}; latency median "
+                 f'{rnd(percentile(lats, 0.5))} ms, p95 {rnd(percentile(lats, 0.95))} ms')
+    moved = math.dist(cam0['eye'], cam1['eye'])
+    checks.check('c. orbit changed the camera', moved > 1e-3, f'eye moved {moved:.1f} mm')
+    checks.check('c. frames during the drag are JPEG, after release PNG',
+                 all(f['format'] == 'jpeg' for f in during if not f['final']) and
+                 browser.evaluate('viewerStats.lastFrame.format') == 'png',
+                 f"{sum(f['format'] == 'jpeg' for f in during)} jpeg of {len(during)}")
+
+    # d. transfer-function edit
+    tfs = {o['name']: browser.evaluate(f"viewer.tfPoints({json.dumps(o['name'])})")
+           for o in objects if o['kind'] == 'volume'}
+    tfs = {k: v for k, v in tfs.items() if v}
+    if not tfs:
+        raise Failure(f'the scene has no volume with a transfer function: {objects}')
+    vol = args.tf_volume or max(tfs, key=lambda k: max(p[4] for p in tfs[k]))
+    idx = max(range(len(tfs[vol])), key=lambda i: tfs[vol][i][4])
+    alpha0 = tfs[vol][idx][4]
+    sel = f'.object[data-name="{vol}"] canvas.tf-editor'
+    ed = browser.evaluate(f'viewer.center({json.dumps(sel)})')
+    if not ed:
+        raise Failure(f'no TF editor canvas for {vol} ({sel})')
+    pt = browser.evaluate(f'viewer.tfPoint({json.dumps(vol)}, {idx})')
+    snap(browser, 'before_tf')
+    p_tf = page_now(browser)
+    t_tf = time.monotonic()
+    dy = 0.45 * ed['h']
+    shots = []
+
+    def mid_shot(i):
+        if i == 10:
+            path = os.path.join(out, 'viewer-tf-edit.png')
+            browser.screenshot(path)
+            shots.append(path)
+    browser.drag(pt['x'], pt['y'], pt['x'], pt['y'] + dy, steps=20, duration=1.0,
+                 on_step=mid_shot)
+    wait_converged(browser, 20, 'after the TF edit')
+    snap(browser, 'after_tf')
+    alpha1 = browser.evaluate(f'viewer.tfPoints({json.dumps(vol)})')[idx][4]
+    checks.check('d. TF drag moved the control point', alpha1 < alpha0 - 1e-6,
+                 f'{vol} point {idx}: alpha {alpha0:.3f} -> {alpha1:.3f}')
+    d_tf = diff(browser, 'before_tf', 'after_tf')
+    checks.check('d. TF edit changed the image', d_tf['changed'] > 0.001,
+                 f"{100 * d_tf['changed']:.2f} % of pixels changed",
+                 f"PSNR before/after {d_tf['psnr_db']:.1f} dB")
+    fr = frames_between(browser, p_tf)
+    stages = sorted(set(f['stages'] for f in fr))
+    runs = [(f['stages_run'], f['stages'], f['scale'], f['samples']) for f in fr]
+    ok_set = all(f['stages_run'] in (1, f['stages']) for f in fr)
+    n_one = sum(1 for f in fr if f['stages_run'] == 1 and f['stages'] > 1)
+    checks.check('d. TF-edit frames have stages_run in {1, stages}', ok_set and bool(fr),
+                 f'{len(fr)} frames', f'stages {stages}; (run, stages, scale, samples): {runs}')
+    checks.check('d. some TF-edit frame re-ran only the edited volume (stages_run 1 < stages)',
+                 n_one >= 1, f'{n_one} frames with stages_run 1')
+
+    # e. visibility
+    target = next((o for o in objects if o['kind'] == 'mesh'), None) or \
+        next((o for o in objects if o['name'] != vol), objects[0])
+    vis_name = target['name']
+    cb_sel = json.dumps(f'.object[data-name="{vis_name}"] input.visible')
+    cb = browser.evaluate(f'viewer.center({cb_sel})')
+    snap(browser, 'before_vis')
+    t_vis = time.monotonic()
+    browser.click(cb['x'], cb['y'])
+    checked = browser.evaluate(f'document.querySelector({cb_sel}).checked')
+    wait_converged(browser, 20, 'after the visibility toggle')
+    snap(browser, 'after_vis')
+    d_vis = diff(browser, 'before_vis', 'after_vis')
+    checks.check(f'e. hiding {vis_name} changed the image',
+                 checked is False and d_vis['changed'] > 0.001,
+                 f"{100 * d_vis['changed']:.2f} % of pixels changed",
+                 f"checkbox now {checked}; PSNR before/after {d_vis['psnr_db']:.1f} dB")
+    browser.screenshot(os.path.join(out, 'viewer-edited.png'))
+
+    # f. the second client saw the edits
+    cam_page = browser.evaluate('viewer.camera()')
+    st_orbit = watcher.of_type('state', t_orbit - 3.0)
+    st_tf = watcher.wait(lambda t, m: t >= t_tf and m.get('type') == 'state' and any(
+        o.get('name') == vol and _tf_alpha(o, idx) is not None and
+        abs(_tf_alpha(o, idx) - alpha1) < 1e-6 for o in m.get('objects', [])), 5)
+    st_vis = watcher.wait(lambda t, m: t >= t_vis and m.get('type') == 'state' and any(
+        o.get('name') == vis_name and o.get('visible') is False for o in m.get('objects', [])), 5)
+    states = watcher.of_type('state')
+    last_state = states[-1][1] if states else {}
+    cam_state = last_state.get('camera') or {}
+    cam_gap = math.dist(cam_state['eye'], cam_page['eye']) if cam_state.get('eye') else None
+    checks.check('f. second client got state messages after the page\'s edits',
+                 len(st_orbit) >= 1 and st_tf is not None and st_vis is not None,
+                 f'{len(states)} state messages',
+                 f'orbit: {len(st_orbit)}; TF alpha {alpha1:.3f} seen: {st_tf is not None}; '
+                 f'{vis_name} hidden seen: {st_vis is not None}')
+    checks.check('f. second client\'s last state has the page\'s camera',
+                 cam_gap is not None and cam_gap < 1e-3, f'eye gap {rnd(cam_gap, 6)} mm')
+    frames_w = watcher.of_type('frame')
+    checks.check('f. second client gets frames, each followed by its image',
+                 len(frames_w) >= 1 and not watcher.violations and watcher.error is None,
+                 f'{len(frames_w)} frames, {watcher.binaries} binaries',
+                 '; '.join(watcher.violations[:3]) + (watcher.error or ''))
+
+    # g. save, render the saved scene, compare with the canvas
+    wait_converged(browser, 20, 'before save')
+    sv = browser.evaluate("viewer.center('#save')")
+    browser.click(sv['x'], sv['y'])
+    saved = browser.wait_for('viewerStats.saved', timeout=10, what='the saved message')
+    path = saved.get('path') or ''
+    if path and not os.path.isabs(path):
+        path = os.path.join(os.getcwd(), path)
+    exists = bool(path) and os.path.isfile(path)
+    checks.check('g. save writes a scene file', exists, path)
+    if exists:
+        with open(path) as f:
+            doc = json.load(f)
+        render = doc.get('render', {})
+        log(f"      saved scene: image {doc.get('image', {}).get('width')}x"
+            f"{doc.get('image', {}).get('height')}, render {render}")
+        shutil.copy2(path, os.path.join(out, 'saved-scene.json'))
+        ref = os.path.join(out, 'ref.png')
+        canvas_file = os.path.join(out, 'canvas.png')
+        canvas_png(browser, canvas_file)
+        t0 = time.monotonic()
+        r = subprocess.run([args.intermix, 'render', path, '-o', ref], capture_output=True,
+                           text=True, timeout=120)
+        render_s = time.monotonic() - t0
+        if r.returncode != 0:
+            checks.check('g. intermix render of the saved scene', False, f'exit {r.returncode}',
+                         (r.stderr or r.stdout).strip()[-500:])
+        else:
+            c = subprocess.run([args.intermix, 'compare', ref, canvas_file, '--json'],
+                               capture_output=True, text=True, timeout=60)
+            try:
+                cj = json.loads(c.stdout)
+                p = cj['psnr_db']
+                p = math.inf if p == 'inf' else float(p)
+            except (ValueError, KeyError) as e:
+                p, cj = None, {'error': f'{e}: {c.stdout.strip()} {c.stderr.strip()}'}
+            checks.check('g. canvas matches intermix render of the saved scene: PSNR >= 40 dB',
+                         p is not None and p >= 40,
+                         f'{p:.2f} dB' if p is not None else str(cj),
+                         f"SSIM {cj.get('ssim')}, render {render_s:.1f} s; {ref} vs "
+                         f'{canvas_file}')
+
+    # page health
+    errs = browser.evaluate('viewerStats.errors')
+    browser.pump_events(0.05)
+    checks.check('no server error messages and no page errors', not errs and
+                 not browser.page_errors, len(errs) + len(browser.page_errors),
+                 '; '.join((errs or []) + browser.page_errors)[:500])
+    log(f'      screenshots: {out}/viewer-loaded.png, {out}/viewer-tf-edit.png, '
+        f'{out}/viewer-edited.png')
+
+    # clean shutdown
+    watcher.close()
+    browser.close()
+    status, secs = server.stop(10)
+    checks.check('server exits 0 on SIGINT', status == 0, f'status {status} after {secs:.2f} s')
+
+
+def _tf_alpha(o, idx):
+    tf = o.get('transfer_function')
+    pts = tf.get('points') if isinstance(tf, dict) else tf
+    try:
+        return float(pts[idx][4])
+    except (TypeError, IndexError, ValueError):
+        return None
+
+
+# ---------------------------------------------------------------- measure mode
+def run_measure(args, out, cleanup):
+    scene = os.path.abspath(args.scene)
+    sargs = ['--port', '0', '--bind', '127.0.0.1']
+    if args.method:
+        sargs += ['--method', args.method]
+    if args.spp:
+        sargs += ['--spp', str(args.spp)]
+    for s in args.set:
+        sargs += ['--set', s]
+    server = Server(args.intermix, scene, sargs, os.path.join(out, 'server.log'), os.getcwd())
+    server.start()
+    cleanup.append(server.kill)
+    browser = cdp.Browser(chromium=args.chromium, log_path=os.path.join(out, 'chromium.log'))
+    cleanup.append(browser.close)
+    browser.start()
+    url = server.wait_url(60)
+    print(f'server: {url}', file=sys.stderr, flush=True)
+    browser.navigate(url, timeout=30)
+    wait_converged(browser, 120, 'after load')
+    first = browser.evaluate('viewerStats.lastFrame')
+    view = browser.evaluate("viewer.center('#view')")
+    per = []
+    all_lat, moving_frames, moving_s, moving_meta = [], 0, 0.0, []
+    for i in range(args.measure):
+        sign = 1 if i % 2 == 0 else -1
+        cx, cy = view['x'], view['y'] + (i % 5 - 2) * 0.05 * view['h']
+        xa, xb = cx - sign * 0.08 * view['w'], cx + sign * 0.08 * view['w']
+        lat0 = browser.evaluate('viewerStats.latencies.length')
+        p0 = page_now(browser)
+        browser.drag(xa, cy, xb, cy, steps=8, duration=0.3, release=False)
+        p1 = browser.evaluate('(viewer.startRecording(viewer.now()), viewer.now())')
+        browser.release(xb, cy)
+        deadline = time.monotonic() + args.settle
+        converged = False
+        while time.monotonic() < deadline:
+            if browser.evaluate('viewerStats.converged'):
+                converged = True
+                break
+            time.sleep(0.02)
+        rec = browser.evaluate("""viewer.finishRecording().map((r) => Object.assign(r,
+            {psnr_db: Number.isFinite(r.psnr_db) ? r.psnr_db : 999}))""")
+        lats = browser.evaluate(f'viewerStats.latencies.slice({lat0})')
+        mf = frames_between(browser, p0, p1)
+        n_moving = len(mf)
+        moving_meta += [(f['scale'], f['render_ms'], f['encode_ms']) for f in mf]
+        t40 = next((r['t_ms'] for r in rec if r['psnr_db'] >= 40), None) if converged else None
+        t_final = next((r['t_ms'] for r in rec if r['final']), None) if converged else None
+        per.append({'drag': i, 'converged': converged, 'moving_frames': n_moving,
+                    'moving_ms': rnd(p1 - p0), 'latencies_ms': [rnd(x) for x in lats],
+                    'time_to_40db_ms': rnd(t40), 'time_to_final_ms': rnd(t_final),
+                    'frames_after_release': len(rec)})
+        all_lat += lats
+        moving_frames += n_moving
+        moving_s += (p1 - p0) / 1000
+        if not converged:  # the next drag starts from a settled image
+            try:
+                wait_converged(browser, 30, f'after drag {i}')
+            except CdpError:
+                pass
+    t40s = [p['time_to_40db_ms'] for p in per if p['time_to_40db_ms'] is not None]
+    finals = [p['time_to_final_ms'] for p in per if p['time_to_final_ms'] is not None]
+    fps_each = [p['moving_frames'] / (p['moving_ms'] / 1000) for p in per if p['moving_ms']]
+    summary = {
+        'scene': args.scene, 'method': first.get('method') or args.method,
+        'image': [first.get('width'), first.get('height')], 'spp': first.get('spp'),
+        'drags': args.measure, 'drag': '8 moves over 300 ms, then release',
+        'converged_drags': sum(p['converged'] for p in per),
+        'latency_ms': {'median': rnd(percentile(all_lat, 0.5)),
+                       'p95': rnd(percentile(all_lat, 0.95)), 'n': len(all_lat)},
+        'moving_fps': {'overall': rnd(moving_frames / moving_s if moving_s else None),
+                       'median_per_drag': rnd(percentile(fps_each, 0.5))},
+        'moving_frame': {'scale_median': rnd(percentile([m[0] for m in moving_meta], 0.5), 3),
+                         'render_ms_median': rnd(percentile([m[1] for m in moving_meta], 0.5)),
+                         'encode_ms_median': rnd(percentile([m[2] for m in moving_meta], 0.5))},
+        'time_to_40db_ms': {'median': rnd(percentile(t40s, 0.5)),
+                            'p95': rnd(percentile(t40s, 0.95)), 'n': len(t40s)},
+        'time_to_final_ms': {'median': rnd(percentile(finals, 0.5)),
+                             'p95': rnd(percentile(finals, 0.95)), 'n': len(finals)},
+        'cores': os.cpu_count(),
+        'per_drag': per,
+    }
+    method = browser.evaluate("document.getElementById('method').value")
+    summary['method'] = method or summary['method']
+    browser.close()
+    server.stop(10)
+    text = json.dumps(summary, indent=1)
+    with open(os.path.join(out, 'measure.json'), 'w') as f:
+        f.write(text + '\n')
+    short = {k: v for k, v in summary.items() if k != 'per_drag'}
+    print(json.dumps(short, indent=1), flush=True)
+    return 0
+
+
+# ---------------------------------------------------------------- main
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
+    ap.add_argument('--intermix', default='build/intermix', help='the intermix program')
+    ap.add_argument('--scene', default='examples/fusion.json')
+    ap.add_argument('--out', help='folder for screenshots, logs and measure.json '
+                                  '(default: a new temporary folder, kept)')
+    ap.add_argument('--measure', type=int, default=0, metavar='N',
+                    help='measure mode: N short drags on the scene at its own size')
+    ap.add_argument('--method', help='rendering method (test mode default: zslab)')
+    ap.add_argument('--spp', type=int, help='samples per pixel the viewer converges to')
+    ap.add_argument('--set', action='append', default=[], metavar='KEY=VALUE',
+                    help='scene override passed to intermix serve (repeatable)')
+    ap.add_argument('--tf-volume', help='the volume whose TF is edited (default: the one with '
+                                        'the most opaque control point)')
+    ap.add_argument('--settle', type=float, default=3.0,
+                    help='measure mode: seconds to wait for convergence after each drag')
+    ap.add_argument('--chromium', help='the browser (default /usr/bin/chromium)')
+    ap.add_argument('--timeout', type=float, help='overall limit in seconds '
+                    '(default 180 in test mode, 120 + 8 per drag in measure mode)')
+    args = ap.parse_args()
+
+    if websocket is None:
+        print('SKIP: the python websocket module is missing (apt-get install python3-websocket)')
+        return SKIP
+    if not cdp.find_chromium(args.chromium):
+        print('SKIP: chromium is not installed (apt-get install chromium)')
+        return SKIP
+    if not (os.path.isfile(args.intermix) and os.access(args.intermix, os.X_OK)):
+        print(f'error: {args.intermix} is not an executable program', file=sys.stderr)
+        return 2
+    args.intermix = os.path.abspath(args.intermix)
+    if not os.path.isfile(args.scene):
+        print(f'error: no scene file {args.scene}', file=sys.stderr)
+        return 2
+    out = os.path.abspath(args.out) if args.out else tempfile.mkdtemp(prefix='imx-viewer-test-')
+    os.makedirs(out, exist_ok=True)
+
+    limit = args.timeout or (120 + 8 * args.measure if args.measure else 180)
+
+    def on_alarm(signum, frame):
+        raise Failure(f'the whole run took longer than {limit:.0f} s')
+
+    def on_term(signum, frame):
+        raise SystemExit(f'stopped by signal {signum}')
+    signal.signal(signal.SIGALRM, on_alarm)
+    signal.signal(signal.SIGTERM, on_term)
+    signal.alarm(int(limit))
+
+    checks = Checks()
+    cleanup = []
+    t0 = time.monotonic()
+    status = 0
+    try:
+        if args.measure:
+            status = run_measure(args, out, cleanup)
+        else:
+            log(f'viewer browser test: {args.scene}, output in {out}')
+            run_test(args, out, checks, cleanup)
+    except (Failure, CdpError, OSError, subprocess.SubprocessError,
+            websocket.WebSocketException) as e:
+        checks.check('run completed', False, type(e).__name__, str(e))
+        status = 1
+    except KeyboardInterrupt:
+        checks.check('run completed', False, 'interrupted')
+        status = 1
+    finally:
+        signal.alarm(0)
+        for fn in reversed(cleanup):
+            try:
+                fn()
+            except Exception as e:  # noqa: BLE001 - cleanup goes on
+                print(f'cleanup: {type(e).__name__}: {e}', file=sys.stderr)
+    if args.measure:
+        return status
+    failed = checks.failed()
+    with open(os.path.join(out, 'results.json'), 'w') as f:
+        json.dump(checks.results, f, indent=1)
+    log(f"{len(checks.results) - len(failed)} of {len(checks.results)} checks passed in "
+        f'{time.monotonic() - t0:.1f} s; output in {out}')
+    return 1 if failed or status else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
