@@ -37,6 +37,7 @@
     objects: [],          // local copies of hello's objects, edited by the panel
     byName: new Map(),
     histograms: {},
+    tfPresets: {},         // preset name -> TF points, from hello
     // flow control: one input message in flight, the rest merged per key until it is answered
     nextSeq: 1,
     lastSentSeq: 0,
@@ -307,6 +308,7 @@
     S.camera = copyCamera(m.camera);
     S.initialCamera = copyCamera(m.initial_camera || m.camera);
     S.histograms = m.histograms || {};
+    S.tfPresets = m.tf_presets || {};
     canvas.width = S.image.width;
     canvas.height = S.image.height;
     ctx.fillStyle = '#000';
@@ -536,6 +538,25 @@
     const ed = new TfEditor(o, S.histograms[o.name]);
     editors.set(o.name, ed);
     box.append(ed.root);
+    const names = Object.keys(S.tfPresets || {});
+    if (names.length) {
+      // A preset replaces the points (the volume keeps its shading and unit distance).
+      const row = document.createElement('div');
+      row.className = 'row';
+      const select = document.createElement('select');
+      select.className = 'tf-preset';
+      select.append(new Option('preset…', ''), ...names.map((n) => new Option(n, n)));
+      select.addEventListener('change', () => {
+        const pts = S.tfPresets[select.value];
+        if (!pts) return;
+        o.tf = pts.map((p) => [...p]);
+        o.maxAlpha = 0;
+        ed.sendTf(false);
+        buildPanel();
+      });
+      row.append(select);
+      box.append(row);
+    }
     const range = S.initialCamera ? 0.5 * len(sub(S.initialCamera.eye, S.initialCamera.target))
                                   : 200;
     o.clips.forEach((c, i) => {

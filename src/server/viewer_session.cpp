@@ -97,6 +97,7 @@ ViewerSession::ViewerSession(ViewerState state, SessionOptions options)
   method_ = last_good_method_ = viewer_method(state_, options_.method);
   spp_ = viewer_spp(state_.scene, options_.spp);
   histograms_ = describe_histograms(state_);
+  tf_presets_ = describe_tf_presets();
   resolution_ = ResolutionControl(options_.moving_budget_ms);
   last_input_ = Clock::now();
   thread_ = std::thread([this] { render_loop(); });
@@ -142,6 +143,7 @@ void ViewerSession::add_client(const std::shared_ptr<ClientSink>& client) {
   hello["spp"] = spp_;
   hello["image"] = {{"width", state_.scene.image.width}, {"height", state_.scene.image.height}};
   hello["histograms"] = histograms_;
+  hello["tf_presets"] = tf_presets_;
   client->send_text(hello.dump());
   if (!last_frame_text_.empty()) client->send_frame(last_frame_text_, last_frame_image_, true);
   clients_.push_back({client, client.get(), 0});

@@ -114,7 +114,7 @@ class ViewerSession {
   std::string method_;
   std::string last_good_method_;
   int spp_ = 1;
-  nlohmann::json histograms_;
+  nlohmann::json histograms_, tf_presets_;  // sent in every hello
   std::vector<Client> clients_;
   uint64_t version_ = 1;  // grows with every change of what the image shows
   uint64_t rendered_version_ = 0;

@@ -16,6 +16,7 @@
 #include <glm/glm.hpp>
 
 #include "intermix/error.hpp"
+#include "presets/volume_presets.hpp"
 #include "scene/edit_distance.hpp"
 #include "scene/overrides.hpp"
 #include "scene/scene_parsers.hpp"
@@ -455,6 +456,17 @@ nlohmann::json describe_histograms(const ViewerState& state, int bins) {
   Json out = Json::object();
   for (const VolumeObject& v : state.scene.volumes)
     out[v.name] = v.data ? histogram(*v.data, bins) : Json(nullptr);
+  return out;
+}
+
+nlohmann::json describe_tf_presets() {
+  Json out = Json::object();
+  detail::SceneContext context;  // presets need no files
+  for (const std::string& name : volume_preset_names()) {
+    const Json source = {{"preset", name}};
+    out[name] = points_json(
+        detail::parse_transfer_function(JsonReader(source, "preset"), context).transfer_function);
+  }
   return out;
 }
 

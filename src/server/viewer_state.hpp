@@ -44,6 +44,10 @@ nlohmann::json describe_state(const ViewerState& state);
 // values; large volumes are subsampled on a regular grid of about 4M voxels.
 nlohmann::json describe_histograms(const ViewerState& state, int bins = 128);
 
+// 3D Slicer's volume-rendering presets as transfer-function points, by the name a scene file
+// gives them: {"ct-bone": [[value, r, g, b, a], ...], ...}, for the page's preset menu.
+nlohmann::json describe_tf_presets();
+
 // The text of a scene file that renders the current state as the session does, for a file
 // saved beside the original scene (relative paths stay valid there).
 std::string saved_scene_text(const ViewerState& state);

@@ -368,5 +368,26 @@ TEST(ViewerState, HistogramsSubsampleALargeVolume) {
   EXPECT_EQ(h["big"]["counts"], Json::array({128 * 128 * 32, 0, 0, 128 * 128 * 32}));
 }
 
+// The page's preset menu sends a preset's points as an edit: every preset is one the edit takes,
+// and it renders as the scene's {"preset": name} does (same points, so same bytes).
+TEST(ViewerState, EveryPresetIsAnEditThatRendersAsThePreset) {
+  const Json presets = describe_tf_presets();
+  EXPECT_EQ(presets.size(), 31u);
+  ViewerState s = small("ct-head.json", {"ct"}, 24);
+  for (const auto& [name, points] : presets.items()) {
+    SCOPED_TRACE(name);
+    ASSERT_GE(points.size(), 2u);
+    apply_edit(s, edit("ct", {{"transfer_function", points}}));
+  }
+  ViewerState by_name = small("ct-head.json", {"ct"}, 24);
+  apply_edit(s, edit("ct", {{"transfer_function", presets["ct-bone"]}}));
+  Json preset_document = by_name.document;
+  preset_document["objects"][0]["transfer_function"] = {{"preset", "ct-bone"}};
+  const Scene expected = parse_scene(preset_document.dump(), IMX_EXAMPLES_DIR, "preset");
+  Scene edited = s.scene;
+  edited.volumes[0].shading = expected.volumes[0].shading;  // an edit keeps the volume's shading
+  EXPECT_TRUE(same_bytes(draw(edited), draw(expected)));
+}
+
 }  // namespace
 }  // namespace imx::server

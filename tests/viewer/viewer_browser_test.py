@@ -475,8 +475,8 @@ def run_test(args, out, checks, cleanup):
     tfs = {k: v for k, v in tfs.items() if v}
     if not tfs:
         raise Failure(f'the scene has no volume with a transfer function: {objects}')
-    vol = args.tf_volume or max(tfs, key=lambda k: max(p[4] for p in tfs[k]))
-    idx = max(range(len(tfs[vol])), key=lambda i: tfs[vol][i][4])
+    vol, idx, score = pick_tf_point(tfs, (hello or {}).get('histograms') or {}, args.tf_volume)
+    log(f'      TF point to drag: {vol} point {idx} {tfs[vol][idx]} (weight {score:.3g})')
     alpha0 = tfs[vol][idx][4]
     sel = f'.object[data-name="{vol}"] canvas.tf-editor'
     ed = browser.evaluate(f'viewer.center({json.dumps(sel)})')
@@ -617,6 +617,42 @@ def run_test(args, out, checks, cleanup):
     checks.check('server exits 0 on SIGINT', status == 0, f'status {status} after {secs:.2f} s')
 
 
+def pick_tf_point(tfs, histograms, only=None):
+    """The control point whose alpha weighs on the most voxels: alpha times the voxels under
+    its tent (the histogram's counts weighted by the point's interpolation weight). Without a
+    histogram, the most opaque point."""
+    best = (None, None, -1.0)
+    for name, pts in tfs.items():
+        if only and name != only:
+            continue
+        h = histograms.get(name) or {}
+        counts, rng = h.get('counts') or [], h.get('range') or [0, 0]
+        for i, p in enumerate(pts):
+            if p[4] <= 0:
+                continue
+            lo = pts[i - 1][0] if i > 0 else p[0]
+            hi = pts[i + 1][0] if i + 1 < len(pts) else p[0]
+            w = 0.0
+            if counts and rng[1] > rng[0]:
+                bw = (rng[1] - rng[0]) / len(counts)
+                for k, n in enumerate(counts):
+                    v = rng[0] + (k + 0.5) * bw
+                    if lo < v <= p[0] and p[0] > lo:
+                        w += n * (v - lo) / (p[0] - lo)
+                    elif p[0] < v < hi:
+                        w += n * (hi - v) / (hi - p[0])
+                    elif v == p[0]:
+                        w += n
+            else:
+                w = 1.0
+            score = p[4] * w
+            if score > best[2]:
+                best = (name, i, score)
+    if best[0] is None:
+        raise Failure(f'no transfer-function point with alpha > 0 in {sorted(tfs)}')
+    return best
+
+
 def _tf_alpha(o, idx):
     tf = o.get('transfer_function')
     pts = tf.get('points') if isinstance(tf, dict) else tf
@@ -720,6 +756,37 @@ def run_measure(args, out, cleanup):
     return 0
 
 
+JS_DIAGNOSIS = """({
+  url: location.href, readyState: document.readyState,
+  connection: (document.getElementById('connection') || {}).textContent,
+  status: (document.getElementById('status') || {}).textContent,
+  stats: window.viewerStats ? Object.assign({}, viewerStats, {frames: viewerStats.frames.length,
+                                                             latencies: viewerStats.latencies.length})
+                            : null,
+  resources: performance.getEntriesByType('resource').map((r) => [r.name.replace(/token=\\w+/, 'token=T'),
+                                                                  Math.round(r.duration), r.responseStatus]),
+})"""
+
+
+def diagnose(cleanup, out):
+    """After a failure: what the page shows, and a screenshot of it."""
+    browser = next((getattr(fn, '__self__', None) for fn in cleanup
+                    if isinstance(getattr(fn, '__self__', None), cdp.Browser)), None)
+    if browser is None or browser.ws is None:
+        return
+    try:
+        signal.alarm(20)
+        log(f'      page state: {json.dumps(browser.evaluate(JS_DIAGNOSIS, timeout=5))}')
+        if browser.page_errors:
+            log(f'      page errors: {browser.page_errors[:5]}')
+        browser.screenshot(os.path.join(out, 'failure.png'), timeout=5)
+        log(f'      screenshot of the failure: {out}/failure.png')
+    except Exception as e:  # noqa: BLE001 - a diagnosis must not hide the failure
+        log(f'      (no page diagnosis: {type(e).__name__}: {e})')
+    finally:
+        signal.alarm(0)
+
+
 # ---------------------------------------------------------------- main
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
@@ -782,6 +849,7 @@ def main():
     except (Failure, CdpError, OSError, subprocess.SubprocessError,
             websocket.WebSocketException) as e:
         checks.check('run completed', False, type(e).__name__, str(e))
+        diagnose(cleanup, out)
         status = 1
     except KeyboardInterrupt:
         checks.check('run completed', False, 'interrupted')
