@@ -1,7 +1,9 @@
-// The viewer's edit messages (docs/viewer.md, protocol): the input is one client message's text,
+// The viewer's client messages (docs/viewer.md, protocol): the input is one message's text,
 // parsed by the strict scene parser and applied with apply_edit to a copy of one small session
 // (a volume, a CSG pair of meshes and a plane, made once). A refused message must leave the
 // session as it was; an accepted one must save a scene file that loads as the session's scene.
+// Then the same text goes to a live ViewerSession (every message type, its render thread
+// running), which must answer it without throwing.
 #include <cstdlib>
 #include <exception>
 #include <string>
@@ -9,8 +11,10 @@
 #include <nlohmann/json.hpp>
 
 #include "harness.hpp"
+#include "intermix/error.hpp"
 #include "intermix/scene.hpp"
 #include "scene/strict_json.hpp"
+#include "server/viewer_session.hpp"
 #include "server/viewer_state.hpp"
 
 namespace {
@@ -38,6 +42,21 @@ const imx::server::ViewerState& session() {
     return imx::server::load_viewer_state(file);
   }();
   return state;
+}
+
+// Takes whatever the live session sends.
+struct NullSink : imx::server::ClientSink {
+  void send_text(std::string) override {}
+  void send_frame(std::string, std::string, bool) override {}
+};
+
+imx::server::ViewerSession& live_session() {
+  static imx::server::ViewerSession live = [] {
+    imx::server::SessionOptions options;
+    options.log = false;
+    return imx::server::ViewerSession(session(), options);
+  }();
+  return live;
 }
 
 bool same_tf(const imx::TransferFunction& a, const imx::TransferFunction& b) {
@@ -90,6 +109,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace imx::fuzz;
   if (size > kMaxMessage) return 0;  // the server refuses longer messages before parsing
   const imx::server::ViewerState& original = session();
+  static const auto sink = [] {
+    auto s = std::make_shared<NullSink>();
+    live_session().add_client(s);
+    return s;
+  }();
+  live_session().on_message(sink, std::string(as_view(data, size)));
   imx::server::ViewerState state = original;
   nlohmann::json message;
   try {

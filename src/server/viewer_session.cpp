@@ -33,6 +33,12 @@ constexpr size_t kMaxLatenciesKept = 100000;
 // frames are sent once each.
 constexpr int kStillPngLevel = 1;
 
+// JSON text for a client. Error messages quote what a client sent, shortened, possibly inside a
+// UTF-8 sequence: such bytes become U+FFFD instead of making dump() throw.
+std::string text_of(const Json& message, int indent = -1) {
+  return message.dump(indent, ' ', false, Json::error_handler_t::replace);
+}
+
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
@@ -88,7 +94,7 @@ struct ViewerSession::Snapshot {
   int spp = 1;
   bool moving = false;
   uint64_t version = 0;
-  std::vector<std::pair<std::weak_ptr<ClientSink>, long long>> targets;  // sink, its seq
+  std::vector<std::pair<const ClientSink*, long long>> seqs;  // each client's latest input
   std::vector<std::weak_ptr<ClientSink>> screenshot_to;
 };
 
@@ -118,7 +124,7 @@ void ViewerSession::stop() {
 }
 
 void ViewerSession::reply_error(ClientSink& client, const std::string& message) {
-  client.send_text(Json{{"type", "error"}, {"message", message}}.dump());
+  client.send_text(text_of(Json{{"type", "error"}, {"message", message}}));
 }
 
 Json ViewerSession::state_message() const {
@@ -144,7 +150,7 @@ void ViewerSession::add_client(const std::shared_ptr<ClientSink>& client) {
   hello["image"] = {{"width", state_.scene.image.width}, {"height", state_.scene.image.height}};
   hello["histograms"] = histograms_;
   hello["tf_presets"] = tf_presets_;
-  client->send_text(hello.dump());
+  client->send_text(text_of(hello));
   if (!last_frame_text_.empty()) client->send_frame(last_frame_text_, last_frame_image_, true);
   clients_.push_back({client, client.get(), 0});
   if (options_.log)
@@ -216,7 +222,7 @@ void ViewerSession::handle(const std::shared_ptr<ClientSink>& client, const Json
     std::lock_guard lock(mutex_);
     const std::string path = save();
     client->send_text(
-        Json{{"type", "saved"}, {"path", path}, {"text", saved_document().dump(2) + "\n"}}.dump());
+        text_of(Json{{"type", "saved"}, {"path", path}, {"text", text_of(saved_document(), 2) + "\n"}}));
   } else if (type == "screenshot") {
     r.check_keys({"type"});
     {
@@ -254,7 +260,7 @@ void ViewerSession::input_applied(const ClientSink* client, const Json& message)
   moving_ = message.contains("moving") && message["moving"].get<bool>();
   last_input_ = Clock::now();
   cancel_ = true;  // only still frames poll it (render_and_send)
-  broadcast_text(state_message().dump());
+  broadcast_text(text_of(state_message()));
   wake_.notify_all();
 }
 
@@ -271,7 +277,7 @@ std::string ViewerSession::save() {
   std::filesystem::path folder = state_.file.parent_path();
   if (folder.empty()) folder = ".";
   const std::filesystem::path path = folder / (state_.file.stem().string() + ".viewer.json");
-  const std::string text = saved_document().dump(2) + "\n";
+  const std::string text = text_of(saved_document(), 2) + "\n";
   write_file_atomically(path, [&](std::ostream& out) {
     out.write(text.data(), static_cast<std::streamsize>(text.size()));
   });
@@ -295,7 +301,7 @@ bool ViewerSession::take_work(std::unique_lock<std::mutex>& lock, Snapshot& out)
       out.spp = spp_;
       out.moving = moving_;
       out.version = version_;
-      for (const Client& c : clients_) out.targets.emplace_back(c.sink, c.seq);
+      for (const Client& c : clients_) out.seqs.emplace_back(c.id, c.seq);
       if (shot) out.screenshot_to = std::exchange(screenshot_requests_, {});
       cancel_ = false;
       return true;
@@ -361,9 +367,9 @@ void ViewerSession::render_and_send(Snapshot& s) {
       message += fmt::format("; back to {}", last_good_method_);
       method_ = last_good_method_;
       ++version_;
-      broadcast_text(state_message().dump());
+      broadcast_text(text_of(state_message()));
     }
-    broadcast_text(Json{{"type", "error"}, {"message", message}}.dump());
+    broadcast_text(text_of(Json{{"type", "error"}, {"message", message}}));
     return;
   }
   const double render_ms = ms_since(t0);
@@ -404,8 +410,13 @@ void ViewerSession::render_and_send(Snapshot& s) {
     return;
   }
   rendered_version_ = s.version;
-  for (const auto& [weak, seq] : s.targets)
-    if (auto sink = weak.lock()) {
+  // Every client now, with the latest of its inputs this frame shows (0: none; a client may
+  // have joined since the snapshot).
+  for (const Client& c : clients_)
+    if (auto sink = c.sink.lock()) {
+      long long seq = 0;
+      for (const auto& [id, included] : s.seqs)
+        if (id == c.id) seq = included;
       frame["seq"] = seq;
       sink->send_frame(frame.dump(), encoded, true);
     }
@@ -441,7 +452,7 @@ void ViewerSession::screenshot(const std::vector<std::weak_ptr<ClientSink>>& to,
       if (!error.empty())
         reply_error(*sink, error);
       else
-        sink->send_frame(Json{{"type", "screenshot"}, {"width", width}, {"height", height}}.dump(),
+        sink->send_frame(text_of(Json{{"type", "screenshot"}, {"width", width}, {"height", height}}),
                          png, false);
     }
 }

@@ -471,7 +471,7 @@ nlohmann::json describe_tf_presets() {
 }
 
 std::string saved_scene_text(const ViewerState& state) {
-  return state.document.dump(2) + "\n";
+  return state.document.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace imx::server

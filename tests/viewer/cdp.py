@@ -41,9 +41,12 @@ class CdpError(Exception):
 
 
 def find_chromium(path=None):
-    for p in ([path] if path else []) + [os.environ.get('CHROMIUM', ''), CHROMIUM,
-                                         shutil.which('chromium') or '',
-                                         shutil.which('chromium-browser') or '']:
+    """The browser: `path` when given (else None), else $CHROMIUM, /usr/bin/chromium or one on
+    the PATH."""
+    candidates = [path] if path else [os.environ.get('CHROMIUM', ''), CHROMIUM,
+                                      shutil.which('chromium') or '',
+                                      shutil.which('chromium-browser') or '']
+    for p in candidates:
         if p and os.path.isfile(p) and os.access(p, os.X_OK):
             return p
     return None
@@ -113,6 +116,7 @@ class Browser:
                 '--disable-background-networking', '--disable-sync', '--mute-audio',
                 '--disable-dev-shm-usage', '--disable-background-timer-throttling',
                 '--disable-renderer-backgrounding', '--disable-backgrounding-occluded-windows',
+                '--disable-crash-reporter', '--disable-breakpad',
                 '--force-device-scale-factor=1', '--hide-scrollbars',
                 *self.extra_args, 'about:blank']
         self._log = open(self.log_path, 'wb')
@@ -301,8 +305,12 @@ class Browser:
             return None
         if 'value' in r:
             return r['value']
-        if r.get('unserializableValue') is not None:
-            return float(r['unserializableValue'].replace('Infinity', 'inf'))
+        if r.get('unserializableValue') is not None:  # Infinity, -Infinity, NaN, -0, 12n
+            u = r['unserializableValue']
+            try:
+                return float(u.replace('Infinity', 'inf'))
+            except ValueError:
+                return int(u[:-1]) if u.endswith('n') else u
         return None
 
     def wait_for(self, expr, timeout=30.0, interval=0.05, what=None):

@@ -39,6 +39,7 @@ import urllib.error
 import urllib.parse
 import urllib.request
 
+sys.dont_write_bytecode = True  # no __pycache__ beside the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import cdp  # noqa: E402
 from cdp import CdpError, kill_group, websocket  # noqa: E402
@@ -261,8 +262,12 @@ def diff(b, a, c):
 
 
 def wait_converged(b, timeout, what):
-    b.wait_for('Boolean(window.viewerStats && viewerStats.converged)', timeout=timeout,
-               interval=0.03, what=f'a converged frame ({what})')
+    v = b.wait_for("!window.viewerStats ? '' : viewerStats.converged ? 'converged' : "
+                   "viewerStats.connected ? '' : 'disconnected'", timeout=timeout,
+                   interval=0.03, what=f'a converged frame ({what})')
+    if v == 'disconnected':
+        raise Failure(f'the page lost its WebSocket connection while waiting for a converged '
+                      f'frame ({what})')
 
 
 def page_now(b):
@@ -346,11 +351,17 @@ def check_access(checks, base, token):
     ok_status, body = http_status(f'{base}/?token={token}')
     checks.check('b. GET /?token=T serves the page', ok_status == 200 and b'viewer.js' in body,
                  ok_status)
-    js_status, body = http_status(f'{base}/viewer.js?token={token}')
-    checks.check('b. GET /viewer.js?token=T', js_status == 200 and b'viewerStats' in body,
-                 js_status)
+    for path, needle in (('index.html', b'viewer.js'), ('viewer.js', b'viewerStats'),
+                         ('viewer.css', b'{')):
+        st, body = http_status(f'{base}/{path}?token={token}')
+        checks.check(f'b. GET /{path}?token=T', st == 200 and needle in body, st)
+    flipped = token[:-1] + ('0' if token[-1:] != '0' else '1')
     for what, url in (('GET / without token', f'{base}/'),
                       ('GET / with a wrong token', f'{base}/?token=0{token[1:]}wrong'),
+                      ('GET / with a wrong token of the same length', f'{base}/?token={flipped}'),
+                      ('GET / with the token plus a character', f'{base}/?token={token}0'),
+                      ('GET / with the token minus its last character',
+                       f'{base}/?token={token[:-1]}'),
                       ('GET /viewer.js without token', f'{base}/viewer.js'),
                       ('GET /index.html with an empty token', f'{base}/index.html?token=')):
         status, _ = http_status(url)
@@ -445,12 +456,12 @@ def run_test(args, out, checks, cleanup):
     view = browser.evaluate("viewer.center('#view')")
     cam0 = browser.evaluate('viewer.camera()')
     lat0 = browser.evaluate('viewerStats.latencies.length')
+    t_orbit0 = time.monotonic()
     p0 = page_now(browser)
     x0, x1 = view['x'] - 0.3 * view['w'], view['x'] + 0.3 * view['w']
     browser.drag(x0, view['y'] + 10, x1, view['y'] - 10, steps=40, duration=2.0, release=False)
     p1 = page_now(browser)
     browser.release(x1, view['y'] - 10)
-    t_orbit = time.monotonic()
     wait_converged(browser, 20, 'after the orbit')
     cam1 = browser.evaluate('viewer.camera()')
     during = frames_between(browser, p0, p1)
@@ -464,6 +475,10 @@ def run_test(args, out, checks, cleanup):
                  f'{rnd(percentile(lats, 0.5))} ms, p95 {rnd(percentile(lats, 0.95))} ms')
     moved = math.dist(cam0['eye'], cam1['eye'])
     checks.check('c. orbit changed the camera', moved > 1e-3, f'eye moved {moved:.1f} mm')
+    after = frames_between(browser, p0)
+    full = [f for f in after if f['stages_run'] != f['stages']]
+    checks.check('c. every orbit frame re-ran all stages (camera changed)', not full and after,
+                 f'{len(after)} frames', f'(run, stages): {[(f["stages_run"], f["stages"]) for f in full]}')
     checks.check('c. frames during the drag are JPEG, after release PNG',
                  all(f['format'] == 'jpeg' for f in during if not f['final']) and
                  browser.evaluate('viewerStats.lastFrame.format') == 'png',
@@ -512,8 +527,12 @@ def run_test(args, out, checks, cleanup):
     n_one = sum(1 for f in fr if f['stages_run'] == 1 and f['stages'] > 1)
     checks.check('d. TF-edit frames have stages_run in {1, stages}', ok_set and bool(fr),
                  f'{len(fr)} frames', f'stages {stages}; (run, stages, scale, samples): {runs}')
+    one_ms = [f['render_ms'] for f in fr if f['stages_run'] == 1 and f['stages'] > 1]
+    all_ms = [f['render_ms'] for f in fr if f['stages_run'] == f['stages'] and f['scale'] < 1]
     checks.check('d. some TF-edit frame re-ran only the edited volume (stages_run 1 < stages)',
-                 n_one >= 1, f'{n_one} frames with stages_run 1')
+                 n_one >= 1, f'{n_one} frames with stages_run 1',
+                 f'median render {rnd(percentile(one_ms, 0.5))} ms with one stage, '
+                 f'{rnd(percentile(all_ms, 0.5))} ms with all (moving frames)')
 
     # e. visibility
     target = next((o for o in objects if o['kind'] == 'mesh'), None) or \
@@ -536,7 +555,7 @@ def run_test(args, out, checks, cleanup):
 
     # f. the second client saw the edits
     cam_page = browser.evaluate('viewer.camera()')
-    st_orbit = watcher.of_type('state', t_orbit - 3.0)
+    st_orbit = [x for x in watcher.of_type('state', t_orbit0) if x[0] < t_tf]
     st_tf = watcher.wait(lambda t, m: t >= t_tf and m.get('type') == 'state' and any(
         o.get('name') == vol and _tf_alpha(o, idx) is not None and
         abs(_tf_alpha(o, idx) - alpha1) < 1e-6 for o in m.get('objects', [])), 5)
@@ -549,7 +568,7 @@ def run_test(args, out, checks, cleanup):
     checks.check('f. second client got state messages after the page\'s edits',
                  len(st_orbit) >= 1 and st_tf is not None and st_vis is not None,
                  f'{len(states)} state messages',
-                 f'orbit: {len(st_orbit)}; TF alpha {alpha1:.3f} seen: {st_tf is not None}; '
+                 f'during/after the orbit: {len(st_orbit)}; TF alpha {alpha1:.3f} seen: {st_tf is not None}; '
                  f'{vis_name} hidden seen: {st_vis is not None}')
     checks.check('f. second client\'s last state has the page\'s camera',
                  cam_gap is not None and cam_gap < 1e-3, f'eye gap {rnd(cam_gap, 6)} mm')
@@ -686,6 +705,7 @@ def run_measure(args, out, cleanup):
     view = browser.evaluate("viewer.center('#view')")
     per = []
     all_lat, moving_frames, moving_s, moving_meta = [], 0, 0.0, []
+    moving_lat, release_lat = [], []
     for i in range(args.measure):
         sign = 1 if i % 2 == 0 else -1
         cx, cy = view['x'], view['y'] + (i % 5 - 2) * 0.05 * view['h']
@@ -695,33 +715,43 @@ def run_measure(args, out, cleanup):
         browser.drag(xa, cy, xb, cy, steps=8, duration=0.3, release=False)
         p1 = browser.evaluate('(viewer.startRecording(viewer.now()), viewer.now())')
         browser.release(xb, cy)
-        deadline = time.monotonic() + args.settle
+        t_rel = time.monotonic()
         converged = False
-        while time.monotonic() < deadline:
+        while time.monotonic() < t_rel + args.settle:
             if browser.evaluate('viewerStats.converged'):
                 converged = True
                 break
             time.sleep(0.02)
+        settled_in = converged
+        if not converged:  # keep recording until it converges, so the times hold for every drag
+            try:
+                wait_converged(browser, 30, f'after drag {i}')
+                converged = True
+            except CdpError:
+                pass
         rec = browser.evaluate("""viewer.finishRecording().map((r) => Object.assign(r,
             {psnr_db: Number.isFinite(r.psnr_db) ? r.psnr_db : 999}))""")
         lats = browser.evaluate(f'viewerStats.latencies.slice({lat0})')
         mf = frames_between(browser, p0, p1)
         n_moving = len(mf)
         moving_meta += [(f['scale'], f['render_ms'], f['encode_ms']) for f in mf]
-        t40 = next((r['t_ms'] for r in rec if r['psnr_db'] >= 40), None) if converged else None
-        t_final = next((r['t_ms'] for r in rec if r['final']), None) if converged else None
-        per.append({'drag': i, 'converged': converged, 'moving_frames': n_moving,
+        # The psnr of a recorded frame is against the last one recorded: the converged frame
+        # when it converged (and the recording, at most 256 frames, did not fill up).
+        valid = converged and len(rec) < 256 and rec and rec[-1]['final']
+        t40 = next((r['t_ms'] for r in rec if r['psnr_db'] >= 40), None) if valid else None
+        t_final = next((r['t_ms'] for r in rec if r['final']), None) if valid else None
+        per.append({'drag': i, 'converged': bool(converged),
+                    'converged_within_settle': settled_in, 'moving_frames': n_moving,
                     'moving_ms': rnd(p1 - p0), 'latencies_ms': [rnd(x) for x in lats],
                     'time_to_40db_ms': rnd(t40), 'time_to_final_ms': rnd(t_final),
                     'frames_after_release': len(rec)})
         all_lat += lats
+        # The last latency of a drag is the release's (the first full-resolution frame); the
+        # others are of inputs sent while moving.
+        moving_lat += lats[:-1]
+        release_lat += lats[-1:]
         moving_frames += n_moving
         moving_s += (p1 - p0) / 1000
-        if not converged:  # the next drag starts from a settled image
-            try:
-                wait_converged(browser, 30, f'after drag {i}')
-            except CdpError:
-                pass
     t40s = [p['time_to_40db_ms'] for p in per if p['time_to_40db_ms'] is not None]
     finals = [p['time_to_final_ms'] for p in per if p['time_to_final_ms'] is not None]
     fps_each = [p['moving_frames'] / (p['moving_ms'] / 1000) for p in per if p['moving_ms']]
@@ -729,9 +759,16 @@ def run_measure(args, out, cleanup):
         'scene': args.scene, 'method': first.get('method') or args.method,
         'image': [first.get('width'), first.get('height')], 'spp': first.get('spp'),
         'drags': args.measure, 'drag': '8 moves over 300 ms, then release',
+        'settle_s': args.settle,
+        'converged_within_settle': sum(p['converged_within_settle'] for p in per),
         'converged_drags': sum(p['converged'] for p in per),
         'latency_ms': {'median': rnd(percentile(all_lat, 0.5)),
                        'p95': rnd(percentile(all_lat, 0.95)), 'n': len(all_lat)},
+        'moving_latency_ms': {'median': rnd(percentile(moving_lat, 0.5)),
+                              'p95': rnd(percentile(moving_lat, 0.95)), 'n': len(moving_lat)},
+        'release_latency_ms': {'median': rnd(percentile(release_lat, 0.5)),
+                               'p95': rnd(percentile(release_lat, 0.95)),
+                               'n': len(release_lat)},
         'moving_fps': {'overall': rnd(moving_frames / moving_s if moving_s else None),
                        'median_per_drag': rnd(percentile(fps_each, 0.5))},
         'moving_frame': {'scale_median': rnd(percentile([m[0] for m in moving_meta], 0.5), 3),
@@ -770,8 +807,13 @@ JS_DIAGNOSIS = """({
 
 def diagnose(cleanup, out):
     """After a failure: what the page shows, and a screenshot of it."""
-    browser = next((getattr(fn, '__self__', None) for fn in cleanup
-                    if isinstance(getattr(fn, '__self__', None), cdp.Browser)), None)
+    owners = [getattr(fn, '__self__', None) for fn in cleanup]
+    server = next((o for o in owners if isinstance(o, Server)), None)
+    if server and server.proc:
+        status = server.proc.poll()
+        log(f"      server: {'running' if status is None else f'exited with status {status}'}; "
+            f'its log ends:\n{tail(server.log_path, 600)}')
+    browser = next((o for o in owners if isinstance(o, cdp.Browser)), None)
     if browser is None or browser.ws is None:
         return
     try:
