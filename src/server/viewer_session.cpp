@@ -388,7 +388,7 @@ void ViewerSession::render_and_send(Snapshot& s) {
   }
   const double encode_ms = ms_since(t1);
   if (s.moving)
-    resolution_.record(static_cast<double>(image.width()) * image.height(), render_ms + encode_ms);
+    resolution_.record(scale, static_cast<double>(full_w) * full_h, render_ms + encode_ms);
 
   Json frame = {{"type", "frame"},
                 {"seq", 0},
