@@ -26,6 +26,7 @@ DepthRange scene_depth_range(const Scene& scene, const CameraModel& camera) {
     if (scene.meshes[k].mesh && shown[k])
       for (const glm::vec3& p : scene.meshes[k].mesh->positions) add(glm::dvec3(p));
   for (const PlaneObject& p : scene.planes) {
+    if (!shown_plane(p)) continue;
     glm::dvec3 n = glm::normalize(p.normal);
     glm::dvec3 v = glm::normalize(p.up - glm::dot(p.up, n) * n);
     glm::dvec3 u = glm::cross(v, n);

@@ -121,7 +121,7 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast, int sample_ind
   frame.accelerate(steps, MarchSettings::from(r));
 
   // Polygon objects and planes first, in scene order, as many per stage as fit the RT layers.
-  // Cutters that do not show (clip meshes of opacity 0) are in no stage: they only clip.
+  // What does not show (hidden objects, clip meshes of opacity 0 that only cut) is in no stage.
   const bool has_volumes = !scene.volumes.empty();
   const std::vector<bool> shown = shown_meshes(scene);
   const size_t per_stage =
@@ -135,6 +135,7 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast, int sample_ind
     const ObjectRef& ref = scene.order[k];
     if (ref.kind == ObjectKind::volume) continue;
     if (ref.kind == ObjectKind::mesh && !shown[ref.index]) continue;
+    if (ref.kind == ObjectKind::plane && !shown_plane(scene.planes[ref.index])) continue;
     std::optional<double> d = r.thickness;
     StageHash h;
     h.add(group.content).add(ref.kind);

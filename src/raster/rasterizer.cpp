@@ -309,19 +309,18 @@ std::vector<bool> csg_meshes(const Scene& scene) {
   return csg;
 }
 
-// A clip mesh of opacity 0 only cuts; a CSG primitive's fragments are needed whatever it shows.
-bool only_cuts(const Scene& scene, size_t mesh, const std::vector<bool>& clips,
-               const std::vector<bool>& csg) {
-  return clips[mesh] && !(scene.meshes[mesh].material.opacity > 0.0f) && !csg[mesh];
-}
-
 }  // namespace
 
 std::vector<bool> shown_meshes(const Scene& scene) {
-  const std::vector<bool> clips = clip_meshes(scene), csg = csg_meshes(scene);
+  const std::vector<bool> csg = csg_meshes(scene);
   std::vector<bool> shown(scene.meshes.size());
-  for (size_t m = 0; m < shown.size(); ++m) shown[m] = !only_cuts(scene, m, clips, csg);
+  for (size_t m = 0; m < shown.size(); ++m)
+    shown[m] = scene.meshes[m].material.opacity > 0.0f || csg[m];
   return shown;
+}
+
+bool shown_plane(const PlaneObject& plane) {
+  return plane.opacity > 0.0f;
 }
 
 Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
@@ -371,7 +370,7 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
 
   auto to_camera = [&](const glm::vec3& p) { return camera.to_camera(glm::dvec3(p)); };
   std::vector<bool> mesh_seen(scene.meshes.size(), false), plane_seen(scene.planes.size(), false);
-  const std::vector<bool> clips = clip_meshes(scene), csg = csg_meshes(scene);
+  const std::vector<bool> clips = clip_meshes(scene), shown = shown_meshes(scene);
   const bool clip_only = objects == RasterObjects::clip;
   std::vector<glm::dvec3> cam_positions;
   for (size_t k = 0; k < scene.order.size(); ++k) {
@@ -390,7 +389,7 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
     if (is_mesh) {
       mesh_seen[ref.index] = true;
       const MeshObject& mo = scene.meshes[ref.index];
-      if (clip_only ? !clips[ref.index] : only_cuts(scene, ref.index, clips, csg)) continue;
+      if (clip_only ? !clips[ref.index] : !shown[ref.index]) continue;
       if (!mo.mesh) throw Error(fmt::format("mesh '{}': has no mesh data", mo.name));
       const Mesh& mesh = *mo.mesh;
       const bool has_normals = !mesh.normals.empty();
@@ -429,8 +428,8 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
       }
     } else {
       plane_seen[ref.index] = true;
-      if (clip_only) continue;
       const PlaneObject& pl = scene.planes[ref.index];
+      if (clip_only || !shown_plane(pl)) continue;
       if (!all_finite(pl.center) || !all_finite(pl.normal) || !all_finite(pl.up))
         throw Error(fmt::format("plane '{}': center, normal and up must be finite", pl.name));
       if (!(glm::length(pl.normal) > 0.0))

@@ -37,9 +37,12 @@ enum class FragmentOrder { depth, arrival };
 // meshes alone, unshaded (colour 0), for the clip step (SPEC §7).
 enum class RasterObjects { shown, clip };
 
-// Per mesh of `scene`: whether a RasterObjects::shown rasterizer draws it (not a clip mesh of
-// material opacity 0 that is no CSG primitive).
+// Per mesh of `scene`: whether a RasterObjects::shown rasterizer draws it: a material opacity
+// above 0 or a CSG primitive. The rest (hidden meshes, clip meshes that only cut) make no
+// fragments, so a hidden object costs nothing and renders as if absent.
 std::vector<bool> shown_meshes(const Scene& scene);
+// Whether a RasterObjects::shown rasterizer draws a plane: an opacity above 0.
+bool shown_plane(const PlaneObject& plane);
 
 class Rasterizer {
  public:

@@ -221,8 +221,8 @@ void ViewerSession::handle(const std::shared_ptr<ClientSink>& client, const Json
     r.check_keys({"type"});
     std::lock_guard lock(mutex_);
     const std::string path = save();
-    client->send_text(
-        text_of(Json{{"type", "saved"}, {"path", path}, {"text", text_of(saved_document(), 2) + "\n"}}));
+    client->send_text(text_of(
+        Json{{"type", "saved"}, {"path", path}, {"text", text_of(saved_document(), 2) + "\n"}}));
   } else if (type == "screenshot") {
     r.check_keys({"type"});
     {
@@ -452,8 +452,9 @@ void ViewerSession::screenshot(const std::vector<std::weak_ptr<ClientSink>>& to,
       if (!error.empty())
         reply_error(*sink, error);
       else
-        sink->send_frame(text_of(Json{{"type", "screenshot"}, {"width", width}, {"height", height}}),
-                         png, false);
+        sink->send_frame(
+            text_of(Json{{"type", "screenshot"}, {"width", width}, {"height", height}}), png,
+            false);
     }
 }
 

@@ -19,7 +19,7 @@ std::string scene(const std::string& visible) {
     {"name": "ball", "type": "mesh", "source": {"primitive": "sphere", "radius": 10},
      "material": {"opacity": 0.5}, "interior": {"opacity": 0.3})" +
          visible + R"(},
-    {"name": "cube", "type": "mesh", "source": {"primitive": "box", "size": 8}})" +
+    {"name": "cube", "type": "mesh", "source": {"primitive": "box", "size": 8})" +
          visible + R"(},
     {"name": "cut", "type": "plane", "volume": "ct", "normal": [0, 0, 1], "opacity": 0.8)" +
          visible + R"(}],
