@@ -262,8 +262,11 @@ def diff(b, a, c):
 
 
 def wait_converged(b, timeout, what):
+    # 'disconnected' only after the socket was once open: before, it is still connecting.
     v = b.wait_for("!window.viewerStats ? '' : viewerStats.converged ? 'converged' : "
-                   "viewerStats.connected ? '' : 'disconnected'", timeout=timeout,
+                   "(window.imxWasConnected = window.imxWasConnected || viewerStats.connected, "
+                   "viewerStats.connected || !window.imxWasConnected) ? '' : 'disconnected'",
+                   timeout=timeout,
                    interval=0.03, what=f'a converged frame ({what})')
     if v == 'disconnected':
         raise Failure(f'the page lost its WebSocket connection while waiting for a converged '
