@@ -81,6 +81,14 @@ class Image(_np.ndarray):
         """Writes the image as PNG (see intermix.write_png)."""
         write_png(self, path, linear)
 
+    def __array_wrap__(self, obj, context=None):
+        # Results that are no image (sums, means, single channels) are plain arrays or scalars.
+        if obj.ndim == 0:
+            return obj[()]
+        if obj.ndim != 3 or obj.shape[2] != 4:
+            return obj.view(_np.ndarray)
+        return super().__array_wrap__(obj, context)
+
     def _repr_png_(self):
         if self.ndim != 3 or self.shape[2] != 4 or self.dtype.kind != "f":
             return None  # a slice or a reduction of an image is no longer one

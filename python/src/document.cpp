@@ -41,7 +41,7 @@ nlohmann::json convert(const py::handle& value, GivenSources& sources, const std
       return value.cast<unsigned long long>();
     } catch (const py::cast_error&) {
     }
-    return py::float_(value).cast<double>();
+    return py::float_(py::reinterpret_borrow<py::object>(value)).cast<double>();
   }
   if (py::isinstance<py::float_>(value)) {
     const double d = value.cast<double>();
@@ -136,7 +136,7 @@ py::object from_document(const nlohmann::json& j, const GivenSources& sources) {
     case nlohmann::json::value_t::array: {
       py::list list;
       for (const nlohmann::json& element : j) list.append(from_document(element, sources));
-      return std::move(list);
+      return list;
     }
     case nlohmann::json::value_t::object: {
       if (const std::string* id = placeholder(j))
@@ -144,7 +144,7 @@ py::object from_document(const nlohmann::json& j, const GivenSources& sources) {
       py::dict dict;
       for (const auto& [key, element] : j.items())
         dict[py::str(key)] = from_document(element, sources);
-      return std::move(dict);
+      return dict;
     }
     default:
       return py::none();  // binary and discarded values never occur in a scene

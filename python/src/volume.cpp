@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 #include <glm/mat4x4.hpp>
+#include <pybind11/stl.h>
 
 #include "bindings.hpp"
 #include "intermix/dicom.hpp"
@@ -52,13 +53,13 @@ const char* converted_dtype(const py::array& a) {
     default:
       throw py::type_error(fmt::format(
           "Volume: voxels of dtype {} are not supported (integers, floats or bool)",
-          py::str(dtype).cast<std::string>()));
+          dtype.attr("name").cast<std::string>()));
   }
 }
 
 // Keeps a Python object alive from C++: the handle is released with the GIL held, whichever
 // thread drops the last reference (none is taken once the interpreter is shutting down).
-std::shared_ptr<const void> keep_alive(py::object object) {
+[[maybe_unused]] std::shared_ptr<const void> keep_alive(py::object object) {
   auto* held = new py::object(std::move(object));
   return std::shared_ptr<const void>(held, [](const void* p) {
     auto* object = static_cast<py::object*>(const_cast<void*>(p));
@@ -91,17 +92,11 @@ VoxelStorage voxel_storage(const py::array& a, bool* shares_memory) {
 }
 
 glm::dmat4 affine_from(const py::handle& affine, const char* what) {
-  py::array_t<double, py::array::c_style | py::array::forcecast> a;
-  try {
-    a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(affine);
-  } catch (const py::error_already_set&) {
-  }
-  if (!a || a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4) {
-    std::string shape = "something else";
-    if (a) shape = py::str(py::tuple(py::cast(a).attr("shape"))).cast<std::string>();
+  py::array given = py::module_::import("numpy").attr("asarray")(affine, py::arg("dtype") = "float64");
+  if (given.ndim() != 2 || given.shape(0) != 4 || given.shape(1) != 4)
     throw py::value_error(fmt::format("{}: the affine must be a 4x4 matrix, got shape {}", what,
-                                      a ? shape : py::repr(affine).cast<std::string>()));
-  }
+                                      py::str(given.attr("shape")).cast<std::string>()));
+  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(given);
   auto r = a.unchecked<2>();
   glm::dmat4 m(1.0);
   for (int row = 0; row < 4; ++row)
@@ -132,7 +127,7 @@ py::array affine_array(const glm::dmat4& m) {
   auto w = a.mutable_unchecked<2>();
   for (int row = 0; row < 4; ++row)
     for (int col = 0; col < 4; ++col) w(row, col) = m[col][row];
-  return std::move(a);
+  return a;
 }
 
 bool parse_space(const std::string& space, const char* what) {
@@ -248,6 +243,8 @@ py::array view_array(const void* data, const py::dtype& dtype, std::vector<py::s
 }
 
 void bind_volume(py::module_& m) {
+  // Whether voxels of an engine type are read in place (VoxelBuffer views) or copied.
+  m.attr("_zero_copy") = py::bool_(false);
   py::class_<PyVolume, std::shared_ptr<PyVolume>>(m, "Volume", R"doc(
 A volume from numpy: voxels with a 4x4 index-to-world affine (millimetres), usable as a volume
 object's "source" in a scene (Scene.from_dict, Scene.add_volume, Scene.set).
