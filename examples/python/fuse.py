@@ -85,13 +85,13 @@ def main():
     ct, ct_affine = ct_volume()
     pet, pet_affine = pet_volume()
     scene = intermix.Scene.from_dict({
-        "camera": {"eye": [-320, -460, 160], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 30},
+        "camera": {"eye": [-200, -290, 100], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 30},
         "image": {"width": args.size, "height": args.size, "background": [0.05, 0.05, 0.08]},
         "objects": [
             {"name": "ct", "type": "volume", "source": intermix.Volume(ct, ct_affine),
              "transfer_function": {"points": [[-1000, 0, 0, 0, 0], [-100, 0.9, 0.7, 0.6, 0],
-                                              [40, 0.9, 0.7, 0.6, 0.02], [300, 1, 1, 0.9, 0.02],
-                                              [800, 1, 1, 0.95, 0.5]]},
+                                              [40, 0.9, 0.7, 0.6, 0.003], [300, 1, 1, 0.9, 0.003],
+                                              [700, 1, 1, 0.95, 0.05], [900, 1, 1, 0.95, 0.02]]},
              "shading": {"ambient": 0.3, "diffuse": 0.7, "specular": 0.2, "shininess": 24}},
             {"name": "pet", "type": "volume", "source": intermix.Volume(pet, pet_affine),
              "transfer_function": {"points": [[0, 0, 0, 0, 0], [2, 1, 0.2, 0, 0],

@@ -83,7 +83,8 @@ Image array_to_image(const py::handle& value, const std::string& what) {
 void bind_image(py::module_& m) {
   m.attr("_image_type") = py::none();
   m.def(
-      "_set_image_type", [](py::object type) { py::module_::import("intermix._intermix").attr("_image_type") = type; },
+      "_set_image_type",
+      [](py::object type) { py::module_::import("intermix._intermix").attr("_image_type") = type; },
       "Registers the ndarray subclass renders are returned as (the package's Image).");
 
   m.def(

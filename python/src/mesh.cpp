@@ -22,9 +22,9 @@ using FloatRows = py::array_t<float, py::array::c_style | py::array::forcecast>;
 std::vector<glm::vec3> vec3_rows(const py::handle& value, const char* name, py::ssize_t n) {
   py::array given = py::module_::import("numpy").attr("asarray")(value);
   if (given.ndim() != 2 || given.shape(1) != 3 || (n >= 0 && given.shape(0) != n))
-    throw py::value_error(fmt::format(
-        "Mesh: {} must have shape ({}, 3), got {}", name, n >= 0 ? std::to_string(n) : "N",
-        py::str(given.attr("shape")).cast<std::string>()));
+    throw py::value_error(fmt::format("Mesh: {} must have shape ({}, 3), got {}", name,
+                                      n >= 0 ? std::to_string(n) : "N",
+                                      py::str(given.attr("shape")).cast<std::string>()));
   const char kind = given.dtype().kind();
   if (kind != 'f' && kind != 'i' && kind != 'u')
     throw py::type_error(fmt::format("Mesh: {} must be numbers, got dtype {}", name,
@@ -71,8 +71,8 @@ std::shared_ptr<PyMesh> make_mesh(const py::handle& vertices, const py::handle& 
     for (int c = 0; c < 3; ++c) {
       const int64_t v = idx[f * 3 + static_cast<size_t>(c)];
       if (v < 0 || v >= n)
-        throw py::value_error(fmt::format(
-            "Mesh: triangle {} uses vertex {}, but there are {} vertices", f, v, n));
+        throw py::value_error(
+            fmt::format("Mesh: triangle {} uses vertex {}, but there are {} vertices", f, v, n));
       mesh.triangles[f][c] = static_cast<unsigned>(v);
     }
   }
@@ -81,9 +81,9 @@ std::shared_ptr<PyMesh> make_mesh(const py::handle& vertices, const py::handle& 
     for (size_t i = 0; i < mesh.colors.size(); ++i)
       for (int c = 0; c < 3; ++c)
         if (!(mesh.colors[i][c] >= 0.0f && mesh.colors[i][c] <= 1.0f))
-          throw py::value_error(fmt::format(
-              "Mesh: colors[{}] = ({:g}, {:g}, {:g}) is not linear RGB in [0, 1]", i,
-              mesh.colors[i].x, mesh.colors[i].y, mesh.colors[i].z));
+          throw py::value_error(
+              fmt::format("Mesh: colors[{}] = ({:g}, {:g}, {:g}) is not linear RGB in [0, 1]", i,
+                          mesh.colors[i].x, mesh.colors[i].y, mesh.colors[i].z));
   }
   if (!normals.is_none()) {
     mesh.normals = vec3_rows(normals, "normals", n);
@@ -132,15 +132,13 @@ Raises ValueError for bad shapes, indices or non-finite values.
       .def_property_readonly(
           "vertices",
           [](const PyMesh& p) {
-            return rows_view(p.mesh, p.mesh->positions.data(), p.mesh->positions.size(),
-                             "float32");
+            return rows_view(p.mesh, p.mesh->positions.data(), p.mesh->positions.size(), "float32");
           },
           "(N, 3) float32 vertex positions, LPS mm (read-only).")
       .def_property_readonly(
           "triangles",
           [](const PyMesh& p) {
-            return rows_view(p.mesh, p.mesh->triangles.data(), p.mesh->triangles.size(),
-                             "uint32");
+            return rows_view(p.mesh, p.mesh->triangles.data(), p.mesh->triangles.size(), "uint32");
           },
           "(M, 3) uint32 vertex indices (read-only).")
       .def_property_readonly(
@@ -166,8 +164,7 @@ Raises ValueError for bad shapes, indices or non-finite values.
 
   m.def(
       "read_mesh",
-      [](const py::object& path, const std::optional<std::string>& space,
-         double crease_angle_deg) {
+      [](const py::object& path, const std::optional<std::string>& space, double crease_angle_deg) {
         const std::filesystem::path file =
             py::module_::import("os").attr("fspath")(path).cast<std::string>();
         MeshReadOptions options;

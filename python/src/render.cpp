@@ -104,9 +104,9 @@ Scene prepare(const Scene& scene, const RenderRequest& request, RenderOptions& o
     const int spp = *request.spp;
     const int root = static_cast<int>(std::lround(std::sqrt(static_cast<double>(spp))));
     if (spp < 1 || spp > kMaxSpp || root * root != spp)
-      throw py::value_error(fmt::format(
-          "render: spp {} is not a perfect square in [1, {}] (1, 4, 9, 16, 25, ...)", spp,
-          kMaxSpp));
+      throw py::value_error(
+          fmt::format("render: spp {} is not a perfect square in [1, {}] (1, 4, 9, 16, 25, ...)",
+                      spp, kMaxSpp));
     options.spp = spp;
   }
   if (request.threads) {
@@ -215,8 +215,8 @@ largest are evicted first). One frame at a time: concurrent calls on one Rendere
              auto r = std::make_shared<PyRenderer>();
              if (kept_budget) {
                if (*kept_budget < 0)
-                 throw py::value_error(fmt::format(
-                     "Renderer: kept_budget {} must be >= 0 (bytes)", *kept_budget));
+                 throw py::value_error(
+                     fmt::format("Renderer: kept_budget {} must be >= 0 (bytes)", *kept_budget));
                r->renderer.set_kept_budget(static_cast<uint64_t>(*kept_budget));
              }
              return r;

@@ -19,7 +19,7 @@ struct RenderRequest {
 // intermix.Renderer: an imx::Renderer (stage reuse between frames) used by one render at a time.
 struct PyRenderer {
   Renderer renderer;
-  std::mutex mutex;  // held by the rendering thread, never with the GIL
+  std::mutex mutex;        // held by the rendering thread, never with the GIL
   std::mutex stats_mutex;  // guards stats and frames
   RendererStats stats;
   int frames = 0;

@@ -40,9 +40,9 @@ std::shared_ptr<PyScene> from_file(const py::object& path) {
 
 std::shared_ptr<PyScene> from_dict(const py::handle& dict, const py::object& base_dir) {
   if (!py::isinstance(dict, py::module_::import("collections.abc").attr("Mapping")))
-    throw py::type_error(fmt::format("Scene.from_dict: expected a dict, got {}",
-                                     py::str(py::type::handle_of(dict).attr("__name__"))
-                                         .cast<std::string>()));
+    throw py::type_error(
+        fmt::format("Scene.from_dict: expected a dict, got {}",
+                    py::str(py::type::handle_of(dict).attr("__name__")).cast<std::string>()));
   GivenSources sources;
   nlohmann::json document = to_document(dict, sources, kDictOrigin);
   return std::make_shared<PyScene>(std::move(document), std::move(sources), kDictOrigin,
@@ -149,8 +149,8 @@ void PyScene::add(const std::string& name, const std::string& type, const py::ob
   nlohmann::json& list = document["objects"];
   if (list.is_null()) list = nlohmann::json::array();
   if (!list.is_array())
-    throw py::value_error(fmt::format("{}: objects: expected an array, got {}", origin_,
-                                      list.type_name()));
+    throw py::value_error(
+        fmt::format("{}: objects: expected an array, got {}", origin_, list.type_name()));
   list.push_back(std::move(object));
   rebuild(std::move(document), std::move(sources));
 }
@@ -251,7 +251,8 @@ center, normal, up, size, volume, window, colormap, color, opacity.
           "names",
           [](const PyScene& s) {
             std::vector<std::string> names;
-            for (const ObjectRef& ref : s.scene().order) names.push_back(object_name(s.scene(), ref));
+            for (const ObjectRef& ref : s.scene().order)
+              names.push_back(object_name(s.scene(), ref));
             return names;
           },
           "Object names in scene order.")

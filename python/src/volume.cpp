@@ -5,8 +5,8 @@
 #include <filesystem>
 
 #include <fmt/format.h>
-#include <glm/mat4x4.hpp>
 #include <pybind11/stl.h>
+#include <glm/mat4x4.hpp>
 
 #include "bindings.hpp"
 #include "intermix/dicom.hpp"
@@ -51,9 +51,9 @@ const char* converted_dtype(const py::array& a) {
       return "float32";
     }
     default:
-      throw py::type_error(fmt::format(
-          "Volume: voxels of dtype {} are not supported (integers, floats or bool)",
-          dtype.attr("name").cast<std::string>()));
+      throw py::type_error(
+          fmt::format("Volume: voxels of dtype {} are not supported (integers, floats or bool)",
+                      dtype.attr("name").cast<std::string>()));
   }
 }
 
@@ -92,7 +92,8 @@ VoxelStorage voxel_storage(const py::array& a, bool* shares_memory) {
 }
 
 glm::dmat4 affine_from(const py::handle& affine, const char* what) {
-  py::array given = py::module_::import("numpy").attr("asarray")(affine, py::arg("dtype") = "float64");
+  py::array given =
+      py::module_::import("numpy").attr("asarray")(affine, py::arg("dtype") = "float64");
   if (given.ndim() != 2 || given.shape(0) != 4 || given.shape(1) != 4)
     throw py::value_error(fmt::format("{}: the affine must be a 4x4 matrix, got shape {}", what,
                                       py::str(given.attr("shape")).cast<std::string>()));
@@ -109,9 +110,9 @@ glm::dmat4 affine_from(const py::handle& affine, const char* what) {
   const double last[4] = {0.0, 0.0, 0.0, 1.0};
   for (int col = 0; col < 4; ++col)
     if (r(3, col) != last[col])
-      throw py::value_error(fmt::format(
-          "{}: the affine's last row is [{}, {}, {}, {}]; an affine needs [0, 0, 0, 1]", what,
-          r(3, 0), r(3, 1), r(3, 2), r(3, 3)));
+      throw py::value_error(
+          fmt::format("{}: the affine's last row is [{}, {}, {}, {}]; an affine needs [0, 0, 0, 1]",
+                      what, r(3, 0), r(3, 1), r(3, 2), r(3, 3)));
   return m;
 }
 
@@ -194,7 +195,8 @@ const char* numpy_type(VoxelType type) {
 
 // The voxels of `data` as a (nk, nj, ni) C-order array that keeps `data` alive (no copy).
 py::array voxels_array(const std::shared_ptr<const VolumeData>& data, bool writeable) {
-  const void* voxels = std::visit([](const auto& v) -> const void* { return v.data(); }, data->voxels);
+  const void* voxels =
+      std::visit([](const auto& v) -> const void* { return v.data(); }, data->voxels);
   return view_array(voxels, py::dtype(numpy_type(data->type())),
                     {data->dims.z, data->dims.y, data->dims.x}, data, writeable);
 }
@@ -269,8 +271,8 @@ space: the affine's world axes: "LPS" (DICOM, ITK, intermix) or "RAS" (NIfTI, ni
 
 Raises ValueError (with the library's message) for bad shapes, affines or non-finite voxels.
 )doc")
-      .def(py::init(&make_volume), py::arg("array"), py::arg("affine") = py::none(),
-           py::kw_only(), py::arg("space") = "LPS", py::arg("axes") = "auto")
+      .def(py::init(&make_volume), py::arg("array"), py::arg("affine") = py::none(), py::kw_only(),
+           py::arg("space") = "LPS", py::arg("axes") = "auto")
       .def_property_readonly(
           "array", [](const PyVolume& v) { return v.given; },
           "The array as it was given (kept alive as long as the volume).")
@@ -288,7 +290,10 @@ Raises ValueError (with the library's message) for bad shapes, affines or non-fi
           "lps_affine", [](const PyVolume& v) { return affine_array(v.data->index_to_world); },
           "The 4x4 index-to-world affine in LPS, as the engine uses it.")
       .def_property_readonly(
-          "shape", [](const PyVolume& v) { return py::make_tuple(v.data->dims.x, v.data->dims.y, v.data->dims.z); },
+          "shape",
+          [](const PyVolume& v) {
+            return py::make_tuple(v.data->dims.x, v.data->dims.y, v.data->dims.z);
+          },
           "Voxels along i, j, k: (ni, nj, nk).")
       .def_property_readonly(
           "dtype", [](const PyVolume& v) { return py::dtype(numpy_type(v.data->type())); },

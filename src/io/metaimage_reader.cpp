@@ -1,6 +1,6 @@
-#include <cerrno>
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <fstream>

@@ -1,5 +1,5 @@
-#include <cerrno>
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -183,7 +183,8 @@ VolumeData read_nifti(const std::filesystem::path& file) {
   require_regular_file(nim->iname, fmt::format("{} (voxel data of {})", nim->iname,
                                                what));  // a .hdr's .img may be anything
   znzFile opened = znzopen(nim->iname, "rb", nifti_is_gzfile(nim->iname));
-  if (znz_isnull(opened)) throw FileError(fmt::format("{}: cannot open the voxel data", what), errno);
+  if (znz_isnull(opened))
+    throw FileError(fmt::format("{}: cannot open the voxel data", what), errno);
   std::unique_ptr<znzFile, int (*)(znzFile*)> close(&opened, Xznzclose);
   if (znzseek(opened, nim->iname_offset, SEEK_SET) < 0)
     throw Error(

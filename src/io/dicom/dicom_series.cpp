@@ -1,8 +1,8 @@
 #include "io/dicom/dicom_series.hpp"
 
-#include <cerrno>
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <map>
 #include <system_error>
 
