@@ -59,7 +59,7 @@ const char* converted_dtype(const py::array& a) {
 
 // Keeps a Python object alive from C++: the handle is released with the GIL held, whichever
 // thread drops the last reference (none is taken once the interpreter is shutting down).
-[[maybe_unused]] std::shared_ptr<const void> keep_alive(py::object object) {
+std::shared_ptr<const void> keep_alive(py::object object) {
   auto* held = new py::object(std::move(object));
   return std::shared_ptr<const void>(held, [](const void* p) {
     auto* object = static_cast<py::object*>(const_cast<void*>(p));
@@ -74,21 +74,19 @@ const char* converted_dtype(const py::array& a) {
 }
 
 template <class T>
-VoxelStorage storage_of(const py::array& a) {
-  const T* data = static_cast<const T*>(a.data());
-  const size_t count = static_cast<size_t>(a.size());
-  return std::vector<T>(data, data + count);
+VoxelStorage view_of(const py::array& a) {
+  return VoxelBuffer<T>::view(static_cast<const T*>(a.data()), static_cast<size_t>(a.size()),
+                              keep_alive(a));
 }
 
-// The engine's voxels for a C-contiguous (k, j, i) array of an engine type. The one place
-// where the voxels leave numpy: copied into the engine's own storage.
-VoxelStorage voxel_storage(const py::array& a, bool* shares_memory) {
-  *shares_memory = false;
+// The engine's voxels for a C-contiguous (k, j, i) array of an engine type: a view of the
+// array's memory, which the volume keeps alive (no copy).
+VoxelStorage voxel_storage(const py::array& a) {
   const std::string type = engine_dtype(a.dtype());
-  if (type == "uint8") return storage_of<uint8_t>(a);
-  if (type == "int16") return storage_of<int16_t>(a);
-  if (type == "uint16") return storage_of<uint16_t>(a);
-  return storage_of<float>(a);
+  if (type == "uint8") return view_of<uint8_t>(a);
+  if (type == "int16") return view_of<int16_t>(a);
+  if (type == "uint16") return view_of<uint16_t>(a);
+  return view_of<float>(a);
 }
 
 glm::dmat4 affine_from(const py::handle& affine, const char* what) {
@@ -172,9 +170,8 @@ std::shared_ptr<PyVolume> make_volume(const py::object& given, const py::object&
                static_cast<int>(kji.shape(0))};
   const glm::dmat4 m = affine.is_none() ? glm::dmat4(1.0) : affine_from(affine, "Volume");
   data.index_to_world = v->lps ? m : flip_xy(m);
-  bool shares = false;
-  data.voxels = voxel_storage(kji, &shares);
-  v->shares_memory = in_place && shares;
+  data.voxels = voxel_storage(kji);
+  v->shares_memory = in_place;
   data.validate("Volume");
   v->data = std::make_shared<const VolumeData>(std::move(data));
   return v;
@@ -246,7 +243,7 @@ py::array view_array(const void* data, const py::dtype& dtype, std::vector<py::s
 
 void bind_volume(py::module_& m) {
   // Whether voxels of an engine type are read in place (VoxelBuffer views) or copied.
-  m.attr("_zero_copy") = py::bool_(false);
+  m.attr("_zero_copy") = py::bool_(true);
   py::class_<PyVolume, std::shared_ptr<PyVolume>>(m, "Volume", R"doc(
 A volume from numpy: voxels with a 4x4 index-to-world affine (millimetres), usable as a volume
 object's "source" in a scene (Scene.from_dict, Scene.add_volume, Scene.set).
