@@ -98,7 +98,8 @@ void bind_image(py::module_& m) {
         }
         return uint8_array(std::move(bytes), in.width(), in.height());
       },
-      py::arg("image"), py::arg("linear") = false, R"doc(The display image of a render, as `intermix render` writes it to PNG: an (H, W, 4) uint8 array
+      py::arg("image"), py::arg("linear") = false,
+      R"doc(The display image of a render, as `intermix render` writes it to PNG: an (H, W, 4) uint8 array
 of straight (not premultiplied) RGBA, sRGB-encoded unless `linear`.
 )doc");
 
@@ -110,7 +111,8 @@ of straight (not premultiplied) RGBA, sRGB-encoded unless `linear`.
         py::gil_scoped_release release;
         write_png(in, file, linear);
       },
-      py::arg("image"), py::arg("path"), py::arg("linear") = false, R"doc(Writes an (H, W, 4) premultiplied linear image as 8-bit RGBA PNG (straight alpha, sRGB unless
+      py::arg("image"), py::arg("path"), py::arg("linear") = false,
+      R"doc(Writes an (H, W, 4) premultiplied linear image as 8-bit RGBA PNG (straight alpha, sRGB unless
 `linear`), atomically, as `intermix render -o` does. Raises OSError when it cannot be written.
 )doc");
 
@@ -125,7 +127,8 @@ of straight (not premultiplied) RGBA, sRGB-encoded unless `linear`.
         }
         return image_to_array(std::move(image));
       },
-      py::arg("path"), py::arg("linear") = false, R"doc(Reads an 8- or 16-bit PNG back to an (H, W, 4) premultiplied linear float32 Image (sRGB
+      py::arg("path"), py::arg("linear") = false,
+      R"doc(Reads an 8- or 16-bit PNG back to an (H, W, 4) premultiplied linear float32 Image (sRGB
 decoded unless `linear`).
 )doc");
 
@@ -162,7 +165,8 @@ decoded unless `linear`).
         out["frac_over_16"] = c.frac_over_16;
         return out;
       },
-      py::arg("a"), py::arg("b"), R"doc(Compares two images of equal size as `intermix compare` does: each an (H, W, 4) premultiplied
+      py::arg("a"), py::arg("b"),
+      R"doc(Compares two images of equal size as `intermix compare` does: each an (H, W, 4) premultiplied
 linear array or a PNG path. Returns a dict: psnr (dB over display RGB composited over black;
 inf when equal), ssim (mean SSIM of display luminance), max_error, and frac_over_1, frac_over_4,
 frac_over_16 (fractions of pixels whose largest channel error exceeds 1/255, 4/255, 16/255).

@@ -113,7 +113,9 @@ py::array rows_view(const std::shared_ptr<const Mesh>& mesh, const void* data, s
 }  // namespace
 
 void bind_mesh(py::module_& m) {
-  py::class_<PyMesh, std::shared_ptr<PyMesh>>(m, "Mesh", R"doc(A triangle mesh in world millimetres, usable as a mesh object's "source" in a scene (placed
+  py::class_<PyMesh, std::shared_ptr<PyMesh>>(
+      m, "Mesh",
+      R"doc(A triangle mesh in world millimetres, usable as a mesh object's "source" in a scene (placed
 further by the object's "transform").
 
 Mesh(vertices, triangles, normals=None, colors=None, *, space="LPS", crease_angle_deg=60)
@@ -184,7 +186,8 @@ Raises ValueError for bad shapes, indices or non-finite values.
         return out;
       },
       py::arg("path"), py::kw_only(), py::arg("space") = py::none(),
-      py::arg("crease_angle_deg") = 60.0, R"doc(Reads a triangle mesh: PLY, OBJ, STL, OFF, glTF (.gltf, .glb), GIfTI (.gii), in LPS mm.
+      py::arg("crease_angle_deg") = 60.0,
+      R"doc(Reads a triangle mesh: PLY, OBJ, STL, OFF, glTF (.gltf, .glb), GIfTI (.gii), in LPS mm.
 The file's space is `space` ("LPS" or "RAS") when given, else what its header says (3D Slicer's
 SPACE=RAS), else the format's own (GIfTI: RAS), else LPS. Normals come from the file, else are
 computed (split at crease_angle_deg). Returns a Mesh (.vertices, .triangles, .normals, .colors).

@@ -201,7 +201,9 @@ void bind_render(py::module_& m) {
             s.kept_bytes_per_pixel, s.recast_unchanged ? "True" : "False");
       });
 
-  py::class_<PyRenderer, std::shared_ptr<PyRenderer>>(m, "Renderer", R"doc(Renders frame after frame, keeping what it can between them: with the zslab methods each
+  py::class_<PyRenderer, std::shared_ptr<PyRenderer>>(
+      m, "Renderer",
+      R"doc(Renders frame after frame, keeping what it can between them: with the zslab methods each
 object's own slab array is kept, so after changing one object (a transfer function, a window,
 a material) only that object is rendered again; the image is byte-identical to a fresh render.
 Other methods render as Scene.render does. Volumes and meshes are recognised by identity: a

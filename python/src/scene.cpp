@@ -156,7 +156,9 @@ void PyScene::add(const std::string& name, const std::string& type, const py::ob
 }
 
 void bind_scene(py::module_& m) {
-  py::class_<PyScene, std::shared_ptr<PyScene>> cls(m, "Scene", R"doc(A scene: camera, image, lights, volumes, meshes, planes and render settings, in the schema of
+  py::class_<PyScene, std::shared_ptr<PyScene>> cls(
+      m, "Scene",
+      R"doc(A scene: camera, image, lights, volumes, meshes, planes and render settings, in the schema of
 intermix's JSON scene files (README "Scene files"). Volumes and meshes come from files, built-in
 phantoms and primitives, or numpy (intermix.Volume, intermix.Mesh).
 
@@ -181,12 +183,15 @@ was. Sources are read once per scene and shared by its changes.
           }),
           py::arg("base_dir") = py::none(),
           "An empty scene (no objects; default camera, image and lights) to add objects to.")
-      .def_static("from_file", &from_file, py::arg("path"), R"doc(Loads a JSON scene file, with the same checks and messages as `intermix render`.
+      .def_static(
+          "from_file", &from_file, py::arg("path"),
+          R"doc(Loads a JSON scene file, with the same checks and messages as `intermix render`.
 Raises OSError when the file (or a file it names) cannot be read, ValueError for what is wrong
 in it.
 )doc")
-      .def_static("from_dict", &from_dict, py::arg("scene"), py::arg("base_dir") = py::none(),
-                  R"doc(A scene from a dict in the scene-file schema. Values may be numpy arrays and scalars (as lists
+      .def_static(
+          "from_dict", &from_dict, py::arg("scene"), py::arg("base_dir") = py::none(),
+          R"doc(A scene from a dict in the scene-file schema. Values may be numpy arrays and scalars (as lists
 and numbers) and paths; a volume object's "source" may be an intermix.Volume and a mesh
 object's an intermix.Mesh. Errors name the JSON path as for files ("scene dict: objects[0]...").
 )doc")
@@ -198,7 +203,8 @@ object's an intermix.Mesh. Errors name the JSON path as for files ("scene dict: 
           },
           py::arg("text"), py::arg("base_dir") = py::none(),
           "A scene from JSON text (a scene file's content).")
-      .def("set", &PyScene::set, py::arg("path"), py::arg("value"), R"doc(Sets one value by its dotted path, as `intermix render --set path=value` does:
+      .def("set", &PyScene::set, py::arg("path"), py::arg("value"),
+           R"doc(Sets one value by its dotted path, as `intermix render --set path=value` does:
 "image.width", "render.spp", "objects.0.material.opacity", or an object by name:
 "objects.ct.transfer_function.points". `value` is any scene value (a number, list, dict,
 str, numpy array, Volume, Mesh, ...). Missing object keys are created. The scene is checked
@@ -211,7 +217,8 @@ again; on an error it stays as it was.
             s.add(name, "volume", volume_source(source, affine, space), fields);
           },
           py::arg("name"), py::arg("source"), py::arg("affine") = py::none(),
-          py::arg("space") = "LPS", R"doc(Adds a volume object. `source` is an intermix.Volume, a numpy array (made a Volume with `affine`
+          py::arg("space") = "LPS",
+          R"doc(Adds a volume object. `source` is an intermix.Volume, a numpy array (made a Volume with `affine`
 and `space`), a file path, or a source dict ({"phantom": "ct-head", "size": 128}). Keyword
 arguments are the object's other keys: transfer_function={"preset": "ct-bone"} or
 {"points": [[value, r, g, b, a], ...]}, style, shading, transform, clip_planes, clip, visible.
@@ -220,7 +227,8 @@ arguments are the object's other keys: transfer_function={"preset": "ct-bone"} o
           "add_mesh",
           [](PyScene& s, const std::string& name, const py::object& source,
              const py::kwargs& fields) { s.add(name, "mesh", mesh_source(source), fields); },
-          py::arg("name"), py::arg("source"), R"doc(Adds a mesh object. `source` is an intermix.Mesh, a file path or a source dict
+          py::arg("name"), py::arg("source"),
+          R"doc(Adds a mesh object. `source` is an intermix.Mesh, a file path or a source dict
 ({"primitive": "sphere", "radius": 20}). Keyword arguments are the object's other keys:
 material={"color": [r, g, b], "opacity": a}, transform, thickness, visible.
 )doc")
@@ -229,7 +237,8 @@ material={"color": [r, g, b], "opacity": a}, transform, thickness, visible.
           [](PyScene& s, const std::string& name, const py::kwargs& fields) {
             s.add(name, "plane", py::none(), fields);
           },
-          py::arg("name"), R"doc(Adds a plane object (an MPR slice when volume= names a volume). Keyword arguments are its keys:
+          py::arg("name"),
+          R"doc(Adds a plane object (an MPR slice when volume= names a volume). Keyword arguments are its keys:
 center, normal, up, size, volume, window, colormap, color, opacity.
 )doc")
       .def(
@@ -272,7 +281,8 @@ center, normal, up, size, volume, window, colormap, color, opacity.
           },
           py::arg("method") = py::none(), py::arg("width") = py::none(),
           py::arg("height") = py::none(), py::arg("spp") = py::none(),
-          py::arg("threads") = py::none(), R"doc(Renders one frame and returns it as an intermix.Image: an (H, W, 4) float32 numpy array of
+          py::arg("threads") = py::none(),
+          R"doc(Renders one frame and returns it as an intermix.Image: an (H, W, 4) float32 numpy array of
 premultiplied linear RGBA over the scene's background (image.to_uint8() gives the sRGB display
 image, as `intermix render` writes it). `method` defaults to the scene's render.method
 (intermix.available_methods()), `width`/`height` to the scene's image size, `spp` (a perfect

@@ -244,7 +244,9 @@ py::array view_array(const void* data, const py::dtype& dtype, std::vector<py::s
 void bind_volume(py::module_& m) {
   // Whether voxels of an engine type are read in place (VoxelBuffer views) or copied.
   m.attr("_zero_copy") = py::bool_(true);
-  py::class_<PyVolume, std::shared_ptr<PyVolume>>(m, "Volume", R"doc(A volume from numpy: voxels with a 4x4 index-to-world affine (millimetres), usable as a volume
+  py::class_<PyVolume, std::shared_ptr<PyVolume>>(
+      m, "Volume",
+      R"doc(A volume from numpy: voxels with a 4x4 index-to-world affine (millimetres), usable as a volume
 object's "source" in a scene (Scene.from_dict, Scene.add_volume, Scene.set).
 
 Volume(array, affine=None, *, space="LPS", axes="auto")
@@ -326,8 +328,10 @@ Raises ValueError (with the library's message) for bad shapes, affines or non-fi
                            v.shares_memory ? ", shares the array's memory" : "");
       });
 
-  m.def("read_volume", &read_volume_file, py::arg("path"), py::kw_only(), py::arg("space") = "LPS",
-        py::arg("series") = "", R"doc(Reads a volume file: NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz), MetaImage (.mha, .mhd), or a
+  m.def(
+      "read_volume", &read_volume_file, py::arg("path"), py::kw_only(), py::arg("space") = "LPS",
+      py::arg("series") = "",
+      R"doc(Reads a volume file: NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz), MetaImage (.mha, .mhd), or a
 DICOM folder, DICOMDIR or file (its largest series, or `series`: a number, id or UID).
 
 Returns (array, affine): the voxels as a C-order (nk, nj, ni) array of uint8, int16, uint16 or
@@ -343,7 +347,8 @@ Raises OSError when the file cannot be read, ValueError when its content is wron
         py::gil_scoped_release release;
         write_volume(*v.data, file, compress);
       },
-      py::arg("volume"), py::arg("path"), py::kw_only(), py::arg("compress") = true, R"doc(Writes a Volume as NIfTI-1 (.nii.gz, .nii), NRRD (.nrrd) or MetaImage (.mha) by the extension,
+      py::arg("volume"), py::arg("path"), py::kw_only(), py::arg("compress") = true,
+      R"doc(Writes a Volume as NIfTI-1 (.nii.gz, .nii), NRRD (.nrrd) or MetaImage (.mha) by the extension,
 atomically. `compress` applies to NRRD and MetaImage (NIfTI follows the .gz).
 )doc");
 
@@ -365,7 +370,8 @@ atomically. `compress` applies to NRRD and MetaImage (NIfTI follows the .gz).
         v->data = data;
         return v;
       },
-      py::arg("name"), py::arg("size") = 128, R"doc(A built-in phantom as a Volume (intermix.phantom_names(): ct-head, cube, ellipsoid, pet, shells,
+      py::arg("name"), py::arg("size") = 128,
+      R"doc(A built-in phantom as a Volume (intermix.phantom_names(): ct-head, cube, ellipsoid, pet, shells,
 sphere); `size` is the voxel count along its largest axis. Its array is read-only.
 )doc");
 }
