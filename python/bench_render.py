@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
 """A render from Python against the CLI's render of the same scene, in one run.
 
-For each scene and method: `intermix render SCENE --method M` (its render time, which it prints
-on stderr, excludes loading and writing, as Scene.render excludes loading) and
-`scene.render(method=M)` (wall time of the call: argument checks, the worker thread, the
-render and the numpy image, which owns the engine's pixels without a copy), interleaved over
---rounds rounds with the order alternating, after one warm-up each; medians and their ratio.
+For each scene and method: `intermix render SCENE --method M` (the render time it prints on
+stderr, which excludes loading and writing) against `scene.render(method=M)` on a scene just
+loaded with Scene.from_file (the wall time of the call: argument checks, the worker thread, the
+render, and the numpy image, which takes over the engine's pixels without a copy). Both start
+cold: the engine derives gradients, bricks and distance maps per volume on its first render and
+keeps them while the volume lives, which a CLI process never sees twice. A second render of the
+same scene ("warm") shows what a Python session gains from that. Interleaved over --rounds
+rounds with the order alternating, after one warm-up each; medians and ratios.
 
     PYTHONPATH=build/python python3 python/bench_render.py [--rounds 7] [--method mdvr] [SCENE...]
 """
@@ -18,9 +21,11 @@ import subprocess
 import sys
 import time
 
-import intermix
-
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+# python/intermix is the package's source, without the extension module: use the built one.
+sys.path = [p for p in sys.path if os.path.abspath(p or ".") != HERE]
+import intermix  # noqa: E402
 TIME = re.compile(r" in ([0-9.]+) s -> ")
 
 
@@ -35,10 +40,15 @@ def cli_seconds(cli, scene, method, extra):
     return float(match.group(1))
 
 
-def python_seconds(scene, method, kw):
-    start = time.perf_counter()
-    scene.render(method=method, **kw)
-    return time.perf_counter() - start
+def python_seconds(path, method, kw):
+    """A render of a freshly loaded scene (cold), and a second render of it (warm)."""
+    scene = intermix.Scene.from_file(path)
+    times = []
+    for _ in range(2):
+        start = time.perf_counter()
+        scene.render(method=method, **kw)
+        times.append(time.perf_counter() - start)
+    return times
 
 
 def main():
@@ -56,21 +66,27 @@ def main():
         extra = ["--width", str(args.size), "--height", str(args.size)]
         kw = {"width": args.size, "height": args.size}
 
-    print(f"{'scene':<14} {'method':<13} {'CLI ms':>9} {'Python ms':>10} {'ratio':>7}")
+    print(f"{'scene':<14} {'method':<13} {'CLI ms':>9} {'Python ms':>10} {'ratio':>7} "
+          f"{'warm ms':>9} {'ratio':>7}")
     for path in args.scenes:
-        scene = intermix.Scene.from_file(path)
         for method in methods:
             cli_seconds(args.cli, path, method, extra)  # warm-up: page cache, CPU clocks
-            python_seconds(scene, method, kw)
-            cli, py = [], []
+            python_seconds(path, method, kw)
+            cli, cold, warm = [], [], []
+
+            def run_python():
+                c, w = python_seconds(path, method, kw)
+                cold.append(c)
+                warm.append(w)
+
             for r in range(args.rounds):
-                pair = [lambda: cli.append(cli_seconds(args.cli, path, method, extra)),
-                        lambda: py.append(python_seconds(scene, method, kw))]
+                pair = [lambda: cli.append(cli_seconds(args.cli, path, method, extra)), run_python]
                 for run in pair if r % 2 == 0 else reversed(pair):
                     run()
-            c, p = statistics.median(cli), statistics.median(py)
+            c, p, w = (statistics.median(x) for x in (cli, cold, warm))
             name = os.path.basename(path)
-            print(f"{name:<14} {method:<13} {c * 1e3:9.1f} {p * 1e3:10.1f} {p / c:7.3f}", flush=True)
+            print(f"{name:<14} {method:<13} {c * 1e3:9.1f} {p * 1e3:10.1f} {p / c:7.3f} "
+                  f"{w * 1e3:9.1f} {w / c:7.3f}", flush=True)
 
 
 if __name__ == "__main__":
