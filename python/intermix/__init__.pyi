@@ -158,7 +158,12 @@ class Renderer:
 def available_methods() -> list[str]: ...
 def default_spp(method: str) -> int: ...
 def read_volume(
-    path: PathLike, *, space: Space = "LPS", series: str = ""
+    path: PathLike,
+    *,
+    space: Space = "LPS",
+    series: Union[str, int, None] = None,
+    units: Literal["", "suv"] = "",
+    slice_spacing_mm: Optional[float] = None,
 ) -> Tuple[np.ndarray, npt.NDArray[np.float64]]: ...
 def write_volume(volume: Volume, path: PathLike, *, compress: bool = True) -> None: ...
 def read_mesh(

@@ -204,19 +204,28 @@ std::filesystem::path path_of(const py::object& path) {
 }
 
 py::tuple read_volume_file(const py::object& path, const std::string& space,
-                           const std::string& series) {
+                           const py::object& series, const std::string& units,
+                           std::optional<double> slice_spacing_mm) {
   const bool lps = parse_space(space, "read_volume");
   const std::filesystem::path file = path_of(path);
+  DicomReadOptions options;
+  if (!series.is_none()) options.series = py::str(series).cast<std::string>();
+  options.units = units;
+  options.slice_spacing_mm = slice_spacing_mm;
+  const bool dicom_options = !series.is_none() || !units.empty() || slice_spacing_mm;
+  if (!units.empty() && units != "suv")
+    throw py::value_error(fmt::format("read_volume: units '{}' is not suv", units));
   std::shared_ptr<VolumeData> data;
   {
     py::gil_scoped_release release;  // large files take seconds
-    if (!series.empty() || is_dicom_source(file)) {
-      DicomReadOptions options;
-      options.series = series;
-      if (!is_dicom_source(file))
-        throw Error(fmt::format("{}: only DICOM sources take a series", file.string()));
+    if (is_dicom_source(file)) {
       data = std::make_shared<VolumeData>(read_dicom(file, options).volume);
     } else {
+      if (dicom_options)
+        throw Error(fmt::format(
+            "{}: only DICOM sources (a folder, DICOMDIR or .dcm file) take series, units and "
+            "slice_spacing_mm",
+            file.string()));
       data = std::make_shared<VolumeData>(read_volume(file));
     }
     data->validate(file.string());
@@ -330,9 +339,12 @@ Raises ValueError (with the library's message) for bad shapes, affines or non-fi
 
   m.def(
       "read_volume", &read_volume_file, py::arg("path"), py::kw_only(), py::arg("space") = "LPS",
-      py::arg("series") = "",
+      py::arg("series") = py::none(), py::arg("units") = "",
+      py::arg("slice_spacing_mm") = py::none(),
       R"doc(Reads a volume file: NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz), MetaImage (.mha, .mhd), or a
-DICOM folder, DICOMDIR or file (its largest series, or `series`: a number, id or UID).
+DICOM folder, DICOMDIR or file: its largest series, or `series` (a number, id or UID), in
+`units="suv"` for PET, resampled to `slice_spacing_mm` when its slices are uneven (as
+`intermix convert` reads it).
 
 Returns (array, affine): the voxels as a C-order (nk, nj, ni) array of uint8, int16, uint16 or
 float32 (indexed array[k, j, i]) and the 4x4 index-to-world affine in `space` ("LPS", the default,

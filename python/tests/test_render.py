@@ -154,3 +154,13 @@ def test_methods():
     methods = intermix.available_methods()
     assert {"reference", "mdvr", "zslab", "zslab-hybrid", "csg"} <= set(methods)
     assert intermix.default_spp("reference") == 16
+
+
+def test_a_renderer_lets_go_of_replaced_numpy_volumes():
+    scene = intermix.Scene.from_dict(volume_scene(intermix.Volume(blob_volume(), oblique_affine())))
+    renderer = intermix.Renderer()
+    renderer.render(scene, method="zslab")
+    for n in range(3):  # each replaced volume's last user may be the renderer's worker thread
+        scene.set("objects.ct.source", intermix.Volume(blob_volume() + n, oblique_affine()))
+        image = renderer.render(scene, method="zslab")
+    assert np.array_equal(image, scene.render(method="zslab"))

@@ -1,6 +1,7 @@
 """Volumes from numpy: the same image as the same voxels from a file, zero-copy, axis order."""
 
 import gc
+import os
 
 import numpy as np
 import pytest
@@ -190,3 +191,24 @@ def test_volume_errors():
         intermix.Volume(np.zeros((4, 4, 4), np.complex64))
     with pytest.raises(ValueError, match="space 'XYZ'"):
         intermix.Volume(np.zeros((4, 4, 4)), space="XYZ")
+
+
+SHARED = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
+                      "..", "shared", "data")
+
+
+@pytest.mark.skipif(not os.path.isdir(os.path.join(SHARED, "dicom", "ct-philips")),
+                    reason="no ../shared/data")
+def test_dicom_and_mesh_files_as_the_scene_reads_them():
+    folder = os.path.join(SHARED, "dicom", "ct-philips")
+    array, affine = intermix.read_volume(folder)
+    assert array.dtype == np.int16 and array.ndim == 3
+    scene_file = intermix.Scene.from_dict(volume_scene({"file": folder}))
+    scene_numpy = intermix.Scene.from_dict(volume_scene(intermix.Volume(array, affine)))
+    assert np.array_equal(scene_file.render(method="mdvr"), scene_numpy.render(method="mdvr"))
+    assert any("series" in note for note in scene_file.notes) or scene_file.notes == []
+    with pytest.raises(ValueError, match="only DICOM sources"):
+        intermix.read_volume(os.path.join(SHARED, "FLAIR.nii.gz"), series=2)
+    bunny = intermix.read_mesh(os.path.join(SHARED, "bunny.ply"))
+    assert bunny.vertices.shape[1] == 3 and bunny.triangles.shape[1] == 3
+    assert bunny.normals is not None and not bunny.vertices.flags.writeable
