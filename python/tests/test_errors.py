@@ -121,3 +121,12 @@ def test_mesh_errors():
         intermix.Mesh([[0, 0, 0], [1, 0, 0], [0, np.inf, 0]], [[0, 1, 2]])
     with pytest.raises(ValueError, match="not linear RGB"):
         intermix.Mesh(np.eye(3), [[0, 1, 2]], colors=np.full((3, 3), 2.0))
+
+
+def test_a_volume_is_no_mesh_source():
+    v = intermix.Volume(blob_volume())
+    with pytest.raises(ValueError, match=r"^scene dict: objects\[0\]\.source: is a volume the program gave, not a mesh$"):
+        intermix.Scene.from_dict({"objects": [{"name": "m", "type": "mesh", "source": v}]})
+    m = intermix.Mesh(np.eye(3), [[0, 1, 2]])
+    with pytest.raises(ValueError, match="is a mesh the program gave, not a volume"):
+        intermix.Scene.from_dict(volume_scene(m))

@@ -80,6 +80,8 @@ std::string space_note(const std::string& name, const std::filesystem::path& fil
 // of reading options; the note on its space is given for the first object that reads it).
 std::shared_ptr<const Mesh> load_mesh_source(const JsonReader& src, const std::string& name,
                                              SceneContext& context) {
+  if (!context.given_volumes.empty() && src.json().is_object() && src.has("$volume"))
+    src.fail("is a volume the program gave, not a mesh");
   if (!context.given_meshes.empty() && src.json().is_object() && src.has("$mesh")) {
     src.check_keys({"$mesh"});
     JsonReader id = src.get("$mesh");

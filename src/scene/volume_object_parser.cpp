@@ -23,6 +23,8 @@ constexpr int kDefaultPhantomSize = 128;
 // A DICOM source (folder, DICOMDIR, DICM file) also gives its series' window.
 std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, SceneContext& context,
                                                      std::optional<glm::dvec2>* window) {
+  if (!context.given_meshes.empty() && src.json().is_object() && src.has("$mesh"))
+    src.fail("is a mesh the program gave, not a volume");
   if (!context.given_volumes.empty() && src.json().is_object() && src.has("$volume")) {
     src.check_keys({"$volume"});
     JsonReader id = src.get("$volume");
