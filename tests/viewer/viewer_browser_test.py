@@ -697,9 +697,11 @@ def run_mpr(args, out, checks, cleanup, browser):
     hello = watcher.wait(lambda t, m: m.get('type') == 'hello', 10)
     if hello is None:
         raise Failure('the second client of the MPR server got no hello in 10 s')
-    planes = [o for o in hello.get('objects', []) if o.get('kind') == 'plane']
+    # MPR planes: planes that sample a volume (a plain colored plane has no window to set)
+    planes = [o for o in hello.get('objects', []) if o.get('kind') == 'plane' and o.get('volume')]
     if not planes:
-        raise Failure(f'{args.mpr_scene} has no plane: {hello.get("objects")}')
+        raise Failure(f'{args.mpr_scene} has no plane of a volume: '
+                      f'{[o.get("name") for o in hello.get("objects", [])]}')
 
     errors_before = len(browser.page_errors)
     t0 = time.monotonic()
@@ -714,7 +716,8 @@ def run_mpr(args, out, checks, cleanup, browser):
                  f"{last.get('stages')} stages, planes {[p['name'] for p in planes]}")
     view = browser.evaluate("viewer.center('#view')")
 
-    # h. window/level: click the last plane's radio (not the default one), ctrl+drag right
+    # h. window/level: click the last MPR plane's radio (the default is the first plane's),
+    # ctrl+drag right
     wl = planes[-1]
     radio_sel = json.dumps(f'.object[data-name="{wl["name"]}"] input[type=radio]')
     rb = browser.evaluate(f'viewer.center({radio_sel})')
@@ -757,7 +760,7 @@ def run_mpr(args, out, checks, cleanup, browser):
                  f"(run, stages, scale): "
                  f"{[(f['stages_run'], f['stages'], f['scale']) for f in fr]}")
 
-    # i. the first plane's position slider: drag its thumb left
+    # i. the first MPR plane's position slider: drag its thumb left
     pl = planes[0]
     slider_sel = json.dumps(f'.object[data-name="{pl["name"]}"] > .row:last-child > '
                             'input[type=range]')
@@ -797,10 +800,7 @@ def run_mpr(args, out, checks, cleanup, browser):
 
     # j. a clip plane: "add clip plane" in the plane's volume's box, then alt+drag down (the
     # clip, through the target facing the view, moves toward the eye)
-    vol = pl.get('volume') or next((o['name'] for o in hello['objects']
-                                    if o.get('kind') == 'volume'), None)
-    if not vol:
-        raise Failure(f'{args.mpr_scene} has no volume for a clip plane')
+    vol = pl['volume']
     clips_before = list((state_object(st, vol) or {}).get('clip_planes') or [])
     # the last row of a volume's box
     add_sel = json.dumps(f'.object[data-name="{vol}"] > .row:last-child > button')
