@@ -4,10 +4,11 @@
 #include <string>
 #include <utility>
 #include <variant>
-#include <vector>
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
+
+#include "intermix/voxel_buffer.hpp"
 
 namespace imx {
 
@@ -15,12 +16,14 @@ enum class VoxelType : uint8_t { u8, i16, u16, f32 };
 
 const char* voxel_type_name(VoxelType type);
 
-using VoxelStorage = std::variant<std::vector<uint8_t>, std::vector<int16_t>,
-                                  std::vector<uint16_t>, std::vector<float>>;
+// The voxels in their native type, in VoxelType's order; owned, or a view of external memory
+// (VoxelBuffer), so a volume from Python shares a numpy array's memory without a copy.
+using VoxelStorage = std::variant<VoxelBuffer<uint8_t>, VoxelBuffer<int16_t>, VoxelBuffer<uint16_t>,
+                                  VoxelBuffer<float>>;
 
 struct VolumeData {
-  glm::ivec3 dims{0};             // voxels along i, j, k; x fastest in memory
-  VoxelStorage voxels;            // dims.x * dims.y * dims.z values
+  glm::ivec3 dims{0};              // voxels along i, j, k; x fastest in memory
+  VoxelStorage voxels;             // dims.x * dims.y * dims.z values
   glm::dmat4 index_to_world{1.0};  // voxel centres at integer indices -> world mm (LPS)
 
   VoxelType type() const { return static_cast<VoxelType>(voxels.index()); }

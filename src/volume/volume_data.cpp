@@ -58,7 +58,7 @@ void VolumeData::validate(const std::string& what) const {
   if (stored != voxel_count())
     throw Error(fmt::format("{}: holds {} voxels, dimensions {}x{}x{} need {}", what, stored,
                             dims.x, dims.y, dims.z, voxel_count()));
-  if (const auto* f = std::get_if<std::vector<float>>(&voxels)) {
+  if (const auto* f = std::get_if<VoxelBuffer<float>>(&voxels)) {
     // A NaN or inf voxel has no place on a transfer function and breaks every min/max bound.
     auto bad = std::find_if(f->begin(), f->end(), [](float v) { return !std::isfinite(v); });
     if (bad != f->end()) {

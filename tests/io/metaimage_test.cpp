@@ -62,8 +62,8 @@ TYPED_TEST(MetaImageRoundTrip, RawAndCompressedKeepVoxelsAndObliqueAffine) {
     VolumeData r = read_volume(file);
     EXPECT_EQ(r.type(), v.type());
     EXPECT_EQ(r.dims, v.dims);
-    EXPECT_EQ(std::get<std::vector<TypeParam>>(r.voxels),
-              std::get<std::vector<TypeParam>>(v.voxels));
+    EXPECT_EQ(std::get<VoxelBuffer<TypeParam>>(r.voxels),
+              std::get<VoxelBuffer<TypeParam>>(v.voxels));
     // Directions and spacing are stored apart, so the affine comes back to rounding.
     expect_same_affine(r.index_to_world, v.index_to_world, 1e-12);
   }
@@ -129,7 +129,7 @@ TEST(MetaImageReader, ReadsDetachedBigEndianDoublesWithAHeaderSize) {
               "Offset = 10 20 30\nElementDataFile = d.raw\n");
   VolumeData v = read_volume(dir / "d.mhd");
   ASSERT_EQ(v.type(), VoxelType::f32);
-  const auto& f = std::get<std::vector<float>>(v.voxels);
+  const auto& f = std::get<VoxelBuffer<float>>(v.voxels);
   EXPECT_EQ(f[0], -1.5f);
   EXPECT_EQ(f[2], 3.25f);
   EXPECT_EQ(f[7], FLT_MAX);  // out-of-range doubles clamp to the float range
@@ -142,11 +142,13 @@ TEST(MetaImageReader, ReadsADetachedZrawAndHeaderSizeMinusOne) {
   std::vector<int16_t> values = {1, -2, 3, -4, 5, -6, 7, -8};
   write_bytes(dir / "c.zraw", zlib_bytes(raw_bytes(values)));
   write_bytes(dir / "c.mhd", header_2x2x2("CompressedData = True\n", "c.zraw"));
-  EXPECT_EQ(std::get<std::vector<int16_t>>(read_volume(dir / "c.mhd").voxels), values);
+  EXPECT_EQ(std::get<VoxelBuffer<int16_t>>(read_volume(dir / "c.mhd").voxels),
+            VoxelBuffer<int16_t>(values));
 
   write_bytes(dir / "e.raw", "some preamble" + raw_bytes(values));
   write_bytes(dir / "e.mhd", header_2x2x2("HeaderSize = -1\n", "e.raw"));
-  EXPECT_EQ(std::get<std::vector<int16_t>>(read_volume(dir / "e.mhd").voxels), values);
+  EXPECT_EQ(std::get<VoxelBuffer<int16_t>>(read_volume(dir / "e.mhd").voxels),
+            VoxelBuffer<int16_t>(values));
 }
 
 TEST(MetaImageReader, WidensCharAndReadsA2dImageAsOneSlice) {
@@ -159,8 +161,8 @@ TEST(MetaImageReader, WidensCharAndReadsA2dImageAsOneSlice) {
   VolumeData v = read_volume(dir / "s.mha");
   EXPECT_EQ(v.dims, glm::ivec3(3, 2, 1));
   ASSERT_EQ(v.type(), VoxelType::i16);
-  EXPECT_EQ(std::get<std::vector<int16_t>>(v.voxels),
-            (std::vector<int16_t>{-128, -1, 0, 127, 5, 6}));
+  EXPECT_EQ(std::get<VoxelBuffer<int16_t>>(v.voxels),
+            VoxelBuffer<int16_t>({-128, -1, 0, 127, 5, 6}));
   EXPECT_EQ(glm::dvec3(v.index_to_world[0]), glm::dvec3(0, 0.5, 0));
   EXPECT_EQ(glm::dvec3(v.index_to_world[1]), glm::dvec3(0.25, 0, 0));
   EXPECT_EQ(glm::dvec3(v.index_to_world[2]), glm::dvec3(0, 0, 1));

@@ -71,7 +71,7 @@ TEST(NiftiReader, SformConvertsRasToLps) {
   test::write_bytes(dir / "s.nii", file_bytes(h, raw_bytes(data)));
   VolumeData v = read_volume(dir / "s.nii");
   ASSERT_EQ(v.type(), VoxelType::i16);
-  EXPECT_EQ(std::get<std::vector<int16_t>>(v.voxels), data);
+  EXPECT_EQ(std::get<VoxelBuffer<int16_t>>(v.voxels), VoxelBuffer<int16_t>(data));
   glm::dmat4 m = v.index_to_world;
   EXPECT_EQ(glm::dvec3(m[0]), glm::dvec3(0.0, -1.5, 0.0));
   EXPECT_EQ(glm::dvec3(m[1]), glm::dvec3(-2.0, 0.0, 0.0));
@@ -150,7 +150,7 @@ TEST(NiftiReader, FourDimensionalFileGivesTheFirstVolume) {
   test::write_bytes(dir / "t.nii", file_bytes(h, raw_bytes(data)));
   VolumeData v = read_volume(dir / "t.nii");
   EXPECT_EQ(v.dims, glm::ivec3(2, 2, 1));
-  EXPECT_EQ(std::get<std::vector<uint16_t>>(v.voxels), (std::vector<uint16_t>{1, 2, 3, 4}));
+  EXPECT_EQ(std::get<VoxelBuffer<uint16_t>>(v.voxels), VoxelBuffer<uint16_t>({1, 2, 3, 4}));
 }
 
 TEST(NiftiReaderErrors, TruncatedData) {
@@ -223,7 +223,7 @@ TEST(SharedData, FlairNrrdAndNiftiAgree) {
   EXPECT_EQ(a.dims, b.dims);
   ASSERT_EQ(a.type(), VoxelType::u8);
   ASSERT_EQ(b.type(), a.type());
-  EXPECT_TRUE(std::get<std::vector<uint8_t>>(a.voxels) == std::get<std::vector<uint8_t>>(b.voxels));
+  EXPECT_TRUE(std::get<VoxelBuffer<uint8_t>>(a.voxels) == std::get<VoxelBuffer<uint8_t>>(b.voxels));
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 4; ++r)
       EXPECT_NEAR(a.index_to_world[c][r], b.index_to_world[c][r], 1e-3) << c << "," << r;

@@ -35,8 +35,8 @@ TYPED_TEST(NiftiRoundTrip, PlainAndGzipKeepVoxelsAndObliqueAffine) {
     VolumeData r = read_volume(dir / name);
     EXPECT_EQ(r.type(), v.type()) << name;
     EXPECT_EQ(r.dims, v.dims) << name;
-    EXPECT_EQ(std::get<std::vector<TypeParam>>(r.voxels),
-              std::get<std::vector<TypeParam>>(v.voxels))
+    EXPECT_EQ(std::get<VoxelBuffer<TypeParam>>(r.voxels),
+              std::get<VoxelBuffer<TypeParam>>(v.voxels))
         << name;
     expect_near_affine(r.index_to_world, v.index_to_world, 1e-4);
   }

@@ -51,8 +51,8 @@ TYPED_TEST(NrrdRoundTrip, RawAndGzipKeepVoxelsAndObliqueAffine) {
     VolumeData r = read_volume(file);
     EXPECT_EQ(r.type(), v.type());
     EXPECT_EQ(r.dims, v.dims);
-    EXPECT_EQ(std::get<std::vector<TypeParam>>(r.voxels),
-              std::get<std::vector<TypeParam>>(v.voxels));
+    EXPECT_EQ(std::get<VoxelBuffer<TypeParam>>(r.voxels),
+              std::get<VoxelBuffer<TypeParam>>(v.voxels));
     // The header prints shortest round-trip decimals, so the affine comes back exactly.
     expect_same_affine(r.index_to_world, v.index_to_world, 0.0);
   }
@@ -128,7 +128,7 @@ TEST(NrrdReader, ReadsADetachedHeaderWithSkips) {
               "NRRD0005\ntype: short\ndimension: 3\nsizes: 4 3 2\nendian: little\nencoding: raw\n"
               "data file: data.raw\nline skip: 2\nbyte skip: 3\n");
   VolumeData v = read_volume(dir / "h.nhdr");
-  EXPECT_EQ(std::get<std::vector<int16_t>>(v.voxels), data);
+  EXPECT_EQ(std::get<VoxelBuffer<int16_t>>(v.voxels), VoxelBuffer<int16_t>(data));
 }
 
 TEST(NrrdReader, ByteSkipMinusOneTakesTheLastBytes) {
@@ -138,7 +138,8 @@ TEST(NrrdReader, ByteSkipMinusOneTakesTheLastBytes) {
   write_bytes(dir / "h.nhdr",
               "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\n"
               "encoding: raw\ndata file: d.raw\nbyte skip: -1\n");
-  EXPECT_EQ(std::get<std::vector<uint8_t>>(read_volume(dir / "h.nhdr").voxels), data);
+  EXPECT_EQ(std::get<VoxelBuffer<uint8_t>>(read_volume(dir / "h.nhdr").voxels),
+            VoxelBuffer<uint8_t>(data));
 }
 
 TEST(NrrdReader, SwapsBigEndianAndReadsGzip) {
@@ -150,7 +151,8 @@ TEST(NrrdReader, SwapsBigEndianAndReadsGzip) {
               "NRRD0004\ntype: unsigned short\ndimension: 3\nsizes: 2 2 2\n"
               "endian: big\nencoding: gzip\n\n" +
                   gzipped(raw_bytes(big)));
-  EXPECT_EQ(std::get<std::vector<uint16_t>>(read_volume(dir / "be.nrrd").voxels), expected);
+  EXPECT_EQ(std::get<VoxelBuffer<uint16_t>>(read_volume(dir / "be.nrrd").voxels),
+            VoxelBuffer<uint16_t>(expected));
 }
 
 TEST(NrrdReader, GzipByteSkipCountsDecompressedBytes) {
@@ -164,7 +166,8 @@ TEST(NrrdReader, GzipByteSkipCountsDecompressedBytes) {
               "NRRD0004\ntype: float\ndimension: 3\nsizes: 64 64 40\n"
               "endian: little\nencoding: gzip\ndata file: d.raw.gz\n"
               "byte skip: 300000\n");
-  EXPECT_EQ(std::get<std::vector<float>>(read_volume(dir / "h.nhdr").voxels), data);
+  EXPECT_EQ(std::get<VoxelBuffer<float>>(read_volume(dir / "h.nhdr").voxels),
+            VoxelBuffer<float>(data));
 }
 
 TEST(NrrdReader, ConvertsOtherTypesToTheNearestStorage) {

@@ -114,7 +114,7 @@ TEST(Cube, SolidCentreEmptyCornersSoftEdges) {
   EXPECT_EQ(value_near(v, {35, -35, 35}), 255.0);
   EXPECT_EQ(value_near(v, {42, 0, 0}), 0.0);
   // The fraction of full voxels is about 0.6^3 of the grid.
-  const auto& vox = std::get<std::vector<uint8_t>>(v.voxels);
+  const auto& vox = std::get<VoxelBuffer<uint8_t>>(v.voxels);
   double inside = 0;
   for (uint8_t x : vox) inside += x / 255.0;
   EXPECT_NEAR(inside / vox.size(), 0.216, 0.01);

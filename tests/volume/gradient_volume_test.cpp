@@ -60,7 +60,10 @@ TEST(GradientVolume, InterpolatesTrilinearlyBetweenVoxels) {
     // Both layouts: 8-bit voxels pack, an int16 volume with a step of 2000 does not.
     VolumeData v = n < 3 ? test::blob_volume<uint8_t>(dims, rng)
                          : test::blob_volume<int16_t>(dims, rng, 2.0f, -300.0f);
-    if (n >= 3) std::get<std::vector<int16_t>>(v.voxels).back() = 2000;
+    if (n >= 3) {
+      auto& voxels = std::get<VoxelBuffer<int16_t>>(v.voxels);
+      voxels.mutable_data()[voxels.size() - 1] = 2000;
+    }
     GradientVolume g{AnyGrid(v)};
     EXPECT_EQ(g.packed(), n < 3);
     auto at = [&](glm::ivec3 i) { return g.sample(glm::vec3(glm::min(i, dims - 1))); };
