@@ -10,6 +10,19 @@ class Error : public std::runtime_error {
   explicit Error(const std::string& message) : std::runtime_error(message) {}
 };
 
+// A file that cannot be read or written: missing, not a regular file, no permission, a folder
+// that cannot be listed, a failed write. `code` is the errno value when one is known (ENOENT,
+// EISDIR, EACCES, ...), else 0. The Python package raises OSError for it, ValueError for any
+// other imx::Error from reading (a file that is there but wrong).
+class FileError : public Error {
+ public:
+  explicit FileError(const std::string& message, int code = 0) : Error(message), code_(code) {}
+  int code() const { return code_; }
+
+ private:
+  int code_;
+};
+
 // Thrown by render() when RenderOptions::cancel was set: not a failure, the frame is dropped.
 class Cancelled : public Error {
  public:

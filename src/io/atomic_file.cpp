@@ -177,8 +177,9 @@ Temporary create_temporary(const std::filesystem::path& file) {
     if (last_errno != EEXIST) break;
   }
   std::filesystem::path folder = file.parent_path().empty() ? "." : file.parent_path();
-  throw Error(fmt::format("{}: cannot create a file in folder '{}': {}", file.string(),
-                          folder.string(), std::strerror(last_errno)));
+  throw FileError(fmt::format("{}: cannot create a file in folder '{}': {}", file.string(),
+                              folder.string(), std::strerror(last_errno)),
+                  last_errno);
 }
 
 void remove_quietly(const std::filesystem::path& p) {
@@ -197,19 +198,22 @@ void write_file_atomically(const std::filesystem::path& file,
     {
       std::ofstream out(tmp.path, std::ios::binary | std::ios::trunc);
       if (!out)
-        throw Error(
-            fmt::format("{}: cannot open '{}' for writing", file.string(), tmp.path.string()));
+        throw FileError(
+            fmt::format("{}: cannot open '{}' for writing", file.string(), tmp.path.string()),
+            errno);
       write(out);
       out.flush();
-      if (!out) throw Error(fmt::format("{}: writing failed (disk full?)", file.string()));
+      if (!out) throw FileError(fmt::format("{}: writing failed (disk full?)", file.string()));
       out.close();
-      if (out.fail()) throw Error(fmt::format("{}: closing failed (disk full?)", file.string()));
+      if (out.fail())
+        throw FileError(fmt::format("{}: closing failed (disk full?)", file.string()));
     }
     std::error_code ec;
     std::filesystem::rename(tmp.path, file, ec);
     if (ec)
-      throw Error(fmt::format("{}: cannot rename the temporary file into place: {}", file.string(),
-                              ec.message()));
+      throw FileError(fmt::format("{}: cannot rename the temporary file into place: {}",
+                                  file.string(), ec.message()),
+                      ec.value());
     tmp.armed.release();
   } catch (...) {
     remove_quietly(tmp.path);

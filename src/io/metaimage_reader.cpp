@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -213,7 +214,7 @@ glm::dmat4 parse_affine(const Header& h, int ndims) {
 VolumeData read_metaimage(const std::filesystem::path& file) {
   const std::string what = file.string();
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error(fmt::format("{}: cannot open file", what));
+  if (!in) throw FileError(fmt::format("{}: cannot open file", what), errno);
   Header h = read_header(in, what);
 
   if (const std::string* type = h.find("ObjectType"); type && lower(*type) != "image")
@@ -249,7 +250,7 @@ VolumeData read_metaimage(const std::filesystem::path& file) {
     data_what = fmt::format("{} (data file of {})", data_path.string(), what);
     in.close();
     in.open(data_path, std::ios::binary);
-    if (!in) throw Error(fmt::format("{}: cannot open the data file", data_what));
+    if (!in) throw FileError(fmt::format("{}: cannot open the data file", data_what), errno);
     start = 0;
   } else if (start < 0) {
     throw Error(fmt::format("{}: the header ends at 'ElementDataFile = LOCAL' with no data", what));

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -73,7 +74,7 @@ float host_order(float v, bool swapped) {
 // file rather than nifticlib's console output (which it prints whatever its debug level).
 void check_header(const std::string& what) {
   znzFile f = znzopen(what.c_str(), "rb", nifti_is_gzfile(what.c_str()));
-  if (znz_isnull(f)) throw Error(fmt::format("{}: cannot open file", what));
+  if (znz_isnull(f)) throw FileError(fmt::format("{}: cannot open file", what), errno);
   nifti_1_header h{};
   size_t got = znzread(&h, 1, sizeof h, f);
   znzclose(f);
@@ -182,7 +183,8 @@ VolumeData read_nifti(const std::filesystem::path& file) {
   require_regular_file(nim->iname, fmt::format("{} (voxel data of {})", nim->iname,
                                                what));  // a .hdr's .img may be anything
   znzFile opened = znzopen(nim->iname, "rb", nifti_is_gzfile(nim->iname));
-  if (znz_isnull(opened)) throw Error(fmt::format("{}: cannot open the voxel data", what));
+  if (znz_isnull(opened))
+    throw FileError(fmt::format("{}: cannot open the voxel data", what), errno);
   std::unique_ptr<znzFile, int (*)(znzFile*)> close(&opened, Xznzclose);
   if (znzseek(opened, nim->iname_offset, SEEK_SET) < 0)
     throw Error(

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -291,7 +292,7 @@ long long parse_count_field(const Header& h, const std::string& name, long long 
 VolumeData read_nrrd(const std::filesystem::path& file) {
   const std::string what = file.string();
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error(fmt::format("{}: cannot open file", what));
+  if (!in) throw FileError(fmt::format("{}: cannot open file", what), errno);
   Header h = read_header(in, what);
 
   const std::string& dimension = require(h, "dimension", what);
@@ -363,7 +364,7 @@ VolumeData read_nrrd(const std::filesystem::path& file) {
     data_what = fmt::format("{} (data file of {})", data_path.string(), what);
     in.close();
     in.open(data_path, std::ios::binary);
-    if (!in) throw Error(fmt::format("{}: cannot open the data file", data_what));
+    if (!in) throw FileError(fmt::format("{}: cannot open the data file", data_what), errno);
     start = 0;
   } else if (h.data_offset < 0) {
     throw Error(

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -107,8 +108,10 @@ Image read_png(const std::filesystem::path& file, bool linear) {
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(file.c_str(), "rb"), std::fclose);
   if (!f) {
     std::error_code ec;
-    if (!std::filesystem::exists(file, ec)) throw Error(fmt::format("{}: no such file", what));
-    throw Error(fmt::format("{}: cannot open file", what));
+    const int code = errno;
+    if (!std::filesystem::exists(file, ec))
+      throw FileError(fmt::format("{}: no such file", what), ENOENT);
+    throw FileError(fmt::format("{}: cannot open file", what), code);
   }
   SpngContext ctx(spng_ctx_new(0), spng_ctx_free);
   if (!ctx) throw Error(fmt::format("{}: out of memory for the PNG decoder", what));

@@ -1,5 +1,6 @@
 #include "io/regular_file.hpp"
 
+#include <cerrno>
 #include <system_error>
 
 #include <fmt/format.h>
@@ -32,9 +33,9 @@ std::filesystem::file_type type_of(const std::filesystem::path& file, const std:
   std::error_code ec;
   const std::filesystem::file_status st = std::filesystem::status(file, ec);
   if (ec == std::errc::too_many_symbolic_link_levels)
-    throw Error(fmt::format("{}: symbolic link loop (too many levels of links)", what));
+    throw FileError(fmt::format("{}: symbolic link loop (too many levels of links)", what), ELOOP);
   if (ec && st.type() != std::filesystem::file_type::not_found)
-    throw Error(fmt::format("{}: cannot look at the file: {}", what, ec.message()));
+    throw FileError(fmt::format("{}: cannot look at the file: {}", what, ec.message()), ec.value());
   return st.type();
 }
 
@@ -44,9 +45,10 @@ void require_regular_file(const std::filesystem::path& file, const std::string& 
   const std::string name = what.empty() ? file.string() : what;
   const std::filesystem::file_type type = type_of(file, name);
   if (type == std::filesystem::file_type::not_found)
-    throw Error(fmt::format("{}: no such file", name));
+    throw FileError(fmt::format("{}: no such file", name), ENOENT);
   if (type != std::filesystem::file_type::regular)
-    throw Error(fmt::format("{}: {}", name, kind_of(type)));
+    throw FileError(fmt::format("{}: {}", name, kind_of(type)),
+                    type == std::filesystem::file_type::directory ? EISDIR : 0);
 }
 
 std::filesystem::path resolve_data_file(const std::filesystem::path& header,
@@ -74,8 +76,9 @@ std::filesystem::path resolve_data_file(const std::filesystem::path& header,
 void require_regular_or_new_file(const std::filesystem::path& file) {
   const std::filesystem::file_type type = type_of(file, file.string());
   if (type != std::filesystem::file_type::not_found && type != std::filesystem::file_type::regular)
-    throw Error(
-        fmt::format("{}: {}; only regular files are written", file.string(), kind_of(type)));
+    throw FileError(
+        fmt::format("{}: {}; only regular files are written", file.string(), kind_of(type)),
+        type == std::filesystem::file_type::directory ? EISDIR : 0);
 }
 
 }  // namespace imx

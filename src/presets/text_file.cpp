@@ -1,5 +1,6 @@
 #include "presets/text_file.hpp"
 
+#include <cerrno>
 #include <fstream>
 #include <sstream>
 #include <system_error>
@@ -20,7 +21,7 @@ std::string read_text_file(const std::filesystem::path& file, size_t max_bytes) 
     throw Error(fmt::format("{}: {} bytes is more than the {} this kind of file may have",
                             file.string(), size, max_bytes));
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error(fmt::format("{}: cannot open it for reading", file.string()));
+  if (!in) throw FileError(fmt::format("{}: cannot open it for reading", file.string()), errno);
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw Error(fmt::format("{}: reading failed", file.string()));

@@ -55,6 +55,11 @@ JsonReader JsonReader::child(const nlohmann::json& value, std::string path) cons
   return JsonReader(value, origin_, std::move(path));
 }
 
+void JsonReader::fail_file(std::string_view message, int code) const {
+  if (path_.empty()) throw FileError(fmt::format("{}: {}", origin_, message), code);
+  throw FileError(fmt::format("{}: {}: {}", origin_, path_, message), code);
+}
+
 void JsonReader::fail(std::string_view message) const {
   if (path_.empty()) throw Error(fmt::format("{}: {}", origin_, message));
   throw Error(fmt::format("{}: {}: {}", origin_, path_, message));

@@ -55,6 +55,8 @@ class JsonReader {
 
   // Throws imx::Error "origin: path: message".
   [[noreturn]] void fail(std::string_view message) const;
+  // The same as imx::FileError with `code` (errno): a file the value names cannot be read.
+  [[noreturn]] void fail_file(std::string_view message, int code = 0) const;
   // The value for messages: its JSON text, shortened when long.
   std::string text() const;
   // "string \"abc\"", "number 1.5", "object {...}".

@@ -1,4 +1,5 @@
 // load_scene / parse_scene: JSON text -> overrides -> validated Scene.
+#include <cerrno>
 #include <fstream>
 #include <sstream>
 #include <system_error>
@@ -36,8 +37,10 @@ void check_name(const JsonReader& r, const std::string& name) {
     r.fail(fmt::format("{} is all digits, which --set would read as an index", r.text()));
 }
 
-Scene parse_document(const nlohmann::json& root, const std::filesystem::path& base_dir,
-                     const std::string& origin) {
+}  // namespace
+
+Scene detail::parse_scene_document(const nlohmann::json& root, const std::string& origin,
+                                   detail::SceneContext& context) {
   JsonReader r(root, origin);
   r.check_keys({"description", "camera", "image", "lights", "objects", "csg", "render"});
   Scene scene;
@@ -65,7 +68,7 @@ Scene parse_document(const nlohmann::json& root, const std::filesystem::path& ba
     types[name] = kinds.back();
   }
 
-  detail::SceneContext context{base_dir, {}, {}, {}};
+  context.used.clear();
   for (size_t i = 0; i < objects.size(); ++i)
     if (kinds[i] == "volume")
       scene.volumes.push_back(detail::parse_volume_object(objects[i], context));
@@ -96,13 +99,11 @@ Scene parse_document(const nlohmann::json& root, const std::filesystem::path& ba
   // A CSG scene is meant for the csg method unless it asks for another (CSG.md §4.2).
   if (scene.csg && !(render && render->has("method"))) scene.render.method = "csg";
   scene.notes = std::move(context.notes);
+  context.notes.clear();
   return scene;
 }
 
-}  // namespace
-
-Scene parse_scene(const std::string& json_text, const std::filesystem::path& base_dir,
-                  const std::string& origin, const std::vector<std::string>& overrides) {
+nlohmann::json detail::parse_scene_json(const std::string& json_text, const std::string& origin) {
   nlohmann::json root;
   try {
     root = detail::parse_strict_json(json_text, origin);
@@ -112,19 +113,31 @@ Scene parse_scene(const std::string& json_text, const std::filesystem::path& bas
   if (!root.is_object())
     throw Error(fmt::format("{}: expected a JSON object at the top level, got {}", origin,
                             root.type_name()));
+  return root;
+}
+
+std::string detail::read_scene_file(const std::filesystem::path& file) {
+  require_regular_file(file);
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw FileError(fmt::format("{}: cannot open the file", file.string()), errno);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+Scene parse_scene(const std::string& json_text, const std::filesystem::path& base_dir,
+                  const std::string& origin, const std::vector<std::string>& overrides) {
+  nlohmann::json root = detail::parse_scene_json(json_text, origin);
   for (const std::string& assignment : overrides) detail::apply_override(root, assignment, origin);
-  return parse_document(root, base_dir, origin);
+  detail::SceneContext context{base_dir, {}, {}, {}};
+  return detail::parse_scene_document(root, origin, context);
 }
 
 Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
-  require_regular_file(file);
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error(fmt::format("{}: cannot open the file", file.string()));
-  std::ostringstream text;
-  text << in.rdbuf();
+  const std::string text = detail::read_scene_file(file);
   std::filesystem::path base_dir = file.parent_path();
   if (base_dir.empty()) base_dir = ".";
-  Scene scene = parse_scene(text.str(), base_dir, file.string(), overrides);
+  Scene scene = parse_scene(text, base_dir, file.string(), overrides);
   scene.file = file;
   return scene;
 }

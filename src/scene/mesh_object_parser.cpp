@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "io/mesh_primitives.hpp"
 #include "scene/scene_parsers.hpp"
@@ -79,6 +80,13 @@ std::string space_note(const std::string& name, const std::filesystem::path& fil
 // of reading options; the note on its space is given for the first object that reads it).
 std::shared_ptr<const Mesh> load_mesh_source(const JsonReader& src, const std::string& name,
                                              SceneContext& context) {
+  if (!context.given_meshes.empty() && src.json().is_object() && src.has("$mesh")) {
+    src.check_keys({"$mesh"});
+    JsonReader id = src.get("$mesh");
+    auto it = context.given_meshes.find(id.string());
+    if (it == context.given_meshes.end()) id.fail(id.text() + " is not a mesh of this scene");
+    return it->second;
+  }
   // Every key a source may have first, so that a misspelt "file" gets a suggestion.
   src.check_keys({"file", "primitive", "radius", "size", "height", "major_radius", "minor_radius",
                   "segments", "space", "crease_angle_deg"});
@@ -94,7 +102,12 @@ std::shared_ptr<const Mesh> load_mesh_source(const JsonReader& src, const std::s
             fmt::format("\"{}\" applies to mesh files; primitives are made in LPS with "
                         "their own normals",
                         key));
-    return std::make_shared<const Mesh>(make_primitive(src));
+    const std::string key = "primitive:" + src.json().dump();
+    context.used.insert(key);
+    if (auto it = context.meshes.find(key); it != context.meshes.end()) return it->second;
+    auto mesh = std::make_shared<const Mesh>(make_primitive(src));
+    context.meshes.emplace(key, mesh);
+    return mesh;
   }
   src.check_keys({"file", "space", "crease_angle_deg"});
   MeshReadOptions options;
@@ -109,6 +122,7 @@ std::shared_ptr<const Mesh> load_mesh_source(const JsonReader& src, const std::s
   std::string key = fmt::format("{}\n{}\n{}", (ec ? path : canonical).string(),
                                 options.space ? mesh_space_name(*options.space) : "file",
                                 options.crease_angle_deg);
+  context.used.insert(key);
   if (auto it = context.meshes.find(key); it != context.meshes.end()) return it->second;
   std::shared_ptr<const Mesh> mesh;
   try {
@@ -116,6 +130,8 @@ std::shared_ptr<const Mesh> load_mesh_source(const JsonReader& src, const std::s
     if (std::string note = space_note(name, path, read.info); !note.empty())
       context.notes.push_back(std::move(note));
     mesh = std::make_shared<const Mesh>(std::move(read.mesh));
+  } catch (const FileError& e) {
+    file_reader.fail_file(e.what(), e.code());
   } catch (const std::exception& e) {
     file_reader.fail(e.what());
   }
@@ -162,7 +178,14 @@ MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context) {
     if (m.interior) m.interior->opacity = 0.0f;
   }
   std::shared_ptr<const Mesh> mesh = load_mesh_source(r.get("source"), m.name, context);
-  m.mesh = std::make_shared<const Mesh>(transform_mesh(*mesh, transform));
+  // One placed copy per source and transform, so that a scene parsed again keeps its meshes.
+  std::string key = fmt::format("{}", static_cast<const void*>(mesh.get()));
+  for (int c = 0; c < 4; ++c)
+    for (int row = 0; row < 4; ++row) key += fmt::format(" {}", transform[c][row]);
+  context.used.insert(key);
+  auto [it, fresh] = context.placed_meshes.try_emplace(key);
+  if (fresh) it->second = std::make_shared<const Mesh>(transform_mesh(*mesh, transform));
+  m.mesh = it->second;
   return m;
 }
 

@@ -1,5 +1,6 @@
 // Parsers for fields that several object types share: shading, thickness, visibility and file
 // sources.
+#include <cerrno>
 #include <system_error>
 
 #include <fmt/format.h>
@@ -16,9 +17,9 @@ std::filesystem::path SceneContext::resolve_file(const JsonReader& file) const {
   path = path.lexically_normal();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec))
-    file.fail(fmt::format("no such file '{}'", path.string()));
+    file.fail_file(fmt::format("no such file '{}'", path.string()), ENOENT);
   if (std::filesystem::is_directory(path, ec))
-    file.fail(fmt::format("'{}' is a directory, not a file", path.string()));
+    file.fail_file(fmt::format("'{}' is a directory, not a file", path.string()), EISDIR);
   return path;
 }
 

@@ -4,6 +4,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -16,17 +17,38 @@
 namespace imx::detail {
 
 // State shared while one scene's objects are read: where relative paths start, and loaded
-// sources so that objects with the same source share one copy.
+// sources so that objects with the same source share one copy. A program that parses edited
+// documents of one scene again (the Python package) keeps its context, so that unchanged
+// sources are neither read again nor change identity (imx::Renderer recognises data by it).
 struct SceneContext {
   std::filesystem::path base_dir;
   std::map<std::string, std::shared_ptr<const VolumeData>> volumes;
   std::map<std::string, std::shared_ptr<const Mesh>> meshes;
   std::vector<std::string> notes;                  // moved into Scene::notes when loading ends
   std::map<std::string, glm::dvec2> windows = {};  // DICOM series' own windows, by volume key
+  // Volumes and meshes a program gives instead of files (the Python package's numpy arrays):
+  // a source {"$volume": ID} or {"$mesh": ID} names one. Files have none, so there the key is
+  // unknown like any other.
+  std::map<std::string, std::shared_ptr<const VolumeData>> given_volumes = {};
+  std::map<std::string, std::shared_ptr<const Mesh>> given_meshes = {};
+  // Meshes placed by an object's transform, by source and transform, and the keys of `volumes`,
+  // `meshes` and `placed_meshes` the last document used (a program drops the others).
+  std::map<std::string, std::shared_ptr<const Mesh>> placed_meshes = {};
+  std::set<std::string> used = {};
 
   // A "file" value resolved against base_dir; throws naming the resolved path when missing.
   std::filesystem::path resolve_file(const JsonReader& file) const;
 };
+
+// A scene file's text: throws imx::FileError naming the file when it cannot be read.
+std::string read_scene_file(const std::filesystem::path& file);
+// JSON text parsed as a scene document (strictly: no key twice), an object at the top level;
+// throws imx::Error "origin: invalid JSON: ..." otherwise.
+nlohmann::json parse_scene_json(const std::string& json_text, const std::string& origin);
+// The whole scene from its JSON document (after --set overrides), reading sources through
+// `context` (load_scene and parse_scene use a fresh one). `origin` names the document in errors.
+Scene parse_scene_document(const nlohmann::json& root, const std::string& origin,
+                           SceneContext& context);
 
 Camera parse_camera(const JsonReader& r);
 ImageSettings parse_image(const JsonReader& r);

@@ -106,6 +106,8 @@ ParsedTransferFunction parse_transfer_function(const JsonReader& r, SceneContext
                         out.transfer_function.points.back().value);
         for (std::string& note : map.notes) context.notes.push_back(std::move(note));
       }
+    } catch (const FileError& e) {
+      source.fail_file(e.what(), e.code());
     } catch (const Error& e) {
       source.fail(e.what());  // the reader's message names the file and field; add the JSON path
     }

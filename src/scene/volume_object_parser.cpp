@@ -9,6 +9,7 @@
 #include <fmt/ranges.h>
 
 #include "intermix/dicom.hpp"
+#include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "scene/edit_distance.hpp"
 #include "scene/scene_parsers.hpp"
@@ -22,6 +23,13 @@ constexpr int kDefaultPhantomSize = 128;
 // A DICOM source (folder, DICOMDIR, DICM file) also gives its series' window.
 std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, SceneContext& context,
                                                      std::optional<glm::dvec2>* window) {
+  if (!context.given_volumes.empty() && src.json().is_object() && src.has("$volume")) {
+    src.check_keys({"$volume"});
+    JsonReader id = src.get("$volume");
+    auto it = context.given_volumes.find(id.string());
+    if (it == context.given_volumes.end()) id.fail(id.text() + " is not a volume of this scene");
+    return it->second;
+  }
   src.check_keys({"phantom", "size", "file", "series", "units", "slice_spacing_mm"});
   const bool phantom = src.has("phantom"), file = src.has("file");
   if (phantom == file)
@@ -93,6 +101,7 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     if (window == nullptr) return;
     if (auto it = context.windows.find(key); it != context.windows.end()) *window = it->second;
   };
+  context.used.insert(key);
   if (auto it = context.volumes.find(key); it != context.volumes.end()) {
     window_of();
     return it->second;
@@ -102,6 +111,8 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     VolumeData volume = load();
     volume.validate(what);
     data = std::make_shared<const VolumeData>(std::move(volume));
+  } catch (const FileError& e) {
+    culprit.fail_file(e.what(), e.code());
   } catch (const std::exception& e) {
     culprit.fail(e.what());
   }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <map>
 #include <system_error>
 
@@ -47,7 +48,9 @@ std::vector<std::filesystem::path> files_under(const std::filesystem::path& fold
   std::error_code ec;
   // Links to folders are not followed (no loops); links to files are.
   fs::recursive_directory_iterator it(folder, fs::directory_options::skip_permission_denied, ec);
-  if (ec) throw Error(fmt::format("{}: cannot read the folder: {}", folder.string(), ec.message()));
+  if (ec)
+    throw FileError(fmt::format("{}: cannot read the folder: {}", folder.string(), ec.message()),
+                    ec.value());
   for (; it != fs::recursive_directory_iterator(); it.increment(ec)) {
     if (ec) break;
     if (it.depth() >= kMaxDicomDepth) it.disable_recursion_pending();
@@ -58,7 +61,9 @@ std::vector<std::filesystem::path> files_under(const std::filesystem::path& fold
                               folder.string(), kMaxDicomFiles));
     files.push_back(it->path());
   }
-  if (ec) throw Error(fmt::format("{}: cannot read the folder: {}", folder.string(), ec.message()));
+  if (ec)
+    throw FileError(fmt::format("{}: cannot read the folder: {}", folder.string(), ec.message()),
+                    ec.value());
   std::sort(files.begin(), files.end());
   return files;
 }
@@ -87,12 +92,13 @@ std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& sou
   const std::string what = source.string();
   std::error_code ec;
   fs::file_status status = fs::status(source, ec);
-  if (ec || !fs::exists(status)) throw Error(fmt::format("{}: no such file or folder", what));
+  if (ec || !fs::exists(status))
+    throw FileError(fmt::format("{}: no such file or folder", what), ENOENT);
   std::vector<DicomFileHeader> headers;
   bool folder = fs::is_directory(status);
   if (!folder) {
     if (!fs::is_regular_file(status))
-      throw Error(fmt::format("{}: not a regular file or folder", what));
+      throw FileError(fmt::format("{}: not a regular file or folder", what));
     if (is_dicomdir(source)) {
       folder = true;  // its records often name paths that moved: the folder is the truth
     } else {

@@ -1,0 +1,101 @@
+"""intermix: render scenes that fuse volumes, meshes and MPR planes, from numpy.
+
+    import numpy as np, intermix
+    ct = intermix.Volume(array, affine)                 # numpy voxels, 4x4 index-to-world (LPS)
+    scene = intermix.Scene.from_dict({
+        "camera": {"eye": [0, -600, 0], "target": [0, 0, 0], "up": [0, 0, 1]},
+        "objects": [{"name": "ct", "type": "volume", "source": ct,
+                     "transfer_function": {"preset": "ct-bone"}}]})
+    image = scene.render(method="mdvr", width=256, height=256)   # (H, W, 4) float32
+    intermix.write_png(image, "ct.png")                          # or image.to_uint8()
+
+Scene (from_file, from_dict, set, add_volume, add_mesh, add_plane, to_dict, render), Volume,
+Mesh, Renderer (stage reuse), read_volume, read_mesh, write_volume, phantom, compare,
+to_uint8, write_png, read_png, available_methods. Errors: ValueError (a scene or value at
+fault), OSError (a file that cannot be read or written), RuntimeError (a render that failed),
+each with the library's one-line message. docs/python.md has the details.
+"""
+
+import numpy as _np
+
+from ._intermix import (
+    Mesh,
+    Renderer,
+    RendererStats,
+    Scene,
+    Volume,
+    _set_image_type,
+    available_methods,
+    compare,
+    default_spp,
+    encode_png,
+    error_heat_map,
+    phantom,
+    phantom_names,
+    read_mesh,
+    read_png,
+    read_volume,
+    to_uint8,
+    write_png,
+    write_volume,
+)
+
+__all__ = [
+    "Image",
+    "Mesh",
+    "Renderer",
+    "RendererStats",
+    "Scene",
+    "Volume",
+    "available_methods",
+    "compare",
+    "default_spp",
+    "encode_png",
+    "error_heat_map",
+    "phantom",
+    "phantom_names",
+    "read_mesh",
+    "read_png",
+    "read_volume",
+    "to_uint8",
+    "write_png",
+    "write_volume",
+]
+
+__version__ = "0.1.0"
+
+
+class Image(_np.ndarray):
+    """A rendered image: an (H, W, 4) float32 numpy array of premultiplied linear RGBA.
+
+    It is a plain ndarray in every respect (slicing, arithmetic and numpy functions work as
+    usual); it adds to_uint8(), save() and a PNG representation, so a notebook shows it as a
+    picture. np.asarray(image) gives the base ndarray.
+    """
+
+    def to_uint8(self, linear: bool = False) -> _np.ndarray:
+        """The sRGB display image as an (H, W, 4) uint8 array (straight alpha), as PNG stores it."""
+        return to_uint8(self, linear)
+
+    def save(self, path, linear: bool = False) -> None:
+        """Writes the image as PNG (see intermix.write_png)."""
+        write_png(self, path, linear)
+
+    def __array_wrap__(self, obj, context=None):
+        # Results that are no image (sums, means, single channels) are plain arrays or scalars.
+        if obj.ndim == 0:
+            return obj[()]
+        if obj.ndim != 3 or obj.shape[2] != 4:
+            return obj.view(_np.ndarray)
+        return super().__array_wrap__(obj, context)
+
+    def _repr_png_(self):
+        if self.ndim != 3 or self.shape[2] != 4 or self.dtype.kind != "f":
+            return None  # a slice or a reduction of an image is no longer one
+        return encode_png(self)
+
+
+_set_image_type(Image)
+
+Scene.__module__ = Volume.__module__ = Mesh.__module__ = __name__
+Renderer.__module__ = RendererStats.__module__ = __name__

@@ -1,0 +1,14 @@
+// The extension module intermix._intermix; the package intermix (python/intermix) re-exports it.
+#include "bindings.hpp"
+
+PYBIND11_MODULE(_intermix, m) {
+  m.doc() =
+      "intermix's engine: scenes of volumes, meshes and planes rendered into numpy images "
+      "(use the intermix package, which re-exports this module)";
+  imx::python::bind_errors(m);
+  imx::python::bind_volume(m);
+  imx::python::bind_mesh(m);
+  imx::python::bind_scene(m);
+  imx::python::bind_render(m);
+  imx::python::bind_image(m);
+}

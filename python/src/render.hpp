@@ -1,0 +1,39 @@
+// Rendering from Python: the GIL released while the engine works, Ctrl-C cancelling it.
+#pragma once
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "bindings.hpp"
+#include "intermix/renderer.hpp"
+#include "intermix/scene.hpp"
+
+namespace imx::python {
+
+// What a render call may change for one frame; unset values keep the scene's own.
+struct RenderRequest {
+  std::optional<std::string> method;
+  std::optional<int> width, height, spp, threads;
+};
+
+// intermix.Renderer: an imx::Renderer (stage reuse between frames) used by one render at a time.
+struct PyRenderer {
+  Renderer renderer;
+  std::mutex mutex;        // held by the rendering thread, never with the GIL
+  std::mutex stats_mutex;  // guards stats and frames
+  RendererStats stats;
+  int frames = 0;
+};
+
+// Renders `scene` (through `renderer` when given, else imx::render) into an intermix.Image.
+// Arguments are checked first (ValueError); the engine then runs on a worker thread while the
+// caller waits without the GIL, waking every 50 ms to run Python's signal handlers: Ctrl-C sets
+// the render's cancel flag, waits for it to stop and raises KeyboardInterrupt. A failing
+// render raises RuntimeError with the library's message.
+py::object render_scene(const Scene& scene, const RenderRequest& request, PyRenderer* renderer);
+
+// The PNG a notebook shows for a scene: its own method at 1 sample per pixel, at most `side`
+// pixels along the longer edge.
+py::bytes preview_png(const Scene& scene, int side);
+
+}  // namespace imx::python

@@ -1,0 +1,312 @@
+// intermix.Scene: from a file, a dict or nothing; --set edits; objects added from numpy.
+#include "scene.hpp"
+
+#include <algorithm>
+#include <set>
+#include <system_error>
+
+#include <fmt/format.h>
+#include <pybind11/stl.h>
+
+#include "intermix/error.hpp"
+#include "render.hpp"
+#include "scene/overrides.hpp"
+
+namespace imx::python {
+namespace {
+
+constexpr const char* kDictOrigin = "scene dict";
+
+std::filesystem::path path_of(const py::handle& path) {
+  return py::module_::import("os").attr("fspath")(path).cast<std::string>();
+}
+
+// The folder relative paths resolve against: `base_dir`, else the current one.
+std::filesystem::path folder_of(const py::object& base_dir) {
+  if (!base_dir.is_none()) return path_of(base_dir);
+  std::error_code ec;
+  std::filesystem::path cwd = std::filesystem::current_path(ec);
+  return ec ? std::filesystem::path(".") : cwd;
+}
+
+std::shared_ptr<PyScene> from_file(const py::object& path) {
+  const std::filesystem::path file = path_of(path);
+  const std::string text = detail::read_scene_file(file);
+  std::filesystem::path base_dir = file.parent_path();
+  if (base_dir.empty()) base_dir = ".";
+  return std::make_shared<PyScene>(detail::parse_scene_json(text, file.string()), GivenSources{},
+                                   file.string(), base_dir, file);
+}
+
+std::shared_ptr<PyScene> from_dict(const py::handle& dict, const py::object& base_dir) {
+  if (!py::isinstance(dict, py::module_::import("collections.abc").attr("Mapping")))
+    throw py::type_error(
+        fmt::format("Scene.from_dict: expected a dict, got {}",
+                    py::str(py::type::handle_of(dict).attr("__name__")).cast<std::string>()));
+  GivenSources sources;
+  nlohmann::json document = to_document(dict, sources, kDictOrigin);
+  return std::make_shared<PyScene>(std::move(document), std::move(sources), kDictOrigin,
+                                   folder_of(base_dir));
+}
+
+std::string object_name(const Scene& scene, const ObjectRef& ref) {
+  const auto i = static_cast<size_t>(ref.index);
+  return ref.kind == ObjectKind::volume ? scene.volumes[i].name
+         : ref.kind == ObjectKind::mesh ? scene.meshes[i].name
+                                        : scene.planes[i].name;
+}
+
+const char* kind_name(ObjectKind kind) {
+  return kind == ObjectKind::volume ? "volume" : kind == ObjectKind::mesh ? "mesh" : "plane";
+}
+
+RenderRequest request_of(const std::optional<std::string>& method, std::optional<int> width,
+                         std::optional<int> height, std::optional<int> spp,
+                         std::optional<int> threads) {
+  return RenderRequest{method, width, height, spp, threads};
+}
+
+// A volume source from Python: a Volume, an array (with `affine` and `space`), a source dict or
+// a file path.
+py::object volume_source(const py::object& source, const py::object& affine,
+                         const std::string& space) {
+  if (py::isinstance(source, py::module_::import("numpy").attr("ndarray")))
+    return py::type::of<PyVolume>()(source, affine, py::arg("space") = space);
+  if (!affine.is_none())
+    throw py::value_error("add_volume: an affine goes with an array source only");
+  if (py::isinstance<py::str>(source) ||
+      py::isinstance(source, py::module_::import("os").attr("PathLike")))
+    return py::dict(py::arg("file") = py::str(path_of(source).string()));
+  return source;
+}
+
+py::object mesh_source(const py::object& source) {
+  if (py::isinstance<py::str>(source) ||
+      py::isinstance(source, py::module_::import("os").attr("PathLike")))
+    return py::dict(py::arg("file") = py::str(path_of(source).string()));
+  return source;
+}
+
+}  // namespace
+
+PyScene::PyScene(nlohmann::json document, GivenSources sources, std::string origin,
+                 std::filesystem::path base_dir, std::filesystem::path file)
+    : origin_(std::move(origin)), file_(std::move(file)) {
+  context_.base_dir = std::move(base_dir);
+  rebuild(std::move(document), std::move(sources));
+}
+
+void PyScene::rebuild(nlohmann::json document, GivenSources sources) {
+  context_.given_volumes.clear();
+  context_.given_meshes.clear();
+  for (const auto& [id, object] : sources) {
+    if (py::isinstance<PyVolume>(object))
+      context_.given_volumes[id] = object.cast<const PyVolume&>().data;
+    else
+      context_.given_meshes[id] = object.cast<const PyMesh&>().mesh;
+  }
+  // With the GIL held: another thread may not change this scene's context meanwhile.
+  Scene scene = detail::parse_scene_document(document, origin_, context_);
+  scene.file = file_;
+  // Sources no object uses any more are let go.
+  auto prune = [&](auto& cache) {
+    for (auto it = cache.begin(); it != cache.end();)
+      it = context_.used.count(it->first) ? std::next(it) : cache.erase(it);
+  };
+  prune(context_.volumes);
+  prune(context_.meshes);
+  prune(context_.placed_meshes);
+  keep_named_sources(document, sources);
+  for (std::string& note : scene.notes)
+    if (std::find(notes_.begin(), notes_.end(), note) == notes_.end()) notes_.push_back(note);
+  document_ = std::move(document);
+  sources_ = std::move(sources);
+  scene_ = std::move(scene);
+}
+
+void PyScene::set(const std::string& path, const py::handle& value) {
+  if (path.find('=') != std::string::npos)
+    throw py::value_error(fmt::format("{}: --set {}: a key path has no '='", origin_, path));
+  GivenSources sources = sources_;
+  const nlohmann::json json_value = to_document(value, sources, origin_, path);
+  nlohmann::json document = document_;
+  detail::apply_override(document, path + "=" + json_value.dump(), origin_);
+  rebuild(std::move(document), std::move(sources));
+}
+
+void PyScene::add(const std::string& name, const std::string& type, const py::object& source,
+                  const py::dict& fields) {
+  auto objects = document_.find("objects");
+  const size_t index =
+      objects != document_.end() && objects->is_array() ? objects->size() : size_t{0};
+  const std::string path = fmt::format("objects[{}]", index);
+  GivenSources sources = sources_;
+  nlohmann::json object = to_document(fields, sources, origin_, path);
+  object["name"] = name;
+  object["type"] = type;
+  if (!source.is_none()) object["source"] = to_document(source, sources, origin_, path + ".source");
+  nlohmann::json document = document_;
+  nlohmann::json& list = document["objects"];
+  if (list.is_null()) list = nlohmann::json::array();
+  if (!list.is_array())
+    throw py::value_error(
+        fmt::format("{}: objects: expected an array, got {}", origin_, list.type_name()));
+  list.push_back(std::move(object));
+  rebuild(std::move(document), std::move(sources));
+}
+
+void bind_scene(py::module_& m) {
+  py::class_<PyScene, std::shared_ptr<PyScene>> cls(
+      m, "Scene",
+      R"doc(A scene: camera, image, lights, volumes, meshes, planes and render settings, in the schema of
+intermix's JSON scene files (README "Scene files"). Volumes and meshes come from files, built-in
+phantoms and primitives, or numpy (intermix.Volume, intermix.Mesh).
+
+  Scene()                        an empty scene: {"objects": []}
+  Scene.from_file(path)          a scene file; relative paths resolve against its folder
+  Scene.from_dict(d, base_dir=None)
+                                 the same schema as a dict; relative paths resolve against
+                                 base_dir (default: the current folder). A volume's or mesh's
+                                 "source" may be an intermix.Volume / intermix.Mesh.
+  scene.set(path, value)         the CLI's --set: "objects.ct.transfer_function.points", ...
+  scene.add_volume / add_mesh / add_plane
+  scene.to_dict()                the document (Volume and Mesh objects in place)
+  scene.render(...)              an (H, W, 4) float32 intermix.Image, premultiplied linear RGBA
+
+Every change is checked by the scene loader and either applies whole or raises with the
+loader's message (ValueError; OSError for files that cannot be read), leaving the scene as it
+was. Sources are read once per scene and shared by its changes.
+)doc");
+  cls.def(py::init([](const py::object& base_dir) {
+            return std::make_shared<PyScene>(nlohmann::json{{"objects", nlohmann::json::array()}},
+                                             GivenSources{}, kDictOrigin, folder_of(base_dir));
+          }),
+          py::arg("base_dir") = py::none(),
+          "An empty scene (no objects; default camera, image and lights) to add objects to.")
+      .def_static(
+          "from_file", &from_file, py::arg("path"),
+          R"doc(Loads a JSON scene file, with the same checks and messages as `intermix render`.
+Raises OSError when the file (or a file it names) cannot be read, ValueError for what is wrong
+in it.
+)doc")
+      .def_static(
+          "from_dict", &from_dict, py::arg("scene"), py::arg("base_dir") = py::none(),
+          R"doc(A scene from a dict in the scene-file schema. Values may be numpy arrays and scalars (as lists
+and numbers) and paths; a volume object's "source" may be an intermix.Volume and a mesh
+object's an intermix.Mesh. Errors name the JSON path as for files ("scene dict: objects[0]...").
+)doc")
+      .def_static(
+          "from_json",
+          [](const std::string& text, const py::object& base_dir) {
+            return std::make_shared<PyScene>(detail::parse_scene_json(text, "scene text"),
+                                             GivenSources{}, "scene text", folder_of(base_dir));
+          },
+          py::arg("text"), py::arg("base_dir") = py::none(),
+          "A scene from JSON text (a scene file's content).")
+      .def("set", &PyScene::set, py::arg("path"), py::arg("value"),
+           R"doc(Sets one value by its dotted path, as `intermix render --set path=value` does:
+"image.width", "render.spp", "objects.0.material.opacity", or an object by name:
+"objects.ct.transfer_function.points". `value` is any scene value (a number, list, dict,
+str, numpy array, Volume, Mesh, ...). Missing object keys are created. The scene is checked
+again; on an error it stays as it was.
+)doc")
+      .def(
+          "add_volume",
+          [](PyScene& s, const std::string& name, const py::object& source,
+             const py::object& affine, const std::string& space, const py::kwargs& fields) {
+            s.add(name, "volume", volume_source(source, affine, space), fields);
+          },
+          py::arg("name"), py::arg("source"), py::arg("affine") = py::none(),
+          py::arg("space") = "LPS",
+          R"doc(Adds a volume object. `source` is an intermix.Volume, a numpy array (made a Volume with `affine`
+and `space`), a file path, or a source dict ({"phantom": "ct-head", "size": 128}). Keyword
+arguments are the object's other keys: transfer_function={"preset": "ct-bone"} or
+{"points": [[value, r, g, b, a], ...]}, style, shading, transform, clip_planes, clip, visible.
+)doc")
+      .def(
+          "add_mesh",
+          [](PyScene& s, const std::string& name, const py::object& source,
+             const py::kwargs& fields) { s.add(name, "mesh", mesh_source(source), fields); },
+          py::arg("name"), py::arg("source"),
+          R"doc(Adds a mesh object. `source` is an intermix.Mesh, a file path or a source dict
+({"primitive": "sphere", "radius": 20}). Keyword arguments are the object's other keys:
+material={"color": [r, g, b], "opacity": a}, transform, thickness, visible.
+)doc")
+      .def(
+          "add_plane",
+          [](PyScene& s, const std::string& name, const py::kwargs& fields) {
+            s.add(name, "plane", py::none(), fields);
+          },
+          py::arg("name"),
+          R"doc(Adds a plane object (an MPR slice when volume= names a volume). Keyword arguments are its keys:
+center, normal, up, size, volume, window, colormap, color, opacity.
+)doc")
+      .def(
+          "to_dict", [](const PyScene& s) { return from_document(s.document(), s.sources()); },
+          "The scene document as a dict (a copy; Volume and Mesh objects in place, so "
+          "Scene.from_dict(scene.to_dict()) is the same scene).")
+      .def(
+          "copy", [](const PyScene& s) { return std::make_shared<PyScene>(s); },
+          "An independent copy sharing the loaded sources.")
+      .def("__copy__", [](const PyScene& s) { return std::make_shared<PyScene>(s); })
+      .def_property_readonly(
+          "names",
+          [](const PyScene& s) {
+            std::vector<std::string> names;
+            for (const ObjectRef& ref : s.scene().order)
+              names.push_back(object_name(s.scene(), ref));
+            return names;
+          },
+          "Object names in scene order.")
+      .def_property_readonly(
+          "notes", [](const PyScene& s) { return s.notes(); },
+          "What loading chose for the user (a DICOM series, a mesh file's space), one sentence "
+          "each.")
+      .def_property_readonly(
+          "file",
+          [](const PyScene& s) -> py::object {
+            if (s.file().empty()) return py::none();
+            return py::str(s.file().string());
+          },
+          "The scene file, or None.")
+      .def_property_readonly(
+          "base_dir", [](const PyScene& s) { return s.base_dir().string(); },
+          "The folder relative paths resolve against.")
+      .def(
+          "render",
+          [](const PyScene& s, const std::optional<std::string>& method, std::optional<int> width,
+             std::optional<int> height, std::optional<int> spp, std::optional<int> threads) {
+            return render_scene(s.scene(), request_of(method, width, height, spp, threads),
+                                nullptr);
+          },
+          py::arg("method") = py::none(), py::arg("width") = py::none(),
+          py::arg("height") = py::none(), py::arg("spp") = py::none(),
+          py::arg("threads") = py::none(),
+          R"doc(Renders one frame and returns it as an intermix.Image: an (H, W, 4) float32 numpy array of
+premultiplied linear RGBA over the scene's background (image.to_uint8() gives the sRGB display
+image, as `intermix render` writes it). `method` defaults to the scene's render.method
+(intermix.available_methods()), `width`/`height` to the scene's image size, `spp` (a perfect
+square) to the scene's render.spp, else the method's default, and `threads` to all cores.
+
+The GIL is released while rendering (other Python threads run, and may render too), and Ctrl-C
+cancels the render with KeyboardInterrupt. Raises ValueError for bad arguments and RuntimeError
+when the method cannot render the scene. Each call renders from scratch: intermix.Renderer
+keeps stages between frames.
+)doc")
+      .def(
+          "_repr_png_", [](const PyScene& s) { return preview_png(s.scene(), 256); },
+          "A PNG preview for notebooks: the scene's method at 1 sample per pixel, at most 256 "
+          "pixels a side.")
+      .def("__repr__", [](const PyScene& s) {
+        std::string objects;
+        for (const ObjectRef& ref : s.scene().order)
+          objects += fmt::format("{}{} ({})", objects.empty() ? "" : ", ",
+                                 object_name(s.scene(), ref), kind_name(ref.kind));
+        return fmt::format("<intermix.Scene {}: {}; {}x{}, method {}>",
+                           s.file().empty() ? s.origin() : s.file().string(),
+                           objects.empty() ? "no objects" : objects, s.scene().image.width,
+                           s.scene().image.height, s.scene().render.method);
+      });
+}
+
+}  // namespace imx::python

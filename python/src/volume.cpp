@@ -1,0 +1,379 @@
+// intermix.Volume (numpy voxels with an index-to-world affine), read_volume, write_volume and the
+// built-in phantoms.
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+
+#include <fmt/format.h>
+#include <pybind11/stl.h>
+#include <glm/mat4x4.hpp>
+
+#include "bindings.hpp"
+#include "intermix/dicom.hpp"
+#include "intermix/error.hpp"
+#include "intermix/io.hpp"
+
+namespace imx::python {
+namespace {
+
+// The engine's type for a numpy dtype it stores as it is ("" for any other).
+const char* engine_dtype(const py::dtype& dtype) {
+  if (!dtype.attr("isnative").cast<bool>()) return "";
+  switch (dtype.kind()) {
+    case 'u':
+      return dtype.itemsize() == 1 ? "uint8" : dtype.itemsize() == 2 ? "uint16" : "";
+    case 'i':
+      return dtype.itemsize() == 2 ? "int16" : "";
+    case 'f':
+      return dtype.itemsize() == 4 ? "float32" : "";
+    default:
+      return "";
+  }
+}
+
+// The engine type another dtype converts to, without loss where one of them holds every value:
+// bool -> uint8, int8 -> int16, wider integers -> int16 or uint16 when their values fit, else
+// float32; other floats -> float32.
+const char* converted_dtype(const py::array& a) {
+  const py::dtype dtype = a.dtype();
+  switch (dtype.kind()) {
+    case 'b':
+      return "uint8";
+    case 'f':
+      return "float32";
+    case 'u':
+    case 'i': {
+      if (dtype.itemsize() == 1) return dtype.kind() == 'u' ? "uint8" : "int16";
+      if (a.size() == 0) return "int16";
+      const double lo = a.attr("min")().cast<double>(), hi = a.attr("max")().cast<double>();
+      if (lo >= -32768.0 && hi <= 32767.0) return "int16";
+      if (lo >= 0.0 && hi <= 65535.0) return "uint16";
+      return "float32";
+    }
+    default:
+      throw py::type_error(
+          fmt::format("Volume: voxels of dtype {} are not supported (integers, floats or bool)",
+                      dtype.attr("name").cast<std::string>()));
+  }
+}
+
+// Keeps a Python object alive from C++: the handle is released with the GIL held, whichever
+// thread drops the last reference (none is taken once the interpreter is shutting down).
+std::shared_ptr<const void> keep_alive(py::object object) {
+  auto* held = new py::object(std::move(object));
+  return std::shared_ptr<const void>(held, [](const void* p) {
+    auto* object = static_cast<py::object*>(const_cast<void*>(p));
+    if (!Py_IsInitialized() || _Py_IsFinalizing()) {
+      object->release();  // too late to touch Python: leak the reference
+      delete object;
+      return;
+    }
+    py::gil_scoped_acquire gil;
+    delete object;
+  });
+}
+
+template <class T>
+VoxelStorage view_of(const py::array& a) {
+  return VoxelBuffer<T>::view(static_cast<const T*>(a.data()), static_cast<size_t>(a.size()),
+                              keep_alive(a));
+}
+
+// The engine's voxels for a C-contiguous (k, j, i) array of an engine type: a view of the
+// array's memory, which the volume keeps alive (no copy).
+VoxelStorage voxel_storage(const py::array& a) {
+  const std::string type = engine_dtype(a.dtype());
+  if (type == "uint8") return view_of<uint8_t>(a);
+  if (type == "int16") return view_of<int16_t>(a);
+  if (type == "uint16") return view_of<uint16_t>(a);
+  return view_of<float>(a);
+}
+
+glm::dmat4 affine_from(const py::handle& affine, const char* what) {
+  py::array given =
+      py::module_::import("numpy").attr("asarray")(affine, py::arg("dtype") = "float64");
+  if (given.ndim() != 2 || given.shape(0) != 4 || given.shape(1) != 4)
+    throw py::value_error(fmt::format("{}: the affine must be a 4x4 matrix, got shape {}", what,
+                                      py::str(given.attr("shape")).cast<std::string>()));
+  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(given);
+  auto r = a.unchecked<2>();
+  glm::dmat4 m(1.0);
+  for (int row = 0; row < 4; ++row)
+    for (int col = 0; col < 4; ++col) {
+      if (!std::isfinite(r(row, col)))
+        throw py::value_error(fmt::format("{}: affine[{}, {}] is {}, not a finite number", what,
+                                          row, col, r(row, col)));
+      m[col][row] = r(row, col);
+    }
+  const double last[4] = {0.0, 0.0, 0.0, 1.0};
+  for (int col = 0; col < 4; ++col)
+    if (r(3, col) != last[col])
+      throw py::value_error(
+          fmt::format("{}: the affine's last row is [{}, {}, {}, {}]; an affine needs [0, 0, 0, 1]",
+                      what, r(3, 0), r(3, 1), r(3, 2), r(3, 3)));
+  return m;
+}
+
+// RAS and LPS differ by the signs of x and y (a rotation by 180 degrees about z).
+glm::dmat4 flip_xy(const glm::dmat4& m) {
+  glm::dmat4 flip(1.0);
+  flip[0][0] = flip[1][1] = -1.0;
+  return flip * m;
+}
+
+py::array affine_array(const glm::dmat4& m) {
+  py::array_t<double> a({4, 4});
+  auto w = a.mutable_unchecked<2>();
+  for (int row = 0; row < 4; ++row)
+    for (int col = 0; col < 4; ++col) w(row, col) = m[col][row];
+  return a;
+}
+
+bool parse_space(const std::string& space, const char* what) {
+  if (space == "LPS" || space == "lps") return true;
+  if (space == "RAS" || space == "ras") return false;
+  throw py::value_error(
+      fmt::format("{}: space '{}' is not LPS or RAS (the affine's world axes)", what, space));
+}
+
+std::shared_ptr<PyVolume> make_volume(const py::object& given, const py::object& affine,
+                                      const std::string& space, const std::string& axes) {
+  py::module_ np = py::module_::import("numpy");
+  if (axes != "auto" && axes != "kji" && axes != "ijk")
+    throw py::value_error(fmt::format(
+        "Volume: axes '{}' is not auto, kji (array[k, j, i], C order) or ijk (array[i, j, k], "
+        "nibabel's order)",
+        axes));
+  py::array a = np.attr("asanyarray")(given);
+  if (a.ndim() != 3)
+    throw py::value_error(
+        fmt::format("Volume: expected a 3-D array, got {} dimensions with shape {}", a.ndim(),
+                    py::str(a.attr("shape")).cast<std::string>()));
+  const bool c_order = a.flags() & py::array::c_style;
+  const bool f_order = a.flags() & py::array::f_style;
+  // F order without C order is nibabel's (X, Y, Z): the same memory as its (Z, Y, X) transpose.
+  const bool ijk = axes == "ijk" || (axes == "auto" && f_order && !c_order);
+  py::array kji = ijk ? py::array(a.attr("transpose")()) : a;
+  const std::string type = engine_dtype(kji.dtype());
+  const bool in_place = !type.empty() && (kji.flags() & py::array::c_style);
+  if (!in_place) {
+    const char* target = type.empty() ? converted_dtype(kji) : type.c_str();
+    kji = np.attr("ascontiguousarray")(kji, py::arg("dtype") = target);
+  }
+  auto v = std::make_shared<PyVolume>();
+  v->id = next_source_id("volume");
+  v->given = given;
+  v->array = kji;
+  v->lps = parse_space(space, "Volume");
+  VolumeData data;
+  data.dims = {static_cast<int>(kji.shape(2)), static_cast<int>(kji.shape(1)),
+               static_cast<int>(kji.shape(0))};
+  const glm::dmat4 m = affine.is_none() ? glm::dmat4(1.0) : affine_from(affine, "Volume");
+  data.index_to_world = v->lps ? m : flip_xy(m);
+  data.voxels = voxel_storage(kji);
+  v->shares_memory = in_place;
+  data.validate("Volume");
+  v->data = std::make_shared<const VolumeData>(std::move(data));
+  return v;
+}
+
+const char* numpy_type(VoxelType type) {
+  switch (type) {
+    case VoxelType::u8:
+      return "uint8";
+    case VoxelType::i16:
+      return "int16";
+    case VoxelType::u16:
+      return "uint16";
+    default:
+      return "float32";
+  }
+}
+
+// The voxels of `data` as a (nk, nj, ni) C-order array that keeps `data` alive (no copy).
+py::array voxels_array(const std::shared_ptr<const VolumeData>& data, bool writeable) {
+  const void* voxels =
+      std::visit([](const auto& v) -> const void* { return v.data(); }, data->voxels);
+  return view_array(voxels, py::dtype(numpy_type(data->type())),
+                    {data->dims.z, data->dims.y, data->dims.x}, data, writeable);
+}
+
+// Path arguments: str or os.PathLike.
+std::filesystem::path path_of(const py::object& path) {
+  return py::module_::import("os").attr("fspath")(path).cast<std::string>();
+}
+
+py::tuple read_volume_file(const py::object& path, const std::string& space,
+                           const std::string& series) {
+  const bool lps = parse_space(space, "read_volume");
+  const std::filesystem::path file = path_of(path);
+  std::shared_ptr<VolumeData> data;
+  {
+    py::gil_scoped_release release;  // large files take seconds
+    if (!series.empty() || is_dicom_source(file)) {
+      DicomReadOptions options;
+      options.series = series;
+      if (!is_dicom_source(file))
+        throw Error(fmt::format("{}: only DICOM sources take a series", file.string()));
+      data = std::make_shared<VolumeData>(read_dicom(file, options).volume);
+    } else {
+      data = std::make_shared<VolumeData>(read_volume(file));
+    }
+    data->validate(file.string());
+  }
+  const glm::dmat4 affine = lps ? data->index_to_world : flip_xy(data->index_to_world);
+  return py::make_tuple(voxels_array(data, true), affine_array(affine));
+}
+
+}  // namespace
+
+std::string next_source_id(const char* kind) {
+  static std::atomic<long long> counter{0};
+  return fmt::format("{}-{}", kind, ++counter);
+}
+
+py::array view_array(const void* data, const py::dtype& dtype, std::vector<py::ssize_t> shape,
+                     std::shared_ptr<const void> owner, bool writeable) {
+  auto* holder = new std::shared_ptr<const void>(std::move(owner));
+  py::capsule base(holder, [](void* p) { delete static_cast<std::shared_ptr<const void>*>(p); });
+  py::array a(dtype, std::move(shape), {}, const_cast<void*>(data), base);
+  if (!writeable) a.attr("setflags")(py::arg("write") = false);
+  return a;
+}
+
+void bind_volume(py::module_& m) {
+  // Whether voxels of an engine type are read in place (VoxelBuffer views) or copied.
+  m.attr("_zero_copy") = py::bool_(true);
+  py::class_<PyVolume, std::shared_ptr<PyVolume>>(
+      m, "Volume",
+      R"doc(A volume from numpy: voxels with a 4x4 index-to-world affine (millimetres), usable as a volume
+object's "source" in a scene (Scene.from_dict, Scene.add_volume, Scene.set).
+
+Volume(array, affine=None, *, space="LPS", axes="auto")
+
+array: 3-D array of voxel values. The affine maps voxel indices (i, j, k, 1) to world (x, y, z, 1),
+  where i is the axis that is fastest in memory:
+  - a C-contiguous array is indexed array[k, j, i], shape (nk, nj, ni) (SimpleITK's
+    GetArrayFromImage order, and the engine's own);
+  - an F-contiguous array is indexed array[i, j, k], shape (ni, nj, nk) (nibabel's get_fdata()
+    order). Both are the same memory, so both are used without a copy.
+  axes="kji" or "ijk" says which explicitly; a non-contiguous array is read as "kji" unless told.
+  uint8, int16, uint16 and float32 arrays in native byte order, laid out as above, are used
+  without a copy (the engine reads the array's memory, and the Volume keeps the array alive; do
+  not modify it afterwards). Anything else is converted and copied once: bool -> uint8,
+  int8 -> int16, wider integers -> int16 or uint16 when every value fits, else float32, other
+  floats -> float32, and non-contiguous or reordered arrays into C order.
+affine: 4x4 array-like, last row [0, 0, 0, 1]; None is the identity (1 mm voxels at the origin).
+space: the affine's world axes: "LPS" (DICOM, ITK, intermix) or "RAS" (NIfTI, nibabel, Slicer).
+  RAS is turned into LPS by negating x and y.
+
+Raises ValueError (with the library's message) for bad shapes, affines or non-finite voxels.
+)doc")
+      .def(py::init(&make_volume), py::arg("array"), py::arg("affine") = py::none(), py::kw_only(),
+           py::arg("space") = "LPS", py::arg("axes") = "auto")
+      .def_property_readonly(
+          "array", [](const PyVolume& v) { return v.given; },
+          "The array as it was given (kept alive as long as the volume).")
+      .def_property_readonly(
+          "voxels", [](const PyVolume& v) { return v.array; },
+          "The voxels as the engine reads them: a C-order (nk, nj, ni) array of uint8, int16, "
+          "uint16 or float32 (the given array, a view of it, or its converted copy).")
+      .def_property_readonly(
+          "affine",
+          [](const PyVolume& v) {
+            return affine_array(v.lps ? v.data->index_to_world : flip_xy(v.data->index_to_world));
+          },
+          "The 4x4 index-to-world affine in the space it was given.")
+      .def_property_readonly(
+          "lps_affine", [](const PyVolume& v) { return affine_array(v.data->index_to_world); },
+          "The 4x4 index-to-world affine in LPS, as the engine uses it.")
+      .def_property_readonly(
+          "shape",
+          [](const PyVolume& v) {
+            return py::make_tuple(v.data->dims.x, v.data->dims.y, v.data->dims.z);
+          },
+          "Voxels along i, j, k: (ni, nj, nk).")
+      .def_property_readonly(
+          "dtype", [](const PyVolume& v) { return py::dtype(numpy_type(v.data->type())); },
+          "The engine's voxel type: uint8, int16, uint16 or float32.")
+      .def_property_readonly(
+          "spacing",
+          [](const PyVolume& v) {
+            const glm::dvec3 s = v.data->spacing();
+            return py::make_tuple(s.x, s.y, s.z);
+          },
+          "Millimetres per index step along i, j, k (lengths of the affine's columns).")
+      .def_property_readonly(
+          "range",
+          [](const PyVolume& v) {
+            auto [lo, hi] = v.data->range();
+            return py::make_tuple(lo, hi);
+          },
+          "The smallest and largest voxel value.")
+      .def_property_readonly(
+          "shares_memory", [](const PyVolume& v) { return v.shares_memory; },
+          "True when the engine reads the given array's own memory (no copy was made).")
+      .def_property_readonly(
+          "_data_address",
+          [](const PyVolume& v) {
+            return reinterpret_cast<uintptr_t>(
+                std::visit([](const auto& s) -> const void* { return s.data(); }, v.data->voxels));
+          },
+          "The address of the voxels the engine reads (for tests of the zero-copy path).")
+      .def("__repr__", [](const PyVolume& v) {
+        const glm::dvec3 s = v.data->spacing();
+        return fmt::format("<intermix.Volume {}x{}x{} {} spacing {:g}x{:g}x{:g} mm{}>",
+                           v.data->dims.x, v.data->dims.y, v.data->dims.z,
+                           numpy_type(v.data->type()), s.x, s.y, s.z,
+                           v.shares_memory ? ", shares the array's memory" : "");
+      });
+
+  m.def(
+      "read_volume", &read_volume_file, py::arg("path"), py::kw_only(), py::arg("space") = "LPS",
+      py::arg("series") = "",
+      R"doc(Reads a volume file: NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz), MetaImage (.mha, .mhd), or a
+DICOM folder, DICOMDIR or file (its largest series, or `series`: a number, id or UID).
+
+Returns (array, affine): the voxels as a C-order (nk, nj, ni) array of uint8, int16, uint16 or
+float32 (indexed array[k, j, i]) and the 4x4 index-to-world affine in `space` ("LPS", the default,
+or "RAS"). Volume(array, affine, space=space) gives the same volume back without a copy.
+Raises OSError when the file cannot be read, ValueError when its content is wrong.
+)doc");
+
+  m.def(
+      "write_volume",
+      [](const PyVolume& v, const py::object& path, bool compress) {
+        const std::filesystem::path file = path_of(path);
+        py::gil_scoped_release release;
+        write_volume(*v.data, file, compress);
+      },
+      py::arg("volume"), py::arg("path"), py::kw_only(), py::arg("compress") = true,
+      R"doc(Writes a Volume as NIfTI-1 (.nii.gz, .nii), NRRD (.nrrd) or MetaImage (.mha) by the extension,
+atomically. `compress` applies to NRRD and MetaImage (NIfTI follows the .gz).
+)doc");
+
+  m.def("phantom_names", &phantom_names, "Names of the built-in volume phantoms.");
+  m.def(
+      "phantom",
+      [](const std::string& name, int size) {
+        std::shared_ptr<VolumeData> data;
+        {
+          py::gil_scoped_release release;
+          data = std::make_shared<VolumeData>(make_phantom(name, size));
+        }
+        py::array voxels = voxels_array(data, false);
+        auto v = std::make_shared<PyVolume>();
+        v->id = next_source_id("volume");
+        v->given = voxels;
+        v->array = voxels;
+        v->shares_memory = true;
+        v->data = data;
+        return v;
+      },
+      py::arg("name"), py::arg("size") = 128,
+      R"doc(A built-in phantom as a Volume (intermix.phantom_names(): ct-head, cube, ellipsoid, pet, shells,
+sphere); `size` is the voxel count along its largest axis. Its array is read-only.
+)doc");
+}
+
+}  // namespace imx::python
