@@ -316,7 +316,8 @@
     layoutCanvas();
     S.objects = (m.objects || []).map(localObject);
     S.byName = new Map(S.objects.map((o) => [o.name, o]));
-    S.selectedPlane = (S.objects.find((o) => o.kind === 'plane') || {}).name || null;
+    // Window/level applies to MPR planes, which show a volume.
+    S.selectedPlane = (S.objects.find((o) => o.kind === 'plane' && o.volume) || {}).name || null;
     S.selectedClip = null;
     buildSelectors();
     buildPanel();
@@ -507,7 +508,8 @@
     }
   }
 
-  function buildPlane(box, o) {
+  // The radio that makes this plane the one a W/L drag edits.
+  function buildWindowTarget(box, o) {
     const row = document.createElement('div');
     row.className = 'row';
     const radio = document.createElement('input');
@@ -520,6 +522,10 @@
     label.className = 'wl-label';
     row.append(radio, label);
     box.append(row);
+  }
+
+  function buildPlane(box, o) {
+    if (o.volume) buildWindowTarget(box, o);
     const half = Math.max(o.size[0], o.size[1]) / 2;
     const offset = dot(sub(o.center, o.initialCenter), o.normal);
     const move = (v, moving) => {

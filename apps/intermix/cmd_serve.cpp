@@ -1,5 +1,7 @@
 // intermix serve SCENE.json: the interactive viewer in the browser (docs/viewer.md).
 #include <cstdio>
+#include <filesystem>
+#include <system_error>
 
 #include <fmt/format.h>
 
@@ -16,9 +18,26 @@
 
 namespace imx::cli {
 
+namespace {
+
+// The viewer's page: PREFIX/share/intermix/web beside an installed program (cmake --install),
+// else the source tree's web/ the build was configured from.
+std::string default_web_dir() {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const fs::path installed = exe.parent_path().parent_path() / "share" / "intermix" / "web";
+    if (fs::is_regular_file(installed / "index.html", ec)) return installed.string();
+  }
+  return IMX_WEB_DIR;
+}
+
+}  // namespace
+
 Command add_serve(CLI::App& app) {
   struct Options {
-    std::string scene, method, bind = "127.0.0.1", web = IMX_WEB_DIR;
+    std::string scene, method, bind = "127.0.0.1", web;
     int port = 8080, spp = 0, threads = 0, width = 0, height = 0;
     double budget_ms = 45.0;
     std::vector<std::string> overrides;
@@ -43,7 +62,9 @@ Command add_serve(CLI::App& app) {
   app.add_option("--frame-budget-ms", o->budget_ms,
                  "time a frame may take while the user moves (resolution adapts; default 45)")
       ->check(in_range(1, 10000));
-  app.add_option("--web", o->web, "folder of the page (index.html, viewer.js, viewer.css)");
+  app.add_option("--web", o->web,
+                 "folder of the page (index.html, viewer.js, viewer.css; default: "
+                 "PREFIX/share/intermix/web when installed, else the source tree's web/)");
   app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");
   return [o]() {
     std::vector<std::string> overrides = o->overrides;
@@ -61,7 +82,7 @@ Command add_serve(CLI::App& app) {
     server::ServerOptions server_options;
     server_options.bind = o->bind;
     server_options.port = static_cast<uint16_t>(o->port);
-    server_options.web_dir = o->web;
+    server_options.web_dir = o->web.empty() ? default_web_dir() : o->web;
     {
       server::HttpServer server(session, server_options);
       std::printf("intermix serve: %s\n", server.url().c_str());

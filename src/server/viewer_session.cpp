@@ -363,13 +363,14 @@ void ViewerSession::render_and_send(Snapshot& s) {
     std::lock_guard lock(mutex_);
     failed_version_ = s.version;
     std::string message = fmt::format("render with {}: {}", s.method, e.what());
-    if (method_ == s.method && method_ != last_good_method_) {
-      message += fmt::format("; back to {}", last_good_method_);
+    const bool fall_back = method_ == s.method && method_ != last_good_method_;
+    if (fall_back) message += fmt::format("; back to {}", last_good_method_);
+    broadcast_text(text_of(Json{{"type", "error"}, {"message", message}}));
+    if (fall_back) {  // the error first, then the state that puts the method menus back
       method_ = last_good_method_;
       ++version_;
       broadcast_text(text_of(state_message()));
     }
-    broadcast_text(text_of(Json{{"type", "error"}, {"message", message}}));
     return;
   }
   const double render_ms = ms_since(t0);
@@ -410,6 +411,7 @@ void ViewerSession::render_and_send(Snapshot& s) {
     return;
   }
   rendered_version_ = s.version;
+  last_good_method_ = s.method;  // a later method that fails falls back to this one
   // Every client now, with the latest of its inputs this frame shows (0: none; a client may
   // have joined since the snapshot).
   for (const Client& c : clients_)

@@ -300,5 +300,27 @@ TEST(ViewerSession, SaveWritesASceneThatRendersTheConvergedFrame) {
   EXPECT_GE(psnr(read_png(want), decode(shot.image, dir)), 60.0);
 }
 
+// A method that refuses the scene (zslab on a CSG scene) is reported, and the session goes back
+// to the last method that rendered, so the user keeps a picture.
+TEST(ViewerSession, AMethodThatRefusesTheSceneFallsBack) {
+  ViewerSession session(
+      load_viewer_state(std::filesystem::path(IMX_EXAMPLES_DIR) / "csg-cutaway.json",
+                        {"image.width=24", "image.height=24", "objects.skin.source.size=32",
+                         "objects.bone.source.size=32"}),
+      quiet_options(1));
+  EXPECT_EQ(session.method(), "csg");  // the default for a CSG scene
+  auto client = std::make_shared<Recorder>();
+  session.add_client(client);
+  client->wait_final();
+  session.on_message(client, R"({"type": "settings", "seq": 1, "method": "zslab"})");
+  const Json error = client->wait_type("error").json;
+  EXPECT_NE(error["message"].get<std::string>().find("back to csg"), std::string::npos)
+      << error["message"];
+  const Json state = client->wait_type("state").json;
+  EXPECT_EQ(state["method"], "csg");
+  EXPECT_EQ(client->wait_final().json["format"], "png");
+  EXPECT_EQ(session.method(), "csg");
+}
+
 }  // namespace
 }  // namespace imx::server

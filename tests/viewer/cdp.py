@@ -331,24 +331,30 @@ class Browser:
                    'buttons': buttons, 'clickCount': click_count, 'modifiers': modifiers},
                   timeout=15)
 
-    def press(self, x, y, button='left'):
-        self.mouse('mouseMoved', x, y)
-        self.mouse('mousePressed', x, y, button=button, buttons=_BUTTONS[button], click_count=1)
+    # modifiers (CDP's bit mask, as on the DOM events): ALT 1, CTRL 2, META 4, SHIFT 8.
+    ALT, CTRL, META, SHIFT = 1, 2, 4, 8
 
-    def release(self, x, y, button='left'):
-        self.mouse('mouseReleased', x, y, button=button, buttons=0, click_count=1)
+    def press(self, x, y, button='left', modifiers=0):
+        self.mouse('mouseMoved', x, y, modifiers=modifiers)
+        self.mouse('mousePressed', x, y, button=button, buttons=_BUTTONS[button], click_count=1,
+                   modifiers=modifiers)
+
+    def release(self, x, y, button='left', modifiers=0):
+        self.mouse('mouseReleased', x, y, button=button, buttons=0, click_count=1,
+                   modifiers=modifiers)
 
     def drag(self, x0, y0, x1, y1, steps=40, duration=2.0, button='left', release=True,
-             on_step=None):
+             on_step=None, modifiers=0):
         """Presses at (x0, y0), moves in `steps` even steps to (x1, y1) spread over `duration`
-        seconds, and releases (unless release=False). on_step(i) runs after move i (1-based).
+        seconds, and releases (unless release=False); every event carries `modifiers` (held
+        keys, e.g. Browser.CTRL). on_step(i) runs after move i (1-based).
         Returns (t_press, t_last_move) in time.monotonic() seconds."""
-        self.press(x0, y0, button)
+        self.press(x0, y0, button, modifiers)
         t0 = time.monotonic()
         for i in range(1, steps + 1):
             f = i / steps
             self.mouse('mouseMoved', x0 + (x1 - x0) * f, y0 + (y1 - y0) * f, button=button,
-                       buttons=_BUTTONS[button])
+                       buttons=_BUTTONS[button], modifiers=modifiers)
             if on_step:
                 on_step(i)
             wait = t0 + duration * i / steps - time.monotonic()
@@ -356,12 +362,12 @@ class Browser:
                 time.sleep(wait)
         t1 = time.monotonic()
         if release:
-            self.release(x1, y1, button)
+            self.release(x1, y1, button, modifiers)
         return t0, t1
 
-    def click(self, x, y, button='left'):
-        self.press(x, y, button)
-        self.release(x, y, button)
+    def click(self, x, y, button='left', modifiers=0):
+        self.press(x, y, button, modifiers)
+        self.release(x, y, button, modifiers)
 
     # ------------------------------------------------------------ output
     def screenshot(self, path, timeout=30.0):

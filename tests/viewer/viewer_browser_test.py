@@ -10,8 +10,12 @@ measured number and PASS/FAIL: the page loads and converges; HTTP and WebSocket 
 or wrong token; a canvas drag orbits at >= 10 frames/s; dragging a TF control point changes the
 image and re-runs only the edited volume's stage; toggling an object's visibility changes the
 image; a second (plain WebSocket) client gets `state` messages after the page's edits; the saved
-scene renders (intermix render) to the converged canvas within 40 dB PSNR; screenshots go to
---out. Exit 0: all passed, 1: a check failed, 77: skipped (no chromium or websocket module).
+scene renders (intermix render) to the converged canvas within 40 dB PSNR. Then, in the same
+browser, a second server on examples/mpr.json (--mpr-scene; a CT with three MPR planes):
+ctrl+drag sets a plane's window and re-runs only part of the stages; a plane's position slider
+moves it; "add clip plane" then alt+drag moves that clip; "reset view" after an orbit restores
+the initial camera. Screenshots go to --out. Exit 0: all passed, 1: a check failed, 77: skipped
+(no chromium or websocket module).
 
 Measure mode (--measure N) serves the scene as it is and does N short drags, reporting
 input-to-frame latency (median, 95th percentile), frames per second while moving and the time
@@ -46,6 +50,7 @@ from cdp import CdpError, kill_group, websocket  # noqa: E402
 
 SKIP = 77
 TEST_SIZE = 256
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 class Failure(Exception):
@@ -634,9 +639,262 @@ def run_test(args, out, checks, cleanup):
 
     # clean shutdown
     watcher.close()
-    browser.close()
     status, secs = server.stop(10)
     checks.check('server exits 0 on SIGINT', status == 0, f'status {status} after {secs:.2f} s')
+
+    # h.-k. the MPR scene, in the same browser
+    if args.mpr_scene:
+        run_mpr(args, out, checks, cleanup, browser)
+    browser.close()
+
+
+# ---------------------------------------------------------------- test mode: MPR planes and clips
+def settled_state(watcher, since, timeout=10.0):
+    """The watcher's last `state` once it has a final frame received after `since` (the server
+    broadcasts the state of an input before any frame that shows it, so that state is in)."""
+    f = watcher.wait(lambda t, m: t >= since and m.get('type') == 'frame' and m.get('final'),
+                     timeout)
+    if f is None:
+        raise Failure(f'the second client got no final frame within {timeout:.0f} s')
+    states = watcher.of_type('state')
+    return states[-1][1] if states else {}
+
+
+def state_object(state, name):
+    return next((o for o in (state or {}).get('objects', []) if o.get('name') == name), None)
+
+
+def camera_gap(a, b):
+    """The largest difference of any coordinate of eye, target and up, and of fov_deg."""
+    if not a or not b:
+        return math.inf
+    g = abs(a['fov_deg'] - b['fov_deg'])
+    for k in ('eye', 'target', 'up'):
+        g = max(g, max(abs(x - y) for x, y in zip(a[k], b[k])))
+    return g
+
+
+def run_mpr(args, out, checks, cleanup, browser):
+    """The MPR scene (a CT with three planes) at 256x256, zslab: window/level by ctrl+drag, a
+    plane's position slider, a clip plane added and moved by alt+drag, reset view."""
+    scene = os.path.abspath(args.mpr_scene)
+    sargs = ['--port', '0', '--bind', '127.0.0.1', '--method', 'zslab',
+             '--set', f'image.width={TEST_SIZE}', '--set', f'image.height={TEST_SIZE}']
+    if args.spp:
+        sargs += ['--spp', str(args.spp)]
+    t_start = time.monotonic()
+    server = Server(args.intermix, scene, sargs, os.path.join(out, 'server-mpr.log'),
+                    os.getcwd())
+    server.start()
+    cleanup.append(server.kill)
+    url = server.wait_url(60)
+    log(f'mpr server: {url}  (log: {out}/server-mpr.log; started in '
+        f'{time.monotonic() - t_start:.1f} s)')
+    u = urllib.parse.urlsplit(url)
+    token = urllib.parse.parse_qs(u.query).get('token', [''])[0]
+    watcher = Watcher(f'ws://{u.netloc}/ws?token={token}')
+    cleanup.append(watcher.close)
+    hello = watcher.wait(lambda t, m: m.get('type') == 'hello', 10)
+    if hello is None:
+        raise Failure('the second client of the MPR server got no hello in 10 s')
+    # MPR planes: planes that sample a volume (a plain colored plane has no window to set)
+    planes = [o for o in hello.get('objects', []) if o.get('kind') == 'plane' and o.get('volume')]
+    if not planes:
+        raise Failure(f'{args.mpr_scene} has no plane of a volume: '
+                      f'{[o.get("name") for o in hello.get("objects", [])]}')
+
+    errors_before = len(browser.page_errors)
+    t0 = time.monotonic()
+    browser.navigate(url, timeout=20)
+    browser.wait_for('Boolean(window.viewerStats && viewerStats.connected)', timeout=10,
+                     what='the MPR page to connect its WebSocket')
+    wait_converged(browser, 30, 'MPR scene after load')
+    last = browser.evaluate('viewerStats.lastFrame')
+    checks.check('h. MPR page loads and converges', last and last.get('final'),
+                 f'{time.monotonic() - t0:.2f} s',
+                 f"{args.mpr_scene}: {last.get('width')}x{last.get('height')}, "
+                 f"{last.get('stages')} stages, planes {[p['name'] for p in planes]}")
+    view = browser.evaluate("viewer.center('#view')")
+
+    # h. window/level: click the last MPR plane's radio (the default is the first plane's),
+    # ctrl+drag right
+    wl = planes[-1]
+    radio_sel = json.dumps(f'.object[data-name="{wl["name"]}"] input[type=radio]')
+    rb = browser.evaluate(f'viewer.center({radio_sel})')
+    if not rb:
+        raise Failure(f'no W/L radio button for plane {wl["name"]}')
+    browser.click(rb['x'], rb['y'])
+    radio_on = browser.evaluate(f'document.querySelector({radio_sel}).checked')
+    snap(browser, 'mpr_before_wl')
+    win0 = list(wl['window'])
+    dx = 0.18 * view['w']
+    x0, y = view['x'] - 0.3 * view['w'], view['y'] + 0.1 * view['h']
+    p_wl = page_now(browser)
+    t_wl0 = time.monotonic()
+    browser.drag(x0, y, x0 + dx, y, steps=20, duration=0.8, modifiers=browser.CTRL)
+    t_wl1 = time.monotonic()
+    wait_converged(browser, 20, 'after the W/L drag')
+    snap(browser, 'mpr_after_wl')
+    st = settled_state(watcher, t_wl1)
+    win1 = (state_object(st, wl['name']) or {}).get('window')
+    label_sel = json.dumps(f'.object[data-name="{wl["name"]}"] .wl-label')
+    label = browser.evaluate(f'(document.querySelector({label_sel}) || {{}}).textContent')
+    # the page: width * exp(0.005 per pixel right), centre + (pixels down) * width / 256
+    want = win0[1] * math.exp(0.005 * dx)
+    wl_states = [m for t, m in watcher.of_type('state', t_wl0)
+                 if (state_object(m, wl['name']) or {}).get('window') not in (None, win0)]
+    checks.check(f'h. ctrl+drag set {wl["name"]}\'s window width (W/L)',
+                 radio_on is True and win1 is not None and abs(win1[0] - win0[0]) < 1e-6 and
+                 abs(win1[1] - want) < 0.02 * want,
+                 f'window {win0} -> {[rnd(v, 1) for v in win1] if win1 else None}',
+                 f'radio checked {radio_on}; expected width {want:.1f} for {dx:.0f} px; '
+                 f'{len(wl_states)} state messages with a changed window; page: {label!r}')
+    d = diff(browser, 'mpr_before_wl', 'mpr_after_wl')
+    checks.check('h. W/L drag changed the image', d['changed'] > 0.001,
+                 f"{100 * d['changed']:.2f} % of pixels changed",
+                 f"PSNR before/after {d['psnr_db']:.1f} dB")
+    fr = frames_between(browser, p_wl)
+    one = [f for f in fr if f['stages_run'] < f['stages']]
+    checks.check('h. some W/L frame re-ran only part of the stages (stages_run < stages)',
+                 len(one) >= 1, f'{len(one)} of {len(fr)} frames',
+                 f"(run, stages, scale): "
+                 f"{[(f['stages_run'], f['stages'], f['scale']) for f in fr]}")
+
+    # i. the first MPR plane's position slider: drag its thumb left
+    pl = planes[0]
+    slider_sel = json.dumps(f'.object[data-name="{pl["name"]}"] > .row:last-child > '
+                            'input[type=range]')
+    sl = browser.evaluate(f'viewer.center({slider_sel})')
+    if not sl:
+        raise Failure(f'no position slider for plane {pl["name"]}')
+    c0 = list((state_object(st, pl['name']) or pl)['center'])
+    normal = pl['normal']
+    nlen = math.sqrt(sum(v * v for v in normal)) or 1.0
+    normal = [v / nlen for v in normal]
+    # The thumb sits at the slider's value (0 = the middle, as the scene placed the plane).
+    v0 = float(browser.evaluate(f'document.querySelector({slider_sel}).value'))
+    snap(browser, 'mpr_before_pos')
+    t_pos0 = time.monotonic()
+    browser.drag(sl['x'], sl['y'], sl['x'] - 0.15 * sl['w'], sl['y'], steps=12, duration=0.6)
+    t_pos1 = time.monotonic()
+    v1 = float(browser.evaluate(f'document.querySelector({slider_sel}).value'))
+    wait_converged(browser, 20, 'after the position slider')
+    snap(browser, 'mpr_after_pos')
+    st = settled_state(watcher, t_pos1)
+    c1 = (state_object(st, pl['name']) or {}).get('center')
+    moved = [a - b for a, b in zip(c1, c0)] if c1 else None
+    along = sum(m * n for m, n in zip(moved, normal)) if moved else None
+    off_normal = math.dist(moved, [along * n for n in normal]) if moved else None
+    pos_states = [m for t, m in watcher.of_type('state', t_pos0)
+                  if (state_object(m, pl['name']) or {}).get('center') not in (None, c0)]
+    checks.check(f'i. position slider moved {pl["name"]} along its normal',
+                 moved is not None and abs(along) > 1.0 and off_normal < 1e-6 and
+                 abs(along - (v1 - v0)) < 1e-6,
+                 f'center {c0} -> {[rnd(v, 2) for v in c1] if c1 else None}',
+                 f'{rnd(along, 2)} mm along the normal, slider {v0:g} -> {v1:.3f}; '
+                 f'{len(pos_states)} state messages with a moved center')
+    d = diff(browser, 'mpr_before_pos', 'mpr_after_pos')
+    checks.check('i. position slider changed the image', d['changed'] > 0.001,
+                 f"{100 * d['changed']:.2f} % of pixels changed",
+                 f"PSNR before/after {d['psnr_db']:.1f} dB")
+
+    # j. a clip plane: "add clip plane" in the plane's volume's box, then alt+drag down (the
+    # clip, through the target facing the view, moves toward the eye)
+    vol = pl['volume']
+    clips_before = list((state_object(st, vol) or {}).get('clip_planes') or [])
+    # the last row of a volume's box
+    add_sel = json.dumps(f'.object[data-name="{vol}"] > .row:last-child > button')
+    add = browser.evaluate(f'viewer.center({add_sel})')
+    add_text = browser.evaluate(f'(document.querySelector({add_sel}) || {{}}).textContent')
+    if add_text != 'add clip plane':
+        add = None
+    if not add:
+        raise Failure(f'no "add clip plane" button for volume {vol}')
+    t_add = time.monotonic()
+    browser.click(add['x'], add['y'])
+    wait_converged(browser, 20, 'after adding a clip plane')
+    st = settled_state(watcher, t_add)
+    clips0 = list((state_object(st, vol) or {}).get('clip_planes') or [])
+    snap(browser, 'mpr_before_clip')
+    p_clip = page_now(browser)
+    dy = 0.12 * view['h']
+    cx, cy = view['x'] + 0.05 * view['w'], view['y']
+    browser.drag(cx, cy, cx, cy + dy, steps=12, duration=0.6, modifiers=browser.ALT)
+    t_clip1 = time.monotonic()
+    wait_converged(browser, 20, 'after the clip drag')
+    snap(browser, 'mpr_after_clip')
+    st = settled_state(watcher, t_clip1)
+    clips1 = list((state_object(st, vol) or {}).get('clip_planes') or [])
+    moved_clips = [(a, b) for a, b in zip(clips0, clips1)
+                   if math.dist(a['point'], b['point']) > 1e-6]
+    same_normals = all(math.dist(a['normal'], b['normal']) < 1e-9 for a, b in zip(clips0, clips1))
+    # The page moves the clip along its normal by -(pixels down) * mm per pixel at the target.
+    cam = browser.evaluate('viewer.camera()')
+    mm_px = (2 * math.dist(cam['eye'], cam['target']) *
+             math.tan(math.radians(cam['fov_deg']) / 2) / view['h'])
+    want = -dy * mm_px
+    along = off_normal = None
+    if len(moved_clips) == 1:
+        a, b = moved_clips[0]
+        n = a['normal']
+        nn = math.sqrt(sum(v * v for v in n)) or 1.0
+        mv = [q - p for p, q in zip(a['point'], b['point'])]
+        along = sum(m * v / nn for m, v in zip(mv, n))
+        off_normal = math.dist(mv, [along * v / nn for v in n])
+    checks.check(f'j. "add clip plane" then alt+drag moved one clip plane of {vol}',
+                 len(clips0) == len(clips_before) + 1 and len(clips1) == len(clips0) and
+                 along is not None and abs(along - want) < 0.02 * abs(want) and
+                 off_normal < 1e-6 and same_normals,
+                 f'moved {rnd(along, 2)} mm along its normal' if along is not None else
+                 f'{len(moved_clips)} planes moved',
+                 f'expected {want:.2f} mm for {dy:.0f} px; clip planes {len(clips_before)} -> '
+                 f'{len(clips0)} (added) -> {len(clips1)}; point moved: '
+                 f'{[[[rnd(v, 2) for v in c["point"]] for c in ab] for ab in moved_clips][:2]}')
+    d = diff(browser, 'mpr_before_clip', 'mpr_after_clip')
+    fr = frames_between(browser, p_clip)
+    checks.check('j. clip drag changed the image', d['changed'] > 0.001,
+                 f"{100 * d['changed']:.2f} % of pixels changed",
+                 f"PSNR before/after {d['psnr_db']:.1f} dB; (run, stages) of its frames: "
+                 f"{sorted(set((f['stages_run'], f['stages']) for f in fr))}")
+    browser.screenshot(os.path.join(out, 'viewer-mpr-edited.png'))
+
+    # k. orbit, then "reset view"
+    init = hello.get('initial_camera') or hello.get('camera')
+    cam_a = browser.evaluate('viewer.camera()')
+    browser.drag(view['x'] - 0.2 * view['w'], view['y'], view['x'] + 0.1 * view['w'],
+                 view['y'] - 0.1 * view['h'], steps=6, duration=0.3)
+    t_orbit1 = time.monotonic()
+    wait_converged(browser, 20, 'after the orbit')
+    cam_b = browser.evaluate('viewer.camera()')
+    settled_state(watcher, t_orbit1)  # the orbit's final frame is in before reset is clicked
+    rv = browser.evaluate("viewer.center('#reset-view')")
+    t_reset = time.monotonic()
+    browser.click(rv['x'], rv['y'])
+    wait_converged(browser, 20, 'after reset view')
+    cam_c = browser.evaluate('viewer.camera()')
+    st = settled_state(watcher, t_reset)
+    gap_page = camera_gap(cam_c, init)
+    gap_state = camera_gap(st.get('camera'), init)
+    checks.check('k. "reset view" after an orbit restores the initial camera (1e-6)',
+                 math.dist(cam_a['eye'], cam_b['eye']) > 1.0 and gap_page <= 1e-6 and
+                 gap_state <= 1e-6,
+                 f'gap {gap_page:.3g} (page), {gap_state:.3g} (state)',
+                 f"the orbit moved the eye {math.dist(cam_a['eye'], cam_b['eye']):.1f} mm; "
+                 f"gap of the camera at load {camera_gap(cam_a, init):.3g}")
+
+    errs = browser.evaluate('viewerStats.errors')
+    browser.pump_events(0.05)
+    page_errs = browser.page_errors[errors_before:]
+    checks.check('MPR: no server error messages and no page errors',
+                 not errs and not page_errs and not watcher.violations and
+                 watcher.error is None,
+                 len(errs) + len(page_errs) + len(watcher.violations),
+                 '; '.join((errs or []) + page_errs + watcher.violations)[:500] +
+                 (watcher.error or ''))
+    watcher.close()
+    status, secs = server.stop(10)
+    checks.check('MPR server exits 0 on SIGINT', status == 0,
+                 f'status {status} after {secs:.2f} s')
 
 
 def pick_tf_point(tfs, histograms, only=None):
@@ -811,7 +1069,7 @@ JS_DIAGNOSIS = """({
 def diagnose(cleanup, out):
     """After a failure: what the page shows, and a screenshot of it."""
     owners = [getattr(fn, '__self__', None) for fn in cleanup]
-    server = next((o for o in owners if isinstance(o, Server)), None)
+    server = next((o for o in reversed(owners) if isinstance(o, Server)), None)
     if server and server.proc:
         status = server.proc.poll()
         log(f"      server: {'running' if status is None else f'exited with status {status}'}; "
@@ -845,6 +1103,9 @@ def main():
     ap.add_argument('--spp', type=int, help='samples per pixel the viewer converges to')
     ap.add_argument('--set', action='append', default=[], metavar='KEY=VALUE',
                     help='scene override passed to intermix serve (repeatable)')
+    ap.add_argument('--mpr-scene', default=os.path.join(REPO, 'examples', 'mpr.json'),
+                    help='test mode: the scene with MPR planes for checks h-k, served after '
+                         "--scene ('' skips them)")
     ap.add_argument('--tf-volume', help='the volume whose TF is edited (default: the one with '
                                         'the most opaque control point)')
     ap.add_argument('--settle', type=float, default=3.0,
@@ -866,6 +1127,9 @@ def main():
     args.intermix = os.path.abspath(args.intermix)
     if not os.path.isfile(args.scene):
         print(f'error: no scene file {args.scene}', file=sys.stderr)
+        return 2
+    if args.mpr_scene and not args.measure and not os.path.isfile(args.mpr_scene):
+        print(f'error: no scene file {args.mpr_scene}', file=sys.stderr)
         return 2
     out = os.path.abspath(args.out) if args.out else tempfile.mkdtemp(prefix='imx-viewer-test-')
     os.makedirs(out, exist_ok=True)
