@@ -177,24 +177,11 @@ std::shared_ptr<PyVolume> make_volume(const py::object& given, const py::object&
   return v;
 }
 
-const char* numpy_type(VoxelType type) {
-  switch (type) {
-    case VoxelType::u8:
-      return "uint8";
-    case VoxelType::i16:
-      return "int16";
-    case VoxelType::u16:
-      return "uint16";
-    default:
-      return "float32";
-  }
-}
-
 // The voxels of `data` as a (nk, nj, ni) C-order array that keeps `data` alive (no copy).
 py::array voxels_array(const std::shared_ptr<const VolumeData>& data, bool writeable) {
   const void* voxels =
       std::visit([](const auto& v) -> const void* { return v.data(); }, data->voxels);
-  return view_array(voxels, py::dtype(numpy_type(data->type())),
+  return view_array(voxels, py::dtype(voxel_type_name(data->type())),
                     {data->dims.z, data->dims.y, data->dims.x}, data, writeable);
 }
 
@@ -303,7 +290,7 @@ Raises ValueError (with the library's message) for bad shapes, affines or non-fi
           },
           "Voxels along i, j, k: (ni, nj, nk).")
       .def_property_readonly(
-          "dtype", [](const PyVolume& v) { return py::dtype(numpy_type(v.data->type())); },
+          "dtype", [](const PyVolume& v) { return py::dtype(voxel_type_name(v.data->type())); },
           "The engine's voxel type: uint8, int16, uint16 or float32.")
       .def_property_readonly(
           "spacing",
@@ -333,7 +320,7 @@ Raises ValueError (with the library's message) for bad shapes, affines or non-fi
         const glm::dvec3 s = v.data->spacing();
         return fmt::format("<intermix.Volume {}x{}x{} {} spacing {:g}x{:g}x{:g} mm{}>",
                            v.data->dims.x, v.data->dims.y, v.data->dims.z,
-                           numpy_type(v.data->type()), s.x, s.y, s.z,
+                           voxel_type_name(v.data->type()), s.x, s.y, s.z,
                            v.shares_memory ? ", shares the array's memory" : "");
       });
 

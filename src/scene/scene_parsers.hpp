@@ -103,6 +103,8 @@ struct ParsedTransferFunction {
 // "scale" move the points (presets/tf_adjust.hpp), "unit_distance" sets the alphas' mm.
 ParsedTransferFunction parse_transfer_function(const JsonReader& r, SceneContext& context);
 
+// A volume's "clip_planes": [{"point": [3], "normal": [3]}, ...], normals normalized.
+std::vector<ClipPlane> parse_clip_planes(const JsonReader& r);
 VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context);
 MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context);
 // `scene` holds the volumes, which "volume" may name; `object_types` maps every object's name

@@ -123,6 +123,8 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
   return data;
 }
 
+}  // namespace
+
 std::vector<ClipPlane> parse_clip_planes(const JsonReader& r) {
   std::vector<ClipPlane> planes;
   for (const JsonReader& e : r.elements()) {
@@ -134,8 +136,6 @@ std::vector<ClipPlane> parse_clip_planes(const JsonReader& r) {
   }
   return planes;
 }
-
-}  // namespace
 
 VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   r.check_keys({"name", "type", "source", "transform", "style", "iso_value", "xray_mode",

@@ -153,15 +153,7 @@ std::vector<ClipPlane> parse_edit_clip_planes(const JsonReader& at) {
     at.fail("expected an array of {\"point\": [3], \"normal\": [3]}, got " + at.describe());
   if (at.size() > kMaxClipPlanes)
     at.fail(fmt::format("{} clip planes; a volume takes at most {}", at.size(), kMaxClipPlanes));
-  std::vector<ClipPlane> planes;
-  for (const JsonReader& e : at.elements()) {
-    e.check_keys({"point", "normal"});
-    ClipPlane plane;
-    plane.point = e.get("point").vec3(Range::coordinate());
-    plane.normal = e.get("normal").direction();
-    planes.push_back(plane);
-  }
-  return planes;
+  return detail::parse_clip_planes(at);
 }
 
 bool apply_camera(ViewerState& state, const Json& message) {
