@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "../scene/test_helpers.hpp"
 #include "intermix/io.hpp"
 #include "intermix/metrics.hpp"
 #include "intermix/render.hpp"
@@ -25,6 +26,8 @@
 
 namespace imx::server {
 namespace {
+
+using test::TempDir;
 
 using Json = nlohmann::json;
 using namespace std::chrono_literals;
@@ -76,25 +79,6 @@ class Recorder : public ClientSink {
   std::mutex mutex_;
   std::condition_variable changed_;
   std::vector<Message> messages_;
-};
-
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = std::filesystem::temp_directory_path() /
-            ("imx_viewer_session_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
 };
 
 // fusion.json at kSize pixels with small phantoms, copied into `dir` (save writes beside it).

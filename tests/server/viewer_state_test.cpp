@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "../scene/test_helpers.hpp"
 #include "intermix/error.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
@@ -21,32 +22,12 @@
 namespace imx::server {
 namespace {
 
+using test::error_of;
+using test::TempDir;
+
 using Json = nlohmann::json;
 
 constexpr int kSize = 40;
-
-// A fresh folder for this test and process, removed at the end.
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = std::filesystem::temp_directory_path() /
-            ("imx_viewer_state_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  std::filesystem::path write(const std::string& name, const std::string& text) const {
-    std::ofstream(path_ / name) << text;
-    return path_ / name;
-  }
-
- private:
-  std::filesystem::path path_;
-};
 
 std::filesystem::path example(const std::string& name) {
   return std::filesystem::path(IMX_EXAMPLES_DIR) / name;
@@ -73,18 +54,6 @@ bool same_bytes(const Image& a, const Image& b) {
   return a.width() == b.width() && a.height() == b.height() &&
          std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec4)) == 0;
 }
-
-std::string error_of(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
-#define EXPECT_CONTAINS(text, part) \
-  EXPECT_NE(std::string(text).find(part), std::string::npos) << "message: " << (text)
 
 // Applies `message`, then checks that the image changed and that the saved file renders the
 // session's bytes exactly.
