@@ -4,6 +4,7 @@
 // session as it was; an accepted one must save a scene file that loads as the session's scene.
 // Then the same text goes to a live ViewerSession (every message type, its render thread
 // running), which must answer it without throwing.
+#include <chrono>
 #include <cstdlib>
 #include <exception>
 #include <string>
@@ -54,6 +55,7 @@ imx::server::ViewerSession& live_session() {
   static imx::server::ViewerSession live = [] {
     imx::server::SessionOptions options;
     options.log = false;
+    options.release_after_ms = 1;  // a "moving" input is released at once: frames stay quick
     return imx::server::ViewerSession(session(), options);
   }();
   return live;
@@ -115,6 +117,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return s;
   }();
   live_session().on_message(sink, std::string(as_view(data, size)));
+  // Each input's frames finish before the next input (reproducible), and before the process
+  // exits: a frame rendering during exit read caches already destroyed (ASan, fork mode).
+  if (!live_session().wait_idle(std::chrono::seconds(5))) __builtin_trap();
   imx::server::ViewerState state = original;
   nlohmann::json message;
   try {

@@ -228,6 +228,7 @@ void ViewerSession::handle(const std::shared_ptr<ClientSink>& client, const Json
     {
       std::lock_guard lock(mutex_);
       screenshot_requests_.push_back(client);
+      idle_ = false;
     }
     wake_.notify_all();
   } else {  // stats
@@ -257,6 +258,7 @@ void ViewerSession::input_applied(const ClientSink* client, const Json& message)
     if (c.id == client && message.contains("seq"))
       c.seq = std::max(c.seq, static_cast<long long>(message["seq"].get<double>()));
   ++version_;
+  idle_ = false;
   moving_ = message.contains("moving") && message["moving"].get<bool>();
   last_input_ = Clock::now();
   cancel_ = true;  // only still frames poll it (render_and_send)
@@ -306,11 +308,18 @@ bool ViewerSession::take_work(std::unique_lock<std::mutex>& lock, Snapshot& out)
       cancel_ = false;
       return true;
     }
+    idle_ = !moving_;  // a drag not yet released still has its still frames to come
+    idle_changed_.notify_all();
     if (moving_)
       wake_.wait_for(lock, release_after);
     else
       wake_.wait(lock);
   }
+}
+
+bool ViewerSession::wait_idle(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(mutex_);
+  return idle_changed_.wait_for(lock, timeout, [&] { return idle_ || stopping_; });
 }
 
 void ViewerSession::render_loop() {

@@ -6,6 +6,7 @@
 // connections, or a test's recorder).
 #pragma once
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <filesystem>
 #include <memory>
@@ -73,6 +74,9 @@ class ViewerSession {
 
   // Stops the render thread (also done by the destructor).
   void stop();
+  // Waits until every frame the latest input asked for was sent (or `timeout`); false on timeout.
+  // For tests and the fuzz harness, which must not exit while a frame renders.
+  bool wait_idle(std::chrono::milliseconds timeout);
 
   // Counters for tests and logs.
   struct Counters {
@@ -127,6 +131,8 @@ class ViewerSession {
   Counters counters_;
   std::vector<double> latencies_;
   bool stopping_ = false;
+  bool idle_ = false;  // the render thread waits with nothing to do
+  std::condition_variable idle_changed_;
   std::atomic<bool> cancel_{false};
 
   // Render thread only.

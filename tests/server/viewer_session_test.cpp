@@ -168,6 +168,11 @@ TEST(ViewerSession, MovingFramesAreReducedJpegsThenStillFramesRefine) {
   const auto last = client->wait_final();
   EXPECT_EQ(last.json["seq"], 2);
   EXPECT_EQ(last.json["samples"], 4);
+  // Idle once the last sample is sent; a new input makes it busy until its frames are out.
+  EXPECT_TRUE(session.wait_idle(std::chrono::seconds(60)));
+  session.on_message(client, camera_message(3, false, -250).dump());
+  EXPECT_TRUE(session.wait_idle(std::chrono::seconds(60)));
+  EXPECT_EQ(session.counters().still_frames, 12);  // 4 samples at load, after the release, now
 }
 
 TEST(ViewerSession, AnEditRerendersOnlyItsStage) {
