@@ -19,6 +19,20 @@ namespace imx {
 // Throws imx::Error naming the file and the fault.
 VolumeData read_volume(const std::filesystem::path& file);
 
+// What a volume file holds, from its header alone (DICOM: the series is read).
+struct VolumeHeader {
+  glm::ivec3 dims{0};
+  VoxelType type = VoxelType::u8;  // the storage type read_volume gives
+  glm::dmat4 index_to_world{1.0};  // as read_volume gives it (LPS)
+};
+VolumeHeader read_volume_header(const std::filesystem::path& file);
+
+// Only the voxels of `box` (within the file's dims, else imx::Error), as crop(read_volume(file),
+// box) gives them, but reading no more than it must: uncompressed NRRD, MetaImage and NIfTI data
+// are read row by row with seeks past the rest; gzip/zlib data is inflated as a stream, keeping
+// only the box; DICOM series are read whole and cropped.
+VolumeData read_volume_region(const std::filesystem::path& file, const VoxelBox& box);
+
 // Writes a NRRD file (gzip-encoded when `gzip`), atomically.
 void write_nrrd(const VolumeData& volume, const std::filesystem::path& file, bool gzip = true);
 
@@ -80,6 +94,10 @@ std::vector<std::string> phantom_names();
 
 // A built-in phantom volume; `size` is the voxel count along its largest axis.
 VolumeData make_phantom(const std::string& name, int size);
+// The dims and placement make_phantom(name, size) gives, without making it.
+VolumeHeader phantom_header(const std::string& name, int size);
+// crop(make_phantom(name, size), box), computing only the voxels of `box`.
+VolumeData make_phantom_region(const std::string& name, int size, const VoxelBox& box);
 
 // Writes a premultiplied linear image as 8-bit RGBA PNG (straight alpha, sRGB-encoded colour
 // unless `linear`), atomically: a temporary file beside it, then a rename.

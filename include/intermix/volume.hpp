@@ -1,5 +1,6 @@
 // VolumeData: a 3D grid of scalar voxels in its native type, placed in world space (LPS, mm).
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -13,6 +14,21 @@
 namespace imx {
 
 enum class VoxelType : uint8_t { u8, i16, u16, f32 };
+
+// A box of voxel indices, lo inclusive, hi exclusive: the part of a volume one process reads
+// when a volume is split into bricks (distributed rendering).
+struct VoxelBox {
+  glm::ivec3 lo{0}, hi{0};
+
+  glm::ivec3 size() const { return hi - lo; }
+  bool empty() const { return hi.x <= lo.x || hi.y <= lo.y || hi.z <= lo.z; }
+  size_t count() const {
+    return empty() ? 0 : static_cast<size_t>(hi.x - lo.x) * (hi.y - lo.y) * (hi.z - lo.z);
+  }
+  // The whole grid of `dims` voxels.
+  static VoxelBox whole(glm::ivec3 dims) { return {glm::ivec3(0), dims}; }
+  bool operator==(const VoxelBox&) const = default;
+};
 
 const char* voxel_type_name(VoxelType type);
 
@@ -37,5 +53,12 @@ struct VolumeData {
   // Throws imx::Error (naming `what`) when dims, storage size or the affine are inconsistent.
   void validate(const std::string& what) const;
 };
+
+// The voxels of `box` (within volume.dims, else imx::Error naming `what`) as a volume of their
+// own, placed where they lie: index_to_world is the whole's moved by box.lo.
+VolumeData crop(const VolumeData& volume, const VoxelBox& box, const std::string& what);
+
+// index_to_world of the voxels of a box starting at `lo` of a grid placed by `index_to_world`.
+glm::dmat4 box_index_to_world(const glm::dmat4& index_to_world, glm::ivec3 lo);
 
 }  // namespace imx

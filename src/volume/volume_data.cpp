@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -84,6 +85,43 @@ void VolumeData::validate(const std::string& what) const {
       throw Error(fmt::format("{}: origin {:g} mm along axis {} is more than {:g} mm from 0", what,
                               index_to_world[3][axis], axis, kMaxCoordinateMm));
   }
+}
+
+}  // namespace imx
+
+namespace imx {
+
+glm::dmat4 box_index_to_world(const glm::dmat4& index_to_world, glm::ivec3 lo) {
+  glm::dmat4 m = index_to_world;
+  m[3] = index_to_world * glm::dvec4(glm::dvec3(lo), 1.0);
+  return m;
+}
+
+VolumeData crop(const VolumeData& volume, const VoxelBox& box, const std::string& what) {
+  for (int a = 0; a < 3; ++a)
+    if (box.lo[a] < 0 || box.hi[a] > volume.dims[a] || box.hi[a] <= box.lo[a])
+      throw Error(fmt::format(
+          "{}: voxel box [{}, {}) x [{}, {}) x [{}, {}) is empty or leaves the {}x{}x{} grid", what,
+          box.lo.x, box.hi.x, box.lo.y, box.hi.y, box.lo.z, box.hi.z, volume.dims.x, volume.dims.y,
+          volume.dims.z));
+  VolumeData out;
+  out.dims = box.size();
+  out.index_to_world = box_index_to_world(volume.index_to_world, box.lo);
+  out.voxels = std::visit(
+      [&](const auto& in) -> VoxelStorage {
+        using T = typename std::decay_t<decltype(in)>::value_type;
+        std::vector<T> part;
+        part.reserve(box.count());
+        for (int k = box.lo.z; k < box.hi.z; ++k)
+          for (int j = box.lo.y; j < box.hi.y; ++j) {
+            const T* row =
+                in.data() + (static_cast<size_t>(k) * volume.dims.y + j) * volume.dims.x + box.lo.x;
+            part.insert(part.end(), row, row + (box.hi.x - box.lo.x));
+          }
+        return VoxelBuffer<T>(std::move(part));
+      },
+      volume.voxels);
+  return out;
 }
 
 }  // namespace imx
