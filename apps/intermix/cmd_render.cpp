@@ -7,6 +7,7 @@
 #include "commands.hpp"
 #include "core/parallel.hpp"
 #include "core/progress_bar.hpp"
+#include "dist/distributed_render.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/render.hpp"
@@ -20,6 +21,8 @@ Command add_render(CLI::App& app) {
     int width = 0, height = 0, spp = 0, threads = 0;
     std::vector<std::string> overrides;
     bool linear = false;
+    bool distributed = false;
+    std::string partition = "auto", report;
   };
   auto o = std::make_shared<Options>();
   app.add_option("scene", o->scene, "scene file (JSON)")->required();
@@ -35,10 +38,38 @@ Command add_render(CLI::App& app) {
       ->check(in_range(0, kMaxThreads));
   app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");
   app.add_flag("--linear", o->linear, "write linear instead of sRGB-encoded colour");
+  std::string no_mpi;
+  const bool mpi = distributed_available(&no_mpi);
+  app.add_flag("--distributed", o->distributed,
+               mpi ? "split the render over the processes of this MPI job "
+                     "(mpirun -np R intermix render ... --distributed)"
+                   : "unavailable: " + no_mpi);
+  app.add_option("--partition", o->partition,
+                 "with --distributed: objects, bricks or auto (default: auto)")
+      ->check(CLI::IsMember({"objects", "bricks", "auto"}));
+  app.add_option("--report", o->report,
+                 "with --distributed: write timings, bytes exchanged and memory per rank (JSON)");
   return [o]() {
     std::vector<std::string> overrides = o->overrides;
     if (o->width > 0) overrides.push_back(fmt::format("image.width={}", o->width));
     if (o->height > 0) overrides.push_back(fmt::format("image.height={}", o->height));
+    if (!o->distributed && (o->report.size() || o->partition != "auto"))
+      throw Error("--partition and --report apply only with --distributed");
+    if (o->distributed) {
+      DistributedRequest request;
+      request.scene = o->scene;
+      request.overrides = overrides;
+      request.method = o->method;
+      request.spp = o->spp;
+      request.threads = o->threads;
+      request.partition = parse_partition_mode(o->partition);
+      request.output = o->output;
+      request.linear = o->linear;
+      request.report = o->report;
+      request.progress = show_progress();
+      render_distributed(request);
+      return 0;
+    }
     Scene scene = load_scene(o->scene, overrides);
     print_notes(scene.notes);
     RenderOptions options;

@@ -20,11 +20,6 @@ namespace imx {
 VolumeData read_volume(const std::filesystem::path& file);
 
 // What a volume file holds, from its header alone (DICOM: the series is read).
-struct VolumeHeader {
-  glm::ivec3 dims{0};
-  VoxelType type = VoxelType::u8;  // the storage type read_volume gives
-  glm::dmat4 index_to_world{1.0};  // as read_volume gives it (LPS)
-};
 VolumeHeader read_volume_header(const std::filesystem::path& file);
 
 // Only the voxels of `box` (within the file's dims, else imx::Error), as crop(read_volume(file),

@@ -7,12 +7,12 @@
 namespace imx {
 
 struct ImageComparison {
-  double psnr_db = 0.0;      // over RGB in [0,1] after compositing over black; inf when equal
-  double ssim = 0.0;         // mean SSIM of display luminance, 8x8 windows, stride 4
-  double max_error = 0.0;    // largest per-channel absolute difference
-  double frac_over_1 = 0.0;  // fraction of pixels whose largest channel error exceeds 1/255
-  double frac_over_4 = 0.0;  // ... 4/255
-  double frac_over_16 = 0.0; // ... 16/255
+  double psnr_db = 0.0;       // over RGB in [0,1] after compositing over black; inf when equal
+  double ssim = 0.0;          // mean SSIM of display luminance, 8x8 windows, stride 4
+  double max_error = 0.0;     // largest per-channel absolute difference
+  double frac_over_1 = 0.0;   // fraction of pixels whose largest channel error exceeds 1/255
+  double frac_over_4 = 0.0;   // ... 4/255
+  double frac_over_16 = 0.0;  // ... 16/255
 };
 
 // Compares images of equal size; throws imx::Error when the sizes differ or one is empty.

@@ -2,6 +2,7 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -97,6 +98,10 @@ struct VolumeObject {
   std::vector<ClipPlane> clip_planes;
   std::vector<ClipMesh> clip_meshes;         // a sample shows only where every one of them keeps it
   std::optional<glm::dvec2> display_window;  // the source's own centre and width (DICOM tags)
+  // Where `data` lies in its source: all of it, unless the scene was loaded by region
+  // (SceneLoadOptions::region), when data holds only `region` of a grid of `source_dims`.
+  glm::ivec3 source_dims{0};
+  VoxelBox region;
 };
 
 struct Material {
@@ -178,7 +183,8 @@ struct RenderSettings {
   int layers = 8;                        // ZT-buffer slabs per pixel (N)
   int rt_layers = 4;                     // RT-buffer surface layers (M)
   int peel_layers = 4;                   // depth-peeling passes per polygon object (L)
-  std::string peel_rest = "unsorted";    // peel: fragments behind layer L-1 blended unsorted, or "lost"
+  std::string peel_rest =
+      "unsorted";  // peel: fragments behind layer L-1 blended unsorted, or "lost"
   std::string interpolation = "ovi";
   double beta = 1.0;
   std::string skipping = "distance";             // empty-space skipping: none, bricks, distance
@@ -202,6 +208,10 @@ struct RenderSettings {
   // Empty: scene order.
   std::vector<std::vector<std::string>> mixing_priority;
   double mixing_threshold = 0.0;  // exclusive: TF opacity per unit_distance a winner must exceed
+  // Not in scene files: the smallest voxel pitch the frame assumes (0: its volumes' own). A
+  // process rendering part of a scene (distributed) sets the whole scene's, so that its steps
+  // and surface thicknesses are the whole scene's.
+  double pitch_mm = 0.0;
 };
 
 struct Scene {
@@ -222,6 +232,17 @@ struct Scene {
 // `overrides` are "json.path=value" assignments applied before validation (--set).
 // Throws imx::Error naming the file, the JSON path and the value at fault.
 Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {});
+
+// Which voxels of a volume object's source to read, from the object's name and the source's
+// header: a box within header.dims (VoxelBox::whole(header.dims): all of them).
+using VolumeRegionChooser =
+    std::function<VoxelBox(const std::string& object, const VolumeHeader& source)>;
+
+// load_scene that reads only part of some volumes (a process rendering bricks of them): each
+// volume object's data is the box `region` chooses (read with read_volume_region), and its
+// source_dims and region say where that lies in the whole.
+Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides,
+                 const VolumeRegionChooser& region);
 
 // The same from JSON text; `base_dir` resolves relative paths, `origin` names it in errors.
 Scene parse_scene(const std::string& json_text, const std::filesystem::path& base_dir,

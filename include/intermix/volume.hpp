@@ -54,6 +54,13 @@ struct VolumeData {
   void validate(const std::string& what) const;
 };
 
+// What a volume file holds, without its voxels.
+struct VolumeHeader {
+  glm::ivec3 dims{0};
+  VoxelType type = VoxelType::u8;  // the storage type read_volume gives
+  glm::dmat4 index_to_world{1.0};  // as read_volume gives it (LPS)
+};
+
 // The voxels of `box` (within volume.dims, else imx::Error naming `what`) as a volume of their
 // own, placed where they lie: index_to_world is the whole's moved by box.lo.
 VolumeData crop(const VolumeData& volume, const VoxelBox& box, const std::string& what);

@@ -20,6 +20,7 @@ FrameSetup::FrameSetup(const Scene& scene)
     pitch = std::min(pitch, static_cast<double>(volumes.back().min_pitch));
   }
   if (!volumes.empty()) min_pitch = pitch;
+  if (scene.render.pitch_mm > 0.0) min_pitch = scene.render.pitch_mm;  // a part of a scene
   for (const Light& l : scene.lights) lights.push_back(resolve_light(l));
 }
 

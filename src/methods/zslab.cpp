@@ -56,7 +56,10 @@ std::span<const Fragment> clip_row(const SampleFragments& clip, bool have, size_
 
 // Stateless pipeline: every stage runs on one tile's ping-pong ZT-buffers before the next tile;
 // a flag bit per sample says which of the two holds its array (untouched samples cost nothing).
-Image render_streamed(const Scene& scene, int spp, const RenderOptions& options, bool hybrid) {
+// With `arrays`, every stage is deferred and each sample's array is stored there instead of
+// composited (the image is then left empty).
+Image render_streamed(const Scene& scene, int spp, const RenderOptions& options, bool hybrid,
+                      ZtBuffer* arrays = nullptr) {
   ZslabFrame z(scene, spp, hybrid, options.sample_index);
   z.prepare();
   const size_t end = deferred_end(z);
@@ -64,6 +67,7 @@ Image render_streamed(const Scene& scene, int spp, const RenderOptions& options,
   const int w = scene.image.width, h = scene.image.height;
   Image image(w, h);
   const float weight = 1.0f / static_cast<float>(z.offsets.size());
+  if (arrays) arrays->reset(static_cast<size_t>(w) * h * z.offsets.size(), n, z.format);
   for_each_tile(
       w, h, kTileSize, options.threads,
       [&](const TileRect& tile, int) {
@@ -90,6 +94,14 @@ Image render_streamed(const Scene& scene, int spp, const RenderOptions& options,
             flags[i / 32] ^= 1u << (i % 32);
           });
         }
+        if (arrays) {
+          const size_t per_pixel = z.offsets.size();
+          for_each_sample(z, tile, [&](int x, int y, const Ray&, size_t i) {
+            size_t pixel = static_cast<size_t>(y) * w + x;
+            arrays->copy(pixel * per_pixel + i % per_pixel, zt[current(i)], i);
+          });
+          return;
+        }
         glm::vec4 sum(0.0f);
         size_t done = 0;
         for_each_sample(z, tile, [&](int x, int y, const Ray& ray, size_t i) {
@@ -115,6 +127,11 @@ Image render_zslab(const Scene& scene, int spp, const RenderOptions& options) {
 
 Image render_zslab_hybrid(const Scene& scene, int spp, const RenderOptions& options) {
   return render_streamed(scene, spp, options, true);
+}
+
+void render_zslab_arrays(const Scene& scene, int spp, const RenderOptions& options,
+                         ZtBuffer& arrays) {
+  render_streamed(scene, spp, options, false, &arrays);
 }
 
 double zslab_stream_bytes_per_sample(const RenderSettings& r) {

@@ -15,6 +15,15 @@ namespace imx {
 Image render_zslab(const Scene& scene, int spp, const RenderOptions& options);
 Image render_zslab_hybrid(const Scene& scene, int spp, const RenderOptions& options);
 
+class ZtBuffer;
+
+// The full pipeline's output before its final composite, for compositing elsewhere (distributed
+// rendering): every stage deferred, each sample's merged array stored in `arrays` (resized to
+// width * height * spp samples: pixels in row order, a pixel's samples one after the other).
+// accumulate() of each sample's array, averaged per pixel, gives render_zslab's image.
+void render_zslab_arrays(const Scene& scene, int spp, const RenderOptions& options,
+                         ZtBuffer& arrays);
+
 class KeptSlabArrays;
 
 // Object-level reuse (SPEC §4): per deferred stage the object's own slab array, keyed by a hash

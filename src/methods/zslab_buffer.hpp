@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <vector>
 
@@ -60,6 +61,18 @@ inline Slab unpack(const PackedSlab8& p) {
   float a = p.rgba[3] / 255.0f;
   glm::vec4 c(p.rgba[0] / 255.0f * a, p.rgba[1] / 255.0f * a, p.rgba[2] / 255.0f * a, a);
   return {p.t_back, p.thickness, c};
+}
+
+// A packed slab of either format from its bytes (as ZtBuffer::slots holds them).
+inline Slab unpack_bytes(const std::byte* bytes, SlabFormat format) {
+  if (format == SlabFormat::rgba8) {
+    PackedSlab8 p;
+    std::memcpy(&p, bytes, sizeof p);
+    return unpack(p);
+  }
+  PackedSlab32 p;
+  std::memcpy(&p, bytes, sizeof p);
+  return unpack(p);
 }
 
 // A buffer of `samples` slab arrays of `capacity` slabs each, in one of the two formats.
@@ -118,6 +131,25 @@ class ZtBuffer {
       std::copy_n(from.s8_.begin() + b, capacity_, s8_.begin() + a);
     else
       std::copy_n(from.s32_.begin() + b, capacity_, s32_.begin() + a);
+  }
+
+  // The length of the array of `sample` (its slots up to the first unused one).
+  int count(size_t sample) const {
+    size_t base = sample * static_cast<size_t>(capacity_);
+    int k = 0;
+    if (format_ == SlabFormat::rgba8)
+      while (k < capacity_ && s8_[base + k].thickness >= 0.0f) ++k;
+    else
+      while (k < capacity_ && s32_[base + k].thickness >= 0.0f) ++k;
+    return k;
+  }
+
+  // The packed slots of `sample` (capacity() slabs of slab_bytes(format()) bytes), as stored:
+  // what a message carries, so slabs cross processes bit for bit.
+  const std::byte* slots(size_t sample) const {
+    size_t base = sample * static_cast<size_t>(capacity_);
+    return format_ == SlabFormat::rgba8 ? reinterpret_cast<const std::byte*>(s8_.data() + base)
+                                        : reinterpret_cast<const std::byte*>(s32_.data() + base);
   }
 
   size_t samples() const { return samples_; }

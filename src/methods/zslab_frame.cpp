@@ -95,6 +95,17 @@ Sampling sampling_of(const RenderSettings& r) {
 
 }  // namespace
 
+ZslabParams zslab_params(const RenderSettings& r) {
+  ZslabParams params;
+  params.layers = r.layers;
+  params.rt_layers = r.rt_layers;
+  params.peel_layers = r.peel_layers;
+  params.mix.interpolation = interpolation_of(r);
+  params.mix.a_ert = static_cast<float>(r.ert_threshold);
+  params.mix.overflow = overflow_of(r);
+  return params;
+}
+
 ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast, int sample_index)
     : scene(s), frame(s), offsets(frame_offsets(spp, sample_index)), hybrid(hybrid_cast) {
   const RenderSettings& r = scene.render;
@@ -104,12 +115,7 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast, int sample_ind
   if (r.rt_layers < 1 || r.rt_layers > kMaxRtLayers)
     throw Error(fmt::format("zslab: render.rt_layers is {}, this build supports 1 to {}",
                             r.rt_layers, kMaxRtLayers));
-  params.layers = r.layers;
-  params.rt_layers = r.rt_layers;
-  params.peel_layers = r.peel_layers;
-  params.mix.interpolation = interpolation_of(r);
-  params.mix.a_ert = static_cast<float>(r.ert_threshold);
-  params.mix.overflow = overflow_of(r);
+  params = zslab_params(r);
   format = r.slab_format == "rgba8" ? SlabFormat::rgba8 : SlabFormat::rgba32f;
   footprint_at_0_ = static_cast<float>(frame.camera.pixel_footprint(0.0));
   footprint_per_mm_ = static_cast<float>(frame.camera.pixel_footprint(1.0)) - footprint_at_0_;

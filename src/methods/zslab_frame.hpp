@@ -31,6 +31,10 @@ struct ZslabStage {
   std::string name;               // the objects' names, for messages
 };
 
+// The per-sample settings render.layers, rt_layers, peel_layers, interpolation, ert_threshold
+// and overflow give (without their range checks, which ZslabFrame makes).
+ZslabParams zslab_params(const RenderSettings& render);
+
 // render.sampling: every volume at the common step, or each at a step for its own pitch.
 enum class Sampling : uint8_t { common, per_volume };
 

@@ -125,19 +125,35 @@ std::string detail::read_scene_file(const std::filesystem::path& file) {
   return text.str();
 }
 
-Scene parse_scene(const std::string& json_text, const std::filesystem::path& base_dir,
-                  const std::string& origin, const std::vector<std::string>& overrides) {
+namespace {
+
+Scene parse_scene_text(const std::string& json_text, const std::filesystem::path& base_dir,
+                       const std::string& origin, const std::vector<std::string>& overrides,
+                       const VolumeRegionChooser& region) {
   nlohmann::json root = detail::parse_scene_json(json_text, origin);
   for (const std::string& assignment : overrides) detail::apply_override(root, assignment, origin);
   detail::SceneContext context{base_dir, {}, {}, {}};
+  context.region = region;
   return detail::parse_scene_document(root, origin, context);
 }
 
+}  // namespace
+
+Scene parse_scene(const std::string& json_text, const std::filesystem::path& base_dir,
+                  const std::string& origin, const std::vector<std::string>& overrides) {
+  return parse_scene_text(json_text, base_dir, origin, overrides, VolumeRegionChooser());
+}
+
 Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
+  return load_scene(file, overrides, VolumeRegionChooser());
+}
+
+Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides,
+                 const VolumeRegionChooser& region) {
   const std::string text = detail::read_scene_file(file);
   std::filesystem::path base_dir = file.parent_path();
   if (base_dir.empty()) base_dir = ".";
-  Scene scene = parse_scene(text, base_dir, file.string(), overrides);
+  Scene scene = parse_scene_text(text, base_dir, file.string(), overrides, region);
   scene.file = file;
   return scene;
 }

@@ -35,6 +35,8 @@ struct SceneContext {
   // `meshes` and `placed_meshes` the last document used (a program drops the others).
   std::map<std::string, std::shared_ptr<const Mesh>> placed_meshes = {};
   std::set<std::string> used = {};
+  // Set: each volume object's data is only the box this chooses (load_scene by region).
+  VolumeRegionChooser region = {};
 
   // A "file" value resolved against base_dir; throws naming the resolved path when missing.
   std::filesystem::path resolve_file(const JsonReader& file) const;

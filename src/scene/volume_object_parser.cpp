@@ -21,8 +21,11 @@ constexpr int kDefaultPhantomSize = 128;
 
 // Loads (or reuses) the volume a "source" names; errors from the readers get the JSON path.
 // A DICOM source (folder, DICOMDIR, DICM file) also gives its series' window.
+// With context.region, only the box it chooses for `object` is read: `placed` gets where.
 std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, SceneContext& context,
-                                                     std::optional<glm::dvec2>* window) {
+                                                     std::optional<glm::dvec2>* window,
+                                                     const std::string& object,
+                                                     VolumeObject& placed) {
   if (!context.given_meshes.empty() && src.json().is_object() && src.has("$mesh"))
     src.fail("is a mesh the program gave, not a volume");
   if (!context.given_volumes.empty() && src.json().is_object() && src.has("$volume")) {
@@ -39,6 +42,8 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
                      : "needs \"phantom\" (a built-in volume) or \"file\"");
   std::string key, what;
   std::function<VolumeData()> load;
+  std::function<VolumeHeader()> header;                 // for context.region
+  std::function<VolumeData(const VoxelBox&)> load_box;  // for context.region
   JsonReader culprit = src;
   auto refuse_dicom_keys = [&] {
     for (const char* dicom_only : {"series", "units", "slice_spacing_mm"})
@@ -60,6 +65,8 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     key = fmt::format("phantom:{}:{}", name, size);
     what = fmt::format("phantom '{}' of size {}", name, size);
     load = [name, size] { return make_phantom(name, size); };
+    header = [name, size] { return phantom_header(name, size); };
+    load_box = [name, size](const VoxelBox& box) { return make_phantom_region(name, size, box); };
   } else {
     if (auto v = src.find("size")) v->fail("only phantoms have a size");
     culprit = src.get("file");
@@ -97,15 +104,43 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     } else {
       refuse_dicom_keys();
       load = [path] { return read_volume(path); };
+      header = [path] { return read_volume_header(path); };
+      load_box = [path](const VoxelBox& box) { return read_volume_region(path, box); };
     }
   }
   auto window_of = [&] {
     if (window == nullptr) return;
     if (auto it = context.windows.find(key); it != context.windows.end()) *window = it->second;
   };
+  VoxelBox box;
+  try {
+    if (context.region) {
+      // DICOM has no header-only read: the series is read once and cropped.
+      if (!header) {
+        auto whole = std::make_shared<VolumeData>(load());
+        header = [whole] {
+          return VolumeHeader{whole->dims, whole->type(), whole->index_to_world};
+        };
+        load_box = [whole, what](const VoxelBox& b) { return crop(*whole, b, what); };
+      }
+      VolumeHeader h = header();
+      box = context.region(object, h);
+      placed.source_dims = h.dims;
+      if (box != VoxelBox::whole(h.dims)) {
+        key += fmt::format(":box={},{},{}-{},{},{}", box.lo.x, box.lo.y, box.lo.z, box.hi.x,
+                           box.hi.y, box.hi.z);
+        load = [load_box, box] { return load_box(box); };
+      }
+    }
+  } catch (const FileError& e) {
+    culprit.fail_file(e.what(), e.code());
+  } catch (const std::exception& e) {
+    culprit.fail(e.what());
+  }
   context.used.insert(key);
   if (auto it = context.volumes.find(key); it != context.volumes.end()) {
     window_of();
+    if (context.region) placed.region = box;
     return it->second;
   }
   std::shared_ptr<const VolumeData> data;
@@ -120,6 +155,7 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
   }
   context.volumes.emplace(key, data);
   window_of();
+  if (context.region) placed.region = box;
   return data;
 }
 
@@ -181,7 +217,11 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   if (auto c = r.find("clip_planes")) v.clip_planes = parse_clip_planes(*c);
   // "clip" names meshes, which come later in the file: parse_clip_meshes reads it.
   // The source last: reading a large file is the slowest step, so cheap errors come first.
-  v.data = load_volume_source(r.get("source"), context, &v.display_window);
+  v.data = load_volume_source(r.get("source"), context, &v.display_window, v.name, v);
+  if (!context.region) {  // the whole source
+    v.source_dims = v.data->dims;
+    v.region = VoxelBox::whole(v.data->dims);
+  }
   v.index_to_world = transform * v.data->index_to_world;
   return v;
 }

@@ -1,0 +1,376 @@
+#include "dist/distributed_render.hpp"
+
+#if IMX_HAVE_MPI
+
+#include <mpi.h>
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <climits>
+#include <cstdio>
+#include <new>
+#include <optional>
+#include <thread>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "core/progress_bar.hpp"
+#include "dist/rank_scene.hpp"
+#include "dist/slab_message.hpp"
+#include "dist/swap_schedule.hpp"
+#include "intermix/error.hpp"
+#include "intermix/image.hpp"
+#include "intermix/io.hpp"
+#include "io/atomic_file.hpp"
+#include "methods/zslab.hpp"
+#include "methods/zslab_frame.hpp"
+
+namespace imx {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// MPI for the lifetime of one distributed frame. MPI calls come from the main thread only; the
+// renderer's TBB workers never make any.
+class MpiSession {
+ public:
+  MpiSession() {
+    int ready = 0;
+    MPI_Initialized(&ready);
+    if (!ready) {
+      int provided = 0;
+      MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+      owner_ = true;
+    }
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    MPI_Comm node;  // the ranks sharing this machine, which share its cores
+    MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &node);
+    MPI_Comm_size(node, &node_ranks);
+    MPI_Comm_free(&node);
+  }
+  ~MpiSession() {
+    if (owner_) MPI_Finalize();
+  }
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+
+  int rank = 0, size = 1, node_ranks = 1;
+
+ private:
+  bool owner_ = false;
+};
+
+std::string message_of(std::exception_ptr e) {
+  try {
+    std::rethrow_exception(e);
+  } catch (const std::bad_alloc&) {
+    return "out of memory";
+  } catch (const std::exception& x) {
+    return x.what();
+  } catch (...) {
+    return "unknown failure";
+  }
+}
+
+// Runs `fn` on every rank. When it fails on any, every rank throws the same imx::Error: the
+// message of the lowest failing rank. A collective, so every rank must call it in turn.
+template <class Fn>
+void agreed(const MpiSession& mpi, Fn&& fn) {
+  std::string failure;
+  int failed = mpi.size;
+  try {
+    fn();
+  } catch (...) {
+    failure = message_of(std::current_exception());
+    failed = mpi.rank;
+  }
+  int first = mpi.size;
+  MPI_Allreduce(&failed, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  if (first == mpi.size) return;
+  int length = static_cast<int>(std::min<size_t>(failure.size(), 4096));
+  MPI_Bcast(&length, 1, MPI_INT, first, MPI_COMM_WORLD);
+  failure.resize(static_cast<size_t>(length));
+  MPI_Bcast(failure.data(), length, MPI_CHAR, first, MPI_COMM_WORLD);
+  throw Error(fmt::format("rank {} of {}: {}", first, mpi.size, failure));
+}
+
+// Messages over 1 GiB go in pieces: MPI counts are ints.
+constexpr size_t kPiece = size_t{1} << 30;
+
+void send_bytes(const std::vector<std::byte>& data, int to) {
+  uint64_t size = data.size();
+  MPI_Send(&size, 1, MPI_UINT64_T, to, 0, MPI_COMM_WORLD);
+  for (size_t at = 0; at < data.size(); at += kPiece)
+    MPI_Send(data.data() + at, static_cast<int>(std::min(kPiece, data.size() - at)), MPI_BYTE, to,
+             1, MPI_COMM_WORLD);
+}
+
+std::vector<std::byte> receive_bytes(int from) {
+  uint64_t size = 0;
+  MPI_Recv(&size, 1, MPI_UINT64_T, from, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  std::vector<std::byte> data(size);
+  for (size_t at = 0; at < data.size(); at += kPiece)
+    MPI_Recv(data.data() + at, static_cast<int>(std::min(kPiece, data.size() - at)), MPI_BYTE, from,
+             1, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  return data;
+}
+
+// Both partners send and receive at once (sizes first), so neither waits on the other's send.
+std::vector<std::byte> exchange_bytes(const std::vector<std::byte>& out, int partner) {
+  uint64_t size_out = out.size(), size_in = 0;
+  MPI_Sendrecv(&size_out, 1, MPI_UINT64_T, partner, 2, &size_in, 1, MPI_UINT64_T, partner, 2,
+               MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  std::vector<std::byte> in(size_in);
+  for (size_t at = 0; at < std::max(out.size(), in.size()); at += kPiece) {
+    int n_out = static_cast<int>(at < out.size() ? std::min(kPiece, out.size() - at) : 0);
+    int n_in = static_cast<int>(at < in.size() ? std::min(kPiece, in.size() - at) : 0);
+    MPI_Sendrecv(out.data() + std::min(at, out.size()), n_out, MPI_BYTE, partner, 3,
+                 in.data() + std::min(at, in.size()), n_in, MPI_BYTE, partner, 3, MPI_COMM_WORLD,
+                 MPI_STATUS_IGNORE);
+  }
+  return in;
+}
+
+double peak_rss_bytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) * 1024.0;  // Linux reports KiB
+}
+
+// What one rank measured, gathered on rank 0 as doubles.
+struct RankStats {
+  double load_s = 0, render_s = 0, composite_s = 0, peak_rss = 0, voxels = 0, slab_bytes = 0;
+  std::vector<double> sent;  // bytes sent per exchange step: the fold, then each swap round
+};
+
+std::vector<double> flatten(const RankStats& s, size_t steps) {
+  std::vector<double> v{s.load_s, s.render_s, s.composite_s, s.peak_rss, s.voxels, s.slab_bytes};
+  v.resize(6 + steps, 0.0);
+  std::copy(s.sent.begin(), s.sent.end(), v.begin() + 6);
+  return v;
+}
+
+// The frame's composite: binary swap, then the final pixels gathered on rank 0 (empty
+// elsewhere). `stats.sent` gets the bytes of each step.
+std::vector<glm::vec4> composite(const MpiSession& mpi, ZtBuffer& arrays, size_t pixels, int spp,
+                                 const Scene& scene, int threads, RankStats& stats) {
+  const ZslabParams params = zslab_params(scene.render);
+  const SwapSchedule plan = binary_swap(mpi.size, mpi.rank, pixels);
+  const PixelRange all{0, pixels};
+  stats.sent.assign(1 + plan.rounds.size(), 0.0);
+  if (plan.fold_to >= 0) {
+    std::vector<std::byte> message = encode_slab_message(arrays, all, spp);
+    stats.sent[0] = static_cast<double>(message.size());
+    send_bytes(message, plan.fold_to);
+  }
+  if (plan.fold_from >= 0)
+    merge_slab_message(arrays, all, spp, receive_bytes(plan.fold_from), true, params.mix, threads);
+  for (size_t k = 0; k < plan.rounds.size(); ++k) {
+    const SwapRound& r = plan.rounds[k];
+    std::vector<std::byte> message = encode_slab_message(arrays, r.send, spp);
+    stats.sent[k + 1] = static_cast<double>(message.size());
+    std::vector<std::byte> in = exchange_bytes(message, r.partner);
+    message = {};
+    merge_slab_message(arrays, r.keep, spp, in, r.first, params.mix, threads);
+  }
+  std::vector<glm::vec4> mine;
+  if (plan.fold_to < 0)
+    mine = resolve_slab_arrays(arrays, plan.result, spp, params.mix.a_ert, scene.image.background,
+                               threads);
+  // Gather: rank 0 knows every rank's range from the schedule.
+  std::vector<int> counts(static_cast<size_t>(mpi.size)), displs(static_cast<size_t>(mpi.size));
+  for (int r = 0; r < mpi.size; ++r) {
+    SwapSchedule s = binary_swap(mpi.size, r, pixels);
+    counts[r] = static_cast<int>(s.result.size() * 4);
+    displs[r] = static_cast<int>(s.result.first * 4);
+  }
+  std::vector<glm::vec4> image(mpi.rank == 0 ? pixels : 0);
+  MPI_Gatherv(mine.data(), static_cast<int>(mine.size() * 4), MPI_FLOAT, image.data(),
+              counts.data(), displs.data(), MPI_FLOAT, 0, MPI_COMM_WORLD);
+  return image;
+}
+
+nlohmann::json report_json(const DistributedRequest& request, const Partition& partition,
+                           const Scene& outline, const std::vector<double>& gathered, size_t row,
+                           size_t pixels, int spp, double total_s) {
+  const size_t ranks = partition.ranks.size();
+  nlohmann::json j;
+  j["scene"] = request.scene.string();
+  j["ranks"] = ranks;
+  j["partition"] = partition_mode_name(partition.mode);
+  j["image"] = {{"width", outline.image.width}, {"height", outline.image.height}, {"spp", spp}};
+  j["layers"] = outline.render.layers;
+  j["slab_format"] = outline.render.slab_format;
+  double composite_s = 0.0;
+  for (size_t r = 0; r < ranks; ++r) {
+    const double* v = gathered.data() + r * row;
+    composite_s = std::max(composite_s, v[2]);
+    j["per_rank"].push_back({{"part", partition.describe(outline, static_cast<int>(r))},
+                             {"load_s", v[0]},
+                             {"render_s", v[1]},
+                             {"composite_s", v[2]},
+                             {"peak_rss_bytes", v[3]},
+                             {"voxels", v[4]},
+                             {"slab_array_bytes", v[5]}});
+  }
+  // Steps: the fold (ranks past the largest power of two), then each binary-swap round.
+  for (size_t step = 0; step + 6 < row; ++step) {
+    double total = 0.0, most = 0.0;
+    for (size_t r = 0; r < ranks; ++r) {
+      total += gathered[r * row + 6 + step];
+      most = std::max(most, gathered[r * row + 6 + step]);
+    }
+    if (step == 0 && swap_group(static_cast<int>(ranks)) == static_cast<int>(ranks)) continue;
+    j["rounds"].push_back({{"step", step == 0 ? "fold" : fmt::format("swap {}", step)},
+                           {"bytes", total},
+                           {"bytes_per_pixel", total / static_cast<double>(pixels)},
+                           {"max_bytes_one_rank", most}});
+  }
+  j["gather_bytes"] = static_cast<double>(pixels) * 16.0;
+  if (!j.contains("rounds")) j["rounds"] = nlohmann::json::array();
+  j["composite_s"] = composite_s;
+  j["total_s"] = total_s;
+  return j;
+}
+
+}  // namespace
+
+bool distributed_available(std::string*) {
+  return true;
+}
+
+void render_distributed(const DistributedRequest& request) {
+  const Clock::time_point start = Clock::now();
+  MpiSession mpi;
+  const int threads =
+      request.threads > 0
+          ? request.threads
+          : std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / mpi.node_ranks);
+  RankStats stats;
+
+  // 1. The scene's outline: every object, volumes from their headers (one voxel read), and
+  // the same partition planned on every rank.
+  Scene outline;
+  Partition partition;
+  agreed(mpi, [&] {
+    if (!request.method.empty() && request.method != "zslab" && request.method != "zslab-hybrid")
+      throw Error(
+          fmt::format("--distributed composites zSlab arrays: --method is '{}', expected zslab",
+                      request.method));
+    outline =
+        load_scene(request.scene, request.overrides, [](const std::string&, const VolumeHeader&) {
+          return VoxelBox{glm::ivec3(0), glm::ivec3(1)};
+        });
+    partition = plan_partition(outline, mpi.size, request.partition);
+  });
+  const int spp = request.spp > 0 ? request.spp : std::max(outline.render.spp, 1);
+  const size_t pixels = static_cast<size_t>(outline.image.width) * outline.image.height;
+  if (mpi.rank == 0)
+    std::fprintf(stderr, "distributed: %d ranks, partition %s, %d thread(s) each\n", mpi.size,
+                 partition_mode_name(partition.mode), threads);
+
+  // 2. This rank's part, reading only its bricks; 3. rendered into slab arrays.
+  ZtBuffer arrays;
+  agreed(mpi, [&] {
+    Clock::time_point t = Clock::now();
+    Scene part = rank_scene(
+        load_scene(request.scene, request.overrides, rank_regions(partition, mpi.rank, outline)),
+        partition, mpi.rank);
+    stats.load_s = seconds_since(t);
+    for (const VolumeObject& v : part.volumes)
+      stats.voxels += static_cast<double>(v.data->voxel_count());
+    t = Clock::now();
+    RenderOptions options;
+    options.threads = threads;
+    ProgressBar bar(fmt::format("render (rank 0 of {})", mpi.size),
+                    request.progress && mpi.rank == 0);
+    options.progress = [&bar](double f) { bar.update(f); };
+    render_zslab_arrays(part, spp, options, arrays);
+    bar.finish();
+    stats.render_s = seconds_since(t);
+    stats.slab_bytes = static_cast<double>(arrays.bytes());
+  });
+
+  // 4. Compositing. A failure here (out of memory mid-exchange) cannot be agreed on while a
+  // partner waits in a send, so it ends the job.
+  std::vector<glm::vec4> pixels_rgba;
+  MPI_Barrier(MPI_COMM_WORLD);
+  Clock::time_point t = Clock::now();
+  try {
+    pixels_rgba = composite(mpi, arrays, pixels, spp, outline, threads, stats);
+  } catch (...) {
+    std::fprintf(stderr, "error: rank %d of %d: compositing failed: %s\n", mpi.rank, mpi.size,
+                 message_of(std::current_exception()).c_str());
+    MPI_Abort(MPI_COMM_WORLD, 1);
+  }
+  stats.composite_s = seconds_since(t);
+  arrays = ZtBuffer();
+  stats.peak_rss = peak_rss_bytes();
+
+  const size_t steps =
+      1 + static_cast<size_t>(std::countr_zero(static_cast<unsigned>(swap_group(mpi.size))));
+  std::vector<double> mine = flatten(stats, steps);
+  std::vector<double> gathered(mpi.rank == 0 ? mine.size() * mpi.size : 0);
+  MPI_Gather(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, gathered.data(),
+             static_cast<int>(mine.size()), MPI_DOUBLE, 0, MPI_COMM_WORLD);
+
+  // 5. Rank 0 writes the image (and the report); the others learn whether it could.
+  agreed(mpi, [&] {
+    if (mpi.rank != 0) return;
+    Image image(outline.image.width, outline.image.height);
+    for (size_t p = 0; p < pixels; ++p)
+      image.at(static_cast<int>(p % outline.image.width),
+               static_cast<int>(p / outline.image.width)) = pixels_rgba[p];
+    write_png(image, request.output, request.linear);
+    nlohmann::json report = report_json(request, partition, outline, gathered, mine.size(), pixels,
+                                        spp, seconds_since(start));
+    double most_rss = 0.0;
+    for (const nlohmann::json& r : report["per_rank"])
+      most_rss = std::max(most_rss, r["peak_rss_bytes"].get<double>());
+    double bytes = 0.0;
+    for (const nlohmann::json& r : report["rounds"]) bytes += r["bytes"].get<double>();
+    std::fprintf(stderr,
+                 "distributed: compositing %.1f ms, %.2f bytes/pixel exchanged in %zu step(s), "
+                 "peak memory %.0f MiB (largest rank)\n",
+                 report["composite_s"].get<double>() * 1e3, bytes / static_cast<double>(pixels),
+                 report["rounds"].size(), most_rss / (1 << 20));
+    if (!request.report.empty())
+      write_file_atomically(request.report,
+                            [&](std::ostream& out) { out << report.dump(2) << "\n"; });
+  });
+}
+
+}  // namespace imx
+
+#else  // built without MPI
+
+#include "intermix/error.hpp"
+
+namespace imx {
+
+namespace {
+constexpr const char* kNoMpi =
+    "this intermix was built without MPI (libopenmpi-dev was not found when it was configured); "
+    "install it with scripts/install-deps and build again to use --distributed";
+}
+
+bool distributed_available(std::string* why) {
+  if (why) *why = kNoMpi;
+  return false;
+}
+
+void render_distributed(const DistributedRequest&) {
+  throw Error(kNoMpi);
+}
+
+}  // namespace imx
+
+#endif
