@@ -67,8 +67,9 @@ Command add_render(CLI::App& app) {
       request.linear = o->linear;
       request.report = o->report;
       request.progress = show_progress();
-      render_distributed(request);
-      return 0;
+      return render_distributed(request, [](const std::string& message) {
+        std::fprintf(stderr, "intermix: error: %s\n", message.c_str());
+      });
     }
     Scene scene = load_scene(o->scene, overrides);
     print_notes(scene.notes);

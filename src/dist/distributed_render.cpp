@@ -80,7 +80,12 @@ std::string message_of(std::exception_ptr e) {
   }
 }
 
-// Runs `fn` on every rank. When it fails on any, every rank throws the same imx::Error: the
+// A failure every rank knows of, and throws at the same point.
+struct AgreedFailure : Error {
+  using Error::Error;
+};
+
+// Runs `fn` on every rank. When it fails on any, every rank throws the same AgreedFailure: the
 // message of the lowest failing rank. A collective, so every rank must call it in turn.
 template <class Fn>
 void agreed(const MpiSession& mpi, Fn&& fn) {
@@ -99,7 +104,7 @@ void agreed(const MpiSession& mpi, Fn&& fn) {
   MPI_Bcast(&length, 1, MPI_INT, first, MPI_COMM_WORLD);
   failure.resize(static_cast<size_t>(length));
   MPI_Bcast(failure.data(), length, MPI_CHAR, first, MPI_COMM_WORLD);
-  throw Error(fmt::format("rank {} of {}: {}", first, mpi.size, failure));
+  throw AgreedFailure(fmt::format("rank {} of {}: {}", first, mpi.size, failure));
 }
 
 // Messages over 1 GiB go in pieces: MPI counts are ints.
@@ -241,15 +246,8 @@ nlohmann::json report_json(const DistributedRequest& request, const Partition& p
   return j;
 }
 
-}  // namespace
-
-bool distributed_available(std::string*) {
-  return true;
-}
-
-void render_distributed(const DistributedRequest& request) {
+void render_frame(const MpiSession& mpi, const DistributedRequest& request) {
   const Clock::time_point start = Clock::now();
-  MpiSession mpi;
   const int threads =
       request.threads > 0
           ? request.threads
@@ -348,6 +346,33 @@ void render_distributed(const DistributedRequest& request) {
   });
 }
 
+}  // namespace
+
+bool distributed_available(std::string*) {
+  return true;
+}
+
+int render_distributed(const DistributedRequest& request,
+                       const std::function<void(const std::string&)>& print_error) {
+  MpiSession mpi;
+  try {
+    render_frame(mpi, request);
+    return 0;
+  } catch (const AgreedFailure& e) {
+    // Every rank says it before any exits: mpirun ends the job at the first non-zero exit.
+    print_error(e.what());
+    std::fflush(stderr);
+    MPI_Barrier(MPI_COMM_WORLD);
+    return 1;
+  } catch (...) {  // this rank alone: the others may wait on it in a collective
+    print_error(
+        fmt::format("rank {} of {}: {}", mpi.rank, mpi.size, message_of(std::current_exception())));
+    std::fflush(stderr);
+    MPI_Abort(MPI_COMM_WORLD, 1);
+    return 1;
+  }
+}
+
 }  // namespace imx
 
 #else  // built without MPI
@@ -367,7 +392,7 @@ bool distributed_available(std::string* why) {
   return false;
 }
 
-void render_distributed(const DistributedRequest&) {
+int render_distributed(const DistributedRequest&, const std::function<void(const std::string&)>&) {
   throw Error(kNoMpi);
 }
 

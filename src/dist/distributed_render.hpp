@@ -28,10 +28,12 @@ struct DistributedRequest {
 bool distributed_available(std::string* why = nullptr);
 
 // Runs one distributed frame as one rank of the MPI job this process belongs to (a single
-// process without mpirun is a job of one). Initializes and finalizes MPI. Throws imx::Error
-// with the same message on every rank when any rank fails before compositing (a missing file,
-// a bad header, out of memory): "rank K of R: ...". A failure during compositing aborts the job
-// (MPI_Abort), so no rank waits for ever.
-void render_distributed(const DistributedRequest& request);
+// process without mpirun is a job of one), initializing and finalizing MPI; returns the exit
+// status. When any rank fails before compositing (a missing file, a bad header, out of memory)
+// every rank passes the same message, "rank K of R: ...", to `print_error` before any exits,
+// and returns 1. A failure during compositing ends the job (MPI_Abort), so no rank waits for
+// ever. Built without MPI, throws imx::Error saying so.
+int render_distributed(const DistributedRequest& request,
+                       const std::function<void(const std::string&)>& print_error);
 
 }  // namespace imx

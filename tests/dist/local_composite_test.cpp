@@ -17,8 +17,8 @@ namespace {
 const std::vector<std::string> kSmall = {"image.width=64", "image.height=64"};
 
 // `cut` false: bricks render their aprons too, as a wrong cut would.
-Image render_split(const std::string& scene_file, int ranks, PartitionMode mode,
-                   bool cut = true, const std::vector<std::string>& overrides = kSmall) {
+Image render_split(const std::string& scene_file, int ranks, PartitionMode mode, bool cut = true,
+                   const std::vector<std::string>& overrides = kSmall) {
   Scene outline = load_scene(scene_file, overrides, [](const std::string&, const VolumeHeader&) {
     return VoxelBox{glm::ivec3(0), glm::ivec3(1)};
   });
@@ -52,8 +52,8 @@ Image render_split(const std::string& scene_file, int ranks, PartitionMode mode,
   }
   Image image(outline.image.width, outline.image.height);
   for (int r = 0; r < swap_group(ranks); ++r) {
-    std::vector<glm::vec4> px = resolve_slab_arrays(arrays[r], plans[r].result, 1,
-                                                    mix.a_ert, outline.image.background, 2);
+    std::vector<glm::vec4> px =
+        resolve_slab_arrays(arrays[r], plans[r].result, 1, mix.a_ert, outline.image.background, 2);
     for (size_t p = 0; p < px.size(); ++p) {
       size_t at = plans[r].result.first + p;
       image.at(static_cast<int>(at % 64), static_cast<int>(at / 64)) = px[p];

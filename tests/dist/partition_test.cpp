@@ -60,7 +60,8 @@ TEST(Partition, BricksTileTheGridAndShareTheirCuts) {
       }
       for (int z = b.lo.z; z < b.hi.z; ++z)
         for (int y = b.lo.y; y < b.hi.y; ++y)
-          for (int x = b.lo.x; x < b.hi.x; ++x) ++owners[static_cast<size_t>((z * 79 + y) * 99 + x)];
+          for (int x = b.lo.x; x < b.hi.x; ++x)
+            ++owners[static_cast<size_t>((z * 79 + y) * 99 + x)];
     }
     for (int n : owners) ASSERT_EQ(n, 1) << ranks << " ranks";
   }
@@ -130,15 +131,14 @@ TEST(Partition, PlanesGoWithTheVolumeTheySampleAndKeepItWhole) {
 TEST(Partition, AutoBricksOneLargeVolumeAndDealsBalancedObjects) {
   EXPECT_EQ(plan_partition(outline({{256, 256, 256}}, {500}), 4, PartitionMode::automatic).mode,
             PartitionMode::bricks);
-  EXPECT_EQ(plan_partition(outline({{64, 64, 64}, {64, 64, 64}}, {}), 2,
-                           PartitionMode::automatic)
-                .mode,
-            PartitionMode::objects);
+  EXPECT_EQ(
+      plan_partition(outline({{64, 64, 64}, {64, 64, 64}}, {}), 2, PartitionMode::automatic).mode,
+      PartitionMode::objects);
 }
 
 TEST(Partition, SmallVolumesAreNotBricked) {
-  Partition p = plan_partition(outline({{256, 256, 256}, {16, 16, 16}}, {}), 4,
-                               PartitionMode::bricks);
+  Partition p =
+      plan_partition(outline({{256, 256, 256}, {16, 16, 16}}, {}), 4, PartitionMode::bricks);
   size_t bricks = 0, whole = 0;
   for (const RankPart& r : p.ranks) {
     bricks += r.bricks.size();
