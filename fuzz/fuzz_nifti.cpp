@@ -1,4 +1,5 @@
-// NIfTI-1 reader (nifticlib): gzip data (magic 1f 8b) is read as .nii.gz, anything else as .nii.
+// NIfTI-1 reader (nifticlib): gzip data (magic 1f 8b) is read as .nii.gz, anything else as .nii;
+// then its header and a region of it (fuzz_region).
 #include <exception>
 
 #include "harness.hpp"
@@ -19,5 +20,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   } catch (const std::exception& e) {
     refused(e);
   }
+  fuzz_region(
+      file, size > 0 ? data[size - 1] : 0,
+      [](const auto& f) { return imx::detail::read_nifti_header(f); },
+      [](const auto& f, const imx::VoxelBox& box) {
+        return imx::detail::read_nifti_region(f, box);
+      });
   return 0;
 }

@@ -18,6 +18,7 @@
 #include <system_error>
 #include <variant>
 
+#include "intermix/io.hpp"
 #include "intermix/limits.hpp"
 #include "intermix/mesh.hpp"
 #include "intermix/volume.hpp"
@@ -149,12 +150,38 @@ inline std::string_view as_view(const uint8_t* data, size_t size) {
 // line, then the bytes of the data file, which the harness writes as "data.raw" beside it.
 inline constexpr std::string_view kDataMarker = "\n@@DATA@@\n";
 
+// The header and region paths of a volume reader on `file`: the header, then a box chosen by
+// `pick` (a byte of the input) from the header's dims (its middle half, the whole, the last
+// voxel), so that hostile headers reach the seeking and skipping code as well as the whole read.
+template <class ReadHeader, class ReadRegion>
+void fuzz_region(const std::filesystem::path& file, uint8_t pick, ReadHeader read_header,
+                 ReadRegion read_region) {
+  try {
+    const VolumeHeader h = read_header(file);
+    const glm::ivec3 d = h.dims;
+    VoxelBox box{d / 4, d / 4 + glm::max(d / 2, glm::ivec3(1))};
+    if (pick % 3 == 1) box = VoxelBox::whole(d);
+    if (pick % 3 == 2) box = {d - 1, d};
+    const VolumeData v = read_region(file, box);
+    check_volume(v);
+    if (v.dims != box.size() || v.type() != h.type) {
+      std::fprintf(stderr, "fuzz: the region read returned %dx%dx%d voxels for a %dx%dx%d box\n",
+                   v.dims.x, v.dims.y, v.dims.z, box.size().x, box.size().y, box.size().z);
+      __builtin_trap();
+    }
+    accepted("region");
+  } catch (const std::exception& e) {
+    refused(e);
+  }
+}
+
 // One input through a volume reader: written as `attached`, or, when it holds kDataMarker, split
 // into a detached header `detached` and its data file "data.raw" beside it. Only the reader
-// runs: validate() and range() would double the time of large volumes.
-template <class Reader>
+// runs: validate() and range() would double the time of large volumes. Then the same file
+// through the reader's header and region paths (fuzz_region).
+template <class Reader, class ReadHeader, class ReadRegion>
 int fuzz_volume_reader(const uint8_t* data, size_t size, const char* attached, const char* detached,
-                       Reader read) {
+                       Reader read, ReadHeader read_header, ReadRegion read_region) {
   const ScratchDir& dir = scratch();
   dir.clear();
   Split parts = split_at(as_view(data, size), kDataMarker);
@@ -171,6 +198,7 @@ int fuzz_volume_reader(const uint8_t* data, size_t size, const char* attached, c
   } catch (const std::exception& e) {
     refused(e);
   }
+  fuzz_region(file, size > 0 ? data[size - 1] : 0, read_header, read_region);
   return 0;
 }
 

@@ -25,7 +25,9 @@ VolumeHeader read_volume_header(const std::filesystem::path& file);
 // Only the voxels of `box` (within the file's dims, else imx::Error), as crop(read_volume(file),
 // box) gives them, but reading no more than it must: uncompressed NRRD, MetaImage and NIfTI data
 // are read row by row with seeks past the rest; gzip/zlib data is inflated as a stream, keeping
-// only the box; DICOM series are read whole and cropped.
+// only the box; DICOM series are read whole and cropped. The file is checked as read_volume
+// checks it: the whole grid's data must be there, and a stream is inflated to its end so that
+// its checksum is checked (time as for the whole, memory as for the box).
 VolumeData read_volume_region(const std::filesystem::path& file, const VoxelBox& box);
 
 // Writes a NRRD file (gzip-encoded when `gzip`), atomically.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -33,62 +34,98 @@ void check_inflatable(size_t needed, size_t compressed, const std::string& what)
                     what, needed, compressed));
 }
 
-size_t gunzip(std::istream& in, size_t skip, std::span<uint8_t> out, const std::string& what) {
+struct GzipStream::State {
   z_stream z{};
-  // 15 + 32: largest window, and detect the gzip or zlib wrapper from the header.
-  if (inflateInit2(&z, 15 + 32) != Z_OK) throw Error(fmt::format("{}: zlib failed to start", what));
-  std::unique_ptr<z_stream, int (*)(z_stream*)> guard(&z, inflateEnd);
+  std::vector<uint8_t> input = std::vector<uint8_t>(kChunk);
+  std::vector<uint8_t> scratch = std::vector<uint8_t>(kChunk);
+  bool input_done = false;  // `in` has nothing more
+  bool ended = false;       // the stream's end, or its data stopped (truncated)
+  bool truncated = false;   // the data stopped before the stream's end
+};
 
-  std::vector<uint8_t> input(kChunk);
-  std::vector<uint8_t> scratch(kChunk);
-  size_t written = 0, surplus = 0;
-  bool input_done = false;
-  auto refill = [&] {
-    in.read(reinterpret_cast<char*>(input.data()), static_cast<std::streamsize>(input.size()));
-    z.next_in = input.data();
-    z.avail_in = static_cast<uInt>(in.gcount());
-    if (z.avail_in == 0) input_done = true;
-  };
-  // Inflate to the end of the stream even once `out` is full, so that zlib checks the trailer's
-  // checksum: a corrupt stream must not pass because the header asked for less than it holds.
-  while (true) {
-    if (z.avail_in == 0 && !input_done) refill();
-    const bool skipping = skip > 0, full = !skipping && written == out.size();
-    uint8_t* dst = skipping || full ? scratch.data() : out.data() + written;
-    size_t room = skipping ? std::min(skip, scratch.size())
-                  : full   ? scratch.size()
-                           : std::min(out.size() - written, kMaxPiece);
-    z.next_out = dst;
-    z.avail_out = static_cast<uInt>(room);
+GzipStream::GzipStream(std::istream& in, std::string what)
+    : in_(in), what_(std::move(what)), state_(std::make_unique<State>()) {
+  // 15 + 32: largest window, and detect the gzip or zlib wrapper from the header.
+  if (inflateInit2(&state_->z, 15 + 32) != Z_OK)
+    throw Error(fmt::format("{}: zlib failed to start", what_));
+}
+
+GzipStream::~GzipStream() {
+  inflateEnd(&state_->z);
+}
+
+void GzipStream::refill() {
+  State& s = *state_;
+  in_.read(reinterpret_cast<char*>(s.input.data()), static_cast<std::streamsize>(s.input.size()));
+  s.z.next_in = s.input.data();
+  s.z.avail_in = static_cast<uInt>(in_.gcount());
+  if (s.z.avail_in == 0) s.input_done = true;
+}
+
+size_t GzipStream::pull(uint8_t* dst, size_t room) {
+  State& s = *state_;
+  z_stream& z = s.z;
+  size_t done = 0;
+  while (done < room && !s.ended) {
+    if (z.avail_in == 0 && !s.input_done) refill();
+    const size_t asked = std::min(room - done, kMaxPiece);
+    z.next_out = dst + done;
+    z.avail_out = static_cast<uInt>(asked);
     int rc = inflate(&z, Z_NO_FLUSH);
-    size_t produced = room - z.avail_out;
-    if (skipping)
-      skip -= produced;
-    else if (full)
-      surplus += produced;
-    else
-      written += produced;
-    if (surplus > kMaxSurplus)
-      throw Error(fmt::format("{}: the compressed data holds more than the {} bytes expected", what,
-                              out.size()));
+    done += asked - z.avail_out;
     if (rc == Z_STREAM_END) {
       // Concatenated gzip members form one stream; anything else after the end is ignored.
-      if (z.avail_in == 0 && !input_done) refill();
+      if (z.avail_in == 0 && !s.input_done) refill();
       if (z.avail_in >= 2 && z.next_in[0] == 0x1f && z.next_in[1] == 0x8b) {
         inflateReset(&z);
         continue;
       }
+      s.ended = true;
       break;
     }
     if (rc == Z_BUF_ERROR && z.avail_in == 0) {
-      if (!input_done) continue;        // needs more input: the loop reads it
-      if (written < out.size()) break;  // truncated: the caller reports the shortfall
-      throw Error(
-          fmt::format("{}: the gzip data ends before its checksum (truncated file?)", what));
+      if (!s.input_done) continue;  // needs more input: the loop reads it
+      s.ended = s.truncated = true;
+      break;
     }
     if (rc != Z_OK)
-      throw Error(fmt::format("{}: corrupt gzip data ({})", what, zlib_message(z, rc)));
+      throw Error(fmt::format("{}: corrupt gzip data ({})", what_, zlib_message(z, rc)));
   }
+  return done;
+}
+
+size_t GzipStream::read(std::span<uint8_t> out) {
+  return pull(out.data(), out.size());
+}
+
+size_t GzipStream::skip(size_t n) {
+  size_t done = 0;
+  while (done < n) {
+    const size_t want = std::min(n - done, state_->scratch.size());
+    const size_t got = pull(state_->scratch.data(), want);
+    done += got;
+    if (got < want) break;
+  }
+  return done;
+}
+
+void GzipStream::finish(size_t expected) {
+  size_t surplus = 0;
+  while (!state_->ended) {
+    surplus += pull(state_->scratch.data(), state_->scratch.size());
+    if (surplus > kMaxSurplus)
+      throw Error(fmt::format("{}: the compressed data holds more than the {} bytes expected",
+                              what_, expected));
+  }
+  if (state_->truncated)
+    throw Error(fmt::format("{}: the gzip data ends before its checksum (truncated file?)", what_));
+}
+
+size_t gunzip(std::istream& in, size_t skip, std::span<uint8_t> out, const std::string& what) {
+  GzipStream stream(in, what);
+  if (stream.skip(skip) < skip) return 0;  // truncated: the caller reports the shortfall
+  const size_t written = stream.read(out);
+  if (written == out.size()) stream.finish(out.size());
   return written;
 }
 
@@ -115,8 +152,8 @@ void gzip(std::span<const std::span<const uint8_t>> parts, std::ostream& out, in
       z.avail_in = static_cast<uInt>(piece);
       consumed += piece;
     }
-    const bool last = part == parts.size() ||
-                      (part + 1 == parts.size() && consumed == parts[part].size());
+    const bool last =
+        part == parts.size() || (part + 1 == parts.size() && consumed == parts[part].size());
     z.next_out = buffer.data();
     z.avail_out = static_cast<uInt>(buffer.size());
     rc = deflate(&z, last ? Z_FINISH : Z_NO_FLUSH);

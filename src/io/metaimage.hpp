@@ -2,6 +2,7 @@
 #pragma once
 #include <filesystem>
 
+#include "intermix/io.hpp"
 #include "intermix/volume.hpp"
 
 namespace imx::detail {
@@ -10,5 +11,15 @@ namespace imx::detail {
 // raw or zlib-compressed data file). World space is LPS like ITK's, so coordinates are taken
 // as they are. Throws imx::Error naming the file and the key or fault.
 VolumeData read_metaimage(const std::filesystem::path& file);
+
+// read_metaimage(file)'s dims, storage type and placement, from the header alone (the data is
+// neither opened nor checked). Throws imx::Error naming the file as read_metaimage does.
+VolumeHeader read_metaimage_header(const std::filesystem::path& file);
+
+// crop(read_metaimage(file), box), reading only the box's bytes of uncompressed data and keeping
+// only the box of compressed data; the header and the data's length are checked as read_metaimage
+// checks them. Throws imx::Error naming the file, also for a box that is empty or leaves the
+// grid.
+VolumeData read_metaimage_region(const std::filesystem::path& file, const VoxelBox& box);
 
 }  // namespace imx::detail

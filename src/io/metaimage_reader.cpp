@@ -19,6 +19,7 @@
 #include "io/metaimage.hpp"
 #include "io/raw_voxels.hpp"
 #include "io/regular_file.hpp"
+#include "volume/volume_checks.hpp"
 
 namespace imx::detail {
 
@@ -209,14 +210,15 @@ glm::dmat4 parse_affine(const Header& h, int ndims) {
   return m;
 }
 
-}  // namespace
+// What the header says about the volume and where its voxels are.
+struct Layout {
+  VolumeHeader header;
+  RawType type = RawType::u8;
+  bool big_endian = false, compressed = false;
+};
 
-VolumeData read_metaimage(const std::filesystem::path& file) {
-  const std::string what = file.string();
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open file", what), errno);
-  Header h = read_header(in, what);
-
+// Checks the header's keys and reads the volume's dims, type and placement from them.
+Layout parse_layout(const Header& h) {
   if (const std::string* type = h.find("ObjectType"); type && lower(*type) != "image")
     throw h.bad("ObjectType", *type, "is not supported (only Image)");
   const std::string& ndims_text = h.require("NDims");
@@ -229,15 +231,23 @@ VolumeData read_metaimage(const std::filesystem::path& file) {
       binary && !parse_bool(h, "BinaryData", *binary))
     throw h.bad("BinaryData", *binary, "is not supported (only binary voxel data)");
 
-  VolumeData v;
+  Layout l;
   size_t count = 0;
-  v.dims = parse_dims(h, *ndims, count);
-  RawType type = parse_element_type(h);
-  v.index_to_world = parse_affine(h, *ndims);
-  const bool big_endian = optional_bool(h, {"BinaryDataByteOrderMSB", "ElementByteOrderMSB"});
-  const bool compressed = optional_bool(h, {"CompressedData"});
+  l.header.dims = parse_dims(h, *ndims, count);
+  l.type = parse_element_type(h);
+  l.header.type = storage_type_for(l.type);
+  l.header.index_to_world = parse_affine(h, *ndims);
+  l.big_endian = optional_bool(h, {"BinaryDataByteOrderMSB", "ElementByteOrderMSB"});
+  l.compressed = optional_bool(h, {"CompressedData"});
+  return l;
+}
 
-  // The data: after the header (LOCAL), or in one file named relative to the header.
+// The voxels of `box` from the data the header locates: after the header in `in` (LOCAL), or in
+// one file named relative to the header.
+VoxelStorage read_voxels(const std::filesystem::path& file, std::ifstream& in, const Header& h,
+                         const Layout& layout, const VoxelBox& box) {
+  const std::string& what = h.what;
+  const glm::ivec3 dims = layout.header.dims;
   const std::string& data_name = h.require("ElementDataFile");
   std::filesystem::path data_path = file;
   std::streamoff start = h.data_offset;
@@ -260,12 +270,12 @@ VolumeData read_metaimage(const std::filesystem::path& file) {
   uintmax_t file_size = std::filesystem::file_size(data_path, ec);
   if (ec)
     throw Error(fmt::format("{}: cannot read the size of the data: {}", data_what, ec.message()));
-  const size_t needed = count * raw_type_size(type);
+  const size_t needed = static_cast<size_t>(dims.x) * dims.y * dims.z * raw_type_size(layout.type);
   long long header_size = 0;
   if (const std::string* hs = h.find("HeaderSize")) {
     std::optional<long long> n = parse_number<long long>(trim(*hs));
     if (!n || *n < -1) throw h.bad("HeaderSize", *hs, "must be an integer >= -1");
-    if (*n == -1 && compressed)
+    if (*n == -1 && layout.compressed)
       throw h.bad("HeaderSize", *hs, "-1 (data at the end of the file) needs uncompressed data");
     header_size = *n == -1 ? static_cast<long long>(file_size) - static_cast<long long>(needed) -
                                  static_cast<long long>(start)
@@ -274,35 +284,71 @@ VolumeData read_metaimage(const std::filesystem::path& file) {
   }
   size_t offset = static_cast<size_t>(start) + static_cast<size_t>(header_size);
   size_t available = file_size > offset ? static_cast<size_t>(file_size - offset) : 0;
-  in.clear();
-  in.seekg(static_cast<std::streamoff>(offset));
 
-  if (!compressed) {
+  if (!layout.compressed) {
+    // The whole grid's data must be there, as for a whole read, even when the box needs less.
     if (available < needed)
       throw Error(fmt::format(
           "{}: expected {} bytes of voxel data ({}x{}x{} {}), found {} "
           "(truncated file?)",
-          data_what, needed, v.dims.x, v.dims.y, v.dims.z, raw_type_name(type), available));
-    v.voxels = load_voxels(type, count, big_endian, data_what, [&](std::span<uint8_t> bytes) {
-      in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-      if (static_cast<size_t>(in.gcount()) != bytes.size())
-        throw Error(fmt::format("{}: expected {} bytes of voxel data, found {}", data_what,
-                                bytes.size(), in.gcount()));
-    });
-  } else {
-    if (const std::string* cds = h.find("CompressedDataSize")) {
-      std::optional<long long> n = parse_number<long long>(trim(*cds));
-      if (!n || *n <= 0) throw h.bad("CompressedDataSize", *cds, "must be a positive integer");
-      if (static_cast<unsigned long long>(*n) > available)
-        throw Error(
-            fmt::format("{}: key 'CompressedDataSize' says {} bytes of compressed data, "
-                        "found {} (truncated file?)",
-                        data_what, *n, available));
-      available = static_cast<size_t>(*n);
-    }
-    check_inflatable(needed, available, data_what);
-    v.voxels = load_gzip_voxels(in, 0, type, count, big_endian, data_what);
+          data_what, needed, dims.x, dims.y, dims.z, raw_type_name(layout.type), available));
+    return load_raw_voxels(in, offset, layout.type, dims, box, layout.big_endian, data_what);
   }
+  if (const std::string* cds = h.find("CompressedDataSize")) {
+    std::optional<long long> n = parse_number<long long>(trim(*cds));
+    if (!n || *n <= 0) throw h.bad("CompressedDataSize", *cds, "must be a positive integer");
+    if (static_cast<unsigned long long>(*n) > available)
+      throw Error(
+          fmt::format("{}: key 'CompressedDataSize' says {} bytes of compressed data, "
+                      "found {} (truncated file?)",
+                      data_what, *n, available));
+    available = static_cast<size_t>(*n);
+  }
+  check_inflatable(needed, available, data_what);
+  in.clear();
+  in.seekg(static_cast<std::streamoff>(offset));
+  return load_gzip_voxels(in, 0, layout.type, dims, box, layout.big_endian, data_what);
+}
+
+std::ifstream open_header(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw FileError(fmt::format("{}: cannot open file", file.string()), errno);
+  return in;
+}
+
+}  // namespace
+
+VolumeHeader read_metaimage_header(const std::filesystem::path& file) {
+  const std::string what = file.string();
+  std::ifstream in = open_header(file);
+  VolumeHeader header = parse_layout(read_header(in, what)).header;
+  check_placement(header.index_to_world, what);
+  return header;
+}
+
+VolumeData read_metaimage_region(const std::filesystem::path& file, const VoxelBox& box) {
+  const std::string what = file.string();
+  std::ifstream in = open_header(file);
+  const Header h = read_header(in, what);
+  const Layout layout = parse_layout(h);
+  require_box_inside(layout.header.dims, box, what);
+  VolumeData v;
+  v.dims = box.size();
+  v.index_to_world = box_index_to_world(layout.header.index_to_world, box.lo);
+  v.voxels = read_voxels(file, in, h, layout, box);
+  v.validate(what);
+  return v;
+}
+
+VolumeData read_metaimage(const std::filesystem::path& file) {
+  const std::string what = file.string();
+  std::ifstream in = open_header(file);
+  const Header h = read_header(in, what);
+  const Layout layout = parse_layout(h);
+  VolumeData v;
+  v.dims = layout.header.dims;
+  v.index_to_world = layout.header.index_to_world;
+  v.voxels = read_voxels(file, in, h, layout, VoxelBox::whole(v.dims));
   v.validate(what);
   return v;
 }

@@ -7,6 +7,8 @@
 #include <mutex>
 #include <optional>
 #include <span>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -17,6 +19,7 @@
 #include "io/nifti.hpp"
 #include "io/raw_voxels.hpp"
 #include "io/regular_file.hpp"
+#include "volume/volume_checks.hpp"
 
 namespace imx::detail {
 
@@ -135,9 +138,21 @@ void check_header(const std::string& what) {
   }
 }
 
-}  // namespace
+// What the header says about the volume and where its voxels are.
+struct Layout {
+  VolumeHeader header;
+  RawType type = RawType::u8;
+  bool swap = false;     // the file's byte order is not the host's
+  std::string data;      // the file holding the voxels (the .nii itself, or a .hdr's .img)
+  size_t offset = 0;     // where they start in it
+  bool gzipped = false;  // it is gzip-compressed
+  double slope = 0.0, inter = 0.0;
+  // scl_slope/scl_inter change the voxels (slope 0 means "none"), which are then float32.
+  bool scaled() const { return slope != 0.0 && !(slope == 1.0 && inter == 0.0); }
+};
 
-VolumeData read_nifti(const std::filesystem::path& file) {
+// Reads and checks the header (nifticlib reads only the header here, not the voxels).
+Layout parse_layout(const std::filesystem::path& file) {
   const std::string what = file.string();
   // nifticlib prints its own diagnostics; ours (one message naming the file) replace them.
   static std::once_flag quiet;
@@ -162,73 +177,27 @@ VolumeData read_nifti(const std::filesystem::path& file) {
     throw Error(fmt::format("{}: datatype {} has an unexpected element size {}", what,
                             nifti_datatype_string(nim->datatype), nim->nbyper));
 
-  size_t needed = count * raw_type_size(*type);
-  std::error_code ec;
-  uintmax_t file_size = std::filesystem::file_size(file, ec);
-  if (ec) throw Error(fmt::format("{}: cannot read its size: {}", what, ec.message()));
-  if (nifti_is_gzfile(nim->iname)) {
-    check_inflatable(needed, static_cast<size_t>(file_size), what);
-  } else if (file_size < static_cast<uintmax_t>(nim->iname_offset) + needed) {
-    uintmax_t found = file_size > static_cast<uintmax_t>(nim->iname_offset)
-                          ? file_size - static_cast<uintmax_t>(nim->iname_offset)
-                          : 0;
-    throw Error(fmt::format("{}: expected {} bytes of voxel data, found {}", what, needed, found));
-  }
+  Layout l;
+  l.type = *type;
+  l.swap = nim->byteorder != nifti_short_order();
+  l.data = nim->iname;
+  l.offset = static_cast<size_t>(nim->iname_offset);
+  l.gzipped = nifti_is_gzfile(nim->iname);
+  l.header.dims = {nim->nx, nim->ny, nim->nz};
 
-  VolumeData v;
-  v.dims = {nim->nx, nim->ny, nim->nz};
-  // The first volume is the first count voxels after the header (a 4D series gives its first
-  // time point). Read with znzlib rather than nifti_read_collapsed_image, which frees the
-  // caller's buffer when a read fails.
-  require_regular_file(nim->iname, fmt::format("{} (voxel data of {})", nim->iname,
-                                               what));  // a .hdr's .img may be anything
-  znzFile opened = znzopen(nim->iname, "rb", nifti_is_gzfile(nim->iname));
-  if (znz_isnull(opened))
-    throw FileError(fmt::format("{}: cannot open the voxel data", what), errno);
-  std::unique_ptr<znzFile, int (*)(znzFile*)> close(&opened, Xznzclose);
-  if (znzseek(opened, nim->iname_offset, SEEK_SET) < 0)
+  // Intensity scaling, as the NIfTI standard defines it.
+  l.slope = nim->scl_slope;
+  l.inter = nim->scl_inter;
+  if (!std::isfinite(l.slope) || !std::isfinite(l.inter))
     throw Error(
-        fmt::format("{}: cannot seek to the voxel data at byte {}", what, nim->iname_offset));
-  bool swap = nim->byteorder != nifti_short_order();
-  v.voxels = load_voxels(*type, count, swap, what, [&](std::span<uint8_t> bytes) {
-    size_t done = 0;
-    while (done < bytes.size()) {
-      size_t want = std::min(bytes.size() - done, size_t{1} << 28);
-      size_t got = znzread(bytes.data() + done, 1, want, opened);
-      if (got == 0 || got > want) break;  // end of data, or a gzip error reported as -1
-      done += got;
-    }
-    if (done != bytes.size())
-      throw Error(
-          fmt::format("{}: expected {} bytes of voxel data, found {} (file truncated or "
-                      "corrupt)",
-                      what, bytes.size(), done));
-    // One more byte makes gzip reach its trailer when the data ends here, and check the CRC.
-    uint8_t extra;
-    if (nifti_is_gzfile(nim->iname) && znzread(&extra, 1, 1, opened) > 1)
-      throw Error(fmt::format("{}: corrupt gzip data (its checksum does not match)", what));
-  });
-
-  // Intensity scaling, as the NIfTI standard defines it: slope 0 means "none".
-  double slope = nim->scl_slope, inter = nim->scl_inter;
-  if (!std::isfinite(slope) || !std::isfinite(inter))
-    throw Error(fmt::format("{}: scl_slope {} / scl_inter {} are not finite", what, slope, inter));
-  if (slope != 0.0 && !(slope == 1.0 && inter == 0.0)) {
-    v.voxels = std::visit(
-        [&](const auto& src) {
-          std::vector<float> out(src.size());
-          for (size_t i = 0; i < src.size(); ++i)
-            out[i] = static_cast<float>(static_cast<double>(src[i]) * slope + inter);
-          return out;
-        },
-        v.voxels);
-  }
+        fmt::format("{}: scl_slope {} / scl_inter {} are not finite", what, l.slope, l.inter));
+  l.header.type = l.scaled() ? VoxelType::f32 : storage_type_for(l.type);
 
   // Placement: sform, else qform, else NIfTI's "method 1" (pixdim scaling only).
   if (nim->sform_code > 0) {
-    v.index_to_world = to_lps(nim->sto_xyz);
+    l.header.index_to_world = to_lps(nim->sto_xyz);
   } else if (nim->qform_code > 0) {
-    v.index_to_world = to_lps(nim->qto_xyz);
+    l.header.index_to_world = to_lps(nim->qto_xyz);
   } else {
     mat44 m{};
     for (int a = 0; a < 3; ++a) {
@@ -236,9 +205,121 @@ VolumeData read_nifti(const std::filesystem::path& file) {
       m.m[a][a] = std::isfinite(d) && d > 0.0f ? d : 1.0f;  // unset pixdim: unit spacing
     }
     m.m[3][3] = 1.0f;
-    v.index_to_world = to_lps(m);
+    l.header.index_to_world = to_lps(m);
   }
-  v.validate(what);
+  return l;
+}
+
+// The voxels of `box`, scaled. The first volume is the first dims voxels after the header (a 4D
+// series gives its first time point). Read with znzlib rather than nifti_read_collapsed_image
+// (which frees the caller's buffer when a read fails) or nifti_read_subregion_image (which
+// neither scales nor converts): uncompressed data is read run by run with seeks past the rest,
+// gzip data is inflated to its end, dropping what lies outside the box, so that data short or
+// corrupt anywhere is refused as a whole read refuses it.
+VoxelStorage read_voxels(const std::filesystem::path& file, const Layout& l, const VoxelBox& box) {
+  const std::string what = file.string();
+  const glm::ivec3 dims = l.header.dims;
+  const size_t needed = static_cast<size_t>(dims.x) * dims.y * dims.z * raw_type_size(l.type);
+  std::error_code ec;
+  uintmax_t file_size = std::filesystem::file_size(file, ec);
+  if (ec) throw Error(fmt::format("{}: cannot read its size: {}", what, ec.message()));
+  if (l.gzipped) {
+    check_inflatable(needed, static_cast<size_t>(file_size), what);
+  } else if (file_size < static_cast<uintmax_t>(l.offset) + needed) {
+    uintmax_t found = file_size > l.offset ? file_size - l.offset : 0;
+    throw Error(fmt::format("{}: expected {} bytes of voxel data, found {}", what, needed, found));
+  }
+
+  require_regular_file(l.data, fmt::format("{} (voxel data of {})", l.data,
+                                           what));  // a .hdr's .img may be anything
+  znzFile opened = znzopen(l.data.c_str(), "rb", l.gzipped);
+  if (znz_isnull(opened))
+    throw FileError(fmt::format("{}: cannot open the voxel data", what), errno);
+  std::unique_ptr<znzFile, int (*)(znzFile*)> close(&opened, Xznzclose);
+  if (znzseek(opened, static_cast<long>(l.offset), SEEK_SET) < 0)
+    throw Error(fmt::format("{}: cannot seek to the voxel data at byte {}", what, l.offset));
+
+  size_t at = 0;  // bytes of voxel data read or passed so far
+  auto short_data = [&](size_t found) {
+    return Error(
+        fmt::format("{}: expected {} bytes of voxel data, found {} (file truncated or "
+                    "corrupt)",
+                    what, needed, found));
+  };
+  // Reads `size` bytes to `dst`, or drops them when `dst` is null; throws where the data ends.
+  std::vector<uint8_t> scratch;
+  auto read = [&](uint8_t* dst, size_t size) {
+    if (!dst) scratch.resize(std::min(size, size_t{1} << 18));
+    size_t done = 0;
+    while (done < size) {
+      size_t want = std::min(size - done, dst ? size_t{1} << 28 : scratch.size());
+      size_t got = znzread(dst ? dst + done : scratch.data(), 1, want, opened);
+      if (got == 0 || got > want) break;  // end of data, or a gzip error reported as -1
+      done += got;
+    }
+    at += done;
+    if (done != size) throw short_data(at);
+  };
+  auto advance = [&](size_t offset) {
+    if (offset <= at) return;
+    if (!l.gzipped) {
+      if (znzseek(opened, static_cast<long>(l.offset + offset), SEEK_SET) < 0)
+        throw Error(
+            fmt::format("{}: cannot seek to the voxel data at byte {}", what, l.offset + offset));
+      at = offset;
+    } else {
+      read(nullptr, offset - at);
+    }
+  };
+  VoxelStorage voxels = load_voxels_region(l.type, dims, box, l.swap, what,
+                                           [&](uint64_t offset, std::span<uint8_t> bytes) {
+                                             advance(static_cast<size_t>(offset));
+                                             read(bytes.data(), bytes.size());
+                                           });
+  if (l.gzipped) {
+    advance(needed);
+    // One more byte makes gzip reach its trailer when the data ends here, and check the CRC.
+    uint8_t extra;
+    if (znzread(&extra, 1, 1, opened) > 1)
+      throw Error(fmt::format("{}: corrupt gzip data (its checksum does not match)", what));
+  }
+  if (!l.scaled()) return voxels;
+  return std::visit(
+      [&](const auto& src) -> VoxelStorage {
+        std::vector<float> out(src.size());
+        for (size_t i = 0; i < src.size(); ++i)
+          out[i] = static_cast<float>(static_cast<double>(src[i]) * l.slope + l.inter);
+        return VoxelBuffer<float>(std::move(out));
+      },
+      voxels);
+}
+
+}  // namespace
+
+VolumeHeader read_nifti_header(const std::filesystem::path& file) {
+  VolumeHeader header = parse_layout(file).header;
+  check_placement(header.index_to_world, file.string());
+  return header;
+}
+
+VolumeData read_nifti_region(const std::filesystem::path& file, const VoxelBox& box) {
+  const Layout layout = parse_layout(file);
+  require_box_inside(layout.header.dims, box, file.string());
+  VolumeData v;
+  v.dims = box.size();
+  v.index_to_world = box_index_to_world(layout.header.index_to_world, box.lo);
+  v.voxels = read_voxels(file, layout, box);
+  v.validate(file.string());
+  return v;
+}
+
+VolumeData read_nifti(const std::filesystem::path& file) {
+  const Layout layout = parse_layout(file);
+  VolumeData v;
+  v.dims = layout.header.dims;
+  v.index_to_world = layout.header.index_to_world;
+  v.voxels = read_voxels(file, layout, VoxelBox::whole(v.dims));
+  v.validate(file.string());
   return v;
 }
 

@@ -12,11 +12,13 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
+#include "intermix/io.hpp"
 #include "io/gzip.hpp"
 #include "io/header_text.hpp"
 #include "io/nrrd.hpp"
 #include "io/raw_voxels.hpp"
 #include "io/regular_file.hpp"
+#include "volume/volume_checks.hpp"
 
 namespace imx::detail {
 
@@ -287,32 +289,40 @@ long long parse_count_field(const Header& h, const std::string& name, long long 
   return *n;
 }
 
-}  // namespace
+// What the header says about the volume and where its voxels are.
+struct Layout {
+  VolumeHeader header;
+  RawType type = RawType::u8;
+  bool gzipped = false, big_endian = false;
+  long long line_skip = 0, byte_skip = 0;
+  const std::string* data_file = nullptr;  // a detached data file's name, else attached
+  std::streamoff data_offset = 0;          // where attached data begins
+};
 
-VolumeData read_nrrd(const std::filesystem::path& file) {
-  const std::string what = file.string();
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open file", what), errno);
-  Header h = read_header(in, what);
+// Reads and checks the header at the start of `in`; `h` keeps the fields `layout` points into.
+Layout parse_layout(std::istream& in, Header& h, const std::string& what) {
+  h = read_header(in, what);
+  Layout l;
+  l.data_offset = h.data_offset;
 
   const std::string& dimension = require(h, "dimension", what);
   if (parse_integer(dimension) != 3)
     throw Error(fmt::format("{}: field 'dimension' is '{}', only 3D volumes are supported", what,
                             shown(dimension)));
-  RawType type = parse_type(require(h, "type", what), what);
+  l.type = parse_type(require(h, "type", what), what);
+  l.header.type = storage_type_for(l.type);
 
   auto size_words = split_words(require(h, "sizes", what));
   if (size_words.size() != 3)
     throw Error(
         fmt::format("{}: field 'sizes' has {} entries, expected 3", what, size_words.size()));
-  glm::ivec3 dims;
   size_t count = 1;
   for (int a = 0; a < 3; ++a) {
     std::optional<long long> n = parse_integer(size_words[a]);
     if (!n || *n <= 0 || *n > static_cast<long long>(kMaxVoxels))
       throw Error(fmt::format("{}: field 'sizes' value '{}' must be a positive integer", what,
                               shown(size_words[a])));
-    dims[a] = static_cast<int>(*n);
+    l.header.dims[a] = static_cast<int>(*n);
     count *= static_cast<size_t>(*n);
     if (count > kMaxVoxels)
       throw Error(fmt::format("{}: field 'sizes' '{}' gives more than {} voxels", what,
@@ -321,38 +331,31 @@ VolumeData read_nrrd(const std::filesystem::path& file) {
   check_kinds(h, what);
 
   std::string encoding = lower(require(h, "encoding", what));
-  bool gzipped = encoding == "gzip" || encoding == "gz";
-  if (!gzipped && encoding != "raw")
+  l.gzipped = encoding == "gzip" || encoding == "gz";
+  if (!l.gzipped && encoding != "raw")
     throw Error(
         fmt::format("{}: field 'encoding' has unsupported value '{}' (supported: raw, "
                     "gzip)",
                     what, shown(encoding)));
 
-  bool big_endian = false;
   if (const std::string* endian = find(h, "endian")) {
     std::string e = lower(*endian);
     if (e != "little" && e != "big")
       throw Error(fmt::format("{}: field 'endian' has value '{}' (expected little or big)", what,
                               shown(*endian)));
-    big_endian = e == "big";
-  } else if (raw_type_size(type) > 1) {
+    l.big_endian = e == "big";
+  } else if (raw_type_size(l.type) > 1) {
     throw Error(fmt::format("{}: missing field 'endian' (needed for type '{}')", what,
                             require(h, "type", what)));
   }
 
-  VolumeData v;
-  v.dims = dims;
-  v.index_to_world = parse_affine(h, what);
+  l.header.index_to_world = parse_affine(h, what);
 
-  long long line_skip = parse_count_field(h, "line skip", 0, 0, what);
-  long long byte_skip = parse_count_field(h, "byte skip", 0, -1, what);
-  if (byte_skip < 0 && gzipped)
+  l.line_skip = parse_count_field(h, "line skip", 0, 0, what);
+  l.byte_skip = parse_count_field(h, "byte skip", 0, -1, what);
+  if (l.byte_skip < 0 && l.gzipped)
     throw Error(fmt::format("{}: field 'byte skip' -1 is only allowed with raw encoding", what));
 
-  // The data: after the header, or in a detached file named relative to the header.
-  std::filesystem::path data_path = file;
-  std::streamoff start = h.data_offset;
-  std::string data_what = what;
   if (const std::string* name = find(h, "data file")) {
     auto words = split_words(*name);
     if (name->substr(0, 4) == "LIST" || (words.size() > 1 && name->find('%') != std::string::npos))
@@ -360,26 +363,41 @@ VolumeData read_nrrd(const std::filesystem::path& file) {
           fmt::format("{}: field 'data file' lists several files; only one detached data "
                       "file is supported",
                       what));
-    data_path = resolve_data_file(file, *name, "field 'data file'");
-    data_what = fmt::format("{} (data file of {})", data_path.string(), what);
-    in.close();
-    in.open(data_path, std::ios::binary);
-    if (!in) throw FileError(fmt::format("{}: cannot open the data file", data_what), errno);
-    start = 0;
+    l.data_file = name;
   } else if (h.data_offset < 0) {
     throw Error(
         fmt::format("{}: the header ends without a blank line and there is no 'data file' "
                     "field, so there is no voxel data",
                     what));
   }
+  return l;
+}
+
+// The voxels of `box` from the data `layout` locates: after the header in `in`, or in the
+// detached data file named relative to the header.
+VoxelStorage read_voxels(const std::filesystem::path& file, std::ifstream& in, const Layout& layout,
+                         const VoxelBox& box) {
+  const std::string what = file.string();
+  const glm::ivec3 dims = layout.header.dims;
+  std::filesystem::path data_path = file;
+  std::streamoff start = layout.data_offset;
+  std::string data_what = what;
+  if (layout.data_file) {
+    data_path = resolve_data_file(file, *layout.data_file, "field 'data file'");
+    data_what = fmt::format("{} (data file of {})", data_path.string(), what);
+    in.close();
+    in.open(data_path, std::ios::binary);
+    if (!in) throw FileError(fmt::format("{}: cannot open the data file", data_what), errno);
+    start = 0;
+  }
   in.clear();
   in.seekg(start);
-  for (long long i = 0; i < line_skip; ++i) {
+  for (long long i = 0; i < layout.line_skip; ++i) {
     int c;
     while ((c = in.get()) != '\n')
       if (c == std::char_traits<char>::eof())
-        throw Error(
-            fmt::format("{}: field 'line skip' {} goes past the end of the data", what, line_skip));
+        throw Error(fmt::format("{}: field 'line skip' {} goes past the end of the data", what,
+                                layout.line_skip));
   }
   start = in.tellg();
 
@@ -388,33 +406,69 @@ VolumeData read_nrrd(const std::filesystem::path& file) {
   if (ec)
     throw Error(fmt::format("{}: cannot read the size of the data: {}", data_what, ec.message()));
   size_t available = file_size > static_cast<uintmax_t>(start) ? file_size - start : 0;
-  size_t needed = count * raw_type_size(type);
+  const size_t needed = static_cast<size_t>(dims.x) * dims.y * dims.z * raw_type_size(layout.type);
 
-  if (!gzipped) {
+  if (!layout.gzipped) {
     size_t offset = static_cast<size_t>(start);
-    if (byte_skip < 0) {
+    if (layout.byte_skip < 0) {
       offset = file_size >= needed ? file_size - needed : 0;
       if (offset < static_cast<size_t>(start)) offset = static_cast<size_t>(start);
     } else {
-      offset += static_cast<size_t>(byte_skip);
+      offset += static_cast<size_t>(layout.byte_skip);
     }
+    // The whole grid's data must be there, as for a whole read, even when the box needs less.
     size_t found = file_size > offset ? file_size - offset : 0;
     if (found < needed)
       throw Error(fmt::format("{}: expected {} bytes of voxel data ({}x{}x{} {}), found {}",
-                              data_what, needed, dims.x, dims.y, dims.z, raw_type_name(type),
+                              data_what, needed, dims.x, dims.y, dims.z, raw_type_name(layout.type),
                               found));
-    in.seekg(static_cast<std::streamoff>(offset));
-    v.voxels = load_voxels(type, count, big_endian, data_what, [&](std::span<uint8_t> bytes) {
-      in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-      if (static_cast<size_t>(in.gcount()) != bytes.size())
-        throw Error(fmt::format("{}: expected {} bytes of voxel data, found {}", data_what,
-                                bytes.size(), in.gcount()));
-    });
-  } else {
-    check_inflatable(needed + static_cast<size_t>(byte_skip), available, data_what);
-    v.voxels =
-        load_gzip_voxels(in, static_cast<size_t>(byte_skip), type, count, big_endian, data_what);
+    return load_raw_voxels(in, offset, layout.type, dims, box, layout.big_endian, data_what);
   }
+  check_inflatable(needed + static_cast<size_t>(layout.byte_skip), available, data_what);
+  return load_gzip_voxels(in, static_cast<size_t>(layout.byte_skip), layout.type, dims, box,
+                          layout.big_endian, data_what);
+}
+
+std::ifstream open_header(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw FileError(fmt::format("{}: cannot open file", file.string()), errno);
+  return in;
+}
+
+}  // namespace
+
+VolumeHeader read_nrrd_header(const std::filesystem::path& file) {
+  const std::string what = file.string();
+  std::ifstream in = open_header(file);
+  Header h;
+  VolumeHeader header = parse_layout(in, h, what).header;
+  check_placement(header.index_to_world, what);
+  return header;
+}
+
+VolumeData read_nrrd_region(const std::filesystem::path& file, const VoxelBox& box) {
+  const std::string what = file.string();
+  std::ifstream in = open_header(file);
+  Header h;
+  const Layout layout = parse_layout(in, h, what);
+  require_box_inside(layout.header.dims, box, what);
+  VolumeData v;
+  v.dims = box.size();
+  v.index_to_world = box_index_to_world(layout.header.index_to_world, box.lo);
+  v.voxels = read_voxels(file, in, layout, box);
+  v.validate(what);
+  return v;
+}
+
+VolumeData read_nrrd(const std::filesystem::path& file) {
+  const std::string what = file.string();
+  std::ifstream in = open_header(file);
+  Header h;
+  const Layout layout = parse_layout(in, h, what);
+  VolumeData v;
+  v.dims = layout.header.dims;
+  v.index_to_world = layout.header.index_to_world;
+  v.voxels = read_voxels(file, in, layout, VoxelBox::whole(v.dims));
   v.validate(what);
   return v;
 }

@@ -60,15 +60,15 @@ double ct_head_value(const glm::dvec3& p, double h) {
 
 }  // namespace
 
-VolumeData make_ct_head(int size) {
+Phantom ct_head_phantom(int size) {
   // In-plane 0.9 mm and 1.2 mm slices at size 256; the field of view stays the same.
   double in_plane = head::kFieldOfView.y / size;
   glm::dvec3 spacing(in_plane, in_plane, in_plane * 4.0 / 3.0);
   glm::ivec3 dims(voxels_for(head::kFieldOfView.x, spacing.x), size,
                   voxels_for(head::kFieldOfView.z, spacing.z));
   double h = spacing.z;
-  return sample_field<int16_t>(dims, centred_grid(dims, spacing),
-                               [h](const glm::dvec3& p) { return ct_head_value(p, h); });
+  return field_phantom<int16_t>(dims, centred_grid(dims, spacing),
+                                [h](const glm::dvec3& p) { return ct_head_value(p, h); });
 }
 
 }  // namespace imx::detail

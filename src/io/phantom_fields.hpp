@@ -5,12 +5,14 @@
 #include <cstdint>
 #include <limits>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "core/parallel.hpp"
 #include "intermix/volume.hpp"
+#include "io/phantoms.hpp"
 
 namespace imx::detail {
 
@@ -71,24 +73,54 @@ T to_voxel(double v) {
   }
 }
 
-// A volume whose voxels are `field(world position)`, evaluated in parallel; every voxel
-// depends only on its own position, so the bytes do not depend on the thread count.
+// The voxels of `box` of a grid placed by `index_to_world`, each `field(world position)`,
+// evaluated in parallel. Every voxel depends only on its own index in the whole grid (not the
+// box's), so the bytes depend neither on the thread count nor on the box: a box's voxels are
+// exactly the whole's voxels there.
 template <class T, class Field>
-VolumeData sample_field(glm::ivec3 dims, const glm::dmat4& index_to_world, const Field& field) {
-  std::vector<T> voxels(static_cast<size_t>(dims.x) * dims.y * dims.z);
-  parallel_for(static_cast<long>(dims.y) * dims.z, 0, [&](long begin, long end) {
+VolumeData sample_field(const glm::dmat4& index_to_world, const VoxelBox& box, const Field& field) {
+  const glm::ivec3 size = box.size();
+  std::vector<T> voxels(box.count());
+  parallel_for(static_cast<long>(size.y) * size.z, 0, [&](long begin, long end) {
     for (long row = begin; row < end; ++row) {
-      int j = static_cast<int>(row % dims.y), k = static_cast<int>(row / dims.y);
-      T* out = voxels.data() + static_cast<size_t>(row) * dims.x;
-      for (int i = 0; i < dims.x; ++i)
-        out[i] = to_voxel<T>(field(glm::dvec3(index_to_world * glm::dvec4(i, j, k, 1.0))));
+      int j = box.lo.y + static_cast<int>(row % size.y);
+      int k = box.lo.z + static_cast<int>(row / size.y);
+      T* out = voxels.data() + static_cast<size_t>(row) * size.x;
+      for (int i = box.lo.x; i < box.hi.x; ++i)
+        out[i - box.lo.x] =
+            to_voxel<T>(field(glm::dvec3(index_to_world * glm::dvec4(i, j, k, 1.0))));
     }
   });
   VolumeData v;
-  v.dims = dims;
+  v.dims = size;
   v.voxels = std::move(voxels);
-  v.index_to_world = index_to_world;
+  v.index_to_world = box_index_to_world(index_to_world, box.lo);
   return v;
+}
+
+// The voxel type that stores T.
+template <class T>
+constexpr VoxelType voxel_type_of() {
+  if constexpr (std::is_same_v<T, uint8_t>)
+    return VoxelType::u8;
+  else if constexpr (std::is_same_v<T, int16_t>)
+    return VoxelType::i16;
+  else if constexpr (std::is_same_v<T, uint16_t>)
+    return VoxelType::u16;
+  else
+    return VoxelType::f32;
+}
+
+// A phantom of T voxels on a grid of `dims` placed by `index_to_world`, whose voxels are
+// `field(world position)`; `field` is kept (by value) to sample any box later.
+template <class T, class Field>
+Phantom field_phantom(glm::ivec3 dims, const glm::dmat4& index_to_world, Field field) {
+  Phantom p;
+  p.header = {dims, voxel_type_of<T>(), index_to_world};
+  p.sample = [index_to_world, field = std::move(field)](const VoxelBox& box) {
+    return sample_field<T>(index_to_world, box, field);
+  };
+  return p;
 }
 
 }  // namespace imx::detail

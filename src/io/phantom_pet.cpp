@@ -33,7 +33,7 @@ double pet_value(const glm::dvec3& p, double h) {
 
 }  // namespace
 
-VolumeData make_pet(int size) {
+Phantom pet_phantom(int size) {
   // A quarter of the resolution on the same field of view as ct-head, isotropic voxels.
   int n = std::max(8, size / 4);
   double s = head::kFieldOfView.y / n;
@@ -42,8 +42,8 @@ VolumeData make_pet(int size) {
   constexpr double deg = std::numbers::pi / 180.0;
   glm::dmat3 rotation = glm::dmat3(glm::rotate(glm::dmat4(1.0), 10.0 * deg, {0.0, 0.0, 1.0})) *
                         glm::dmat3(glm::rotate(glm::dmat4(1.0), 5.0 * deg, {1.0, 0.0, 0.0}));
-  return sample_field<float>(dims, centred_grid(dims, glm::dvec3(s), rotation),
-                             [s](const glm::dvec3& p) { return pet_value(p, s); });
+  return field_phantom<float>(dims, centred_grid(dims, glm::dvec3(s), rotation),
+                              [s](const glm::dvec3& p) { return pet_value(p, s); });
 }
 
 }  // namespace imx::detail

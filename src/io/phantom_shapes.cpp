@@ -6,33 +6,33 @@
 
 namespace imx::detail {
 
-VolumeData make_cube(int size) {
+Phantom cube_phantom(int size) {
   double s = 128.0 / size;  // a 128 mm grid: 1 mm voxels at size 128
   glm::ivec3 dims(size);
   glm::dvec3 half(0.3 * 128.0);
-  return sample_field<uint8_t>(dims, centred_grid(dims, glm::dvec3(s)), [&](const glm::dvec3& p) {
+  return field_phantom<uint8_t>(dims, centred_grid(dims, glm::dvec3(s)), [=](const glm::dvec3& p) {
     return 255.0 * inside(box_distance(p, half), s);
   });
 }
 
-VolumeData make_ellipsoid(int size) {
+Phantom ellipsoid_phantom(int size) {
   // 0.8 mm voxels at size 128, unlike cube's 1 mm, on a grid shaped like the ellipsoid.
   double s = 102.4 / size;
   glm::ivec3 dims(size, voxels_for(76.8, s), voxels_for(83.2, s));
   glm::dvec3 radii(45.0, 30.0, 35.0);
-  return sample_field<uint8_t>(dims, centred_grid(dims, glm::dvec3(s)), [&](const glm::dvec3& p) {
+  return field_phantom<uint8_t>(dims, centred_grid(dims, glm::dvec3(s)), [=](const glm::dvec3& p) {
     return 255.0 * inside(ellipsoid_distance(p, glm::dvec3(0.0), radii), s);
   });
 }
 
-VolumeData make_shells(int size) {
+Phantom shells_phantom(int size) {
   constexpr int kShells = 8;
   double s = 128.0 / size;
   double pitch = 0.44 * 128.0 / kShells;  // shell i is centred on radius pitch * (i + 1)
   // Walls two voxels thick, thinner only when the grid is too coarse to keep them apart.
   double thickness = std::min(2.0 * s, 0.5 * pitch);
   glm::ivec3 dims(size);
-  return sample_field<float>(dims, centred_grid(dims, glm::dvec3(s)), [&](const glm::dvec3& p) {
+  return field_phantom<float>(dims, centred_grid(dims, glm::dvec3(s)), [=](const glm::dvec3& p) {
     double r = glm::length(p);
     int nearest = std::clamp(static_cast<int>(std::lround(r / pitch)) - 1, 0, kShells - 1);
     double v = 0.0;
@@ -44,12 +44,12 @@ VolumeData make_shells(int size) {
   });
 }
 
-VolumeData make_sphere(int size) {
+Phantom sphere_phantom(int size) {
   double s = 128.0 / size;
   double radius = 0.35 * 128.0;
   glm::ivec3 dims(size);
-  return sample_field<float>(dims, centred_grid(dims, glm::dvec3(s)),
-                             [&](const glm::dvec3& p) { return radius - glm::length(p); });
+  return field_phantom<float>(dims, centred_grid(dims, glm::dvec3(s)),
+                              [=](const glm::dvec3& p) { return radius - glm::length(p); });
 }
 
 }  // namespace imx::detail

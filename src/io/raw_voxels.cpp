@@ -149,16 +149,91 @@ VoxelStorage load_voxels(RawType type, size_t count, bool swap_bytes, const std:
   }
 }
 
-VoxelStorage load_gzip_voxels(std::istream& in, size_t skip, RawType type, size_t count,
-                              bool swap_bytes, const std::string& what) {
-  return load_voxels(type, count, swap_bytes, what, [&](std::span<uint8_t> bytes) {
-    size_t found = gunzip(in, skip, bytes, what);
-    if (found != bytes.size())
-      throw Error(
-          fmt::format("{}: expected {} bytes of voxel data ({} x {}) after "
-                      "decompression, found {} (truncated file?)",
-                      what, bytes.size(), count, raw_type_name(type), found));
+void for_each_box_run(glm::ivec3 dims, const VoxelBox& box, size_t element_size,
+                      const std::function<void(uint64_t, size_t)>& run) {
+  const size_t row = static_cast<size_t>(box.hi.x - box.lo.x) * element_size;
+  uint64_t start = 0;
+  size_t length = 0;
+  for (int k = box.lo.z; k < box.hi.z; ++k)
+    for (int j = box.lo.y; j < box.hi.y; ++j) {
+      const uint64_t offset =
+          ((static_cast<uint64_t>(k) * static_cast<uint64_t>(dims.y) + static_cast<uint64_t>(j)) *
+               static_cast<uint64_t>(dims.x) +
+           static_cast<uint64_t>(box.lo.x)) *
+          element_size;
+      if (length > 0 && offset == start + length) {
+        length += row;
+        continue;
+      }
+      if (length > 0) run(start, length);
+      start = offset;
+      length = row;
+    }
+  if (length > 0) run(start, length);
+}
+
+VoxelStorage load_voxels_region(RawType type, glm::ivec3 dims, const VoxelBox& box, bool swap_bytes,
+                                const std::string& what,
+                                const std::function<void(uint64_t, std::span<uint8_t>)>& fill) {
+  return load_voxels(type, box.count(), swap_bytes, what, [&](std::span<uint8_t> bytes) {
+    size_t at = 0;
+    for_each_box_run(dims, box, raw_type_size(type), [&](uint64_t offset, size_t length) {
+      fill(offset, bytes.subspan(at, length));
+      at += length;
+    });
   });
+}
+
+VoxelStorage load_raw_voxels(std::istream& in, uint64_t start, RawType type, glm::ivec3 dims,
+                             const VoxelBox& box, bool swap_bytes, const std::string& what) {
+  return load_voxels_region(
+      type, dims, box, swap_bytes, what, [&](uint64_t offset, std::span<uint8_t> bytes) {
+        in.clear();
+        in.seekg(static_cast<std::streamoff>(start + offset));
+        in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+        if (static_cast<size_t>(in.gcount()) != bytes.size())
+          throw Error(fmt::format("{}: expected {} bytes of voxel data at byte {}, found {}", what,
+                                  bytes.size(), start + offset, in.gcount()));
+      });
+}
+
+VoxelStorage load_gzip_voxels(std::istream& in, size_t skip, RawType type, glm::ivec3 dims,
+                              const VoxelBox& box, bool swap_bytes, const std::string& what) {
+  const size_t count = static_cast<size_t>(dims.x) * dims.y * dims.z;
+  const size_t total = count * raw_type_size(type);
+  auto short_data = [&](size_t found) {
+    return Error(
+        fmt::format("{}: expected {} bytes of voxel data ({} x {}) after "
+                    "decompression, found {} (truncated file?)",
+                    what, total, count, raw_type_name(type), found));
+  };
+  GzipStream stream(in, what);
+  // Inflated bytes so far, counted from the start of the voxels (after `skip`).
+  uint64_t at = 0;
+  bool skipped = false;
+  // Drops the inflated bytes up to voxel byte `offset`.
+  auto advance = [&](uint64_t offset) {
+    if (!skipped) {
+      if (stream.skip(skip) < skip) throw short_data(0);
+      skipped = true;
+    }
+    if (offset > at) {
+      const size_t got = stream.skip(static_cast<size_t>(offset - at));
+      at += got;
+      if (at < offset) throw short_data(static_cast<size_t>(at));
+    }
+  };
+  VoxelStorage voxels = load_voxels_region(type, dims, box, swap_bytes, what,
+                                           [&](uint64_t offset, std::span<uint8_t> bytes) {
+                                             advance(offset);
+                                             const size_t got = stream.read(bytes);
+                                             at += got;
+                                             if (got < bytes.size())
+                                               throw short_data(static_cast<size_t>(at));
+                                           });
+  advance(total);
+  stream.finish(total);
+  return voxels;
 }
 
 }  // namespace imx::detail

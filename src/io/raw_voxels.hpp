@@ -32,9 +32,31 @@ inline constexpr size_t kMaxVoxels = size_t{1} << 31;
 VoxelStorage load_voxels(RawType type, size_t count, bool swap_bytes, const std::string& what,
                          const std::function<void(std::span<uint8_t>)>& fill);
 
-// load_voxels from gzip (or zlib) data at `in`'s position, after dropping `skip` inflated bytes.
-// Throws imx::Error naming `what` when the data is corrupt or ends early.
-VoxelStorage load_gzip_voxels(std::istream& in, size_t skip, RawType type, size_t count,
-                              bool swap_bytes, const std::string& what);
+// Where the voxels of `box` lie in the data of a grid of `dims` (x fastest) with elements of
+// `element_size` bytes: calls `run(offset, bytes)` for each stretch of contiguous bytes, in file
+// order, which is also the box's order. Rows that follow each other in the file make one run,
+// so a box spanning whole rows or slices is read in one go.
+void for_each_box_run(glm::ivec3 dims, const VoxelBox& box, size_t element_size,
+                      const std::function<void(uint64_t offset, size_t bytes)>& run);
+
+// load_voxels for the voxels of `box` (inside `dims`) only: the memory check, the conversion
+// and the byte swapping apply to the box alone. `fill(offset, bytes)` must write the bytes
+// found `offset` bytes into the voxel data, or throw; its calls are for_each_box_run's runs.
+VoxelStorage load_voxels_region(RawType type, glm::ivec3 dims, const VoxelBox& box, bool swap_bytes,
+                                const std::string& what,
+                                const std::function<void(uint64_t, std::span<uint8_t>)>& fill);
+
+// load_voxels_region from uncompressed data starting at byte `start` of `in`, seeking to each
+// run. The caller has checked that the file holds the whole grid's data; a file that shrinks
+// meanwhile still gives an imx::Error naming `what`.
+VoxelStorage load_raw_voxels(std::istream& in, uint64_t start, RawType type, glm::ivec3 dims,
+                             const VoxelBox& box, bool swap_bytes, const std::string& what);
+
+// load_voxels_region from gzip (or zlib) data at `in`'s position, after dropping `skip` inflated
+// bytes. The stream is inflated to its end, dropping what lies outside the box, so that data
+// that is short or corrupt anywhere is refused as a whole read refuses it. Throws imx::Error
+// naming `what` when the data is corrupt or ends early.
+VoxelStorage load_gzip_voxels(std::istream& in, size_t skip, RawType type, glm::ivec3 dims,
+                              const VoxelBox& box, bool swap_bytes, const std::string& what);
 
 }  // namespace imx::detail

@@ -20,24 +20,54 @@ bool ends_with(const std::string& s, const std::string& suffix) {
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-}  // namespace
+// The formats read_volume knows by extension, each with its three ways to be read.
+struct Reader {
+  VolumeData (*whole)(const std::filesystem::path&);
+  VolumeHeader (*header)(const std::filesystem::path&);
+  VolumeData (*region)(const std::filesystem::path&, const VoxelBox&);
+};
 
-VolumeData read_volume(const std::filesystem::path& file) {
-  const std::string what = file.string();
-  // A folder, a DICOMDIR or a DICOM file: the largest image series (read_dicom chooses).
-  if (is_dicom_source(file)) return read_dicom(file).volume;
+// The reader for `file`'s extension; throws imx::Error naming the file for any other.
+Reader reader_for(const std::filesystem::path& file) {
   require_regular_file(file);
-
   std::string name = file.filename().string();
   std::transform(name.begin(), name.end(), name.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (ends_with(name, ".nrrd") || ends_with(name, ".nhdr")) return detail::read_nrrd(file);
-  if (ends_with(name, ".nii") || ends_with(name, ".nii.gz")) return detail::read_nifti(file);
-  if (ends_with(name, ".mha") || ends_with(name, ".mhd")) return detail::read_metaimage(file);
+  if (ends_with(name, ".nrrd") || ends_with(name, ".nhdr"))
+    return {detail::read_nrrd, detail::read_nrrd_header, detail::read_nrrd_region};
+  if (ends_with(name, ".nii") || ends_with(name, ".nii.gz"))
+    return {detail::read_nifti, detail::read_nifti_header, detail::read_nifti_region};
+  if (ends_with(name, ".mha") || ends_with(name, ".mhd"))
+    return {detail::read_metaimage, detail::read_metaimage_header, detail::read_metaimage_region};
   throw Error(
       fmt::format("{}: unknown volume format '{}' (supported: .nrrd, .nhdr, .nii, .nii.gz, .mha, "
                   ".mhd, DICOM)",
-                  what, file.extension().string()));
+                  file.string(), file.extension().string()));
+}
+
+}  // namespace
+
+VolumeData read_volume(const std::filesystem::path& file) {
+  // A folder, a DICOMDIR or a DICOM file: the largest image series (read_dicom chooses).
+  if (is_dicom_source(file)) return read_dicom(file).volume;
+  return reader_for(file).whole(file);
+}
+
+VolumeHeader read_volume_header(const std::filesystem::path& file) {
+  // A DICOM series' placement comes from all its slices (their order, spacing and tilt), so
+  // the series is read whole.
+  if (is_dicom_source(file)) {
+    const VolumeData v = read_dicom(file).volume;
+    return {v.dims, v.type(), v.index_to_world};
+  }
+  return reader_for(file).header(file);
+}
+
+VolumeData read_volume_region(const std::filesystem::path& file, const VoxelBox& box) {
+  // DICOM is read whole and cropped: its voxels come slice file by slice file, decoded (and
+  // possibly decompressed) by GDCM, with no byte layout to seek in.
+  if (is_dicom_source(file)) return crop(read_dicom(file).volume, box, file.string());
+  return reader_for(file).region(file, box);
 }
 
 }  // namespace imx

@@ -5,10 +5,10 @@
 
 #include <fmt/format.h>
 
-#include "core/limits.hpp"
 #include "core/math.hpp"
 #include "intermix/error.hpp"
 #include "intermix/volume.hpp"
+#include "volume/volume_checks.hpp"
 
 namespace imx {
 
@@ -72,19 +72,7 @@ void VolumeData::validate(const std::string& what) const {
                       what, at % row, at % slice / row, at / slice, *bad, count));
     }
   }
-  if (!all_finite(index_to_world))
-    throw Error(fmt::format("{}: the index-to-world transform has a non-finite entry", what));
-  if (std::abs(glm::determinant(glm::dmat3(index_to_world))) < 1e-12)
-    throw Error(fmt::format("{}: the index-to-world transform is singular", what));
-  const glm::dvec3 pitch = spacing();
-  for (int axis = 0; axis < 3; ++axis) {
-    if (pitch[axis] < kMinLengthMm || pitch[axis] > kMaxLengthMm)
-      throw Error(fmt::format("{}: voxel spacing {:g} mm along axis {} is outside {:g} to {:g} mm",
-                              what, pitch[axis], axis, kMinLengthMm, kMaxLengthMm));
-    if (std::abs(index_to_world[3][axis]) > kMaxCoordinateMm)
-      throw Error(fmt::format("{}: origin {:g} mm along axis {} is more than {:g} mm from 0", what,
-                              index_to_world[3][axis], axis, kMaxCoordinateMm));
-  }
+  detail::check_placement(index_to_world, what);
 }
 
 }  // namespace imx
@@ -98,12 +86,7 @@ glm::dmat4 box_index_to_world(const glm::dmat4& index_to_world, glm::ivec3 lo) {
 }
 
 VolumeData crop(const VolumeData& volume, const VoxelBox& box, const std::string& what) {
-  for (int a = 0; a < 3; ++a)
-    if (box.lo[a] < 0 || box.hi[a] > volume.dims[a] || box.hi[a] <= box.lo[a])
-      throw Error(fmt::format(
-          "{}: voxel box [{}, {}) x [{}, {}) x [{}, {}) is empty or leaves the {}x{}x{} grid", what,
-          box.lo.x, box.hi.x, box.lo.y, box.hi.y, box.lo.z, box.hi.z, volume.dims.x, volume.dims.y,
-          volume.dims.z));
+  detail::require_box_inside(volume.dims, box, what);
   VolumeData out;
   out.dims = box.size();
   out.index_to_world = box_index_to_world(volume.index_to_world, box.lo);
