@@ -153,13 +153,19 @@ double peak_rss_bytes() {
 // What one rank measured, gathered on rank 0 as doubles.
 struct RankStats {
   double load_s = 0, render_s = 0, composite_s = 0, peak_rss = 0, voxels = 0, slab_bytes = 0;
+  // Where compositing's time goes: encoding messages, exchanging them (waiting included),
+  // merging received arrays, resolving and gathering the final pixels.
+  double encode_s = 0, exchange_s = 0, merge_s = 0, gather_s = 0;
   std::vector<double> sent;  // bytes sent per exchange step: the fold, then each swap round
 };
 
+constexpr size_t kStatFields = 10;  // the doubles of RankStats before `sent`
+
 std::vector<double> flatten(const RankStats& s, size_t steps) {
-  std::vector<double> v{s.load_s, s.render_s, s.composite_s, s.peak_rss, s.voxels, s.slab_bytes};
-  v.resize(6 + steps, 0.0);
-  std::copy(s.sent.begin(), s.sent.end(), v.begin() + 6);
+  std::vector<double> v{s.load_s,   s.render_s,   s.composite_s, s.peak_rss, s.voxels,
+                        s.slab_bytes, s.encode_s, s.exchange_s, s.merge_s, s.gather_s};
+  v.resize(kStatFields + steps, 0.0);
+  std::copy(s.sent.begin(), s.sent.end(), v.begin() + kStatFields);
   return v;
 }
 
@@ -171,25 +177,40 @@ std::vector<glm::vec4> composite(const MpiSession& mpi, ZtBuffer& arrays, size_t
   const SwapSchedule plan = binary_swap(mpi.size, mpi.rank, pixels);
   const PixelRange all{0, pixels};
   stats.sent.assign(1 + plan.rounds.size(), 0.0);
+  Clock::time_point t = Clock::now();
+  auto lap = [&t](double& into) {
+    Clock::time_point now = Clock::now();
+    into += std::chrono::duration<double>(now - t).count();
+    t = now;
+  };
   if (plan.fold_to >= 0) {
     std::vector<std::byte> message = encode_slab_message(arrays, all, spp);
     stats.sent[0] = static_cast<double>(message.size());
+    lap(stats.encode_s);
     send_bytes(message, plan.fold_to);
+    lap(stats.exchange_s);
   }
-  if (plan.fold_from >= 0)
-    merge_slab_message(arrays, all, spp, receive_bytes(plan.fold_from), true, params.mix, threads);
+  if (plan.fold_from >= 0) {
+    std::vector<std::byte> in = receive_bytes(plan.fold_from);
+    lap(stats.exchange_s);
+    merge_slab_message(arrays, all, spp, in, true, params.mix, threads);
+    lap(stats.merge_s);
+  }
   for (size_t k = 0; k < plan.rounds.size(); ++k) {
     const SwapRound& r = plan.rounds[k];
     std::vector<std::byte> message = encode_slab_message(arrays, r.send, spp);
     stats.sent[k + 1] = static_cast<double>(message.size());
+    lap(stats.encode_s);
     std::vector<std::byte> in = exchange_bytes(message, r.partner);
     message = {};
+    lap(stats.exchange_s);
     merge_slab_message(arrays, r.keep, spp, in, r.first, params.mix, threads);
+    lap(stats.merge_s);
   }
   std::vector<glm::vec4> mine;
   if (plan.fold_to < 0)
-    mine = resolve_slab_arrays(arrays, plan.result, spp, params.mix.a_ert, scene.image.background,
-                               threads);
+    mine = resolve_slab_arrays(arrays, plan.result, spp, params.mix.a_ert,
+                               scene.image.background, threads);
   // Gather: rank 0 knows every rank's range from the schedule.
   std::vector<int> counts(static_cast<size_t>(mpi.size)), displs(static_cast<size_t>(mpi.size));
   for (int r = 0; r < mpi.size; ++r) {
@@ -200,6 +221,7 @@ std::vector<glm::vec4> composite(const MpiSession& mpi, ZtBuffer& arrays, size_t
   std::vector<glm::vec4> image(mpi.rank == 0 ? pixels : 0);
   MPI_Gatherv(mine.data(), static_cast<int>(mine.size() * 4), MPI_FLOAT, image.data(),
               counts.data(), displs.data(), MPI_FLOAT, 0, MPI_COMM_WORLD);
+  lap(stats.gather_s);
   return image;
 }
 
@@ -224,14 +246,18 @@ nlohmann::json report_json(const DistributedRequest& request, const Partition& p
                              {"composite_s", v[2]},
                              {"peak_rss_bytes", v[3]},
                              {"voxels", v[4]},
-                             {"slab_array_bytes", v[5]}});
+                             {"slab_array_bytes", v[5]},
+                             {"encode_s", v[6]},
+                             {"exchange_s", v[7]},
+                             {"merge_s", v[8]},
+                             {"resolve_gather_s", v[9]}});
   }
   // Steps: the fold (ranks past the largest power of two), then each binary-swap round.
-  for (size_t step = 0; step + 6 < row; ++step) {
+  for (size_t step = 0; step + kStatFields < row; ++step) {
     double total = 0.0, most = 0.0;
     for (size_t r = 0; r < ranks; ++r) {
-      total += gathered[r * row + 6 + step];
-      most = std::max(most, gathered[r * row + 6 + step]);
+      total += gathered[r * row + kStatFields + step];
+      most = std::max(most, gathered[r * row + kStatFields + step]);
     }
     if (step == 0 && swap_group(static_cast<int>(ranks)) == static_cast<int>(ranks)) continue;
     j["rounds"].push_back({{"step", step == 0 ? "fold" : fmt::format("swap {}", step)},
