@@ -24,7 +24,7 @@ ZtBuffer arrays(int slabs, int side, SlabFormat format) {
     for (int k = 0; k < slabs; ++k) {
       float a = 0.02f + 0.1f * u(rng);
       list[static_cast<size_t>(k)] = {10.0f + 4.0f * k + 2.0f * side + 1.0f, 1.0f,
-                                       glm::vec4(0.5f * a, 0.3f * a, 0.2f * a, a)};
+                                      glm::vec4(0.5f * a, 0.3f * a, 0.2f * a, a)};
     }
     b.store(i, list);
   }
@@ -62,9 +62,9 @@ void BM_EncodeSlabMessage(benchmark::State& state) {
   const ZtBuffer b = arrays(slabs, 0, SlabFormat::rgba32f);
   size_t bytes = 0;
   for (auto _ : state) bytes = encode_slab_message(b, {0, kPixels}, 1).size();
-  state.counters["ns_per_byte"] = benchmark::Counter(
-      static_cast<double>(bytes),
-      benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["ns_per_byte"] =
+      benchmark::Counter(static_cast<double>(bytes), benchmark::Counter::kIsIterationInvariantRate |
+                                                         benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_EncodeSlabMessage)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime();
 

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <climits>
 #include <cstdio>
+#include <ctime>
 #include <new>
 #include <optional>
 #include <thread>
@@ -35,6 +36,14 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// CPU seconds of the whole process (all its threads): the work a phase cost, which oversubscribed
+// ranks sharing cores cannot inflate the way they inflate wall time.
+double process_cpu_seconds() {
+  timespec now{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
 // MPI for the lifetime of one distributed frame. MPI calls come from the main thread only; the
@@ -156,14 +165,16 @@ struct RankStats {
   // Where compositing's time goes: encoding messages, exchanging them (waiting included),
   // merging received arrays, resolving and gathering the final pixels.
   double encode_s = 0, exchange_s = 0, merge_s = 0, gather_s = 0;
+  double encode_cpu_s = 0, merge_cpu_s = 0;  // the CPU time of encoding and merging
   std::vector<double> sent;  // bytes sent per exchange step: the fold, then each swap round
 };
 
-constexpr size_t kStatFields = 10;  // the doubles of RankStats before `sent`
+constexpr size_t kStatFields = 12;  // the doubles of RankStats before `sent`
 
 std::vector<double> flatten(const RankStats& s, size_t steps) {
-  std::vector<double> v{s.load_s,   s.render_s,   s.composite_s, s.peak_rss, s.voxels,
-                        s.slab_bytes, s.encode_s, s.exchange_s, s.merge_s, s.gather_s};
+  std::vector<double> v{s.load_s,  s.render_s,   s.composite_s,  s.peak_rss,
+                        s.voxels,  s.slab_bytes, s.encode_s,     s.exchange_s,
+                        s.merge_s, s.gather_s,   s.encode_cpu_s, s.merge_cpu_s};
   v.resize(kStatFields + steps, 0.0);
   std::copy(s.sent.begin(), s.sent.end(), v.begin() + kStatFields);
   return v;
@@ -178,15 +189,20 @@ std::vector<glm::vec4> composite(const MpiSession& mpi, ZtBuffer& arrays, size_t
   const PixelRange all{0, pixels};
   stats.sent.assign(1 + plan.rounds.size(), 0.0);
   Clock::time_point t = Clock::now();
-  auto lap = [&t](double& into) {
+  double cpu = process_cpu_seconds();
+  // Ends a phase: its wall time into `wall`, its CPU time into `cpu_into` when given.
+  auto lap = [&t, &cpu](double& wall, double* cpu_into = nullptr) {
     Clock::time_point now = Clock::now();
-    into += std::chrono::duration<double>(now - t).count();
+    const double cpu_now = process_cpu_seconds();
+    wall += std::chrono::duration<double>(now - t).count();
+    if (cpu_into) *cpu_into += cpu_now - cpu;
     t = now;
+    cpu = cpu_now;
   };
   if (plan.fold_to >= 0) {
     std::vector<std::byte> message = encode_slab_message(arrays, all, spp);
     stats.sent[0] = static_cast<double>(message.size());
-    lap(stats.encode_s);
+    lap(stats.encode_s, &stats.encode_cpu_s);
     send_bytes(message, plan.fold_to);
     lap(stats.exchange_s);
   }
@@ -194,23 +210,23 @@ std::vector<glm::vec4> composite(const MpiSession& mpi, ZtBuffer& arrays, size_t
     std::vector<std::byte> in = receive_bytes(plan.fold_from);
     lap(stats.exchange_s);
     merge_slab_message(arrays, all, spp, in, true, params.mix, threads);
-    lap(stats.merge_s);
+    lap(stats.merge_s, &stats.merge_cpu_s);
   }
   for (size_t k = 0; k < plan.rounds.size(); ++k) {
     const SwapRound& r = plan.rounds[k];
     std::vector<std::byte> message = encode_slab_message(arrays, r.send, spp);
     stats.sent[k + 1] = static_cast<double>(message.size());
-    lap(stats.encode_s);
+    lap(stats.encode_s, &stats.encode_cpu_s);
     std::vector<std::byte> in = exchange_bytes(message, r.partner);
     message = {};
     lap(stats.exchange_s);
     merge_slab_message(arrays, r.keep, spp, in, r.first, params.mix, threads);
-    lap(stats.merge_s);
+    lap(stats.merge_s, &stats.merge_cpu_s);
   }
   std::vector<glm::vec4> mine;
   if (plan.fold_to < 0)
-    mine = resolve_slab_arrays(arrays, plan.result, spp, params.mix.a_ert,
-                               scene.image.background, threads);
+    mine = resolve_slab_arrays(arrays, plan.result, spp, params.mix.a_ert, scene.image.background,
+                               threads);
   // Gather: rank 0 knows every rank's range from the schedule.
   std::vector<int> counts(static_cast<size_t>(mpi.size)), displs(static_cast<size_t>(mpi.size));
   for (int r = 0; r < mpi.size; ++r) {
@@ -250,7 +266,9 @@ nlohmann::json report_json(const DistributedRequest& request, const Partition& p
                              {"encode_s", v[6]},
                              {"exchange_s", v[7]},
                              {"merge_s", v[8]},
-                             {"resolve_gather_s", v[9]}});
+                             {"resolve_gather_s", v[9]},
+                             {"encode_cpu_s", v[10]},
+                             {"merge_cpu_s", v[11]}});
   }
   // Steps: the fold (ranks past the largest power of two), then each binary-swap round.
   for (size_t step = 0; step + kStatFields < row; ++step) {
