@@ -127,9 +127,17 @@ void send_bytes(const std::vector<std::byte>& data, int to) {
              1, MPI_COMM_WORLD);
 }
 
-std::vector<std::byte> receive_bytes(int from) {
+// Refuses an announced size above `limit` before allocating it.
+void check_announced(uint64_t size, size_t limit, int from) {
+  if (size > limit)
+    throw Error(fmt::format("distributed: rank {} announced a {}-byte message, at most {} expected",
+                            from, size, limit));
+}
+
+std::vector<std::byte> receive_bytes(int from, size_t limit) {
   uint64_t size = 0;
   MPI_Recv(&size, 1, MPI_UINT64_T, from, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  check_announced(size, limit, from);
   std::vector<std::byte> data(size);
   for (size_t at = 0; at < data.size(); at += kPiece)
     MPI_Recv(data.data() + at, static_cast<int>(std::min(kPiece, data.size() - at)), MPI_BYTE, from,
@@ -138,10 +146,12 @@ std::vector<std::byte> receive_bytes(int from) {
 }
 
 // Both partners send and receive at once (sizes first), so neither waits on the other's send.
-std::vector<std::byte> exchange_bytes(const std::vector<std::byte>& out, int partner) {
+std::vector<std::byte> exchange_bytes(const std::vector<std::byte>& out, int partner,
+                                      size_t limit) {
   uint64_t size_out = out.size(), size_in = 0;
   MPI_Sendrecv(&size_out, 1, MPI_UINT64_T, partner, 2, &size_in, 1, MPI_UINT64_T, partner, 2,
                MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  check_announced(size_in, limit, partner);
   std::vector<std::byte> in(size_in);
   for (size_t at = 0; at < std::max(out.size(), in.size()); at += kPiece) {
     int n_out = static_cast<int>(at < out.size() ? std::min(kPiece, out.size() - at) : 0);
@@ -207,7 +217,8 @@ std::vector<glm::vec4> composite(const MpiSession& mpi, ZtBuffer& arrays, size_t
     lap(stats.exchange_s);
   }
   if (plan.fold_from >= 0) {
-    std::vector<std::byte> in = receive_bytes(plan.fold_from);
+    std::vector<std::byte> in =
+        receive_bytes(plan.fold_from, max_slab_message_bytes(arrays, all, spp));
     lap(stats.exchange_s);
     merge_slab_message(arrays, all, spp, in, true, params.mix, threads);
     lap(stats.merge_s, &stats.merge_cpu_s);
@@ -217,7 +228,8 @@ std::vector<glm::vec4> composite(const MpiSession& mpi, ZtBuffer& arrays, size_t
     std::vector<std::byte> message = encode_slab_message(arrays, r.send, spp);
     stats.sent[k + 1] = static_cast<double>(message.size());
     lap(stats.encode_s, &stats.encode_cpu_s);
-    std::vector<std::byte> in = exchange_bytes(message, r.partner);
+    std::vector<std::byte> in =
+        exchange_bytes(message, r.partner, max_slab_message_bytes(arrays, r.keep, spp));
     message = {};
     lap(stats.exchange_s);
     merge_slab_message(arrays, r.keep, spp, in, r.first, params.mix, threads);

@@ -38,6 +38,12 @@ std::vector<std::byte> encode_slab_message(const ZtBuffer& arrays, PixelRange pi
   return out;
 }
 
+size_t max_slab_message_bytes(const ZtBuffer& arrays, PixelRange pixels, int spp) {
+  const size_t samples = pixels.size() * static_cast<size_t>(spp);
+  const size_t slab_size = static_cast<size_t>(slab_bytes(arrays.format()));
+  return (samples + 7) / 8 + samples * (1 + static_cast<size_t>(arrays.capacity()) * slab_size);
+}
+
 void merge_slab_message(ZtBuffer& arrays, PixelRange pixels, int spp,
                         std::span<const std::byte> message, bool mine_first,
                         const IntermixSettings& mix, int threads) {

@@ -20,6 +20,10 @@ namespace imx {
 // The message of `pixels` (spp samples each) of `arrays`.
 std::vector<std::byte> encode_slab_message(const ZtBuffer& arrays, PixelRange pixels, int spp);
 
+// The largest message of `pixels` `arrays` can send: every sample's array full. A receiver
+// allocates no more than this, whatever size its partner announces.
+size_t max_slab_message_bytes(const ZtBuffer& arrays, PixelRange pixels, int spp);
+
 // Merges a message of the same range, sent by a rank with the same capacity and format, into
 // `arrays`: per sample, intermix(front, back) where front is `arrays`' own array when
 // `mine_first`, else the received one, folding overflow as `mix` says. Throws imx::Error when

@@ -141,7 +141,9 @@ TEST(LocalComposite, SingleLayerCompositingFailsWhereDeepSucceeds) {
     std::printf("fusion, 3 ranks by %s: deep %.1f dB, single layer %.1f dB against one process\n",
                 partition_mode_name(mode), deep, single);
     EXPECT_GE(deep, 50.0);
-    if (mode == PartitionMode::objects) EXPECT_LT(single, deep - 20.0);
+    if (mode == PartitionMode::objects) {
+      EXPECT_LT(single, deep - 20.0);
+    }
   }
 }
 

@@ -45,6 +45,21 @@ TEST(SlabMessage, EmptySamplesCostABitAndSlabsTheirStoredSize) {
   EXPECT_EQ(encode_slab_message(empty, {0, 100}, 1).size(), 13u);
 }
 
+TEST(SlabMessage, FullArraysReachTheAnnouncedBound) {
+  for (SlabFormat f : {SlabFormat::rgba8, SlabFormat::rgba32f}) {
+    ZtBuffer full(40, 3, f);
+    const std::vector<Slab> three{{11.0f, 1.0f, glm::vec4(0.1f)},
+                                  {13.0f, 1.0f, glm::vec4(0.2f)},
+                                  {15.0f, 1.0f, glm::vec4(0.3f)}};
+    for (size_t i = 0; i < 40; ++i) full.store(i, three);
+    EXPECT_EQ(encode_slab_message(full, {2, 18}, 2).size(),
+              max_slab_message_bytes(full, {2, 18}, 2));
+    ZtBuffer sparse = random_arrays(40, 3, f, 5);
+    EXPECT_LT(encode_slab_message(sparse, {2, 18}, 2).size(),
+              max_slab_message_bytes(sparse, {2, 18}, 2));
+  }
+}
+
 TEST(SlabMessage, MergingIntoEmptyArraysGivesTheSentOnes) {
   for (SlabFormat f : {SlabFormat::rgba8, SlabFormat::rgba32f}) {
     ZtBuffer sent = random_arrays(300, 6, f, 2);
