@@ -210,7 +210,7 @@ std::vector<glm::vec4> composite(const MpiSession& mpi, ZtBuffer& arrays, size_t
     cpu = cpu_now;
   };
   if (plan.fold_to >= 0) {
-    std::vector<std::byte> message = encode_slab_message(arrays, all, spp);
+    std::vector<std::byte> message = encode_slab_message(arrays, all, spp, threads);
     stats.sent[0] = static_cast<double>(message.size());
     lap(stats.encode_s, &stats.encode_cpu_s);
     send_bytes(message, plan.fold_to);
@@ -225,7 +225,7 @@ std::vector<glm::vec4> composite(const MpiSession& mpi, ZtBuffer& arrays, size_t
   }
   for (size_t k = 0; k < plan.rounds.size(); ++k) {
     const SwapRound& r = plan.rounds[k];
-    std::vector<std::byte> message = encode_slab_message(arrays, r.send, spp);
+    std::vector<std::byte> message = encode_slab_message(arrays, r.send, spp, threads);
     stats.sent[k + 1] = static_cast<double>(message.size());
     lap(stats.encode_s, &stats.encode_cpu_s);
     std::vector<std::byte> in =

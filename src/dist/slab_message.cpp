@@ -12,29 +12,45 @@
 
 namespace imx {
 
-std::vector<std::byte> encode_slab_message(const ZtBuffer& arrays, PixelRange pixels, int spp) {
+std::vector<std::byte> encode_slab_message(const ZtBuffer& arrays, PixelRange pixels, int spp,
+                                           int threads) {
   const size_t first = pixels.first * static_cast<size_t>(spp);
   const size_t samples = pixels.size() * static_cast<size_t>(spp);
   const size_t slab_size = static_cast<size_t>(slab_bytes(arrays.format()));
-  std::vector<uint8_t> counts(samples);
-  size_t nonempty = 0, slabs = 0;
-  for (size_t i = 0; i < samples; ++i) {
-    counts[i] = static_cast<uint8_t>(arrays.count(first + i));
-    nonempty += counts[i] > 0;
-    slabs += counts[i];
-  }
   const size_t mask_bytes = (samples + 7) / 8;
-  std::vector<std::byte> out(mask_bytes + nonempty + slabs * slab_size, std::byte{0});
-  std::byte* count_at = out.data() + mask_bytes;
-  std::byte* slab_at = count_at + nonempty;
-  for (size_t i = 0; i < samples; ++i) {
-    if (counts[i] == 0) continue;
-    out[i / 8] |= std::byte(1u << (i % 8));
-    *count_at++ = std::byte(counts[i]);
-    const size_t bytes = counts[i] * slab_size;
-    std::memcpy(slab_at, arrays.slots(first + i), bytes);
-    slab_at += bytes;
-  }
+  // Blocks of samples, a multiple of 8 so that no two share a mask byte: counted in parallel,
+  // then written in parallel at offsets from the counts' prefix sums.
+  constexpr size_t kBlock = 4096;
+  const size_t blocks = (samples + kBlock - 1) / kBlock;
+  std::vector<size_t> count_at(blocks + 1, 0), slab_at(blocks + 1, 0);
+  parallel_for(static_cast<long>(blocks), threads, [&](long b0, long b1) {
+    for (size_t b = static_cast<size_t>(b0); b < static_cast<size_t>(b1); ++b)
+      for (size_t i = b * kBlock; i < std::min(samples, (b + 1) * kBlock); ++i) {
+        const size_t n = static_cast<size_t>(arrays.count(first + i));
+        count_at[b + 1] += n > 0;
+        slab_at[b + 1] += n * slab_size;
+      }
+  });
+  count_at[0] = mask_bytes;
+  for (size_t b = 0; b < blocks; ++b) count_at[b + 1] += count_at[b];
+  slab_at[0] = count_at[blocks];
+  for (size_t b = 0; b < blocks; ++b) slab_at[b + 1] += slab_at[b];
+
+  std::vector<std::byte> out(slab_at[blocks], std::byte{0});
+  parallel_for(static_cast<long>(blocks), threads, [&](long b0, long b1) {
+    for (size_t b = static_cast<size_t>(b0); b < static_cast<size_t>(b1); ++b) {
+      std::byte* count_to = out.data() + count_at[b];
+      std::byte* slab_to = out.data() + slab_at[b];
+      for (size_t i = b * kBlock; i < std::min(samples, (b + 1) * kBlock); ++i) {
+        const int n = arrays.count(first + i);
+        if (n == 0) continue;
+        out[i / 8] |= std::byte(1u << (i % 8));
+        *count_to++ = std::byte(static_cast<uint8_t>(n));
+        std::memcpy(slab_to, arrays.slots(first + i), static_cast<size_t>(n) * slab_size);
+        slab_to += static_cast<size_t>(n) * slab_size;
+      }
+    }
+  });
   return out;
 }
 

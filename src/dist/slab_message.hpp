@@ -17,8 +17,9 @@
 
 namespace imx {
 
-// The message of `pixels` (spp samples each) of `arrays`.
-std::vector<std::byte> encode_slab_message(const ZtBuffer& arrays, PixelRange pixels, int spp);
+// The message of `pixels` (spp samples each) of `arrays`, encoded on up to `threads` threads.
+std::vector<std::byte> encode_slab_message(const ZtBuffer& arrays, PixelRange pixels, int spp,
+                                           int threads = 1);
 
 // The largest message of `pixels` `arrays` can send: every sample's array full. A receiver
 // allocates no more than this, whatever size its partner announces.

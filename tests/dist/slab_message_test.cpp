@@ -45,6 +45,13 @@ TEST(SlabMessage, EmptySamplesCostABitAndSlabsTheirStoredSize) {
   EXPECT_EQ(encode_slab_message(empty, {0, 100}, 1).size(), 13u);
 }
 
+TEST(SlabMessage, ThreadsEncodeTheSameBytes) {
+  // 3 * 4096 + 13 samples: blocks of 4096, the last one short and not a multiple of 8.
+  ZtBuffer b = random_arrays(3 * 4096 + 40, 5, SlabFormat::rgba32f, 9);
+  std::vector<std::byte> one = encode_slab_message(b, {3, 3 * 4096 + 16}, 1, 1);
+  EXPECT_EQ(encode_slab_message(b, {3, 3 * 4096 + 16}, 1, 4), one);
+}
+
 TEST(SlabMessage, FullArraysReachTheAnnouncedBound) {
   for (SlabFormat f : {SlabFormat::rgba8, SlabFormat::rgba32f}) {
     ZtBuffer full(40, 3, f);
