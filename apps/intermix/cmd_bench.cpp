@@ -1,6 +1,5 @@
 // intermix bench SCENE: ms per frame of methods and setting variants on one scene (and of the VTK
 // peer with --vtk), in one run, so their ratios are comparable.
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -14,6 +13,7 @@
 #include "bench_change.hpp"
 #include "commands.hpp"
 #include "core/parallel.hpp"
+#include "core/process_usage.hpp"
 #include "core/progress_bar.hpp"
 #include "intermix/error.hpp"
 #include "intermix/render.hpp"
@@ -30,12 +30,6 @@ Camera jittered(const Camera& camera, double degrees) {
   Camera c = camera;
   c.eye = camera.target + glm::dvec3(turn * glm::dvec4(camera.eye - camera.target, 0.0));
   return c;
-}
-
-double peak_resident_mib() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux reports KiB
 }
 
 // One --variant: a label and the --set assignments it adds.
@@ -106,7 +100,7 @@ void time_rounds(std::vector<BenchRow>& rows, int frames) {
     } catch (const Error& e) {
       throw Error(fmt::format("{}: row {}: {}", row.scene->file.string(), row.label, e.what()));
     }
-    row.peak_mib = peak_resident_mib();
+    row.peak_mib = peak_resident_bytes() / 1048576.0;
     bar.update(++done / total);
   }
   for (int f = 0; f < frames; ++f) {
@@ -223,7 +217,7 @@ Command add_bench(CLI::App& app) {
           row.change =
               time_change(scenes[v], o->scene, assignments[v], o->change, row.options, o->frames);
           row.ms = row.change.ms;
-          row.peak_mib = peak_resident_mib();
+          row.peak_mib = peak_resident_bytes() / 1048576.0;
         }
         timed.push_back(std::move(row));
       }

@@ -3,13 +3,11 @@
 #if IMX_HAVE_MPI
 
 #include <mpi.h>
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
 #include <climits>
 #include <cstdio>
-#include <ctime>
 #include <new>
 #include <optional>
 #include <thread>
@@ -17,6 +15,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "core/process_usage.hpp"
 #include "core/progress_bar.hpp"
 #include "dist/rank_scene.hpp"
 #include "dist/slab_message.hpp"
@@ -36,14 +35,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-// CPU seconds of the whole process (all its threads): the work a phase cost, which oversubscribed
-// ranks sharing cores cannot inflate the way they inflate wall time.
-double process_cpu_seconds() {
-  timespec now{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
 // MPI for the lifetime of one distributed frame. MPI calls come from the main thread only; the
@@ -161,12 +152,6 @@ std::vector<std::byte> exchange_bytes(const std::vector<std::byte>& out, int par
                  MPI_STATUS_IGNORE);
   }
   return in;
-}
-
-double peak_rss_bytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_maxrss) * 1024.0;  // Linux reports KiB
 }
 
 // What one rank measured, gathered on rank 0 as doubles.
@@ -367,7 +352,7 @@ void render_frame(const MpiSession& mpi, const DistributedRequest& request) {
   }
   stats.composite_s = seconds_since(t);
   arrays = ZtBuffer();
-  stats.peak_rss = peak_rss_bytes();
+  stats.peak_rss = peak_resident_bytes();
 
   const size_t steps =
       1 + static_cast<size_t>(std::countr_zero(static_cast<unsigned>(swap_group(mpi.size))));

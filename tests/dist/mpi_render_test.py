@@ -11,7 +11,7 @@
      voxels plus aprons, and its peak is at most those voxels (5% more for the skipping
      structures) plus the fixed cost measured on a 64^3 volume of the same scene.
 
-Usage: mpi_render_test.py INTERMIX EXAMPLES_DIR [--only N] [--keep DIR]
+Usage: mpi_render_test.py INTERMIX EXAMPLES_DIR [--only N] [--scenes a,b]
 """
 import json
 import os
@@ -32,22 +32,23 @@ def mpirun(ranks):
     return cmd
 
 
-def environment():
+def environment(ranks_of_mpirun):
     env = dict(os.environ)
     # Containers often forbid the cross-memory attach Open MPI's shared-memory transport tries.
     env.setdefault("OMPI_MCA_btl_vader_single_copy_mechanism", "none")
-    # Under the sanitizers (scripts/test --sanitize) leak checking is off in the ranks: Open MPI
-    # 4.1 keeps registries until exit in plugins it unloads first, so the reports name no module
-    # a suppression could match. ASan and UBSan still check every access; the compositing code's
-    # leaks are checked in test_dist, which runs the same merge and resolve in one process.
-    if "ASAN_OPTIONS" in env:
+    # Under the sanitizers (scripts/test --sanitize) leak checking is off in mpirun's ranks: Open
+    # MPI 4.1 keeps registries until exit in plugins it unloads first, so the reports name no
+    # module a suppression could match. ASan and UBSan still check every access; the compositing
+    # code's leaks are checked in test_dist, which runs the same merge and resolve in one process.
+    if ranks_of_mpirun and "ASAN_OPTIONS" in env:
         env["ASAN_OPTIONS"] += ":detect_leaks=0"
     return env
 
 
 def run(cmd, timeout=600):
     started = time.monotonic()
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=environment())
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout,
+                       env=environment(cmd[0] == "mpirun"))
     return p, time.monotonic() - started
 
 
@@ -78,8 +79,8 @@ def distributed(intermix, ranks, scene, out, partition, report=None, size=SIZE, 
     return check(cmd)
 
 
-def scenes_match_single_process(intermix, examples, tmp, failures):
-    for name in SCENES:
+def scenes_match_single_process(intermix, examples, tmp, failures, scenes):
+    for name in scenes:
         scene = os.path.join(examples, name + ".json")
         ref, single = f"{tmp}/{name}-ref.png", f"{tmp}/{name}-zslab.png"
         render(intermix, scene, ref, ["--method", "reference"])
@@ -183,9 +184,10 @@ def memory_per_rank(intermix, tmp, failures):
 def main():
     intermix, examples = sys.argv[1], sys.argv[2]
     only = sys.argv[sys.argv.index("--only") + 1] if "--only" in sys.argv else None
+    scenes = sys.argv[sys.argv.index("--scenes") + 1].split(",") if "--scenes" in sys.argv else SCENES
     failures = []
     with tempfile.TemporaryDirectory(prefix="imx-mpi-") as tmp:
-        parts = {"1": lambda: scenes_match_single_process(intermix, examples, tmp, failures),
+        parts = {"1": lambda: scenes_match_single_process(intermix, examples, tmp, failures, scenes),
                  "2": lambda: split_equals_unsplit(intermix, examples, tmp, failures),
                  "3": lambda: fault_ends_every_rank(intermix, tmp, failures),
                  "4": lambda: memory_per_rank(intermix, tmp, failures)}
