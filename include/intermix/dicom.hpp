@@ -42,6 +42,7 @@ struct DicomReadOptions {
                        // a SeriesInstanceUID
   std::string units;   // "" (the modality's own) or "suv" (PET: standardized uptake, body weight)
   std::optional<double> slice_spacing_mm;  // resample to this spacing along the slice stack
+  int frame = 0;  // of a multi-volume series (time points, diffusion directions, echoes...)
 };
 
 struct DicomVolume {
@@ -50,6 +51,8 @@ struct DicomVolume {
   std::string units;                 // "HU", "BQML", "g/ml" (SUV), ... ; "" when unknown
   std::optional<glm::dvec2> window;  // WindowCenter, WindowWidth of the first slice (in units)
   std::vector<std::string> notes;    // what the reader chose or changed, one sentence each
+  int frames = 1;                    // volumes in the series, all on volume's grid
+  std::vector<FrameLabel> frame_labels;  // one per frame when frames > 1, in dcm2niix's order
 };
 
 // Reads one series of `source` (see list_dicom_series) as a volume:
@@ -69,5 +72,10 @@ DicomVolume read_dicom(const std::filesystem::path& source, const DicomReadOptio
 // True for a folder, a file named DICOMDIR, a .dcm file or a file with the "DICM" preamble:
 // the sources that read_dicom (rather than read_volume) takes.
 bool is_dicom_source(const std::filesystem::path& path);
+
+// What read_dicom(source, options) gives, without decoding its pixels: dims, storage type,
+// placement, frame count and labels.
+VolumeHeader read_dicom_header(const std::filesystem::path& source,
+                               const DicomReadOptions& options = {});
 
 }  // namespace imx

@@ -17,9 +17,13 @@ namespace imx {
 // chooses another and says what it chose).
 // World space is LPS: NIfTI's RAS is converted, MetaImage is LPS already (as in ITK).
 // Throws imx::Error naming the file and the fault.
-VolumeData read_volume(const std::filesystem::path& file);
+// A 4-D file (NIfTI dim[4] or dim[5], a NRRD list/vector axis, a multi-volume DICOM series)
+// holds several frames on one grid: `frame` picks one (0-based; out of range: imx::Error), and
+// only that frame's voxels are read and held.
+VolumeData read_volume(const std::filesystem::path& file, int frame = 0);
 
-// What a volume file holds, from its header alone (DICOM: the series is read).
+// What a volume file holds, from its header alone (DICOM: the series' headers are read), with
+// its frame count and labels.
 VolumeHeader read_volume_header(const std::filesystem::path& file);
 
 // Only the voxels of `box` (within the file's dims, else imx::Error), as crop(read_volume(file),
@@ -28,7 +32,8 @@ VolumeHeader read_volume_header(const std::filesystem::path& file);
 // only the box; DICOM series are read whole and cropped. The file is checked as read_volume
 // checks it: the whole grid's data must be there, and a stream is inflated to its end so that
 // its checksum is checked (time as for the whole, memory as for the box).
-VolumeData read_volume_region(const std::filesystem::path& file, const VoxelBox& box);
+VolumeData read_volume_region(const std::filesystem::path& file, const VoxelBox& box,
+                              int frame = 0);
 
 // Writes a NRRD file (gzip-encoded when `gzip`), atomically.
 void write_nrrd(const VolumeData& volume, const std::filesystem::path& file, bool gzip = true);

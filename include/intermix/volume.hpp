@@ -2,9 +2,11 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <variant>
+#include <vector>
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
@@ -54,12 +56,31 @@ struct VolumeData {
   void validate(const std::string& what) const;
 };
 
+// What distinguishes one frame of a multi-frame (4-D) source from the others: its time point,
+// diffusion weighting, echo, cardiac phase or image type. Only what the file says is set.
+struct FrameLabel {
+  std::optional<double> time_s;     // acquisition time, seconds after the first frame's
+  std::optional<double> b_value;    // diffusion weighting, s/mm^2
+  std::optional<glm::dvec3> b_vector;  // unit gradient direction in the volume's i, j, k axes
+                                       // as dcm2niix's .bvec gives it (zero for b = 0)
+  std::optional<double> echo_time_ms;
+  std::optional<double> trigger_time_ms;  // cardiac phase
+  std::string image_type;                 // "M", "P", "R", "I" (magnitude, phase, real, imaginary)
+  std::string text;                       // the above in words: "t=2 s", "b=1000 (0,0.7,0.7)"
+};
+
 // What a volume file holds, without its voxels.
 struct VolumeHeader {
   glm::ivec3 dims{0};
   VoxelType type = VoxelType::u8;  // the storage type read_volume gives
   glm::dmat4 index_to_world{1.0};  // as read_volume gives it (LPS)
+  // Volumes of this grid in the file: time points, diffusion directions, echoes, components.
+  int frames = 1;
+  std::vector<FrameLabel> frame_labels;  // one per frame, or empty when the file says nothing
 };
+
+// "t=2 s", "b=1000 (0,0.71,0.71)", "TE=12 ms", ...: FrameLabel::text from its fields.
+std::string describe_frame(const FrameLabel& label);
 
 // The voxels of `box` (within volume.dims, else imx::Error naming `what`) as a volume of their
 // own, placed where they lie: index_to_world is the whole's moved by box.lo.

@@ -14,6 +14,7 @@
 #include <glm/mat3x3.hpp>
 
 #include "intermix/error.hpp"
+#include "io/frames.hpp"
 #include "io/gzip.hpp"
 #include "io/header_text.hpp"
 #include "io/metaimage.hpp"
@@ -326,7 +327,9 @@ VolumeHeader read_metaimage_header(const std::filesystem::path& file) {
   return header;
 }
 
-VolumeData read_metaimage_region(const std::filesystem::path& file, const VoxelBox& box) {
+VolumeData read_metaimage_region(const std::filesystem::path& file, const VoxelBox& box,
+                                int frame) {
+  require_frame(frame, 1, file.string());
   const std::string what = file.string();
   std::ifstream in = open_header(file);
   const Header h = read_header(in, what);
@@ -340,7 +343,8 @@ VolumeData read_metaimage_region(const std::filesystem::path& file, const VoxelB
   return v;
 }
 
-VolumeData read_metaimage(const std::filesystem::path& file) {
+VolumeData read_metaimage(const std::filesystem::path& file, int frame) {
+  require_frame(frame, 1, file.string());
   const std::string what = file.string();
   std::ifstream in = open_header(file);
   const Header h = read_header(in, what);

@@ -15,6 +15,7 @@
 #include <nifti1_io.h>
 
 #include "intermix/error.hpp"
+#include "io/frames.hpp"
 #include "io/gzip.hpp"
 #include "io/nifti.hpp"
 #include "io/raw_voxels.hpp"
@@ -302,7 +303,9 @@ VolumeHeader read_nifti_header(const std::filesystem::path& file) {
   return header;
 }
 
-VolumeData read_nifti_region(const std::filesystem::path& file, const VoxelBox& box) {
+VolumeData read_nifti_region(const std::filesystem::path& file, const VoxelBox& box,
+                                int frame) {
+  require_frame(frame, 1, file.string());
   const Layout layout = parse_layout(file);
   require_box_inside(layout.header.dims, box, file.string());
   VolumeData v;
@@ -313,7 +316,8 @@ VolumeData read_nifti_region(const std::filesystem::path& file, const VoxelBox& 
   return v;
 }
 
-VolumeData read_nifti(const std::filesystem::path& file) {
+VolumeData read_nifti(const std::filesystem::path& file, int frame) {
+  require_frame(frame, 1, file.string());
   const Layout layout = parse_layout(file);
   VolumeData v;
   v.dims = layout.header.dims;

@@ -13,6 +13,7 @@
 
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
+#include "io/frames.hpp"
 #include "io/gzip.hpp"
 #include "io/header_text.hpp"
 #include "io/nrrd.hpp"
@@ -446,7 +447,9 @@ VolumeHeader read_nrrd_header(const std::filesystem::path& file) {
   return header;
 }
 
-VolumeData read_nrrd_region(const std::filesystem::path& file, const VoxelBox& box) {
+VolumeData read_nrrd_region(const std::filesystem::path& file, const VoxelBox& box,
+                                int frame) {
+  require_frame(frame, 1, file.string());
   const std::string what = file.string();
   std::ifstream in = open_header(file);
   Header h;
@@ -460,7 +463,8 @@ VolumeData read_nrrd_region(const std::filesystem::path& file, const VoxelBox& b
   return v;
 }
 
-VolumeData read_nrrd(const std::filesystem::path& file) {
+VolumeData read_nrrd(const std::filesystem::path& file, int frame) {
+  require_frame(frame, 1, file.string());
   const std::string what = file.string();
   std::ifstream in = open_header(file);
   Header h;

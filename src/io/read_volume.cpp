@@ -22,9 +22,9 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 
 // The formats read_volume knows by extension, each with its three ways to be read.
 struct Reader {
-  VolumeData (*whole)(const std::filesystem::path&);
+  VolumeData (*whole)(const std::filesystem::path&, int frame);
   VolumeHeader (*header)(const std::filesystem::path&);
-  VolumeData (*region)(const std::filesystem::path&, const VoxelBox&);
+  VolumeData (*region)(const std::filesystem::path&, const VoxelBox&, int frame);
 };
 
 // The reader for `file`'s extension; throws imx::Error naming the file for any other.
@@ -47,27 +47,28 @@ Reader reader_for(const std::filesystem::path& file) {
 
 }  // namespace
 
-VolumeData read_volume(const std::filesystem::path& file) {
+VolumeData read_volume(const std::filesystem::path& file, int frame) {
   // A folder, a DICOMDIR or a DICOM file: the largest image series (read_dicom chooses).
-  if (is_dicom_source(file)) return read_dicom(file).volume;
-  return reader_for(file).whole(file);
+  if (is_dicom_source(file)) {
+    DicomReadOptions options;
+    options.frame = frame;
+    return read_dicom(file, options).volume;
+  }
+  return reader_for(file).whole(file, frame);
 }
 
 VolumeHeader read_volume_header(const std::filesystem::path& file) {
   // A DICOM series' placement comes from all its slices (their order, spacing and tilt), so
   // the series is read whole.
-  if (is_dicom_source(file)) {
-    const VolumeData v = read_dicom(file).volume;
-    return {v.dims, v.type(), v.index_to_world};
-  }
+  if (is_dicom_source(file)) return read_dicom_header(file);
   return reader_for(file).header(file);
 }
 
-VolumeData read_volume_region(const std::filesystem::path& file, const VoxelBox& box) {
+VolumeData read_volume_region(const std::filesystem::path& file, const VoxelBox& box, int frame) {
   // DICOM is read whole and cropped: its voxels come slice file by slice file, decoded (and
   // possibly decompressed) by GDCM, with no byte layout to seek in.
-  if (is_dicom_source(file)) return crop(read_dicom(file).volume, box, file.string());
-  return reader_for(file).region(file, box);
+  if (is_dicom_source(file)) return crop(read_volume(file, frame), box, file.string());
+  return reader_for(file).region(file, box, frame);
 }
 
 }  // namespace imx

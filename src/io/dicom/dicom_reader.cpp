@@ -225,4 +225,10 @@ bool is_dicom_source(const std::filesystem::path& path) {
   return in.gcount() == 132 && std::memcmp(head + 128, "DICM", 4) == 0;
 }
 
+VolumeHeader read_dicom_header(const std::filesystem::path& source,
+                               const DicomReadOptions& options) {
+  DicomVolume d = read_dicom(source, options);
+  return {d.volume.dims, d.volume.type(), d.volume.index_to_world, d.frames, d.frame_labels};
+}
+
 }  // namespace imx
