@@ -1,23 +1,24 @@
-#include <algorithm>
+#include <cctype>
 #include <cerrno>
+#include <climits>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
-#include <memory>
-#include <mutex>
+#include <filesystem>
 #include <optional>
-#include <span>
 #include <string>
+#include <system_error>
 #include <utility>
 #include <vector>
 
 #include <fmt/format.h>
-#include <nifti1_io.h>
+#include <nifti1.h>
 
 #include "intermix/error.hpp"
+#include "io/file_head.hpp"
+#include "io/frame_voxels.hpp"
 #include "io/frames.hpp"
-#include "io/gzip.hpp"
+#include "io/header_text.hpp"
 #include "io/nifti.hpp"
+#include "io/nifti_header.hpp"
 #include "io/raw_voxels.hpp"
 #include "io/regular_file.hpp"
 #include "volume/volume_checks.hpp"
@@ -26,264 +27,191 @@ namespace imx::detail {
 
 namespace {
 
-std::optional<RawType> raw_type(int datatype) {
-  switch (datatype) {
-    case DT_INT8:
-      return RawType::i8;
-    case DT_UINT8:
-      return RawType::u8;
-    case DT_INT16:
-      return RawType::i16;
-    case DT_UINT16:
-      return RawType::u16;
-    case DT_INT32:
-      return RawType::i32;
-    case DT_UINT32:
-      return RawType::u32;
-    case DT_INT64:
-      return RawType::i64;
-    case DT_UINT64:
-      return RawType::u64;
-    case DT_FLOAT32:
-      return RawType::f32;
-    case DT_FLOAT64:
-      return RawType::f64;
-    default:
-      return std::nullopt;
-  }
+namespace fs = std::filesystem;
+
+bool ends_with(const std::string& s, std::string_view suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// nifticlib row-major mat44 -> column-major glm, then RAS -> LPS by negating the x and y rows.
-glm::dmat4 to_lps(const mat44& m) {
-  glm::dmat4 out(1.0);
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) out[c][r] = (r < 2 ? -1.0 : 1.0) * static_cast<double>(m.m[r][c]);
-  return out;
-}
+// The files of an image: one .nii, or the header and the voxels of a .hdr/.img pair.
+struct ImageFiles {
+  fs::path header, voxels;
+  bool pair = false;
+  bool voxels_gzipped = false;  // a pair's .img.gz (a single file says so by its content)
+  std::string what;             // names the header in messages
+  std::string data_what;        // names the voxels
+  fs::path spm_mat;             // a pair's X.mat, where SPM kept an Analyze image's placement
+};
 
-int16_t host_order(int16_t v, bool swapped) {
-  return swapped ? static_cast<int16_t>(__builtin_bswap16(static_cast<uint16_t>(v))) : v;
-}
-
-float host_order(float v, bool swapped) {
-  if (!swapped) return v;
-  uint32_t bits;
-  std::memcpy(&bits, &v, sizeof bits);
-  bits = __builtin_bswap32(bits);
-  std::memcpy(&v, &bits, sizeof v);
-  return v;
-}
-
-// Checks the header fields nifticlib would reject, so bad files get one message naming the
-// file rather than nifticlib's console output (which it prints whatever its debug level).
-void check_header(const std::string& what) {
-  znzFile f = znzopen(what.c_str(), "rb", nifti_is_gzfile(what.c_str()));
-  if (znz_isnull(f)) throw FileError(fmt::format("{}: cannot open file", what), errno);
-  nifti_1_header h{};
-  size_t got = znzread(&h, 1, sizeof h, f);
-  znzclose(f);
-  if (got != sizeof h && nifti_is_gzfile(what.c_str()))
-    throw Error(
-        fmt::format("{}: corrupt or truncated gzip data: {} of the 348 header bytes "
-                    "inflate",
-                    what, got > sizeof h ? 0 : got));
-  if (got != sizeof h)
-    throw Error(fmt::format("{}: too short for a NIfTI-1 header ({} of 348 bytes)", what,
-                            got > sizeof h ? 0 : got));
-  if (h.sizeof_hdr == 540 || __builtin_bswap32(static_cast<uint32_t>(h.sizeof_hdr)) == 540)
-    throw Error(fmt::format("{}: a NIfTI-2 file; only NIfTI-1 is supported", what));
-  bool swapped = h.sizeof_hdr != 348;
-  if (swapped && __builtin_bswap32(static_cast<uint32_t>(h.sizeof_hdr)) != 348)
-    throw Error(
-        fmt::format("{}: not a NIfTI-1 file (sizeof_hdr is {}, expected 348)", what, h.sizeof_hdr));
-  int ndim = host_order(h.dim[0], swapped);
-  if (ndim < 1 || ndim > 7)
-    throw Error(
-        fmt::format("{}: not a valid NIfTI-1 file (dim[0] is {}, expected 1 to 7)", what, ndim));
-  if (ndim < 3) throw Error(fmt::format("{}: has {} dimensions; a volume needs 3", what, ndim));
-  for (int d = 1; d <= ndim; ++d)
-    if (host_order(h.dim[d], swapped) < 1)
-      throw Error(fmt::format("{}: dim[{}] is {}, must be positive", what, d,
-                              host_order(h.dim[d], swapped)));
-  int datatype = host_order(h.datatype, swapped);
-  if (!raw_type(datatype))
-    throw Error(
-        fmt::format("{}: datatype {} ({}) is not supported (supported: integers of 8 to 64 bits, "
-                    "float32, float64)",
-                    what, datatype, nifti_datatype_string(datatype)));
-  // nifticlib reads a single-file image with a vox_offset inside the header from byte 348, and
-  // turns non-finite placement into 0: both are refused here instead.
-  const float offset = host_order(h.vox_offset, swapped);
-  if (std::memcmp(h.magic, "n+1", 4) == 0 && !(offset >= 352.0f && offset < 2147483648.0f))
-    throw Error(fmt::format("{}: vox_offset is {}; a .nii file's data starts at byte 352 or later",
-                            what, offset));
-  auto finite = [&](const char* field, float value) {
-    if (!std::isfinite(host_order(value, swapped)))
-      throw Error(fmt::format("{}: {} is {}, not a finite number", what, field,
-                              host_order(value, swapped)));
-  };
-  if (host_order(h.sform_code, swapped) > 0)
-    for (int k = 0; k < 4; ++k) {
-      finite(fmt::format("srow_x[{}]", k).c_str(), h.srow_x[k]);
-      finite(fmt::format("srow_y[{}]", k).c_str(), h.srow_y[k]);
-      finite(fmt::format("srow_z[{}]", k).c_str(), h.srow_z[k]);
+// `stem` followed by the first of `extensions` that names an existing file, each tried in
+// lower case and in upper case (the case of the name given first, as nifticlib does).
+std::optional<fs::path> find_sibling(const fs::path& dir, const std::string& stem, bool upper,
+                                     const std::vector<std::string>& extensions) {
+  for (const std::string& ext : extensions)
+    for (bool up : {upper, !upper}) {
+      std::string e = ext;
+      if (up)
+        for (char& c : e) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      std::error_code ec;
+      fs::path p = dir / (stem + e);
+      if (fs::exists(p, ec)) return p;
     }
-  if (host_order(h.qform_code, swapped) > 0) {
-    finite("quatern_b", h.quatern_b);
-    finite("quatern_c", h.quatern_c);
-    finite("quatern_d", h.quatern_d);
-    finite("qoffset_x", h.qoffset_x);
-    finite("qoffset_y", h.qoffset_y);
-    finite("qoffset_z", h.qoffset_z);
-    for (int k = 0; k < 4; ++k) finite(fmt::format("pixdim[{}]", k).c_str(), h.pixdim[k]);
+  return std::nullopt;
+}
+
+ImageFiles image_files(const fs::path& file) {
+  const std::string given = file.string();
+  const std::string name = file.filename().string();
+  const std::string low = lower(name);
+  ImageFiles f;
+  f.what = f.data_what = given;
+  const bool hdr = ends_with(low, ".hdr") || ends_with(low, ".hdr.gz");
+  const bool img = ends_with(low, ".img") || ends_with(low, ".img.gz");
+  if (!hdr && !img) {
+    f.header = f.voxels = file;
+    return f;
   }
+  f.pair = true;
+  const bool gz = ends_with(low, ".gz");
+  const size_t ext_at = name.size() - (gz ? 7 : 4);
+  const std::string stem = name.substr(0, ext_at);
+  const bool upper = std::isupper(static_cast<unsigned char>(name[ext_at + 1])) != 0;
+  const fs::path dir = file.parent_path();
+  // A gzipped header goes with gzipped voxels first, as nibabel writes them; either is found.
+  auto order = [&](const std::string& plain) {
+    return gz ? std::vector<std::string>{plain + ".gz", plain}
+              : std::vector<std::string>{plain, plain + ".gz"};
+  };
+  if (hdr) {
+    f.header = file;
+    std::optional<fs::path> voxels = find_sibling(dir, stem, upper, order(".img"));
+    if (!voxels)
+      throw FileError(fmt::format("{}: its voxel data {} is missing (the .hdr of a pair needs its "
+                                  ".img beside it; {}.img.gz was looked for too)",
+                                  given, (dir / (stem + (upper ? ".IMG" : ".img"))).string(), stem),
+                      ENOENT);
+    f.voxels = *voxels;
+    f.data_what = fmt::format("{} (voxel data of {})", f.voxels.string(), given);
+  } else {
+    f.voxels = file;
+    std::optional<fs::path> header = find_sibling(dir, stem, upper, order(".hdr"));
+    if (!header)
+      throw FileError(fmt::format("{}: its header {} is missing (the .img of a pair needs its "
+                                  ".hdr beside it; {}.hdr.gz was looked for too)",
+                                  given, (dir / (stem + (upper ? ".HDR" : ".hdr"))).string(), stem),
+                      ENOENT);
+    f.header = *header;
+    f.what = fmt::format("{} (header of {})", f.header.string(), given);
+    require_regular_file(f.header, f.what);
+  }
+  f.voxels_gzipped = ends_with(lower(f.voxels.filename().string()), ".gz");
+  if (std::optional<fs::path> mat = find_sibling(dir, stem, upper, {".mat"})) f.spm_mat = *mat;
+  return f;
 }
 
 // What the header says about the volume and where its voxels are.
 struct Layout {
   VolumeHeader header;
-  RawType type = RawType::u8;
-  bool swap = false;     // the file's byte order is not the host's
-  std::string data;      // the file holding the voxels (the .nii itself, or a .hdr's .img)
-  size_t offset = 0;     // where they start in it
-  bool gzipped = false;  // it is gzip-compressed
+  FrameLayout data;
   double slope = 0.0, inter = 0.0;
-  // scl_slope/scl_inter change the voxels (slope 0 means "none"), which are then float32.
+  // The scaling changes the voxels (slope 0 means "none"), which are then float32.
   bool scaled() const { return slope != 0.0 && !(slope == 1.0 && inter == 0.0); }
 };
 
-// Reads and checks the header (nifticlib reads only the header here, not the voxels).
-Layout parse_layout(const std::filesystem::path& file) {
-  const std::string what = file.string();
-  // nifticlib prints its own diagnostics; ours (one message naming the file) replace them.
-  static std::once_flag quiet;
-  std::call_once(quiet, [] { nifti_set_debug_level(0); });
+// Seconds per unit of pixdim[4] from xyzt_units' time bits, when they name a time unit.
+std::optional<double> seconds_per_unit(int xyzt_units) {
+  switch (XYZT_TO_TIME(xyzt_units)) {
+    case NIFTI_UNITS_SEC:
+      return 1.0;
+    case NIFTI_UNITS_MSEC:
+      return 1e-3;
+    case NIFTI_UNITS_USEC:
+      return 1e-6;
+    default:  // unknown, or Hz, ppm, rad/s: not a time step
+      return std::nullopt;
+  }
+}
 
-  check_header(what);
-  std::unique_ptr<nifti_image, void (*)(nifti_image*)> nim(nifti_image_read(what.c_str(), 0),
-                                                           nifti_image_free);
-  if (!nim)
-    throw Error(
-        fmt::format("{}: not a readable NIfTI-1 file (nifticlib rejected its header)", what));
-  if (nim->nx <= 0 || nim->ny <= 0 || nim->nz <= 0)
-    throw Error(
-        fmt::format("{}: dimensions {}x{}x{} must be positive", what, nim->nx, nim->ny, nim->nz));
-  size_t count = static_cast<size_t>(nim->nx) * nim->ny * nim->nz;
+// Frame k of a time series starts k * pixdim[4] after the first, when the header gives the
+// step and its unit; otherwise (components, Analyze, no unit) the frames have no labels.
+std::vector<FrameLabel> time_labels(const NiftiHeader& h, int frames) {
+  std::vector<FrameLabel> labels;
+  const double step = h.pixdim[4];
+  const std::optional<double> unit = seconds_per_unit(h.xyzt_units);
+  if (frames < 2 || h.dim[4] != frames || !unit || !std::isfinite(step) || step <= 0.0)
+    return labels;
+  labels.resize(static_cast<size_t>(frames));
+  for (int k = 0; k < frames; ++k) {
+    labels[k].time_s = k * step * *unit;
+    labels[k].text = describe_frame(labels[k]);
+  }
+  return labels;
+}
+
+// Reads and checks the header of `file` (and finds its voxels).
+Layout parse_layout(const fs::path& file) {
+  const ImageFiles files = image_files(file);
+  const std::string& what = files.what;
+  const FileHead head = read_file_head(files.header, 540, what);
+  const NiftiHeader h = decode_nifti_header(head.bytes, files.pair, head.gzipped, what);
+  if (h.kind == NiftiKind::analyze && !files.spm_mat.empty())
+    throw Error(fmt::format(
+        "{}: SPM's placement file {} lies beside this Analyze 7.5 image; intermix does not read "
+        ".mat files, and the header alone would place the image elsewhere (convert it to NIfTI)",
+        what, files.spm_mat.string()));
+
+  for (int a = 1; a <= 3; ++a)
+    if (h.dim[a] > INT_MAX)
+      throw Error(fmt::format("{}: dim[{}] is {}, more than {}", what, a, h.dim[a], INT_MAX));
+  const glm::ivec3 dims(static_cast<int>(h.dim[1]), static_cast<int>(h.dim[2]),
+                        static_cast<int>(h.dim[3]));
+  const uint64_t count = static_cast<uint64_t>(dims.x) * dims.y * dims.z;
   if (count > kMaxVoxels)
-    throw Error(fmt::format("{}: dimensions {}x{}x{} give more than {} voxels", what, nim->nx,
-                            nim->ny, nim->nz, kMaxVoxels));
-  std::optional<RawType> type = raw_type(nim->datatype);
-  if (!type) throw Error(fmt::format("{}: datatype {} is not supported", what, nim->datatype));
-  if (static_cast<size_t>(nim->nbyper) != raw_type_size(*type))
-    throw Error(fmt::format("{}: datatype {} has an unexpected element size {}", what,
-                            nifti_datatype_string(nim->datatype), nim->nbyper));
+    throw Error(fmt::format("{}: dimensions {}x{}x{} give more than {} voxels", what, dims.x,
+                            dims.y, dims.z, kMaxVoxels));
+
+  // Frames lie along the one dimension beyond the third that is larger than 1: time (dim[4])
+  // or components (dim[5], dim[4] being 1), or any other alone. Two such dimensions would need
+  // a second frame index: refused rather than flattened.
+  int64_t frames = 1;
+  int along = 0;
+  std::string shape = fmt::format("{}", h.dim[1]);
+  for (int d = 2; d <= h.ndim; ++d) shape += fmt::format("x{}", h.dim[d]);
+  for (int d = 4; d < 8; ++d) {
+    if (h.dim[d] <= 1) continue;
+    if (along != 0)
+      throw Error(
+          fmt::format("{}: dims {}: dim[{}] and dim[{}] are both larger than 1; frames are read "
+                      "along one dimension beyond the third (time, dim[4], or components, dim[5])",
+                      what, shape, along, d));
+    along = d;
+    frames = h.dim[d];
+  }
+  check_frame_count(dims, frames, what);
 
   Layout l;
-  l.type = *type;
-  l.swap = nim->byteorder != nifti_short_order();
-  l.data = nim->iname;
-  l.offset = static_cast<size_t>(nim->iname_offset);
-  l.gzipped = nifti_is_gzfile(nim->iname);
-  l.header.dims = {nim->nx, nim->ny, nim->nz};
-
-  // Intensity scaling, as the NIfTI standard defines it.
-  l.slope = nim->scl_slope;
-  l.inter = nim->scl_inter;
-  if (!std::isfinite(l.slope) || !std::isfinite(l.inter))
-    throw Error(
-        fmt::format("{}: scl_slope {} / scl_inter {} are not finite", what, l.slope, l.inter));
-  l.header.type = l.scaled() ? VoxelType::f32 : storage_type_for(l.type);
-
-  // Placement: sform, else qform, else NIfTI's "method 1" (pixdim scaling only).
-  if (nim->sform_code > 0) {
-    l.header.index_to_world = to_lps(nim->sto_xyz);
-  } else if (nim->qform_code > 0) {
-    l.header.index_to_world = to_lps(nim->qto_xyz);
-  } else {
-    mat44 m{};
-    for (int a = 0; a < 3; ++a) {
-      float d = nim->pixdim[a + 1];
-      m.m[a][a] = std::isfinite(d) && d > 0.0f ? d : 1.0f;  // unset pixdim: unit spacing
-    }
-    m.m[3][3] = 1.0f;
-    l.header.index_to_world = to_lps(m);
-  }
+  l.slope = h.slope;
+  l.inter = h.inter;
+  l.data.file = files.voxels;
+  l.data.what = files.data_what;
+  l.data.gzipped = files.pair ? files.voxels_gzipped : head.gzipped;
+  l.data.offset = h.vox_offset;
+  l.data.type = h.type;
+  l.data.swap = h.swapped;
+  l.data.dims = dims;
+  l.data.frames = static_cast<int>(frames);
+  l.header.dims = dims;
+  l.header.type = l.scaled() ? VoxelType::f32 : storage_type_for(h.type);
+  l.header.index_to_world = nifti_index_to_world(h);
+  l.header.frames = l.data.frames;
+  l.header.frame_labels = time_labels(h, l.data.frames);
   return l;
 }
 
-// The voxels of `box`, scaled. The first volume is the first dims voxels after the header (a 4D
-// series gives its first time point). Read with znzlib rather than nifti_read_collapsed_image
-// (which frees the caller's buffer when a read fails) or nifti_read_subregion_image (which
-// neither scales nor converts): uncompressed data is read run by run with seeks past the rest,
-// gzip data is inflated to its end, dropping what lies outside the box, so that data short or
-// corrupt anywhere is refused as a whole read refuses it.
-VoxelStorage read_voxels(const std::filesystem::path& file, const Layout& l, const VoxelBox& box) {
-  const std::string what = file.string();
-  const glm::ivec3 dims = l.header.dims;
-  const size_t needed = static_cast<size_t>(dims.x) * dims.y * dims.z * raw_type_size(l.type);
-  std::error_code ec;
-  uintmax_t file_size = std::filesystem::file_size(file, ec);
-  if (ec) throw Error(fmt::format("{}: cannot read its size: {}", what, ec.message()));
-  if (l.gzipped) {
-    check_inflatable(needed, static_cast<size_t>(file_size), what);
-  } else if (file_size < static_cast<uintmax_t>(l.offset) + needed) {
-    uintmax_t found = file_size > l.offset ? file_size - l.offset : 0;
-    throw Error(fmt::format("{}: expected {} bytes of voxel data, found {}", what, needed, found));
-  }
-
-  require_regular_file(l.data, fmt::format("{} (voxel data of {})", l.data,
-                                           what));  // a .hdr's .img may be anything
-  znzFile opened = znzopen(l.data.c_str(), "rb", l.gzipped);
-  if (znz_isnull(opened))
-    throw FileError(fmt::format("{}: cannot open the voxel data", what), errno);
-  std::unique_ptr<znzFile, int (*)(znzFile*)> close(&opened, Xznzclose);
-  if (znzseek(opened, static_cast<long>(l.offset), SEEK_SET) < 0)
-    throw Error(fmt::format("{}: cannot seek to the voxel data at byte {}", what, l.offset));
-
-  size_t at = 0;  // bytes of voxel data read or passed so far
-  auto short_data = [&](size_t found) {
-    return Error(
-        fmt::format("{}: expected {} bytes of voxel data, found {} (file truncated or "
-                    "corrupt)",
-                    what, needed, found));
-  };
-  // Reads `size` bytes to `dst`, or drops them when `dst` is null; throws where the data ends.
-  std::vector<uint8_t> scratch;
-  auto read = [&](uint8_t* dst, size_t size) {
-    if (!dst) scratch.resize(std::min(size, size_t{1} << 18));
-    size_t done = 0;
-    while (done < size) {
-      size_t want = std::min(size - done, dst ? size_t{1} << 28 : scratch.size());
-      size_t got = znzread(dst ? dst + done : scratch.data(), 1, want, opened);
-      if (got == 0 || got > want) break;  // end of data, or a gzip error reported as -1
-      done += got;
-    }
-    at += done;
-    if (done != size) throw short_data(at);
-  };
-  auto advance = [&](size_t offset) {
-    if (offset <= at) return;
-    if (!l.gzipped) {
-      if (znzseek(opened, static_cast<long>(l.offset + offset), SEEK_SET) < 0)
-        throw Error(
-            fmt::format("{}: cannot seek to the voxel data at byte {}", what, l.offset + offset));
-      at = offset;
-    } else {
-      read(nullptr, offset - at);
-    }
-  };
-  VoxelStorage voxels = load_voxels_region(l.type, dims, box, l.swap, what,
-                                           [&](uint64_t offset, std::span<uint8_t> bytes) {
-                                             advance(static_cast<size_t>(offset));
-                                             read(bytes.data(), bytes.size());
-                                           });
-  if (l.gzipped) {
-    advance(needed);
-    // One more byte makes gzip reach its trailer when the data ends here, and check the CRC.
-    uint8_t extra;
-    if (znzread(&extra, 1, 1, opened) > 1)
-      throw Error(fmt::format("{}: corrupt gzip data (its checksum does not match)", what));
-  }
+// The voxels of `box` of frame `frame`, scaled.
+VoxelStorage read_voxels(const Layout& l, int frame, const VoxelBox& box) {
+  VoxelStorage voxels = read_frame_voxels(l.data, frame, box);
   if (!l.scaled()) return voxels;
   return std::visit(
       [&](const auto& src) -> VoxelStorage {
@@ -297,32 +225,31 @@ VoxelStorage read_voxels(const std::filesystem::path& file, const Layout& l, con
 
 }  // namespace
 
-VolumeHeader read_nifti_header(const std::filesystem::path& file) {
+VolumeHeader read_nifti_header(const fs::path& file) {
   VolumeHeader header = parse_layout(file).header;
   check_placement(header.index_to_world, file.string());
   return header;
 }
 
-VolumeData read_nifti_region(const std::filesystem::path& file, const VoxelBox& box,
-                                int frame) {
-  require_frame(frame, 1, file.string());
+VolumeData read_nifti_region(const fs::path& file, const VoxelBox& box, int frame) {
   const Layout layout = parse_layout(file);
+  require_frame(frame, layout.data.frames, file.string());
   require_box_inside(layout.header.dims, box, file.string());
   VolumeData v;
   v.dims = box.size();
   v.index_to_world = box_index_to_world(layout.header.index_to_world, box.lo);
-  v.voxels = read_voxels(file, layout, box);
+  v.voxels = read_voxels(layout, frame, box);
   v.validate(file.string());
   return v;
 }
 
-VolumeData read_nifti(const std::filesystem::path& file, int frame) {
-  require_frame(frame, 1, file.string());
+VolumeData read_nifti(const fs::path& file, int frame) {
   const Layout layout = parse_layout(file);
+  require_frame(frame, layout.data.frames, file.string());
   VolumeData v;
   v.dims = layout.header.dims;
   v.index_to_world = layout.header.index_to_world;
-  v.voxels = read_voxels(file, layout, VoxelBox::whole(v.dims));
+  v.voxels = read_voxels(layout, frame, VoxelBox::whole(v.dims));
   v.validate(file.string());
   return v;
 }

@@ -7,6 +7,7 @@
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "io/metaimage.hpp"
+#include "io/mgh.hpp"
 #include "io/nifti.hpp"
 #include "io/nrrd.hpp"
 #include "io/regular_file.hpp"
@@ -35,13 +36,18 @@ Reader reader_for(const std::filesystem::path& file) {
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ends_with(name, ".nrrd") || ends_with(name, ".nhdr"))
     return {detail::read_nrrd, detail::read_nrrd_header, detail::read_nrrd_region};
-  if (ends_with(name, ".nii") || ends_with(name, ".nii.gz"))
+  // NIfTI-1/2 single files, and .hdr/.img pairs (NIfTI-1/2 or Analyze 7.5) named by either.
+  if (ends_with(name, ".nii") || ends_with(name, ".nii.gz") || ends_with(name, ".hdr") ||
+      ends_with(name, ".hdr.gz") || ends_with(name, ".img") || ends_with(name, ".img.gz"))
     return {detail::read_nifti, detail::read_nifti_header, detail::read_nifti_region};
   if (ends_with(name, ".mha") || ends_with(name, ".mhd"))
     return {detail::read_metaimage, detail::read_metaimage_header, detail::read_metaimage_region};
+  if (ends_with(name, ".mgh") || ends_with(name, ".mgz") || ends_with(name, ".mgh.gz"))
+    return {detail::read_mgh, detail::read_mgh_header, detail::read_mgh_region};
   throw Error(
-      fmt::format("{}: unknown volume format '{}' (supported: .nrrd, .nhdr, .nii, .nii.gz, .mha, "
-                  ".mhd, DICOM)",
+      fmt::format("{}: unknown volume format '{}' (supported: .nrrd, .nhdr, .nii, .nii.gz, "
+                  ".hdr/.img (NIfTI or Analyze 7.5 pairs, also .gz), .mha, .mhd, .mgh, .mgz, "
+                  "DICOM)",
                   file.string(), file.extension().string()));
 }
 
