@@ -54,6 +54,16 @@ nlohmann::json describe(const VolumeData& v) {
           {"range", {lo, hi}}};
 }
 
+// The frames of a multi-frame source, with their labels; nothing for a single frame.
+void add_frames(nlohmann::json& j, int frame, int frames, const std::vector<FrameLabel>& labels) {
+  if (frames <= 1) return;
+  j["frame"] = frame;
+  j["frames"] = frames;
+  nlohmann::json list = nlohmann::json::array();
+  for (const FrameLabel& l : labels) list.push_back(l.text);
+  if (!labels.empty()) j["frame_labels"] = list;
+}
+
 // A mesh file as read: bounds in LPS, the space the file was in and who said so.
 nlohmann::json describe(const MeshFile& file) {
   const Mesh& m = file.mesh;
@@ -85,10 +95,11 @@ void print_human(const nlohmann::json& j) {
 }  // namespace
 
 // The series of a DICOM folder, DICOMDIR or file; with `series`, that series as a volume.
-nlohmann::json describe_dicom(const std::string& source, const std::string& series) {
+nlohmann::json describe_dicom(const std::string& source, const std::string& series, int frame) {
   if (!series.empty()) {
     DicomReadOptions options;
     options.series = series;
+    options.frame = frame;
     DicomVolume d = read_dicom(source, options);
     nlohmann::json j = describe(d.volume);
     j["series"] = d.series.id;
@@ -99,6 +110,7 @@ nlohmann::json describe_dicom(const std::string& source, const std::string& seri
     j["units"] = d.units;
     if (d.window) j["window"] = {d.window->x, d.window->y};
     j["notes"] = d.notes;
+    add_frames(j, frame, d.frames, d.frame_labels);
     return j;
   }
   nlohmann::json list = nlohmann::json::array();
@@ -130,6 +142,7 @@ Command add_info(CLI::App& app) {
   struct Options {
     std::string file, phantom, series;
     int size = 128;
+    int frame = 0;
     bool json = false;
     bool presets = false;
   };
@@ -143,6 +156,8 @@ Command add_info(CLI::App& app) {
   app.add_flag("--json", o->json, "print one JSON object on stdout");
   app.add_option("--series", o->series,
                  "DICOM: describe this series (number, id or UID) as a volume, not the list");
+  app.add_option("--frame", o->frame, "of a multi-frame (4-D) source: describe this frame")
+      ->check(CLI::NonNegativeNumber);
   app.add_flag("--presets", o->presets,
                "list the transfer-function, window and colour-map names scenes may use");
   return [o]() {
@@ -158,14 +173,16 @@ Command add_info(CLI::App& app) {
     } else if (o->file.empty()) {
       throw Error("info: give a FILE or --phantom NAME");
     } else if (is_dicom_source(o->file)) {
-      j = describe_dicom(o->file, o->series);
+      j = describe_dicom(o->file, o->series, o->frame);
       j["file"] = o->file;
       if (!o->json && o->series.empty()) {
         print_dicom_series(j);
         return 0;
       }
     } else if (is_volume_file(o->file)) {
-      j = describe(read_volume(o->file));
+      const VolumeHeader header = read_volume_header(o->file);
+      j = describe(read_volume(o->file, o->frame));
+      add_frames(j, o->frame, header.frames, header.frame_labels);
       j["file"] = o->file;
     } else {
       j = describe(read_mesh_file(o->file));

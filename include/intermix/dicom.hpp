@@ -13,8 +13,9 @@
 
 namespace imx {
 
-// One image series: the slices of one SeriesInstanceUID that share an orientation, a size and
-// their localizer-ness. A SeriesInstanceUID whose slices differ in those is split into parts.
+// One image series: the slices of one SeriesInstanceUID and SeriesNumber that share an
+// orientation, a size and their localizer-ness. A SeriesInstanceUID whose slices differ in those
+// is split into parts (a UID under several SeriesNumbers gives a series per number).
 struct DicomSeriesInfo {
   std::string id;           // "201", or "201.2" for the second part of a split series
   std::string uid;          // SeriesInstanceUID
@@ -55,7 +56,9 @@ struct DicomVolume {
   std::vector<FrameLabel> frame_labels;  // one per frame when frames > 1, in dcm2niix's order
 };
 
-// Reads one series of `source` (see list_dicom_series) as a volume:
+// Reads one series of `source` (see list_dicom_series) as a volume (frame options.frame of a
+// multi-volume series: fMRI, DWI, ASL, echoes, phases, grouped as dcm2niix groups them; only
+// that frame's images are decoded and kept; a Siemens mosaic's tiles are its slices):
 // - slices sorted by ImagePositionPatient along the slice normal; duplicate positions (within
 //   0.01 mm) and missing slices (a gap at least 1.5 times both neighbouring gaps, or the only
 //   gap of three slices) are refused;
@@ -68,6 +71,11 @@ struct DicomVolume {
 //   images are refused.
 // Throws imx::Error naming the file, tag or value at fault.
 DicomVolume read_dicom(const std::filesystem::path& source, const DicomReadOptions& options = {});
+
+// Every frame of a multi-volume series (one for a 3-D series), in order, each as read_dicom gives
+// it with that frame; the files are read once. For `intermix convert`.
+std::vector<DicomVolume> read_dicom_frames(const std::filesystem::path& source,
+                                           const DicomReadOptions& options = {});
 
 // True for a folder, a file named DICOMDIR, a .dcm file or a file with the "DICM" preamble:
 // the sources that read_dicom (rather than read_volume) takes.

@@ -116,7 +116,7 @@ constexpr VoxelType voxel_type_of() {
 template <class T, class Field>
 Phantom field_phantom(glm::ivec3 dims, const glm::dmat4& index_to_world, Field field) {
   Phantom p;
-  p.header = {dims, voxel_type_of<T>(), index_to_world};
+  p.header = {dims, voxel_type_of<T>(), index_to_world, 1, {}};
   p.sample = [index_to_world, field = std::move(field)](const VoxelBox& box) {
     return sample_field<T>(index_to_world, box, field);
   };

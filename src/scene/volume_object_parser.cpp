@@ -35,7 +35,7 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     if (it == context.given_volumes.end()) id.fail(id.text() + " is not a volume of this scene");
     return it->second;
   }
-  src.check_keys({"phantom", "size", "file", "series", "units", "slice_spacing_mm"});
+  src.check_keys({"phantom", "size", "file", "series", "units", "slice_spacing_mm", "frame"});
   const bool phantom = src.has("phantom"), file = src.has("file");
   if (phantom == file)
     src.fail(phantom ? "give either \"phantom\" or \"file\", not both"
@@ -51,6 +51,11 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
         v->fail(fmt::format("only DICOM sources (a folder, DICOMDIR or .dcm file) take \"{}\"",
                             dicom_only));
   };
+  std::optional<int> frame;  // of a multi-frame (4-D) file or series
+  if (auto v = src.find("frame")) {
+    if (phantom) v->fail("phantoms have one frame");
+    frame = v->integer(0, 1 << 20);
+  }
   if (phantom) {
     refuse_dicom_keys();
     JsonReader name_reader = src.get("phantom");
@@ -94,6 +99,10 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
         options.slice_spacing_mm = v->number(Range::length());
         key += fmt::format(":spacing={}", *options.slice_spacing_mm);
       }
+      if (frame) {
+        options.frame = *frame;
+        key += fmt::format(":frame={}", *frame);
+      }
       load = [path, options, key, &context] {
         DicomVolume d = read_dicom(path, options);
         for (const std::string& note : d.notes)
@@ -103,9 +112,18 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
       };
     } else {
       refuse_dicom_keys();
-      load = [path] { return read_volume(path); };
+      const int k = frame.value_or(0);
+      if (frame) key += fmt::format(":frame={}", k);
+      load = [path, k, named = frame.has_value(), &context] {
+        if (!named)  // the header is cheap next to the voxels; it says how many frames there are
+          if (const int frames = read_volume_header(path).frames; frames > 1)
+            context.notes.push_back(fmt::format(
+                "{}: frame 0 of {} (name another with \"source\": {{\"frame\": K}})",
+                path.string(), frames));
+        return read_volume(path, k);
+      };
       header = [path] { return read_volume_header(path); };
-      load_box = [path](const VoxelBox& box) { return read_volume_region(path, box); };
+      load_box = [path, k](const VoxelBox& box) { return read_volume_region(path, box, k); };
     }
   }
   auto window_of = [&] {
@@ -119,7 +137,7 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
       if (!header) {
         auto whole = std::make_shared<VolumeData>(load());
         header = [whole] {
-          return VolumeHeader{whole->dims, whole->type(), whole->index_to_world};
+          return VolumeHeader{whole->dims, whole->type(), whole->index_to_world, 1, {}};
         };
         load_box = [whole, what](const VoxelBox& b) { return crop(*whole, b, what); };
       }

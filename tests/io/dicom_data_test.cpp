@@ -141,7 +141,8 @@ TEST(DicomData, EnhancedMultiFrameUsesPerFrameGroups) {
 
 TEST(DicomData, GeTiltAcquiredSlicesLieWhereTheTagsSay) {
   REQUIRE_SHARED("dicom/ct-ge-tilt");
-  detail::AcquiredSeries a = detail::read_acquired_series(shared("dicom/ct-ge-tilt"), "");
+  detail::AcquiredSeries a =
+      std::move(detail::read_acquired_volumes(shared("dicom/ct-ge-tilt"), "", {0}).front());
   ASSERT_EQ(a.stack.frames.size(), 28u);
   DicomVolume d = read_dicom(shared("dicom/ct-ge-tilt"));
   // Before resampling: voxel (i, j) of slice s at IPP_s + i dcol row + j drow column.
@@ -197,7 +198,8 @@ TEST(DicomData, GeTiltAcquiredSlicesLieWhereTheTagsSay) {
 
 TEST(DicomData, GeTiltSlicesEqualDcm2niixSlices) {
   REQUIRE_SHARED("dicom/ref/ct-ge-tilt.nii.gz");
-  detail::AcquiredSeries a = detail::read_acquired_series(shared("dicom/ct-ge-tilt"), "");
+  detail::AcquiredSeries a =
+      std::move(detail::read_acquired_volumes(shared("dicom/ct-ge-tilt"), "", {0}).front());
   VolumeData ref = read_volume(shared("dicom/ref/ct-ge-tilt.nii.gz"));
   ASSERT_EQ(ref.dims, glm::ivec3(512, 512, 28));
   // dcm2niix stores rows bottom-up (j flipped) and the slices in our order.

@@ -13,6 +13,7 @@
 #include "intermix/error.hpp"
 #include "io/dicom/dicom_structure.hpp"
 #include "io/dicom/dicom_tags.hpp"
+#include "io/dicom/siemens_csa.hpp"
 
 namespace imx::detail {
 
@@ -61,6 +62,74 @@ const gdcm::DataSet* first_item(const gdcm::DataSet& ds, uint16_t g, uint16_t e,
   return &holder->GetItem(1).GetNestedDataSet();
 }
 
+// DiffusionBValue (0018,9087) and DiffusionGradientOrientation (0018,9089), directly in `ds` or
+// in its DiffusionGradientDirectionSequence (0018,9076).
+void read_standard_diffusion(const gdcm::DataSet& ds, DicomFrame& f) {
+  if (std::vector<double> b = tag_fd(ds, 0x0018, 0x9087); b.size() == 1 && b[0] >= 0.0)
+    f.b_value = b[0];
+  auto gradient = [&](const gdcm::DataSet& g) {
+    if (std::vector<double> v = tag_fd(g, 0x0018, 0x9089); v.size() == 3)
+      f.gradient = glm::dvec3(v[0], v[1], v[2]);
+  };
+  gradient(ds);
+  gdcm::SmartPointer<gdcm::SequenceOfItems> hold;
+  if (const gdcm::DataSet* s = first_item(ds, 0x0018, 0x9076, hold)) gradient(*s);
+}
+
+// The vendors' private diffusion tags of classic (single-frame) files, each read only under its
+// own private creator: Siemens (0019,xx0C/0E), GE (0043,xx39 b-value; 0019,xxBB-BD gradient),
+// Philips (2001,xx03 b-value; 2005,xxB0-B2 gradient).
+void read_private_diffusion(const gdcm::DataSet& ds, DicomFrame& f) {
+  if (auto b = private_block(ds, 0x0019, "SIEMENS MR HEADER")) {
+    if (auto v = tag_number(ds, 0x0019, *b | 0x0C); v && *v >= 0.0) f.b_value = v;
+    if (std::vector<double> g = tag_fd(ds, 0x0019, *b | 0x0E); g.size() == 3)
+      f.gradient = glm::dvec3(g[0], g[1], g[2]);
+  }
+  if (auto b = private_block(ds, 0x0043, "GEMS_PARM_01")) {
+    // The first value of slop_int_6; some versions add 1e9 (a flag) to it.
+    if (auto v = tag_number(ds, 0x0043, *b | 0x39); v && *v >= 0.0)
+      f.b_value = std::fmod(*v, 1e9);
+  }
+  if (auto b = private_block(ds, 0x0019, "GEMS_ACQU_01")) {
+    auto x = tag_number(ds, 0x0019, *b | 0xBB), y = tag_number(ds, 0x0019, *b | 0xBC),
+         z = tag_number(ds, 0x0019, *b | 0xBD);
+    if (x && y && z) f.gradient = glm::dvec3(*x, *y, *z);
+  }
+  if (auto b = private_block(ds, 0x2001, "Philips Imaging DD 001"))
+    if (std::vector<double> v = tag_fl(ds, 0x2001, *b | 0x03); v.size() == 1 && v[0] >= 0.0)
+      f.b_value = v[0];
+  if (auto b = private_block(ds, 0x2005, "Philips MR Imaging DD 001")) {
+    std::vector<double> x = tag_fl(ds, 0x2005, *b | 0xB0), y = tag_fl(ds, 0x2005, *b | 0xB1),
+                        z = tag_fl(ds, 0x2005, *b | 0xB2);
+    if (x.size() == 1 && y.size() == 1 && z.size() == 1) f.gradient = glm::dvec3(x[0], y[0], z[0]);
+  }
+}
+
+// The top-level tags that tell volumes apart, for every frame of the file.
+void read_volume_keys(const gdcm::DataSet& ds, const std::string& image_type, DicomFrame& f) {
+  if (auto t = tag_number(ds, 0x0020, 0x0100)) f.temporal_position = static_cast<int>(*t);
+  if (auto t = tag_number(ds, 0x0018, 0x1060)) f.trigger_time_ms = t;
+  if (auto e = tag_number(ds, 0x0018, 0x0086)) f.echo_number = static_cast<int>(*e);
+  if (auto e = tag_number(ds, 0x0018, 0x0081)) f.echo_time_ms = e;
+  if (auto tm = tag_text(ds, 0x0008, 0x0032)) f.acquisition_time_s = parse_dicom_time(*tm);
+  if (!f.acquisition_time_s)
+    if (auto dt = tag_text(ds, 0x0008, 0x002a); dt && dt->size() > 8)
+      f.acquisition_time_s = parse_dicom_time(dt->substr(8));
+  read_private_diffusion(ds, f);
+  read_standard_diffusion(ds, f);
+  // ImageType's third value names the complex component of MR images (M, P, R, I).
+  std::vector<std::string> parts;
+  for (size_t at = 0;;) {
+    size_t cut = image_type.find('\\', at);
+    parts.push_back(image_type.substr(at, cut - at));
+    if (cut == std::string::npos) break;
+    at = cut + 1;
+  }
+  if (parts.size() >= 3 && (parts[2] == "M" || parts[2] == "P" || parts[2] == "R" || parts[2] == "I"))
+    f.complex_component = parts[2];
+  if (auto c = tag_text(ds, 0x0008, 0x9208)) f.complex_component = c->substr(0, 1);
+}
+
 // Applies one functional-groups item (shared or per-frame) to a frame.
 void apply_functional_groups(const gdcm::DataSet& group, DicomFrame& f) {
   gdcm::SmartPointer<gdcm::SequenceOfItems> hold;
@@ -74,6 +143,21 @@ void apply_functional_groups(const gdcm::DataSet& group, DicomFrame& f) {
     read_rescale(*s, f);
   if (const gdcm::DataSet* s = first_item(group, 0x0028, 0x9132, hold))  // FrameVOILUT
     read_window(*s, f);
+  if (const gdcm::DataSet* s = first_item(group, 0x0020, 0x9111, hold)) {  // FrameContent
+    if (std::vector<uint32_t> d = tag_ul(*s, 0x0020, 0x9157); !d.empty()) f.dimension_index = d;
+    if (std::vector<uint32_t> t = tag_ul(*s, 0x0020, 0x9128); t.size() == 1)
+      f.temporal_position = static_cast<int>(std::min<uint32_t>(t[0], 1u << 30));
+    if (auto dt = tag_text(*s, 0x0018, 0x9074); dt && dt->size() > 8)  // FrameAcquisitionDateTime
+      if (auto tm = parse_dicom_time(dt->substr(8))) f.acquisition_time_s = tm;
+  }
+  if (const gdcm::DataSet* s = first_item(group, 0x0018, 0x9118, hold))  // CardiacSynchronization
+    if (std::vector<double> t = tag_fd(*s, 0x0020, 0x9153); t.size() == 1) f.trigger_time_ms = t[0];
+  if (const gdcm::DataSet* s = first_item(group, 0x0018, 0x9114, hold))  // MREcho
+    if (std::vector<double> t = tag_fd(*s, 0x0018, 0x9082); t.size() == 1) f.echo_time_ms = t[0];
+  if (const gdcm::DataSet* s = first_item(group, 0x0018, 0x9117, hold))  // MRDiffusion
+    read_standard_diffusion(*s, f);
+  if (const gdcm::DataSet* s = first_item(group, 0x0018, 0x9226, hold))  // MRImageFrameType
+    if (auto c = tag_text(*s, 0x0008, 0x9208)) f.complex_component = c->substr(0, 1);
 }
 
 void read_suv_tags(const gdcm::DataSet& ds, DicomSuvTags& t) {
@@ -91,6 +175,62 @@ void read_suv_tags(const gdcm::DataSet& ds, DicomSuvTags& t) {
     if (!t.start_time_s)  // RadiopharmaceuticalStartDateTime: YYYYMMDDHHMMSS.frac
       if (auto dt = tag_text(*r, 0x0018, 0x1078); dt && dt->size() >= 10)
         t.start_time_s = parse_dicom_time(dt->substr(8));
+  }
+}
+
+// A Siemens mosaic: the tiles of one volume side by side in one image, as many per row as per
+// column (the smallest square that holds them). Each tile becomes a frame placed where it lies:
+// ImagePositionPatient names the mosaic's corner, so the first tile's is moved by half the
+// difference in size; the tiles then step along the CSA SliceNormalVector (which may point
+// against row x column) by the slice spacing.
+void split_into_tiles(const gdcm::DataSet& ds, DicomFileHeader& h) {
+  const std::string what = h.file.string();
+  std::optional<int> tiles;
+  std::optional<glm::dvec3> normal;
+  const auto csa = parse_csa_header(tag_bytes(ds, 0x0029, 0x1010));
+  if (auto b = private_block(ds, 0x0019, "SIEMENS MR HEADER"))
+    if (auto n = tag_us(ds, 0x0019, *b | 0x0A)) tiles = *n;
+  if (auto n = csa_numbers(csa, "NumberOfImagesInMosaic"); n && !tiles) tiles = int((*n)[0]);
+  if (auto n = csa_numbers(csa, "SliceNormalVector"); n && n->size() == 3)
+    normal = glm::dvec3((*n)[0], (*n)[1], (*n)[2]);
+  if (!tiles)
+    throw Error(fmt::format(
+        "{}: a Siemens mosaic (ImageType MOSAIC) without NumberOfImagesInMosaic (0019,100A) or a "
+        "CSA image header: its tiles cannot be told apart",
+        what));
+  const int per_row = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(*tiles))));
+  if (*tiles < 1 || h.frame_count != 1 || h.rows % per_row != 0 || h.columns % per_row != 0)
+    throw Error(fmt::format(
+        "{}: a mosaic of {} images does not tile its {}x{} pixels ({} per row) in one frame", what,
+        *tiles, h.columns, h.rows, per_row));
+  DicomFrame base = h.frames.front();
+  if (!base.position || !base.row_direction || !base.pixel_spacing)
+    throw Error(fmt::format(
+        "{}: a mosaic without ImagePositionPatient, ImageOrientationPatient or PixelSpacing "
+        "cannot be placed",
+        what));
+  const glm::dvec3 cross = glm::normalize(glm::cross(*base.row_direction, *base.column_direction));
+  if (!normal || !(glm::length(*normal) > 0.5)) normal = cross;  // Siemens' usual
+  *normal = glm::normalize(*normal);
+  if (std::abs(std::abs(glm::dot(*normal, cross)) - 1.0) > 1e-3)
+    throw Error(fmt::format("{}: the mosaic's SliceNormalVector is not normal to its slices",
+                            what));
+  h.rows /= per_row;
+  h.columns /= per_row;
+  h.mosaic_tiles = *tiles;
+  h.frame_count = *tiles;
+  const double shift_columns = (h.stored_columns - h.columns) / 2.0;
+  const double shift_rows = (h.stored_rows - h.rows) / 2.0;
+  const glm::dvec3 first = *base.position +
+                           *base.row_direction * (base.pixel_spacing->y * shift_columns) +
+                           *base.column_direction * (base.pixel_spacing->x * shift_rows);
+  const double step = h.slice_spacing.value_or(1.0);
+  h.frames.clear();
+  for (int t = 0; t < *tiles; ++t) {
+    DicomFrame f = base;
+    f.frame = t;
+    f.position = first + *normal * (step * t);
+    h.frames.push_back(f);
   }
 }
 
@@ -226,6 +366,9 @@ std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& fi
     throw Error(fmt::format("{}: NumberOfFrames (0028,0008) is {}, expected 1 to {}", file.string(),
                             frames, kMaxFrames));
   h.frame_count = static_cast<int>(frames);
+  h.stored_rows = h.rows;
+  h.stored_columns = h.columns;
+  h.stored_frames = h.frame_count;
 
   // The top-level tags hold for every frame; functional groups override them.
   DicomFrame base;
@@ -235,6 +378,8 @@ std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& fi
   read_spacing(ds, base);
   read_rescale(ds, base);
   read_window(ds, base);
+  base.instance_number = h.instance_number;
+  read_volume_keys(ds, image_type, base);
   gdcm::SmartPointer<gdcm::SequenceOfItems> shared_hold;
   if (const gdcm::DataSet* shared = first_item(ds, 0x5200, 0x9229, shared_hold))
     apply_functional_groups(*shared, base);
@@ -253,6 +398,7 @@ std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& fi
     for (DicomFrame& f : h.frames)
       f.position = *base.position + normal * (f.frame * h.slice_spacing.value_or(1.0));
   }
+  if (image_type.find("MOSAIC") != std::string::npos) split_into_tiles(ds, h);
   read_suv_tags(ds, h.suv);
   return h;
 }

@@ -22,6 +22,18 @@ struct DicomFrame {
   std::optional<glm::dvec2> pixel_spacing;     // PixelSpacing as stored: between rows, columns
   double slope = 1.0, intercept = 0.0;         // RescaleSlope, RescaleIntercept
   std::optional<glm::dvec2> window;            // WindowCenter, WindowWidth (first values)
+
+  // What tells the volumes of a multi-volume series apart (dicom_volumes.hpp); absent: not said.
+  int instance_number = 0;                   // the file's InstanceNumber (0020,0013)
+  std::vector<uint32_t> dimension_index;     // DimensionIndexValues (0020,9157)
+  std::optional<int> temporal_position;      // TemporalPositionIdentifier / Index
+  std::optional<double> trigger_time_ms;     // TriggerTime (0018,1060) or nominal trigger delay
+  std::optional<double> b_value;             // s/mm^2: standard, Siemens, GE or Philips tags
+  std::optional<glm::dvec3> gradient;        // diffusion gradient direction, patient LPS
+  std::optional<int> echo_number;            // EchoNumbers (0018,0086)
+  std::optional<double> echo_time_ms;        // EchoTime (0018,0081) or EffectiveEchoTime
+  std::string complex_component;             // "M", "P", "R", "I" from ImageType or (0008,9208)
+  std::optional<double> acquisition_time_s;  // seconds since midnight
 };
 
 // The tags SUV by body weight needs, as found (nullopt: absent or malformed).
@@ -42,7 +54,10 @@ struct DicomFileHeader {
   std::string series_uid, sop_uid, description, modality, photometric, rescale_type;
   int series_number = 0;
   int instance_number = 0;
-  int rows = 0, columns = 0, frame_count = 1;
+  int rows = 0, columns = 0, frame_count = 1;  // of one image (a mosaic's tile), images in file
+  // As stored in the pixel data: a Siemens mosaic stores its tiles side by side in one frame.
+  int stored_rows = 0, stored_columns = 0, stored_frames = 1;
+  int mosaic_tiles = 0;  // images in a Siemens mosaic (0 when not one), a tile per DicomFrame
   bool localizer = false;
   bool has_pixel_data = false;
   uint64_t pixel_bytes = 0;     // bytes in the file from the pixel data's value on
@@ -62,7 +77,8 @@ bool looks_like_dicom(const std::filesystem::path& file);
 // meta reader aborts on some malformed elements instead of failing.
 bool well_formed_file_meta(const std::filesystem::path& file);
 
-// The header of an image file; nullopt when the file is not DICOM or holds no image (no Rows or
+// The header of an image file; a Siemens mosaic becomes one frame per tile, placed where the
+// tile lies (ImagePositionPatient names the mosaic's corner, not the first tile's). nullopt when the file is not DICOM or holds no image (no Rows or
 // Columns: a DICOMDIR, a structured report). Throws imx::Error for a file that starts like DICOM
 // but cannot be read (truncated, corrupt) and for an unusable header (a frame count out of
 // bounds).

@@ -1,5 +1,6 @@
 #include "io/dicom/dicom_pixels.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -149,12 +150,12 @@ void read_with_gdcm(const DicomFileHeader& header, size_t count, RawPixels& raw)
                     "(colour); only greyscale images are read",
                     what, pf.GetSamplesPerPixel()));
   const unsigned frames = image.GetNumberOfDimensions() >= 3 ? image.GetDimension(2) : 1;
-  if (image.GetColumns() != static_cast<unsigned>(header.columns) ||
-      image.GetRows() != static_cast<unsigned>(header.rows) ||
-      frames != static_cast<unsigned>(header.frame_count))
+  if (image.GetColumns() != static_cast<unsigned>(header.stored_columns) ||
+      image.GetRows() != static_cast<unsigned>(header.stored_rows) ||
+      frames != static_cast<unsigned>(header.stored_frames))
     throw Error(fmt::format("{}: the image is {}x{}x{}, the header says {}x{}x{}", what,
-                            image.GetColumns(), image.GetRows(), frames, header.columns,
-                            header.rows, header.frame_count));
+                            image.GetColumns(), image.GetRows(), frames, header.stored_columns,
+                            header.stored_rows, header.stored_frames));
   switch (pf.GetScalarType()) {
     case gdcm::PixelFormat::UINT8:
       raw.type = Stored::u8;
@@ -210,6 +211,22 @@ void read_with_gdcm(const DicomFileHeader& header, size_t count, RawPixels& raw)
   raw.high_bit = pf.GetHighBit();
 }
 
+// The tiles of a mosaic, row by row from its top left, as many as it holds images.
+std::vector<FloatPlane> split_mosaic(const FloatPlane& mosaic, const DicomFileHeader& h) {
+  const int per_row = h.stored_columns / h.columns;
+  std::vector<FloatPlane> tiles(static_cast<size_t>(h.mosaic_tiles));
+  for (int t = 0; t < h.mosaic_tiles; ++t) {
+    FloatPlane& tile = tiles[static_cast<size_t>(t)];
+    tile.resize(static_cast<size_t>(h.rows) * h.columns);
+    const size_t x0 = static_cast<size_t>(t % per_row) * h.columns;
+    const size_t y0 = static_cast<size_t>(t / per_row) * h.rows;
+    for (int y = 0; y < h.rows; ++y)
+      std::copy_n(mosaic.data() + (y0 + y) * h.stored_columns + x0, h.columns,
+                  tile.data() + static_cast<size_t>(y) * h.columns);
+  }
+  return tiles;
+}
+
 }  // namespace
 
 DecodedFrames decode_dicom_frames(const DicomFileHeader& header) {
@@ -222,12 +239,12 @@ DecodedFrames decode_dicom_frames(const DicomFileHeader& header) {
         fmt::format("{}: unsupported photometric interpretation '{}' (0028,0004): only "
                     "greyscale MONOCHROME1 and MONOCHROME2 images are read",
                     what, header.photometric));
-  const size_t plane = static_cast<size_t>(header.rows) * header.columns;
-  const size_t count = plane * static_cast<size_t>(header.frame_count);
+  const size_t plane = static_cast<size_t>(header.stored_rows) * header.stored_columns;
+  const size_t count = plane * static_cast<size_t>(header.stored_frames);
   // GDCM keeps the file in memory and decodes to a buffer of up to 8 bytes a value; the floats
   // come on top.
-  check_memory(count * 12, fmt::format("{} ({}x{}x{} pixels)", what, header.columns, header.rows,
-                                       header.frame_count));
+  check_memory(count * 12, fmt::format("{} ({}x{}x{} pixels)", what, header.stored_columns,
+                                       header.stored_rows, header.stored_frames));
   // Native (uncompressed) data must hold every pixel: GDCM pads a short element with zeros.
   const gdcm::TransferSyntax::TSType ts_type =
       gdcm::TransferSyntax::GetTSType(header.transfer_syntax.c_str());
@@ -258,7 +275,7 @@ DecodedFrames decode_dicom_frames(const DicomFileHeader& header) {
   const bool floats = raw.type == Stored::f32 || raw.type == Stored::f64;
   DecodedFrames out;
   out.integer_pixels = !floats;
-  out.frames.resize(static_cast<size_t>(header.frame_count));
+  out.frames.resize(static_cast<size_t>(header.stored_frames));
   for (size_t f = 0; f < out.frames.size(); ++f) {
     const DicomFrame& meta = header.frames[f];
     FloatPlane& dst = out.frames[f];
@@ -301,6 +318,7 @@ DecodedFrames decode_dicom_frames(const DicomFileHeader& header) {
   }
   std::vector<char>& buffer = scratch_buffer();
   if (buffer.capacity() > (size_t{64} << 20)) std::vector<char>().swap(buffer);  // keep small ones
+  if (header.mosaic_tiles > 0) out.frames = split_mosaic(out.frames.front(), header);
   return out;
 }
 

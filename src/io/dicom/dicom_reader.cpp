@@ -16,14 +16,23 @@
 #include "io/dicom/dicom_pixels.hpp"
 #include "io/dicom/dicom_series.hpp"
 #include "io/dicom/dicom_suv.hpp"
+#include "io/dicom/dicom_volumes.hpp"
+#include "io/frames.hpp"
 
 namespace imx {
 
 namespace detail {
 
-AcquiredSeries read_acquired_series(const std::filesystem::path& source,
-                                    const std::string& series) {
-  const std::string what = source.string();
+namespace {
+
+// The series chosen, split into volumes: what every read starts from.
+struct SeriesLayout {
+  DicomSeriesGroup group;
+  DicomVolumes volumes;
+  std::string note, what;
+};
+
+SeriesLayout layout_of(const std::filesystem::path& source, const std::string& series) {
   std::vector<std::string> broken;
   std::vector<DicomSeriesGroup> groups = scan_dicom_series(source, &broken);
   // A slice that cannot be read would leave a hole in whichever series it belongs to.
@@ -31,50 +40,97 @@ AcquiredSeries read_acquired_series(const std::filesystem::path& source,
     throw Error(broken.size() == 1 ? broken.front()
                                    : fmt::format("{} (and {} more such files)", broken.front(),
                                                  broken.size() - 1));
-  std::string note;
-  const DicomSeriesGroup& group = choose_series(groups, series, source, note);
+  SeriesLayout l;
+  l.group = choose_series(groups, series, source, l.note);
+  l.what = fmt::format("{} (series {})", source.string(), l.group.info.id);
+  std::vector<DicomFrame> images;
+  for (const DicomFileHeader& h : l.group.headers)
+    images.insert(images.end(), h.frames.begin(), h.frames.end());
+  l.volumes = split_volumes(std::move(images), l.what);
+  return l;
+}
+
+// Everything but the pixels of volume `frame`.
+AcquiredSeries acquired_layout(const SeriesLayout& l, int frame) {
   AcquiredSeries out;
-  out.info = group.info;
-  if (!note.empty()) out.notes.push_back(note);
-  const DicomFileHeader& first = group.headers.front();
+  out.info = l.group.info;
+  if (!l.note.empty()) out.notes.push_back(l.note);
+  const DicomFileHeader& first = l.group.headers.front();
   out.modality = first.modality;
   out.photometric = first.photometric;
   out.rescale_type = first.rescale_type;
   out.suv = first.suv;
-
-  std::vector<DicomFrame> frames;
-  for (const DicomFileHeader& h : group.headers)
-    frames.insert(frames.end(), h.frames.begin(), h.frames.end());
-  const std::string series_what = fmt::format("{} (series {})", what, group.info.id);
-  out.stack =
-      order_slices(std::move(frames), first.rows, first.columns, first.slice_spacing, series_what);
-  const size_t plane = static_cast<size_t>(first.rows) * first.columns;
-  check_memory(plane * out.stack.frames.size() * sizeof(float),
-               fmt::format("{} ({}x{}x{} voxels)", series_what, first.columns, first.rows,
-                           out.stack.frames.size()));
-
-  // Decode each file once; a multi-frame file fills several slices.
-  std::map<std::filesystem::path, std::vector<size_t>> slots;  // file -> sorted slice indices
-  for (size_t s = 0; s < out.stack.frames.size(); ++s) slots[out.stack.frames[s].file].push_back(s);
-  out.values.resize(out.stack.frames.size());
-  const double slope = out.stack.frames.front().slope;
-  // Files decode independently (one GDCM reader each), into distinct slices.
-  std::vector<char> integer_pixels(group.headers.size(), 1);
-  tbb::parallel_for(size_t{0}, group.headers.size(), [&](size_t i) {
-    const DicomFileHeader& h = group.headers[i];
-    DecodedFrames decoded = decode_dicom_frames(h);
-    integer_pixels[i] = decoded.integer_pixels;
-    for (size_t s : slots.at(h.file))
-      out.values[s] = std::move(decoded.frames[static_cast<size_t>(out.stack.frames[s].frame)]);
-  });
-  for (size_t i = 0; i < group.headers.size(); ++i)
-    out.integer_valued = out.integer_valued && integer_pixels[i];
-  for (const DicomFrame& f : out.stack.frames)
-    if (f.slope != slope || f.slope != std::round(f.slope) ||
-        f.intercept != std::round(f.intercept))
-      out.integer_valued = false;
+  out.frames = static_cast<int>(l.volumes.volumes.size());
+  out.labels = l.volumes.labels;
+  out.stack = order_slices(l.volumes.volumes[static_cast<size_t>(frame)], first.rows,
+                           first.columns, first.slice_spacing, l.what);
+  if (first.mosaic_tiles > 0)
+    out.notes.push_back(fmt::format("Siemens mosaic: {} tiles of {}x{} per file", first.mosaic_tiles,
+                                    first.columns, first.rows));
   if (out.photometric == "MONOCHROME1")
     out.notes.push_back("MONOCHROME1: low values display bright; the values are kept as stored");
+  return out;
+}
+
+}  // namespace
+
+AcquiredSeries read_series_layout(const std::filesystem::path& source, const std::string& series,
+                                  int frame) {
+  SeriesLayout l = layout_of(source, series);
+  require_frame(frame, static_cast<int>(l.volumes.volumes.size()), l.what);
+  return acquired_layout(l, frame);
+}
+
+std::vector<AcquiredSeries> read_acquired_volumes(const std::filesystem::path& source,
+                                                  const std::string& series,
+                                                  std::vector<int> which) {
+  SeriesLayout l = layout_of(source, series);
+  const int frames = static_cast<int>(l.volumes.volumes.size());
+  if (which.empty())
+    for (int f = 0; f < frames; ++f) which.push_back(f);
+  for (int f : which) require_frame(f, frames, l.what);
+  const DicomFileHeader& first = l.group.headers.front();
+  const size_t plane = static_cast<size_t>(first.rows) * first.columns;
+  check_memory(plane * l.volumes.volumes.front().size() * which.size() * sizeof(float),
+               fmt::format("{} ({}x{}x{} voxels, {} frame{})", l.what, first.columns, first.rows,
+                           l.volumes.volumes.front().size(), which.size(),
+                           which.size() == 1 ? "" : "s"));
+  std::vector<AcquiredSeries> out;
+  for (int f : which) out.push_back(acquired_layout(l, f));
+
+  // Where each image goes: file -> (image index in file, volume, slice).
+  struct Slot {
+    int image;
+    size_t volume, slice;
+  };
+  std::map<std::filesystem::path, std::vector<Slot>> slots;
+  for (size_t v = 0; v < out.size(); ++v) {
+    out[v].values.resize(out[v].stack.frames.size());
+    for (size_t s = 0; s < out[v].stack.frames.size(); ++s)
+      slots[out[v].stack.frames[s].file].push_back({out[v].stack.frames[s].frame, v, s});
+  }
+  std::vector<const DicomFileHeader*> needed;
+  for (const DicomFileHeader& h : l.group.headers)
+    if (slots.count(h.file)) needed.push_back(&h);
+  // Files decode independently (one GDCM reader each), into distinct slices.
+  std::vector<char> integer_pixels(needed.size(), 1);
+  tbb::parallel_for(size_t{0}, needed.size(), [&](size_t i) {
+    const DicomFileHeader& h = *needed[i];
+    DecodedFrames decoded = decode_dicom_frames(h);
+    integer_pixels[i] = decoded.integer_pixels;
+    for (const Slot& s : slots.at(h.file))
+      out[s.volume].values[s.slice] = std::move(decoded.frames[static_cast<size_t>(s.image)]);
+  });
+  const bool integers =
+      std::all_of(integer_pixels.begin(), integer_pixels.end(), [](char c) { return c != 0; });
+  for (AcquiredSeries& a : out) {
+    a.integer_valued = integers;
+    const double slope = a.stack.frames.front().slope;
+    for (const DicomFrame& f : a.stack.frames)
+      if (f.slope != slope || f.slope != std::round(f.slope) ||
+          f.intercept != std::round(f.intercept))
+        a.integer_valued = false;
+  }
   return out;
 }
 
@@ -139,12 +195,11 @@ std::vector<DicomSeriesInfo> list_dicom_series(const std::filesystem::path& sour
   return out;
 }
 
-DicomVolume read_dicom(const std::filesystem::path& source, const DicomReadOptions& options) {
-  const std::string what = source.string();
-  if (!options.units.empty() && options.units != "suv")
-    throw Error(
-        fmt::format("{}: units '{}' is not known (give \"suv\" or nothing)", what, options.units));
-  detail::AcquiredSeries a = detail::read_acquired_series(source, options.series);
+namespace {
+
+// One acquired volume on its even grid, in its storage type, with the series' units and notes.
+DicomVolume to_volume(detail::AcquiredSeries& a, const DicomReadOptions& options,
+                      const std::string& what) {
   const std::string series_what = fmt::format("{} (series {})", what, a.info.id);
   detail::SliceGrid grid = detail::plan_slice_grid(a.stack, options.slice_spacing_mm, series_what);
 
@@ -152,6 +207,8 @@ DicomVolume read_dicom(const std::filesystem::path& source, const DicomReadOptio
   out.series = a.info;
   out.notes = a.notes;
   out.notes.insert(out.notes.end(), a.stack.notes.begin(), a.stack.notes.end());
+  out.frames = a.frames;
+  out.frame_labels = a.labels;
   if (a.modality == "CT")
     out.units = a.rescale_type.empty() ? "HU" : a.rescale_type;
   else if (a.modality == "PT")
@@ -166,7 +223,6 @@ DicomVolume read_dicom(const std::filesystem::path& source, const DicomReadOptio
         fmt::format("SUV by body weight: activity concentration times {:.6g}", scale));
   }
   if (const auto& w = a.stack.frames.front().window) out.window = *w * scale;
-
   const size_t plane = static_cast<size_t>(a.stack.rows) * a.stack.columns;
   std::vector<std::pair<float, float>> ranges(a.values.size());
   tbb::parallel_for(size_t{0}, a.values.size(),
@@ -211,6 +267,43 @@ DicomVolume read_dicom(const std::filesystem::path& source, const DicomReadOptio
   return out;
 }
 
+void check_units(const DicomReadOptions& options, const std::string& what) {
+  if (!options.units.empty() && options.units != "suv")
+    throw Error(
+        fmt::format("{}: units '{}' is not known (give \"suv\" or nothing)", what, options.units));
+}
+
+}  // namespace
+
+DicomVolume read_dicom(const std::filesystem::path& source, const DicomReadOptions& options) {
+  const std::string what = source.string();
+  check_units(options, what);
+  std::vector<detail::AcquiredSeries> a =
+      detail::read_acquired_volumes(source, options.series, {options.frame});
+  DicomVolume out = to_volume(a.front(), options, what);
+  if (out.frames > 1) {
+    const std::string& label = out.frame_labels[static_cast<size_t>(options.frame)].text;
+    out.notes.push_back(fmt::format("frame {} of {}{}", options.frame, out.frames,
+                                    label.empty() ? "" : " (" + label + ")"));
+  }
+  return out;
+}
+
+std::vector<DicomVolume> read_dicom_frames(const std::filesystem::path& source,
+                                           const DicomReadOptions& options) {
+  const std::string what = source.string();
+  check_units(options, what);
+  std::vector<detail::AcquiredSeries> all =
+      detail::read_acquired_volumes(source, options.series, {});
+  std::vector<DicomVolume> out;
+  for (detail::AcquiredSeries& a : all) {
+    out.push_back(to_volume(a, options, what));
+    a.values.clear();  // its voxels now live in out's volume
+    a.values.shrink_to_fit();
+  }
+  return out;
+}
+
 bool is_dicom_source(const std::filesystem::path& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) return true;
@@ -227,8 +320,12 @@ bool is_dicom_source(const std::filesystem::path& path) {
 
 VolumeHeader read_dicom_header(const std::filesystem::path& source,
                                const DicomReadOptions& options) {
-  DicomVolume d = read_dicom(source, options);
-  return {d.volume.dims, d.volume.type(), d.volume.index_to_world, d.frames, d.frame_labels};
+  detail::AcquiredSeries a = detail::read_series_layout(source, options.series, options.frame);
+  detail::SliceGrid grid = detail::plan_slice_grid(a.stack, options.slice_spacing_mm,
+                                                   source.string());
+  // The storage type needs the values: float stands for "decided when read".
+  return {glm::ivec3(a.stack.columns, a.stack.rows, static_cast<int>(grid.blends.size())),
+          VoxelType::f32, grid.index_to_world, a.frames, a.labels};
 }
 
 }  // namespace imx

@@ -12,6 +12,7 @@
 
 namespace imx::detail {
 
+// One volume (frame) of a series as acquired.
 struct AcquiredSeries {
   DicomSeriesInfo info;
   DicomStack stack;                        // frames sorted along the slice normal
@@ -20,9 +21,19 @@ struct AcquiredSeries {
   std::string modality, photometric, rescale_type;
   DicomSuvTags suv;  // the first file's
   std::vector<std::string> notes;
+  int frames = 1;                  // volumes in the series
+  std::vector<FrameLabel> labels;  // one per volume when frames > 1
 };
 
-// Finds, orders, checks and decodes the series `series` of `source` (see DicomReadOptions).
-AcquiredSeries read_acquired_series(const std::filesystem::path& source, const std::string& series);
+// Finds, groups into volumes, orders, checks and decodes the series `series` of `source` (see
+// DicomReadOptions): the volumes `which` (frame indices; empty: every one), each file decoded
+// once and only the images of those volumes kept. Throws imx::Error for a frame out of range.
+std::vector<AcquiredSeries> read_acquired_volumes(const std::filesystem::path& source,
+                                                  const std::string& series,
+                                                  std::vector<int> which);
+
+// The series' volumes and their labels without decoding a pixel.
+AcquiredSeries read_series_layout(const std::filesystem::path& source, const std::string& series,
+                                  int frame);
 
 }  // namespace imx::detail

@@ -132,11 +132,13 @@ std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& sou
                               fs::is_directory(status) ? "this folder" : "its folder"));
   }
 
-  // Group by series UID, size, localizer-ness, then by orientation within those.
-  std::map<std::tuple<std::string, int, int, bool>, std::vector<std::vector<DicomFileHeader>>>
+  // Group by series UID and number (one UID may carry several numbers: dcm2niix makes a volume
+  // of each), size, localizer-ness, then by orientation within those.
+  std::map<std::tuple<std::string, int, int, int, bool>,
+           std::vector<std::vector<DicomFileHeader>>>
       keyed;
   for (DicomFileHeader& h : headers) {
-    auto& clusters = keyed[{h.series_uid, h.rows, h.columns, h.localizer}];
+    auto& clusters = keyed[{h.series_uid, h.series_number, h.rows, h.columns, h.localizer}];
     auto it = std::find_if(clusters.begin(), clusters.end(), [&](const auto& c) {
       return same_orientation(c.front().frames.front(), h.frames.front());
     });
@@ -146,7 +148,7 @@ std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& sou
     }
     it->push_back(std::move(h));
   }
-  std::map<std::string, std::vector<DicomSeriesGroup>> by_uid;
+  std::map<std::pair<std::string, int>, std::vector<DicomSeriesGroup>> by_uid;
   for (auto& [key, clusters] : keyed)
     for (auto& files : clusters) {
       DicomSeriesGroup g;
@@ -165,7 +167,7 @@ std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& sou
         g.info.files.push_back(h.file);
       }
       g.headers = std::move(files);
-      by_uid[g.info.uid].push_back(std::move(g));
+      by_uid[{g.info.uid, g.info.number}].push_back(std::move(g));
     }
   std::vector<DicomSeriesGroup> out;
   for (auto& [uid, parts] : by_uid) {

@@ -90,6 +90,54 @@ std::optional<int> tag_us(const gdcm::DataSet& ds, uint16_t group, uint16_t elem
   return static_cast<int>(v);
 }
 
+namespace {
+
+template <class T>
+std::vector<T> binary_values(const gdcm::DataSet& ds, uint16_t group, uint16_t element) {
+  const gdcm::ByteValue* bv = byte_value(ds, group, element);
+  if (bv == nullptr || bv->GetLength() % sizeof(T) != 0) return {};
+  std::vector<T> out(bv->GetLength() / sizeof(T));
+  std::memcpy(out.data(), bv->GetPointer(), out.size() * sizeof(T));
+  return out;
+}
+
+template <class T>
+std::vector<double> finite_values(const gdcm::DataSet& ds, uint16_t group, uint16_t element) {
+  std::vector<double> out;
+  for (T v : binary_values<T>(ds, group, element)) {
+    if (!std::isfinite(v)) return {};
+    out.push_back(static_cast<double>(v));
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<double> tag_fd(const gdcm::DataSet& ds, uint16_t group, uint16_t element) {
+  return finite_values<double>(ds, group, element);
+}
+
+std::vector<double> tag_fl(const gdcm::DataSet& ds, uint16_t group, uint16_t element) {
+  return finite_values<float>(ds, group, element);
+}
+
+std::vector<uint32_t> tag_ul(const gdcm::DataSet& ds, uint16_t group, uint16_t element) {
+  return binary_values<uint32_t>(ds, group, element);
+}
+
+std::string tag_bytes(const gdcm::DataSet& ds, uint16_t group, uint16_t element) {
+  const gdcm::ByteValue* bv = byte_value(ds, group, element);
+  return bv == nullptr ? std::string() : std::string(bv->GetPointer(), bv->GetLength());
+}
+
+std::optional<uint16_t> private_block(const gdcm::DataSet& ds, uint16_t group,
+                                      const std::string& creator) {
+  for (uint16_t e = 0x10; e <= 0xff; ++e)
+    if (auto name = tag_text(ds, group, e); name && *name == creator)
+      return static_cast<uint16_t>(e << 8);
+  return std::nullopt;
+}
+
 gdcm::SmartPointer<gdcm::SequenceOfItems> tag_sequence(const gdcm::DataSet& ds, uint16_t group,
                                                        uint16_t element) {
   const gdcm::Tag tag(group, element);

@@ -32,6 +32,21 @@ std::optional<double> tag_number(const gdcm::DataSet& ds, uint16_t group, uint16
 // A US (unsigned 16-bit binary) element; GDCM holds binary values in host order.
 std::optional<int> tag_us(const gdcm::DataSet& ds, uint16_t group, uint16_t element);
 
+// The values of a binary element of 4- or 8-byte numbers (FL, FD, UL, SL), in host order; empty
+// when absent or when the length is not a multiple of the size.
+std::vector<double> tag_fd(const gdcm::DataSet& ds, uint16_t group, uint16_t element);
+std::vector<double> tag_fl(const gdcm::DataSet& ds, uint16_t group, uint16_t element);
+std::vector<uint32_t> tag_ul(const gdcm::DataSet& ds, uint16_t group, uint16_t element);
+
+// The raw bytes of an element (private headers such as Siemens' CSA); empty when absent.
+std::string tag_bytes(const gdcm::DataSet& ds, uint16_t group, uint16_t element);
+
+// The element number (0x1000, 0x1100, ...) of the private block that `creator` reserved in
+// `group` (its (group,00xx) element names it, trailing spaces ignored); nullopt when none did.
+// Private tags mean different things under different creators, so none is read without this.
+std::optional<uint16_t> private_block(const gdcm::DataSet& ds, uint16_t group,
+                                      const std::string& creator);
+
 // The items of a sequence element; null when absent or not a readable sequence.
 gdcm::SmartPointer<gdcm::SequenceOfItems> tag_sequence(const gdcm::DataSet& ds, uint16_t group,
                                                        uint16_t element);
