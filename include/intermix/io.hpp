@@ -12,10 +12,12 @@
 
 namespace imx {
 
-// Reads a volume; the format comes from the extension (.nrrd/.nhdr, .nii/.nii.gz, .mha/.mhd),
-// and a folder, DICOMDIR or DICOM file gives its largest series (read_dicom, intermix/dicom.hpp,
-// chooses another and says what it chose).
-// World space is LPS: NIfTI's RAS is converted, MetaImage is LPS already (as in ITK).
+// Reads a volume; the format comes from the extension (.nrrd/.nhdr; .nii/.nii.gz, NIfTI-1 or
+// NIfTI-2; .hdr/.img pairs, named by either and either gzipped, NIfTI-1, NIfTI-2 or Analyze 7.5;
+// .mha/.mhd; FreeSurfer .mgh/.mgz), and a folder, DICOMDIR or DICOM file gives its largest series
+// (read_dicom, intermix/dicom.hpp, chooses another and says what it chose).
+// World space is LPS: NIfTI's, Analyze's and MGH's RAS is converted (Analyze, which stores no
+// orientation, and MGH are placed as nibabel places them), MetaImage is LPS already (as in ITK).
 // Throws imx::Error naming the file and the fault.
 // A 4-D file (NIfTI dim[4] or dim[5], a NRRD list/vector axis, a multi-volume DICOM series)
 // holds several frames on one grid: `frame` picks one (0-based; out of range: imx::Error), and
@@ -45,6 +47,14 @@ void write_metaimage(const VolumeData& volume, const std::filesystem::path& file
 // Writes a NIfTI-1 .nii file (gzip-compressed when `gzip`, for .nii.gz), atomically. The
 // affine goes to the sform exactly and to the qform as its nearest rotation, both RAS.
 void write_nifti(const VolumeData& volume, const std::filesystem::path& file, bool gzip = true);
+
+// Writes a 4-D NIfTI-1 .nii file (gzip-compressed when `gzip`) of `frames` as its time points
+// (dim[0] 4, dim[4] the frame count, even of one), atomically, as write_nifti writes one volume;
+// pixdim[4] is `frame_seconds` with xyzt_units in seconds when it is > 0 (0: unknown). The
+// frames must share dims, voxel type and placement (their affines equal to NIfTI's float
+// precision), else imx::Error naming the file and the frame.
+void write_nifti_frames(const std::vector<VolumeData>& frames, const std::filesystem::path& file,
+                        double frame_seconds = 0.0, bool gzip = true);
 
 // Writes `volume` in the format its extension names: .nii.gz, .nii, .nrrd or .mha, atomically.
 // `compress` applies to NRRD and MetaImage (NIfTI follows the .gz). Throws imx::Error naming
