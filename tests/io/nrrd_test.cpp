@@ -299,13 +299,18 @@ TEST(NrrdReaderErrors, MissingFields) {
 TEST(NrrdReaderErrors, UnsupportedDimensionEncodingSpaceAndKinds) {
   TempDir dir;
   write_bytes(dir / "d.nrrd",
-              "NRRD0004\ntype: uchar\ndimension: 4\nsizes: 1 1 1 1\n"
+              "NRRD0004\ntype: uchar\ndimension: 5\nsizes: 1 1 1 1 1\n"
               "encoding: raw\n\nx");
-  expect_error([&] { read_volume(dir / "d.nrrd"); }, {"d.nrrd", "'dimension'", "4"});
+  expect_error([&] { read_volume(dir / "d.nrrd"); }, {"d.nrrd", "'dimension'", "5"});
+  // 2-D images are no volumes (as before 4-D files were read).
+  write_bytes(dir / "2d.nrrd",
+              "NRRD0004\ntype: uchar\ndimension: 2\nsizes: 1 1\n"
+              "encoding: raw\n\nx");
+  expect_error([&] { read_volume(dir / "2d.nrrd"); }, {"2d.nrrd", "'dimension'", "2"});
   write_bytes(dir / "enc.nrrd",
               "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 1 1 1\n"
-              "encoding: bzip2\n\nx");
-  expect_error([&] { read_volume(dir / "enc.nrrd"); }, {"enc.nrrd", "'encoding'", "bzip2"});
+              "encoding: zrle\n\nx");
+  expect_error([&] { read_volume(dir / "enc.nrrd"); }, {"enc.nrrd", "'encoding'", "zrle"});
   write_bytes(dir / "sp.nrrd",
               "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 1 1 1\n"
               "space: right-anterior-inferior\nencoding: raw\n\nx");
@@ -330,16 +335,32 @@ TEST(NrrdReaderErrors, NotANrrdFile) {
   expect_error([&] { read_volume(dir / "long.nrrd"); }, {"long.nrrd", "header line"});
 }
 
-TEST(NrrdReaderErrors, SeveralDataFilesAreNotSupported) {
+TEST(NrrdReaderErrors, DataFileListsAndPatternsMustMatchTheSizes) {
   TempDir dir;
+  // One file a slice (subdim 2 by default): two slices need two files.
   write_bytes(dir / "l.nhdr",
               "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\n"
-              "encoding: raw\ndata file: LIST\na.raw\nb.raw\n");
-  expect_error([&] { read_volume(dir / "l.nhdr"); }, {"l.nhdr", "'data file'", "several"});
+              "encoding: raw\ndata file: LIST\na.raw\nb.raw\nc.raw\n");
+  expect_error([&] { read_volume(dir / "l.nhdr"); }, {"l.nhdr", "'data file'", "3 files"});
   write_bytes(dir / "f.nhdr",
               "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\n"
-              "encoding: raw\ndata file: slice%03d.raw 0 1 1\n");
-  expect_error([&] { read_volume(dir / "f.nhdr"); }, {"f.nhdr", "'data file'", "several"});
+              "encoding: raw\ndata file: slice%03d.raw 0 2 1\n");
+  expect_error([&] { read_volume(dir / "f.nhdr"); }, {"f.nhdr", "'data file'", "3 files"});
+  // A listed file that is not there is named.
+  write_bytes(dir / "a.raw", "abcd");
+  write_bytes(dir / "m.nhdr",
+              "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\n"
+              "encoding: raw\ndata file: LIST\na.raw\ngone.raw\n");
+  expect_error([&] { read_volume(dir / "m.nhdr"); }, {"gone.raw", "m.nhdr"});
+  // Patterns take one number conversion and nothing else.
+  write_bytes(dir / "s.nhdr",
+              "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\n"
+              "encoding: raw\ndata file: slice%s.raw 0 1 1\n");
+  expect_error([&] { read_volume(dir / "s.nhdr"); }, {"s.nhdr", "'data file'", "%d"});
+  write_bytes(dir / "z.nhdr",
+              "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\n"
+              "encoding: raw\ndata file: slice%d.raw 0 1 0\n");
+  expect_error([&] { read_volume(dir / "z.nhdr"); }, {"z.nhdr", "'data file'", "step"});
 }
 
 TEST(NrrdReaderErrors, MissingDetachedDataFile) {
