@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -7,6 +8,7 @@
 
 #include <gtest/gtest.h>
 #include <nifti/nifti1.h>
+#include <nifti/nifti2.h>
 
 #include "expect_error.hpp"
 #include "intermix/io.hpp"
@@ -140,17 +142,104 @@ TEST(NiftiReader, ConvertsInt8AndFloat64) {
   EXPECT_EQ(b.value_at(1, 0, 0), -3.5);
 }
 
-// Documented choice: a 4D series gives its first volume, without an error.
-TEST(NiftiReader, FourDimensionalFileGivesTheFirstVolume) {
+// A 4-D series holds frames: each is read alone, and the header counts them and times them.
+TEST(NiftiReader, FourDimensionalFileHoldsFrames) {
   TempDir dir;
   nifti_1_header h = basic_header(2, 2, 1, DT_UINT16, 16);
   h.dim[0] = 4;
   h.dim[4] = 3;
+  h.pixdim[4] = 1500.0f;
+  h.xyzt_units = NIFTI_UNITS_MM | NIFTI_UNITS_MSEC;
   std::vector<uint16_t> data = {1, 2, 3, 4, 10, 20, 30, 40, 100, 200, 300, 400};
   test::write_bytes(dir / "t.nii", file_bytes(h, raw_bytes(data)));
-  VolumeData v = read_volume(dir / "t.nii");
-  EXPECT_EQ(v.dims, glm::ivec3(2, 2, 1));
-  EXPECT_EQ(std::get<VoxelBuffer<uint16_t>>(v.voxels), VoxelBuffer<uint16_t>({1, 2, 3, 4}));
+  write_gz(dir / "t.nii.gz", file_bytes(h, raw_bytes(data)));
+  for (const char* name : {"t.nii", "t.nii.gz"}) {
+    for (int k = 0; k < 3; ++k) {
+      VolumeData v = read_volume(dir / name, k);
+      EXPECT_EQ(v.dims, glm::ivec3(2, 2, 1));
+      const std::vector<uint16_t> frame(data.begin() + 4 * k, data.begin() + 4 * k + 4);
+      EXPECT_EQ(std::get<VoxelBuffer<uint16_t>>(v.voxels), VoxelBuffer<uint16_t>(frame))
+          << name << " frame " << k;
+    }
+    const VolumeHeader header = read_volume_header(dir / name);
+    EXPECT_EQ(header.frames, 3);
+    ASSERT_EQ(header.frame_labels.size(), 3u);
+    EXPECT_DOUBLE_EQ(*header.frame_labels[2].time_s, 3.0);  // 1500 ms steps
+    EXPECT_EQ(header.frame_labels[1].text, "t=1.5 s");
+    expect_error([&] { read_volume(dir / name, 3); }, {name, "frame 3", "3 frames (0 to 2)"});
+  }
+  // Without a time unit the frames are counted but not timed.
+  h.xyzt_units = NIFTI_UNITS_MM;
+  test::write_bytes(dir / "u.nii", file_bytes(h, raw_bytes(data)));
+  EXPECT_EQ(read_volume_header(dir / "u.nii").frames, 3);
+  EXPECT_TRUE(read_volume_header(dir / "u.nii").frame_labels.empty());
+}
+
+// nifticlib reads a .nii without NIfTI's magic as Analyze 7.5, dropping its sform: refused.
+TEST(NiftiReaderErrors, ABadMagicIsRefusedNamingIt) {
+  TempDir dir;
+  nifti_1_header h = basic_header(2, 2, 2, DT_UINT8, 8);
+  h.sform_code = 1;
+  h.srow_x[0] = h.srow_y[1] = h.srow_z[2] = 2.0f;
+  std::memcpy(h.magic, "\0\0\0\0", 4);
+  test::write_bytes(dir / "nomagic.nii", file_bytes(h, std::string(8, '\0')));
+  expect_error([&] { read_volume(dir / "nomagic.nii"); }, {"nomagic.nii", "magic", "'n+1'"});
+  std::memcpy(h.magic, "n+\x01\0", 4);
+  test::write_bytes(dir / "odd.nii", file_bytes(h, std::string(8, '\0')));
+  expect_error([&] { read_volume_header(dir / "odd.nii"); }, {"odd.nii", "magic is 'n+\\x01'"});
+}
+
+// A NIfTI-2 single file built by hand, in both byte orders.
+TEST(NiftiReader, Nifti2HeaderBuiltByHand) {
+  TempDir dir;
+  for (bool big_endian : {false, true}) {
+    nifti_2_header h;
+    std::memset(&h, 0, sizeof h);
+    h.sizeof_hdr = 540;
+    std::memcpy(h.magic, "n+2\0\r\n\032\n", 8);
+    h.datatype = DT_INT16;
+    h.bitpix = 16;
+    h.dim[0] = 3;
+    h.dim[1] = 3;
+    h.dim[2] = 2;
+    h.dim[3] = 1;
+    for (int d = 4; d < 8; ++d) h.dim[d] = 1;
+    for (int d = 0; d < 8; ++d) h.pixdim[d] = 1.0;
+    h.vox_offset = 544;
+    h.sform_code = 1;
+    const double rows[3][4] = {
+        {0.0, 2.0, 0.0, 10.125}, {1.5, 0.0, 0.0, -20.0}, {0.0, 0.0, 3.0, 30.0}};
+    std::memcpy(h.srow_x, rows[0], sizeof rows[0]);
+    std::memcpy(h.srow_y, rows[1], sizeof rows[1]);
+    std::memcpy(h.srow_z, rows[2], sizeof rows[2]);
+    std::vector<int16_t> data = {-5, 4, 3, 2, 1, 0};
+    std::string bytes(reinterpret_cast<const char*>(&h), sizeof h);
+    bytes += std::string(4, '\0') + raw_bytes(data);
+    if (big_endian) {
+      // Every field and voxel reversed: the header's fields by their sizes.
+      auto flip = [&](size_t at, size_t size) {
+        std::reverse(bytes.begin() + static_cast<long>(at),
+                     bytes.begin() + static_cast<long>(at + size));
+      };
+      flip(0, 4);
+      flip(12, 2);
+      flip(14, 2);
+      for (int d = 0; d < 8; ++d) flip(16 + 8 * d, 8);
+      for (int d = 0; d < 8; ++d) flip(104 + 8 * d, 8);
+      flip(168, 8);
+      flip(348, 4);
+      for (int k = 0; k < 12; ++k) flip(400 + 8 * k, 8);
+      for (size_t i = 0; i < data.size(); ++i) flip(544 + 2 * i, 2);
+    }
+    const char* name = big_endian ? "be.nii" : "le.nii";
+    test::write_bytes(dir / name, bytes);
+    VolumeData v = read_volume(dir / name);
+    ASSERT_EQ(v.type(), VoxelType::i16) << name;
+    EXPECT_EQ(std::get<VoxelBuffer<int16_t>>(v.voxels), VoxelBuffer<int16_t>(data)) << name;
+    EXPECT_EQ(glm::dvec3(v.index_to_world[0]), glm::dvec3(0.0, -1.5, 0.0)) << name;
+    EXPECT_EQ(glm::dvec3(v.index_to_world[1]), glm::dvec3(-2.0, 0.0, 0.0)) << name;
+    EXPECT_EQ(glm::dvec3(v.index_to_world[3]), glm::dvec3(-10.125, 20.0, 30.0)) << name;
+  }
 }
 
 TEST(NiftiReaderErrors, TruncatedData) {
