@@ -1,5 +1,8 @@
-// NIfTI-1 reader (nifticlib): gzip data (magic 1f 8b) is read as .nii.gz, anything else as .nii;
-// then its header and a region of it (fuzz_region).
+// NIfTI-1/NIfTI-2/Analyze reader: a single file (.nii; gzip data is found by its magic, whatever
+// the name), or (input holding the data marker) a .hdr header with its voxels "in.img" beside it,
+// so that pairs and Analyze headers are fuzzed too. The last frame is read, so that a 4-D
+// header's skips past the other frames are reached; then its header and a region of that frame
+// (fuzz_region).
 #include <exception>
 
 #include "harness.hpp"
@@ -10,11 +13,24 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace imx::fuzz;
   const ScratchDir& dir = scratch();
   dir.clear();
-  const bool gz = size >= 2 && data[0] == 0x1f && data[1] == 0x8b;
-  std::filesystem::path file = dir.write(gz ? "in.nii.gz" : "in.nii", data, size);
+  const Split parts = split_at(as_view(data, size), kDataMarker);
+  std::filesystem::path file;
+  if (parts.found) {
+    file = dir.write("in.hdr", parts.head);
+    dir.write("in.img", parts.tail);
+  } else {
+    const bool gz = size >= 2 && data[0] == 0x1f && data[1] == 0x8b;
+    file = dir.write(gz ? "in.nii.gz" : "in.nii", data, size);
+  }
+  int frame = 0;
+  try {
+    frame = imx::detail::read_nifti_header(file).frames - 1;
+  } catch (const std::exception& e) {
+    refused(e);
+  }
   try {
     // The reader only: validate() and range() would double the time of large volumes.
-    const imx::VolumeData v = imx::detail::read_nifti(file);
+    const imx::VolumeData v = imx::detail::read_nifti(file, frame);
     check_volume(v);
     accepted("volume");
   } catch (const std::exception& e) {
@@ -23,8 +39,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   fuzz_region(
       file, size > 0 ? data[size - 1] : 0,
       [](const auto& f) { return imx::detail::read_nifti_header(f); },
-      [](const auto& f, const imx::VoxelBox& box) {
-        return imx::detail::read_nifti_region(f, box);
+      [frame](const auto& f, const imx::VoxelBox& box) {
+        return imx::detail::read_nifti_region(f, box, frame);
       });
   return 0;
 }

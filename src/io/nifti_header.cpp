@@ -47,9 +47,11 @@ class Fields {
 #define IMX_N1(field) offsetof(nifti_1_header, field)
 #define IMX_N2(field) offsetof(nifti_2_header, field)
 
-// A magic for a message: its printable characters, others as \xNN, trailing NULs dropped.
+// A magic for a message: its printable characters, others as \xNN, trailing NULs dropped
+// (unless it is nothing but NULs).
 std::string shown_magic(std::string_view magic) {
-  while (!magic.empty() && magic.back() == '\0') magic.remove_suffix(1);
+  while (magic.size() > 1 && magic.back() == '\0' && magic.find_first_not_of('\0') < magic.size())
+    magic.remove_suffix(1);
   std::string out;
   for (char c : magic) {
     const auto u = static_cast<unsigned char>(c);

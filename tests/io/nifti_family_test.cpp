@@ -221,7 +221,10 @@ TEST_F(NiftiFamily, ABadMagicIsRefusedNotReadAsAnalyze) {
     std::vector<std::string> fragments;
   };
   const Case cases[] = {
-      {"zero.nii", 344, std::string(4, '\0'), {"zero.nii", "magic is ''", "n+1"}},
+      {"zero.nii",
+       344,
+       std::string(4, '\0'),
+       {"zero.nii", "magic is '\\x00\\x00\\x00\\x00'", "n+1"}},
       {"typo.nii", 344, std::string("nX1\0", 4), {"typo.nii", "magic is 'nX1'", "Analyze"}},
       {"pair.nii", 344, std::string("ni1\0", 4), {"pair.nii", "'ni1'", ".hdr/.img pair"}},
   };
