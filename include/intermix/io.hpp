@@ -19,9 +19,9 @@ namespace imx {
 // World space is LPS: NIfTI's, Analyze's and MGH's RAS is converted (Analyze, which stores no
 // orientation, and MGH are placed as nibabel places them), MetaImage is LPS already (as in ITK).
 // Throws imx::Error naming the file and the fault.
-// A 4-D file (NIfTI dim[4] or dim[5], a NRRD list/vector axis, a multi-volume DICOM series)
-// holds several frames on one grid: `frame` picks one (0-based; out of range: imx::Error), and
-// only that frame's voxels are read and held.
+// A 4-D file (NIfTI or Analyze dim[4] or dim[5], MGH frames, a NRRD list/vector axis, a
+// multi-volume DICOM series) holds several frames on one grid: `frame` picks one (0-based; out
+// of range: imx::Error), and only that frame's voxels are read and held.
 VolumeData read_volume(const std::filesystem::path& file, int frame = 0);
 
 // What a volume file holds, from its header alone (DICOM: the series' headers are read), with
