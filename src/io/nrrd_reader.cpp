@@ -123,7 +123,10 @@ Header read_header(std::istream& in, const std::string& what) {
     std::string name = canonical_field(lower(trim(l.substr(0, colon))));
     if (!h.fields.emplace(name, std::string(trim(l.substr(colon + 1)))).second)
       throw Error(fmt::format("{}: field '{}' appears twice", what, name));
-    if (name == "data file" && trim(l.substr(colon + 1)).substr(0, 4) == "LIST") list = true;
+    if (name == "data file") {
+      const auto words = split_words(l.substr(colon + 1));
+      list = !words.empty() && words[0] == "LIST";  // not a file named "LISTS.raw"
+    }
   }
   h.data_offset = in.tellg();
   return h;

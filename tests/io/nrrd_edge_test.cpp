@@ -433,6 +433,10 @@ TEST(NrrdEdge, DataFileListAndPatternStackSlices) {
               "NRRD0004\ntype: short\ndimension: 3\nsizes: 4 3 2\nendian: little\n"
               "encoding: gzip\nbyte skip: 2\ndata file: LIST\ng1.gz\ng2.gz\n");
   EXPECT_EQ(voxels_of<int16_t>(read_volume(dir / "gz.nhdr")), data);
+  // A single file whose name starts with LIST is no list.
+  write_bytes(dir / "LISTS.raw", all);
+  write_bytes(dir / "one.nhdr", fields + "data file: LISTS.raw\nline skip: 0\n");
+  EXPECT_EQ(voxels_of<int16_t>(read_volume(dir / "one.nhdr")), data);
   write_bytes(dir / "s02.raw", all.substr(24) + "x");
   expect_error([&] { read_volume(dir / "list.nhdr"); }, {"s02.raw", "1 bytes more"});
 }
