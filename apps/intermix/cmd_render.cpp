@@ -1,6 +1,9 @@
 // intermix render SCENE.json -o OUT.png: one frame of a scene file.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <iterator>
+#include <regex>
 
 #include <fmt/format.h>
 
@@ -15,15 +18,82 @@
 
 namespace imx::cli {
 
+namespace {
+
+struct Options {
+  std::string scene, output, method;
+  int width = 0, height = 0, spp = 0, threads = 0;
+  std::vector<std::string> overrides;
+  std::string frame_range, frame_object;
+  bool linear = false;
+  bool distributed = false;
+  std::string partition = "auto", report;
+};
+
+// Loads, renders and writes one image, printing its notes and time.
+void render_one(const Options& o, const std::vector<std::string>& overrides,
+                const std::string& output) {
+  Scene scene = load_scene(o.scene, overrides);
+  print_notes(scene.notes);
+  RenderOptions options;
+  options.method = o.method;
+  options.spp = o.spp;
+  options.threads = o.threads;
+  ProgressBar bar("render", show_progress());
+  options.progress = [&bar](double f) { bar.update(f); };
+  auto start = std::chrono::steady_clock::now();
+  Image image;
+  try {
+    image = render(scene, options);
+  } catch (const Error& e) {
+    throw Error(fmt::format("{}: {}", o.scene, e.what()));  // what the method refused
+  }
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  bar.finish();
+  write_png(image, output, o.linear);
+  std::string method = o.method.empty() ? scene.render.method : o.method;
+  if (!quiet())
+    std::fprintf(stderr, "intermix: %s: %dx%d with %s on %d threads in %.3f s -> %s\n",
+                 o.scene.c_str(), image.width(), image.height(), method.c_str(),
+                 resolve_thread_count(o.threads), seconds, output.c_str());
+}
+
+// --frame-range A:B: frame k of one volume object to the -o pattern's k-th name, one at a time
+// (each frame's voxels replace the last's).
+int render_frames(const Options& o, const std::vector<std::string>& overrides) {
+  int first = 0, last = 0;
+  char tail = 0;
+  if (std::sscanf(o.frame_range.c_str(), "%d:%d%c", &first, &last, &tail) != 2 || first < 0 ||
+      last < first)
+    throw Error(fmt::format("--frame-range '{}': give A:B with 0 <= A <= B", o.frame_range));
+  // The pattern: exactly one %d, %Nd or %0Nd, and no other %.
+  const std::regex number("%0?[0-9]{0,2}d");
+  const auto found = std::distance(std::sregex_iterator(o.output.begin(), o.output.end(), number),
+                                   std::sregex_iterator());
+  if (found != 1 || std::count(o.output.begin(), o.output.end(), '%') != 1)
+    throw Error(fmt::format(
+        "{}: with --frame-range, -o needs one frame number such as out_%03d.png", o.output));
+  std::string object = o.frame_object;
+  if (object.empty()) {
+    const Scene probe = load_scene(o.scene, overrides);
+    if (probe.volumes.size() != 1)
+      throw Error(fmt::format("{}: {} volume objects; name one with --frame-object", o.scene,
+                              probe.volumes.size()));
+    object = probe.volumes.front().name;
+  }
+  for (int k = first; k <= last; ++k) {
+    std::vector<std::string> with_frame = overrides;
+    with_frame.push_back(fmt::format("objects.{}.source.frame={}", object, k));
+    char name[4096];
+    std::snprintf(name, sizeof name, o.output.c_str(), k);
+    render_one(o, with_frame, name);
+  }
+  return 0;
+}
+
+}  // namespace
+
 Command add_render(CLI::App& app) {
-  struct Options {
-    std::string scene, output, method;
-    int width = 0, height = 0, spp = 0, threads = 0;
-    std::vector<std::string> overrides;
-    bool linear = false;
-    bool distributed = false;
-    std::string partition = "auto", report;
-  };
   auto o = std::make_shared<Options>();
   app.add_option("scene", o->scene, "scene file (JSON)")->required();
   app.add_option("-o,--output", o->output, "output PNG")->required();
@@ -47,6 +117,12 @@ Command add_render(CLI::App& app) {
   app.add_option("--partition", o->partition,
                  "with --distributed: objects, bricks or auto (default: auto)")
       ->check(CLI::IsMember({"objects", "bricks", "auto"}));
+  app.add_option("--frame-range", o->frame_range,
+                 "A:B: render frames A to B of a multi-frame (4-D) volume, one PNG each; -o then "
+                 "names them with a printf number such as out_%03d.png");
+  app.add_option("--frame-object", o->frame_object,
+                 "with --frame-range: the volume object whose frames run (default: the scene's "
+                 "only volume)");
   app.add_option("--report", o->report,
                  "with --distributed: write timings, bytes exchanged and memory per rank (JSON)");
   return [o]() {
@@ -55,6 +131,8 @@ Command add_render(CLI::App& app) {
     if (o->height > 0) overrides.push_back(fmt::format("image.height={}", o->height));
     if (!o->distributed && (o->report.size() || o->partition != "auto"))
       throw Error("--partition and --report apply only with --distributed");
+    if (o->distributed && !o->frame_range.empty())
+      throw Error("--frame-range does not apply with --distributed");
     if (o->distributed) {
       DistributedRequest request;
       request.scene = o->scene;
@@ -71,30 +149,9 @@ Command add_render(CLI::App& app) {
         std::fprintf(stderr, "intermix: error: %s\n", message.c_str());
       });
     }
-    Scene scene = load_scene(o->scene, overrides);
-    print_notes(scene.notes);
-    RenderOptions options;
-    options.method = o->method;
-    options.spp = o->spp;
-    options.threads = o->threads;
-    ProgressBar bar("render", show_progress());
-    options.progress = [&bar](double f) { bar.update(f); };
-    auto start = std::chrono::steady_clock::now();
-    Image image;
-    try {
-      image = render(scene, options);
-    } catch (const Error& e) {
-      throw Error(fmt::format("{}: {}", o->scene, e.what()));  // what the method refused
-    }
-    double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    bar.finish();
-    write_png(image, o->output, o->linear);
-    std::string method = o->method.empty() ? scene.render.method : o->method;
-    if (!quiet())
-      std::fprintf(stderr, "intermix: %s: %dx%d with %s on %d threads in %.3f s -> %s\n",
-                   o->scene.c_str(), image.width(), image.height(), method.c_str(),
-                   resolve_thread_count(o->threads), seconds, o->output.c_str());
+    if (!o->frame_range.empty()) return render_frames(*o, overrides);
+    if (!o->frame_object.empty()) throw Error("--frame-object applies only with --frame-range");
+    render_one(*o, overrides, o->output);
     return 0;
   };
 }

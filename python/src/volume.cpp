@@ -192,13 +192,14 @@ std::filesystem::path path_of(const py::object& path) {
 
 py::tuple read_volume_file(const py::object& path, const std::string& space,
                            const py::object& series, const std::string& units,
-                           std::optional<double> slice_spacing_mm) {
+                           std::optional<double> slice_spacing_mm, int frame) {
   const bool lps = parse_space(space, "read_volume");
   const std::filesystem::path file = path_of(path);
   DicomReadOptions options;
   if (!series.is_none()) options.series = py::str(series).cast<std::string>();
   options.units = units;
   options.slice_spacing_mm = slice_spacing_mm;
+  options.frame = frame;
   const bool dicom_options = !series.is_none() || !units.empty() || slice_spacing_mm;
   if (!units.empty() && units != "suv")
     throw py::value_error(fmt::format("read_volume: units '{}' is not suv", units));
@@ -213,12 +214,45 @@ py::tuple read_volume_file(const py::object& path, const std::string& space,
             "{}: only DICOM sources (a folder, DICOMDIR or .dcm file) take series, units and "
             "slice_spacing_mm",
             file.string()));
-      data = std::make_shared<VolumeData>(read_volume(file));
+      data = std::make_shared<VolumeData>(read_volume(file, frame));
     }
     data->validate(file.string());
   }
   const glm::dmat4 affine = lps ? data->index_to_world : flip_xy(data->index_to_world);
   return py::make_tuple(voxels_array(data, true), affine_array(affine));
+}
+
+// What a file holds without its voxels: dims, type, frames and their labels.
+py::dict read_volume_info(const py::object& path, const py::object& series) {
+  const std::filesystem::path file = path_of(path);
+  VolumeHeader h;
+  {
+    py::gil_scoped_release release;
+    if (is_dicom_source(file)) {
+      DicomReadOptions options;
+      if (!series.is_none()) options.series = py::str(series).cast<std::string>();
+      h = read_dicom_header(file, options);
+    } else {
+      h = read_volume_header(file);
+    }
+  }
+  py::list labels;
+  for (const FrameLabel& l : h.frame_labels) {
+    py::dict d;
+    d["label"] = l.text;
+    if (l.time_s) d["time_s"] = *l.time_s;
+    if (l.b_value) d["b_value"] = *l.b_value;
+    if (l.b_vector) d["b_vector"] = py::make_tuple(l.b_vector->x, l.b_vector->y, l.b_vector->z);
+    if (l.echo_time_ms) d["echo_time_ms"] = *l.echo_time_ms;
+    if (l.trigger_time_ms) d["trigger_time_ms"] = *l.trigger_time_ms;
+    if (!l.image_type.empty()) d["image_type"] = l.image_type;
+    labels.append(d);
+  }
+  py::dict out;
+  out["shape"] = py::make_tuple(h.dims.z, h.dims.y, h.dims.x);
+  out["frames"] = h.frames;
+  out["frame_labels"] = labels;
+  return out;
 }
 
 }  // namespace
@@ -327,16 +361,25 @@ Raises ValueError (with the library's message) for bad shapes, affines or non-fi
   m.def(
       "read_volume", &read_volume_file, py::arg("path"), py::kw_only(), py::arg("space") = "LPS",
       py::arg("series") = py::none(), py::arg("units") = "",
-      py::arg("slice_spacing_mm") = py::none(),
-      R"doc(Reads a volume file: NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz), MetaImage (.mha, .mhd), or a
-DICOM folder, DICOMDIR or file: its largest series, or `series` (a number, id or UID), in
-`units="suv"` for PET, resampled to `slice_spacing_mm` when its slices are uneven (as
-`intermix convert` reads it).
+      py::arg("slice_spacing_mm") = py::none(), py::arg("frame") = 0,
+      R"doc(Reads a volume file: NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz, .hdr/.img), MGH (.mgh, .mgz),
+MetaImage (.mha, .mhd), or a DICOM folder, DICOMDIR or file: its largest series, or `series` (a
+number, id or UID), in `units="suv"` for PET, resampled to `slice_spacing_mm` when its slices are
+uneven (as `intermix convert` reads it). Of a multi-frame (4-D) file or series (fMRI, DWI, ASL,
+echoes), `frame` picks one (0-based); read_volume_info says how many there are.
 
 Returns (array, affine): the voxels as a C-order (nk, nj, ni) array of uint8, int16, uint16 or
 float32 (indexed array[k, j, i]) and the 4x4 index-to-world affine in `space` ("LPS", the default,
 or "RAS"). Volume(array, affine, space=space) gives the same volume back without a copy.
 Raises OSError when the file cannot be read, ValueError when its content is wrong.
+)doc");
+  m.def(
+      "read_volume_info", &read_volume_info, py::arg("path"), py::kw_only(),
+      py::arg("series") = py::none(),
+      R"doc(What a volume file or DICOM series holds without reading its voxels: a dict with "shape"
+(nk, nj, ni), "frames" (1 for a 3-D volume) and "frame_labels" (one dict per frame, with "label"
+and, where the file says, "time_s", "b_value", "b_vector" (along i, j, k), "echo_time_ms",
+"trigger_time_ms", "image_type"; empty when the file labels nothing).
 )doc");
 
   m.def(

@@ -117,9 +117,9 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
       load = [path, k, named = frame.has_value(), &context] {
         if (!named)  // the header is cheap next to the voxels; it says how many frames there are
           if (const int frames = read_volume_header(path).frames; frames > 1)
-            context.notes.push_back(fmt::format(
-                "{}: frame 0 of {} (name another with \"source\": {{\"frame\": K}})",
-                path.string(), frames));
+            context.notes.push_back(
+                fmt::format("{}: frame 0 of {} (name another with \"source\": {{\"frame\": K}})",
+                            path.string(), frames));
         return read_volume(path, k);
       };
       header = [path] { return read_volume_header(path); };

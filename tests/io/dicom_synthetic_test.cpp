@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,8 @@ struct Slice {
   bool pet = false;  // add PET SUV tags
   std::string pet_units = "BQML";
   bool pet_weight = true;
+  int instance_number = 0;                    // 0: no InstanceNumber
+  std::function<void(gdcm::DataSet&)> extra;  // further tags
 };
 
 void put_text(gdcm::DataSet& ds, uint16_t g, uint16_t e, gdcm::VR vr, std::string v) {
@@ -115,6 +118,9 @@ void write_slice(const fs::path& file, const Slice& s) {
     de.SetVLToUndefined();
     ds.Replace(de);
   }
+  if (s.instance_number > 0)
+    put_text(ds, 0x0020, 0x0013, gdcm::VR::IS, std::to_string(s.instance_number));
+  if (s.extra) s.extra(ds);
   if (s.pixel_data) {
     std::vector<int16_t> px = s.pixels;
     const size_t n = static_cast<size_t>(s.rows) * s.columns * s.samples;
@@ -392,7 +398,8 @@ TEST(DicomErrors, DuplicatePositions) {
   Slice again;
   again.position = glm::dvec3(-10, 20, 2);
   write_slice(dir / "copy.dcm", again);
-  expect_error([&] { read_dicom(dir.path()); }, {"duplicate slice position", "copy.dcm", "s1.dcm"});
+  expect_error([&] { read_dicom(dir.path()); },
+               {"do not form whole volumes", "holds 1 image where", "holds 2"});
 }
 
 TEST(DicomErrors, NoPixelData) {
@@ -453,6 +460,184 @@ TEST(DicomErrors, MalformedElementsAreRefusedBeforeGdcmParsesThem) {
   expect_error([&] { read_dicom(dir / "big.dcm"); }, {"big.dcm", "claims"});
   // A folder of only such files says why, rather than "no DICOM files".
   expect_error([&] { list_dicom_series(dir.path()); }, {"cannot be read"});
+}
+
+}  // namespace
+}  // namespace imx
+
+namespace imx {
+namespace {
+
+// Volumes of `positions` slices each: pixel value 100 * volume + 10 * slice, files named
+// v{volume}_s{slice}.dcm, instance numbers volume-major; `tag` adds each image's own tags.
+void write_volumes(const TempDir& dir, int volumes, int positions,
+                   const std::function<void(gdcm::DataSet&, int volume, int slice)>& tag = {}) {
+  for (int v = 0; v < volumes; ++v)
+    for (int z = 0; z < positions; ++z) {
+      Slice s;
+      s.modality = "MR";
+      s.position = glm::dvec3(0, 0, 2.0 * z);
+      s.instance_number = 1 + v * positions + z;
+      s.pixels.assign(12, static_cast<int16_t>(100 * v + 10 * z));
+      if (tag) s.extra = [&, v, z](gdcm::DataSet& ds) { tag(ds, v, z); };
+      write_slice(dir / fmt::format("v{}_s{}.dcm", v, z), s);
+    }
+}
+
+void put_fd(gdcm::DataSet& ds, uint16_t g, uint16_t e, std::vector<double> v) {
+  gdcm::DataElement de(gdcm::Tag(g, e));
+  de.SetVR(gdcm::VR::FD);
+  de.SetByteValue(reinterpret_cast<const char*>(v.data()), static_cast<uint32_t>(v.size() * 8));
+  ds.Replace(de);
+}
+
+// Each frame k holds volume `expected[k]`: slice z has value 100 * volume + 10 * z.
+void expect_frames(const fs::path& dir, const std::vector<int>& expected) {
+  const VolumeHeader h = read_dicom_header(dir);
+  ASSERT_EQ(h.frames, static_cast<int>(expected.size()));
+  for (size_t f = 0; f < expected.size(); ++f) {
+    DicomReadOptions o;
+    o.frame = static_cast<int>(f);
+    const DicomVolume d = read_dicom(dir, o);
+    for (int z = 0; z < d.volume.dims.z; ++z)
+      EXPECT_EQ(d.volume.value_at(1, 1, z), 100 * expected[f] + 10 * z) << "frame " << f;
+  }
+}
+
+TEST(DicomVolumes, ClassicTimeSeriesSplitsInInstanceOrder) {
+  TempDir dir;
+  write_volumes(dir, 4, 3);
+  expect_frames(dir.path(), {0, 1, 2, 3});
+  DicomReadOptions o;
+  o.frame = 4;
+  expect_error([&] { read_dicom(dir.path(), o); }, {"frame 4", "4 frames (0 to 3)"});
+  EXPECT_NE(read_dicom(dir.path()).notes.back().find("frame 0 of 4"), std::string::npos);
+}
+
+TEST(DicomVolumes, TemporalPositionOutranksInstanceNumbers) {
+  TempDir dir;
+  // Instance numbers that run backwards: without the temporal positions, the volumes reverse.
+  write_volumes(dir, 3, 2, [](gdcm::DataSet& ds, int v, int z) {
+    put_text(ds, 0x0020, 0x0013, gdcm::VR::IS, std::to_string(100 - 2 * v - z));
+  });
+  expect_frames(dir.path(), {2, 1, 0});
+  write_volumes(dir, 3, 2, [](gdcm::DataSet& ds, int v, int z) {
+    put_text(ds, 0x0020, 0x0013, gdcm::VR::IS, std::to_string(100 - 2 * v - z));
+    put_text(ds, 0x0020, 0x0100, gdcm::VR::IS, std::to_string(v + 1));
+  });
+  expect_frames(dir.path(), {0, 1, 2});
+}
+
+TEST(DicomVolumes, SliceTimingInTriggerTimeDoesNotSplitVolumes) {
+  TempDir dir;
+  write_volumes(dir, 2, 3, [](gdcm::DataSet& ds, int, int z) {
+    put_text(ds, 0x0018, 0x1060, gdcm::VR::DS, std::to_string(100 * z));  // one per slice
+  });
+  expect_frames(dir.path(), {0, 1});
+}
+
+TEST(DicomVolumes, DiffusionLabelsAndRepeatedB0) {
+  TempDir dir;
+  const double b[] = {0, 1000, 0};
+  write_volumes(dir, 3, 2, [&](gdcm::DataSet& ds, int v, int) {
+    put_fd(ds, 0x0018, 0x9087, {b[v]});
+    if (b[v] > 0) put_fd(ds, 0x0018, 0x9089, {0.0, 0.6, 0.8});
+  });
+  expect_frames(dir.path(), {0, 1, 2});
+  const VolumeHeader h = read_dicom_header(dir.path());
+  ASSERT_EQ(h.frame_labels.size(), 3u);
+  EXPECT_EQ(h.frame_labels[1].b_value, 1000.0);
+  ASSERT_TRUE(h.frame_labels[1].b_vector.has_value());
+  EXPECT_NEAR(h.frame_labels[1].b_vector->y, 0.6, 1e-9);  // columns run along +y
+  EXPECT_NEAR(h.frame_labels[1].b_vector->z, 0.8, 1e-9);
+  EXPECT_EQ(h.frame_labels[2].b_value, 0.0);
+  EXPECT_EQ(*h.frame_labels[2].b_vector, glm::dvec3(0.0));
+}
+
+TEST(DicomVolumes, AnIncompleteVolumeIsRefusedNamingTheFiles) {
+  TempDir dir;
+  write_volumes(dir, 2, 3);
+  fs::remove(dir / "v1_s2.dcm");
+  expect_error([&] { read_dicom(dir.path()); },
+               {"5 images at 3 slice positions", "do not form whole volumes", "v0_s2.dcm"});
+}
+
+TEST(DicomVolumes, OneUidUnderTwoSeriesNumbersIsTwoSeries) {
+  TempDir dir;
+  Slice a;
+  for (int n = 1; n <= 2; ++n)
+    for (int z = 0; z < 3; ++z) {
+      a.series_number = n;
+      a.position.z = z;
+      write_slice(dir / fmt::format("n{}_{}.dcm", n, z), a);
+    }
+  const std::vector<DicomSeriesInfo> list = list_dicom_series(dir.path());
+  ASSERT_EQ(list.size(), 2u);
+  EXPECT_EQ(list[0].id, "1");
+  EXPECT_EQ(list[1].id, "2");
+  EXPECT_EQ(read_dicom(dir.path()).frames, 1);
+}
+
+// A Siemens mosaic of 3 tiles of 2x2 in a 4x4 image (2 per row), rows x columns swapped to tell
+// them apart: tile t holds 10 * t + pixel.
+void write_mosaic(const fs::path& file, bool with_count) {
+  Slice s;
+  s.modality = "MR";
+  s.rows = 4;
+  s.columns = 4;
+  s.spacing = "2\\3";  // between rows 2 mm, between columns 3 mm
+  s.position = glm::dvec3(100, 200, 300);
+  s.pixels.assign(16, 0);
+  for (int t = 0; t < 4; ++t)
+    for (int p = 0; p < 4; ++p)
+      s.pixels[static_cast<size_t>((t / 2 * 2 + p / 2) * 4 + t % 2 * 2 + p % 2)] =
+          static_cast<int16_t>(t < 3 ? 10 * t + p : -1);
+  s.extra = [with_count](gdcm::DataSet& ds) {
+    put_text(ds, 0x0008, 0x0008, gdcm::VR::CS, "ORIGINAL\\PRIMARY\\M\\ND\\MOSAIC");
+    put_text(ds, 0x0018, 0x0088, gdcm::VR::DS, "5");
+    put_text(ds, 0x0019, 0x0010, gdcm::VR::LO, "SIEMENS MR HEADER");
+    if (with_count) put_us(ds, 0x0019, 0x100a, 3);
+  };
+  write_slice(file, s);
+}
+
+TEST(DicomVolumes, MosaicTilesAreSlicesPlacedFromTheMosaicCorner) {
+  TempDir dir;
+  write_mosaic(dir / "m.dcm", true);
+  const DicomVolume d = read_dicom(dir / "m.dcm");
+  ASSERT_EQ(d.volume.dims, glm::ivec3(2, 2, 3));
+  for (int t = 0; t < 3; ++t)
+    for (int p = 0; p < 4; ++p) EXPECT_EQ(d.volume.value_at(p % 2, p / 2, t), 10 * t + p);
+  // The first tile's corner pixel lies half the size difference (1 tile) in from the mosaic's.
+  const glm::dvec3 origin(d.volume.index_to_world[3]);
+  EXPECT_NEAR(glm::length(origin - glm::dvec3(103, 202, 300)), 0.0, 1e-9);
+  EXPECT_NEAR(glm::length(glm::dvec3(d.volume.index_to_world[2]) - glm::dvec3(0, 0, 5)), 0.0, 1e-9);
+  write_mosaic(dir / "m.dcm", false);  // no count, no CSA header: refused, never a 2-D slice
+  expect_error([&] { read_dicom(dir / "m.dcm"); }, {"m.dcm", "mosaic", "NumberOfImagesInMosaic"});
+}
+
+TEST(DicomVolumes, GeReversedPolarityRowsAreMirroredAlternatingRefused) {
+  TempDir dir;
+  auto pepolar = [](const std::string& user_data) {
+    return [user_data](gdcm::DataSet& ds) {
+      put_text(ds, 0x0019, 0x0010, gdcm::VR::LO, "GEMS_ACQU_01");
+      put_text(ds, 0x0019, 0x109c, gdcm::VR::LO, "epi_pepolar");
+      put_text(ds, 0x0019, 0x10b3, gdcm::VR::DS, user_data);
+    };
+  };
+  Slice s;
+  s.extra = pepolar("1");
+  write_slice(dir / "r.dcm", s);
+  const DicomVolume d = read_dicom(dir / "r.dcm");
+  // Default pixels are 10 * index: row r of the file lands on row 3 - r.
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(d.volume.value_at(c, 3 - r, 0), 10 * (r * 3 + c));
+  s.extra = pepolar("0");  // forward: as stored
+  write_slice(dir / "r.dcm", s);
+  EXPECT_EQ(read_dicom(dir / "r.dcm").volume.value_at(0, 0, 0), 0);
+  s.extra = pepolar("2");
+  write_slice(dir / "r.dcm", s);
+  expect_error([&] { read_dicom(dir / "r.dcm"); }, {"r.dcm", "epi_pepolar", "alternating"});
 }
 
 }  // namespace

@@ -87,8 +87,7 @@ void read_private_diffusion(const gdcm::DataSet& ds, DicomFrame& f) {
   }
   if (auto b = private_block(ds, 0x0043, "GEMS_PARM_01")) {
     // The first value of slop_int_6; some versions add 1e9 (a flag) to it.
-    if (auto v = tag_number(ds, 0x0043, *b | 0x39); v && *v >= 0.0)
-      f.b_value = std::fmod(*v, 1e9);
+    if (auto v = tag_number(ds, 0x0043, *b | 0x39); v && *v >= 0.0) f.b_value = std::fmod(*v, 1e9);
   }
   if (auto b = private_block(ds, 0x0019, "GEMS_ACQU_01")) {
     auto x = tag_number(ds, 0x0019, *b | 0xBB), y = tag_number(ds, 0x0019, *b | 0xBC),
@@ -125,7 +124,8 @@ void read_volume_keys(const gdcm::DataSet& ds, const std::string& image_type, Di
     if (cut == std::string::npos) break;
     at = cut + 1;
   }
-  if (parts.size() >= 3 && (parts[2] == "M" || parts[2] == "P" || parts[2] == "R" || parts[2] == "I"))
+  if (parts.size() >= 3 &&
+      (parts[2] == "M" || parts[2] == "P" || parts[2] == "R" || parts[2] == "I"))
     f.complex_component = parts[2];
   if (auto c = tag_text(ds, 0x0008, 0x9208)) f.complex_component = c->substr(0, 1);
 }
@@ -178,6 +178,26 @@ void read_suv_tags(const gdcm::DataSet& ds, DicomSuvTags& t) {
   }
 }
 
+// GE's research EPI "epi_pepolar" says in user data 12 (0019,xxB3) which volumes it acquired with
+// the phase encoding reversed: 1 all of them (their rows are mirrored, as dcm2niix reads them);
+// 2 and 3 alternate forward and reverse volumes, which dcm2niix splits into two series: refused.
+bool ge_reversed_polarity(const gdcm::DataSet& ds, const std::string& what) {
+  auto b = private_block(ds, 0x0019, "GEMS_ACQU_01");
+  if (!b) return false;
+  std::string name = tag_text(ds, 0x0019, *b | 0x9C).value_or("") + " " +
+                     tag_text(ds, 0x0019, *b | 0x9E).value_or("");
+  std::transform(name.begin(), name.end(), name.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (name.find("epi_pepolar") == std::string::npos) return false;
+  const double user_data_12 = tag_number(ds, 0x0019, *b | 0xB3).value_or(0.0);
+  if (user_data_12 == 2.0 || user_data_12 == 3.0)
+    throw Error(fmt::format(
+        "{}: GE epi_pepolar with alternating forward and reverse volumes (user data 12 (0019,10B3) "
+        "is {}) is not supported",
+        what, user_data_12));
+  return user_data_12 == 1.0;
+}
+
 // A Siemens mosaic: the tiles of one volume side by side in one image, as many per row as per
 // column (the smallest square that holds them). Each tile becomes a frame placed where it lies:
 // ImagePositionPatient names the mosaic's corner, so the first tile's is moved by half the
@@ -213,8 +233,8 @@ void split_into_tiles(const gdcm::DataSet& ds, DicomFileHeader& h) {
   if (!normal || !(glm::length(*normal) > 0.5)) normal = cross;  // Siemens' usual
   *normal = glm::normalize(*normal);
   if (std::abs(std::abs(glm::dot(*normal, cross)) - 1.0) > 1e-3)
-    throw Error(fmt::format("{}: the mosaic's SliceNormalVector is not normal to its slices",
-                            what));
+    throw Error(
+        fmt::format("{}: the mosaic's SliceNormalVector is not normal to its slices", what));
   h.rows /= per_row;
   h.columns /= per_row;
   h.mosaic_tiles = *tiles;
@@ -399,6 +419,7 @@ std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& fi
       f.position = *base.position + normal * (f.frame * h.slice_spacing.value_or(1.0));
   }
   if (image_type.find("MOSAIC") != std::string::npos) split_into_tiles(ds, h);
+  h.mirror_rows = ge_reversed_polarity(ds, file.string());
   read_suv_tags(ds, h.suv);
   return h;
 }

@@ -58,6 +58,9 @@ struct DicomFileHeader {
   // As stored in the pixel data: a Siemens mosaic stores its tiles side by side in one frame.
   int stored_rows = 0, stored_columns = 0, stored_frames = 1;
   int mosaic_tiles = 0;  // images in a Siemens mosaic (0 when not one), a tile per DicomFrame
+  // GE's reversed-polarity EPI (epi_pepolar, reverse): rows stored mirrored along the phase axis,
+  // which dcm2niix flips back; so does the decoder.
+  bool mirror_rows = false;
   bool localizer = false;
   bool has_pixel_data = false;
   uint64_t pixel_bytes = 0;     // bytes in the file from the pixel data's value on
@@ -78,10 +81,10 @@ bool looks_like_dicom(const std::filesystem::path& file);
 bool well_formed_file_meta(const std::filesystem::path& file);
 
 // The header of an image file; a Siemens mosaic becomes one frame per tile, placed where the
-// tile lies (ImagePositionPatient names the mosaic's corner, not the first tile's). nullopt when the file is not DICOM or holds no image (no Rows or
-// Columns: a DICOMDIR, a structured report). Throws imx::Error for a file that starts like DICOM
-// but cannot be read (truncated, corrupt) and for an unusable header (a frame count out of
-// bounds).
+// tile lies (ImagePositionPatient names the mosaic's corner, not the first tile's). nullopt when
+// the file is not DICOM or holds no image (no Rows or Columns: a DICOMDIR, a structured report).
+// Throws imx::Error for a file that starts like DICOM but cannot be read (truncated, corrupt) and
+// for an unusable header (a frame count out of bounds).
 std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& file);
 
 }  // namespace imx::detail

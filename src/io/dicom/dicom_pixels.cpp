@@ -319,6 +319,13 @@ DecodedFrames decode_dicom_frames(const DicomFileHeader& header) {
   std::vector<char>& buffer = scratch_buffer();
   if (buffer.capacity() > (size_t{64} << 20)) std::vector<char>().swap(buffer);  // keep small ones
   if (header.mosaic_tiles > 0) out.frames = split_mosaic(out.frames.front(), header);
+  if (header.mirror_rows)
+    for (FloatPlane& f : out.frames)
+      for (int y = 0; y < header.rows / 2; ++y)
+        std::swap_ranges(
+            f.begin() + static_cast<std::ptrdiff_t>(y) * header.columns,
+            f.begin() + static_cast<std::ptrdiff_t>(y + 1) * header.columns,
+            f.begin() + static_cast<std::ptrdiff_t>(header.rows - 1 - y) * header.columns);
   return out;
 }
 

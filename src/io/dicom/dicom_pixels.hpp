@@ -36,7 +36,7 @@ using FloatPlane = std::vector<float, UninitializedAllocator<float>>;
 
 struct DecodedFrames {
   std::vector<FloatPlane> frames;  // one per frame
-  bool integer_pixels = true;              // stored values are integers (not float pixel data)
+  bool integer_pixels = true;      // stored values are integers (not float pixel data)
 };
 
 // Decodes every frame of `header.file` and applies each frame's RescaleSlope and

@@ -62,11 +62,11 @@ AcquiredSeries acquired_layout(const SeriesLayout& l, int frame) {
   out.suv = first.suv;
   out.frames = static_cast<int>(l.volumes.volumes.size());
   out.labels = l.volumes.labels;
-  out.stack = order_slices(l.volumes.volumes[static_cast<size_t>(frame)], first.rows,
-                           first.columns, first.slice_spacing, l.what);
+  out.stack = order_slices(l.volumes.volumes[static_cast<size_t>(frame)], first.rows, first.columns,
+                           first.slice_spacing, l.what);
   if (first.mosaic_tiles > 0)
-    out.notes.push_back(fmt::format("Siemens mosaic: {} tiles of {}x{} per file", first.mosaic_tiles,
-                                    first.columns, first.rows));
+    out.notes.push_back(fmt::format("Siemens mosaic: {} tiles of {}x{} per file",
+                                    first.mosaic_tiles, first.columns, first.rows));
   if (out.photometric == "MONOCHROME1")
     out.notes.push_back("MONOCHROME1: low values display bright; the values are kept as stored");
   return out;
@@ -91,10 +91,10 @@ std::vector<AcquiredSeries> read_acquired_volumes(const std::filesystem::path& s
   for (int f : which) require_frame(f, frames, l.what);
   const DicomFileHeader& first = l.group.headers.front();
   const size_t plane = static_cast<size_t>(first.rows) * first.columns;
-  check_memory(plane * l.volumes.volumes.front().size() * which.size() * sizeof(float),
-               fmt::format("{} ({}x{}x{} voxels, {} frame{})", l.what, first.columns, first.rows,
-                           l.volumes.volumes.front().size(), which.size(),
-                           which.size() == 1 ? "" : "s"));
+  check_memory(
+      plane * l.volumes.volumes.front().size() * which.size() * sizeof(float),
+      fmt::format("{} ({}x{}x{} voxels, {} frame{})", l.what, first.columns, first.rows,
+                  l.volumes.volumes.front().size(), which.size(), which.size() == 1 ? "" : "s"));
   std::vector<AcquiredSeries> out;
   for (int f : which) out.push_back(acquired_layout(l, f));
 
@@ -321,8 +321,8 @@ bool is_dicom_source(const std::filesystem::path& path) {
 VolumeHeader read_dicom_header(const std::filesystem::path& source,
                                const DicomReadOptions& options) {
   detail::AcquiredSeries a = detail::read_series_layout(source, options.series, options.frame);
-  detail::SliceGrid grid = detail::plan_slice_grid(a.stack, options.slice_spacing_mm,
-                                                   source.string());
+  detail::SliceGrid grid =
+      detail::plan_slice_grid(a.stack, options.slice_spacing_mm, source.string());
   // The storage type needs the values: float stands for "decided when read".
   return {glm::ivec3(a.stack.columns, a.stack.rows, static_cast<int>(grid.blends.size())),
           VoxelType::f32, grid.index_to_world, a.frames, a.labels};

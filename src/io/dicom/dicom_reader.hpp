@@ -15,9 +15,9 @@ namespace imx::detail {
 // One volume (frame) of a series as acquired.
 struct AcquiredSeries {
   DicomSeriesInfo info;
-  DicomStack stack;                        // frames sorted along the slice normal
+  DicomStack stack;                // frames sorted along the slice normal
   std::vector<FloatPlane> values;  // per sorted frame: rescaled, rows * columns
-  bool integer_valued = true;              // integer pixels, one integer slope, integer intercepts
+  bool integer_valued = true;      // integer pixels, one integer slope, integer intercepts
   std::string modality, photometric, rescale_type;
   DicomSuvTags suv;  // the first file's
   std::vector<std::string> notes;

@@ -134,8 +134,7 @@ std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& sou
 
   // Group by series UID and number (one UID may carry several numbers: dcm2niix makes a volume
   // of each), size, localizer-ness, then by orientation within those.
-  std::map<std::tuple<std::string, int, int, int, bool>,
-           std::vector<std::vector<DicomFileHeader>>>
+  std::map<std::tuple<std::string, int, int, int, bool>, std::vector<std::vector<DicomFileHeader>>>
       keyed;
   for (DicomFileHeader& h : headers) {
     auto& clusters = keyed[{h.series_uid, h.series_number, h.rows, h.columns, h.localizer}];

@@ -25,15 +25,17 @@ bool acquired_before(const DicomFrame& a, const DicomFrame& b) {
 
 // Each image's slice position as an index: images within kDuplicateMm of each other share one.
 std::vector<int> position_indices(const std::vector<DicomFrame>& images, int& positions) {
-  const glm::dvec3 normal =
-      images.front().row_direction && images.front().column_direction
-          ? glm::normalize(
-                glm::cross(*images.front().row_direction, *images.front().column_direction))
-          : glm::dvec3(0, 0, 1);
+  const glm::dvec3 normal = images.front().row_direction && images.front().column_direction
+                                ? glm::normalize(glm::cross(*images.front().row_direction,
+                                                            *images.front().column_direction))
+                                : glm::dvec3(0, 0, 1);
   std::vector<size_t> order(images.size());
   std::iota(order.begin(), order.end(), size_t{0});
-  auto along = [&](size_t i) { return glm::dot(images[i].position.value_or(glm::dvec3(0.0)), normal); };
-  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return along(a) < along(b); });
+  auto along = [&](size_t i) {
+    return glm::dot(images[i].position.value_or(glm::dvec3(0.0)), normal);
+  };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return along(a) < along(b); });
   std::vector<int> index(images.size(), -1);
   std::vector<glm::dvec3> seen;  // one position per index
   std::vector<size_t> first_of;  // where in `order` each index starts
@@ -102,8 +104,8 @@ struct KeyIntLess {
 
 // A field separates volumes only when each of its values is found equally often at every
 // position: a trigger time that is the slice timing (one value per slice) does not.
-bool constant_within_volumes(const std::vector<DicomFrame>& images, const std::vector<int>& position,
-                             int positions, int field) {
+bool constant_within_volumes(const std::vector<DicomFrame>& images,
+                             const std::vector<int>& position, int positions, int field) {
   std::map<Key, std::vector<int>, KeyLess> counts;
   for (size_t i = 0; i < images.size(); ++i) {
     auto& c = counts[field_values(images[i], field)];
@@ -123,7 +125,8 @@ FrameLabel label_of(const std::vector<DicomFrame>& volume, double first_time, bo
   const DicomFrame& f = volume.front();
   std::optional<double> start;
   for (const DicomFrame& g : volume)
-    if (g.acquisition_time_s) start = std::min(start.value_or(*g.acquisition_time_s), *g.acquisition_time_s);
+    if (g.acquisition_time_s)
+      start = std::min(start.value_or(*g.acquisition_time_s), *g.acquisition_time_s);
   if (start && std::isfinite(first_time)) l.time_s = *start - first_time;
   if (f.b_value) {
     l.b_value = *f.b_value;
@@ -210,16 +213,28 @@ DicomVolumes split_volumes(std::vector<DicomFrame> images, const std::string& wh
           "positions (tags that tell the volumes apart disagree)",
           what, images[m.front()].file.string(), m.size(), positions));
   }
-  // Volumes were created in acquisition order of their first image.
+  // Volumes come in the order of their temporal position or trigger time where those tell them
+  // apart, else in the acquisition order of their first image (the order they were made in).
+  std::vector<size_t> volume_order(members.size());
+  std::iota(volume_order.begin(), volume_order.end(), size_t{0});
+  auto timing = [&](size_t v) {
+    Key k;
+    for (int field : {0, 1})
+      if (used[static_cast<size_t>(field)])
+        k.push_back(field_values(images[members[v].front()], field)[0]);
+    return k;
+  };
+  std::stable_sort(volume_order.begin(), volume_order.end(),
+                   [&](size_t a, size_t b) { return key_less(timing(a), timing(b)); });
   double first_time = std::numeric_limits<double>::infinity();
   for (const DicomFrame& f : images)
     if (f.acquisition_time_s) first_time = std::min(first_time, *f.acquisition_time_s);
   bool echo_differs = false;
   for (const DicomFrame& f : images)
     if (f.echo_time_ms != images.front().echo_time_ms) echo_differs = true;
-  for (const std::vector<size_t>& m : members) {
+  for (size_t v : volume_order) {
     std::vector<DicomFrame> volume;
-    for (size_t i : m) volume.push_back(images[i]);
+    for (size_t i : members[v]) volume.push_back(images[i]);
     out.labels.push_back(label_of(volume, first_time, used[1], echo_differs, used[5]));
     out.volumes.push_back(std::move(volume));
   }

@@ -57,9 +57,9 @@ std::map<std::string, std::vector<std::string>> parse_csa_header(const std::stri
   if (!c.good || elements > kMaxCsaElements) return out;
   for (uint32_t e = 0; e < elements && c.good; ++e) {
     std::string name = c.text(64);
-    c.u32();  // VM
+    c.u32();    // VM
     c.text(4);  // VR
-    c.u32();  // SyngoDT
+    c.u32();    // SyngoDT
     const uint32_t items = c.u32();
     c.u32();  // 77 or 205
     if (!c.good || items > kMaxCsaItems) break;
