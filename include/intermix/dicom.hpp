@@ -34,7 +34,7 @@ struct DicomSeriesInfo {
 // The image series found under `source`: a folder (scanned recursively, at most 16 levels and
 // 100000 files, symbolic links to folders not followed), a DICOMDIR (its folder is scanned: the
 // records are not trusted, they often name paths that no longer exist) or one DICOM file. Files
-// that are not DICOM images are skipped. Sorted by series number, then part. Throws imx::Error
+// that are not DICOM images are skipped; gzip-compressed ones (.dcm.gz, NAME.gz) are read. Sorted by series number, then part. Throws imx::Error
 // naming `source` when it cannot be read or holds no DICOM image.
 std::vector<DicomSeriesInfo> list_dicom_series(const std::filesystem::path& source);
 
@@ -77,7 +77,8 @@ DicomVolume read_dicom(const std::filesystem::path& source, const DicomReadOptio
 std::vector<DicomVolume> read_dicom_frames(const std::filesystem::path& source,
                                            const DicomReadOptions& options = {});
 
-// True for a folder, a file named DICOMDIR, a .dcm file or a file with the "DICM" preamble:
+// True for a folder, a file named DICOMDIR, a .dcm or .dcm.gz file or a file with the "DICM"
+// preamble:
 // the sources that read_dicom (rather than read_volume) takes.
 bool is_dicom_source(const std::filesystem::path& path);
 

@@ -642,3 +642,36 @@ TEST(DicomVolumes, GeReversedPolarityRowsAreMirroredAlternatingRefused) {
 
 }  // namespace
 }  // namespace imx
+
+namespace imx {
+namespace {
+
+TEST(DicomVolumes, GzipCompressedFilesReadAsTheirContentAndErrorsNameThem) {
+  TempDir plain, packed;
+  write_volumes(plain, 2, 3);
+  for (const auto& e : fs::directory_iterator(plain.path())) {
+    const std::string cmd = fmt::format("gzip -c '{}' > '{}.gz'", e.path().string(),
+                                        (packed / e.path().filename()).string());
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+  }
+  expect_frames(packed.path(), {0, 1});
+  const DicomVolume single = read_dicom(packed / "v1_s0.dcm.gz");
+  EXPECT_EQ(single.volume.value_at(0, 0, 0), 100);
+  // A corrupt member: refused, naming the .gz file, not a temporary copy.
+  std::string bytes;
+  {
+    std::ifstream in(packed / "v0_s1.dcm.gz", std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  bytes[bytes.size() / 2] ^= 0x55;
+  std::ofstream(packed / "v0_s1.dcm.gz", std::ios::binary) << bytes;
+  expect_error([&] { read_dicom(packed.path()); }, {(packed / "v0_s1.dcm.gz").string()});
+  try {
+    read_dicom(packed.path());
+  } catch (const std::exception& e) {
+    EXPECT_EQ(std::string(e.what()).find("intermix-dcmgz"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace imx

@@ -46,7 +46,11 @@ SeriesLayout layout_of(const std::filesystem::path& source, const std::string& s
   std::vector<DicomFrame> images;
   for (const DicomFileHeader& h : l.group.headers)
     images.insert(images.end(), h.frames.begin(), h.frames.end());
-  l.volumes = split_volumes(std::move(images), l.what);
+  try {
+    l.volumes = split_volumes(std::move(images), l.what);
+  } catch (const Error& e) {
+    throw Error(original_names(l.group, e.what()));
+  }
   return l;
 }
 
@@ -72,19 +76,35 @@ AcquiredSeries acquired_layout(const SeriesLayout& l, int frame) {
   return out;
 }
 
+std::vector<AcquiredSeries> decode_volumes(const SeriesLayout& l, std::vector<int> which);
+
 }  // namespace
 
 AcquiredSeries read_series_layout(const std::filesystem::path& source, const std::string& series,
                                   int frame) {
   SeriesLayout l = layout_of(source, series);
   require_frame(frame, static_cast<int>(l.volumes.volumes.size()), l.what);
-  return acquired_layout(l, frame);
+  try {
+    return acquired_layout(l, frame);
+  } catch (const Error& e) {
+    throw Error(original_names(l.group, e.what()));
+  }
 }
 
 std::vector<AcquiredSeries> read_acquired_volumes(const std::filesystem::path& source,
                                                   const std::string& series,
                                                   std::vector<int> which) {
   SeriesLayout l = layout_of(source, series);
+  try {
+    return decode_volumes(l, std::move(which));
+  } catch (const Error& e) {
+    throw Error(original_names(l.group, e.what()));
+  }
+}
+
+namespace {
+
+std::vector<AcquiredSeries> decode_volumes(const SeriesLayout& l, std::vector<int> which) {
   const int frames = static_cast<int>(l.volumes.volumes.size());
   if (which.empty())
     for (int f = 0; f < frames; ++f) which.push_back(f);
@@ -133,6 +153,8 @@ std::vector<AcquiredSeries> read_acquired_volumes(const std::filesystem::path& s
   }
   return out;
 }
+
+}  // namespace
 
 }  // namespace detail
 
@@ -311,6 +333,7 @@ bool is_dicom_source(const std::filesystem::path& path) {
   if (name == "dicomdir") return true;
   const std::string ext = lower(path.extension().string());
   if (ext == ".dcm" || ext == ".dicom") return true;
+  if (name.size() > 7 && name.compare(name.size() - 7, 7, ".dcm.gz") == 0) return true;
   if (!std::filesystem::is_regular_file(path, ec)) return false;
   std::ifstream in(path, std::ios::binary);
   char head[132] = {};

@@ -80,6 +80,10 @@ bool same_orientation(const DicomFrame& a, const DicomFrame& b) {
 
 }  // namespace
 
+std::string original_names(const DicomSeriesGroup& group, std::string message) {
+  return group.inflated ? group.inflated->original_names(std::move(message)) : message;
+}
+
 std::string describe_series(const DicomSeriesInfo& s) {
   return fmt::format("{} '{}' {} {}x{}, {} slice{}{}", s.id, s.description,
                      s.modality.empty() ? "?" : s.modality, s.columns, s.rows, s.slices,
@@ -95,6 +99,7 @@ std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& sou
   if (ec || !fs::exists(status))
     throw FileError(fmt::format("{}: no such file or folder", what), ENOENT);
   std::vector<DicomFileHeader> headers;
+  auto inflated = std::make_shared<InflatedDicomFiles>();  // .dcm.gz files, inflated
   bool folder = fs::is_directory(status);
   if (!folder) {
     if (!fs::is_regular_file(status))
@@ -102,7 +107,14 @@ std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& sou
     if (is_dicomdir(source)) {
       folder = true;  // its records often name paths that moved: the folder is the truth
     } else {
-      std::optional<DicomFileHeader> h = read_dicom_header(source);
+      fs::path readable = source;
+      if (is_gzip_file(source)) readable = inflated->add(source);
+      std::optional<DicomFileHeader> h;
+      try {
+        h = read_dicom_header(readable);
+      } catch (const Error& e) {
+        throw Error(inflated->original_names(e.what()));
+      }
       if (!h) {
         if (looks_like_dicom(source))
           throw Error(
@@ -119,10 +131,11 @@ std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& sou
     std::vector<std::string> unreadable;
     for (const fs::path& f : files_under(dir.empty() ? fs::path(".") : dir)) {
       try {
-        if (std::optional<DicomFileHeader> h = read_dicom_header(f))
+        const fs::path readable = is_gzip_file(f) ? inflated->add(f) : f;
+        if (std::optional<DicomFileHeader> h = read_dicom_header(readable))
           headers.push_back(std::move(*h));
       } catch (const Error& e) {
-        unreadable.push_back(e.what());
+        unreadable.push_back(inflated->original_names(e.what()));
       }
     }
     if (broken != nullptr) *broken = unreadable;
@@ -163,9 +176,10 @@ std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& sou
       g.info.column_direction = first.frames.front().column_direction.value_or(glm::dvec3(0.0));
       for (const DicomFileHeader& h : files) {
         g.info.slices += h.frame_count;
-        g.info.files.push_back(h.file);
+        g.info.files.push_back(inflated->original_names(h.file.string()));
       }
       g.headers = std::move(files);
+      g.inflated = inflated;
       by_uid[{g.info.uid, g.info.number}].push_back(std::move(g));
     }
   std::vector<DicomSeriesGroup> out;

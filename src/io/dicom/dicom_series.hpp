@@ -2,10 +2,12 @@
 // choosing the series a read asks for.
 #pragma once
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "intermix/dicom.hpp"
+#include "io/dicom/dicom_gzip.hpp"
 #include "io/dicom/dicom_header.hpp"
 
 namespace imx::detail {
@@ -15,8 +17,12 @@ inline constexpr int kMaxDicomDepth = 16;
 
 struct DicomSeriesGroup {
   DicomSeriesInfo info;
-  std::vector<DicomFileHeader> headers;
+  std::vector<DicomFileHeader> headers;  // of .dcm.gz files: their inflated copies'
+  std::shared_ptr<const InflatedDicomFiles> inflated;  // keeps those copies; null when none
 };
+
+// `message` naming the files the user has, not the inflated copies of .dcm.gz files.
+std::string original_names(const DicomSeriesGroup& group, std::string message);
 
 // Every image series under `source`, sorted as list_dicom_series says. Files that start like
 // DICOM but cannot be read are skipped, their messages added to `broken` when given. Throws

@@ -1,0 +1,80 @@
+#include "io/dicom/dicom_gzip.hpp"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "intermix/error.hpp"
+#include "io/gzip.hpp"
+
+namespace imx::detail {
+
+bool is_gzip_file(const std::filesystem::path& file) {
+  std::string name = file.filename().string();
+  for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (name.size() < 4 || name.compare(name.size() - 3, 3, ".gz") != 0) return false;
+  // DICOM names: .dcm.gz, .dicom.gz, .ima.gz or no extension before .gz (not .nii.gz and such,
+  // which a folder scan must not inflate to find out).
+  const std::string inner = std::filesystem::path(name.substr(0, name.size() - 3)).extension();
+  if (!inner.empty() && inner != ".dcm" && inner != ".dicom" && inner != ".ima") return false;
+  std::ifstream in(file, std::ios::binary);
+  unsigned char magic[2] = {};
+  in.read(reinterpret_cast<char*>(magic), 2);
+  return in.gcount() == 2 && magic[0] == 0x1f && magic[1] == 0x8b;
+}
+
+InflatedDicomFiles::~InflatedDicomFiles() {
+  std::error_code ec;
+  if (!folder_.empty()) std::filesystem::remove_all(folder_, ec);
+}
+
+std::filesystem::path InflatedDicomFiles::add(const std::filesystem::path& gz) {
+  const std::string what = gz.string();
+  if (folder_.empty()) {
+    std::error_code ec;
+    std::string pattern = (std::filesystem::temp_directory_path(ec) / "intermix-dcmgz-XXXXXX").string();
+    std::vector<char> name(pattern.begin(), pattern.end());
+    name.push_back('\0');
+    if (ec || ::mkdtemp(name.data()) == nullptr)
+      throw FileError(fmt::format("{}: cannot make a temporary folder to inflate it into", what),
+                      errno);
+    folder_ = name.data();
+  }
+  std::string stem = gz.filename().string();
+  stem.resize(stem.size() - 3);  // without .gz
+  const std::filesystem::path out = folder_ / fmt::format("{}_{}", names_.size(), stem);
+  std::ifstream in(gz, std::ios::binary);
+  if (!in) throw FileError(fmt::format("{}: cannot open file", what), errno);
+  std::ofstream file(out, std::ios::binary);
+  GzipStream stream(in, what);
+  std::vector<uint8_t> buffer(size_t{1} << 20);
+  size_t total = 0;
+  while (size_t got = stream.read(buffer)) {
+    total += got;
+    if (total > kMaxInflatedDicomBytes)
+      throw Error(fmt::format("{}: inflates to more than {} bytes: not a DICOM file", what,
+                              kMaxInflatedDicomBytes));
+    file.write(reinterpret_cast<const char*>(buffer.data()), static_cast<std::streamsize>(got));
+    if (!file) throw FileError(fmt::format("{}: cannot write its inflated copy", what), errno);
+    if (got < buffer.size()) break;
+  }
+  stream.finish(total);
+  names_.emplace_back(out.string(), what);
+  return out;
+}
+
+std::string InflatedDicomFiles::original_names(std::string message) const {
+  for (const auto& [temporary, original] : names_)
+    for (size_t at = message.find(temporary); at != std::string::npos;
+         at = message.find(temporary, at + original.size()))
+      message.replace(at, temporary.size(), original);
+  return message;
+}
+
+}  // namespace imx::detail
