@@ -17,7 +17,9 @@
 //         are replaced by a preset for pre-integrated integer volumes (see below)
 // byte 14: low 4 bits 1-12 render only that method of available_methods() (faster runs that
 //         still reach every method); 0 and 13-15 render every method; bit 4 turns mip into
-//         minip and xray into its average mode
+//         minip and xray into its average mode; bit 5 makes some float voxels no data: with
+//         bits 6-7 choosing which (NaN, +inf, -inf, all three), those whose index i has
+//         (i * 5 + byte 3) % 7 < 1 + 2 * (byte 0 bit 4) (and voxels read as NaN or inf anyway)
 // bytes 15-: voxels, little-endian
 #include <algorithm>
 #include <cmath>
@@ -72,6 +74,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size > kHeader)
     for (size_t i = 0; i < bytes; ++i)
       voxels[i] = static_cast<char>(data[kHeader + i % (size - kHeader)]);
+  const uint8_t b14 = byte(data, size, 14);
+  if (type == 3 && (b14 & 0x20) != 0) {
+    // No data (NaN and inf voxels, as outside a statistical map's mask) is valid input.
+    static const float kNoData[] = {NAN, INFINITY, -INFINITY};
+    const int which = (b14 >> 6) & 3;
+    const size_t every = 1 + 2 * ((b0 >> 4) & 1);
+    for (size_t i = 0; i < bytes / 4; ++i)
+      if ((i * 5 + b3) % 7 < every) {
+        const float f = kNoData[which == 3 ? i % 3 : which];
+        std::memcpy(&voxels[4 * i], &f, 4);
+      }
+  }
   const double sp = 5.0;
   std::string nrrd = fmt::format(
       "NRRD0004\ntype: {}\ndimension: 3\nsizes: {} {} {}\nspace: left-posterior-superior\n"
@@ -100,7 +114,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   static const char* const kStyles[] = {"dvr", "iso", "mip", "xray"};
   const char* style = kStyles[(b0 >> 2) & 3];
-  const bool variant = (byte(data, size, 14) & 0x10) != 0;
+  const bool variant = (b14 & 0x10) != 0;
   if (variant && std::string_view(style) == "mip") style = "minip";
   const char* xray_mode = variant && std::string_view(style) == "xray" ? "average" : "integral";
   const bool shading = (b0 & 0x10) != 0, plane = (b0 & 0x80) != 0;
@@ -116,8 +130,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                                 "unit_distance": 5}},
          "shading": {{"enabled": {}}})",
       style, 0.5 * v0 + 0.5 * v1,
-      std::string_view(style) == "xray" ? fmt::format(R"( "xray_mode": "{}",)", xray_mode) : "",
-      v0, a0, v1, a1, shading ? "true" : "false");
+      std::string_view(style) == "xray" ? fmt::format(R"( "xray_mode": "{}",)", xray_mode) : "", v0,
+      a0, v1, a1, shading ? "true" : "false");
   std::string objects = fmt::format(R"({{"name": "v", {}}})", volume_fields);
   if (second)
     objects += fmt::format(
@@ -159,7 +173,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return 0;
   }
   const std::vector<std::string> methods = imx::available_methods();
-  const size_t only = byte(data, size, 14) & 15;
+  const size_t only = b14 & 15;
   for (size_t m = 0; m < methods.size(); ++m) {
     if (only >= 1 && only <= methods.size() && m != only - 1) continue;
     const std::string& method = methods[m];

@@ -50,17 +50,22 @@ struct VolumeData {
   glm::dvec3 spacing() const;
   // The value of one voxel as a double: for tools and tests, not for hot loops.
   double value_at(int i, int j, int k) const;
-  // Smallest and largest voxel value.
+  // Smallest and largest finite voxel value ({0, 0} when there is none).
   std::pair<double, double> range() const;
   // Throws imx::Error (naming `what`) when dims, storage size or the affine are inconsistent.
+  // NaN and inf voxels are valid: no data (non_finite_count).
   void validate(const std::string& what) const;
 };
+
+// How many voxels are NaN or infinite (float volumes only; 0 for the others): they are "no data",
+// rendered as nothing (transparent, never a maximum, minimum or iso crossing). One scan.
+size_t non_finite_count(const VolumeData& volume);
 
 // What distinguishes one frame of a multi-frame (4-D) source from the others: its time point,
 // diffusion weighting, echo, cardiac phase or image type. Only what the file says is set.
 struct FrameLabel {
-  std::optional<double> time_s;     // acquisition time, seconds after the first frame's
-  std::optional<double> b_value;    // diffusion weighting, s/mm^2
+  std::optional<double> time_s;        // acquisition time, seconds after the first frame's
+  std::optional<double> b_value;       // diffusion weighting, s/mm^2
   std::optional<glm::dvec3> b_vector;  // unit gradient direction in the volume's i, j, k axes
                                        // as dcm2niix's .bvec gives it (zero for b = 0)
   std::optional<double> echo_time_ms;

@@ -144,7 +144,9 @@ inline CsgIntervals classify_csg_sample(const Ray& ray, std::span<const Fragment
     if (int k = csg.primitive_of_volume[v]; k >= 0) spans[k] = {rv.span[v].t0, rv.span[v].t1};
   auto opacity_present = [&](int k, float t) {
     const PreparedVolume& v = volumes[csg.volume_of_primitive[k]];
-    return v.lut.lookup(v.grid.sample(v.to_index(ray.at(t)))).a > csg.presence_threshold;
+    const float s = v.grid.sample(v.to_index(ray.at(t)));
+    if (v.has_no_data && no_data(s)) return false;  // no data is not present
+    return v.lut.lookup(s).a > csg.presence_threshold;
   };
   return classify_csg_ray(row, csg, std::span<const CsgVolumeSpan>(spans, csg.primitive_count),
                           opacity_present, surfaces, ranges);

@@ -117,7 +117,8 @@ struct ReferenceCsg {
   }
 
   float opacity_at(const PreparedVolume& v, double t) const {
-    return v.lut.lookup(v.grid.sample(v.to_index(ray.at(static_cast<float>(t))))).a;
+    const float s = v.grid.sample(v.to_index(ray.at(static_cast<float>(t))));
+    return v.has_no_data && no_data(s) ? 0.0f : v.lut.lookup(s).a;  // no data: not present
   }
 
   bool value(PrimitiveMask present) const { return evaluate(view.program, present); }

@@ -43,13 +43,13 @@ inline glm::vec4 shade_plane_fragment(const glm::vec3& color, float opacity, con
 }
 
 // The value a plane shows at a world point of `volume`; false where the point lies outside the
-// grid, where the plane has no fragment at all.
+// grid or the volume has no data there (NaN or inf voxels), where the plane has no fragment.
 inline bool sample_plane_volume(const PreparedVolume& volume, const glm::vec3& world,
                                 float& value) {
   glm::vec3 index = volume.to_index(world);
   if (!volume.grid.inside(index)) return false;
   value = volume.grid.sample(index);
-  return true;
+  return !(volume.has_no_data && no_data(value));
 }
 
 }  // namespace imx

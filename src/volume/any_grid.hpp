@@ -44,6 +44,9 @@ struct AnyGrid {
   glm::vec3 gradient(glm::vec3 p) const {
     return visit([&](const auto& g) { return g.gradient(p); });
   }
+  glm::vec3 gradient_of_data(glm::vec3 p) const {
+    return visit([&](const auto& g) { return g.gradient_of_data(p); });
+  }
   bool inside(glm::vec3 p) const { return as<uint8_t>().inside(p); }
 };
 

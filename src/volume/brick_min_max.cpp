@@ -10,22 +10,35 @@ namespace {
 
 template <class T>
 glm::vec2 scan_brick(const VoxelGrid<T>& g, glm::ivec3 lo, glm::ivec3 hi) {
-  T mn = g.data[(static_cast<size_t>(lo.z) * g.dims.y + lo.y) * g.dims.x + lo.x];
-  T mx = mn;
-  bool nan = false;
-  for (int k = lo.z; k <= hi.z; ++k)
-    for (int j = lo.y; j <= hi.y; ++j) {
-      const T* row = g.data + (static_cast<size_t>(k) * g.dims.y + j) * g.dims.x;
-      for (int i = lo.x; i <= hi.x; ++i) {
-        T v = row[i];
-        mn = v < mn ? v : mn;
-        mx = v > mx ? v : mx;
-        if constexpr (std::is_floating_point_v<T>) nan |= v != v;
+  if constexpr (std::is_floating_point_v<T>) {
+    // NaN and inf voxels are no data: left out (a brick of nothing else holds no data).
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    float mn = inf, mx = -inf;
+    for (int k = lo.z; k <= hi.z; ++k)
+      for (int j = lo.y; j <= hi.y; ++j) {
+        const T* row = g.data + (static_cast<size_t>(k) * g.dims.y + j) * g.dims.x;
+        for (int i = lo.x; i <= hi.x; ++i) {
+          const float v = row[i];
+          const bool data = !no_data(v);
+          mn = data && v < mn ? v : mn;
+          mx = data && v > mx ? v : mx;
+        }
       }
-    }
-  constexpr float inf = std::numeric_limits<float>::infinity();
-  if (nan) return {-inf, inf};
-  return {static_cast<float>(mn), static_cast<float>(mx)};
+    return {mn, mx};
+  } else {
+    T mn = g.data[(static_cast<size_t>(lo.z) * g.dims.y + lo.y) * g.dims.x + lo.x];
+    T mx = mn;
+    for (int k = lo.z; k <= hi.z; ++k)
+      for (int j = lo.y; j <= hi.y; ++j) {
+        const T* row = g.data + (static_cast<size_t>(k) * g.dims.y + j) * g.dims.x;
+        for (int i = lo.x; i <= hi.x; ++i) {
+          T v = row[i];
+          mn = v < mn ? v : mn;
+          mx = v > mx ? v : mx;
+        }
+      }
+    return {static_cast<float>(mn), static_cast<float>(mx)};
+  }
 }
 
 }  // namespace

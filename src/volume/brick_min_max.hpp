@@ -19,8 +19,11 @@ class BrickMinMax {
                        int threads = 0);
 
   const BrickGrid& grid() const { return grid_; }
-  // (min, max) of brick b; a brick holding a NaN reports (-inf, +inf) so it is never skipped.
+  // (min, max) of brick b's finite voxels: NaN and inf voxels are no data, left out (samples
+  // that read them are no data too). A brick of no data only is (+inf, -inf): see holds_data.
   glm::vec2 range(glm::ivec3 b) const { return ranges_[grid_.index(b)]; }
+  // Whether a range has any value: false for a brick of no data, which every walk may skip.
+  static bool holds_data(glm::vec2 range) { return range.x <= range.y; }
   std::span<const glm::vec2> ranges() const { return ranges_; }
 
  private:

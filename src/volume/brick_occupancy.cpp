@@ -12,7 +12,9 @@ BrickOccupancy::BrickOccupancy(const BrickMinMax& ranges, const TfEmptiness& tf)
   for (size_t n = 0; n < r.size(); ++n) {
     // Trilinear blends round by a few ulps, so a sample may sit just outside the voxel range.
     float slack = 1e-5f * std::max(std::abs(r[n].x), std::abs(r[n].y));
-    occupied[n] = tf.is_empty(r[n].x - slack, r[n].y + slack) ? 0 : 1;
+    const bool empty =
+        !BrickMinMax::holds_data(r[n]) || tf.is_empty(r[n].x - slack, r[n].y + slack);
+    occupied[n] = empty ? 0 : 1;
     occupied_count_ += occupied[n];
   }
   octant_distance(occupied, grid_.dims, std::span(distance_).first(kOctants * grid_.count()));

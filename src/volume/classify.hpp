@@ -10,11 +10,14 @@
 
 namespace imx {
 
-// Premultiplied contribution of volume `v` over a step of `len` mm sampled at depth `t`.
+// Premultiplied contribution of volume `v` over a step of `len` mm sampled at depth `t`; none
+// where the sample is no data.
 inline glm::vec4 classify_sample(const PreparedVolume& v, const Ray& ray, double t, double len,
                                  std::span<const ShadingLight> lights) {
   glm::vec3 idx = v.to_index(ray.at(static_cast<float>(t)));
-  glm::vec4 tf = v.lut.lookup(v.grid.sample(idx));
+  const float s = v.grid.sample(idx);
+  if (v.has_no_data && no_data(s)) return glm::vec4(0.0f);
+  glm::vec4 tf = v.lut.lookup(s);
   if (tf.a <= 0.0f) return glm::vec4(0.0f);
   float a = correct_opacity(tf.a, static_cast<float>(len), v.lut.unit_distance());
   glm::vec3 rgb(tf);

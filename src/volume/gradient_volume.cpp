@@ -10,12 +10,18 @@ namespace imx {
 
 namespace {
 
-// Central difference along one axis at voxel i, one-sided at the borders.
+// Central difference along one axis at voxel i, one-sided at the borders and beside no data
+// (NaN or inf voxels: a neighbour of no data is replaced by the centre); 0 at a voxel of no data.
 template <class Grid>
 float difference(const Grid& g, glm::ivec3 p, int axis) {
   glm::ivec3 lo = p, hi = p;
   lo[axis] = std::max(p[axis] - 1, 0);
   hi[axis] = std::min(p[axis] + 1, g.dims[axis] - 1);
+  if constexpr (std::is_floating_point_v<typename Grid::value_type>) {
+    if (no_data(g.at(p.x, p.y, p.z))) return 0.0f;
+    if (no_data(g.at(hi.x, hi.y, hi.z))) hi = p;
+    if (no_data(g.at(lo.x, lo.y, lo.z))) lo = p;
+  }
   int span = hi[axis] - lo[axis];
   if (span == 0) return 0.0f;
   return (g.at(hi.x, hi.y, hi.z) - g.at(lo.x, lo.y, lo.z)) / static_cast<float>(span);

@@ -20,7 +20,8 @@ struct VolumeHit {
 };
 
 // Refines a sign change of value - iso between lo and hi (f = value - iso at each) with
-// `bisections` halvings and a final linear step inside the last bracket, and shades it.
+// `bisections` halvings and a final linear step inside the last bracket, and shades it. A
+// midpoint of no data ends the halving: the bracket so far is refined linearly.
 inline VolumeHit refine_iso_crossing(const PreparedVolume& v, const Ray& ray, double lo, double hi,
                                      float flo, float fhi, int bisections,
                                      std::span<const ShadingLight> lights) {
@@ -28,6 +29,7 @@ inline VolumeHit refine_iso_crossing(const PreparedVolume& v, const Ray& ray, do
   for (int i = 0; i < bisections; ++i) {
     double mid = 0.5 * (lo + hi);
     float fm = v.grid.sample(v.to_index(ray.at(static_cast<float>(mid)))) - iso;
+    if (v.has_no_data && no_data(fm)) break;
     if ((fm < 0.0f) == (flo < 0.0f)) {
       lo = mid;
       flo = fm;
@@ -47,7 +49,8 @@ inline VolumeHit refine_iso_crossing(const PreparedVolume& v, const Ray& ray, do
 // Searches [t0, t1] on the grid of points k * step (anchored at t = 0, so several volumes
 // share sample positions) for the first sign change, skipping bricks whose value range lies on
 // one side of the iso-value where the frame built ranges, and refines it. Returns false when
-// the value never crosses.
+// the value never crosses. A crossing lies between two samples of data: a sample of no data
+// (PreparedVolume::has_no_data) starts the search afresh after it.
 inline bool find_iso_crossing(const PreparedVolume& v, const Ray& ray, double t0, double t1,
                               double step, int bisections, std::span<const ShadingLight> lights,
                               VolumeHit& hit) {
@@ -55,8 +58,13 @@ inline bool find_iso_crossing(const PreparedVolume& v, const Ray& ray, double t0
   double a = 0.0, b = 0.0;
   float fa = 0.0f, fb = 0.0f;
   bool first = true, found = false;
+  const bool nd = v.has_no_data;
   auto visit = [&](double t, float s) {
     const float f = s - iso;
+    if (nd && no_data(f)) {
+      first = true;
+      return true;
+    }
     if (!first && (fa < 0.0f) != (f < 0.0f)) {
       b = t, fb = f, found = true;
       return false;
@@ -70,6 +78,7 @@ inline bool find_iso_crossing(const PreparedVolume& v, const Ray& ray, double t0
   auto jumped = [&](double t) {
     a = t;
     fa = v.grid.sample(v.to_index(ray.at(static_cast<float>(t)))) - iso;
+    if (nd) first = no_data(fa);
   };
   walk_samples(v, ray, t0, t1, step, RangeBricks(skip_ranges(v), v, ray), visit, skip, jumped);
   if (!found) return false;

@@ -505,7 +505,8 @@ class PacketKernel {
 bool packet_marching_supported(const PreparedVolume& v, std::span<const ShadingLight> lights) {
 #if IMX_PACKET_LANES
   const glm::ivec3 d = v.grid.dims;
-  if (!v.accel.preint || d.x < 2 || d.y < 2 || d.z < 2) return false;
+  // No data (NaN or inf voxels) is left to the scalar marcher, which skips it.
+  if (v.has_no_data || !v.accel.preint || d.x < 2 || d.y < 2 || d.z < 2) return false;
   // Gathers take int32 indices: voxels, and the byte offsets of int16 gradients.
   const double voxels = static_cast<double>(d.x) * d.y * d.z;
   const bool int16_gradients = v.accel.gradients && !v.accel.gradients->packed();

@@ -389,6 +389,7 @@ bool packet_projection_supported(const PreparedVolume& v) {
   const VolumeStyle s = v.object->style;
   if (s == VolumeStyle::dvr || (s == VolumeStyle::xray && v.object->xray_mode == XrayMode::average))
     return false;
+  if (v.has_no_data) return false;  // no data (NaN or inf voxels): the scalar walk skips it
   const glm::ivec3 d = v.grid.dims;
   if (d.x < 2 || d.y < 2 || d.z < 2) return false;
   const double voxels = static_cast<double>(d.x) * d.y * d.z;

@@ -22,6 +22,7 @@ PreparedVolume::PreparedVolume(const VolumeObject& v)
   min_pitch = static_cast<float>(
       std::min({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])}));
   limits = projection_limits(lut);
+  has_no_data = has_non_finite_voxels(v.data);
   if (v.style == VolumeStyle::xray && v.xray_mode == XrayMode::integral)
     attenuation = AttenuationTable(lut);
 }

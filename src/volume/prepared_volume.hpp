@@ -29,7 +29,10 @@ struct PreparedVolume {
   ProjectionLimits limits;       // the LUT's bounds for MIP and MinIP
   AttenuationTable attenuation;  // X-ray's line integral (empty for the other styles)
   SpecularTable specular;        // x^shininess of the volume's shading
-  VolumeAcceleration accel;  // empty until a method that marches asks for it
+  VolumeAcceleration accel;      // empty until a method that marches asks for it
+  // Some voxels are NaN or infinite ("no data"): the kernels then test their samples with
+  // no_data() and skip those, which volumes without such voxels never pay for.
+  bool has_no_data = false;
 
   explicit PreparedVolume(const VolumeObject& v);
 
@@ -40,9 +43,14 @@ struct PreparedVolume {
   // The part of the ray inside the grid's hull [0, dims-1] and every clip plane, from t >= t_min.
   RayInterval intersect(const Ray& ray, float t_min = 0.0f) const;
 
+  // Index-space gradient of the scalar field (central differences; one-sided beside no data).
+  glm::vec3 index_gradient(glm::vec3 index_pos) const {
+    return has_no_data ? grid.gradient_of_data(index_pos) : grid.gradient(index_pos);
+  }
+
   // World-space gradient of the scalar field at an index-space position.
   glm::vec3 world_gradient(glm::vec3 index_pos) const {
-    return gradient_to_world * grid.gradient(index_pos);
+    return gradient_to_world * index_gradient(index_pos);
   }
 };
 

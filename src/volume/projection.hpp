@@ -24,13 +24,15 @@ namespace imx {
 //   average, the TF at the mean value over the kept length, its opacity taken as it is.
 // An X-ray hit sits mid-way between the first piece's start and the last one's end, so that it
 // is composited in depth order with the other objects. False when nothing is kept or the result
-// is invisible.
+// is invisible. Samples of no data (PreparedVolume::has_no_data) are never the maximum or the
+// minimum, add no attenuation (as a value of opacity 0 would) and are left out of the average.
 inline bool project_volume(const PreparedVolume& v, const Ray& ray, const KeptSpan& kept,
                            double step, VolumeHit& hit) {
   if (kept.empty()) return false;
   const VolumeStyle style = v.object->style;
   const RangeBricks bricks(skip_ranges(v), v, ray);
   const auto no_jump = [](double) {};
+  const bool nd = v.has_no_data;
   glm::vec4 tf(0.0f);
   double depth = 0.5 * (static_cast<double>(kept.front()) + kept.back());
   if (style == VolumeStyle::mip || style == VolumeStyle::minip) {
@@ -39,6 +41,7 @@ inline bool project_volume(const PreparedVolume& v, const Ray& ray, const KeptSp
     float best = max ? l.invisible_up_to : l.invisible_from;
     double best_t = kept.front();
     auto visit = [&](double t, float s) {
+      if (nd && no_data(s)) return true;
       if (max ? s > best : s < best) best = s, best_t = t;
       return max ? !(best >= l.constant_from) : !(best <= l.constant_up_to);
     };
@@ -52,13 +55,15 @@ inline bool project_volume(const PreparedVolume& v, const Ray& ray, const KeptSp
     double prev_t = 0.0;
     bool first = true;
     auto visit = [&](double t, float s) {
-      const glm::vec4 e = v.attenuation.lookup(s);
+      const glm::vec4 e = nd && no_data(s) ? glm::vec4(0.0f) : v.attenuation.lookup(s);
       if (!first) sum += (0.5f * static_cast<float>(t - prev_t)) * (prev + e);
       first = false;
       prev = e, prev_t = t;
       return true;
     };
-    auto skip = [&](glm::vec2 r) { return v.accel.emptiness->is_empty_between(r.x, r.y); };
+    auto skip = [&](glm::vec2 r) {
+      return !BrickMinMax::holds_data(r) || v.accel.emptiness->is_empty_between(r.x, r.y);
+    };
     auto jumped = [&](double t) { prev = glm::vec4(0.0f), prev_t = t; };  // mu is 0 in the brick
     for (int i = 0; i < kept.size(); ++i) {
       first = true;
@@ -69,10 +74,19 @@ inline bool project_volume(const PreparedVolume& v, const Ray& ray, const KeptSp
     tf = glm::vec4(glm::vec3(sum) / sum.a, opacity);
   } else {
     float sum = 0.0f, prev = 0.0f, length = 0.0f;
+    float missing = 0.0f, last = 0.0f;  // the length of steps with no data at an end; a value
+    bool any = !nd;                     // whether some sample had data
     double prev_t = 0.0;
     bool first = true;
     auto visit = [&](double t, float s) {
-      if (!first) sum += 0.5f * (prev + s) * static_cast<float>(t - prev_t);
+      const bool data = !(nd && no_data(s));
+      if (!first) {
+        if (data && !(nd && no_data(prev)))
+          sum += 0.5f * (prev + s) * static_cast<float>(t - prev_t);
+        else
+          missing += static_cast<float>(t - prev_t);
+      }
+      if (data) any = true, last = s;
       first = false;
       prev = s, prev_t = t;
       return true;
@@ -84,7 +98,9 @@ inline bool project_volume(const PreparedVolume& v, const Ray& ray, const KeptSp
           [](glm::vec2) { return false; }, no_jump);
       length += kept[i].t1 - kept[i].t0;
     }
-    tf = v.lut.lookup(length > 0.0f ? sum / length : prev);
+    if (!any) return false;
+    length -= missing;
+    tf = v.lut.lookup(length > 0.0f ? sum / length : nd ? last : prev);
   }
   if (!(tf.a > 0.0f)) return false;
   hit = {depth, glm::vec4(glm::vec3(tf) * tf.a, tf.a)};

@@ -75,6 +75,12 @@ MarchSettings MarchSettings::from(const RenderSettings& render) {
   return s;
 }
 
+bool has_non_finite_voxels(const std::shared_ptr<const VolumeData>& data) {
+  if (!data || data->type() != VoxelType::f32) return false;
+  static PerVolumeCache<int, bool> scanned(64);  // a flag each: keep many
+  return *scanned.get(data, 0, [&] { return non_finite_count(*data) > 0; });
+}
+
 VolumeAcceleration accelerate(const VolumeObject& v, const TfLut& lut, float step,
                               const MarchSettings& settings) {
   static PerVolumeCache<int, BrickMinMax> ranges(8);

@@ -11,6 +11,7 @@
 
 namespace imx {
 
+struct VolumeData;
 struct VolumeObject;
 struct RenderSettings;
 
@@ -37,6 +38,10 @@ struct VolumeAcceleration {
   std::shared_ptr<const PreintegrationTable> preint;  // null for post-classification
   std::shared_ptr<const GradientVolume> gradients;    // null for on-the-fly gradients
 };
+
+// Whether a voxel array holds NaN or infinite voxels (non_finite_count() > 0): a float array is
+// scanned once while its VolumeData lives (cached as brick ranges are), others never. Thread-safe.
+bool has_non_finite_voxels(const std::shared_ptr<const VolumeData>& data);
 
 // Builds or fetches from process-wide caches what `settings` asks for volume `v` with LUT `lut`
 // at ray step `step` mm. The TF-independent parts (brick min/max, gradients) are kept per voxel

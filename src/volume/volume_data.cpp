@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include <fmt/format.h>
@@ -44,11 +45,28 @@ double VolumeData::value_at(int i, int j, int k) const {
 std::pair<double, double> VolumeData::range() const {
   return std::visit(
       [](const auto& v) {
-        if (v.empty()) return std::pair<double, double>{0.0, 0.0};
-        auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-        return std::pair<double, double>{static_cast<double>(*lo), static_cast<double>(*hi)};
+        using T = typename std::decay_t<decltype(v)>::value_type;
+        if constexpr (std::is_floating_point_v<T>) {
+          // NaN and inf voxels are no data: the range of the others.
+          T lo = std::numeric_limits<T>::infinity(), hi = -lo;
+          for (T x : v)
+            if (std::isfinite(x)) lo = std::min(lo, x), hi = std::max(hi, x);
+          if (!(lo <= hi)) return std::pair<double, double>{0.0, 0.0};
+          return std::pair<double, double>{static_cast<double>(lo), static_cast<double>(hi)};
+        } else {
+          if (v.empty()) return std::pair<double, double>{0.0, 0.0};
+          auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+          return std::pair<double, double>{static_cast<double>(*lo), static_cast<double>(*hi)};
+        }
       },
       voxels);
+}
+
+size_t non_finite_count(const VolumeData& volume) {
+  const auto* f = std::get_if<VoxelBuffer<float>>(&volume.voxels);
+  if (!f) return 0;
+  return static_cast<size_t>(
+      std::count_if(f->begin(), f->end(), [](float v) { return !std::isfinite(v); }));
 }
 
 void VolumeData::validate(const std::string& what) const {
@@ -59,19 +77,7 @@ void VolumeData::validate(const std::string& what) const {
   if (stored != voxel_count())
     throw Error(fmt::format("{}: holds {} voxels, dimensions {}x{}x{} need {}", what, stored,
                             dims.x, dims.y, dims.z, voxel_count()));
-  if (const auto* f = std::get_if<VoxelBuffer<float>>(&voxels)) {
-    // A NaN or inf voxel has no place on a transfer function and breaks every min/max bound.
-    auto bad = std::find_if(f->begin(), f->end(), [](float v) { return !std::isfinite(v); });
-    if (bad != f->end()) {
-      size_t at = static_cast<size_t>(bad - f->begin());
-      size_t count = std::count_if(bad, f->end(), [](float v) { return !std::isfinite(v); });
-      size_t row = static_cast<size_t>(dims.x), slice = row * static_cast<size_t>(dims.y);
-      throw Error(
-          fmt::format("{}: voxel ({}, {}, {}) is {} ({} non-finite voxels in all); "
-                      "voxel values must be finite",
-                      what, at % row, at % slice / row, at / slice, *bad, count));
-    }
-  }
+  // NaN and inf voxels are valid: no data (non_finite_count), which renders as nothing.
   detail::check_placement(index_to_world, what);
 }
 

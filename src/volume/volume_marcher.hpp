@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <span>
+#include <type_traits>
 
 #include <glm/glm.hpp>
 
@@ -66,6 +67,7 @@ class VolumeMarcher {
                  : BrickDda()) {
     centre_ = extent == SlabExtent::visible && preint_.data;
     trim_ = centre_ && v.accel.emptiness;
+    has_no_data_ = v.has_no_data;
     align_cell();
   }
 
@@ -138,6 +140,9 @@ class VolumeMarcher {
       cell_ += 1.0;
       s_front_ = s_b;
       have_front_ = true;
+      // A piece with no data at an end is transparent (only float voxels can be NaN or inf).
+      if constexpr (std::is_floating_point_v<typename Grid::value_type>)
+        if (has_no_data_ && (no_data(s_f) || no_data(s_b))) continue;
       // Inside occupied bricks most pieces are still transparent: the O(1) range test spares
       // them the table lookup (the same test that empties bricks).
       if (v_->accel.emptiness && v_->accel.emptiness->is_empty_between(s_f, s_b)) continue;
@@ -233,7 +238,7 @@ class VolumeMarcher {
 
   glm::vec4 shade_at(const glm::vec4& c, double t) const {
     glm::vec3 p = index_at(t);
-    glm::vec3 g = v_->accel.gradients ? v_->accel.gradients->sample(p) : v_->grid.gradient(p);
+    glm::vec3 g = v_->accel.gradients ? v_->accel.gradients->sample(p) : v_->index_gradient(p);
     return shading_.apply(c, v_->gradient_to_world * g);
   }
 
@@ -250,9 +255,10 @@ class VolumeMarcher {
   BrickDda dda_;
   float s_front_ = 0.0f;
   bool have_front_ = false;
-  bool centre_ = false;  // shade visible slabs at their light's centre (needs the table)
-  bool trim_ = false;    // trim them to the visible ramp (needs the emptiness table too)
-  KeptSpan kept_;        // with two or more pieces: the pieces, t1_ ends piece_
+  bool centre_ = false;       // shade visible slabs at their light's centre (needs the table)
+  bool trim_ = false;         // trim them to the visible ramp (needs the emptiness table too)
+  bool has_no_data_ = false;  // the volume has NaN or inf voxels: pieces reading them are skipped
+  KeptSpan kept_;             // with two or more pieces: the pieces, t1_ ends piece_
   int piece_ = 0;
 };
 

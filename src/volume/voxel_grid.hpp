@@ -1,14 +1,26 @@
 // VoxelGrid<T>: a typed, non-owning view of voxels with trilinear sampling in index space.
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <limits>
 
 #include <glm/glm.hpp>
 
 namespace imx {
 
+// Whether a sample is "no data": NaN or infinite. NaN and inf voxels (a statistical map's outside
+// of its mask) are no data, and a trilinear sample is non-finite exactly when a corner it reads
+// is, so a sample with any non-finite corner is no data: transparent, never a maximum or an iso
+// crossing, left out of integrals and gradients. Kernels test it only on volumes that have such
+// voxels (PreparedVolume::no_data).
+[[gnu::always_inline]] inline bool no_data(float s) {
+  return !(std::abs(s) <= std::numeric_limits<float>::max());
+}
+
 template <class T>
 struct VoxelGrid {
+  using value_type = T;
   const T* data = nullptr;
   glm::ivec3 dims{0};
 
@@ -45,6 +57,28 @@ struct VoxelGrid {
     return 0.5f * glm::vec3(sample(p + glm::vec3(1, 0, 0)) - sample(p - glm::vec3(1, 0, 0)),
                             sample(p + glm::vec3(0, 1, 0)) - sample(p - glm::vec3(0, 1, 0)),
                             sample(p + glm::vec3(0, 0, 1)) - sample(p - glm::vec3(0, 0, 1)));
+  }
+
+  // gradient() of a grid with no-data voxels: a difference whose sample on one side is no data is
+  // taken one-sided against the centre sample, and is 0 when that is not possible either, so the
+  // normal is finite wherever it is asked for.
+  glm::vec3 gradient_of_data(glm::vec3 p) const {
+    const float c = sample(p);
+    const bool centre = !no_data(c);
+    glm::vec3 g(0.0f);
+    for (int a = 0; a < 3; ++a) {
+      glm::vec3 e(0.0f);
+      e[a] = 1.0f;
+      const float up = sample(p + e), down = sample(p - e);
+      const bool has_up = !no_data(up), has_down = !no_data(down);
+      if (has_up && has_down)
+        g[a] = 0.5f * (up - down);
+      else if (has_up && centre)
+        g[a] = up - c;
+      else if (has_down && centre)
+        g[a] = c - down;
+    }
+    return g;
   }
 
   // v clamped to [0, hi], NaN to 0: the index sample() computes from it is always in the grid.

@@ -78,18 +78,6 @@ TEST(BrickMinMax, BoundsEveryTrilinearSampleAndIsTight) {
   check_min_max<uint16_t>({8, 9, 10}, 3, 100.0f, 0.0f, 4);
 }
 
-TEST(BrickMinMax, NanBricksAreNeverEmpty) {
-  VolumeData vol;
-  vol.dims = {9, 9, 9};
-  std::vector<float> data(729, 0.0f);
-  data[(5 * 9 + 5) * 9 + 5] = NAN;
-  vol.voxels = data;
-  BrickMinMax mm(AnyGrid(vol), 4);
-  EXPECT_EQ(mm.range({1, 1, 1}).x, -INFINITY);
-  EXPECT_EQ(mm.range({1, 1, 1}).y, INFINITY);
-  EXPECT_EQ(mm.range({0, 0, 0}), glm::vec2(0.0f));
-}
-
 // No false "empty": wherever a brick is flagged empty, the classified samples are transparent.
 template <class T>
 void check_occupancy(glm::ivec3 dims, int brick, float scale, float offset, uint32_t seed) {
