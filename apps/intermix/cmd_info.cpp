@@ -1,7 +1,5 @@
 // intermix info FILE | --phantom NAME | --presets: what a volume or mesh holds; the preset names.
-#include <algorithm>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 
 #include <fmt/format.h>
@@ -19,16 +17,6 @@
 namespace imx::cli {
 
 namespace {
-
-bool is_volume_file(const std::string& path) {
-  std::string p = path;
-  std::transform(p.begin(), p.end(), p.begin(), [](unsigned char c) { return std::tolower(c); });
-  for (const char* ext : {".nrrd", ".nhdr", ".nii", ".nii.gz", ".mha", ".mhd"})
-    if (p.size() >= std::strlen(ext) &&
-        p.compare(p.size() - std::strlen(ext), std::string::npos, ext) == 0)
-      return true;
-  return false;
-}
 
 nlohmann::json describe(const VolumeData& v) {
   auto [lo, hi] = v.range();
@@ -149,8 +137,8 @@ Command add_info(CLI::App& app) {
   auto o = std::make_shared<Options>();
   app.add_option(
       "file", o->file,
-      "volume (.nrrd, .nhdr, .nii, .nii.gz, .mha, .mhd, a DICOM folder, DICOMDIR or .dcm) or "
-      "mesh (.obj, .ply, .stl, ...)");
+      "volume (.nrrd, .nhdr, .nii, .nii.gz, .hdr/.img, .mgh, .mgz, .mha, .mhd, a DICOM folder, "
+      "DICOMDIR, .dcm or .dcm.gz) or mesh (.obj, .ply, .stl, .gii, ...)");
   app.add_option("--phantom", o->phantom, "describe a built-in phantom instead of a file");
   app.add_option("--size", o->size, "phantom size (voxels along the largest axis)");
   app.add_flag("--json", o->json, "print one JSON object on stdout");
@@ -184,9 +172,13 @@ Command add_info(CLI::App& app) {
       j = describe(read_volume(o->file, o->frame));
       add_frames(j, o->frame, header.frames, header.frame_labels);
       j["file"] = o->file;
-    } else {
+    } else if (is_mesh_file(o->file)) {
       j = describe(read_mesh_file(o->file));
       j["file"] = o->file;
+    } else {
+      throw Error(fmt::format("{}: '{}' is not a format intermix reads: volumes {}; meshes {}",
+                              o->file, std::filesystem::path(o->file).extension().string(),
+                              volume_formats(), mesh_formats()));
     }
     if (o->json)
       std::printf("%s\n", j.dump().c_str());

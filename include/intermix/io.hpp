@@ -24,6 +24,11 @@ namespace imx {
 // of range: imx::Error), and only that frame's voxels are read and held.
 VolumeData read_volume(const std::filesystem::path& file, int frame = 0);
 
+// True when read_volume takes `file` by its name: a volume format's extension, or a DICOM
+// source (is_dicom_source). volume_formats() lists them for messages.
+bool is_volume_file(const std::filesystem::path& file);
+std::string volume_formats();
+
 // What a volume file holds, from its header alone (DICOM: the series' headers are read), with
 // its frame count and labels.
 VolumeHeader read_volume_header(const std::filesystem::path& file);
@@ -96,6 +101,10 @@ struct MeshFile {
 // angle-weighted with vertices split at edges sharper than the crease angle.
 // Throws imx::Error naming the file and the fault.
 MeshFile read_mesh_file(const std::filesystem::path& file, const MeshReadOptions& options = {});
+// True for the extensions read_mesh_file reads; mesh_formats() lists them for messages.
+bool is_mesh_file(const std::filesystem::path& file);
+std::string mesh_formats();
+
 // read_mesh_file(file).mesh.
 Mesh read_mesh(const std::filesystem::path& file);
 // "LPS" or "RAS".

@@ -64,10 +64,11 @@ size_t non_finite_count(const VolumeData& volume);
 // What distinguishes one frame of a multi-frame (4-D) source from the others: its time point,
 // diffusion weighting, echo, cardiac phase or image type. Only what the file says is set.
 struct FrameLabel {
-  std::optional<double> time_s;        // acquisition time, seconds after the first frame's
-  std::optional<double> b_value;       // diffusion weighting, s/mm^2
-  std::optional<glm::dvec3> b_vector;  // unit gradient direction in the volume's i, j, k axes
-                                       // as dcm2niix's .bvec gives it (zero for b = 0)
+  std::optional<double> time_s;   // acquisition time, seconds after the first frame's
+  std::optional<double> b_value;  // diffusion weighting, s/mm^2
+  // Unit gradient direction along the volume's i, j, k axes (world: the sum of b_vector[a] times
+  // index_to_world's unit column a); an FSL .bvec before its x flip. Zero for b = 0.
+  std::optional<glm::dvec3> b_vector;
   std::optional<double> echo_time_ms;
   std::optional<double> trigger_time_ms;  // cardiac phase
   std::string image_type;                 // "M", "P", "R", "I" (magnitude, phase, real, imaginary)

@@ -199,4 +199,16 @@ Mesh read_mesh(const std::filesystem::path& file) {
   return read_mesh_file(file).mesh;
 }
 
+bool is_mesh_file(const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".ply" || ext == ".gii" ||
+         std::find(std::begin(kAssimpFormats), std::end(kAssimpFormats), ext) !=
+             std::end(kAssimpFormats);
+}
+
+std::string mesh_formats() {
+  return fmt::format(".ply, .gii, {}", fmt::join(kAssimpFormats, ", "));
+}
+
 }  // namespace imx

@@ -97,8 +97,8 @@ std::vector<FrameLabel> dwmri_frame_labels(const std::map<std::string, std::stri
     const double squared = glm::dot(g, g);
     FrameLabel& label = labels[i];
     label.b_value = longest > 0.0 ? *b * squared / longest : 0.0;
-    // The gradient as the file gives it: in the space of its 'measurement frame' (the world
-    // frame the directions were measured in), not turned into the volume's i, j, k axes.
+    // The gradient as the file gives it, in its 'measurement frame'; read_nrrd turns it into
+    // the volume's i, j, k axes once the placement is known.
     label.b_vector = squared > 0.0 ? g / std::sqrt(squared) : glm::dvec3(0.0);
     label.text = describe_frame(label);
   }

@@ -512,6 +512,29 @@ std::vector<Center> parse_centers(const Header& h, int dimension, const std::str
 //             mins or maxs.
 //     A spacing, min and max all given must agree (to 1e-6 of the extent), else refused.
 //  Then 'space' turns the result into LPS.
+// DWMRI gradients are given in the 'measurement frame' (columns: its axes in the file's space);
+// FrameLabel::b_vector is along the volume's i, j, k axes, as a .bvec is before its x flip.
+void gradients_to_volume_axes(const Header& h, const glm::dmat4& index_to_world,
+                              std::vector<FrameLabel>& labels, const std::string& what) {
+  glm::dmat3 frame(1.0);
+  if (const std::string* mf = find(h, "measurement frame")) {
+    const auto v = parse_vectors(*mf, "measurement frame", what);
+    if (v.size() != 3 || !v[0] || !v[1] || !v[2])
+      throw Error(fmt::format("{}: field 'measurement frame' needs three vectors", what));
+    frame = glm::dmat3(*v[0], *v[1], *v[2]);
+  }
+  const glm::dvec3 signs = space_signs(h, what);
+  const glm::dmat3 axes(index_to_world);
+  for (FrameLabel& l : labels) {
+    if (!l.b_vector || glm::length(*l.b_vector) == 0.0) continue;
+    const glm::dvec3 world = signs * (frame * *l.b_vector);  // LPS
+    glm::dvec3 ijk;
+    for (int a = 0; a < 3; ++a) ijk[a] = glm::dot(world, glm::normalize(axes[a]));
+    l.b_vector = glm::length(ijk) > 0.0 ? glm::normalize(ijk) : ijk;
+    l.text = describe_frame(l);
+  }
+}
+
 glm::dmat4 parse_affine(const Header& h, const Axes& ax, const std::string& what) {
   const int dim = ax.dimension;
   const std::vector<double> spacings = axis_numbers(h, "spacings", dim, what);
@@ -791,6 +814,8 @@ Layout parse_layout(std::istream& in, const std::filesystem::path& file) {
   }
 
   l.header.index_to_world = parse_affine(h, ax, what);
+  if (!l.header.frame_labels.empty())
+    gradients_to_volume_axes(h, l.header.index_to_world, l.header.frame_labels, what);
 
   l.data.line_skip = parse_count_field(h, "line skip", 0, 0, what);
   if (find(h, "byte skip")) l.data.byte_skip = parse_count_field(h, "byte skip", 0, -1, what);

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <optional>
 #include <string>
 
 #include <fmt/format.h>
@@ -28,30 +29,45 @@ struct Reader {
   VolumeData (*region)(const std::filesystem::path&, const VoxelBox&, int frame);
 };
 
-// The reader for `file`'s extension; throws imx::Error naming the file for any other.
-Reader reader_for(const std::filesystem::path& file) {
-  require_regular_file(file);
-  std::string name = file.filename().string();
+constexpr const char* kVolumeFormats =
+    ".nrrd, .nhdr, .nii, .nii.gz, .hdr/.img (NIfTI or Analyze 7.5 pairs, also .gz), .mha, .mhd, "
+    ".mgh, .mgz, DICOM";
+
+// The reader for a file's name (lower case), if any.
+std::optional<Reader> reader_by_name(std::string name) {
   std::transform(name.begin(), name.end(), name.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ends_with(name, ".nrrd") || ends_with(name, ".nhdr"))
-    return {detail::read_nrrd, detail::read_nrrd_header, detail::read_nrrd_region};
+    return Reader{detail::read_nrrd, detail::read_nrrd_header, detail::read_nrrd_region};
   // NIfTI-1/2 single files, and .hdr/.img pairs (NIfTI-1/2 or Analyze 7.5) named by either.
   if (ends_with(name, ".nii") || ends_with(name, ".nii.gz") || ends_with(name, ".hdr") ||
       ends_with(name, ".hdr.gz") || ends_with(name, ".img") || ends_with(name, ".img.gz"))
-    return {detail::read_nifti, detail::read_nifti_header, detail::read_nifti_region};
+    return Reader{detail::read_nifti, detail::read_nifti_header, detail::read_nifti_region};
   if (ends_with(name, ".mha") || ends_with(name, ".mhd"))
-    return {detail::read_metaimage, detail::read_metaimage_header, detail::read_metaimage_region};
+    return Reader{detail::read_metaimage, detail::read_metaimage_header,
+                  detail::read_metaimage_region};
   if (ends_with(name, ".mgh") || ends_with(name, ".mgz") || ends_with(name, ".mgh.gz"))
-    return {detail::read_mgh, detail::read_mgh_header, detail::read_mgh_region};
-  throw Error(
-      fmt::format("{}: unknown volume format '{}' (supported: .nrrd, .nhdr, .nii, .nii.gz, "
-                  ".hdr/.img (NIfTI or Analyze 7.5 pairs, also .gz), .mha, .mhd, .mgh, .mgz, "
-                  "DICOM)",
-                  file.string(), file.extension().string()));
+    return Reader{detail::read_mgh, detail::read_mgh_header, detail::read_mgh_region};
+  return std::nullopt;
+}
+
+// The reader for `file`'s extension; throws imx::Error naming the file for any other.
+Reader reader_for(const std::filesystem::path& file) {
+  require_regular_file(file);
+  if (std::optional<Reader> r = reader_by_name(file.filename().string())) return *r;
+  throw Error(fmt::format("{}: unknown volume format '{}' (supported: {})", file.string(),
+                          file.extension().string(), kVolumeFormats));
 }
 
 }  // namespace
+
+bool is_volume_file(const std::filesystem::path& file) {
+  return reader_by_name(file.filename().string()).has_value() || is_dicom_source(file);
+}
+
+std::string volume_formats() {
+  return kVolumeFormats;
+}
 
 VolumeData read_volume(const std::filesystem::path& file, int frame) {
   // A folder, a DICOMDIR or a DICOM file: the largest image series (read_dicom chooses).

@@ -630,6 +630,22 @@ TEST(NrrdEdge, DwmriKeysLabelTheFrames) {
   EXPECT_EQ(h.frame_labels[4].text, "b=250 (0,1,0)");
   expect_frame(read_volume(dir / "dwi.nhdr", 4), 4);
 
+  // Gradients are turned from the measurement frame (here x and y swapped) into the volume's
+  // i, j, k axes (here i along RAS +x, j along RAS -z, k along RAS +y).
+  write_bytes(dir / "turned.nhdr",
+              "NRRD0005\ntype: short\ndimension: 4\nspace: right-anterior-superior\n"
+              "sizes: 2 4 3 2\nspace directions: none (2,0,0) (0,0,-1) (0,3,0)\n"
+              "kinds: list domain domain domain\nendian: little\nencoding: raw\n"
+              "measurement frame: (0,1,0) (1,0,0) (0,0,1)\n"
+              "modality:=DWMRI\nDWMRI_b-value:=1000\n"
+              "DWMRI_gradient_0000:=0 1 0\nDWMRI_gradient_0001:=0 0 1\n"
+              "data file: dwi.raw\n");
+  const VolumeHeader turned = read_volume_header(dir / "turned.nhdr");
+  ASSERT_EQ(turned.frame_labels.size(), 2u);
+  // (0 1 0) measured = RAS +x = the i axis; (0 0 1) measured = RAS +z = minus the j axis.
+  EXPECT_NEAR(glm::length(*turned.frame_labels[0].b_vector - glm::dvec3(1, 0, 0)), 0.0, 1e-12);
+  EXPECT_NEAR(glm::length(*turned.frame_labels[1].b_vector - glm::dvec3(0, -1, 0)), 0.0, 1e-12);
+
   // A frame without a gradient, or a gradient too many: refused.
   const std::string head =
       "NRRD0005\ntype: short\ndimension: 4\nsizes: 2 4 3 2\n"

@@ -38,7 +38,8 @@ std::filesystem::path InflatedDicomFiles::add(const std::filesystem::path& gz) {
   const std::string what = gz.string();
   if (folder_.empty()) {
     std::error_code ec;
-    std::string pattern = (std::filesystem::temp_directory_path(ec) / "intermix-dcmgz-XXXXXX").string();
+    std::string pattern =
+        (std::filesystem::temp_directory_path(ec) / "intermix-dcmgz-XXXXXX").string();
     std::vector<char> name(pattern.begin(), pattern.end());
     name.push_back('\0');
     if (ec || ::mkdtemp(name.data()) == nullptr)
