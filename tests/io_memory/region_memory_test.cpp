@@ -1,16 +1,21 @@
-// read_volume_region's peak memory: a box of a 32 MB volume must not cost the whole volume.
+// Peak memory of partial reads: a box of a 32 MB volume, or one frame of a 4-D file, must not
+// cost the whole.
 // A program of its own because ru_maxrss is the process's high-water mark: nothing that reads
 // a whole volume may run before these tests in the same process (ctest runs each test in a
 // process of its own as well).
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nifti/nifti1.h>
 #include <zlib.h>
 
 #include "../io/temp_dir.hpp"
@@ -101,6 +106,67 @@ TEST(RegionMemory, RawNrrdReadsOnlyTheBox) {
 TEST(RegionMemory, GzipNrrdKeepsOnlyTheBox) {
   test::TempDir dir;
   check_region(write_gzip(dir));
+}
+
+// One frame of a 4-D file costs that frame, not the file: 16 frames of 128x128x64 uint16 (2 MiB
+// each) in a NIfTI-1 file, raw and gzip. Frame f's voxel (i, j, k) is value(i, j, k) + f.
+constexpr int kFrames = 16;
+constexpr glm::ivec3 kFrameDims{128, 128, 64};
+constexpr int64_t kFrameKiB = int64_t{kFrameDims.x} * kFrameDims.y * kFrameDims.z * 2 / 1024;
+
+fs::path write_nifti_4d(const test::TempDir& dir, bool gzip) {
+  nifti_1_header h{};
+  h.sizeof_hdr = 348;
+  const short dims[8] = {4, kFrameDims.x, kFrameDims.y, kFrameDims.z, kFrames, 1, 1, 1};
+  std::copy(std::begin(dims), std::end(dims), h.dim);
+  h.datatype = DT_UINT16;
+  h.bitpix = 16;
+  for (int a = 0; a < 5; ++a) h.pixdim[a] = 1.0f;
+  h.vox_offset = 352.0f;
+  std::memcpy(h.magic, "n+1", 4);
+  const fs::path file = dir / (gzip ? "frames.nii.gz" : "frames.nii");
+  gzFile out = gzopen(file.c_str(), gzip ? "wb1" : "wbT");  // T: uncompressed
+  gzwrite(out, &h, sizeof h);
+  const char extension[4] = {};
+  gzwrite(out, extension, 4);
+  std::vector<uint16_t> plane(static_cast<size_t>(kFrameDims.x) * kFrameDims.y);
+  for (int f = 0; f < kFrames; ++f)
+    for (int k = 0; k < kFrameDims.z; ++k) {
+      for (int j = 0; j < kFrameDims.y; ++j)
+        for (int i = 0; i < kFrameDims.x; ++i)
+          plane[static_cast<size_t>(j) * kFrameDims.x + i] =
+              static_cast<uint16_t>(value(i, j, k) + f);
+      gzwrite(out, plane.data(), static_cast<unsigned>(plane.size() * 2));
+    }
+  gzclose(out);
+  return file;
+}
+
+void check_frame(const fs::path& file) {
+  const int64_t before = max_rss_kib();
+  const VolumeData v = read_volume(file, 9);
+  const int64_t grown = max_rss_kib() - before;
+  ASSERT_EQ(v.dims, kFrameDims);
+  const auto& voxels = std::get<VoxelBuffer<uint16_t>>(v.voxels);
+  for (int k : {0, 33, 63})
+    for (int i : {0, 77, 127})
+      ASSERT_EQ(voxels[(static_cast<size_t>(k) * kFrameDims.y + 5) * kFrameDims.x + i],
+                static_cast<uint16_t>(value(i, 5, k) + 9));
+  // The frame itself plus the readers' buffers (about 1 MiB), well under the 32 MiB of all.
+  std::printf("%s: frame 9 of %d raised the peak by %lld KiB; a frame is %lld KiB\n",
+              file.filename().c_str(), kFrames, static_cast<long long>(grown),
+              static_cast<long long>(kFrameKiB));
+  EXPECT_LT(grown, kFrameKiB * 12 / 10 + 1024) << file;
+}
+
+TEST(RegionMemory, OneFrameOfARawNiftiCostsTheFrame) {
+  test::TempDir dir;
+  check_frame(write_nifti_4d(dir, false));
+}
+
+TEST(RegionMemory, OneFrameOfAGzipNiftiCostsTheFrame) {
+  test::TempDir dir;
+  check_frame(write_nifti_4d(dir, true));
 }
 
 // The measure itself: reading the whole does show (declared last: it raises the mark).
