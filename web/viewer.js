@@ -329,6 +329,8 @@
                opacity: o.opacity === undefined ? 1 : o.opacity};
     if (o.kind === 'volume') {
       l.tf = tfPoints(o.transfer_function);
+      l.frame = o.frame || 0;
+      l.frames = o.frames || 1;
       l.clips = (o.clip_planes || []).map((c) => ({base: [...c.point], normal: norm(c.normal),
                                                    offset: 0}));
     } else if (o.kind === 'plane') {
@@ -356,6 +358,7 @@
       if (o.opacity !== undefined) l.opacity = o.opacity;
       if (l.kind === 'volume') {
         if (o.transfer_function) l.tf = tfPoints(o.transfer_function);
+        if (o.frame !== undefined) l.frame = o.frame;
         if (o.clip_planes) {
           const same = o.clip_planes.length === l.clips.length;
           l.clips = o.clip_planes.map((c, i) => {
@@ -540,7 +543,36 @@
     return o.clips.map((c) => ({point: add(c.base, mul(c.normal, c.offset)), normal: c.normal}));
   }
 
+  // A multi-frame volume (fMRI, DWI, ...): a frame slider, and play / pause stepping through
+  // the frames about four times a second (each step re-runs only this volume's stage).
+  function buildFrames(box, o) {
+    const frames = slider('frame', 0, o.frames - 1, 1, o.frame,
+                          (v) => { o.frame = v; editInput(o.name, {frame: v}, true); },
+                          (v) => { o.frame = v; editInput(o.name, {frame: v}, false); }, 0);
+    let timer = null;
+    const play = button('play', () => {
+      if (timer) {
+        clearInterval(timer);
+        timer = null;
+        play.textContent = 'play';
+        return;
+      }
+      play.textContent = 'pause';
+      timer = setInterval(() => {
+        if (S.inFlight) return;  // the last frame is still rendering: do not queue up
+        o.frame = (o.frame + 1) % o.frames;
+        frames.input.value = o.frame;
+        frames.row.querySelector('.value').textContent = String(o.frame);
+        editInput(o.name, {frame: o.frame}, false);
+      }, 250);
+    });
+    play.className = 'frame-play';
+    frames.row.append(play);
+    box.append(frames.row);
+  }
+
   function buildVolume(box, o) {
+    if (o.frames > 1) buildFrames(box, o);
     const ed = new TfEditor(o, S.histograms[o.name]);
     editors.set(o.name, ed);
     box.append(ed.root);

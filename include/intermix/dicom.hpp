@@ -82,8 +82,8 @@ std::vector<DicomVolume> read_dicom_frames(const std::filesystem::path& source,
 // the sources that read_dicom (rather than read_volume) takes.
 bool is_dicom_source(const std::filesystem::path& path);
 
-// What read_dicom(source, options) gives, without decoding its pixels: dims, storage type,
-// placement, frame count and labels.
+// What read_dicom(source, options) gives, without decoding its pixels: dims, placement, frame
+// count and labels. The storage type depends on the values, which are not read: it says f32.
 VolumeHeader read_dicom_header(const std::filesystem::path& source,
                                const DicomReadOptions& options = {});
 

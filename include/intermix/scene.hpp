@@ -102,6 +102,8 @@ struct VolumeObject {
   // (SceneLoadOptions::region), when data holds only `region` of a grid of `source_dims`.
   glm::ivec3 source_dims{0};
   VoxelBox region;
+  // Of a multi-frame (4-D) source (fMRI, DWI, ...): which frame `data` holds, of how many.
+  int frame = 0, frames = 1;
 };
 
 struct Material {

@@ -145,6 +145,13 @@ std::shared_ptr<PyVolume> make_volume(const py::object& given, const py::object&
         "nibabel's order)",
         axes));
   py::array a = np.attr("asanyarray")(given);
+  // nibabel's 4-D (X, Y, Z, T) with one frame: that frame (a view, no copy).
+  if (a.ndim() == 4 && a.shape(3) == 1)
+    a = a.attr("__getitem__")(py::make_tuple(py::ellipsis(), 0));
+  if (a.ndim() == 4)
+    throw py::value_error(fmt::format(
+        "Volume: a 4-D array of shape {} holds {} frames; pass one, such as array[..., k]",
+        py::str(a.attr("shape")).cast<std::string>(), a.shape(3)));
   if (a.ndim() != 3)
     throw py::value_error(
         fmt::format("Volume: expected a 3-D array, got {} dimensions with shape {}", a.ndim(),

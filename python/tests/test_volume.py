@@ -212,3 +212,29 @@ def test_dicom_and_mesh_files_as_the_scene_reads_them():
     bunny = intermix.read_mesh(os.path.join(SHARED, "bunny.ply"))
     assert bunny.vertices.shape[1] == 3 and bunny.triangles.shape[1] == 3
     assert bunny.normals is not None and not bunny.vertices.flags.writeable
+
+
+def test_frames_of_a_4d_file_and_a_4d_array(tmp_path):
+    """read_volume(frame=) and read_volume_info on a 4-D NIfTI written by nibabel; Volume squeezes
+    a trailing axis of one frame and refuses several."""
+    nib = pytest.importorskip("nibabel")
+    data = np.stack([np.full((4, 5, 6), 10 * f, dtype=np.int16) for f in range(3)], axis=-1)
+    data[1, 2, 3, :] = [1, 2, 3]
+    img = nib.Nifti1Image(data, np.diag([2.0, 2.0, 3.0, 1.0]))
+    img.header.set_xyzt_units("mm", "sec")
+    img.header["pixdim"][4] = 2.5
+    path = tmp_path / "four.nii.gz"
+    nib.save(img, str(path))
+    info = intermix.read_volume_info(path)
+    assert info["frames"] == 3 and info["shape"] == (6, 5, 4)
+    assert [l.get("time_s") for l in info["frame_labels"]] == [0.0, 2.5, 5.0]
+    array, affine = intermix.read_volume(path, frame=2)
+    assert array.shape == (6, 5, 4)
+    assert array[3, 2, 1] == 3 and array[0, 0, 0] == 20
+    with pytest.raises(ValueError, match="frame 3"):
+        intermix.read_volume(path, frame=3)
+    one = intermix.Volume(np.asfortranarray(data[..., 1:2]), np.diag([2.0, 2.0, 3.0, 1.0]),
+                          space="RAS")
+    assert "4x5x6" in repr(one)
+    with pytest.raises(ValueError, match="3 frames"):
+        intermix.Volume(data)

@@ -26,6 +26,7 @@ struct SceneContext {
   std::map<std::string, std::shared_ptr<const Mesh>> meshes;
   std::vector<std::string> notes;                  // moved into Scene::notes when loading ends
   std::map<std::string, glm::dvec2> windows = {};  // DICOM series' own windows, by volume key
+  std::map<std::string, int> frame_counts = {};    // frames of multi-frame sources, by key
   // Volumes and meshes a program gives instead of files (the Python package's numpy arrays):
   // a source {"$volume": ID} or {"$mesh": ID} names one. Files have none, so there the key is
   // unknown like any other.

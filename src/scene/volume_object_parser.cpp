@@ -105,6 +105,7 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
       }
       load = [path, options, key, &context] {
         DicomVolume d = read_dicom(path, options);
+        context.frame_counts[key] = d.frames;
         for (const std::string& note : d.notes)
           context.notes.push_back(fmt::format("{}: {}", path.string(), note));
         if (d.window) context.windows[key] = *d.window;
@@ -114,12 +115,14 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
       refuse_dicom_keys();
       const int k = frame.value_or(0);
       if (frame) key += fmt::format(":frame={}", k);
-      load = [path, k, named = frame.has_value(), &context] {
-        if (!named)  // the header is cheap next to the voxels; it says how many frames there are
-          if (const int frames = read_volume_header(path).frames; frames > 1)
-            context.notes.push_back(
-                fmt::format("{}: frame 0 of {} (name another with \"source\": {{\"frame\": K}})",
-                            path.string(), frames));
+      load = [path, k, key, named = frame.has_value(), &context] {
+        // The header is cheap next to the voxels; it says how many frames there are.
+        const int frames = read_volume_header(path).frames;
+        context.frame_counts[key] = frames;
+        if (!named && frames > 1)
+          context.notes.push_back(
+              fmt::format("{}: frame 0 of {} (name another with \"source\": {{\"frame\": K}})",
+                          path.string(), frames));
         return read_volume(path, k);
       };
       header = [path] { return read_volume_header(path); };
@@ -156,7 +159,13 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     culprit.fail(e.what());
   }
   context.used.insert(key);
+  auto frames_of = [&] {
+    placed.frame = frame.value_or(0);
+    if (auto it = context.frame_counts.find(key); it != context.frame_counts.end())
+      placed.frames = it->second;
+  };
   if (auto it = context.volumes.find(key); it != context.volumes.end()) {
+    frames_of();
     window_of();
     if (context.region) placed.region = box;
     return it->second;
@@ -172,6 +181,7 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     culprit.fail(e.what());
   }
   context.volumes.emplace(key, data);
+  frames_of();
   window_of();
   if (context.region) placed.region = box;
   return data;

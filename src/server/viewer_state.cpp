@@ -175,10 +175,29 @@ bool apply_camera(ViewerState& state, const Json& message) {
   return changed;
 }
 
+// Frame `frame` of a multi-frame volume's source, read as the loader reads it: the document's
+// source gets the frame, and only this volume's data (and so its stage) changes.
+void load_frame(const ViewerState& state, Json& object, VolumeObject& volume, int frame,
+                const std::string& origin, size_t k) {
+  if (!object.contains("source") || !object["source"].is_object() ||
+      !object["source"].contains("file"))
+    throw Error(fmt::format("{}: frame: '{}' has no file source", origin, volume.name));
+  Json edited = object;
+  edited["source"]["frame"] = frame;
+  detail::SceneContext context;
+  context.base_dir = state.file.parent_path().empty() ? "." : state.file.parent_path();
+  const VolumeObject loaded = detail::parse_volume_object(
+      JsonReader(edited, origin, fmt::format("objects[{}]", k)), context);
+  volume.data = loaded.data;
+  volume.index_to_world = loaded.index_to_world;
+  volume.frame = frame;
+  object["source"]["frame"] = frame;
+}
+
 bool apply_object_edit(ViewerState& state, const Json& message) {
   const JsonReader m(message, "edit");
   m.check_keys({"type", "seq", "moving", "object", "visible", "opacity", "transfer_function",
-                "window", "center", "clip_planes"});
+                "window", "center", "clip_planes", "frame"});
   const size_t k = find_object(state, m.get("object"));
   const auto found = state.document.find("objects");
   if (found == state.document.end() || !found->is_array() || k >= found->size() ||
@@ -190,6 +209,7 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
   // Every field must fit the object's kind before anything is read.
   const std::pair<const char*, ObjectKind> only[] = {{"transfer_function", ObjectKind::volume},
                                                      {"clip_planes", ObjectKind::volume},
+                                                     {"frame", ObjectKind::volume},
                                                      {"window", ObjectKind::plane},
                                                      {"center", ObjectKind::plane}};
   for (const auto& [key, kind] : only)
@@ -219,6 +239,8 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
       volume.clip_planes = parse_edit_clip_planes(*v);
       object["clip_planes"] = v->json();
     }
+    if (auto v = r.find("frame"); v && v->integer(0, volume.frames - 1) != volume.frame)
+      load_frame(state, object, volume, v->integer(0, volume.frames - 1), r.origin(), k);
     if (r.has("transfer_function") || r.has("opacity")) {
       // Explicit points replace a preset or file: keep its shading and unit distance.
       const Json* old_tf =
@@ -421,6 +443,10 @@ nlohmann::json describe_state(const ViewerState& state) {
       for (const ClipPlane& c : v.clip_planes)
         planes.push_back({{"point", vec_json(c.point)}, {"normal", vec_json(c.normal)}});
       o["clip_planes"] = std::move(planes);
+      if (v.frames > 1) {
+        o["frame"] = v.frame;
+        o["frames"] = v.frames;
+      }
     } else if (ref.kind == ObjectKind::mesh) {
       o["name"] = scene.meshes[i].name;
     } else {

@@ -16,6 +16,7 @@
 
 #include "../scene/test_helpers.hpp"
 #include "intermix/error.hpp"
+#include "intermix/io.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
 
@@ -356,6 +357,76 @@ TEST(ViewerState, EveryPresetIsAnEditThatRendersAsThePreset) {
   Scene edited = s.scene;
   edited.volumes[0].shading = expected.volumes[0].shading;  // an edit keeps the volume's shading
   EXPECT_TRUE(same_bytes(draw(edited), draw(expected)));
+}
+
+}  // namespace
+}  // namespace imx::server
+
+namespace imx::server {
+namespace {
+
+// A 4-D NIfTI of three 16^3 frames (a ball whose radius grows with the frame) and a scene that
+// shows it as a MIP beside a (hidden) phantom.
+std::filesystem::path write_frames_scene(const TempDir& dir) {
+  std::vector<VolumeData> frames;
+  for (int f = 0; f < 3; ++f) {
+    VolumeData v;
+    v.dims = glm::ivec3(16);
+    v.index_to_world = glm::dmat4(2.0);
+    v.index_to_world[3] = glm::dvec4(-15, -15, -15, 1);
+    std::vector<float> voxels;
+    for (int k = 0; k < 16; ++k)
+      for (int j = 0; j < 16; ++j)
+        for (int i = 0; i < 16; ++i)
+          voxels.push_back(glm::length(glm::dvec3(i, j, k) - 7.5) < 3.0 + 2.0 * f ? 100.0f : 0.0f);
+    v.voxels = VoxelBuffer<float>(std::move(voxels));
+    frames.push_back(std::move(v));
+  }
+  write_nifti_frames(frames, dir.path() / "ball.nii", 1.0, false);
+  return dir.write(
+      "scene.json",
+      Json{{"camera", {{"eye", {0, -120, 0}}, {"target", {0, 0, 0}}, {"up", {0, 0, 1}}}},
+           {"image", {{"width", kSize}, {"height", kSize}}},
+           {"objects",
+            {{{"name", "ball"},
+              {"type", "volume"},
+              {"source", {{"file", (dir.path() / "ball.nii").string()}}},
+              {"style", "mip"},
+              {"transfer_function", {{"points", {{0, 0, 0, 0, 0}, {100, 1, 1, 1, 1}}}}}},
+             {{"name", "head"},
+              {"type", "volume"},
+              {"source", {{"phantom", "ct-head"}, {"size", 24}}},
+              {"visible", false},
+              {"transfer_function", {{"preset", "ct-bone"}}}}}}}
+          .dump());
+}
+
+TEST(ViewerState, FrameEditLoadsOnlyThatVolumesFrameAndRoundTrips) {
+  TempDir dir;
+  ViewerState state = load_viewer_state(write_frames_scene(dir));
+  const Json described = describe_state(state);
+  EXPECT_EQ(described["objects"][0]["frames"], 3);
+  EXPECT_EQ(described["objects"][0]["frame"], 0);
+  EXPECT_FALSE(described["objects"][1].contains("frames"));
+  const auto head = state.scene.volumes[1].data;
+  // As expect_edit_round_trips, with the saved file beside the volume file.
+  const Image before_edit = draw(state.scene);
+  EXPECT_TRUE(apply_edit(state, edit("ball", {{"frame", 2}})));
+  const Image after_edit = draw(state.scene);
+  EXPECT_FALSE(same_bytes(before_edit, after_edit)) << "the frame edit changed nothing";
+  EXPECT_TRUE(
+      same_bytes(after_edit, draw(load_scene(dir.write("saved.json", saved_scene_text(state))))));
+  EXPECT_EQ(state.scene.volumes[0].frame, 2);
+  EXPECT_EQ(state.scene.volumes[0].data->value_at(7, 7, 2), 100.0);  // radius 7 reaches k = 2
+  EXPECT_EQ(state.scene.volumes[1].data, head);  // the other volume keeps its data
+  EXPECT_EQ(state.document["objects"][0]["source"]["frame"], 2);
+
+  const auto before = state.scene.volumes[0].data;
+  const std::string e = error_of([&] { apply_edit(state, edit("ball", {{"frame", 3}})); });
+  EXPECT_NE(e.find("frame"), std::string::npos) << e;
+  EXPECT_EQ(state.scene.volumes[0].data, before);
+  const std::string p = error_of([&] { apply_edit(state, edit("head", {{"frame", 1}})); });
+  EXPECT_NE(p.find("frame"), std::string::npos) << p;
 }
 
 }  // namespace
