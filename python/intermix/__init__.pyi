@@ -164,7 +164,11 @@ def read_volume(
     series: Union[str, int, None] = None,
     units: Literal["", "suv"] = "",
     slice_spacing_mm: Optional[float] = None,
+    frame: int = 0,
 ) -> Tuple[np.ndarray, npt.NDArray[np.float64]]: ...
+def read_volume_info(
+    path: PathLike, *, series: Union[str, int, None] = None
+) -> dict[str, Any]: ...
 def write_volume(volume: Volume, path: PathLike, *, compress: bool = True) -> None: ...
 def read_mesh(
     path: PathLike, *, space: Optional[Space] = None, crease_angle_deg: float = 60.0
