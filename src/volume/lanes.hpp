@@ -3,6 +3,8 @@
 
 #if defined(__AVX2__) && defined(__FMA__)
 #include <immintrin.h>
+
+#include <cfloat>
 #define IMX_PACKET_LANES 1
 #else
 #define IMX_PACKET_LANES 0
@@ -35,6 +37,11 @@ inline __m256 dot3(__m256 ax, __m256 ay, __m256 az, __m256 bx, __m256 by, __m256
 // a + f * (b - a), the interpolation step of every trilinear and bilinear fetch.
 inline __m256 lerp(__m256 a, __m256 b, __m256 f) {
   return _mm256_fmadd_ps(f, _mm256_sub_ps(b, a), a);
+}
+
+// no_data() in lanes: all ones where s is NaN or infinite.
+inline __m256 no_data_lanes(__m256 s) {
+  return _mm256_cmp_ps(_mm256_andnot_ps(splat(-0.0f), s), splat(FLT_MAX), _CMP_NLE_UQ);
 }
 
 }  // namespace imx::lanes

@@ -129,6 +129,7 @@ class PacketKernel {
     if (v.accel.gradients) gradients_.emplace(*v.accel.gradients);
     const Shading& s = v.object->shading;
     shaded_ = s.enabled;
+    no_data_ = v.has_no_data;
     light_count_ = static_cast<int>(lights.size());
     if (v.accel.emptiness) use_runs_ = v.accel.emptiness->value_runs(run_lo_, run_hi_);
     if (v.accel.occupancy) bricks_.emplace(*v.accel.occupancy, v.accel.skip);
@@ -317,6 +318,8 @@ class PacketKernel {
       }
       vis = lane_mask(keep);
     }
+    // A piece with no data at an end is transparent (VolumeMarcher::next_in).
+    if (no_data_) vis = _mm256_andnot_ps(_mm256_or_ps(no_data_lanes(s_f), no_data_lanes(s_b)), vis);
     if (!_mm256_movemask_ps(vis)) return 0;
 
     __m256 cr, cg, cb, ca;
@@ -412,6 +415,8 @@ class PacketKernel {
     __m256 gx, gy, gz;
     if (gradients_) {
       gradients_->sample(px, py, pz, gx, gy, gz);
+    } else if (no_data_) {
+      gradient_of_data(px, py, pz, gx, gy, gz);
     } else {
       const __m256 one = splat(1.0f), half = splat(0.5f);
       gx = _mm256_mul_ps(half, _mm256_sub_ps(grid_.sample(_mm256_add_ps(px, one), py, pz),
@@ -465,6 +470,29 @@ class PacketKernel {
     r = out_r, g = out_g, b = out_b;
   }
 
+  // VoxelGrid::gradient_of_data in lanes: one-sided against the centre where a side is no data,
+  // 0 where that is not possible either.
+  void gradient_of_data(__m256 px, __m256 py, __m256 pz, __m256& gx, __m256& gy, __m256& gz) const {
+    const __m256 one = splat(1.0f), half = splat(0.5f), zero = _mm256_setzero_ps();
+    const __m256 c = grid_.sample(px, py, pz);
+    const __m256 centre = _mm256_andnot_ps(no_data_lanes(c), _mm256_castsi256_ps(splat(-1)));
+    auto axis = [&](__m256 up, __m256 down) {
+      const __m256 has_up = _mm256_andnot_ps(no_data_lanes(up), centre);
+      const __m256 has_down = _mm256_andnot_ps(no_data_lanes(down), centre);
+      const __m256 both = _mm256_andnot_ps(
+          no_data_lanes(up), _mm256_andnot_ps(no_data_lanes(down), _mm256_castsi256_ps(splat(-1))));
+      __m256 g = _mm256_blendv_ps(zero, _mm256_sub_ps(c, down), has_down);
+      g = _mm256_blendv_ps(g, _mm256_sub_ps(up, c), has_up);
+      return _mm256_blendv_ps(g, _mm256_mul_ps(half, _mm256_sub_ps(up, down)), both);
+    };
+    gx = axis(grid_.sample(_mm256_add_ps(px, one), py, pz),
+              grid_.sample(_mm256_sub_ps(px, one), py, pz));
+    gy = axis(grid_.sample(px, _mm256_add_ps(py, one), pz),
+              grid_.sample(px, _mm256_sub_ps(py, one), pz));
+    gz = axis(grid_.sample(px, py, _mm256_add_ps(pz, one)),
+              grid_.sample(px, py, _mm256_sub_ps(pz, one)));
+  }
+
   // SpecularTable::operator() in lanes: the same table, two gathers and a lerp.
   __m256 specular(__m256 x) const {
     const SpecularTable::View t = v_.specular.view();
@@ -492,6 +520,7 @@ class PacketKernel {
   float step_, ert_;
   PreintegrationView preint_;
   bool shaded_ = false;
+  bool no_data_ = false;  // the volume has NaN or inf voxels: pieces reading them are skipped
   int light_count_ = 0;
   bool use_runs_ = false;
   float run_lo_[TfEmptiness::kMaxRuns] = {}, run_hi_[TfEmptiness::kMaxRuns] = {};
@@ -505,8 +534,7 @@ class PacketKernel {
 bool packet_marching_supported(const PreparedVolume& v, std::span<const ShadingLight> lights) {
 #if IMX_PACKET_LANES
   const glm::ivec3 d = v.grid.dims;
-  // No data (NaN or inf voxels) is left to the scalar marcher, which skips it.
-  if (v.has_no_data || !v.accel.preint || d.x < 2 || d.y < 2 || d.z < 2) return false;
+  if (!v.accel.preint || d.x < 2 || d.y < 2 || d.z < 2) return false;
   // Gathers take int32 indices: voxels, and the byte offsets of int16 gradients.
   const double voxels = static_cast<double>(d.x) * d.y * d.z;
   const bool int16_gradients = v.accel.gradients && !v.accel.gradients->packed();

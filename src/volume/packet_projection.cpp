@@ -73,7 +73,8 @@ class ProjectionKernel {
         lights_(lights),
         step_(step),
         bisections_(bisections),
-        iso_(static_cast<float>(v.object->iso_value)) {
+        iso_(static_cast<float>(v.object->iso_value)),
+        no_data_(v.has_no_data) {
     const VolumeStyle s = v.object->style;
     mode_ = s == VolumeStyle::mip     ? Mode::max
             : s == VolumeStyle::minip ? Mode::min
@@ -173,7 +174,8 @@ class ProjectionKernel {
       // The predicate must be a constant: one compare per mode.
       const __m256 beats =
           max ? _mm256_cmp_ps(s, best, _CMP_GT_OQ) : _mm256_cmp_ps(s, best, _CMP_LT_OQ);
-      const __m256 better = _mm256_and_ps(active, beats);
+      __m256 better = _mm256_and_ps(active, beats);
+      if (no_data_) better = _mm256_andnot_ps(no_data_lanes(s), better);  // never the max or min
       const __m256 nbest = _mm256_blendv_ps(best, s, better);
       _mm256_store_ps(L_.best, nbest);
       _mm256_store_ps(L_.best_t, _mm256_blendv_ps(_mm256_load_ps(L_.best_t), at, better));
@@ -187,6 +189,9 @@ class ProjectionKernel {
         done =
             _mm256_xor_ps(_mm256_cmp_ps(fa, zero, _CMP_LT_OQ), _mm256_cmp_ps(f, zero, _CMP_LT_OQ));
         done = _mm256_and_ps(done, active);
+        // A crossing lies between two samples of data (find_iso_crossing).
+        if (no_data_)
+          done = _mm256_andnot_ps(_mm256_or_ps(no_data_lanes(f), no_data_lanes(fa)), done);
         _mm256_store_ps(L_.cross_t, _mm256_blendv_ps(_mm256_load_ps(L_.cross_t), at, done));
         _mm256_store_ps(L_.cross_f, _mm256_blendv_ps(_mm256_load_ps(L_.cross_f), f, done));
         const __m256i found = _mm256_load_si256(reinterpret_cast<const __m256i*>(L_.found));
@@ -198,6 +203,10 @@ class ProjectionKernel {
     } else {
       __m256 e[4];
       attenuation(s, e);
+      if (no_data_) {  // no attenuation, as a value of opacity 0
+        const __m256 none = no_data_lanes(s);
+        for (int c = 0; c < 4; ++c) e[c] = _mm256_andnot_ps(none, e[c]);
+      }
       const __m256 half_seg =
           first ? _mm256_setzero_ps() : _mm256_mul_ps(splat(0.5f), _mm256_sub_ps(at, t));
       for (int c = 0; c < 4; ++c) {
@@ -369,6 +378,7 @@ class ProjectionKernel {
   float step_;
   int bisections_;
   float iso_;
+  bool no_data_ = false;  // the volume has NaN or inf voxels: samples reading them are skipped
   Mode mode_ = Mode::max;
   int look_delay_ = 0;                // points walked with a look put off
   std::optional<LaneBricks> bricks_;  // the TF's empty bricks, where they may be walked past
@@ -389,7 +399,6 @@ bool packet_projection_supported(const PreparedVolume& v) {
   const VolumeStyle s = v.object->style;
   if (s == VolumeStyle::dvr || (s == VolumeStyle::xray && v.object->xray_mode == XrayMode::average))
     return false;
-  if (v.has_no_data) return false;  // no data (NaN or inf voxels): the scalar walk skips it
   const glm::ivec3 d = v.grid.dims;
   if (d.x < 2 || d.y < 2 || d.z < 2) return false;
   const double voxels = static_cast<double>(d.x) * d.y * d.z;

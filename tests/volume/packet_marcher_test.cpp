@@ -65,15 +65,18 @@ const ShadingLight kLights[2] = {
     ShadingLight{},
     {false, glm::normalize(glm::vec3(0.3f, -0.8f, 0.5f)), glm::vec3(0.8f, 0.7f, 0.6f)}};
 
+// `no_data`: float voxels of the background and a few others made NaN or inf.
 template <class T>
-void check_voxel_type(float scale, float offset, uint32_t seed) {
+void check_voxel_type(float scale, float offset, uint32_t seed, bool no_data = false) {
   std::mt19937 rng(seed);
   int terminated = 0, marched = 0;
   for (int trial = 0; trial < 6; ++trial) {
     VolumeObject obj;
     obj.name = "blobs";
     glm::ivec3 dims = trial == 5 ? glm::ivec3(2, 3, 2) : glm::ivec3(29, 23, 26);
-    obj.data = std::make_shared<VolumeData>(test::blob_volume<T>(dims, rng, scale, offset));
+    auto data = std::make_shared<VolumeData>(test::blob_volume<T>(dims, rng, scale, offset));
+    if (no_data) test::punch_no_data(*data, rng, offset + 20.0f * scale);
+    obj.data = data;
     obj.index_to_world = glm::dmat4(glm::dmat3(0.9, 0.1, 0.0, -0.1, 1.1, 0.0, 0.0, 0.2, 1.3));
     obj.transfer_function = test::random_tf(rng, offset, offset + 255.0f * scale);
     obj.shading = {trial != 2, 0.2f, 0.7f, 0.3f, trial == 3 ? 7.0f : 32.0f};
@@ -83,6 +86,7 @@ void check_voxel_type(float scale, float offset, uint32_t seed) {
         trial % 2 ? GradientSource::on_the_fly : GradientSource::precomputed, 4};
     const float step = trial == 4 ? 0.37f : 0.8f;
     PreparedVolume v = prepared(obj, step, settings);
+    EXPECT_EQ(v.has_no_data, no_data);
     std::span<const ShadingLight> lights(kLights, trial == 1 ? 1 : 2);
 #if defined(__AVX2__) && defined(__FMA__)
     EXPECT_TRUE(packet_marching_supported(v, lights));
@@ -108,6 +112,9 @@ TEST(PacketMarcher, MatchesVolumeMarcherU16) {
 }
 TEST(PacketMarcher, MatchesVolumeMarcherFloat) {
   check_voxel_type<float>(0.01f, -0.5f, 14);
+}
+TEST(PacketMarcher, MatchesVolumeMarcherWithNoData) {
+  check_voxel_type<float>(0.01f, -0.5f, 15, true);
 }
 
 // A TF with no opacity anywhere: every brick is empty and every ray stays transparent.

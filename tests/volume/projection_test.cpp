@@ -35,8 +35,10 @@ float max_difference(glm::vec4 a, glm::vec4 b) {
 
 // Skipping by brick ranges (scalar walk and lanes) against the plain walk that samples every
 // point, for every projection style and iso, on blob volumes whose TFs have empty bands.
+// `no_data`: float voxels of the background and a few others made NaN or inf.
 template <class T>
-void check_style(VolumeStyle style, float scale, float offset, uint32_t seed) {
+void check_style(VolumeStyle style, float scale, float offset, uint32_t seed,
+                 bool no_data = false) {
   std::mt19937 rng(seed);
   int shown = 0, total = 0;
   for (int trial = 0; trial < 6; ++trial) {
@@ -45,7 +47,9 @@ void check_style(VolumeStyle style, float scale, float offset, uint32_t seed) {
     obj.style = style;
     obj.iso_value = offset + scale * (60.0f + 20.0f * static_cast<float>(trial));
     const glm::ivec3 dims(37, 29, 33);
-    obj.data = std::make_shared<VolumeData>(test::blob_volume<T>(dims, rng, scale, offset));
+    auto data = std::make_shared<VolumeData>(test::blob_volume<T>(dims, rng, scale, offset));
+    if (no_data) test::punch_no_data(*data, rng, offset + 20.0f * scale);
+    obj.data = data;
     obj.index_to_world = glm::dmat4(glm::dmat3(0.9, 0.1, 0.0, -0.1, 1.1, 0.0, 0.0, 0.2, 1.3));
     obj.transfer_function = test::random_tf(rng, offset, offset + 255.0f * scale);
     if (trial % 2 == 0)  // nothing below a threshold: MIP may skip TF-empty bricks as well
@@ -110,6 +114,14 @@ TEST(Projection, SkippingKeepsIsoU8) {
 }
 TEST(Projection, SkippingKeepsIsoFloat) {
   check_style<float>(VolumeStyle::iso, 0.01f, -0.5f, 8);
+}
+// The same with no data (NaN and inf voxels): skipped alike by the walks and the lanes.
+TEST(Projection, SkippingKeepsEveryStyleWithNoData) {
+  for (VolumeStyle style :
+       {VolumeStyle::mip, VolumeStyle::minip, VolumeStyle::xray, VolumeStyle::iso}) {
+    SCOPED_TRACE(static_cast<int>(style));
+    check_style<float>(style, 0.01f, -0.5f, 20 + static_cast<int>(style), true);
+  }
 }
 
 // A block of constant value seen along x through `length` voxels of 1 mm.

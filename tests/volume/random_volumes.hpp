@@ -2,7 +2,9 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
+#include <variant>
 #include <vector>
 
 #include "core/ray.hpp"
@@ -44,6 +46,18 @@ VolumeData blob_volume(glm::ivec3 dims, std::mt19937& rng, float scale = 1.0f, f
   vol.dims = dims;
   vol.voxels = std::move(data);
   return vol;
+}
+
+// A float volume's statistical-map mask: voxels below `below` become no data (NaN, +inf and -inf
+// in turn), and so do about 1% of the others, scattered (holes inside the data), and voxel 0.
+inline void punch_no_data(VolumeData& vol, std::mt19937& rng, float below) {
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const float kinds[3] = {std::numeric_limits<float>::quiet_NaN(),
+                          std::numeric_limits<float>::infinity(),
+                          -std::numeric_limits<float>::infinity()};
+  float* v = std::get<VoxelBuffer<float>>(vol.voxels).mutable_data();
+  for (size_t n = 0; n < vol.voxel_count(); ++n)
+    if (n == 0 || v[n] < below || u(rng) < 0.01f) v[n] = kinds[n % 3];
 }
 
 // Sorted points over [lo, hi] whose alpha is zero at about half of them, including the first.
