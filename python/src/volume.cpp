@@ -304,7 +304,8 @@ affine: 4x4 array-like, last row [0, 0, 0, 1]; None is the identity (1 mm voxels
 space: the affine's world axes: "LPS" (DICOM, ITK, intermix) or "RAS" (NIfTI, nibabel, Slicer).
   RAS is turned into LPS by negating x and y.
 
-Raises ValueError (with the library's message) for bad shapes, affines or non-finite voxels.
+Raises ValueError (with the library's message) for bad shapes or affines. NaN and inf voxels
+are no data: they render as nothing.
 )doc")
       .def(py::init(&make_volume), py::arg("array"), py::arg("affine") = py::none(), py::kw_only(),
            py::arg("space") = "LPS", py::arg("axes") = "auto")
@@ -346,7 +347,7 @@ Raises ValueError (with the library's message) for bad shapes, affines or non-fi
             auto [lo, hi] = v.data->range();
             return py::make_tuple(lo, hi);
           },
-          "The smallest and largest voxel value.")
+          "The smallest and largest finite voxel value (NaN and inf are no data).")
       .def_property_readonly(
           "shares_memory", [](const PyVolume& v) { return v.shares_memory; },
           "True when the engine reads the given array's own memory (no copy was made).")

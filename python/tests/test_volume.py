@@ -181,10 +181,11 @@ def test_volume_errors():
         intermix.Volume(np.zeros((4, 4, 4)), np.eye(3))
     with pytest.raises(ValueError, match="last row"):
         intermix.Volume(np.zeros((4, 4, 4)), np.ones((4, 4)))
-    bad = np.zeros((4, 4, 4), np.float32)
-    bad[1, 2, 3] = np.nan
-    with pytest.raises(ValueError, match=r"Volume: voxel \(3, 2, 1\) is nan"):
-        intermix.Volume(bad)
+    # NaN and inf voxels are no data (a statistical map's outside), not an error.
+    masked = np.ones((4, 4, 4), np.float32)
+    masked[1, 2, 3] = np.nan
+    masked[0, 0, 0] = -np.inf
+    assert intermix.Volume(masked).range == (1.0, 1.0)
     with pytest.raises(ValueError, match="singular"):
         intermix.Volume(np.zeros((4, 4, 4)), np.diag([1.0, 0.0, 1.0, 1.0]))
     with pytest.raises(TypeError, match="not supported"):
