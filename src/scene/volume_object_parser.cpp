@@ -174,6 +174,9 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
   try {
     VolumeData volume = load();
     volume.validate(what);
+    if (const size_t missing = non_finite_count(volume); missing > 0)
+      context.notes.push_back(fmt::format("{}: {} of {} voxels are NaN or infinite: no data", what,
+                                          missing, volume.voxel_count()));
     data = std::make_shared<const VolumeData>(std::move(volume));
   } catch (const FileError& e) {
     culprit.fail_file(e.what(), e.code());

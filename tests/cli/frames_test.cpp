@@ -3,7 +3,6 @@
 // Uses ../shared/data/dicom4d (skipped without it).
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -11,6 +10,7 @@
 #include <glm/matrix.hpp>
 #include <nlohmann/json.hpp>
 
+#include "../io/fsl_diffusion_files.hpp"
 #include "cli_runner.hpp"
 #include "intermix/dicom.hpp"
 #include "intermix/io.hpp"
@@ -19,6 +19,7 @@ namespace imx {
 namespace {
 
 namespace fs = std::filesystem;
+using test::read_rows;
 using test::run_cli;
 
 fs::path dicom4d(const std::string& name) {
@@ -28,26 +29,8 @@ fs::path dicom4d(const std::string& name) {
 #define REQUIRE_DICOM4D(name) \
   if (!fs::exists(dicom4d(name))) GTEST_SKIP() << "no " << dicom4d(name).string()
 
-std::vector<std::vector<double>> read_rows(const fs::path& file) {
-  std::ifstream in(file);
-  std::vector<std::vector<double>> rows;
-  for (std::string line; std::getline(in, line);) {
-    std::istringstream s(line);
-    std::vector<double> row;
-    for (double v; s >> v;) row.push_back(v);
-    if (!row.empty()) rows.push_back(row);
-  }
-  return rows;
-}
-
-// The world direction of column `f` of an FSL .bvec written beside an image placed by `m`.
 glm::dvec3 bvec_world(const std::vector<std::vector<double>>& bvec, size_t f, const glm::dmat4& m) {
-  glm::dvec3 v(bvec[0][f], bvec[1][f], bvec[2][f]);
-  const glm::dmat3 a(m);
-  if (glm::determinant(a) > 0.0) v.x = -v.x;
-  const glm::dvec3 w =
-      glm::normalize(a[0]) * v.x + glm::normalize(a[1]) * v.y + glm::normalize(a[2]) * v.z;
-  return glm::length(w) > 1e-9 ? glm::normalize(w) : glm::dvec3(0.0);
+  return test::bvec_world(glm::dvec3(bvec[0][f], bvec[1][f], bvec[2][f]), m);
 }
 
 TEST(CliFrames, ConvertWritesTheWholeDiffusionSeriesAsDcm2niixDoes) {

@@ -5,8 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -14,6 +12,7 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
+#include "fsl_diffusion_files.hpp"
 #include "intermix/dicom.hpp"
 #include "intermix/io.hpp"
 
@@ -21,6 +20,8 @@ namespace imx {
 namespace {
 
 namespace fs = std::filesystem;
+using test::bvec_world;
+using test::read_rows;
 
 fs::path dicom4d(const std::string& name) {
   return fs::path(IMX_SHARED_DATA) / "dicom4d" / name;
@@ -79,27 +80,6 @@ Agreement compare_frames(const VolumeData& mine, const VolumeData& ref, const In
   }
   std::nth_element(diff.begin(), diff.begin() + diff.size() / 2, diff.end());
   return {sab / std::sqrt(saa * sbb), diff[diff.size() / 2]};
-}
-
-std::vector<std::vector<double>> read_rows(const fs::path& file) {
-  std::ifstream in(file);
-  std::vector<std::vector<double>> rows;
-  for (std::string line; std::getline(in, line);) {
-    std::istringstream s(line);
-    std::vector<double> row;
-    for (double v; s >> v;) row.push_back(v);
-    if (!row.empty()) rows.push_back(row);
-  }
-  return rows;
-}
-
-// The world direction of an FSL .bvec column for an image placed by `index_to_world`.
-glm::dvec3 bvec_world(glm::dvec3 v, const glm::dmat4& index_to_world) {
-  const glm::dmat3 m(index_to_world);
-  if (glm::determinant(m) > 0.0) v.x = -v.x;
-  const glm::dvec3 w =
-      glm::normalize(m[0]) * v.x + glm::normalize(m[1]) * v.y + glm::normalize(m[2]) * v.z;
-  return glm::length(w) > 0.0 ? glm::normalize(w) : w;
 }
 
 class Dicom4d : public ::testing::TestWithParam<const char*> {};

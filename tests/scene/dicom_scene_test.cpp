@@ -1,12 +1,15 @@
 // A DICOM series as a scene's volume source: the series choice, its window as the MPR default,
-// the notes loading leaves, and the keys only DICOM sources take.
+// the notes loading leaves, and the keys only DICOM sources take; frames of a 4-D source.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <vector>
 
 #include <fmt/format.h>
 
+#include "intermix/io.hpp"
 #include "intermix/scene.hpp"
 #include "test_helpers.hpp"
 
@@ -82,6 +85,45 @@ TEST(DicomScene, DicomKeysOnOtherSourcesAndAnEmptyFileNameAreRefused) {
   EXPECT_NE(e.find("objects[0].source.series"), std::string::npos) << e;
   e = parse_error(dicom_scene(R"({"file": ""})"));
   EXPECT_NE(e.find("empty"), std::string::npos) << "not a scan of the scene's folder: " << e;
+}
+
+}  // namespace
+}  // namespace imx
+
+namespace imx {
+namespace {
+
+// A 4-D source's frame and frame count, the note when none is named, and the note on NaN voxels.
+TEST(FrameScene, FrameOfA4dFileAndNotesOnFramesAndNaN) {
+  test::TempDir dir;
+  std::vector<VolumeData> frames(3);
+  for (int f = 0; f < 3; ++f) {
+    frames[f].dims = glm::ivec3(4);
+    std::vector<float> v(64, static_cast<float>(f));
+    v[5] = std::nanf("");
+    frames[f].voxels = VoxelBuffer<float>(std::move(v));
+  }
+  const std::filesystem::path file = dir.path() / "map.nii";
+  write_nifti_frames(frames, file, 2.0, false);
+  auto scene = [&](const std::string& frame_key) {
+    return R"({"objects": [{"name": "map", "type": "volume", "source": {"file": ")" +
+           file.string() + "\"" + frame_key +
+           R"(}, "transfer_function": {"points": [[0, 0, 0, 0, 0], [2, 1, 1, 1, 1]]}}]})";
+  };
+  Scene first = parse(scene(""));
+  EXPECT_EQ(first.volumes[0].frame, 0);
+  EXPECT_EQ(first.volumes[0].frames, 3);
+  auto has = [](const Scene& s, const std::string& text) {
+    return std::any_of(s.notes.begin(), s.notes.end(),
+                       [&](const std::string& n) { return n.find(text) != std::string::npos; });
+  };
+  EXPECT_TRUE(has(first, "frame 0 of 3"));
+  EXPECT_TRUE(has(first, "1 of 64 voxels are NaN or infinite"));
+  Scene second = parse(scene(R"(, "frame": 2)"));
+  EXPECT_EQ(second.volumes[0].frame, 2);
+  EXPECT_EQ(second.volumes[0].data->value_at(0, 0, 0), 2.0);
+  EXPECT_FALSE(has(second, "frame 0 of"));
+  EXPECT_NE(parse_error(scene(R"(, "frame": 3)")).find("frame 3"), std::string::npos);
 }
 
 }  // namespace
