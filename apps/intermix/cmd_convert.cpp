@@ -109,7 +109,7 @@ void write_frame_labels(const std::vector<FrameLabel>& labels, const std::string
   });
 }
 
-// Seconds between time points, when the labels' acquisition times step evenly.
+// Seconds between time points from the labels' acquisition times (the first step).
 double frame_seconds(const std::vector<FrameLabel>& labels) {
   if (labels.size() < 2 || !labels[0].time_s || !labels[1].time_s) return 0.0;
   return std::max(0.0, *labels[1].time_s - *labels[0].time_s);
@@ -152,6 +152,7 @@ Command add_convert(CLI::App& app) {
                               o->output));
     std::vector<VolumeData> frames;
     std::vector<FrameLabel> labels;
+    double repetition_s = 0.0;  // DICOM's RepetitionTime, the step dcm2niix writes
     if (is_dicom_source(o->input)) {
       DicomReadOptions options;
       options.series = o->series;
@@ -166,6 +167,7 @@ Command add_convert(CLI::App& app) {
         std::vector<DicomVolume> all = read_dicom_frames(o->input, options);
         print_notes(all.front().notes);
         labels = all.front().frame_labels;
+        repetition_s = all.front().repetition_time_s.value_or(0.0);
         for (DicomVolume& d : all) frames.push_back(std::move(d.volume));
       }
     } else {
@@ -192,7 +194,8 @@ Command add_convert(CLI::App& app) {
       const VoxelType type = common_type(frames);
       for (VolumeData& f : frames) convert_to(f, type);
       const bool gzip = sidecar(o->output, "") + ".nii.gz" == o->output;
-      write_nifti_frames(frames, o->output, frame_seconds(labels), gzip);
+      write_nifti_frames(frames, o->output,
+                         repetition_s > 0.0 ? repetition_s : frame_seconds(labels), gzip);
       if (!labels.empty()) {
         write_frame_labels(labels, o->output);
         if (std::any_of(labels.begin(), labels.end(),

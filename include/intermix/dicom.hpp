@@ -54,6 +54,8 @@ struct DicomVolume {
   std::vector<std::string> notes;    // what the reader chose or changed, one sentence each
   int frames = 1;                    // volumes in the series, all on volume's grid
   std::vector<FrameLabel> frame_labels;  // one per frame when frames > 1, in dcm2niix's order
+  std::optional<double> repetition_time_s;  // RepetitionTime: a time series' step, as dcm2niix
+                                            // writes it to a 4-D NIfTI's pixdim[4]
 };
 
 // Reads one series of `source` (see list_dicom_series) as a volume (frame options.frame of a

@@ -43,6 +43,10 @@ TEST(CliFrames, ConvertWritesTheWholeDiffusionSeriesAsDcm2niixDoes) {
   const VolumeHeader ref = read_volume_header(dicom4d("ref/xa30-dwi-10.nii.gz"));
   EXPECT_EQ(mine.frames, 21);
   EXPECT_EQ(mine.frames, ref.frames);
+  // The time step is RepetitionTime, as dcm2niix writes it (3.516 s).
+  ASSERT_EQ(mine.frame_labels.size(), ref.frame_labels.size());
+  ASSERT_TRUE(mine.frame_labels[1].time_s && ref.frame_labels[1].time_s);
+  EXPECT_NEAR(*mine.frame_labels[1].time_s, *ref.frame_labels[1].time_s, 1e-4);
   const auto bval = read_rows(dir / "dwi.bval"), bvec = read_rows(dir / "dwi.bvec");
   const auto ref_bval = read_rows(dicom4d("ref/xa30-dwi-10.bval"));
   const auto ref_bvec = read_rows(dicom4d("ref/xa30-dwi-10.bvec"));

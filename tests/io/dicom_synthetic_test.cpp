@@ -675,3 +675,28 @@ TEST(DicomVolumes, GzipCompressedFilesReadAsTheirContentAndErrorsNameThem) {
 
 }  // namespace
 }  // namespace imx
+
+namespace imx {
+namespace {
+
+TEST(DicomVolumes, TheSameImageTwiceIsRefusedNotASecondVolume) {
+  TempDir dir;
+  write_volumes(dir, 1, 3);
+  fs::create_directory(dir / "copy");
+  for (int z = 0; z < 3; ++z)
+    fs::copy_file(dir / fmt::format("v0_s{}.dcm", z), dir / "copy" / fmt::format("v0_s{}.dcm", z));
+  expect_error([&] { read_dicom(dir.path()); }, {"are the same image", "SOPInstanceUID"});
+}
+
+TEST(DicomVolumes, ImagesWithoutPositionsAreNotSplitIntoVolumes) {
+  TempDir dir;
+  for (int i = 0; i < 3; ++i) {
+    Slice s;
+    s.extra = [](gdcm::DataSet& ds) { ds.Remove(gdcm::Tag(0x0020, 0x0032)); };
+    write_slice(dir / fmt::format("p{}.dcm", i), s);
+  }
+  expect_error([&] { read_dicom(dir.path()); }, {"no ImagePositionPatient"});
+}
+
+}  // namespace
+}  // namespace imx

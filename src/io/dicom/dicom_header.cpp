@@ -62,6 +62,11 @@ const gdcm::DataSet* first_item(const gdcm::DataSet& ds, uint16_t g, uint16_t e,
   return &holder->GetItem(1).GetNestedDataSet();
 }
 
+// A tag's number as an int: values beyond any real count are clamped (a cast would be undefined).
+int clamped_int(double v) {
+  return static_cast<int>(std::clamp(v, -1e9, 1e9));
+}
+
 // DiffusionBValue (0018,9087) and DiffusionGradientOrientation (0018,9089), directly in `ds` or
 // in its DiffusionGradientDirectionSequence (0018,9076).
 void read_standard_diffusion(const gdcm::DataSet& ds, DicomFrame& f) {
@@ -106,10 +111,11 @@ void read_private_diffusion(const gdcm::DataSet& ds, DicomFrame& f) {
 
 // The top-level tags that tell volumes apart, for every frame of the file.
 void read_volume_keys(const gdcm::DataSet& ds, const std::string& image_type, DicomFrame& f) {
-  if (auto t = tag_number(ds, 0x0020, 0x0100)) f.temporal_position = static_cast<int>(*t);
+  if (auto t = tag_number(ds, 0x0020, 0x0100)) f.temporal_position = clamped_int(*t);
   if (auto t = tag_number(ds, 0x0018, 0x1060)) f.trigger_time_ms = t;
-  if (auto e = tag_number(ds, 0x0018, 0x0086)) f.echo_number = static_cast<int>(*e);
+  if (auto e = tag_number(ds, 0x0018, 0x0086)) f.echo_number = clamped_int(*e);
   if (auto e = tag_number(ds, 0x0018, 0x0081)) f.echo_time_ms = e;
+  if (auto tr = tag_number(ds, 0x0018, 0x0080); tr && *tr > 0.0) f.repetition_time_ms = tr;
   if (auto tm = tag_text(ds, 0x0008, 0x0032)) f.acquisition_time_s = parse_dicom_time(*tm);
   if (!f.acquisition_time_s)
     if (auto dt = tag_text(ds, 0x0008, 0x002a); dt && dt->size() > 8)
@@ -152,6 +158,8 @@ void apply_functional_groups(const gdcm::DataSet& group, DicomFrame& f) {
   }
   if (const gdcm::DataSet* s = first_item(group, 0x0018, 0x9118, hold))  // CardiacSynchronization
     if (std::vector<double> t = tag_fd(*s, 0x0020, 0x9153); t.size() == 1) f.trigger_time_ms = t[0];
+  if (const gdcm::DataSet* s = first_item(group, 0x0018, 0x9112, hold))  // MRTimingAndRelated
+    if (auto tr = tag_number(*s, 0x0018, 0x0080); tr && *tr > 0.0) f.repetition_time_ms = tr;
   if (const gdcm::DataSet* s = first_item(group, 0x0018, 0x9114, hold))  // MREcho
     if (std::vector<double> t = tag_fd(*s, 0x0018, 0x9082); t.size() == 1) f.echo_time_ms = t[0];
   if (const gdcm::DataSet* s = first_item(group, 0x0018, 0x9117, hold))  // MRDiffusion
@@ -210,7 +218,8 @@ void split_into_tiles(const gdcm::DataSet& ds, DicomFileHeader& h) {
   const auto csa = parse_csa_header(tag_bytes(ds, 0x0029, 0x1010));
   if (auto b = private_block(ds, 0x0019, "SIEMENS MR HEADER"))
     if (auto n = tag_us(ds, 0x0019, *b | 0x0A)) tiles = *n;
-  if (auto n = csa_numbers(csa, "NumberOfImagesInMosaic"); n && !tiles) tiles = int((*n)[0]);
+  if (auto n = csa_numbers(csa, "NumberOfImagesInMosaic"); n && !tiles)
+    tiles = static_cast<int>(std::clamp((*n)[0], 0.0, 65535.0));
   if (auto n = csa_numbers(csa, "SliceNormalVector"); n && n->size() == 3)
     normal = glm::dvec3((*n)[0], (*n)[1], (*n)[2]);
   if (!tiles)

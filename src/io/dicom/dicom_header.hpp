@@ -34,6 +34,7 @@ struct DicomFrame {
   std::optional<double> echo_time_ms;        // EchoTime (0018,0081) or EffectiveEchoTime
   std::string complex_component;             // "M", "P", "R", "I" from ImageType or (0008,9208)
   std::optional<double> acquisition_time_s;  // seconds since midnight
+  std::optional<double> repetition_time_ms;  // RepetitionTime (0018,0080)
 };
 
 // The tags SUV by body weight needs, as found (nullopt: absent or malformed).

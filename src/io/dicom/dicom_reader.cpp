@@ -43,6 +43,14 @@ SeriesLayout layout_of(const std::filesystem::path& source, const std::string& s
   SeriesLayout l;
   l.group = choose_series(groups, series, source, l.note);
   l.what = fmt::format("{} (series {})", source.string(), l.group.info.id);
+  // The same image twice (a folder copied into itself) would pass for a second volume.
+  std::map<std::string, const DicomFileHeader*> by_sop;
+  for (const DicomFileHeader& h : l.group.headers)
+    if (!h.sop_uid.empty())
+      if (auto [it, fresh] = by_sop.try_emplace(h.sop_uid, &h); !fresh)
+        throw Error(original_names(
+            l.group, fmt::format("{}: {} and {} are the same image (SOPInstanceUID {})", l.what,
+                                 it->second->file.string(), h.file.string(), h.sop_uid)));
   std::vector<DicomFrame> images;
   for (const DicomFileHeader& h : l.group.headers)
     images.insert(images.end(), h.frames.begin(), h.frames.end());
@@ -231,6 +239,7 @@ DicomVolume to_volume(detail::AcquiredSeries& a, const DicomReadOptions& options
   out.notes.insert(out.notes.end(), a.stack.notes.begin(), a.stack.notes.end());
   out.frames = a.frames;
   out.frame_labels = a.labels;
+  if (const auto& tr = a.stack.frames.front().repetition_time_ms) out.repetition_time_s = *tr / 1e3;
   if (a.modality == "CT")
     out.units = a.rescale_type.empty() ? "HU" : a.rescale_type;
   else if (a.modality == "PT")

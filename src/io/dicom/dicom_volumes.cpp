@@ -152,6 +152,12 @@ FrameLabel label_of(const std::vector<DicomFrame>& volume, double first_time, bo
 DicomVolumes split_volumes(std::vector<DicomFrame> images, const std::string& what) {
   DicomVolumes out;
   if (images.empty()) throw Error(fmt::format("{}: the series has no images", what));
+  // Without a position on every image there is no telling volumes apart: order_slices refuses
+  // such a stack of several images.
+  if (std::any_of(images.begin(), images.end(), [](const DicomFrame& f) { return !f.position; })) {
+    out.volumes.push_back(std::move(images));
+    return out;
+  }
   int positions = 0;
   const std::vector<int> position = position_indices(images, positions);
   if (static_cast<size_t>(positions) == images.size()) {
