@@ -121,7 +121,8 @@ Layout parse_layout(const std::filesystem::path& file, bool labels) {
     throw Error(fmt::format("{}: dimensions {}x{}x{} with {} frames must all be positive", what,
                             width, height, depth, nframes));
   const glm::ivec3 dims(width, height, depth);
-  if (static_cast<uint64_t>(width) * height * depth > kMaxVoxels)
+  // In double: three int32 sizes can overflow a uint64 product back into range.
+  if (static_cast<double>(width) * height * depth > static_cast<double>(kMaxVoxels))
     throw Error(fmt::format("{}: dimensions {}x{}x{} give more than {} voxels", what, width, height,
                             depth, kMaxVoxels));
   const std::optional<RawType> type = raw_type(type_code);

@@ -166,8 +166,8 @@ Layout parse_layout(const fs::path& file) {
       throw Error(fmt::format("{}: dim[{}] is {}, more than {}", what, a, h.dim[a], INT_MAX));
   const glm::ivec3 dims(static_cast<int>(h.dim[1]), static_cast<int>(h.dim[2]),
                         static_cast<int>(h.dim[3]));
-  const uint64_t count = static_cast<uint64_t>(dims.x) * dims.y * dims.z;
-  if (count > kMaxVoxels)
+  // In double: three int32 sizes can overflow a uint64 product back into range.
+  if (static_cast<double>(dims.x) * dims.y * dims.z > static_cast<double>(kMaxVoxels))
     throw Error(fmt::format("{}: dimensions {}x{}x{} give more than {} voxels", what, dims.x,
                             dims.y, dims.z, kMaxVoxels));
 

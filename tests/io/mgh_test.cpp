@@ -218,6 +218,12 @@ TEST(MghBytes, BadHeadersTruncatedDataAndCorruptGzipAreRefusedNamingTheFile) {
   f.width = f.height = f.depth = 30000;
   refuse("huge.mgz", gzipped(mgh_bytes(f, eight)), {"30000x30000x30000", "voxels"});
   f = {};
+  // A product that overflows 64 bits back into range (fuzz_mgh found it looping for minutes).
+  f.width = 738197504;
+  f.height = 50331648;
+  f.depth = 33554432;
+  refuse("wraps.mgh", mgh_bytes(f, eight), {"738197504x50331648x33554432", "voxels"});
+  f = {};
   f.frames = 1 << 20;
   refuse("frames.mgh", mgh_bytes(f, eight), {"1048576 frames"});
   f = {};

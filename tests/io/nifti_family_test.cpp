@@ -320,6 +320,12 @@ TEST_F(NiftiFamily, HugeNifti2DimsAndFrameCountsAreRefused) {
         read_volume(with("many.nii", {{1, 1 << 20}, {2, 1 << 20}}));
       },
       {"many.nii", "voxels"});
+  // 2^22 * 2^21 * 2^21 voxels is 2^64: a 64-bit product wraps to 0.
+  expect_error(
+      [&] {
+        read_volume(with("wraps.nii", {{1, 1 << 22}, {2, 1 << 21}, {3, 1 << 21}}));
+      },
+      {"wraps.nii", "voxels"});
   expect_error(
       [&] {
         read_volume_header(with("frames.nii", {{0, 4}, {4, 1 << 20}}));
