@@ -645,6 +645,11 @@ def run_test(args, out, checks, cleanup):
     # h.-k. the MPR scene, in the same browser
     if args.mpr_scene:
         run_mpr(args, out, checks, cleanup, browser)
+    # l. a multi-frame volume's frame slider and play/pause (needs ../shared/data)
+    if os.path.isdir(ASL_SERIES):
+        run_frames(args, out, checks, cleanup, browser)
+    else:
+        log(f'l. skipped: no {ASL_SERIES}')
     browser.close()
 
 
@@ -672,6 +677,78 @@ def camera_gap(a, b):
     for k in ('eye', 'target', 'up'):
         g = max(g, max(abs(x - y) for x, y in zip(a[k], b[k])))
     return g
+
+
+ASL_SERIES = os.path.join(os.path.dirname(REPO), 'shared', 'data', 'dicom4d', 'xa30-asl-25')
+
+
+def run_frames(args, out, checks, cleanup, browser):
+    """A 7-frame ASL series (MIP) beside a phantom: play steps through the frames, each change
+    re-runs only the ASL volume's stage, pause stops it."""
+    scene = os.path.join(out, 'frames.json')
+    with open(scene, 'w') as f:
+        json.dump({'camera': {'eye': [0, 600, 40], 'target': [0, 0, 40], 'up': [0, 0, 1]},
+                   'image': {'width': 128, 'height': 128},
+                   'objects': [{'name': 'asl', 'type': 'volume', 'source': {'file': ASL_SERIES},
+                                'style': 'mip',
+                                'transfer_function': {'points': [[0, 0, 0, 0, 0],
+                                                                 [1500, 1, 1, 1, 1]]}},
+                               {'name': 'head', 'type': 'volume',
+                                'source': {'phantom': 'ct-head', 'size': 48},
+                                'transfer_function': {'preset': 'ct-bone'}}]}, f)
+    server = Server(args.intermix, scene, ['--port', '0', '--bind', '127.0.0.1', '--method',
+                                           'zslab', '--spp', '1'],
+                    os.path.join(out, 'server-frames.log'), os.getcwd())
+    server.start()
+    cleanup.append(server.kill)
+    url = server.wait_url(60)
+    u = urllib.parse.urlsplit(url)
+    token = urllib.parse.parse_qs(u.query).get('token', [''])[0]
+    watcher = Watcher(f'ws://{u.netloc}/ws?token={token}')
+    cleanup.append(watcher.close)
+    hello = watcher.wait(lambda t, m: m.get('type') == 'hello', 10)
+    asl = state_object(hello or {}, 'asl') or {}
+    checks.check('l. hello gives the ASL volume its 7 frames', asl.get('frames') == 7,
+                 f"frames {asl.get('frames')}, frame {asl.get('frame')}")
+    browser.navigate(url, timeout=20)
+    browser.wait_for('Boolean(window.viewerStats && viewerStats.connected)', timeout=10,
+                     what='the frames page to connect its WebSocket')
+    wait_converged(browser, 30, 'frames scene after load')
+    snap(browser, 'frames_before_play')
+    play_sel = json.dumps('.object[data-name="asl"] .frame-play')
+    play = browser.evaluate(f'viewer.center({play_sel})')
+    if not play:
+        raise Failure('no play button for the multi-frame volume asl')
+    p0 = page_now(browser)
+    t0 = time.monotonic()
+    browser.click(play['x'], play['y'])
+    browser.pump_events(2.5)
+    browser.click(play['x'], play['y'])  # pause
+    wait_converged(browser, 20, 'after play and pause')
+    snap(browser, 'frames_after_play')
+    seen = sorted({(state_object(m, 'asl') or {}).get('frame') for t, m in
+                   watcher.of_type('state', t0)} - {None})
+    checks.check('l. play steps the frame (state messages with 2 or more frames)', len(seen) >= 2,
+                 f'frames seen {seen}')
+    fr = frames_between(browser, p0)
+    partial = [f for f in fr if f['stages_run'] < f['stages']]
+    checks.check('l. a frame change re-runs only that volume\'s stage (stages_run < stages)',
+                 bool(partial), f'{len(partial)} of {len(fr)} frames',
+                 f"(run, stages): {[(f['stages_run'], f['stages']) for f in fr][:12]}")
+    d = diff(browser, 'frames_before_play', 'frames_after_play')
+    checks.check('l. another frame changed the image', d['changed'] > 0.0005,
+                 f"{100 * d['changed']:.2f} % of pixels changed")
+    t_paused = time.monotonic()
+    states = watcher.of_type('state')
+    after = (state_object(states[-1][1], 'asl') or {}).get('frame') if states else None
+    browser.pump_events(1.0)
+    still = [(state_object(m, 'asl') or {}).get('frame')
+             for t, m in watcher.of_type('state', t_paused)]
+    checks.check('l. pause stops the frames', all(f in (None, after) for f in still),
+                 f'frame {after} after pause; later states {still}')
+    watcher.close()
+    status, secs = server.stop(10)
+    checks.check('frames server exits 0 on SIGINT', status == 0, f'status {status}')
 
 
 def run_mpr(args, out, checks, cleanup, browser):
