@@ -21,8 +21,8 @@ namespace imx {
 class GradientVolume {
  public:
   GradientVolume() = default;
-  // Central differences at voxel centres (one-sided at the borders and beside NaN or inf
-  // voxels, 0 at those: no data), in parallel on up to
+  // Central differences at voxel centres (one-sided at the borders and beside NaN or inf voxels,
+  // no data), in parallel on up to
   // `threads` threads (0 = all).
   explicit GradientVolume(const AnyGrid& voxels, int threads = 0);
 

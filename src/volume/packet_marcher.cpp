@@ -111,8 +111,9 @@ struct alignas(32) Lanes {
   int32_t ray[kLanes];
 };
 
-// One batch of rays through one volume with voxel type T.
-template <class T>
+// One batch of rays through one volume with voxel type T; with NoData, one whose NaN or inf
+// voxels are no data (only float volumes have them, and only they pay for the test).
+template <class T, bool NoData = false>
 class PacketKernel {
  public:
   PacketKernel(const PreparedVolume& v, const VoxelGrid<T>& grid, std::span<const PacketRay> rays,
@@ -129,7 +130,6 @@ class PacketKernel {
     if (v.accel.gradients) gradients_.emplace(*v.accel.gradients);
     const Shading& s = v.object->shading;
     shaded_ = s.enabled;
-    no_data_ = v.has_no_data;
     light_count_ = static_cast<int>(lights.size());
     if (v.accel.emptiness) use_runs_ = v.accel.emptiness->value_runs(run_lo_, run_hi_);
     if (v.accel.occupancy) bricks_.emplace(*v.accel.occupancy, v.accel.skip);
@@ -319,7 +319,8 @@ class PacketKernel {
       vis = lane_mask(keep);
     }
     // A piece with no data at an end is transparent (VolumeMarcher::next_in).
-    if (no_data_) vis = _mm256_andnot_ps(_mm256_or_ps(no_data_lanes(s_f), no_data_lanes(s_b)), vis);
+    if constexpr (NoData)
+      vis = _mm256_andnot_ps(_mm256_or_ps(no_data_lanes(s_f), no_data_lanes(s_b)), vis);
     if (!_mm256_movemask_ps(vis)) return 0;
 
     __m256 cr, cg, cb, ca;
@@ -415,7 +416,7 @@ class PacketKernel {
     __m256 gx, gy, gz;
     if (gradients_) {
       gradients_->sample(px, py, pz, gx, gy, gz);
-    } else if (no_data_) {
+    } else if constexpr (NoData) {
       gradient_of_data(px, py, pz, gx, gy, gz);
     } else {
       const __m256 one = splat(1.0f), half = splat(0.5f);
@@ -520,7 +521,6 @@ class PacketKernel {
   float step_, ert_;
   PreintegrationView preint_;
   bool shaded_ = false;
-  bool no_data_ = false;  // the volume has NaN or inf voxels: pieces reading them are skipped
   int light_count_ = 0;
   bool use_runs_ = false;
   float run_lo_[TfEmptiness::kMaxRuns] = {}, run_hi_[TfEmptiness::kMaxRuns] = {};
@@ -658,6 +658,13 @@ void composite_packets(const PreparedVolume& v, std::span<const PacketRay> rays,
   if (packet_marching_supported(v, lights)) {
     v.grid.visit([&](const auto& grid) {
       using T = std::remove_cvref_t<decltype(*grid.data)>;
+      if constexpr (std::is_floating_point_v<T>) {
+        if (v.has_no_data) {
+          PacketKernel<T, true> kernel(v, grid, rays, step, lights, ert, out);
+          kernel.run();
+          return;
+        }
+      }
       PacketKernel<T> kernel(v, grid, rays, step, lights, ert, out);
       kernel.run();
     });

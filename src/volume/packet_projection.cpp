@@ -60,7 +60,8 @@ struct alignas(32) ProjectionLanes {
   float prev[4][kLanes];        //   and at t
 };
 
-template <class T>
+// With NoData: a volume whose NaN or inf voxels are no data (float only; others never test).
+template <class T, bool NoData = false>
 class ProjectionKernel {
  public:
   ProjectionKernel(const PreparedVolume& v, const VoxelGrid<T>& grid,
@@ -73,8 +74,7 @@ class ProjectionKernel {
         lights_(lights),
         step_(step),
         bisections_(bisections),
-        iso_(static_cast<float>(v.object->iso_value)),
-        no_data_(v.has_no_data) {
+        iso_(static_cast<float>(v.object->iso_value)) {
     const VolumeStyle s = v.object->style;
     mode_ = s == VolumeStyle::mip     ? Mode::max
             : s == VolumeStyle::minip ? Mode::min
@@ -175,7 +175,8 @@ class ProjectionKernel {
       const __m256 beats =
           max ? _mm256_cmp_ps(s, best, _CMP_GT_OQ) : _mm256_cmp_ps(s, best, _CMP_LT_OQ);
       __m256 better = _mm256_and_ps(active, beats);
-      if (no_data_) better = _mm256_andnot_ps(no_data_lanes(s), better);  // never the max or min
+      if constexpr (NoData)
+        better = _mm256_andnot_ps(no_data_lanes(s), better);  // never the max or min
       const __m256 nbest = _mm256_blendv_ps(best, s, better);
       _mm256_store_ps(L_.best, nbest);
       _mm256_store_ps(L_.best_t, _mm256_blendv_ps(_mm256_load_ps(L_.best_t), at, better));
@@ -190,7 +191,7 @@ class ProjectionKernel {
             _mm256_xor_ps(_mm256_cmp_ps(fa, zero, _CMP_LT_OQ), _mm256_cmp_ps(f, zero, _CMP_LT_OQ));
         done = _mm256_and_ps(done, active);
         // A crossing lies between two samples of data (find_iso_crossing).
-        if (no_data_)
+        if constexpr (NoData)
           done = _mm256_andnot_ps(_mm256_or_ps(no_data_lanes(f), no_data_lanes(fa)), done);
         _mm256_store_ps(L_.cross_t, _mm256_blendv_ps(_mm256_load_ps(L_.cross_t), at, done));
         _mm256_store_ps(L_.cross_f, _mm256_blendv_ps(_mm256_load_ps(L_.cross_f), f, done));
@@ -203,7 +204,7 @@ class ProjectionKernel {
     } else {
       __m256 e[4];
       attenuation(s, e);
-      if (no_data_) {  // no attenuation, as a value of opacity 0
+      if constexpr (NoData) {  // no attenuation, as a value of opacity 0
         const __m256 none = no_data_lanes(s);
         for (int c = 0; c < 4; ++c) e[c] = _mm256_andnot_ps(none, e[c]);
       }
@@ -378,7 +379,6 @@ class ProjectionKernel {
   float step_;
   int bisections_;
   float iso_;
-  bool no_data_ = false;  // the volume has NaN or inf voxels: samples reading them are skipped
   Mode mode_ = Mode::max;
   int look_delay_ = 0;                // points walked with a look put off
   std::optional<LaneBricks> bricks_;  // the TF's empty bricks, where they may be walked past
@@ -418,6 +418,13 @@ void project_packets(const PreparedVolume& v, std::span<const PacketRay> rays, f
   if (packet_projection_supported(v)) {
     v.grid.visit([&](const auto& grid) {
       using T = std::remove_cvref_t<decltype(*grid.data)>;
+      if constexpr (std::is_floating_point_v<T>) {
+        if (v.has_no_data) {
+          ProjectionKernel<T, true> kernel(v, grid, rays, step, bisections, lights, out);
+          kernel.run();
+          return;
+        }
+      }
       ProjectionKernel<T> kernel(v, grid, rays, step, bisections, lights, out);
       kernel.run();
     });
