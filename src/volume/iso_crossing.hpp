@@ -51,14 +51,16 @@ inline VolumeHit refine_iso_crossing(const PreparedVolume& v, const Ray& ray, do
 // one side of the iso-value where the frame built ranges, and refines it. Returns false when
 // the value never crosses. A crossing lies between two samples of data: a sample of no data
 // (PreparedVolume::has_no_data) starts the search afresh after it.
-inline bool find_iso_crossing(const PreparedVolume& v, const Ray& ray, double t0, double t1,
-                              double step, int bisections, std::span<const ShadingLight> lights,
-                              VolumeHit& hit) {
+namespace detail {
+// find_iso_crossing with the no-data tests compiled in or out.
+template <bool NoData>
+bool find_iso_crossing(const PreparedVolume& v, const Ray& ray, double t0, double t1, double step,
+                       int bisections, std::span<const ShadingLight> lights, VolumeHit& hit) {
   const float iso = static_cast<float>(v.object->iso_value);
   double a = 0.0, b = 0.0;
   float fa = 0.0f, fb = 0.0f;
   bool first = true, found = false;
-  const bool nd = v.has_no_data;
+  constexpr bool nd = NoData;
   auto visit = [&](double t, float s) {
     const float f = s - iso;
     if (nd && no_data(f)) {
@@ -84,6 +86,15 @@ inline bool find_iso_crossing(const PreparedVolume& v, const Ray& ray, double t0
   if (!found) return false;
   hit = refine_iso_crossing(v, ray, a, b, fa, fb, bisections, lights);
   return true;
+}
+}  // namespace detail
+
+inline bool find_iso_crossing(const PreparedVolume& v, const Ray& ray, double t0, double t1,
+                              double step, int bisections, std::span<const ShadingLight> lights,
+                              VolumeHit& hit) {
+  return v.has_no_data
+             ? detail::find_iso_crossing<true>(v, ray, t0, t1, step, bisections, lights, hit)
+             : detail::find_iso_crossing<false>(v, ray, t0, t1, step, bisections, lights, hit);
 }
 
 // The first crossing within the pieces of a span that a ray keeps (clip geometry): each piece is

@@ -26,13 +26,17 @@ namespace imx {
 // is composited in depth order with the other objects. False when nothing is kept or the result
 // is invisible. Samples of no data (PreparedVolume::has_no_data) are never the maximum or the
 // minimum, add no attenuation (as a value of opacity 0 would) and are left out of the average.
-inline bool project_volume(const PreparedVolume& v, const Ray& ray, const KeptSpan& kept,
-                           double step, VolumeHit& hit) {
+namespace detail {
+// project_volume with the no-data tests compiled in or out (volumes without NaN or inf voxels
+// never pay for them).
+template <bool NoData>
+bool project_volume(const PreparedVolume& v, const Ray& ray, const KeptSpan& kept, double step,
+                    VolumeHit& hit) {
   if (kept.empty()) return false;
   const VolumeStyle style = v.object->style;
   const RangeBricks bricks(skip_ranges(v), v, ray);
   const auto no_jump = [](double) {};
-  const bool nd = v.has_no_data;
+  constexpr bool nd = NoData;
   glm::vec4 tf(0.0f);
   double depth = 0.5 * (static_cast<double>(kept.front()) + kept.back());
   if (style == VolumeStyle::mip || style == VolumeStyle::minip) {
@@ -105,6 +109,13 @@ inline bool project_volume(const PreparedVolume& v, const Ray& ray, const KeptSp
   if (!(tf.a > 0.0f)) return false;
   hit = {depth, glm::vec4(glm::vec3(tf) * tf.a, tf.a)};
   return true;
+}
+}  // namespace detail
+
+inline bool project_volume(const PreparedVolume& v, const Ray& ray, const KeptSpan& kept,
+                           double step, VolumeHit& hit) {
+  return v.has_no_data ? detail::project_volume<true>(v, ray, kept, step, hit)
+                       : detail::project_volume<false>(v, ray, kept, step, hit);
 }
 
 // The same over the whole of [t0, t1].

@@ -87,7 +87,11 @@ class VolumeMarcher {
 
   // The next slab with any visibility, in depth order; false once the span is used up.
   bool next(Slab& out) {
-    return v_->grid.visit([&](const auto& grid) { return next_in(grid, out); });
+    return v_->grid.visit([&](const auto& grid) {
+      if constexpr (std::is_floating_point_v<typename std::decay_t<decltype(grid)>::value_type>)
+        if (has_no_data_) return next_in<true>(grid, out);
+      return next_in<false>(grid, out);
+    });
   }
 
   // Composites the slabs front to back into `acc` until its opacity reaches `ert`: the whole
@@ -95,7 +99,12 @@ class VolumeMarcher {
   void composite(glm::vec4& acc, float ert) {
     v_->grid.visit([&](const auto& grid) {
       Slab s;
-      while (acc.a < ert && next_in(grid, s)) acc = over(acc, s.color);
+      if constexpr (std::is_floating_point_v<typename std::decay_t<decltype(grid)>::value_type>)
+        if (has_no_data_) {
+          while (acc.a < ert && next_in<true>(grid, s)) acc = over(acc, s.color);
+          return;
+        }
+      while (acc.a < ert && next_in<false>(grid, s)) acc = over(acc, s.color);
     });
   }
 
@@ -103,11 +112,12 @@ class VolumeMarcher {
   double position() const { return t_; }
 
  private:
-  // The loop with the voxel type resolved once per slab, so sampling inlines.
-  template <class Grid>
+  // The loop with the voxel type resolved once per slab, so sampling inlines. NoData: the
+  // volume has NaN or inf voxels (float only), and pieces reading them are skipped.
+  template <bool NoData, class Grid>
   [[gnu::always_inline]] bool next_in(const Grid& grid, Slab& out) {
     do {
-      if (next_in_piece(grid, out)) return true;
+      if (next_in_piece<NoData>(grid, out)) return true;
     } while (next_piece());
     return false;
   }
@@ -127,7 +137,7 @@ class VolumeMarcher {
     return false;
   }
 
-  template <class Grid>
+  template <bool NoData, class Grid>
   [[gnu::always_inline]] bool next_in_piece(const Grid& grid, Slab& out) {
     while (t_ < t1_) {
       double back = std::min<double>(t1_, (cell_ + 1.0) * step_);
@@ -140,9 +150,9 @@ class VolumeMarcher {
       cell_ += 1.0;
       s_front_ = s_b;
       have_front_ = true;
-      // A piece with no data at an end is transparent (only float voxels can be NaN or inf).
-      if constexpr (std::is_floating_point_v<typename Grid::value_type>)
-        if (has_no_data_ && (no_data(s_f) || no_data(s_b))) continue;
+      // A piece with no data at an end is transparent.
+      if constexpr (NoData)
+        if (no_data(s_f) || no_data(s_b)) continue;
       // Inside occupied bricks most pieces are still transparent: the O(1) range test spares
       // them the table lookup (the same test that empties bricks).
       if (v_->accel.emptiness && v_->accel.emptiness->is_empty_between(s_f, s_b)) continue;
