@@ -56,23 +56,8 @@ open('nogood.mgh', 'wb').write(b)
 ref('nogood.mgh')
 )PY";
 
-class Mgh : public ::testing::Test {
+class Mgh : public test::NibabelFiles<&kScript> {
  protected:
-  static void SetUpTestSuite() {
-    if (!test::have_nibabel()) return;
-    dir_ = new TempDir;
-    ok_ = test::run_nibabel(*dir_, kScript);
-  }
-  static void TearDownTestSuite() {
-    delete dir_;
-    dir_ = nullptr;
-  }
-  void SetUp() override {
-    if (!test::have_nibabel()) GTEST_SKIP() << "/usr/bin/python3 with nibabel is not available";
-    ASSERT_TRUE(ok_) << "nibabel could not write the test files";
-  }
-  static fs::path file(const std::string& name) { return *dir_ / name; }
-
   static void expect_frames_equal_nibabel(const std::string& name, VoxelType type) {
     const NibabelImage ref = read_reference(file(name));
     const VolumeHeader header = read_volume_header(file(name));
@@ -84,13 +69,7 @@ class Mgh : public ::testing::Test {
       expect_equals_reference(v, ref, k, name);
     }
   }
-
-  static TempDir* dir_;
-  static bool ok_;
 };
-
-TempDir* Mgh::dir_ = nullptr;
-bool Mgh::ok_ = false;
 
 TEST_F(Mgh, EveryTypeEqualsNibabelsDataAndAffine) {
   expect_frames_equal_nibabel("u8.mgz", VoxelType::u8);

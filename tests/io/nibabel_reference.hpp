@@ -56,6 +56,31 @@ inline bool run_nibabel(const TempDir& dir, const std::string& snippet) {
   return false;
 }
 
+// A fixture whose suite has `*Script` write its files once, with nibabel, into a folder of its
+// own (file(name) is there); its tests skip where /usr/bin/python3 has no nibabel.
+template <const char* const* Script>
+class NibabelFiles : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    if (!have_nibabel()) return;
+    dir_ = new TempDir;
+    ok_ = run_nibabel(*dir_, *Script);
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  void SetUp() override {
+    if (!have_nibabel()) GTEST_SKIP() << "/usr/bin/python3 with nibabel is not available";
+    ASSERT_TRUE(ok_) << "nibabel could not write the test files";
+  }
+  static std::filesystem::path file(const std::string& name) { return *dir_ / name; }
+
+ private:
+  inline static TempDir* dir_ = nullptr;
+  inline static bool ok_ = false;
+};
+
 // What nibabel read from a file: ref()'s output.
 struct NibabelImage {
   int frames = 0;

@@ -96,26 +96,8 @@ patch('cal.hdr', 140, '<2i', 200, 0)
 ref('cal.hdr')
 )PY";
 
-class NiftiFamily : public ::testing::Test {
+class NiftiFamily : public test::NibabelFiles<&kScript> {
  protected:
-  static void SetUpTestSuite() {
-    if (!test::have_nibabel()) return;
-    dir_ = new TempDir;
-    ok_ = test::run_nibabel(*dir_, kScript);
-  }
-  static void TearDownTestSuite() {
-    delete dir_;
-    dir_ = nullptr;
-  }
-  void SetUp() override {
-    if (!test::have_nibabel()) GTEST_SKIP() << "/usr/bin/python3 with nibabel is not available";
-    ASSERT_TRUE(ok_) << "nibabel could not write the test files";
-  }
-
-  static fs::path file(const std::string& name) { return *dir_ / name; }
-
-  // Every frame of `name` as read_volume reads it equals nibabel's get_fdata()[..., k], and
-  // its header says as many frames.
   static void expect_frames_equal_nibabel(const std::string& name, const fs::path& read_as = {}) {
     const fs::path path = read_as.empty() ? file(name) : read_as;
     const NibabelImage ref = read_reference(file(name));
@@ -128,13 +110,7 @@ class NiftiFamily : public ::testing::Test {
       expect_equals_reference(v, ref, k, path.string());
     }
   }
-
-  static TempDir* dir_;
-  static bool ok_;
 };
-
-TempDir* NiftiFamily::dir_ = nullptr;
-bool NiftiFamily::ok_ = false;
 
 TEST_F(NiftiFamily, TimeSeriesFramesEqualNibabelPlainGzipAndBigEndian) {
   for (const char* name : {"t.nii", "t.nii.gz", "be.nii.gz"}) expect_frames_equal_nibabel(name);
