@@ -48,6 +48,7 @@ struct Slice {
   bool pet_weight = true;
   int instance_number = 0;                    // 0: no InstanceNumber
   std::function<void(gdcm::DataSet&)> extra;  // further tags
+  gdcm::TransferSyntax::TSType syntax = gdcm::TransferSyntax::ExplicitVRLittleEndian;
 };
 
 void put_text(gdcm::DataSet& ds, uint16_t g, uint16_t e, gdcm::VR vr, std::string v) {
@@ -131,7 +132,7 @@ void write_slice(const fs::path& file, const Slice& s) {
     de.SetByteValue(reinterpret_cast<const char*>(px.data()), static_cast<uint32_t>(px.size() * 2));
     ds.Replace(de);
   }
-  w.GetFile().GetHeader().SetDataSetTransferSyntax(gdcm::TransferSyntax::ExplicitVRLittleEndian);
+  w.GetFile().GetHeader().SetDataSetTransferSyntax(s.syntax);
   w.SetFileName(file.c_str());
   ASSERT_TRUE(w.Write()) << file;
 }
@@ -460,6 +461,106 @@ TEST(DicomErrors, MalformedElementsAreRefusedBeforeGdcmParsesThem) {
   expect_error([&] { read_dicom(dir / "big.dcm"); }, {"big.dcm", "claims"});
   // A folder of only such files says why, rather than "no DICOM files".
   expect_error([&] { list_dicom_series(dir.path()); }, {"cannot be read"});
+}
+
+// Values that are present but unusable are errors that quote them, never a default in silence
+// (a NaN slope read as 1, a zero pixel spacing as 1 mm, a NaN intercept as 0).
+TEST(DicomErrors, PresentButUnusableValuesAreQuotedNotTakenForMissing) {
+  auto error_with = [](auto change, std::initializer_list<std::string> fragments) {
+    TempDir dir;
+    Slice s;
+    change(s);
+    write_series(dir, {0, 2}, s);
+    expect_error([&] { read_dicom(dir.path()); }, fragments);
+  };
+  for (const char* slope : {"NaN", "1e400", "word", "0"})
+    error_with([&](Slice& s) { s.slope = slope; },
+               {"s0.dcm", "RescaleSlope (0028,1053) is present but unusable",
+                std::string("'") + slope + "'"});
+  error_with([](Slice& s) { s.intercept = "NaN"; },
+             {"RescaleIntercept (0028,1052) is present but unusable: 'NaN'"});
+  for (const char* spacing : {"0\\0", "NaN\\1", "-1\\-1", "0.5"})
+    error_with([&](Slice& s) { s.spacing = spacing; },
+               {"PixelSpacing (0028,0030) is present but unusable"});
+  error_with([](Slice& s) { s.orientation = "1\\0\\0\\0\\x\\0"; },
+             {"ImageOrientationPatient (0020,0037) is present but unusable"});
+  error_with([](Slice& s) { s.orientation = "0\\0\\0\\0\\1\\0"; },
+             {"ImageOrientationPatient (0020,0037) is present but unusable: '0\\0\\0\\0\\1\\0'"});
+  // A value that is not text is shown escaped.
+  error_with([](Slice& s) { s.slope = std::string("1\x01", 2); }, {"'1\\x01'"});
+}
+
+TEST(DicomErrors, ASingleSliceNeedsAUsableThicknessOrSaysItAssumedOne) {
+  for (const char* thickness : {"0", "NaN", "-5"}) {
+    TempDir dir;
+    Slice s;
+    s.extra = [&](gdcm::DataSet& ds) { put_text(ds, 0x0018, 0x0050, gdcm::VR::DS, thickness); };
+    write_slice(dir / "one.dcm", s);
+    expect_error([&] { read_dicom(dir.path()); },
+                 {"one.dcm", "SliceThickness (0018,0050) is present but unusable"});
+  }
+  TempDir dir;
+  write_slice(dir / "one.dcm", Slice{});
+  const DicomVolume d = read_dicom(dir.path());
+  EXPECT_NEAR(d.volume.spacing().z, 1.0, 1e-12);
+  ASSERT_FALSE(d.notes.empty());
+  EXPECT_NE(d.notes.back().find("placed 1 mm thick"), std::string::npos) << d.notes.back();
+  // A usable spacing wins over an unusable one, and a stack needs neither.
+  TempDir both;
+  Slice t;
+  t.extra = [](gdcm::DataSet& ds) {
+    put_text(ds, 0x0018, 0x0088, gdcm::VR::DS, "0");
+    put_text(ds, 0x0018, 0x0050, gdcm::VR::DS, "2.5");
+  };
+  write_slice(both / "one.dcm", t);
+  EXPECT_NEAR(read_dicom(both.path()).volume.spacing().z, 2.5, 1e-12);
+  t.extra = [](gdcm::DataSet& ds) { put_text(ds, 0x0018, 0x0050, gdcm::VR::DS, "NaN"); };
+  TempDir stack;
+  write_series(stack, {0, 3}, t);
+  EXPECT_NEAR(read_dicom(stack.path()).volume.spacing().z, 3.0, 1e-12);
+}
+
+TEST(DicomErrors, PixelDataMustHoldExactlyTheFramesTheHeaderSays) {
+  TempDir dir;
+  Slice longer;
+  longer.pixels.assign(4 * 3 * 6, 7);  // six frames' worth under no NumberOfFrames
+  write_slice(dir / "long.dcm", longer);
+  expect_error([&] { read_dicom(dir / "long.dcm"); },
+               {"long.dcm", "pixel data holds 144 bytes", "give 24"});
+  for (const char* frames : {"NaN", "many", "2.5", "0"}) {
+    Slice s;
+    s.extra = [&](gdcm::DataSet& ds) { put_text(ds, 0x0028, 0x0008, gdcm::VR::IS, frames); };
+    write_slice(dir / "frames.dcm", s);
+    expect_error([&] { read_dicom(dir / "frames.dcm"); },
+                 {"frames.dcm", "NumberOfFrames (0028,0008) is present but unusable"});
+  }
+  // Six frames said and held: read, stacked by their spacing, which they cannot do without.
+  Slice six = longer;
+  six.extra = [](gdcm::DataSet& ds) { put_text(ds, 0x0028, 0x0008, gdcm::VR::IS, "6"); };
+  write_slice(dir / "six.dcm", six);
+  expect_error([&] { read_dicom(dir / "six.dcm"); },
+               {"six.dcm", "no SpacingBetweenSlices (0018,0088) or SliceThickness (0018,0050)"});
+  six.extra = [](gdcm::DataSet& ds) {
+    put_text(ds, 0x0028, 0x0008, gdcm::VR::IS, "6");
+    put_text(ds, 0x0018, 0x0088, gdcm::VR::DS, "1.5");
+  };
+  write_slice(dir / "six.dcm", six);
+  const VolumeData v = read_dicom(dir / "six.dcm").volume;
+  EXPECT_EQ(v.dims, glm::ivec3(3, 4, 6));
+  EXPECT_NEAR(v.spacing().z, 1.5, 1e-12);
+}
+
+TEST(DicomErrors, ATransferSyntaxThatDoesNotMatchThePixelDataIsRefused) {
+  for (auto syntax :
+       {gdcm::TransferSyntax::JPEGBaselineProcess1, gdcm::TransferSyntax::JPEGLosslessProcess14_1,
+        gdcm::TransferSyntax::JPEG2000Lossless, gdcm::TransferSyntax::RLELossless}) {
+    TempDir dir;
+    Slice s;
+    s.syntax = syntax;
+    write_slice(dir / "relabelled.dcm", s);
+    expect_error([&] { read_dicom(dir / "relabelled.dcm"); },
+                 {"relabelled.dcm", "says the pixel data is compressed, but it is a plain value"});
+  }
 }
 
 }  // namespace

@@ -22,31 +22,65 @@ namespace {
 constexpr int kMaxFrames = 1 << 16;           // far more than any scanner writes into one file
 constexpr uintmax_t kMaxMetaBytes = 1 << 16;  // the file meta group is a few hundred bytes
 
-std::optional<glm::dvec3> vec3_of(const gdcm::DataSet& ds, uint16_t g, uint16_t e) {
-  std::vector<double> v = tag_numbers(ds, g, e);
-  if (v.size() < 3) return std::nullopt;
-  return glm::dvec3(v[0], v[1], v[2]);
+bool finite(double) {
+  return true;  // used_numbers has checked that already
+}
+bool positive(double v) {
+  return v > 0.0;
+}
+bool non_zero(double v) {
+  return v != 0.0;
 }
 
-// Reads ImageOrientationPatient into the frame when both directions are usable unit vectors.
-void read_orientation(const gdcm::DataSet& ds, DicomFrame& f) {
-  std::vector<double> v = tag_numbers(ds, 0x0020, 0x0037);
-  if (v.size() < 6) return;
-  glm::dvec3 r(v[0], v[1], v[2]), c(v[3], v[4], v[5]);
-  double lr = glm::length(r), lc = glm::length(c);
-  if (!(lr > 0.5 && lr < 1.5 && lc > 0.5 && lc < 1.5)) return;
+// A tag of three numbers (ImagePositionPatient); nullopt when absent.
+std::optional<glm::dvec3> vec3_of(const gdcm::DataSet& ds, uint16_t g, uint16_t e,
+                                  const std::string& file, const char* name) {
+  auto v = used_numbers(ds, g, e, file, name, "three finite numbers expected", finite);
+  if (!v) return std::nullopt;
+  if (v->size() < 3)
+    throw Error(
+        unusable_message(file, name, g, e, *tag_text(ds, g, e), "three finite numbers expected"));
+  return glm::dvec3((*v)[0], (*v)[1], (*v)[2]);
+}
+
+// Reads ImageOrientationPatient into the frame: two unit vectors (to within half their length,
+// as scanners round them), else the tag is refused as unusable.
+void read_orientation(const gdcm::DataSet& ds, DicomFrame& f, const std::string& file) {
+  const char* why = "two direction vectors of six finite numbers, each of length about 1";
+  auto v = used_numbers(ds, 0x0020, 0x0037, file, "ImageOrientationPatient", why, finite);
+  if (!v) return;
+  glm::dvec3 r, c;
+  double lr = 0.0, lc = 0.0;
+  if (v->size() >= 6) {
+    r = glm::dvec3((*v)[0], (*v)[1], (*v)[2]);
+    c = glm::dvec3((*v)[3], (*v)[4], (*v)[5]);
+    lr = glm::length(r);
+    lc = glm::length(c);
+  }
+  if (!(lr > 0.5 && lr < 1.5 && lc > 0.5 && lc < 1.5))
+    throw Error(unusable_message(file, "ImageOrientationPatient", 0x0020, 0x0037,
+                                 *tag_text(ds, 0x0020, 0x0037), why));
   f.row_direction = r / lr;
   f.column_direction = c / lc;
 }
 
-void read_spacing(const gdcm::DataSet& ds, DicomFrame& f) {
-  std::vector<double> v = tag_numbers(ds, 0x0028, 0x0030);
-  if (v.size() >= 2 && v[0] > 0.0 && v[1] > 0.0) f.pixel_spacing = glm::dvec2(v[0], v[1]);
+void read_spacing(const gdcm::DataSet& ds, DicomFrame& f, const std::string& file) {
+  const char* why = "two finite positive numbers expected";
+  auto v = used_numbers(ds, 0x0028, 0x0030, file, "PixelSpacing", why, positive);
+  if (!v) return;
+  if (v->size() < 2)
+    throw Error(
+        unusable_message(file, "PixelSpacing", 0x0028, 0x0030, *tag_text(ds, 0x0028, 0x0030), why));
+  f.pixel_spacing = glm::dvec2((*v)[0], (*v)[1]);
 }
 
-void read_rescale(const gdcm::DataSet& ds, DicomFrame& f) {
-  if (auto s = tag_number(ds, 0x0028, 0x1053)) f.slope = *s;
-  if (auto i = tag_number(ds, 0x0028, 0x1052)) f.intercept = *i;
+void read_rescale(const gdcm::DataSet& ds, DicomFrame& f, const std::string& file) {
+  if (auto s = used_numbers(ds, 0x0028, 0x1053, file, "RescaleSlope",
+                            "a finite non-zero number expected", non_zero))
+    f.slope = s->front();
+  if (auto i = used_numbers(ds, 0x0028, 0x1052, file, "RescaleIntercept",
+                            "a finite number expected", finite))
+    f.intercept = i->front();
 }
 
 void read_window(const gdcm::DataSet& ds, DicomFrame& f) {
@@ -137,16 +171,16 @@ void read_volume_keys(const gdcm::DataSet& ds, const std::string& image_type, Di
 }
 
 // Applies one functional-groups item (shared or per-frame) to a frame.
-void apply_functional_groups(const gdcm::DataSet& group, DicomFrame& f) {
+void apply_functional_groups(const gdcm::DataSet& group, DicomFrame& f, const std::string& file) {
   gdcm::SmartPointer<gdcm::SequenceOfItems> hold;
   if (const gdcm::DataSet* s = first_item(group, 0x0020, 0x9113, hold))  // PlanePosition
-    if (auto p = vec3_of(*s, 0x0020, 0x0032)) f.position = p;
+    if (auto p = vec3_of(*s, 0x0020, 0x0032, file, "ImagePositionPatient")) f.position = p;
   if (const gdcm::DataSet* s = first_item(group, 0x0020, 0x9116, hold))  // PlaneOrientation
-    read_orientation(*s, f);
+    read_orientation(*s, f, file);
   if (const gdcm::DataSet* s = first_item(group, 0x0028, 0x9110, hold))  // PixelMeasures
-    read_spacing(*s, f);
+    read_spacing(*s, f, file);
   if (const gdcm::DataSet* s = first_item(group, 0x0028, 0x9145, hold))  // PixelValueTransf.
-    read_rescale(*s, f);
+    read_rescale(*s, f, file);
   if (const gdcm::DataSet* s = first_item(group, 0x0028, 0x9132, hold))  // FrameVOILUT
     read_window(*s, f);
   if (const gdcm::DataSet* s = first_item(group, 0x0020, 0x9111, hold)) {  // FrameContent
@@ -253,7 +287,7 @@ void split_into_tiles(const gdcm::DataSet& ds, DicomFileHeader& h) {
   const glm::dvec3 first = *base.position +
                            *base.row_direction * (base.pixel_spacing->y * shift_columns) +
                            *base.column_direction * (base.pixel_spacing->x * shift_rows);
-  const double step = h.slice_spacing.value_or(1.0);
+  const double step = required_slice_spacing(h, "a mosaic's tiles");
   h.frames.clear();
   for (int t = 0; t < *tiles; ++t) {
     DicomFrame f = base;
@@ -327,6 +361,71 @@ bool well_formed_file_meta(const std::filesystem::path& file) {
   return elements > 0 && at + 8 <= head.size();  // a data set follows
 }
 
+double required_slice_spacing(const DicomFileHeader& h, const char* use) {
+  if (h.slice_spacing) return *h.slice_spacing;
+  if (!h.slice_spacing_fault.empty())
+    throw Error(fmt::format("{}; it is needed to place {}", h.slice_spacing_fault, use));
+  throw Error(fmt::format(
+      "{}: no SpacingBetweenSlices (0018,0088) or SliceThickness (0018,0050) to place {}",
+      h.file.string(), use));
+}
+
+// The value length of the element whose value starts at byte `value_at` of `file`: the four
+// bytes before it, in every encoding of the pixel data element (implicit VR, or explicit OB/OW
+// with two reserved bytes). 0xFFFFFFFF is the undefined length of encapsulated data.
+std::optional<uint32_t> value_length_before(const std::filesystem::path& file, size_t value_at,
+                                            bool big_endian) {
+  if (value_at < 8) return std::nullopt;
+  std::ifstream in(file, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(value_at - 4));
+  unsigned char b[4];
+  if (!in.read(reinterpret_cast<char*>(b), 4)) return std::nullopt;
+  return big_endian ? (uint32_t{b[0]} << 24 | uint32_t{b[1]} << 16 | uint32_t{b[2]} << 8 | b[3])
+                    : (uint32_t{b[3]} << 24 | uint32_t{b[2]} << 16 | uint32_t{b[1]} << 8 | b[0]);
+}
+
+// Refuses pixel data whose form or length contradicts the header: encapsulated fragments under
+// a native transfer syntax or a plain value under a compressed one (a relabelled file), and
+// native data that is not exactly Rows x Columns x frames x samples x BitsAllocated bits (plus
+// the one pad byte of an odd length): GDCM pads short data with zeros and reads only the first
+// bytes of long data, and either would load the wrong pixels without a word.
+void check_pixel_data(const DicomFileHeader& h) {
+  const std::string what = h.file.string();
+  const gdcm::TransferSyntax::TSType type =
+      gdcm::TransferSyntax::GetTSType(h.transfer_syntax.c_str());
+  if (type == gdcm::TransferSyntax::TS_END)
+    throw Error(fmt::format("{}: unknown or unsupported transfer syntax '{}' (0002,0010)", what,
+                            h.transfer_syntax));
+  const gdcm::TransferSyntax ts(type);
+  if (ts.IsEncoded() || !h.has_pixel_data) return;
+  const bool undefined = !h.pixel_length;
+  if (ts.IsEncapsulated() && !undefined)
+    throw Error(fmt::format(
+        "{}: the transfer syntax {} ({}) says the pixel data is compressed, but it is a plain "
+        "value of {} bytes",
+        what, h.transfer_syntax, gdcm::TransferSyntax::GetTSString(type), *h.pixel_length));
+  if (!ts.IsEncapsulated() && undefined)
+    throw Error(fmt::format(
+        "{}: the transfer syntax {} ({}) says the pixel data is not compressed, but it is "
+        "encapsulated (compressed fragments)",
+        what, h.transfer_syntax, gdcm::TransferSyntax::GetTSString(type)));
+  if (ts.IsEncapsulated()) return;
+  const uint64_t bits = static_cast<uint64_t>(h.stored_rows) * h.stored_columns *
+                        static_cast<uint64_t>(h.stored_frames) *
+                        static_cast<uint64_t>(std::max(h.samples_per_pixel, 1)) *
+                        static_cast<uint64_t>(std::max(h.bits_allocated, 0));
+  const uint64_t needed = (bits + 7) / 8;
+  const uint64_t found = *h.pixel_length;
+  if (found < needed)
+    throw Error(fmt::format("{}: truncated pixel data: {} of {} bytes", what, found, needed));
+  if (found > needed + needed % 2)
+    throw Error(fmt::format(
+        "{}: the pixel data holds {} bytes, but Rows x Columns x NumberOfFrames x SamplesPerPixel "
+        "x BitsAllocated ({} x {} x {} x {} x {} bits) give {}: a wrong NumberOfFrames or size?",
+        what, found, h.stored_rows, h.stored_columns, h.stored_frames, h.samples_per_pixel,
+        h.bits_allocated, needed));
+}
+
 std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& file) {
   quiet_gdcm();
   if (!looks_like_dicom(file)) return std::nullopt;
@@ -354,6 +453,7 @@ std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& fi
   std::error_code size_ec;
   const uintmax_t file_size = std::filesystem::file_size(file, size_ec);
 
+  const std::string& what = file.string();
   DicomFileHeader h;
   h.file = file;
   auto rows = tag_us(ds, 0x0028, 0x0010), columns = tag_us(ds, 0x0028, 0x0011);
@@ -380,20 +480,43 @@ std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& fi
   }
   h.transfer_syntax =
       tag_text(reader.GetFile().GetHeader(), 0x0002, 0x0010).value_or("1.2.840.10008.1.2");
+  if (h.has_pixel_data) {
+    const auto length = value_length_before(
+        file, pixel_offset, h.transfer_syntax == "1.2.840.10008.1.2.2");  // explicit VR big endian
+    if (length && *length != 0xffffffffu) h.pixel_length = *length;
+  }
   h.bits_allocated = tag_us(ds, 0x0028, 0x0100).value_or(0);
   h.bits_stored = tag_us(ds, 0x0028, 0x0101).value_or(h.bits_allocated);
   h.high_bit = tag_us(ds, 0x0028, 0x0102).value_or(h.bits_stored - 1);
   h.pixel_representation = tag_us(ds, 0x0028, 0x0103).value_or(0);
   h.samples_per_pixel = tag_us(ds, 0x0028, 0x0002).value_or(1);
-  h.slice_spacing = tag_number(ds, 0x0018, 0x0088);
-  if (!h.slice_spacing || !(*h.slice_spacing > 0.0))
-    h.slice_spacing = tag_number(ds, 0x0018, 0x0050);
-  if (h.slice_spacing && !(*h.slice_spacing > 0.0)) h.slice_spacing.reset();
+  // SpacingBetweenSlices, else SliceThickness: the first usable one. Where neither is and one
+  // is present, its fault is kept for whoever needs a slice spacing (one slice, a mosaic, a
+  // legacy multi-frame file); a stack of slices places them by their positions instead.
+  for (uint16_t element : {uint16_t{0x0088}, uint16_t{0x0050}}) {
+    const char* name = element == 0x0088 ? "SpacingBetweenSlices" : "SliceThickness";
+    try {
+      if (auto v = used_numbers(ds, 0x0018, element, what, name,
+                                "a finite positive number expected", positive)) {
+        h.slice_spacing = v->front();
+        h.slice_spacing_fault.clear();
+        break;
+      }
+    } catch (const Error& e) {
+      if (h.slice_spacing_fault.empty()) h.slice_spacing_fault = e.what();
+    }
+  }
 
-  double frames = tag_number(ds, 0x0028, 0x0008).value_or(1.0);
-  if (!(frames >= 1.0 && frames <= kMaxFrames && frames == std::floor(frames)))
-    throw Error(fmt::format("{}: NumberOfFrames (0028,0008) is {}, expected 1 to {}", file.string(),
-                            frames, kMaxFrames));
+  const auto whole = [](double v) { return v >= 1.0 && v <= kMaxFrames && v == std::floor(v); };
+  double frames = 1.0;
+  if (auto n = used_numbers(ds, 0x0028, 0x0008, what, "NumberOfFrames",
+                            "a whole number of frames from 1 to 65536 expected", finite)) {
+    frames = n->front();
+    if (n->size() != 1 || !whole(frames))
+      throw Error(unusable_message(what, "NumberOfFrames", 0x0028, 0x0008,
+                                   *tag_text(ds, 0x0028, 0x0008),
+                                   "a whole number of frames from 1 to 65536 expected"));
+  }
   h.frame_count = static_cast<int>(frames);
   h.stored_rows = h.rows;
   h.stored_columns = h.columns;
@@ -402,34 +525,36 @@ std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& fi
   // The top-level tags hold for every frame; functional groups override them.
   DicomFrame base;
   base.file = file;
-  base.position = vec3_of(ds, 0x0020, 0x0032);
-  read_orientation(ds, base);
-  read_spacing(ds, base);
-  read_rescale(ds, base);
+  base.position = vec3_of(ds, 0x0020, 0x0032, what, "ImagePositionPatient");
+  read_orientation(ds, base, what);
+  read_spacing(ds, base, what);
+  read_rescale(ds, base, what);
   read_window(ds, base);
   base.instance_number = h.instance_number;
   read_volume_keys(ds, image_type, base);
   gdcm::SmartPointer<gdcm::SequenceOfItems> shared_hold;
   if (const gdcm::DataSet* shared = first_item(ds, 0x5200, 0x9229, shared_hold))
-    apply_functional_groups(*shared, base);
+    apply_functional_groups(*shared, base, what);
   gdcm::SmartPointer<gdcm::SequenceOfItems> per_frame = tag_sequence(ds, 0x5200, 0x9230);
   for (int f = 0; f < h.frame_count; ++f) {
     DicomFrame frame = base;
     frame.frame = f;
     if (per_frame && static_cast<size_t>(f) < per_frame->GetNumberOfItems())
       apply_functional_groups(per_frame->GetItem(static_cast<size_t>(f) + 1).GetNestedDataSet(),
-                              frame);
+                              frame, what);
     h.frames.push_back(std::move(frame));
   }
   // A legacy multi-frame file (no per-frame groups) stacks its frames along the normal.
   if (!per_frame && h.frame_count > 1 && base.position && base.row_direction) {
     const glm::dvec3 normal = glm::cross(*base.row_direction, *base.column_direction);
-    for (DicomFrame& f : h.frames)
-      f.position = *base.position + normal * (f.frame * h.slice_spacing.value_or(1.0));
+    const double step =
+        required_slice_spacing(h, "the frames of a multi-frame file without per-frame positions");
+    for (DicomFrame& f : h.frames) f.position = *base.position + normal * (f.frame * step);
   }
   if (image_type.find("MOSAIC") != std::string::npos) split_into_tiles(ds, h);
   h.mirror_rows = ge_reversed_polarity(ds, file.string());
   read_suv_tags(ds, h.suv);
+  check_pixel_data(h);
   return h;
 }
 

@@ -64,11 +64,15 @@ struct DicomFileHeader {
   bool mirror_rows = false;
   bool localizer = false;
   bool has_pixel_data = false;
-  uint64_t pixel_bytes = 0;     // bytes in the file from the pixel data's value on
+  uint64_t pixel_bytes = 0;  // bytes in the file from the pixel data's value on
+  // The pixel data element's value length; nullopt when undefined (the encapsulated form of
+  // compressed syntaxes) or unknown (a deflated data set).
+  std::optional<uint64_t> pixel_length;
   std::string transfer_syntax;  // (0002,0010)
   int bits_allocated = 0, bits_stored = 0, high_bit = 0, pixel_representation = 0;
   int samples_per_pixel = 1;
   std::optional<double> slice_spacing;  // SpacingBetweenSlices, else SliceThickness
+  std::string slice_spacing_fault;      // why neither is usable where one is present, else ""
   std::vector<DicomFrame> frames;       // frame_count of them
   DicomSuvTags suv;
 };
@@ -87,5 +91,9 @@ bool well_formed_file_meta(const std::filesystem::path& file);
 // Throws imx::Error for a file that starts like DICOM but cannot be read (truncated, corrupt) and
 // for an unusable header (a frame count out of bounds).
 std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& file);
+
+// The slice spacing of a file whose images cannot be placed without it (`use`: "a mosaic's
+// tiles"); throws imx::Error naming the file and the unusable tag, or both tags when absent.
+double required_slice_spacing(const DicomFileHeader& h, const char* use);
 
 }  // namespace imx::detail

@@ -245,17 +245,6 @@ DecodedFrames decode_dicom_frames(const DicomFileHeader& header) {
   // come on top.
   check_memory(count * 12, fmt::format("{} ({}x{}x{} pixels)", what, header.stored_columns,
                                        header.stored_rows, header.stored_frames));
-  // Native (uncompressed) data must hold every pixel: GDCM pads a short element with zeros.
-  const gdcm::TransferSyntax::TSType ts_type =
-      gdcm::TransferSyntax::GetTSType(header.transfer_syntax.c_str());
-  if (ts_type != gdcm::TransferSyntax::TS_END && !gdcm::TransferSyntax(ts_type).IsEncapsulated() &&
-      header.bits_allocated % 8 == 0) {
-    const uint64_t needed = count * static_cast<uint64_t>(header.bits_allocated / 8);
-    if (header.pixel_bytes < needed)
-      throw Error(fmt::format("{}: truncated pixel data: {} of {} bytes", what, header.pixel_bytes,
-                              needed));
-  }
-
   // GDCM asserts on some of these rather than failing: refuse them first.
   if (header.samples_per_pixel != 1)
     throw Error(

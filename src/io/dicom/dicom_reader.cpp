@@ -74,8 +74,16 @@ AcquiredSeries acquired_layout(const SeriesLayout& l, int frame) {
   out.suv = first.suv;
   out.frames = static_cast<int>(l.volumes.volumes.size());
   out.labels = l.volumes.labels;
-  out.stack = order_slices(l.volumes.volumes[static_cast<size_t>(frame)], first.rows, first.columns,
-                           first.slice_spacing, l.what);
+  const std::vector<DicomFrame>& images = l.volumes.volumes[static_cast<size_t>(frame)];
+  std::optional<double> thickness = first.slice_spacing;
+  if (images.size() == 1 && !thickness) {
+    if (!first.slice_spacing_fault.empty()) throw Error(first.slice_spacing_fault);
+    thickness = 1.0;
+    out.notes.push_back(
+        "no SpacingBetweenSlices (0018,0088) or SliceThickness (0018,0050): the single slice is "
+        "placed 1 mm thick");
+  }
+  out.stack = order_slices(images, first.rows, first.columns, thickness, l.what);
   if (first.mosaic_tiles > 0)
     out.notes.push_back(fmt::format("Siemens mosaic: {} tiles of {}x{} per file",
                                     first.mosaic_tiles, first.columns, first.rows));

@@ -1,5 +1,6 @@
 #include "io/dicom/dicom_tags.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -9,6 +10,8 @@
 
 #include <fmt/format.h>
 #include <gdcmTrace.h>
+
+#include "intermix/error.hpp"
 
 namespace imx::detail {
 
@@ -80,6 +83,31 @@ std::optional<double> tag_number(const gdcm::DataSet& ds, uint16_t group, uint16
   std::vector<double> v = tag_numbers(ds, group, element);
   if (v.empty()) return std::nullopt;
   return v.front();
+}
+
+std::string unusable_message(const std::string& file, const char* name, uint16_t group,
+                             uint16_t element, const std::string& value, const char* why) {
+  // Values come from the file: shown shortened and with control bytes escaped.
+  std::string shown;
+  for (char c : value.substr(0, 64))
+    shown += std::isprint(static_cast<unsigned char>(c)) ? std::string(1, c)
+                                                         : fmt::format("\\x{:02x}", c & 0xff);
+  if (value.size() > 64) shown += "...";
+  return fmt::format("{}: {} {} is present but unusable: '{}' ({})", file, name,
+                     tag_name(group, element), shown, why);
+}
+
+std::optional<std::vector<double>> used_numbers(const gdcm::DataSet& ds, uint16_t group,
+                                                uint16_t element, const std::string& file,
+                                                const char* name, const char* why,
+                                                bool (*usable)(double)) {
+  std::optional<std::string> text = tag_text(ds, group, element);
+  if (!text) return std::nullopt;
+  std::vector<double> values = tag_numbers(ds, group, element);
+  const bool ok =
+      !values.empty() && (usable == nullptr || std::all_of(values.begin(), values.end(), usable));
+  if (!ok) throw Error(unusable_message(file, name, group, element, *text, why));
+  return values;
 }
 
 std::optional<int> tag_us(const gdcm::DataSet& ds, uint16_t group, uint16_t element) {

@@ -29,6 +29,19 @@ std::vector<double> tag_numbers(const gdcm::DataSet& ds, uint16_t group, uint16_
 // The first number of a DS or IS element.
 std::optional<double> tag_number(const gdcm::DataSet& ds, uint16_t group, uint16_t element);
 
+// The numbers of a DS or IS element that is used as it is found: nullopt when absent or empty;
+// throws imx::Error "FILE: NAME (gggg,eeee) is present but unusable: 'VALUE' (WHY)" when any value
+// is not a finite number or `usable` refuses one, so that a bad value is never taken for a
+// missing one (and replaced by a default).
+std::optional<std::vector<double>> used_numbers(const gdcm::DataSet& ds, uint16_t group,
+                                                uint16_t element, const std::string& file,
+                                                const char* name, const char* why,
+                                                bool (*usable)(double) = nullptr);
+
+// The message of used_numbers for a value found unusable elsewhere.
+std::string unusable_message(const std::string& file, const char* name, uint16_t group,
+                             uint16_t element, const std::string& value, const char* why);
+
 // A US (unsigned 16-bit binary) element; GDCM holds binary values in host order.
 std::optional<int> tag_us(const gdcm::DataSet& ds, uint16_t group, uint16_t element);
 
