@@ -102,7 +102,8 @@ nlohmann::json describe_dicom(const std::string& source, const std::string& seri
     return j;
   }
   nlohmann::json list = nlohmann::json::array();
-  for (const DicomSeriesInfo& s : list_dicom_series(source))
+  std::vector<std::string> refused;
+  for (const DicomSeriesInfo& s : list_dicom_series(source, &refused))
     list.push_back({{"id", s.id},
                     {"number", s.number},
                     {"description", s.description},
@@ -111,7 +112,7 @@ nlohmann::json describe_dicom(const std::string& source, const std::string& seri
                     {"slices", s.slices},
                     {"localizer", s.localizer},
                     {"uid", s.uid}});
-  return {{"kind", "dicom"}, {"series", list}};
+  return {{"kind", "dicom"}, {"series", list}, {"refused", refused}};
 }
 
 void print_dicom_series(const nlohmann::json& j) {
@@ -124,6 +125,9 @@ void print_dicom_series(const nlohmann::json& j) {
                 fmt::format("{}x{}", s["size"][0].get<int>(), s["size"][1].get<int>()).c_str(),
                 s["slices"].get<int>(), s["uid"].get<std::string>().c_str(),
                 s["localizer"].get<bool>() ? " (localizer)" : "");
+  // What convert would refuse: every file that starts as DICOM but cannot be read.
+  for (const nlohmann::json& r : j["refused"])
+    std::printf("refused: %s\n", r.get<std::string>().c_str());
 }
 
 Command add_info(CLI::App& app) {

@@ -34,9 +34,13 @@ struct DicomSeriesInfo {
 // The image series found under `source`: a folder (scanned recursively, at most 16 levels and
 // 100000 files, symbolic links to folders not followed), a DICOMDIR (its folder is scanned: the
 // records are not trusted, they often name paths that no longer exist) or one DICOM file. Files
-// that are not DICOM images are skipped; gzip-compressed ones (.dcm.gz, NAME.gz) are read. Sorted by series number, then part. Throws imx::Error
-// naming `source` when it cannot be read or holds no DICOM image.
-std::vector<DicomSeriesInfo> list_dicom_series(const std::filesystem::path& source);
+// that are not DICOM images are skipped; gzip-compressed ones (.dcm.gz, NAME.gz) are read.
+// Sorted by series number, then part. Files that start as DICOM but cannot be read are left out
+// of the series and, when `refused` is given, listed there, one message each naming the file
+// and why (read_dicom refuses such a folder). Throws imx::Error naming `source` when it cannot
+// be read or holds no DICOM image.
+std::vector<DicomSeriesInfo> list_dicom_series(const std::filesystem::path& source,
+                                               std::vector<std::string>* refused = nullptr);
 
 struct DicomReadOptions {
   std::string series;  // "" (the largest non-localizer series), a series id ("201", "201.2") or
@@ -47,12 +51,12 @@ struct DicomReadOptions {
 };
 
 struct DicomVolume {
-  VolumeData volume;                 // i: columns, j: rows, k: slices in position order
-  DicomSeriesInfo series;            // the series read
-  std::string units;                 // "HU", "BQML", "g/ml" (SUV), ... ; "" when unknown
-  std::optional<glm::dvec2> window;  // WindowCenter, WindowWidth of the first slice (in units)
-  std::vector<std::string> notes;    // what the reader chose or changed, one sentence each
-  int frames = 1;                    // volumes in the series, all on volume's grid
+  VolumeData volume;                     // i: columns, j: rows, k: slices in position order
+  DicomSeriesInfo series;                // the series read
+  std::string units;                     // "HU", "BQML", "g/ml" (SUV), ... ; "" when unknown
+  std::optional<glm::dvec2> window;      // WindowCenter, WindowWidth of the first slice (in units)
+  std::vector<std::string> notes;        // what the reader chose or changed, one sentence each
+  int frames = 1;                        // volumes in the series, all on volume's grid
   std::vector<FrameLabel> frame_labels;  // one per frame when frames > 1, in dcm2niix's order
   std::optional<double> repetition_time_s;  // RepetitionTime: a time series' step, as dcm2niix
                                             // writes it to a 4-D NIfTI's pixdim[4]

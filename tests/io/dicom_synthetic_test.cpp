@@ -17,6 +17,7 @@
 
 #include "expect_error.hpp"
 #include "intermix/dicom.hpp"
+#include "intermix/io.hpp"
 #include "io/dicom/dicom_suv.hpp"
 #include "temp_dir.hpp"
 
@@ -488,6 +489,26 @@ TEST(DicomErrors, PresentButUnusableValuesAreQuotedNotTakenForMissing) {
              {"ImageOrientationPatient (0020,0037) is present but unusable: '0\\0\\0\\0\\1\\0'"});
   // A value that is not text is shown escaped.
   error_with([](Slice& s) { s.slope = std::string("1\x01", 2); }, {"'1\\x01'"});
+}
+
+TEST(DicomErrors, TheListingNamesTheFilesThatReadingWouldRefuse) {
+  TempDir dir;
+  write_series(dir, {0, 1, 2});
+  Slice bad;
+  bad.slope = "NaN";
+  bad.position = glm::dvec3(-10, 20, 3);
+  write_slice(dir / "s3.dcm", bad);
+  std::vector<std::string> refused;
+  const std::vector<DicomSeriesInfo> series = list_dicom_series(dir.path(), &refused);
+  ASSERT_EQ(series.size(), 1u);
+  EXPECT_EQ(series.front().slices, 3);
+  ASSERT_EQ(refused.size(), 1u);
+  EXPECT_NE(refused.front().find("s3.dcm: RescaleSlope"), std::string::npos) << refused.front();
+  expect_error([&] { read_dicom(dir.path()); }, {"s3.dcm", "RescaleSlope"});
+  // A folder named like a volume file says so.
+  TempDir parent;
+  std::filesystem::create_directory(parent / "x.nrrd");
+  expect_error([&] { read_volume(parent / "x.nrrd"); }, {"x.nrrd: a folder, not a '.nrrd' file"});
 }
 
 TEST(DicomErrors, ASingleSliceNeedsAUsableThicknessOrSaysItAssumedOne) {

@@ -226,9 +226,10 @@ std::string lower(std::string s) {
 
 }  // namespace
 
-std::vector<DicomSeriesInfo> list_dicom_series(const std::filesystem::path& source) {
+std::vector<DicomSeriesInfo> list_dicom_series(const std::filesystem::path& source,
+                                               std::vector<std::string>* refused) {
   std::vector<DicomSeriesInfo> out;
-  for (detail::DicomSeriesGroup& g : detail::scan_dicom_series(source))
+  for (detail::DicomSeriesGroup& g : detail::scan_dicom_series(source, refused))
     out.push_back(std::move(g.info));
   return out;
 }

@@ -140,9 +140,15 @@ std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& sou
     }
     if (broken != nullptr) *broken = unreadable;
     if (headers.empty() && !unreadable.empty()) throw Error(unreadable.front());
-    if (headers.empty())
+    if (headers.empty()) {
+      // A folder named like a file ("x.nrrd/") was most likely meant as that file.
+      const std::string ext = fs::path(what).extension().string();
+      if (fs::is_directory(status) && !ext.empty())
+        throw Error(fmt::format("{}: a folder, not a '{}' file, and it holds no DICOM image files",
+                                what, ext));
       throw Error(fmt::format("{}: no DICOM image files in {}", what,
                               fs::is_directory(status) ? "this folder" : "its folder"));
+    }
   }
 
   // Group by series UID and number (one UID may carry several numbers: dcm2niix makes a volume
