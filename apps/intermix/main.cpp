@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "core/library_output.hpp"
 #include "core/progress_bar.hpp"
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
@@ -67,6 +68,22 @@ CLI::Validator byte_size() {
       },
       "SIZE");
 }
+// Runs a command; an error is one line on stderr and a non-zero status.
+int run_command(const Command& command) {
+  try {
+    return command();
+  } catch (const imx::Error& e) {
+    std::fprintf(stderr, "intermix: error: %s\n", e.what());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "intermix: error: %s\n", imx::out_of_memory_message("intermix").c_str());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "intermix: unexpected error: %s\n", e.what());
+    return 2;
+  }
+}
+
 }  // namespace imx::cli
 
 int main(int argc, char** argv) {
@@ -74,6 +91,9 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   bool quiet = false;
   app.add_flag("-q,--quiet", quiet, "no progress bars or timing lines");
+  bool verbose = false;
+  app.add_flag("-v,--verbose", verbose,
+               "also print what libraries said (decoders' warnings), after intermix's own lines");
   std::string max_memory;
   bool allow_external_data = false;
   app.add_option("--max-memory", max_memory,
@@ -114,20 +134,10 @@ int main(int argc, char** argv) {
   if (!max_memory.empty()) limits.max_memory = imx::cli::parse_byte_size(max_memory);
   limits.allow_external_data = allow_external_data;
   imx::set_input_limits(limits);
-  try {
-    for (CLI::App* sub : app.get_subcommands()) return commands.at(sub)();
-  } catch (const imx::Error& e) {
-    std::fprintf(stderr, "intermix: error: %s\n", e.what());
-    return 1;
-  } catch (const std::bad_alloc&) {
-    std::fprintf(stderr,
-                 "intermix: error: out of memory: the machine could not give what the input asked "
-                 "for within the memory budget of %s (lower it with --max-memory)\n",
-                 imx::format_bytes(imx::input_limits().max_memory).c_str());
-    return 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "intermix: unexpected error: %s\n", e.what());
-    return 2;
-  }
-  return 0;
+  const int status = imx::cli::run_command(commands.at(app.get_subcommands().front()));
+  // Libraries' own words come last, and only when asked for.
+  if (verbose)
+    for (const std::string& line : imx::detail::take_library_output())
+      std::fprintf(stderr, "intermix: library: %s\n", line.c_str());
+  return status;
 }

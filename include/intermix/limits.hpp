@@ -23,6 +23,10 @@ InputLimits input_limits();
 // when `bytes` exceed the budget. Called before any allocation whose size an input decides.
 void check_memory(uint64_t bytes, const std::string& what);
 
+// "WHAT: out of memory: ... within the memory budget of M GiB": the message for a std::bad_alloc
+// while reading or rendering `what` (a file, or a scene's JSON path).
+std::string out_of_memory_message(const std::string& what);
+
 // "12.5 GiB", "300 MiB", "512 bytes": for messages.
 std::string format_bytes(uint64_t bytes);
 

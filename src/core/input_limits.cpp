@@ -50,4 +50,11 @@ void check_memory(uint64_t bytes, const std::string& what) {
                     what, format_bytes(bytes), format_bytes(budget)));
 }
 
+std::string out_of_memory_message(const std::string& what) {
+  return fmt::format(
+      "{}: out of memory: the machine could not give what this input asked for, although it is "
+      "within the memory budget of {} (lower the budget with --max-memory, or free memory)",
+      what, format_bytes(input_limits().max_memory));
+}
+
 }  // namespace imx

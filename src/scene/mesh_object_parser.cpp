@@ -1,11 +1,13 @@
 // Parser for a "mesh" object: a mesh file or a primitive, its transform, material and interior.
 #include <exception>
+#include <new>
 #include <system_error>
 
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
+#include "intermix/limits.hpp"
 #include "io/mesh_primitives.hpp"
 #include "scene/scene_parsers.hpp"
 
@@ -134,6 +136,8 @@ std::shared_ptr<const Mesh> load_mesh_source(const JsonReader& src, const std::s
     mesh = std::make_shared<const Mesh>(std::move(read.mesh));
   } catch (const FileError& e) {
     file_reader.fail_file(e.what(), e.code());
+  } catch (const std::bad_alloc&) {
+    file_reader.fail(out_of_memory_message(path.string()));
   } catch (const std::exception& e) {
     file_reader.fail(e.what());
   }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <exception>
 #include <functional>
+#include <new>
 #include <system_error>
 
 #include <fmt/format.h>
@@ -11,6 +12,7 @@
 #include "intermix/dicom.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
+#include "intermix/limits.hpp"
 #include "scene/edit_distance.hpp"
 #include "scene/scene_parsers.hpp"
 
@@ -155,6 +157,8 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     }
   } catch (const FileError& e) {
     culprit.fail_file(e.what(), e.code());
+  } catch (const std::bad_alloc&) {
+    culprit.fail(out_of_memory_message(what));
   } catch (const std::exception& e) {
     culprit.fail(e.what());
   }
@@ -180,6 +184,8 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     data = std::make_shared<const VolumeData>(std::move(volume));
   } catch (const FileError& e) {
     culprit.fail_file(e.what(), e.code());
+  } catch (const std::bad_alloc&) {
+    culprit.fail(out_of_memory_message(what));
   } catch (const std::exception& e) {
     culprit.fail(e.what());
   }

@@ -156,6 +156,27 @@ TEST(CliBadInput, MemoryBudgetIsCheckedBeforeAllocating) {
   EXPECT_NE(r.output.find("2x is not a size"), std::string::npos) << r.output;
 }
 
+// Within the budget but beyond what the machine gives (here: an address-space limit), the
+// error names the object's JSON path, its input and the budget, not "std::bad_alloc".
+TEST(CliBadInput, OutOfMemoryNamesTheInputAndTheBudget) {
+#ifdef IMX_SANITIZED
+  GTEST_SKIP() << "AddressSanitizer reserves terabytes of address space: it cannot start under an "
+                  "address-space limit, and it aborts rather than throw std::bad_alloc";
+#endif
+  auto dir = temp_dir("out-of-memory");
+  write_text(dir / "scene.json",
+             scene_with(R"({"name": "big", "type": "volume", "source": {"phantom": "ct-head",)"
+                        R"( "size": 640}, "transfer_function": {"preset": "ct-bone"}})"));
+  CliResult r =
+      run_cli("render " + (dir / "scene.json").string() + " -o " + (dir / "out.png").string(),
+              "ulimit -v 250000; ");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  for (const char* part : {"objects[0]", "phantom 'ct-head'", "out of memory", "memory budget of"})
+    EXPECT_NE(r.output.find(part), std::string::npos) << part << " missing from: " << r.output;
+  EXPECT_EQ(r.output.find("bad_alloc"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.png"));
+}
+
 TEST(CliBadInput, APngClaimingHugeDimensionsIsRefusedBeforeDecoding) {
   auto dir = temp_dir("png-bomb");
   // Signature, IHDR for 65536 x 32768 RGBA, a 10-byte IDAT and IEND, 69 bytes in all (CRCs of

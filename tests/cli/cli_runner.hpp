@@ -15,8 +15,9 @@ struct CliResult {
   std::string output;  // stdout and stderr together
 };
 
-inline CliResult run_cli(const std::string& args) {
-  std::string cmd = std::string(IMX_CLI_PATH) + " --quiet " + args + " 2>&1";
+// `shell_prefix` runs before the program in the same shell (e.g. "ulimit -v 250000; ").
+inline CliResult run_cli(const std::string& args, const std::string& shell_prefix = "") {
+  std::string cmd = shell_prefix + std::string(IMX_CLI_PATH) + " --quiet " + args + " 2>&1";
   CliResult r;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return r;

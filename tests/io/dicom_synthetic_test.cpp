@@ -9,7 +9,9 @@
 
 #include <fmt/format.h>
 #include <gdcmDataElement.h>
+#include <gdcmFragment.h>
 #include <gdcmItem.h>
+#include <gdcmSequenceOfFragments.h>
 #include <gdcmSequenceOfItems.h>
 #include <gdcmWriter.h>
 #include <gtest/gtest.h>
@@ -569,6 +571,35 @@ TEST(DicomErrors, PixelDataMustHoldExactlyTheFramesTheHeaderSays) {
   const VolumeData v = read_dicom(dir / "six.dcm").volume;
   EXPECT_EQ(v.dims, glm::ivec3(3, 4, 6));
   EXPECT_NEAR(v.spacing().z, 1.5, 1e-12);
+}
+
+// A lossless JPEG stream whose frame header claims 255-bit samples: GDCM's JPEG codec faulted or
+// aborted on such data ("Must downscale data from 255 bits to 16"), taking the program with it.
+TEST(DicomErrors, ACorruptCompressedStreamIsAnErrorNotACrash) {
+  const std::string jpeg(
+      "\xff\xd8"                                              // SOI
+      "\xff\xc3\x00\x0b\xff\x00\x04\x00\x03\x01\x01\x11\x00"  // SOF3: 255 bits, 4 x 3
+      "\xff\xd9",                                             // EOI
+      17);
+  TempDir dir;
+  Slice s;
+  s.syntax = gdcm::TransferSyntax::JPEGLosslessProcess14_1;
+  s.pixel_data = false;
+  s.extra = [&](gdcm::DataSet& ds) {
+    gdcm::SmartPointer<gdcm::SequenceOfFragments> fragments = new gdcm::SequenceOfFragments;
+    gdcm::Fragment fragment;
+    std::string padded = jpeg + std::string(jpeg.size() % 2, '\0');
+    fragment.SetByteValue(padded.data(), static_cast<uint32_t>(padded.size()));
+    fragments->AddFragment(fragment);
+    gdcm::DataElement de(gdcm::Tag(0x7fe0, 0x0010));
+    de.SetVR(gdcm::VR::OB);
+    de.SetValue(*fragments);
+    de.SetVLToUndefined();
+    ds.Replace(de);
+  };
+  write_slice(dir / "bad.jpeg.dcm", s);
+  expect_error([&] { read_dicom(dir / "bad.jpeg.dcm"); },
+               {"bad.jpeg.dcm", "1.2.840.10008.1.2.4.70 (JPEG Lossless"});
 }
 
 TEST(DicomErrors, ATransferSyntaxThatDoesNotMatchThePixelDataIsRefused) {

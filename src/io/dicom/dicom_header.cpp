@@ -401,14 +401,14 @@ void check_pixel_data(const DicomFileHeader& h) {
   const bool undefined = !h.pixel_length;
   if (ts.IsEncapsulated() && !undefined)
     throw Error(fmt::format(
-        "{}: the transfer syntax {} ({}) says the pixel data is compressed, but it is a plain "
-        "value of {} bytes",
-        what, h.transfer_syntax, gdcm::TransferSyntax::GetTSString(type), *h.pixel_length));
+        "{}: the transfer syntax {} says the pixel data is compressed, but it is a plain value "
+        "of {} bytes",
+        what, transfer_syntax_label(h.transfer_syntax), *h.pixel_length));
   if (!ts.IsEncapsulated() && undefined)
-    throw Error(fmt::format(
-        "{}: the transfer syntax {} ({}) says the pixel data is not compressed, but it is "
-        "encapsulated (compressed fragments)",
-        what, h.transfer_syntax, gdcm::TransferSyntax::GetTSString(type)));
+    throw Error(
+        fmt::format("{}: the transfer syntax {} says the pixel data is not compressed, but it is "
+                    "encapsulated (compressed fragments)",
+                    what, transfer_syntax_label(h.transfer_syntax)));
   if (ts.IsEncapsulated()) return;
   const uint64_t bits = static_cast<uint64_t>(h.stored_rows) * h.stored_columns *
                         static_cast<uint64_t>(h.stored_frames) *

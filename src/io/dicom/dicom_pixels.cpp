@@ -4,10 +4,13 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <span>
 
 #include <fmt/format.h>
 #include <gdcmImageReader.h>
 
+#include "core/isolated_call.hpp"
+#include "core/library_output.hpp"
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
 #include "io/dicom/dicom_tags.hpp"
@@ -126,8 +129,14 @@ bool read_native(const DicomFileHeader& h, size_t count, RawPixels& raw) {
   return true;
 }
 
-// Everything else through GDCM's codecs (RLE, JPEG, JPEG-LS, JPEG 2000, big endian, ...).
-void read_with_gdcm(const DicomFileHeader& header, size_t count, RawPixels& raw) {
+// What the decoder process reports before the pixels in the memory it shares.
+struct DecodedFormat {
+  Stored type = Stored::u16;
+  int bits_stored = 0, high_bit = 0;
+};
+
+// Decodes with GDCM into `out` (a DecodedFormat, then the pixels); throws imx::Error.
+void decode_with_gdcm(const DicomFileHeader& header, size_t count, std::span<std::byte> out) {
   const std::string what = header.file.string();
   gdcm::ImageReader reader;
   reader.SetFileName(header.file.c_str());
@@ -156,30 +165,31 @@ void read_with_gdcm(const DicomFileHeader& header, size_t count, RawPixels& raw)
     throw Error(fmt::format("{}: the image is {}x{}x{}, the header says {}x{}x{}", what,
                             image.GetColumns(), image.GetRows(), frames, header.stored_columns,
                             header.stored_rows, header.stored_frames));
+  DecodedFormat format;
   switch (pf.GetScalarType()) {
     case gdcm::PixelFormat::UINT8:
-      raw.type = Stored::u8;
+      format.type = Stored::u8;
       break;
     case gdcm::PixelFormat::INT8:
-      raw.type = Stored::i8;
+      format.type = Stored::i8;
       break;
     case gdcm::PixelFormat::UINT16:
-      raw.type = Stored::u16;
+      format.type = Stored::u16;
       break;
     case gdcm::PixelFormat::INT16:
-      raw.type = Stored::i16;
+      format.type = Stored::i16;
       break;
     case gdcm::PixelFormat::UINT32:
-      raw.type = Stored::u32;
+      format.type = Stored::u32;
       break;
     case gdcm::PixelFormat::INT32:
-      raw.type = Stored::i32;
+      format.type = Stored::i32;
       break;
     case gdcm::PixelFormat::FLOAT32:
-      raw.type = Stored::f32;
+      format.type = Stored::f32;
       break;
     case gdcm::PixelFormat::FLOAT64:
-      raw.type = Stored::f64;
+      format.type = Stored::f64;
       break;
     default:
       throw Error(
@@ -188,27 +198,78 @@ void read_with_gdcm(const DicomFileHeader& header, size_t count, RawPixels& raw)
                       what, pf.GetBitsAllocated(), pf.GetPixelRepresentation()));
   }
   const unsigned long length = image.GetBufferLength();
-  if (length != count * stored_size(raw.type))
+  if (length != count * stored_size(format.type))
     throw Error(fmt::format("{}: GDCM reports {} bytes of pixels, expected {}", what, length,
-                            count * stored_size(raw.type)));
-  std::vector<char>& buffer = scratch_buffer();
-  buffer.resize(length);
+                            count * stored_size(format.type)));
   bool decoded = false;
   try {
-    decoded = image.GetBuffer(buffer.data());
+    decoded = image.GetBuffer(reinterpret_cast<char*>(out.data() + sizeof(DecodedFormat)));
   } catch (...) {
     decoded = false;
   }
-  if (!decoded) {
-    const char* ts = image.GetTransferSyntax().GetString();
+  if (!decoded)
+    throw Error(fmt::format("{}: cannot decode the pixel data (transfer syntax {}): corrupt", what,
+                            transfer_syntax_label(header.transfer_syntax)));
+  format.bits_stored = pf.GetBitsStored();
+  format.high_bit = pf.GetHighBit();
+  std::memcpy(out.data(), &format, sizeof format);
+}
+
+// Words in a decoder's own messages that mean it met corrupt data, although it went on (libjpeg
+// warns "Corrupt JPEG data: ..." and "Premature end of JPEG file", and fills in grey).
+bool reports_corruption(const std::string& output) {
+  std::string low = output;
+  std::transform(low.begin(), low.end(), low.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  for (const char* word : {"corrupt", "premature end", "error", "invalid", "truncat"})
+    if (low.find(word) != std::string::npos) return true;
+  return false;
+}
+
+// Everything but native little-endian data goes through GDCM's codecs (RLE, JPEG, JPEG-LS,
+// JPEG 2000, big endian, deflate), in a process of its own: some of them assert or fault on
+// corrupt streams, which must be an error naming the file, not the end of the program. What
+// they print is kept for --verbose; a decoder that reports corruption is an error too.
+void read_with_gdcm(const DicomFileHeader& header, size_t count, RawPixels& raw) {
+  const std::string what = header.file.string();
+  const size_t most = count * 8;  // the widest stored type
+  std::vector<char>& buffer = scratch_buffer();
+  DecodedFormat format;
+  const double timeout_s = 120.0 + static_cast<double>(most) / (4 << 20);
+  const IsolatedResult r = run_isolated(
+      sizeof(DecodedFormat) + most,
+      [&](std::span<std::byte> out) { decode_with_gdcm(header, count, out); }, timeout_s,
+      [&](std::span<const std::byte> out) {
+        std::memcpy(&format, out.data(), sizeof format);
+        const size_t bytes = count * stored_size(format.type);
+        buffer.resize(bytes);
+        std::memcpy(buffer.data(), out.data() + sizeof(DecodedFormat), bytes);
+      });
+  if (!r.output.empty()) keep_library_output("decoder", what, r.output);
+  const std::string syntax = "transfer syntax " + transfer_syntax_label(header.transfer_syntax);
+  switch (r.end) {
+    case IsolatedResult::End::failed:
+      throw Error(r.error);
+    case IsolatedResult::End::crashed:
+      throw Error(
+          fmt::format("{}: the pixel data decoder failed ({}) on this file's {}: corrupt "
+                      "compressed data",
+                      what, r.detail, syntax));
+    case IsolatedResult::End::timed_out:
+      throw Error(fmt::format("{}: the pixel data decoder did not finish in {:.0f} s ({})", what,
+                              timeout_s, syntax));
+    case IsolatedResult::End::finished:
+      break;
+  }
+  if (reports_corruption(r.output)) {
+    const std::string first = r.output.substr(0, r.output.find('\n'));
     throw Error(
-        fmt::format("{}: cannot decode the pixel data (transfer syntax {}): truncated or "
-                    "corrupt",
-                    what, ts != nullptr ? ts : "unknown"));
+        fmt::format("{}: the decoder reports corrupt pixel data ({}): {}", what, syntax, first));
   }
   raw.data = buffer.data();
-  raw.bits_stored = pf.GetBitsStored();
-  raw.high_bit = pf.GetHighBit();
+  raw.type = format.type;
+  raw.bits_stored = format.bits_stored;
+  raw.high_bit = format.high_bit;
 }
 
 // The tiles of a mosaic, row by row from its top left, as many as it holds images.

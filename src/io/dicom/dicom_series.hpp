@@ -17,7 +17,7 @@ inline constexpr int kMaxDicomDepth = 16;
 
 struct DicomSeriesGroup {
   DicomSeriesInfo info;
-  std::vector<DicomFileHeader> headers;  // of .dcm.gz files: their inflated copies'
+  std::vector<DicomFileHeader> headers;                // of .dcm.gz files: their inflated copies'
   std::shared_ptr<const InflatedDicomFiles> inflated;  // keeps those copies; null when none
 };
 

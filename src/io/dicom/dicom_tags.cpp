@@ -179,6 +179,27 @@ gdcm::SmartPointer<gdcm::SequenceOfItems> tag_sequence(const gdcm::DataSet& ds, 
   }
 }
 
+std::string transfer_syntax_label(const std::string& uid) {
+  static const std::pair<const char*, const char*> kNames[] = {
+      {"1.2.840.10008.1.2", "Implicit VR Little Endian"},
+      {"1.2.840.10008.1.2.1", "Explicit VR Little Endian"},
+      {"1.2.840.10008.1.2.1.99", "Deflated Explicit VR Little Endian"},
+      {"1.2.840.10008.1.2.2", "Explicit VR Big Endian"},
+      {"1.2.840.10008.1.2.5", "RLE Lossless"},
+      {"1.2.840.10008.1.2.4.50", "JPEG Baseline"},
+      {"1.2.840.10008.1.2.4.51", "JPEG Extended"},
+      {"1.2.840.10008.1.2.4.57", "JPEG Lossless"},
+      {"1.2.840.10008.1.2.4.70", "JPEG Lossless, first-order prediction"},
+      {"1.2.840.10008.1.2.4.80", "JPEG-LS Lossless"},
+      {"1.2.840.10008.1.2.4.81", "JPEG-LS Near-Lossless"},
+      {"1.2.840.10008.1.2.4.90", "JPEG 2000 Lossless"},
+      {"1.2.840.10008.1.2.4.91", "JPEG 2000"},
+  };
+  for (const auto& [id, name] : kNames)
+    if (uid == id) return fmt::format("{} ({})", uid, name);
+  return uid;
+}
+
 std::optional<double> parse_dicom_time(const std::string& tm) {
   std::string digits;
   size_t i = 0;

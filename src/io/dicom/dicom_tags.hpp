@@ -64,6 +64,9 @@ std::optional<uint16_t> private_block(const gdcm::DataSet& ds, uint16_t group,
 gdcm::SmartPointer<gdcm::SequenceOfItems> tag_sequence(const gdcm::DataSet& ds, uint16_t group,
                                                        uint16_t element);
 
+// "UID (name)" of a transfer syntax, for messages: "1.2.840.10008.1.2.4.70 (JPEG Lossless)".
+std::string transfer_syntax_label(const std::string& uid);
+
 // Seconds since midnight of a TM value ("HHMMSS.frac", also "HH:MM:SS"); nullopt when malformed.
 std::optional<double> parse_dicom_time(const std::string& tm);
 
