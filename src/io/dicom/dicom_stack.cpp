@@ -56,12 +56,18 @@ DicomStack order_slices(std::vector<DicomFrame> frames, int rows, int columns,
     if (frames.size() > 1 && !f.position)
       throw Error(fmt::format("{}: no ImagePositionPatient (0020,0032): cannot order the slices",
                               frame_name(f, multi)));
+    // Said as the files say it: a file without the tag has none, not the 1 mm assumed for it.
+    auto said = [](const DicomFrame& d) {
+      return d.pixel_spacing
+                 ? fmt::format("PixelSpacing {}\\{}", d.pixel_spacing->x, d.pixel_spacing->y)
+                 : std::string("no PixelSpacing");
+    };
     const glm::dvec2 ps = f.pixel_spacing.value_or(glm::dvec2(1.0));
-    if (std::abs(ps.x - s.row_spacing) > 1e-4 * s.row_spacing ||
+    if (f.pixel_spacing.has_value() != first.pixel_spacing.has_value() ||
+        std::abs(ps.x - s.row_spacing) > 1e-4 * s.row_spacing ||
         std::abs(ps.y - s.column_spacing) > 1e-4 * s.column_spacing)
-      throw Error(fmt::format("{}: PixelSpacing {}\\{} differs from {}'s {}\\{}",
-                              frame_name(f, multi), ps.x, ps.y, frame_name(first, multi),
-                              s.row_spacing, s.column_spacing));
+      throw Error(fmt::format("{} has {}, but {} has {}", frame_name(f, multi), said(f),
+                              frame_name(first, multi), said(first)));
   }
   if (!frames.front().position) frames.front().position = glm::dvec3(0.0);
   auto along = [&](const DicomFrame& f) { return glm::dot(*f.position, s.normal); };
