@@ -3,8 +3,12 @@
 #include <expat.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <array>
+#include <bit>
+#include <cfloat>
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -13,18 +17,20 @@
 #include <string>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
+#include "io/gzip.hpp"
 #include "io/header_text.hpp"
 
 namespace imx::detail {
 namespace {
 
-// libgiftiio sizes its buffers in int arithmetic (with 1% slack for zlib): stay well below.
+// One array's largest size (its rows must also count in uint32 for triangles' indices).
 constexpr uint64_t kMaxArrayBytes = uint64_t{1} << 30;
 constexpr size_t kMaxToken = 64;  // one ASCII number
 
@@ -35,21 +41,22 @@ struct TypeInfo {
   const char* name;
   int bytes;
   Kind kind;
+  GiftiType type;
 };
 
 // The data types intermix reads, by their GIfTI names.
 const std::map<std::string, TypeInfo, std::less<>>& types() {
   static const std::map<std::string, TypeInfo, std::less<>> table = {
-      {"NIFTI_TYPE_FLOAT32", {"float32", 4, Kind::floating}},
-      {"NIFTI_TYPE_FLOAT64", {"float64", 8, Kind::floating}},
-      {"NIFTI_TYPE_INT8", {"int8", 1, Kind::integer}},
-      {"NIFTI_TYPE_UINT8", {"uint8", 1, Kind::integer}},
-      {"NIFTI_TYPE_INT16", {"int16", 2, Kind::integer}},
-      {"NIFTI_TYPE_UINT16", {"uint16", 2, Kind::integer}},
-      {"NIFTI_TYPE_INT32", {"int32", 4, Kind::integer}},
-      {"NIFTI_TYPE_UINT32", {"uint32", 4, Kind::integer}},
-      {"NIFTI_TYPE_INT64", {"int64", 8, Kind::integer}},
-      {"NIFTI_TYPE_UINT64", {"uint64", 8, Kind::integer}},
+      {"NIFTI_TYPE_FLOAT32", {"float32", 4, Kind::floating, GiftiType::float32}},
+      {"NIFTI_TYPE_FLOAT64", {"float64", 8, Kind::floating, GiftiType::float64}},
+      {"NIFTI_TYPE_INT8", {"int8", 1, Kind::integer, GiftiType::int8}},
+      {"NIFTI_TYPE_UINT8", {"uint8", 1, Kind::integer, GiftiType::uint8}},
+      {"NIFTI_TYPE_INT16", {"int16", 2, Kind::integer, GiftiType::int16}},
+      {"NIFTI_TYPE_UINT16", {"uint16", 2, Kind::integer, GiftiType::uint16}},
+      {"NIFTI_TYPE_INT32", {"int32", 4, Kind::integer, GiftiType::int32}},
+      {"NIFTI_TYPE_UINT32", {"uint32", 4, Kind::integer, GiftiType::uint32}},
+      {"NIFTI_TYPE_INT64", {"int64", 8, Kind::integer, GiftiType::int64}},
+      {"NIFTI_TYPE_UINT64", {"uint64", 8, Kind::integer, GiftiType::uint64}},
   };
   return table;
 }
@@ -63,22 +70,30 @@ int base64_value(unsigned char c) {
   return -1;
 }
 
-// Counts what the <Data> text of one checked array decodes to, chunk by chunk.
-class DataCounter {
+// Decodes the <Data> text of one checked array chunk by chunk, counting what it holds and
+// appending the bytes to `keep` when given (ASCII values as this machine stores their type).
+// Compressed data is inflated only when kept: otherwise its size need only be possible.
+class DataDecoder {
  public:
-  DataCounter(Encoding encoding, Kind kind, uint64_t values, uint64_t bytes)
-      : encoding_(encoding), kind_(kind), values_(values), bytes_(bytes) {
-    if (encoding_ == Encoding::gzip_base64) {
+  DataDecoder(std::string what, Encoding encoding, const TypeInfo& type, uint64_t values,
+              uint64_t bytes, std::vector<uint8_t>* keep)
+      : what_(std::move(what)),
+        encoding_(encoding),
+        type_(type),
+        values_(values),
+        bytes_(bytes),
+        keep_(keep) {
+    if (encoding_ == Encoding::gzip_base64 && keep_) {
       stream_ = z_stream{};
       if (inflateInit(&stream_) != Z_OK) throw Error("zlib cannot start inflating");
       inflating_ = true;
     }
   }
-  ~DataCounter() {
+  ~DataDecoder() {
     if (inflating_) inflateEnd(&stream_);
   }
-  DataCounter(const DataCounter&) = delete;
-  DataCounter& operator=(const DataCounter&) = delete;
+  DataDecoder(const DataDecoder&) = delete;
+  DataDecoder& operator=(const DataDecoder&) = delete;
 
   // An empty string, or why the text is not the claimed data.
   std::string add(std::string_view text) {
@@ -135,6 +150,10 @@ class DataCounter {
       if (!fault_.empty()) return fault_;
     }
     if (encoding_ == Encoding::gzip_base64) {
+      if (!keep_) {  // not inflated: its size need only be possible
+        check_inflatable(bytes_, decoded_, what_);
+        return fault_;
+      }
       if (!ended_) return fault_ = "the compressed data is truncated";
       if (inflated_ != bytes_)
         return fault_ = fmt::format("the data inflates to {} bytes, the dimensions claim {}",
@@ -147,49 +166,68 @@ class DataCounter {
   }
 
  private:
+  void keep(const uint8_t* data, size_t n) {
+    if (keep_) keep_->insert(keep_->end(), data, data + n);
+  }
+
   void end_token() {
     if (token_.empty()) return;
+    ++count_;
+    if (count_ > values_) {
+      fault_ = fmt::format("the data holds more values than the {} the dimensions claim", values_);
+      return;
+    }
     const char* b = token_.data();
     const char* e = b + token_.size();
     if (*b == '+') ++b;
-    bool ok;
-    if (kind_ == Kind::floating) {
-      double v;
-      auto r = std::from_chars(b, e, v);
-      ok = r.ec == std::errc() && r.ptr == e;
-    } else {
-      long long v;
-      auto r = std::from_chars(b, e, v);
-      ok = r.ec == std::errc() && r.ptr == e;
-    }
-    ++count_;
+    const bool ok = visit_gifti_type(type_.type, [&]<class T>(T value) {
+      if constexpr (std::is_same_v<T, float>) {  // as a double: tiny values round to 0
+        double d;
+        auto r = std::from_chars(b, e, d);
+        if (r.ec != std::errc() || r.ptr != e || !(std::abs(d) <= FLT_MAX)) return false;
+        value = static_cast<float>(d);
+      } else {
+        auto r = std::from_chars(b, e, value);
+        if (r.ec != std::errc() || r.ptr != e) return false;
+      }
+      keep(reinterpret_cast<const uint8_t*>(&value), sizeof value);
+      return true;
+    });
     if (!ok)
       fault_ = fmt::format("value {} '{}' is not {}", count_, shown(token_),
-                           kind_ == Kind::floating ? "a number" : "an integer");
-    else if (count_ > values_)
-      fault_ = fmt::format("the data holds more values than the {} the dimensions claim", values_);
+                           type_.kind == Kind::floating
+                               ? fmt::format("a {} number", type_.name)
+                               : fmt::format("an integer within {}'s range", type_.name));
     token_.clear();
   }
 
   void emit(const uint8_t* data, int n) {
     decoded_ += static_cast<uint64_t>(n);
     if (encoding_ == Encoding::base64) {
-      if (decoded_ > bytes_) fault_ = fmt::format("the data holds more than {} bytes", bytes_);
+      if (decoded_ > bytes_)
+        fault_ = fmt::format("the data holds more than {} bytes", bytes_);
+      else
+        keep(data, static_cast<size_t>(n));
       return;
     }
-    if (ended_) return;  // bytes after the stream: libgiftiio ignores them too
+    if (!keep_ || ended_) return;  // bytes after the stream are ignored
     stream_.next_in = const_cast<Bytef*>(data);
     stream_.avail_in = static_cast<uInt>(n);
     while (stream_.avail_in > 0 && !ended_) {
+      // Never more than one byte past the claim, which is then refused.
+      const auto room =
+          static_cast<size_t>(std::min<uint64_t>(scratch_.size(), bytes_ - inflated_ + 1));
       stream_.next_out = scratch_.data();
-      stream_.avail_out = static_cast<uInt>(scratch_.size());
+      stream_.avail_out = static_cast<uInt>(room);
       const int rc = inflate(&stream_, Z_NO_FLUSH);
-      inflated_ += scratch_.size() - stream_.avail_out;
+      const size_t produced = room - stream_.avail_out;
+      inflated_ += produced;
       if (inflated_ > bytes_) {
         fault_ =
             fmt::format("the data inflates to more than the {} bytes the dimensions claim", bytes_);
         return;
       }
+      keep(scratch_.data(), produced);
       if (rc == Z_STREAM_END)
         ended_ = true;
       else if (rc != Z_OK && rc != Z_BUF_ERROR) {
@@ -199,9 +237,11 @@ class DataCounter {
     }
   }
 
+  std::string what_;
   Encoding encoding_;
-  Kind kind_;
+  TypeInfo type_;
   uint64_t values_, bytes_;
+  std::vector<uint8_t>* keep_;
   std::string fault_;
   // ASCII
   std::string token_;
@@ -218,8 +258,8 @@ class DataCounter {
   std::array<Bytef, 1 << 16> scratch_{};
 };
 
-// The parent each GIfTI element must have (GIFTI itself is the root). libgiftiio trusts the
-// nesting: a <Name> under the wrong parent makes it write before its arrays.
+// The parent each GIfTI element must have (GIFTI itself is the root): other readers trust the
+// nesting (libgiftiio wrote before its arrays for a <Name> under the wrong parent).
 const std::map<std::string, std::string, std::less<>>& parents() {
   static const std::map<std::string, std::string, std::less<>> table = {
       {"MetaData", "GIFTI|DataArray"},
@@ -249,18 +289,25 @@ bool parent_allowed(std::string_view allowed, std::string_view parent) {
 
 struct Parser {
   std::filesystem::path file;
+  uint64_t file_size = 0;
   XML_Parser xml = nullptr;
   std::string fault;
   int depth = 0;
-  std::vector<std::string> stack;  // open elements
-  int arrays = 0;                  // DataArray elements seen
-  std::string claimed_arrays;      // the GIFTI element's NumberOfDataArrays
-  int checked = -1;                // the array being checked, or -1
-  int data_depth = 0;              // depth of the checked array's <Data>, or 0
-  bool has_data = false;           // the checked array had a <Data> element
-  uint64_t total_bytes = 0;
-  std::optional<DataCounter> counter;
-  GiftiSurfaceArrays found;
+  std::vector<std::string> stack;    // open elements
+  int arrays = 0;                    // DataArray elements seen
+  std::string claimed_arrays;        // the GIFTI element's NumberOfDataArrays
+  int checked = -1;                  // the array being checked, or -1
+  int data_depth = 0;                // depth of the checked array's <Data>, or 0
+  bool has_data = false;             // the checked array had a <Data> element
+  int pointset = -1, triangle = -1;  // the arrays kept, by their order in the file
+  GiftiSurface surface;
+  uint64_t kept_bytes = 0;  // the kept arrays and the mesh made of them
+  // The checked array's claim, until its <Data>.
+  Encoding encoding = Encoding::ascii;
+  TypeInfo type{};
+  uint64_t values = 0, bytes = 0;
+  GiftiArray* kept = nullptr;
+  std::optional<DataDecoder> decoder;
 
   void fail(std::string message) {
     if (fault.empty()) fault = std::move(message);
@@ -269,8 +316,8 @@ struct Parser {
 
   std::string where() const { return fmt::format("data array {}", checked); }
 
-  // Every array, since libgiftiio allocates and decodes them all; the surface's two also need
-  // the shape and types of vertices and triangles.
+  // Every array's claim; the surface's two also need the shape and types of vertices and
+  // triangles.
   void start_array(const char** attrs) {
     const int index = arrays++;
     std::map<std::string, std::string, std::less<>> a;
@@ -280,12 +327,13 @@ struct Parser {
       return it == a.end() ? std::string() : it->second;
     };
     const std::string intent = get("Intent");
-    const bool pointset = intent == "NIFTI_INTENT_POINTSET" && found.pointset < 0;
-    const bool triangle = intent == "NIFTI_INTENT_TRIANGLE" && found.triangle < 0;
+    const bool is_pointset = intent == "NIFTI_INTENT_POINTSET" && pointset < 0;
+    const bool is_triangle = intent == "NIFTI_INTENT_TRIANGLE" && triangle < 0;
     checked = index;
     has_data = false;
-    if (pointset) found.pointset = index;
-    if (triangle) found.triangle = index;
+    kept = nullptr;
+    if (is_pointset) pointset = index;
+    if (is_triangle) triangle = index;
     const std::string what = fmt::format("data array {} ({})", index, shown(intent));
 
     const std::string external = get("ExternalFileName");
@@ -293,7 +341,6 @@ struct Parser {
       return fail(fmt::format("{}: external data files (ExternalFileName '{}') are not read", what,
                               shown(external)));
     const std::string encoding_name = get("Encoding");
-    Encoding encoding;
     if (encoding_name == "ASCII")
       encoding = Encoding::ascii;
     else if (encoding_name == "Base64Binary")
@@ -313,15 +360,11 @@ struct Parser {
           fmt::format("{}: ArrayIndexingOrder '{}' is not RowMajorOrder or ColumnMajorOrder", what,
                       shown(order)));
     const std::string type_name = get("DataType");
-    auto type = types().find(type_name);
-    if (type == types().end())
+    auto known = types().find(type_name);
+    if (known == types().end())
       return fail(
           fmt::format("{}: DataType '{}' is not a type intermix reads", what, shown(type_name)));
-    const TypeInfo& t = type->second;
-    // libgiftiio's ASCII decoder has no unsigned 32- or 64-bit case.
-    if (encoding == Encoding::ascii &&
-        (type_name == "NIFTI_TYPE_UINT32" || type_name == "NIFTI_TYPE_UINT64"))
-      return fail(fmt::format("{}: ASCII data of type {} is not read", what, t.name));
+    const TypeInfo& t = type = known->second;
 
     const std::string dimensionality = get("Dimensionality");
     int n_dims = 0;
@@ -332,7 +375,7 @@ struct Parser {
       return fail(
           fmt::format("{}: Dimensionality '{}' is not 1 to 6", what, shown(dimensionality)));
     int dims[6] = {0, 0, 0, 0, 0, 0};
-    uint64_t values = 1;
+    values = 1;
     for (int k = 0; k < n_dims; ++k) {
       const std::string d = get(fmt::format("Dim{}", k));
       auto rd = std::from_chars(d.data(), d.data() + d.size(), dims[k]);
@@ -343,27 +386,50 @@ struct Parser {
         return fail(
             fmt::format("{}: its dimensions claim more than {} values", what, kMaxArrayBytes));
     }
-    const uint64_t bytes = values * static_cast<uint64_t>(t.bytes);
+    bytes = values * static_cast<uint64_t>(t.bytes);
     if (bytes > kMaxArrayBytes)
       return fail(fmt::format("{}: {} {} values ({}) are more than intermix reads ({})", what,
                               values, t.name, format_bytes(bytes), format_bytes(kMaxArrayBytes)));
 
-    if (pointset || triangle) {
-      if (pointset && t.kind != Kind::floating)
+    if (is_pointset || is_triangle) {
+      if (is_pointset && t.kind != Kind::floating)
         return fail(fmt::format("{}: DataType {} is not float32 or float64", what, t.name));
-      if (triangle && t.kind != Kind::integer)
+      if (is_triangle && t.kind != Kind::integer)
         return fail(fmt::format("{}: DataType {} is not an integer type", what, t.name));
       if (n_dims != 2)
         return fail(fmt::format("{}: Dimensionality {} is not 2 (one row of 3 per {})", what,
-                                n_dims, pointset ? "vertex" : "triangle"));
+                                n_dims, is_pointset ? "vertex" : "triangle"));
       if (dims[1] != 3)
         return fail(fmt::format("{}: Dim1 is {}, not 3 ({} per row)", what, dims[1],
-                                pointset ? "x, y, z" : "three vertex indices"));
+                                is_pointset ? "x, y, z" : "three vertex indices"));
+      // Both arrays as stored and the mesh's vertices or triangles (12 bytes a row) at once.
+      kept_bytes += bytes + 12 * static_cast<uint64_t>(dims[0]);
+      check_memory(kept_bytes, fmt::format("{}: {} rows of 3 {} values and the mesh made of them",
+                                           what, dims[0], t.name));
+      kept = is_pointset ? &surface.points : &surface.triangles;
+      kept->type = t.type;
+      kept->rows = static_cast<uint64_t>(dims[0]);
+      kept->column_major = order == "ColumnMajorOrder";
+      kept->swapped = encoding != Encoding::ascii &&
+                      (endian == "BigEndian") != (std::endian::native == std::endian::big);
     }
-    // libgiftiio holds the data, a compressed copy and its own buffer at once.
-    total_bytes += bytes;
-    check_memory(3 * total_bytes, what);
-    counter.emplace(encoding, t.kind, values, bytes);
+  }
+
+  // At <Data>: the claim must be one that the rest of the file can hold, before anything is
+  // decoded or kept.
+  void start_data() {
+    const auto at = static_cast<uint64_t>(std::max<XML_Index>(0, XML_GetCurrentByteIndex(xml)));
+    const uint64_t rest = file_size > at ? file_size - at : 0;
+    const std::string what = where();
+    if (encoding == Encoding::gzip_base64)
+      check_inflatable(bytes, rest * 3 / 4, what);
+    else if (encoding == Encoding::base64 ? bytes > rest * 3 / 4 : values > rest / 2 + 1)
+      return fail(fmt::format(
+          "{}: the dimensions claim {} {} values, more than the rest of the "
+          "file ({} bytes) can hold as {}",
+          what, values, type.name, rest, encoding == Encoding::base64 ? "base64" : "text"));
+    if (kept) kept->bytes.reserve(bytes);
+    decoder.emplace(what, encoding, type, values, bytes, kept ? &kept->bytes : nullptr);
   }
 
   // Expat may still call back after a stop: nothing more happens once a fault is known.
@@ -387,12 +453,13 @@ struct Parser {
     stack.emplace_back(name);
     if (depth == 2 && std::strcmp(name, "DataArray") == 0) {
       checked = -1;
-      counter.reset();
+      decoder.reset();
       start_array(attrs);
     } else if (depth == 3 && checked >= 0 && std::strcmp(name, "Data") == 0) {
       if (has_data) return fail(fmt::format("{} has two <Data> elements", where()));
       has_data = true;
       data_depth = depth;
+      start_data();
     }
   }
 
@@ -401,24 +468,24 @@ struct Parser {
     stack.pop_back();
     if (data_depth != 0 && depth == data_depth) {
       data_depth = 0;
-      if (std::string why = counter->finish(); !why.empty())
+      if (std::string why = decoder->finish(); !why.empty())
         return fail(fmt::format("{}: {}", where(), why));
     }
     if (depth == 2 && checked >= 0) {
       if (!has_data) return fail(fmt::format("{} has no <Data>", where()));
       checked = -1;
-      counter.reset();
+      decoder.reset();
     }
     --depth;
   }
 
   void text(std::string_view s) {
-    if (!fault.empty() || data_depth == 0 || depth != data_depth || !counter) return;
-    if (std::string why = counter->add(s); !why.empty()) fail(fmt::format("{}: {}", where(), why));
+    if (!fault.empty() || data_depth == 0 || depth != data_depth || !decoder) return;
+    if (std::string why = decoder->add(s); !why.empty()) fail(fmt::format("{}: {}", where(), why));
   }
 };
 
-// libgiftiio complains on stderr, and reads on, when the count is not the number of arrays.
+// A count that is not the number of arrays is a damaged file (libgiftiio warned and read on).
 bool claimed_arrays_ok(const std::string& claimed, int arrays) {
   int n = -1;
   auto r = std::from_chars(claimed.data(), claimed.data() + claimed.size(), n);
@@ -427,10 +494,10 @@ bool claimed_arrays_ok(const std::string& claimed, int arrays) {
 
 }  // namespace
 
-GiftiSurfaceArrays check_gifti(const std::filesystem::path& file) {
+GiftiSurface read_gifti_arrays(const std::filesystem::path& file) {
   Parser p;
   p.file = file;
-  auto fail = [&](const std::string& why) -> GiftiSurfaceArrays {
+  auto fail = [&](const std::string& why) {
     throw Error(fmt::format("{}: {}", file.string(), why));
   };
   std::unique_ptr<std::remove_pointer_t<XML_Parser>, decltype(&XML_ParserFree)> xml(
@@ -465,7 +532,7 @@ GiftiSurfaceArrays check_gifti(const std::filesystem::path& file) {
       self->fail(e.what());
     }
   });
-  // libgiftiio takes CDATA sections only as the text of names, labels and matrices.
+  // GIfTI readers take CDATA sections only as the text of names, labels and matrices.
   XML_SetStartCdataSectionHandler(p.xml, [](void* u) {
     auto* self = static_cast<Parser*>(u);
     if (!self->stack.empty() && self->stack.back() == "Data")
@@ -478,6 +545,9 @@ GiftiSurfaceArrays check_gifti(const std::filesystem::path& file) {
 
   std::ifstream in(file, std::ios::binary);
   if (!in) fail("cannot open the file");
+  in.seekg(0, std::ios::end);
+  p.file_size = static_cast<uint64_t>(std::max<std::streamoff>(0, in.tellg()));
+  in.seekg(0);
   std::vector<char> buffer(1 << 16);
   bool done = false;
   while (!done) {
@@ -494,9 +564,9 @@ GiftiSurfaceArrays check_gifti(const std::filesystem::path& file) {
   if (claimed_arrays_ok(p.claimed_arrays, p.arrays) == false)
     fail(fmt::format("NumberOfDataArrays is '{}', but the file holds {} data arrays",
                      shown(p.claimed_arrays), p.arrays));
-  if (p.found.pointset < 0) fail("no NIFTI_INTENT_POINTSET data array (the vertices)");
-  if (p.found.triangle < 0) fail("no NIFTI_INTENT_TRIANGLE data array (the triangles)");
-  return p.found;
+  if (p.pointset < 0) fail("no NIFTI_INTENT_POINTSET data array (the vertices)");
+  if (p.triangle < 0) fail("no NIFTI_INTENT_TRIANGLE data array (the triangles)");
+  return std::move(p.surface);
 }
 
 }  // namespace imx::detail

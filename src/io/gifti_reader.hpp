@@ -1,4 +1,4 @@
-// GIfTI surfaces (.gii), neuroimaging's mesh format, through libgiftiio.
+// GIfTI surfaces (.gii), neuroimaging's mesh format.
 #pragma once
 #include <filesystem>
 
@@ -6,9 +6,9 @@
 
 namespace imx::detail {
 
-// Reads the first POINTSET (vertices) and TRIANGLE data arrays of a GIfTI file after
-// check_gifti has vetted them, in either index order and any byte order, as the file stores
-// them: GIfTI coordinates are RAS (NIfTI's), and the caller converts them. The
+// Reads the first POINTSET (vertices) and TRIANGLE data arrays of a GIfTI file
+// (read_gifti_arrays checks the whole file), in either index order and any byte order, as the
+// file stores them: GIfTI coordinates are RAS (NIfTI's), and the caller converts them. The
 // CoordinateSystemTransformMatrix is not applied: it maps the stored coordinates to another
 // space (its TransformedSpace) for information, and FreeSurfer, Workbench and nibabel show the
 // stored coordinates as they are, which is where the surface lies over its volume. Triangles

@@ -10,11 +10,10 @@
 
 #include "core/math.hpp"
 #include "intermix/error.hpp"
+#include "intermix/limits.hpp"
 
 namespace imx {
 namespace {
-
-constexpr int kMaxSegments = 1 << 14;
 
 void check_positive(double value, const char* what, const char* primitive) {
   if (!(value > 0.0) || !std::isfinite(value))
@@ -22,9 +21,22 @@ void check_positive(double value, const char* what, const char* primitive) {
 }
 
 void check_segments(int segments, const char* primitive) {
-  if (segments < 3 || segments > kMaxSegments)
-    throw Error(
-        fmt::format("{}: segments {} is not in [3, {}]", primitive, segments, kMaxSegments));
+  if (segments < 3 || segments > kMaxPrimitiveSegments)
+    throw Error(fmt::format("{}: segments {} is not in [3, {}]", primitive, segments,
+                            kMaxPrimitiveSegments));
+}
+
+// An empty mesh with room for the primitive's vertices and triangles, once the memory budget
+// allows them (12 bytes a position, a normal and a triangle).
+Mesh reserved_mesh(uint64_t vertices, uint64_t triangles, const char* primitive, int segments) {
+  check_memory(24 * vertices + 12 * triangles,
+               fmt::format("{}: segments {} ({} vertices, {} triangles)", primitive, segments,
+                           vertices, triangles));
+  Mesh mesh;
+  mesh.positions.reserve(vertices);
+  mesh.normals.reserve(vertices);
+  mesh.triangles.reserve(triangles);
+  return mesh;
 }
 
 // Unit circle points, computed once so that rings shared by several faces weld exactly.
@@ -64,8 +76,9 @@ Mesh make_sphere(double radius, int segments) {
   check_positive(radius, "radius", "sphere");
   check_segments(segments, "sphere");
   const int rings = std::max(2, segments / 2);
+  const uint64_t ring_vertices = static_cast<uint64_t>(rings - 1) * static_cast<uint64_t>(segments);
+  Mesh mesh = reserved_mesh(2 + ring_vertices, 2 * ring_vertices, "sphere", segments);
   const std::vector<glm::dvec2> circle = unit_circle(segments);
-  Mesh mesh;
   uint32_t north = add_vertex(mesh, {0.0, 0.0, radius}, {0.0, 0.0, 1.0});
   // Ring i (1..rings-1) at polar angle pi*i/rings; vertex (i, j) has index 1 + (i-1)*segments + j.
   for (int i = 1; i < rings; ++i) {
@@ -111,10 +124,10 @@ Mesh make_cylinder(double radius, double height, int segments) {
   check_positive(radius, "radius", "cylinder");
   check_positive(height, "height", "cylinder");
   check_segments(segments, "cylinder");
+  const uint32_t n = static_cast<uint32_t>(segments);
+  Mesh mesh = reserved_mesh(4 * uint64_t{n} + 2, 4 * uint64_t{n}, "cylinder", segments);
   const std::vector<glm::dvec2> circle = unit_circle(segments);
   const double top = 0.5 * height, bottom = -0.5 * height;
-  const uint32_t n = static_cast<uint32_t>(segments);
-  Mesh mesh;
   // Side: bottom ring at 2j, top ring at 2j + 1, radial normals.
   for (int j = 0; j < segments; ++j) {
     glm::dvec3 normal(circle[j], 0.0);
@@ -151,9 +164,10 @@ Mesh make_torus(double major_radius, double minor_radius, int segments) {
     throw Error(fmt::format("torus: minor radius {} must be less than the major radius {}",
                             minor_radius, major_radius));
   const int tube = std::max(3, segments / 2);
+  const uint64_t cells = static_cast<uint64_t>(segments) * static_cast<uint64_t>(tube);
+  Mesh mesh = reserved_mesh(cells, 2 * cells, "torus", segments);
   const std::vector<glm::dvec2> around = unit_circle(segments);
   const std::vector<glm::dvec2> section = unit_circle(tube);
-  Mesh mesh;
   for (int i = 0; i < segments; ++i) {
     for (int j = 0; j < tube; ++j) {
       glm::dvec3 n(section[j].x * around[i].x, section[j].x * around[i].y, section[j].y);

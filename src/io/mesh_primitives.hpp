@@ -11,7 +11,13 @@ namespace imx {
 // Every primitive has per-vertex normals and triangles wound counter-clockwise seen from
 // outside. The closed ones (all but the quad) share every edge between exactly two triangles
 // once coincident positions are welded (flat faces keep their own vertices for sharp normals).
-// Invalid sizes or segment counts throw imx::Error.
+// Invalid sizes or segment counts throw imx::Error; so does a mesh larger than the memory
+// budget (check_memory), before it is made.
+
+// The most segments a sphere, cylinder or torus may have. A sphere or torus of 1024 segments
+// has about a million triangles: 24 MiB of mesh and about 340 MB at render time (the reference
+// method, single-threaded); 4096 segments made 16 million and took more than 5 GB.
+inline constexpr int kMaxPrimitiveSegments = 1024;
 
 // A UV sphere: `segments` around the z axis and segments / 2 (at least 2) rings pole to pole.
 Mesh make_sphere(double radius, int segments);

@@ -38,7 +38,17 @@ void check_obj_polygons(const std::filesystem::path& file) {
       throw Error(
           fmt::format("{}: line {}: a NUL byte (an OBJ file is text)", file.string(), number));
     size_t at = 0;
-    if (next_word(line, at) != "f") continue;
+    const std::string_view keyword = next_word(line, at);
+    // assimp joins the name to the OBJ's folder, absolute or not ("mesh//etc/x.mtl").
+    if (keyword == "mtllib") {
+      const std::string_view name = trim(std::string_view(line).substr(at));
+      if (!name.empty() && name[0] == '/')
+        throw Error(fmt::format(
+            "{}: line {}: mtllib '{}' is an absolute path; material files are named relative "
+            "to the OBJ's folder",
+            file.string(), number, shown(name)));
+    }
+    if (keyword != "f") continue;
     size_t corners = 0;
     while (!next_word(line, at).empty()) ++corners;
     if (corners > kMaxPolygonCorners)

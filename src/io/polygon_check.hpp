@@ -9,7 +9,8 @@ namespace imx::detail {
 inline constexpr size_t kMaxPolygonCorners = 1024;
 
 // Throws imx::Error naming the file and line when an OBJ face has more than kMaxPolygonCorners
-// corners, or a line holds a NUL byte.
+// corners, a line holds a NUL byte, or an mtllib names an absolute path (assimp would look for
+// it inside the OBJ's folder).
 void check_obj_polygons(const std::filesystem::path& file);
 
 // Throws imx::Error naming the file and face for an OFF file whose counts, corner counts or

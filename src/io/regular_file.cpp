@@ -62,12 +62,22 @@ std::filesystem::path resolve_data_file(const std::filesystem::path& header,
     const auto inside = std::filesystem::weakly_canonical(folder.empty() ? "." : folder, folder_ec);
     const auto target = std::filesystem::weakly_canonical(data, ec);
     if (folder_ec) ec = folder_ec;
+    if (ec) {
+      if (ec == std::errc::too_many_symbolic_link_levels)
+        throw FileError(fmt::format("{}: {} names {}, which cannot be resolved: a symbolic link "
+                                    "loop (too many levels of links)",
+                                    header.string(), reference, data.string()),
+                        ELOOP);
+      throw FileError(fmt::format("{}: {} names {}, which cannot be resolved: {}", header.string(),
+                                  reference, data.string(), ec.message()),
+                      ec.value());
+    }
     const auto relative = target.lexically_relative(inside);
-    if (ec || relative.empty() || *relative.begin() == "..")
+    if (relative.empty() || *relative.begin() == "..")
       throw Error(
           fmt::format("{}: {} names {}, outside the file's folder; pass "
                       "--allow-external-data to read it",
-                      header.string(), reference, ec ? data.string() : target.string()));
+                      header.string(), reference, target.string()));
   }
   require_regular_file(data, what);
   return data;

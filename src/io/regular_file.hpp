@@ -15,7 +15,8 @@ void require_regular_file(const std::filesystem::path& file, const std::string& 
 // The data file that `reference` in a header names (e.g. "field 'data file'"): relative names
 // resolve against the header's folder.
 // Unless InputLimits::allow_external_data, it must lie inside that folder once links are
-// resolved, so that a header cannot read any file on the machine. Must be a regular file.
+// resolved, so that a header cannot read any file on the machine; a name that cannot be
+// resolved (a symbolic link loop) is an imx::FileError saying so. Must be a regular file.
 std::filesystem::path resolve_data_file(const std::filesystem::path& header,
                                         const std::string& name, const std::string& reference);
 
