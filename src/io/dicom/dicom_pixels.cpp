@@ -9,6 +9,8 @@
 #include <fmt/format.h>
 #include <gdcmImageReader.h>
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #include "core/isolated_call.hpp"
 #include "core/library_output.hpp"
 #include "intermix/error.hpp"
@@ -19,7 +21,7 @@ namespace imx::detail {
 
 namespace {
 
-enum class Stored { u8, i8, u16, i16, u32, i32, f32, f64 };
+using Stored = StoredType;
 
 size_t stored_size(Stored t) {
   switch (t) {
@@ -129,14 +131,26 @@ bool read_native(const DicomFileHeader& h, size_t count, RawPixels& raw) {
   return true;
 }
 
-// What the decoder process reports before the pixels in the memory it shares.
+// What a decoder process reports before each file's pixels in the memory it shares.
 struct DecodedFormat {
   Stored type = Stored::u16;
   int bits_stored = 0, high_bit = 0;
 };
 
-// Decodes with GDCM into `out` (a DecodedFormat, then the pixels); throws imx::Error.
-void decode_with_gdcm(const DicomFileHeader& header, size_t count, std::span<std::byte> out) {
+size_t pixel_count(const DicomFileHeader& h) {
+  return static_cast<size_t>(h.stored_rows) * h.stored_columns *
+         static_cast<size_t>(h.stored_frames);
+}
+
+// Room for one file's decoded pixels: GDCM decodes to BitsAllocated per value.
+size_t decoded_room(const DicomFileHeader& h) {
+  return sizeof(DecodedFormat) +
+         pixel_count(h) * static_cast<size_t>(std::max(h.bits_allocated, 8) / 8);
+}
+
+// Decodes one file with GDCM into `out` (a DecodedFormat, then the pixels); throws imx::Error.
+void decode_with_gdcm(const DicomFileHeader& header, std::span<std::byte> out) {
+  const size_t count = pixel_count(header);
   const std::string what = header.file.string();
   gdcm::ImageReader reader;
   reader.SetFileName(header.file.c_str());
@@ -198,7 +212,7 @@ void decode_with_gdcm(const DicomFileHeader& header, size_t count, std::span<std
                       what, pf.GetBitsAllocated(), pf.GetPixelRepresentation()));
   }
   const unsigned long length = image.GetBufferLength();
-  if (length != count * stored_size(format.type))
+  if (length != count * stored_size(format.type) || sizeof(DecodedFormat) + length > out.size())
     throw Error(fmt::format("{}: GDCM reports {} bytes of pixels, expected {}", what, length,
                             count * stored_size(format.type)));
   bool decoded = false;
@@ -226,27 +240,52 @@ bool reports_corruption(const std::string& output) {
   return false;
 }
 
-// Everything but native little-endian data goes through GDCM's codecs (RLE, JPEG, JPEG-LS,
-// JPEG 2000, big endian, deflate), in a process of its own: some of them assert or fault on
-// corrupt streams, which must be an error naming the file, not the end of the program. What
-// they print is kept for --verbose; a decoder that reports corruption is an error too.
-void read_with_gdcm(const DicomFileHeader& header, size_t count, RawPixels& raw) {
-  const std::string what = header.file.string();
-  const size_t most = count * 8;  // the widest stored type
-  std::vector<char>& buffer = scratch_buffer();
+// The files of one child process: decoded one after another into one shared mapping.
+CodecPixels take_decoded(std::span<const std::byte> room) {
   DecodedFormat format;
-  const double timeout_s = 120.0 + static_cast<double>(most) / (4 << 20);
+  std::memcpy(&format, room.data(), sizeof format);
+  CodecPixels out;
+  out.type = format.type;
+  out.bits_stored = format.bits_stored;
+  out.high_bit = format.high_bit;
+  out.bytes.resize(room.size() - sizeof format);
+  std::memcpy(out.bytes.data(), room.data() + sizeof format, out.bytes.size());
+  return out;
+}
+
+void decode_batch(std::span<const DicomFileHeader* const> files, std::span<CodecPixels> out) {
+  // The first bytes say which file the child is decoding, so that a crash can name it.
+  constexpr size_t kIndexBytes = 64;
+  std::vector<size_t> offsets{kIndexBytes};
+  for (const DicomFileHeader* h : files) offsets.push_back(offsets.back() + decoded_room(*h));
+  size_t dying = 0;
+  double seconds = 120.0;
+  for (const DicomFileHeader* h : files)
+    seconds += static_cast<double>(decoded_room(*h)) / (4 << 20);
   const IsolatedResult r = run_isolated(
-      sizeof(DecodedFormat) + most,
-      [&](std::span<std::byte> out) { decode_with_gdcm(header, count, out); }, timeout_s,
-      [&](std::span<const std::byte> out) {
-        std::memcpy(&format, out.data(), sizeof format);
-        const size_t bytes = count * stored_size(format.type);
-        buffer.resize(bytes);
-        std::memcpy(buffer.data(), out.data() + sizeof(DecodedFormat), bytes);
+      offsets.back(),
+      [&](std::span<std::byte> shared) {
+        for (size_t i = 0; i < files.size(); ++i) {
+          std::memcpy(shared.data(), &i, sizeof i);
+          decode_with_gdcm(*files[i], shared.subspan(offsets[i], offsets[i + 1] - offsets[i]));
+        }
+      },
+      seconds,
+      [&](std::span<const std::byte> shared) {
+        std::memcpy(&dying, shared.data(), sizeof dying);
+        for (size_t i = 0; i < files.size(); ++i) {
+          DecodedFormat format;
+          std::memcpy(&format, shared.data() + offsets[i], sizeof format);
+          const size_t bytes = pixel_count(*files[i]) * stored_size(format.type);
+          out[i] = take_decoded(shared.subspan(offsets[i], sizeof format + bytes));
+        }
       });
-  if (!r.output.empty()) keep_library_output("decoder", what, r.output);
-  const std::string syntax = "transfer syntax " + transfer_syntax_label(header.transfer_syntax);
+  // The failing file: the child names it in its error; a crash names the one it was decoding.
+  const DicomFileHeader& failed = *files[std::min(dying, files.size() - 1)];
+  const std::string what = failed.file.string();
+  const std::string syntax = "transfer syntax " + transfer_syntax_label(failed.transfer_syntax);
+  if (!r.output.empty())
+    keep_library_output("decoder", files.size() == 1 ? what : "a series", r.output);
   switch (r.end) {
     case IsolatedResult::End::failed:
       throw Error(r.error);
@@ -257,19 +296,21 @@ void read_with_gdcm(const DicomFileHeader& header, size_t count, RawPixels& raw)
                       what, r.detail, syntax));
     case IsolatedResult::End::timed_out:
       throw Error(fmt::format("{}: the pixel data decoder did not finish in {:.0f} s ({})", what,
-                              timeout_s, syntax));
+                              seconds, syntax));
     case IsolatedResult::End::finished:
       break;
   }
   if (reports_corruption(r.output)) {
+    // Which file the codec complained of is not known in a batch of several: decode those alone.
+    if (files.size() > 1) {
+      for (size_t i = 0; i < files.size(); ++i)
+        decode_batch(files.subspan(i, 1), out.subspan(i, 1));
+      return;
+    }
     const std::string first = r.output.substr(0, r.output.find('\n'));
     throw Error(
         fmt::format("{}: the decoder reports corrupt pixel data ({}): {}", what, syntax, first));
   }
-  raw.data = buffer.data();
-  raw.type = format.type;
-  raw.bits_stored = format.bits_stored;
-  raw.high_bit = format.high_bit;
 }
 
 // The tiles of a mosaic, row by row from its top left, as many as it holds images.
@@ -288,10 +329,9 @@ std::vector<FloatPlane> split_mosaic(const FloatPlane& mosaic, const DicomFileHe
   return tiles;
 }
 
-}  // namespace
-
-DecodedFrames decode_dicom_frames(const DicomFileHeader& header) {
-  quiet_gdcm();
+// Refuses what cannot be decoded into greyscale values before any decoder sees it (GDCM asserts
+// on some of these rather than failing).
+void check_decodable(const DicomFileHeader& header) {
   const std::string what = header.file.string();
   if (!header.has_pixel_data)
     throw Error(fmt::format("{}: no pixel data (7FE0,0010) in this file", what));
@@ -300,13 +340,10 @@ DecodedFrames decode_dicom_frames(const DicomFileHeader& header) {
         fmt::format("{}: unsupported photometric interpretation '{}' (0028,0004): only "
                     "greyscale MONOCHROME1 and MONOCHROME2 images are read",
                     what, header.photometric));
-  const size_t plane = static_cast<size_t>(header.stored_rows) * header.stored_columns;
-  const size_t count = plane * static_cast<size_t>(header.stored_frames);
-  // GDCM keeps the file in memory and decodes to a buffer of up to 8 bytes a value; the floats
-  // come on top.
-  check_memory(count * 12, fmt::format("{} ({}x{}x{} pixels)", what, header.stored_columns,
-                                       header.stored_rows, header.stored_frames));
-  // GDCM asserts on some of these rather than failing: refuse them first.
+  // The decoded values (up to 8 bytes each) and the floats made of them.
+  check_memory(pixel_count(header) * 12,
+               fmt::format("{} ({}x{}x{} pixels)", what, header.stored_columns, header.stored_rows,
+                           header.stored_frames));
   if (header.samples_per_pixel != 1)
     throw Error(
         fmt::format("{}: unsupported photometric interpretation: {} samples per pixel "
@@ -320,8 +357,51 @@ DecodedFrames decode_dicom_frames(const DicomFileHeader& header) {
         fmt::format("{}: unsupported pixel format: BitsAllocated {}, BitsStored {}, "
                     "HighBit {}, PixelRepresentation {}",
                     what, ba, header.bits_stored, header.high_bit, header.pixel_representation));
+}
+
+}  // namespace
+
+bool needs_codec(const DicomFileHeader& h) {
+  const std::string& ts = h.transfer_syntax;
+  return (ts != "1.2.840.10008.1.2" && ts != "1.2.840.10008.1.2.1") || h.samples_per_pixel != 1 ||
+         !integer_type(h.bits_allocated, h.pixel_representation == 1);
+}
+
+std::vector<CodecPixels> decode_with_codecs(std::span<const DicomFileHeader* const> headers) {
+  quiet_gdcm();
+  for (const DicomFileHeader* h : headers) check_decodable(*h);
+  std::vector<CodecPixels> out(headers.size());
+  if (headers.empty()) return out;
+  // One child process per worker thread, each decoding its share in turn: a fork costs more the
+  // more memory this process holds (40 ms at 1 GiB), so not one per file.
+  const size_t children = std::min(
+      headers.size(), static_cast<size_t>(std::max(1, tbb::this_task_arena::max_concurrency())));
+  tbb::parallel_for(size_t{0}, children, [&](size_t c) {
+    const size_t begin = headers.size() * c / children, end = headers.size() * (c + 1) / children;
+    decode_batch(headers.subspan(begin, end - begin),
+                 std::span<CodecPixels>(out).subspan(begin, end - begin));
+  });
+  return out;
+}
+
+DecodedFrames decode_dicom_frames(const DicomFileHeader& header, const CodecPixels* codec) {
+  check_decodable(header);
+  const std::string what = header.file.string();
+  const size_t plane = static_cast<size_t>(header.stored_rows) * header.stored_columns;
+  const size_t count = pixel_count(header);
   RawPixels raw;
-  if (!read_native(header, count, raw)) read_with_gdcm(header, count, raw);
+  CodecPixels own;
+  if (codec == nullptr && !read_native(header, count, raw)) {
+    const DicomFileHeader* one = &header;
+    own = std::move(decode_with_codecs(std::span(&one, 1)).front());
+    codec = &own;
+  }
+  if (codec != nullptr) {
+    raw.data = codec->bytes.data();
+    raw.type = codec->type;
+    raw.bits_stored = codec->bits_stored;
+    raw.high_bit = codec->high_bit;
+  }
   const bool floats = raw.type == Stored::f32 || raw.type == Stored::f64;
   DecodedFrames out;
   out.integer_pixels = !floats;

@@ -1,8 +1,10 @@
 // Decoding one DICOM file's pixels through GDCM (every transfer syntax it supports) into
 // rescaled values, one float plane per frame.
 #pragma once
+#include <cstdint>
 #include <memory>
 #include <new>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -39,10 +41,31 @@ struct DecodedFrames {
   bool integer_pixels = true;      // stored values are integers (not float pixel data)
 };
 
-// Decodes every frame of `header.file` and applies each frame's RescaleSlope and
-// RescaleIntercept. Throws imx::Error naming the file when it has no pixel data, is truncated or
-// cannot be decoded, is not MONOCHROME1/MONOCHROME2 with one sample per pixel, or its size
-// differs from the header's.
-DecodedFrames decode_dicom_frames(const DicomFileHeader& header);
+enum class StoredType : uint8_t { u8, i8, u16, i16, u32, i32, f32, f64 };
+
+// One file's pixel values as stored (before rescale), from GDCM's codecs.
+struct CodecPixels {
+  std::vector<char> bytes;
+  StoredType type = StoredType::u16;
+  int bits_stored = 0, high_bit = 0;
+};
+
+// True when a file's pixels need GDCM's codecs: every transfer syntax but native little endian
+// (RLE, JPEG, JPEG-LS, JPEG 2000, big endian, deflate), and unusual pixel formats.
+bool needs_codec(const DicomFileHeader& header);
+
+// Decodes the pixel data of files that need codecs in child processes (one per worker thread,
+// each taking its share of the files in turn), so that a codec that aborts or faults on corrupt
+// data is an error naming the file, not the end of the program. A codec that reports corruption
+// is an error too; what codecs print is kept for --verbose (core/library_output.hpp). Throws
+// imx::Error naming the first file that fails.
+std::vector<CodecPixels> decode_with_codecs(std::span<const DicomFileHeader* const> headers);
+
+// Decodes every frame of `header.file` (from `codec`, that file's decode_with_codecs result, when
+// given) and applies each frame's RescaleSlope and RescaleIntercept. Throws imx::Error naming the
+// file when it has no pixel data, is truncated or cannot be decoded, is not
+// MONOCHROME1/MONOCHROME2 with one sample per pixel, or its size differs from the header's.
+DecodedFrames decode_dicom_frames(const DicomFileHeader& header,
+                                  const CodecPixels* codec = nullptr);
 
 }  // namespace imx::detail

@@ -149,10 +149,22 @@ std::vector<AcquiredSeries> decode_volumes(const SeriesLayout& l, std::vector<in
   for (const DicomFileHeader& h : l.group.headers)
     if (slots.count(h.file)) needed.push_back(&h);
   // Files decode independently (one GDCM reader each), into distinct slices.
+  // Compressed files first, in a few decoder processes (dicom_pixels.hpp).
+  std::vector<const DicomFileHeader*> compressed;
+  std::map<const DicomFileHeader*, size_t> codec_index;
+  for (const DicomFileHeader* h : needed)
+    if (needs_codec(*h)) {
+      codec_index[h] = compressed.size();
+      compressed.push_back(h);
+    }
+  std::vector<CodecPixels> codec_pixels = decode_with_codecs(compressed);
   std::vector<char> integer_pixels(needed.size(), 1);
   tbb::parallel_for(size_t{0}, needed.size(), [&](size_t i) {
     const DicomFileHeader& h = *needed[i];
-    DecodedFrames decoded = decode_dicom_frames(h);
+    const auto it = codec_index.find(&h);
+    CodecPixels* codec = it == codec_index.end() ? nullptr : &codec_pixels[it->second];
+    DecodedFrames decoded = decode_dicom_frames(h, codec);
+    if (codec != nullptr) std::vector<char>().swap(codec->bytes);  // done with them
     integer_pixels[i] = decoded.integer_pixels;
     for (const Slot& s : slots.at(h.file))
       out[s.volume].values[s.slice] = std::move(decoded.frames[static_cast<size_t>(s.image)]);
