@@ -17,7 +17,7 @@ namespace {
 constexpr int kDefaultSegments = 64;
 
 int segments(const JsonReader& src) {
-  if (auto v = src.find("segments")) return v->integer(3, 4096);
+  if (auto v = src.find("segments")) return v->integer(3, kMaxPrimitiveSegments);
   return kDefaultSegments;
 }
 
@@ -30,12 +30,27 @@ std::vector<double> sizes(const JsonReader& r, size_t n) {
   return r.numbers(n, Range::length());
 }
 
+// Tessellates with fields already read: the memory budget's refusal (or the machine's) is
+// reported at the primitive's JSON path.
+template <class Make>
+Mesh tessellated(const JsonReader& src, Make&& make) {
+  try {
+    return make();
+  } catch (const std::bad_alloc&) {
+    src.fail(out_of_memory_message("the primitive"));
+  } catch (const Error& e) {
+    src.fail(e.what());
+  }
+}
+
 Mesh make_primitive(const JsonReader& src) {
   const std::string kind =
       src.get("primitive").choice({"sphere", "box", "cylinder", "torus", "quad"});
   if (kind == "sphere") {
     src.check_keys({"primitive", "radius", "segments"});
-    return make_sphere(src.get("radius").number(Range::length()), segments(src));
+    const double radius = src.get("radius").number(Range::length());
+    const int n = segments(src);
+    return tessellated(src, [&] { return make_sphere(radius, n); });
   }
   if (kind == "box") {
     src.check_keys({"primitive", "size"});
@@ -44,8 +59,10 @@ Mesh make_primitive(const JsonReader& src) {
   }
   if (kind == "cylinder") {
     src.check_keys({"primitive", "radius", "height", "segments"});
-    return make_cylinder(src.get("radius").number(Range::length()),
-                         src.get("height").number(Range::length()), segments(src));
+    const double radius = src.get("radius").number(Range::length());
+    const double height = src.get("height").number(Range::length());
+    const int n = segments(src);
+    return tessellated(src, [&] { return make_cylinder(radius, height, n); });
   }
   if (kind == "torus") {
     src.check_keys({"primitive", "major_radius", "minor_radius", "segments"});
@@ -57,7 +74,8 @@ Mesh make_primitive(const JsonReader& src) {
           fmt::format("{} must be less than major_radius {} (the torus would "
                       "intersect itself)",
                       minor, major));
-    return make_torus(major, minor, segments(src));
+    const int n = segments(src);
+    return tessellated(src, [&] { return make_torus(major, minor, n); });
   }
   src.check_keys({"primitive", "size"});
   std::vector<double> s = sizes(src.get("size"), 2);

@@ -156,6 +156,26 @@ TEST(CliBadInput, MemoryBudgetIsCheckedBeforeAllocating) {
   EXPECT_NE(r.output.find("2x is not a size"), std::string::npos) << r.output;
 }
 
+TEST(CliBadInput, APrimitiveIsTessellatedWithinTheBudgetAndItsLimits) {
+  auto dir = temp_dir("primitive-budget");
+  const std::string sphere =
+      R"({"name": "s", "type": "mesh", "source": {"primitive": "sphere", "radius": 10, "segments": )";
+  write_text(dir / "scene.json", scene_with(sphere + "1024}}"));
+  CliResult r = run_cli("--max-memory 1M render " + (dir / "scene.json").string() + " -o " +
+                        (dir / "out.png").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  for (const char* part : {"objects[0].source: sphere: segments 1024", "memory budget of 1.0 MiB"})
+    EXPECT_NE(r.output.find(part), std::string::npos) << part << " missing from: " << r.output;
+  // 4096 segments took over 5 GB; the most is now 1024.
+  write_text(dir / "scene.json", scene_with(sphere + "4096}}"));
+  r = run_cli("render " + (dir / "scene.json").string() + " -o " + (dir / "out.png").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("objects[0].source.segments: 4096 is not in [3, 1024]"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.png"));
+}
+
 // Within the budget but beyond what the machine gives (here: an address-space limit), the
 // error names the object's JSON path, its input and the budget, not "std::bad_alloc".
 TEST(CliBadInput, OutOfMemoryNamesTheInputAndTheBudget) {
