@@ -427,7 +427,7 @@ TEST(ParseSceneErrors, OutOfRangeValues) {
                   "objects[0].source.minor_radius: 3 must be less than major_radius 2");
   EXPECT_CONTAINS(parse_error(with_objects(R"({"name": "s", "type": "mesh", "source":
       {"primitive": "sphere", "radius": 1, "segments": 2}})")),
-                  "objects[0].source.segments: 2 is not in [3, 4096]");
+                  "objects[0].source.segments: 2 is not in [3, 1024]");
 }
 
 TEST(ParseSceneErrors, SppMustBeAPerfectSquare) {
