@@ -1,7 +1,6 @@
 # The libraries intermix links that ship no CMake package of their own, as imported targets:
 #   PkgConfig::IMX_SPNG    spng, through pkg-config
 #   intermix_dep::nifti    niftiio and znz (libnifti2-dev)
-#   intermix_dep::gifti    giftiio (libgiftiio-dev)
 #   intermix_dep::gdcm     GDCM's libraries (libgdcm-dev; its CMake package on Debian 12 names
 #                          tools that are not installed, so the libraries are found one by one)
 # CMakeLists.txt includes this file for the build, and the installed intermixConfig.cmake
@@ -45,5 +44,4 @@ function(_imx_import_libraries target package)
 endfunction()
 
 _imx_import_libraries(intermix_dep::nifti libnifti2-dev niftiio znz)
-_imx_import_libraries(intermix_dep::gifti libgiftiio-dev giftiio)
 _imx_import_libraries(intermix_dep::gdcm libgdcm-dev gdcmMSFF gdcmDSED gdcmIOD gdcmDICT gdcmCommon)

@@ -1,6 +1,6 @@
 // Mesh files through read_mesh: the first byte picks the file extension (kExtensions), the
 // rest is the file. read_mesh takes .obj, .stl, .off, .gltf and .glb through assimp (after its
-// own checks of glTF, OBJ and OFF), reads .ply by hand and .gii through libgiftiio (after its
+// own checks of glTF, OBJ and OFF), reads .ply by hand and .gii by intermix's own reader (after its
 // own check). New extensions go at the end: a seed's first byte keeps its meaning.
 #include <exception>
 #include <iterator>
