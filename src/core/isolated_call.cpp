@@ -17,6 +17,9 @@
 
 #include "intermix/error.hpp"
 
+// Set when built with a sanitizer: the hook a fuzzer installs to save its input on a crash.
+extern "C" void __sanitizer_set_death_callback(void (*callback)(void)) __attribute__((weak));
+
 namespace imx::detail {
 
 namespace {
@@ -54,6 +57,10 @@ class SharedMapping {
   dup2(output_fd, STDERR_FILENO);
   dup2(output_fd, STDOUT_FILENO);
   close(output_fd);
+  // The child's death is the decoder's, reported by the parent: the handlers this process had
+  // (a fuzzer's, which would record the input as its own crash; a sanitizer's) must not run.
+  for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP}) signal(sig, SIG_DFL);
+  if (__sanitizer_set_death_callback != nullptr) __sanitizer_set_death_callback(nullptr);
   try {
     work(shared);
     report->state = 1;
