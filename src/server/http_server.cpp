@@ -3,6 +3,11 @@
 // sends to. Every request needs the token; nothing else of the file system is reachable.
 #include "server/http_server.hpp"
 
+#include <fcntl.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -15,6 +20,7 @@
 #include <fmt/format.h>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/signal_set.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <boost/asio/strand.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
@@ -35,9 +41,16 @@ namespace {
 // Bounds on what one HTTP request may send: the page's requests are a few hundred bytes.
 constexpr uint32_t kMaxHeaderBytes = 16 * 1024;
 constexpr uint64_t kMaxBodyBytes = 1024;
-constexpr auto kHttpTimeout = std::chrono::seconds(30);
-// Frames queued for a client that reads slowly: newer ones replace older unsent ones.
-constexpr size_t kMaxQueuedFrames = 1;
+// Out of file descriptors, the accept loop pauses this long instead of retrying at once.
+constexpr auto kAcceptRetry = std::chrono::milliseconds(50);
+// Pending connections one pause accepts and closes at most (the backlog is about as long).
+constexpr int kMaxShedConnections = 4096;
+
+// What every client together holds, for HttpServer::load().
+struct Totals {
+  std::atomic<int> clients{0};
+  std::atomic<size_t> messages{0}, bytes{0};
+};
 
 struct PageFile {
   std::string body;
@@ -94,13 +107,23 @@ std::map<std::string, PageFile> read_page(const std::filesystem::path& dir) {
 }
 
 // A WebSocket client of the session: reads messages into it, writes what it sends in order.
+// Its queue holds at most one unsent state and one unsent frame (the newest) and a bounded
+// number of replies; a client whose socket takes no message for write_timeout is dropped.
 class WebSocketClient : public ClientSink, public std::enable_shared_from_this<WebSocketClient> {
  public:
-  WebSocketClient(tcp::socket socket, ViewerSession& session, std::atomic<int>& clients)
-      : ws_(std::move(socket)), session_(session), clients_(clients) {
-    ++clients_;
+  WebSocketClient(tcp::socket socket, ViewerSession& session, Totals& totals,
+                  std::chrono::milliseconds write_timeout)
+      : ws_(std::move(socket)),
+        stall_(ws_.get_executor()),
+        session_(session),
+        totals_(totals),
+        write_timeout_(write_timeout) {
+    ++totals_.clients;
   }
-  ~WebSocketClient() override { --clients_; }
+  ~WebSocketClient() override {
+    forget(queue_.begin(), queue_.end());
+    --totals_.clients;
+  }
 
   void start(http::request<http::string_body> request) {
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
@@ -113,46 +136,69 @@ class WebSocketClient : public ClientSink, public std::enable_shared_from_this<W
     });
   }
 
-  void send_text(std::string text) override { enqueue({std::move(text), {}, false, false}); }
+  void send_text(std::string text) override { enqueue({std::move(text), {}, false, Kind::reply}); }
+  void send_state(std::string text) override { enqueue({std::move(text), {}, false, Kind::state}); }
   void send_frame(std::string text, std::string image, bool droppable) override {
-    enqueue({std::move(text), std::move(image), true, droppable});
+    enqueue({std::move(text), std::move(image), true, droppable ? Kind::frame : Kind::reply});
   }
 
  private:
+  // A reply is always sent (errors, saved, screenshots); an unsent state or frame gives way to
+  // a newer one of its kind.
+  enum class Kind { reply, state, frame };
   struct Outgoing {
     std::string text;
     std::string binary;  // sent after text when `has_binary`
     bool has_binary = false;
-    bool droppable = false;
+    Kind kind = Kind::reply;
+    size_t bytes() const { return text.size() + binary.size(); }
   };
+  using Queue = std::deque<Outgoing>;
 
   void enqueue(Outgoing message) {
     asio::post(ws_.get_executor(), [self = shared_from_this(), m = std::move(message)]() mutable {
-      if (self->closed_) return;
-      if (m.droppable) {
-        // Unsent frames (not the one being written, at the front) give way to the newer one.
-        size_t queued = 0;
-        for (size_t i = self->writing_ ? 1 : 0; i < self->queue_.size(); ++i)
-          queued += self->queue_[i].droppable;
-        if (queued >= kMaxQueuedFrames) {
-          auto first = self->queue_.begin() + (self->writing_ ? 1 : 0);
-          self->queue_.erase(std::remove_if(first, self->queue_.end(),
-                                            [](const Outgoing& o) { return o.droppable; }),
-                             self->queue_.end());
-        }
-      }
-      self->queue_.push_back(std::move(m));
-      if (!self->writing_) self->write_next(false);
+      self->push(std::move(m));
     });
+  }
+
+  void push(Outgoing m) {
+    if (closed_) return;
+    const Queue::iterator unsent = queue_.begin() + (writing_ ? 1 : 0);
+    if (m.kind != Kind::reply) {
+      const auto old =
+          std::find_if(unsent, queue_.end(), [&](const Outgoing& o) { return o.kind == m.kind; });
+      if (old != queue_.end()) forget(old, old + 1);
+    } else {
+      size_t replies = 0, bytes = 0;
+      for (const Outgoing& o : queue_)
+        if (o.kind == Kind::reply) ++replies, bytes += o.bytes();
+      // The first reply always fits: a screenshot may be larger than the bound.
+      if (replies >= kMaxQueuedReplies || (replies > 0 && bytes + m.bytes() > kMaxQueuedReplyBytes))
+        return drop();  // it does not read its own replies
+    }
+    ++totals_.messages;
+    totals_.bytes += m.bytes();
+    queue_.push_back(std::move(m));
+    if (!writing_) write_next(false);
+  }
+
+  void forget(Queue::iterator first, Queue::iterator last) {
+    for (auto it = first; it != last; ++it) {
+      --totals_.messages;
+      totals_.bytes -= it->bytes();
+    }
+    queue_.erase(first, last);
   }
 
   // Writes the front message's text, then (`binary_part`) its image.
   void write_next(bool binary_part) {
     if (queue_.empty() || closed_) {
       writing_ = false;
+      stall_.cancel();
       return;
     }
     writing_ = true;
+    if (!binary_part) watch();
     const Outgoing& m = queue_.front();
     ws_.text(!binary_part);
     const std::string& payload = binary_part ? m.binary : m.text;
@@ -161,9 +207,17 @@ class WebSocketClient : public ClientSink, public std::enable_shared_from_this<W
                       if (ec) return self->close();
                       if (!binary_part && self->queue_.front().has_binary)
                         return self->write_next(true);
-                      self->queue_.pop_front();
+                      self->forget(self->queue_.begin(), self->queue_.begin() + 1);
                       self->write_next(false);
                     });
+  }
+
+  // The message now being written must be taken within write_timeout_.
+  void watch() {
+    stall_.expires_after(write_timeout_);
+    stall_.async_wait([self = shared_from_this(), write = ++writes_](beast::error_code ec) {
+      if (!ec && write == self->writes_ && self->writing_) self->drop();
+    });
   }
 
   void read() {
@@ -183,15 +237,26 @@ class WebSocketClient : public ClientSink, public std::enable_shared_from_this<W
   void close() {
     if (closed_) return;
     closed_ = true;
-    queue_.clear();
+    stall_.cancel();
+    // A message being written stays until its write ends: the socket reads from it.
+    forget(queue_.begin() + (writing_ ? 1 : 0), queue_.end());
     if (joined_) session_.remove_client(this);
   }
 
+  // A client that stopped reading: its socket closes, its pending reads and writes end.
+  void drop() {
+    close();
+    beast::get_lowest_layer(ws_).close();
+  }
+
   websocket::stream<beast::tcp_stream> ws_;
+  asio::steady_timer stall_;
   ViewerSession& session_;
-  std::atomic<int>& clients_;
+  Totals& totals_;
+  const std::chrono::milliseconds write_timeout_;
   beast::flat_buffer buffer_;
-  std::deque<Outgoing> queue_;
+  Queue queue_;
+  uint64_t writes_ = 0;  // messages whose write began; a stall timer is for the latest only
   bool writing_ = false;
   bool closed_ = false;
   bool joined_ = false;
@@ -202,18 +267,18 @@ class HttpConnection : public std::enable_shared_from_this<HttpConnection> {
  public:
   HttpConnection(tcp::socket socket, ViewerSession& session,
                  const std::map<std::string, PageFile>& page, const ServerOptions& options,
-                 std::atomic<int>& clients)
+                 Totals& totals)
       : stream_(std::move(socket)),
         session_(session),
         page_(page),
         options_(options),
-        clients_(clients) {}
+        totals_(totals) {}
 
   void read() {
     parser_.emplace();
     parser_->header_limit(kMaxHeaderBytes);
     parser_->body_limit(kMaxBodyBytes);
-    stream_.expires_after(kHttpTimeout);
+    stream_.expires_after(kRequestTimeout);  // the whole request, however slowly it comes
     http::async_read(stream_, buffer_, *parser_,
                      [self = shared_from_this()](beast::error_code ec, size_t) {
                        if (ec) return self->fail(ec);
@@ -241,12 +306,13 @@ class HttpConnection : public std::enable_shared_from_this<HttpConnection> {
     if (websocket::is_upgrade(request)) {
       if (path != "/ws")
         return respond(http::status::not_found, "not found\n", "text/plain", version, false);
-      if (clients_.load() >= options_.max_clients)
+      if (totals_.clients.load() >= options_.max_clients)
         return respond(http::status::service_unavailable,
                        fmt::format("this session already has {} clients\n", options_.max_clients),
                        "text/plain", version, false);
       stream_.expires_never();
-      auto client = std::make_shared<WebSocketClient>(stream_.release_socket(), session_, clients_);
+      auto client = std::make_shared<WebSocketClient>(stream_.release_socket(), session_, totals_,
+                                                      options_.write_timeout);
       client->start(std::move(request));
       return;
     }
@@ -273,6 +339,7 @@ class HttpConnection : public std::enable_shared_from_this<HttpConnection> {
     response->body() = std::move(body);
     response->prepare_payload();
     if (head) response->body().clear();
+    stream_.expires_after(options_.write_timeout);
     http::async_write(stream_, *response,
                       [self = shared_from_this(), response](beast::error_code ec, size_t) {
                         if (ec || !response->keep_alive()) {
@@ -287,7 +354,7 @@ class HttpConnection : public std::enable_shared_from_this<HttpConnection> {
   ViewerSession& session_;
   const std::map<std::string, PageFile>& page_;
   const ServerOptions& options_;
-  std::atomic<int>& clients_;
+  Totals& totals_;
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;
 };
@@ -303,26 +370,55 @@ std::string random_token() {
 
 struct HttpServer::Impl {
   Impl(ViewerSession& s, ServerOptions o)
-      : session(s), options(std::move(o)), acceptor(io), signals(io, SIGINT, SIGTERM) {}
+      : session(s),
+        options(std::move(o)),
+        acceptor(io),
+        retry(io),
+        signals(io, SIGINT, SIGTERM),
+        reserve(::open("/dev/null", O_RDONLY | O_CLOEXEC)) {}
+  ~Impl() {
+    if (reserve >= 0) ::close(reserve);
+  }
 
   void accept() {
     acceptor.async_accept(asio::make_strand(io), [this](beast::error_code ec, tcp::socket socket) {
+      if (ec == asio::error::operation_aborted) return;
       if (ec) {
-        if (ec != asio::error::operation_aborted) accept();
+        // Out of file descriptors (EMFILE, ENFILE) or memory: the connection stays pending and
+        // accepting again at once would spin. Shed the backlog, then pause.
+        shed();
+        retry.expires_after(kAcceptRetry);
+        retry.async_wait([this](beast::error_code e) {
+          if (!e) accept();
+        });
         return;
       }
-      std::make_shared<HttpConnection>(std::move(socket), session, page, options, clients)->read();
+      std::make_shared<HttpConnection>(std::move(socket), session, page, options, totals)->read();
       accept();
     });
+  }
+
+  // Accepts and closes the pending connections in the descriptor the reserve frees, so that the
+  // backlog drains (its clients see the connection close) while the held ones time out.
+  void shed() {
+    if (reserve >= 0) ::close(reserve);
+    for (int i = 0; i < kMaxShedConnections; ++i) {
+      const int fd = ::accept4(acceptor.native_handle(), nullptr, nullptr, SOCK_CLOEXEC);
+      if (fd < 0) break;  // none pending (the acceptor does not block), or the slot is gone
+      ::close(fd);
+    }
+    reserve = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
   }
 
   ViewerSession& session;
   ServerOptions options;
   std::map<std::string, PageFile> page;
-  std::atomic<int> clients{0};  // before io: the handlers io destroys last still count down
+  Totals totals;  // before io: the handlers io destroys last still count down
   asio::io_context io{1};
   tcp::acceptor acceptor;
+  asio::steady_timer retry;  // the accept loop's pause
   asio::signal_set signals;
+  int reserve = -1;  // a descriptor kept open to be freed when there are none
 };
 
 HttpServer::HttpServer(ViewerSession& session, ServerOptions options)
@@ -338,6 +434,7 @@ HttpServer::HttpServer(ViewerSession& session, ServerOptions options)
   if (!ec) s.acceptor.set_option(asio::socket_base::reuse_address(true), ec);
   if (!ec) s.acceptor.bind(endpoint, ec);
   if (!ec) s.acceptor.listen(asio::socket_base::max_listen_connections, ec);
+  if (!ec) s.acceptor.non_blocking(true, ec);  // shed() must not wait for a connection
   if (ec)
     throw Error(
         fmt::format("cannot listen on {}:{}: {}", s.options.bind, s.options.port, ec.message()));
@@ -354,6 +451,11 @@ std::string HttpServer::url() const {
                                ? "[" + impl_->options.bind + "]"
                                : impl_->options.bind;
   return fmt::format("http://{}:{}/?token={}", host, port(), impl_->options.token);
+}
+
+HttpServer::Load HttpServer::load() const {
+  const Totals& t = impl_->totals;
+  return {t.clients.load(), t.messages.load(), t.bytes.load()};
 }
 
 void HttpServer::run() {

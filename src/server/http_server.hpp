@@ -3,6 +3,7 @@
 // token, and passes WebSocket text messages to a ViewerSession. One network thread; rendering
 // runs on the session's own thread.
 #pragma once
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -18,7 +19,19 @@ struct ServerOptions {
   std::filesystem::path web_dir;   // index.html, viewer.js, viewer.css
   std::string token;               // every request must carry ?token=<this>
   int max_clients = 32;            // WebSocket clients at once; more are refused (503)
+  // A client whose socket has not taken one whole message (or a page response) within this
+  // long has stopped reading: it is dropped instead of holding its queue (docs/viewer.md).
+  std::chrono::milliseconds write_timeout{10000};
 };
+
+// A connection that has not sent a complete HTTP request within this long is closed: idle and
+// half-open connections must not hold the server's file descriptors.
+inline constexpr std::chrono::milliseconds kRequestTimeout{2000};
+// Replies (errors, saved, screenshots) a client may leave unread, and their bytes beyond the
+// first; a client past either is dropped. States and frames do not count: a newer one replaces
+// the unsent one.
+inline constexpr size_t kMaxQueuedReplies = 64;
+inline constexpr size_t kMaxQueuedReplyBytes = size_t{64} << 20;
 
 // 32 hex digits from the system's random device.
 std::string random_token();
@@ -37,6 +50,15 @@ class HttpServer {
   // Serves until stop() (from any thread) or SIGINT / SIGTERM.
   void run();
   void stop();
+
+  // What the server holds now (for tests): WebSocket clients, and the messages and bytes queued
+  // for them. Each client queues at most one state, one frame and kMaxQueuedReplies replies.
+  struct Load {
+    int clients = 0;
+    size_t queued_messages = 0;
+    size_t queued_bytes = 0;
+  };
+  Load load() const;
 
  private:
   struct Impl;

@@ -39,6 +39,83 @@ std::string text_of(const Json& message, int indent = -1) {
   return message.dump(indent, ' ', false, Json::error_handler_t::replace);
 }
 
+// Where nlohmann's parser stopped: the path of the value it was reading ("eye[1]", "opacity")
+// and that value's text, so that an error names the field (a number out of a double's range
+// fails while it is read, before the strict parser's callback sees it).
+class ParseStop final : public nlohmann::json_sax<Json> {
+ public:
+  std::string path, token;
+
+  bool null() override { return value(); }
+  bool boolean(bool) override { return value(); }
+  bool number_integer(number_integer_t) override { return value(); }
+  bool number_unsigned(number_unsigned_t) override { return value(); }
+  bool number_float(number_float_t, const string_t&) override { return value(); }
+  bool string(string_t&) override { return value(); }
+  bool binary(binary_t&) override { return value(); }
+  bool start_object(size_t) override { return open(false); }
+  bool key(string_t& key) override {
+    open_.back().key = key;
+    return true;
+  }
+  bool end_object() override { return close(); }
+  bool start_array(size_t) override { return open(true); }
+  bool end_array() override { return close(); }
+  bool parse_error(size_t, const std::string& last_token,
+                   const nlohmann::detail::exception&) override {
+    for (const Open& o : open_) {
+      // The innermost array's failing element is the one after the last it read.
+      const long index = o.index + (&o == &open_.back() ? 1 : 0);
+      path += o.array ? fmt::format("[{}]", index) : (path.empty() ? "" : ".") + o.key;
+    }
+    token = last_token;
+    return false;
+  }
+
+ private:
+  struct Open {
+    bool array = false;
+    long index = -1;  // arrays: the element read last
+    std::string key;  // objects: the key read last
+  };
+  bool value() {
+    if (!open_.empty() && open_.back().array) ++open_.back().index;
+    return true;
+  }
+  bool open(bool array) {
+    value();
+    open_.push_back({array, -1, {}});
+    return true;
+  }
+  bool close() {
+    open_.pop_back();
+    return true;
+  }
+  std::vector<Open> open_;
+};
+
+// nlohmann's text without its "[json.exception.parse_error.101] " prefix.
+std::string readable(const Json::exception& e) {
+  const std::string what = e.what();
+  const size_t at = what.find("] ");
+  return at == std::string::npos ? what : what.substr(at + 2);
+}
+
+// A message as JSON, strictly; throws imx::Error for any text nlohmann refuses.
+Json parse_message(std::string_view text) {
+  try {
+    return detail::parse_strict_json(std::string(text), "message");
+  } catch (const Json::parse_error& e) {
+    throw Error("message: not JSON: " + readable(e));  // it names the line and column
+  } catch (const Json::exception& e) {  // a number beyond a double's range (out_of_range.406)
+    ParseStop stop;
+    Json::sax_parse(text, &stop);
+    if (stop.token.empty()) throw Error("message: " + readable(e));
+    throw Error(fmt::format("message: {}{} is beyond the range of a number (about 1.8e308)",
+                            stop.path.empty() ? "" : stop.path + ": ", stop.token));
+  }
+}
+
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
@@ -140,6 +217,12 @@ void ViewerSession::broadcast_text(const std::string& text) {
     if (auto sink = c.sink.lock()) sink->send_text(text);
 }
 
+void ViewerSession::broadcast_state() {
+  const std::string text = text_of(state_message());
+  for (const Client& c : clients_)
+    if (auto sink = c.sink.lock()) sink->send_state(text);
+}
+
 void ViewerSession::add_client(const std::shared_ptr<ClientSink>& client) {
   std::lock_guard lock(mutex_);
   Json hello = describe_state(state_);
@@ -169,16 +252,9 @@ void ViewerSession::on_message(const std::shared_ptr<ClientSink>& client, std::s
     if (text.size() > kMaxMessageBytes)
       throw Error(fmt::format("message: {} bytes, more than the {} a message may have", text.size(),
                               kMaxMessageBytes));
-    Json message;
-    try {
-      message = detail::parse_strict_json(std::string(text), "message");
-    } catch (const Json::parse_error& e) {
-      // nlohmann's text names the line and column; drop its "[json.exception...]" prefix.
-      const std::string what = e.what();
-      const size_t at = what.find("] ");
-      throw Error("message: not JSON: " + (at == std::string::npos ? what : what.substr(at + 2)));
-    }
-    handle(client, message);
+    handle(client, parse_message(text));
+  } catch (const Json::exception& e) {  // a check missed: at least not nlohmann's own prefix
+    reply_error(*client, "message: " + readable(e));
   } catch (const std::exception& e) {  // imx::Error, and whatever else a hostile message finds
     reply_error(*client, e.what());
   }
@@ -227,7 +303,10 @@ void ViewerSession::handle(const std::shared_ptr<ClientSink>& client, const Json
     r.check_keys({"type"});
     {
       std::lock_guard lock(mutex_);
-      screenshot_requests_.push_back(client);
+      // Once per client until it is sent: its replies are not dropped, so they must not pile up.
+      if (std::none_of(screenshot_requests_.begin(), screenshot_requests_.end(),
+                       [&](const std::weak_ptr<ClientSink>& w) { return w.lock() == client; }))
+        screenshot_requests_.push_back(client);
       idle_ = false;
     }
     wake_.notify_all();
@@ -262,7 +341,7 @@ void ViewerSession::input_applied(const ClientSink* client, const Json& message)
   moving_ = message.contains("moving") && message["moving"].get<bool>();
   last_input_ = Clock::now();
   cancel_ = true;  // only still frames poll it (render_and_send)
-  broadcast_text(text_of(state_message()));
+  broadcast_state();
   wake_.notify_all();
 }
 
@@ -378,7 +457,7 @@ void ViewerSession::render_and_send(Snapshot& s) {
     if (fall_back) {  // the error first, then the state that puts the method menus back
       method_ = last_good_method_;
       ++version_;
-      broadcast_text(text_of(state_message()));
+      broadcast_state();
     }
     return;
   }

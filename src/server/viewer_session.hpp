@@ -29,6 +29,8 @@ class ClientSink {
  public:
   virtual ~ClientSink() = default;
   virtual void send_text(std::string text) = 0;
+  // A `state` message: only the newest matters, so a slow client's unsent one may be replaced.
+  virtual void send_state(std::string text) { send_text(std::move(text)); }
   // One frame: its JSON text, then its encoded image as one binary message. A slow client may
   // drop whole frames (never half of one); the next one shows the newer state.
   // `droppable` false: never dropped (a screenshot the user asked for).
@@ -107,6 +109,7 @@ class ViewerSession {
   void input_applied(const ClientSink* client, const nlohmann::json& message);
   nlohmann::json state_message() const;
   void broadcast_text(const std::string& text);
+  void broadcast_state();
   nlohmann::json saved_document() const;
   std::string save();
   static void reply_error(ClientSink& client, const std::string& message);

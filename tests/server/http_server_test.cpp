@@ -1,13 +1,27 @@
 // HttpServer: the page and the WebSocket only with the token; only the page's files; bounded
-// requests; a WebSocket client gets hello, frames, and an error for a bad message.
+// requests; a WebSocket client gets hello, frames, and an error for a bad message. A client
+// that stops reading holds a bounded queue and is dropped; idle connections are closed; out of
+// file descriptors the server neither spins nor stops serving.
 #include "server/http_server.hpp"
 
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <pthread.h>
+#include <sys/resource.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <boost/asio/connect.hpp>
@@ -28,11 +42,13 @@ namespace http = beast::http;
 namespace websocket = beast::websocket;
 using tcp = asio::ip::tcp;
 using Json = nlohmann::json;
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
 
 // A small scene served on a free loopback port by a server on its own thread.
 class Served {
  public:
-  Served() {
+  explicit Served(std::chrono::milliseconds write_timeout = 10s) {
     file_ = std::filesystem::temp_directory_path() /
             ("imx_http_server_test_" + std::to_string(::getpid()) + ".json");
     std::ofstream(file_)
@@ -46,7 +62,8 @@ class Served {
     options.port = 0;
     options.web_dir = IMX_WEB_DIR;
     options.token = "0123456789abcdef0123456789abcdef";
-    options.max_clients = 2;
+    options.max_clients = 3;
+    options.write_timeout = write_timeout;
     server_ = std::make_unique<HttpServer>(*session_, options);
     thread_ = std::thread([this] { server_->run(); });
   }
@@ -58,6 +75,25 @@ class Served {
   }
   uint16_t port() const { return server_->port(); }
   static std::string token() { return "0123456789abcdef0123456789abcdef"; }
+  ViewerSession& session() { return *session_; }
+  HttpServer::Load load() const { return server_->load(); }
+  // CPU seconds the server's network thread has used.
+  double cpu_seconds() {
+    clockid_t clock;
+    timespec t{};
+    if (pthread_getcpuclockid(thread_.native_handle(), &clock) != 0 ||
+        clock_gettime(clock, &t) != 0)
+      ADD_FAILURE() << "no CPU clock for the server thread";
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+  }
+  // Waits (at most `timeout`) until `pred(load())`.
+  bool wait_load(const std::function<bool(const HttpServer::Load&)>& pred,
+                 std::chrono::milliseconds timeout = 5s) {
+    for (const auto end = Clock::now() + timeout; Clock::now() < end;
+         std::this_thread::sleep_for(10ms))
+      if (pred(load())) return true;
+    return pred(load());
+  }
 
  private:
   std::filesystem::path file_;
@@ -154,6 +190,219 @@ TEST(HttpServer, WebSocketNeedsTheTokenAndAnswersBadMessages) {
     ws.read(buffer, ec);
   }
   EXPECT_TRUE(ec);
+}
+
+// A session client that takes everything: it drives edits as a second browser would.
+struct NullSink : ClientSink {
+  void send_text(std::string) override {}
+  void send_frame(std::string, std::string, bool) override {}
+};
+
+std::string move_message(int i) {
+  return Json{{"type", "camera"},
+              {"seq", i},
+              {"moving", true},
+              {"eye", {i % 100, -300.0, 10.0}},
+              {"target", {0.0, 0.0, 0.0}}}
+      .dump();
+}
+
+// A WebSocket client that reads nothing after its handshake, through a small receive buffer.
+class Stalled {
+ public:
+  explicit Stalled(uint16_t port) : ws_(io_) {
+    tcp::socket& socket = beast::get_lowest_layer(ws_).socket();
+    socket.open(tcp::v4());
+    socket.set_option(asio::socket_base::receive_buffer_size(4096));
+    socket.connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
+    ws_.handshake("127.0.0.1", "/ws?token=" + Served::token());
+  }
+  void send(const std::string& text) { ws_.write(asio::buffer(text)); }
+
+ private:
+  asio::io_context io_;
+  websocket::stream<beast::tcp_stream> ws_;
+};
+
+// Moves the camera (as another browser would, through `mover`) until a client's socket is full:
+// messages stay queued while the movements pause (or the client was dropped for it). False if
+// that never happens.
+bool move_until_stalled(Served& s, const std::shared_ptr<NullSink>& mover, int& sent) {
+  const int clients = s.load().clients;
+  while (sent < 500000) {
+    for (int k = 0; k < 5000; ++k) s.session().on_message(mover, move_message(++sent));
+    std::this_thread::sleep_for(50ms);  // a client that reads takes all in far less
+    const HttpServer::Load l = s.load();
+    if (l.queued_messages > 0 || l.clients < clients) return true;
+  }
+  return false;
+}
+
+// A browser tab that stopped reading while another client moves the camera 20,000 times: its
+// queue keeps the newest state and frame only (it used to keep every state: +495 MB).
+TEST(HttpServer, AClientThatDoesNotReadHoldsABoundedQueue) {
+  Served s;
+  Stalled stalled(s.port());
+  ASSERT_TRUE(s.wait_load([](const HttpServer::Load& l) { return l.clients == 1; }));
+  auto mover = std::make_shared<NullSink>();
+  s.session().add_client(mover);
+  int sent = 0;
+  ASSERT_TRUE(move_until_stalled(s, mover, sent)) << "the client's socket never filled";
+  HttpServer::Load most;
+  for (int i = 1; i <= 20000; ++i) {
+    s.session().on_message(mover, move_message(++sent));
+    if (i % 500 == 0) {
+      const HttpServer::Load l = s.load();
+      most.queued_messages = std::max(most.queued_messages, l.queued_messages);
+      most.queued_bytes = std::max(most.queued_bytes, l.queued_bytes);
+    }
+  }
+  std::this_thread::sleep_for(200ms);  // the network thread takes what is posted to it
+  const HttpServer::Load now = s.load();
+  // The message being written, one state and one frame.
+  EXPECT_GE(now.queued_messages, 1u);
+  EXPECT_LE(std::max(most.queued_messages, now.queued_messages), 3u);
+  EXPECT_LT(std::max(most.queued_bytes, now.queued_bytes), 64u * 1024);
+  EXPECT_EQ(now.clients, 1);  // within write_timeout: still a client
+}
+
+// A client whose socket takes no message within write_timeout is dropped; one that reads stays.
+TEST(HttpServer, AStalledClientIsDropped) {
+  Served s(500ms);
+  Stalled stalled(s.port());
+  asio::io_context io;
+  websocket::stream<beast::tcp_stream> reader(io);
+  beast::get_lowest_layer(reader).connect(
+      tcp::endpoint(asio::ip::make_address("127.0.0.1"), s.port()));
+  reader.handshake("127.0.0.1", "/ws?token=" + Served::token());
+  std::atomic<bool> reading{true};
+  std::thread drain([&] {
+    beast::flat_buffer buffer;
+    beast::error_code ec;
+    while (reading && !ec) {
+      reader.read(buffer, ec);
+      buffer.consume(buffer.size());
+    }
+  });
+  ASSERT_TRUE(s.wait_load([](const HttpServer::Load& l) { return l.clients == 2; }));
+  auto mover = std::make_shared<NullSink>();
+  s.session().add_client(mover);
+  int sent = 0;
+  ASSERT_TRUE(move_until_stalled(s, mover, sent));
+  EXPECT_TRUE(s.wait_load([](const HttpServer::Load& l) { return l.clients == 1; }, 3s))
+      << s.load().clients << " clients";
+  std::this_thread::sleep_for(600ms);
+  EXPECT_EQ(s.load().clients, 1);  // the reader
+  reading = false;
+  s.session().on_message(mover, move_message(++sent));  // wakes the reader
+  drain.join();
+}
+
+// Replies are never replaced, so a client that sends but does not read its replies is dropped
+// once kMaxQueuedReplies of them wait, long before write_timeout.
+TEST(HttpServer, AClientThatDoesNotReadItsRepliesIsDropped) {
+  Served s;
+  Stalled stalled(s.port());
+  ASSERT_TRUE(s.wait_load([](const HttpServer::Load& l) { return l.clients == 1; }));
+  auto mover = std::make_shared<NullSink>();
+  s.session().add_client(mover);
+  int sent = 0;
+  ASSERT_TRUE(move_until_stalled(s, mover, sent));
+  for (size_t i = 0; i < kMaxQueuedReplies - 1; ++i) stalled.send("not json");
+  std::this_thread::sleep_for(200ms);
+  EXPECT_EQ(s.load().clients, 1);
+  EXPECT_GE(s.load().queued_messages, kMaxQueuedReplies - 1);
+  for (int i = 0; i < 2; ++i) stalled.send("not json");
+  EXPECT_TRUE(s.wait_load([](const HttpServer::Load& l) { return l.clients == 0; }, 2s));
+  EXPECT_EQ(s.load().queued_messages, 0u);
+}
+
+// An idle connection, or one that sends its request slowly, is closed after kRequestTimeout
+// (it used to be held 30 s, each holding a file descriptor).
+TEST(HttpServer, ConnectionsWithoutACompleteRequestAreClosed) {
+  Served s;
+  auto connect = [&] {
+    const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(s.port());
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    EXPECT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+    const timeval wait{5, 0};
+    ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &wait, sizeof wait);
+    return fd;
+  };
+  const auto t0 = Clock::now();
+  const int idle = connect(), slow = connect();
+  const std::string part = "GET /?token=" + Served::token();  // never ends its request
+  ASSERT_EQ(::send(slow, part.data(), part.size(), MSG_NOSIGNAL),
+            static_cast<ssize_t>(part.size()));
+  for (const int fd : {idle, slow}) {
+    char byte;
+    const ssize_t got = ::recv(fd, &byte, 1, 0);
+    const int error = errno;
+    EXPECT_LE(got, 0) << "the connection was not closed";
+    if (got < 0) {
+      EXPECT_NE(error, EAGAIN) << "still open after 5 s";
+    }
+  }
+  const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  EXPECT_GT(seconds, 0.8 * std::chrono::duration<double>(kRequestTimeout).count());
+  EXPECT_LT(seconds, std::chrono::duration<double>(kRequestTimeout).count() + 1.0);
+  ::close(idle);
+  ::close(slow);
+}
+
+// The soft RLIMIT_NOFILE for one scope.
+class FileLimit {
+ public:
+  explicit FileLimit(rlim_t soft) {
+    ::getrlimit(RLIMIT_NOFILE, &saved_);
+    rlimit lowered = saved_;
+    lowered.rlim_cur = soft;
+    EXPECT_EQ(::setrlimit(RLIMIT_NOFILE, &lowered), 0);
+  }
+  ~FileLimit() { ::setrlimit(RLIMIT_NOFILE, &saved_); }
+
+ private:
+  rlimit saved_{};
+};
+
+// Idle connections that take every file descriptor: the accept loop used to retry EMFILE at
+// once (a CPU at 100 %) and serve nobody. Now it pauses, sheds the backlog through a reserve
+// descriptor, and serves the next client as soon as descriptors are free.
+TEST(HttpServer, OutOfFileDescriptorsTheServerNeitherSpinsNorStops) {
+  Served s;
+  ASSERT_EQ(get(s.port(), "/?token=" + Served::token()).result(), http::status::ok);
+  // The flood's sockets exist before the limit: only the server's accepts run out.
+  std::vector<int> flood(40);
+  for (int& fd : flood) fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  const int lowest_free = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
+  ASSERT_GE(lowest_free, 0);
+  ::close(lowest_free);
+  {
+    FileLimit limit(static_cast<rlim_t>(lowest_free) + 8);  // the server may accept 8 at most
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(s.port());
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    for (const int fd : flood)
+      ASSERT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+    std::this_thread::sleep_for(200ms);
+    const int probe = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
+    const int error = errno;
+    EXPECT_EQ(probe, -1) << "descriptors left: the server did not run out";
+    EXPECT_EQ(error, EMFILE);
+    if (probe >= 0) ::close(probe);
+    // Within kRequestTimeout: the server still holds its idle connections and has none left.
+    const double cpu0 = s.cpu_seconds();
+    std::this_thread::sleep_for(1s);
+    EXPECT_LT(s.cpu_seconds() - cpu0, 0.1) << "the accept loop spins";
+    for (const int fd : flood) ::close(fd);
+    const auto t0 = Clock::now();
+    EXPECT_EQ(get(s.port(), "/?token=" + Served::token()).result(), http::status::ok);
+    EXPECT_LT(Clock::now() - t0, 1s);
+  }
 }
 
 }  // namespace

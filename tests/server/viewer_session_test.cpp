@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <filesystem>
@@ -62,6 +63,12 @@ class Recorder : public ClientSink {
     });
     if (!ok) ADD_FAILURE() << "no such message within 60 s";
     return found;
+  }
+  size_t count(const std::string& type) {
+    std::lock_guard lock(mutex_);
+    return static_cast<size_t>(
+        std::count_if(messages_.begin(), messages_.end(),
+                      [&](const Message& m) { return m.json["type"] == type; }));
   }
   Message wait_type(const std::string& type) {
     return wait_for([&](const Json& j) { return j["type"] == type; });
@@ -235,12 +242,20 @@ TEST(ViewerSession, BadMessagesGetOneErrorAndChangeNothing) {
       {R"({"type": "settings", "spp": 3})", "perfect square"},
       {R"({"type": "stats", "latency_ms": "fast"})", "latency_ms"},
       {std::string(kMaxMessageBytes + 1, ' '), "bytes"},
+      // Numbers beyond a double: nlohmann refuses them while parsing, and the error names where.
+      {R"({"type": "edit", "object": "pet", "opacity": 1e400})",
+       "message: opacity: 1e400 is beyond the range of a number"},
+      {R"({"type": "camera", "eye": [1, -1e999, 3]})", "message: eye[1]: -1e999 is beyond"},
+      {R"({"type": "edit", "object": "pet", "transfer_function": [[0, 0, 0, 0, 0], [1, 2e400]]})",
+       "message: transfer_function[1][1]: 2e400 is beyond"},
+      {"1e400", "message: 1e400 is beyond"},
   };
   for (const auto& [text, part] : cases) {
     session.on_message(client, text);
-    const Json error = client->wait_type("error").json;
-    EXPECT_NE(error["message"].get<std::string>().find(part), std::string::npos)
-        << text.substr(0, 80) << " -> " << error["message"];
+    const std::string error = client->wait_type("error").json["message"];
+    EXPECT_NE(error.find(part), std::string::npos) << text.substr(0, 80) << " -> " << error;
+    EXPECT_EQ(error.find("json.exception"), std::string::npos) << error;  // intermix's own words
+    EXPECT_EQ(error.find('\n'), std::string::npos) << error;
   }
   EXPECT_EQ(session.method(), "zslab");
   EXPECT_EQ(session.spp(), 1);
@@ -287,6 +302,22 @@ TEST(ViewerSession, SaveWritesASceneThatRendersTheConvergedFrame) {
   session.on_message(client, R"({"type": "screenshot"})");
   const auto shot = client->wait_type("screenshot");
   EXPECT_GE(psnr(read_png(want), decode(shot.image, dir)), 60.0);
+}
+
+// Screenshots are replies a client cannot lose, so a client asking again and again before one
+// is taken is answered once, not once per request (its queue of replies is bounded).
+TEST(ViewerSession, RepeatedScreenshotRequestsAreAnsweredOnce) {
+  TempDir dir;
+  ViewerSession session(load_viewer_state(small_fusion(dir)), quiet_options(1));
+  auto client = std::make_shared<Recorder>();
+  session.add_client(client);
+  client->wait_final();
+  constexpr int kRequests = 50;
+  for (int i = 0; i < kRequests; ++i) session.on_message(client, R"({"type": "screenshot"})");
+  client->wait_type("screenshot");
+  ASSERT_TRUE(session.wait_idle(std::chrono::seconds(60)));
+  // The render thread takes the requests made while it encoded the first as one.
+  EXPECT_LT(client->count("screenshot") + 1, static_cast<size_t>(kRequests / 2));
 }
 
 // A method that refuses the scene (zslab on a CSG scene) is reported, and the session goes back
