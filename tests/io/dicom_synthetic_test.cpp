@@ -422,9 +422,15 @@ TEST(DicomErrors, TruncatedSlice) {
   std::string bytes = test::read_bytes(dir / "s1.dcm");
   test::write_bytes(dir / "s1.dcm", bytes.substr(0, bytes.size() - 3000));
   expect_error([&] { read_dicom(dir.path()); }, {"s1.dcm"});
-  // Cut inside the header, too: the file is skipped as not DICOM, and the gap is reported.
+  // Cut inside the header, too: refused as unreadable.
   test::write_bytes(dir / "s1.dcm", bytes.substr(0, 200));
-  expect_error([&] { read_dicom(dir.path()); }, {"s1.dcm"});
+  expect_error([&] { read_dicom(dir.path()); }, {"s1.dcm", "cannot be read"});
+  // Cut before its preamble, it cannot be known as DICOM: the gap it leaves names it.
+  TempDir five;
+  write_series(five, {0, 1, 2, 3, 4}, s);
+  test::write_bytes(five / "s2.dcm", bytes.substr(0, 100));
+  expect_error([&] { read_dicom(five.path()); },
+               {"missing slice", "1 file in the folder is not a DICOM image", "s2.dcm"});
 }
 
 TEST(DicomErrors, UnsupportedPhotometricInterpretation) {

@@ -30,17 +30,19 @@ struct SeriesLayout {
   DicomSeriesGroup group;
   DicomVolumes volumes;
   std::string note, what;
+  std::vector<std::string> not_images;  // files beside the series that are not DICOM images
 };
 
 SeriesLayout layout_of(const std::filesystem::path& source, const std::string& series) {
-  std::vector<std::string> broken;
-  std::vector<DicomSeriesGroup> groups = scan_dicom_series(source, &broken);
+  std::vector<std::string> broken, not_images;
+  std::vector<DicomSeriesGroup> groups = scan_dicom_series(source, &broken, &not_images);
   // A slice that cannot be read would leave a hole in whichever series it belongs to.
   if (!broken.empty())
     throw Error(broken.size() == 1 ? broken.front()
                                    : fmt::format("{} (and {} more such files)", broken.front(),
                                                  broken.size() - 1));
   SeriesLayout l;
+  l.not_images = std::move(not_images);
   l.group = choose_series(groups, series, source, l.note);
   l.what = fmt::format("{} (series {})", source.string(), l.group.info.id);
   // The same image twice (a folder copied into itself) would pass for a second volume.
@@ -83,7 +85,22 @@ AcquiredSeries acquired_layout(const SeriesLayout& l, int frame) {
         "no SpacingBetweenSlices (0018,0088) or SliceThickness (0018,0050): the single slice is "
         "placed 1 mm thick");
   }
-  out.stack = order_slices(images, first.rows, first.columns, thickness, l.what);
+  try {
+    out.stack = order_slices(images, first.rows, first.columns, thickness, l.what);
+  } catch (const Error& e) {
+    // A slice cut too short to be known as DICOM leaves a gap: name what was passed over.
+    if (l.not_images.empty()) throw;
+    std::string names;
+    for (size_t i = 0; i < std::min<size_t>(3, l.not_images.size()); ++i)
+      names += (i > 0 ? ", " : "") + l.not_images[i];
+    const bool one = l.not_images.size() == 1;
+    throw Error(
+        fmt::format("{} ({} passed over: {}{})", e.what(),
+                    one ? std::string("1 file in the folder is not a DICOM image and was")
+                        : fmt::format("{} files in the folder are not DICOM images and were",
+                                      l.not_images.size()),
+                    names, l.not_images.size() > 3 ? ", ..." : ""));
+  }
   if (first.mosaic_tiles > 0)
     out.notes.push_back(fmt::format("Siemens mosaic: {} tiles of {}x{} per file",
                                     first.mosaic_tiles, first.columns, first.rows));

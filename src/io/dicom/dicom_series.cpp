@@ -91,7 +91,8 @@ std::string describe_series(const DicomSeriesInfo& s) {
 }
 
 std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& source,
-                                                std::vector<std::string>* broken) {
+                                                std::vector<std::string>* broken,
+                                                std::vector<std::string>* not_images) {
   namespace fs = std::filesystem;
   const std::string what = source.string();
   std::error_code ec;
@@ -134,6 +135,8 @@ std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& sou
         const fs::path readable = is_gzip_file(f) ? inflated->add(f) : f;
         if (std::optional<DicomFileHeader> h = read_dicom_header(readable))
           headers.push_back(std::move(*h));
+        else if (not_images != nullptr)
+          not_images->push_back(f.string());
       } catch (const Error& e) {
         unreadable.push_back(inflated->original_names(e.what()));
       }

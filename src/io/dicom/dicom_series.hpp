@@ -25,10 +25,12 @@ struct DicomSeriesGroup {
 std::string original_names(const DicomSeriesGroup& group, std::string message);
 
 // Every image series under `source`, sorted as list_dicom_series says. Files that start like
-// DICOM but cannot be read are skipped, their messages added to `broken` when given. Throws
+// DICOM but cannot be read are skipped, their messages added to `broken` when given; files of a
+// folder that are not DICOM images (or too short to tell) are added to `not_images`. Throws
 // imx::Error naming `source` when it holds no DICOM image.
 std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& source,
-                                                std::vector<std::string>* broken = nullptr);
+                                                std::vector<std::string>* broken = nullptr,
+                                                std::vector<std::string>* not_images = nullptr);
 
 // One line about a series: "201 'STD BRAIN 5MM' CT 512x512, 28 slices".
 std::string describe_series(const DicomSeriesInfo& s);
