@@ -23,6 +23,14 @@ class FileError : public Error {
   int code_;
 };
 
+// An input that asks for more memory than the budget allows (check_memory), or more than the
+// machine gives: the message names the input and the budget. The Python package raises
+// MemoryError for it.
+class OutOfMemory : public Error {
+ public:
+  explicit OutOfMemory(const std::string& message) : Error(message) {}
+};
+
 // Thrown by render() when RenderOptions::cancel was set: not a failure, the frame is dropped.
 class Cancelled : public Error {
  public:

@@ -11,9 +11,10 @@
 
 Scene (from_file, from_dict, set, add_volume, add_mesh, add_plane, to_dict, render), Volume,
 Mesh, Renderer (stage reuse), read_volume, read_mesh, write_volume, phantom, compare,
-to_uint8, write_png, read_png, available_methods. Errors: ValueError (a scene or value at
-fault), OSError (a file that cannot be read or written), RuntimeError (a render that failed),
-each with the library's one-line message. docs/python.md has the details.
+to_uint8, write_png, read_png, available_methods, set_max_memory. Errors: ValueError (a scene
+or value at fault), OSError (a file that cannot be read or written), MemoryError (an input over
+the memory budget, or more than the machine gives), RuntimeError (a render that failed), each
+with the library's one-line message. docs/python.md has the details.
 """
 
 import numpy as _np
@@ -30,12 +31,14 @@ from ._intermix import (
     default_spp,
     encode_png,
     error_heat_map,
+    max_memory,
     phantom,
     phantom_names,
     read_mesh,
     read_png,
     read_volume,
     read_volume_info,
+    set_max_memory,
     to_uint8,
     write_png,
     write_volume,
@@ -53,12 +56,14 @@ __all__ = [
     "default_spp",
     "encode_png",
     "error_heat_map",
+    "max_memory",
     "phantom",
     "phantom_names",
     "read_mesh",
     "read_png",
     "read_volume",
     "read_volume_info",
+    "set_max_memory",
     "to_uint8",
     "write_png",
     "write_volume",

@@ -1,11 +1,16 @@
 // intermix's exceptions as Python's: imx::FileError -> OSError (FileNotFoundError,
 // IsADirectoryError, PermissionError by its errno), any other imx::Error -> ValueError (a scene,
-// value or file content at fault), RenderFailure -> RuntimeError, imx::Cancelled ->
-// KeyboardInterrupt. The message is the library's one line.
+// value or file content at fault), imx::OutOfMemory and std::bad_alloc -> MemoryError,
+// RenderFailure -> RuntimeError, imx::Cancelled -> KeyboardInterrupt. The message is the
+// library's one line.
 #include <cerrno>
+#include <new>
+
+#include <fmt/format.h>
 
 #include "bindings.hpp"
 #include "intermix/error.hpp"
+#include "intermix/limits.hpp"
 
 namespace imx::python {
 namespace {
@@ -37,7 +42,28 @@ void set_file_error(const FileError& e) {
 
 }  // namespace
 
-void bind_errors(py::module_&) {
+void bind_errors(py::module_& m) {
+  m.def(
+      "set_max_memory",
+      [](const py::object& bytes) {
+        if (!py::isinstance<py::int_>(bytes) || py::isinstance<py::bool_>(bytes))
+          throw py::type_error(
+              fmt::format("set_max_memory: bytes must be an int, got {}",
+                          py::str(py::type::of(bytes).attr("__name__")).cast<std::string>()));
+        const long long value = bytes.cast<long long>();  // OverflowError beyond 2**63
+        if (value < 0)
+          throw py::value_error(fmt::format("set_max_memory: bytes is {}, not 0 or more", value));
+        InputLimits limits = input_limits();
+        limits.max_memory = static_cast<uint64_t>(value);
+        set_input_limits(limits);
+      },
+      py::arg("bytes"),
+      "Sets the memory one input or frame may ask for, in bytes (0: the default, half of physical "
+      "memory), as the CLI's --max-memory. More raises MemoryError naming the input and the "
+      "budget.");
+  m.def(
+      "max_memory", [] { return input_limits().max_memory; },
+      "The memory budget in force, in bytes (see set_max_memory).");
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -45,6 +71,10 @@ void bind_errors(py::module_&) {
       PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
     } catch (const FileError& e) {
       set_file_error(e);
+    } catch (const OutOfMemory& e) {
+      PyErr_SetString(PyExc_MemoryError, e.what());
+    } catch (const std::bad_alloc&) {
+      PyErr_SetString(PyExc_MemoryError, out_of_memory_message("intermix").c_str());
     } catch (const Error& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
     } catch (const RenderFailure& e) {

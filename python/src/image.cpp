@@ -1,5 +1,6 @@
 // Images between numpy and the engine: (H, W, 4) float32 premultiplied linear RGBA; sRGB display
 // bytes, PNG files, and the image metrics (compare).
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <limits>
@@ -77,6 +78,16 @@ Image array_to_image(const py::handle& value, const std::string& what) {
   FloatImage a = FloatImage::ensure(given);
   Image image(static_cast<int>(a.shape(1)), static_cast<int>(a.shape(0)));
   std::memcpy(static_cast<void*>(image.data()), a.data(), image.size() * sizeof(glm::vec4));
+  // A NaN would compare as equal (PSNR inf) or show as black: an image is finite, as every
+  // render is.
+  size_t non_finite = 0;
+  const float* values = &image.data()[0].x;
+  for (size_t i = 0; i < image.size() * 4; ++i) non_finite += !std::isfinite(values[i]);
+  if (non_finite > 0)
+    throw py::value_error(
+        fmt::format("{}: {} of the image's {} values are NaN or infinite; an "
+                    "image must be finite",
+                    what, non_finite, image.size() * 4));
   return image;
 }
 

@@ -3,6 +3,7 @@
 #include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include <fmt/format.h>
 #include <pybind11/stl.h>
@@ -12,6 +13,8 @@
 #include "intermix/dicom.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
+#include "intermix/limits.hpp"
+#include "io/raw_voxels.hpp"
 
 namespace imx::python {
 namespace {
@@ -156,6 +159,19 @@ std::shared_ptr<PyVolume> make_volume(const py::object& given, const py::object&
     throw py::value_error(
         fmt::format("Volume: expected a 3-D array, got {} dimensions with shape {}", a.ndim(),
                     py::str(a.attr("shape")).cast<std::string>()));
+  // Sizes before anything reads or copies the array: a view with zero strides (broadcast_to,
+  // as_strided) claims far more voxels than its memory holds.
+  const std::string shape = py::str(a.attr("shape")).cast<std::string>();
+  double voxels = 1.0;
+  for (int d = 0; d < 3; ++d) {
+    if (a.shape(d) < 1 || a.shape(d) > std::numeric_limits<int>::max())
+      throw py::value_error(fmt::format("Volume: shape {}: each axis needs 1 to {} voxels", shape,
+                                        std::numeric_limits<int>::max()));
+    voxels *= static_cast<double>(a.shape(d));
+  }
+  if (voxels > static_cast<double>(detail::kMaxVoxels))
+    throw py::value_error(fmt::format("Volume: shape {} holds {:.0f} voxels, more than {}", shape,
+                                      voxels, detail::kMaxVoxels));
   const bool c_order = a.flags() & py::array::c_style;
   const bool f_order = a.flags() & py::array::f_style;
   // F order without C order is nibabel's (X, Y, Z): the same memory as its (Z, Y, X) transpose.
@@ -165,6 +181,9 @@ std::shared_ptr<PyVolume> make_volume(const py::object& given, const py::object&
   const bool in_place = !type.empty() && (kji.flags() & py::array::c_style);
   if (!in_place) {
     const char* target = type.empty() ? converted_dtype(kji) : type.c_str();
+    check_memory(static_cast<uint64_t>(voxels) * py::dtype(target).itemsize(),
+                 fmt::format("Volume: a {} copy of the {} array of shape {}", target,
+                             py::str(kji.dtype()).cast<std::string>(), shape));
     kji = np.attr("ascontiguousarray")(kji, py::arg("dtype") = target);
   }
   auto v = std::make_shared<PyVolume>();

@@ -130,3 +130,68 @@ def test_a_volume_is_no_mesh_source():
     m = intermix.Mesh(np.eye(3), [[0, 1, 2]])
     with pytest.raises(ValueError, match="is a mesh the program gave, not a volume"):
         intermix.Scene.from_dict(volume_scene(m))
+
+
+# Issue 32: sizes are checked before any copy, memory errors are MemoryError with the budget,
+# and images with NaN are refused where they would compare equal or show black.
+
+
+def _rss_kib_after(code):
+    """Peak RSS (KiB) of a fresh interpreter that runs `code` (which may raise)."""
+    import subprocess
+    import sys
+
+    script = (
+        "import resource, intermix, numpy as np\n"
+        f"try:\n    {code}\nexcept Exception as e:\n    print(type(e).__name__, e)\n"
+        "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                         env=os.environ, check=True).stdout.splitlines()
+    return out[0], int(out[-1])
+
+
+def test_a_zero_stride_view_is_refused_before_it_is_copied():
+    # One byte viewed as 1 x 1 x 2**31 voxels: refused by its shape, never copied (2 GiB).
+    code = ("intermix.Volume(np.lib.stride_tricks.as_strided(np.zeros(1, np.uint8), "
+            "shape=(1, 1, 2**31), strides=(0, 0, 0)))")
+    message, peak = _rss_kib_after(code)
+    assert message.startswith("ValueError Volume: shape (1, 1, 2147483648)"), message
+    assert "more than 2147483648" in message or "each axis needs 1 to 2147483647" in message
+    assert peak < 512 * 1024, f"peak RSS {peak} KiB"
+
+
+def test_a_view_larger_than_the_budget_is_a_memory_error_naming_it():
+    big = np.broadcast_to(np.float64(1.0), (1024, 1024, 512))  # 2 GiB as float32, 8 bytes here
+    before = intermix.max_memory()
+    intermix.set_max_memory(1 << 30)
+    try:
+        with pytest.raises(MemoryError) as e:
+            intermix.Volume(big)
+    finally:
+        intermix.set_max_memory(0)
+    assert intermix.max_memory() == before
+    assert str(e.value).startswith(
+        "Volume: a float32 copy of the float64 array of shape (1024, 1024, 512) needs 2.0 GiB, "
+        "more than the memory budget of 1.0 GiB"), str(e.value)
+    with pytest.raises(ValueError, match="set_max_memory: bytes is -1"):
+        intermix.set_max_memory(-1)
+    with pytest.raises(TypeError, match="set_max_memory: bytes must be an int, got str"):
+        intermix.set_max_memory("1G")
+
+
+def test_images_with_nan_are_refused_by_name():
+    nan = np.zeros((4, 4, 4), np.float32)
+    nan[1, 2, 0] = np.nan
+    nan[0, 0, 3] = np.inf
+    zeros = np.zeros((4, 4, 4), np.float32)
+    with pytest.raises(ValueError, match=r"compare: a: 2 of the image's 64 values are NaN or infinite"):
+        intermix.compare(nan, zeros)
+    with pytest.raises(ValueError, match=r"to_uint8: 2 of the image's 64 values"):
+        intermix.to_uint8(nan)
+    with pytest.raises(ValueError, match=r"write_png: 2 of the image's 64 values"):
+        intermix.write_png(nan, "never.png")
+    assert not os.path.exists("never.png")
+    all_nan = np.full((4, 4, 4), np.nan, np.float32)
+    with pytest.raises(ValueError, match=r"compare: a: 64 of the image's 64 values"):
+        intermix.compare(all_nan, zeros)

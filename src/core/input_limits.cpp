@@ -44,7 +44,7 @@ std::string format_bytes(uint64_t bytes) {
 void check_memory(uint64_t bytes, const std::string& what) {
   const uint64_t budget = input_limits().max_memory;
   if (bytes > budget)
-    throw Error(
+    throw OutOfMemory(
         fmt::format("{} needs {}, more than the memory budget of {} (raise it with "
                     "--max-memory)",
                     what, format_bytes(bytes), format_bytes(budget)));
