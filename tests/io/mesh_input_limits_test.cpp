@@ -20,6 +20,7 @@
 #include "intermix/limits.hpp"
 #include "io/gifti_reader.hpp"
 #include "io/mesh_primitives.hpp"
+#include "peak_growth.hpp"
 #include "temp_dir.hpp"
 
 namespace imx {
@@ -29,31 +30,7 @@ using test::expect_error;
 using test::TempDir;
 using test::write_bytes;
 
-// A field of /proc/self/status in KiB ("VmRSS", "VmHWM").
-int64_t status_kib(const std::string& field) {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line))
-    if (line.rfind(field + ":", 0) == 0) return std::stoll(line.substr(field.size() + 1));
-  ADD_FAILURE() << "no " << field << " in /proc/self/status";
-  return 0;
-}
-
-// The growth of the peak resident memory since construction (the high-water mark is reset to
-// the resident memory then, Linux 4.0+; else it counts from the old mark, which can hide some).
-class PeakGrowth {
- public:
-  PeakGrowth() {
-    std::ofstream reset("/proc/self/clear_refs");
-    reset << "5";
-    reset.flush();
-    start_kib_ = status_kib(reset ? "VmRSS" : "VmHWM");
-  }
-  int64_t mib() const { return (status_kib("VmHWM") - start_kib_) / 1024; }
-
- private:
-  int64_t start_kib_ = 0;
-};
+using test::PeakGrowth;
 
 // Restores the default limits when a test ends, whatever it set.
 struct LimitsGuard {

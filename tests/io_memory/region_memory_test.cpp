@@ -18,6 +18,7 @@
 #include <nifti/nifti1.h>
 #include <zlib.h>
 
+#include "../io/peak_growth.hpp"
 #include "../io/temp_dir.hpp"
 #include "intermix/io.hpp"
 
@@ -31,32 +32,7 @@ constexpr int64_t kWholeKiB = int64_t{kSize} * kSize * kSize * 2 / 1024;
 // A 256x256x16 box is 2 MiB; the readers' buffers add at most about 1 MiB.
 constexpr int64_t kBoundKiB = 8 * 1024;
 
-// A field of /proc/self/status in KiB ("VmRSS", "VmHWM").
-int64_t status_kib(const std::string& field) {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line))
-    if (line.rfind(field + ":", 0) == 0) return std::stoll(line.substr(field.size() + 1));
-  ADD_FAILURE() << "no " << field << " in /proc/self/status";
-  return 0;
-}
-
-// The growth of the peak resident memory from its construction: the high-water mark is reset to
-// the resident memory then (Linux 4.0+), else the growth is counted from the old mark, which can
-// hide up to the memory touched and freed before.
-class PeakGrowth {
- public:
-  PeakGrowth() {
-    std::ofstream reset("/proc/self/clear_refs");
-    reset << "5";
-    reset.flush();
-    start_kib_ = status_kib(reset ? "VmRSS" : "VmHWM");
-  }
-  int64_t kib() const { return status_kib("VmHWM") - start_kib_; }
-
- private:
-  int64_t start_kib_ = 0;
-};
+using test::PeakGrowth;
 
 uint16_t value(int i, int j, int k) {
   return static_cast<uint16_t>(i * 3 + j * 257 + k * 11);
