@@ -372,6 +372,10 @@ class FileLimit {
 // once (a CPU at 100 %) and serve nobody. Now it pauses, sheds the backlog through a reserve
 // descriptor, and serves the next client as soon as descriptors are free.
 TEST(HttpServer, OutOfFileDescriptorsTheServerNeitherSpinsNorStops) {
+#ifdef IMX_SANITIZED
+  GTEST_SKIP() << "the sanitizers check memory through a pipe, which fails with no descriptor "
+                  "left: every vptr check of the render thread then reports a false error";
+#endif
   Served s;
   ASSERT_EQ(get(s.port(), "/?token=" + Served::token()).result(), http::status::ok);
   // The flood's sockets exist before the limit: only the server's accepts run out.
