@@ -126,11 +126,12 @@ void PyScene::rebuild(nlohmann::json document, GivenSources sources) {
 
 void PyScene::set(const std::string& path, const py::handle& value) {
   if (path.find('=') != std::string::npos)
-    throw py::value_error(fmt::format("{}: --set {}: a key path has no '='", origin_, path));
+    throw py::value_error(fmt::format("{}: scene.set('{}'): a key path has no '='", origin_, path));
   GivenSources sources = sources_;
   const nlohmann::json json_value = to_document(value, sources, origin_, path);
   nlohmann::json document = document_;
-  detail::apply_override(document, path + "=" + json_value.dump(), origin_);
+  detail::apply_override(document, path + "=" + json_value.dump(), origin_,
+                         fmt::format("scene.set('{}')", path));
   rebuild(std::move(document), std::move(sources));
 }
 

@@ -62,8 +62,12 @@ def test_invalid_json_text_and_set_paths(examples):
     with pytest.raises(ValueError, match="scene text: invalid JSON"):
         intermix.Scene.from_json("{")
     scene = intermix.Scene.from_file(os.path.join(examples, "fusion.json"))
-    with pytest.raises(ValueError, match=r"--set objects\.pett\.x=1: objects has no element named 'pett' \(did you mean 'pet'\?\)"):
+    # Python's words, not the CLI's: the message names scene.set, never --set.
+    with pytest.raises(ValueError, match=r"scene\.set\('objects\.pett\.x'\): objects has no element named 'pett' \(did you mean 'pet'\?\)") as e:
         scene.set("objects.pett.x", 1)
+    assert "--set" not in str(e.value)
+    with pytest.raises(ValueError, match=r"scene\.set\('a=b'\): a key path has no '='"):
+        scene.set("a=b", 1)
 
 
 def test_file_content_that_is_wrong(tmp_path):

@@ -62,10 +62,11 @@ std::string trim(const std::string& s) {
 
 }  // namespace
 
-void apply_override(nlohmann::json& root, const std::string& assignment,
-                    const std::string& origin) {
+void apply_override(nlohmann::json& root, const std::string& assignment, const std::string& origin,
+                    const std::string& edit) {
   auto fail = [&](const std::string& message) {
-    throw Error(fmt::format("{}: --set {}: {}", origin, assignment, message));
+    throw Error(
+        fmt::format("{}: {}: {}", origin, edit.empty() ? "--set " + assignment : edit, message));
   };
   size_t eq = assignment.find('=');
   if (eq == std::string::npos) fail("expected key=value");
