@@ -22,9 +22,6 @@ namespace {
 constexpr int kMaxFrames = 1 << 16;           // far more than any scanner writes into one file
 constexpr uintmax_t kMaxMetaBytes = 1 << 16;  // the file meta group is a few hundred bytes
 
-bool finite(double) {
-  return true;  // used_numbers has checked that already
-}
 bool positive(double v) {
   return v > 0.0;
 }
@@ -35,7 +32,7 @@ bool non_zero(double v) {
 // A tag of three numbers (ImagePositionPatient); nullopt when absent.
 std::optional<glm::dvec3> vec3_of(const gdcm::DataSet& ds, uint16_t g, uint16_t e,
                                   const std::string& file, const char* name) {
-  auto v = used_numbers(ds, g, e, file, name, "three finite numbers expected", finite);
+  auto v = used_numbers(ds, g, e, file, name, "three finite numbers expected");
   if (!v) return std::nullopt;
   if (v->size() < 3)
     throw Error(
@@ -47,7 +44,7 @@ std::optional<glm::dvec3> vec3_of(const gdcm::DataSet& ds, uint16_t g, uint16_t 
 // as scanners round them), else the tag is refused as unusable.
 void read_orientation(const gdcm::DataSet& ds, DicomFrame& f, const std::string& file) {
   const char* why = "two direction vectors of six finite numbers, each of length about 1";
-  auto v = used_numbers(ds, 0x0020, 0x0037, file, "ImageOrientationPatient", why, finite);
+  auto v = used_numbers(ds, 0x0020, 0x0037, file, "ImageOrientationPatient", why);
   if (!v) return;
   glm::dvec3 r, c;
   double lr = 0.0, lc = 0.0;
@@ -78,8 +75,8 @@ void read_rescale(const gdcm::DataSet& ds, DicomFrame& f, const std::string& fil
   if (auto s = used_numbers(ds, 0x0028, 0x1053, file, "RescaleSlope",
                             "a finite non-zero number expected", non_zero))
     f.slope = s->front();
-  if (auto i = used_numbers(ds, 0x0028, 0x1052, file, "RescaleIntercept",
-                            "a finite number expected", finite))
+  if (auto i =
+          used_numbers(ds, 0x0028, 0x1052, file, "RescaleIntercept", "a finite number expected"))
     f.intercept = i->front();
 }
 
@@ -510,7 +507,7 @@ std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& fi
   const auto whole = [](double v) { return v >= 1.0 && v <= kMaxFrames && v == std::floor(v); };
   double frames = 1.0;
   if (auto n = used_numbers(ds, 0x0028, 0x0008, what, "NumberOfFrames",
-                            "a whole number of frames from 1 to 65536 expected", finite)) {
+                            "a whole number of frames from 1 to 65536 expected")) {
     frames = n->front();
     if (n->size() != 1 || !whole(frames))
       throw Error(unusable_message(what, "NumberOfFrames", 0x0028, 0x0008,
