@@ -241,7 +241,7 @@ bool move_until_stalled(Served& s, const std::shared_ptr<NullSink>& mover, int& 
 // A browser tab that stopped reading while another client moves the camera 20,000 times: its
 // queue keeps the newest state and frame only (it used to keep every state: +495 MB).
 TEST(HttpServer, AClientThatDoesNotReadHoldsABoundedQueue) {
-  Served s;
+  Served s(10min);  // the 20,000 moves take 20 s in a sanitizer build: outlast them
   Stalled stalled(s.port());
   ASSERT_TRUE(s.wait_load([](const HttpServer::Load& l) { return l.clients == 1; }));
   auto mover = std::make_shared<NullSink>();
