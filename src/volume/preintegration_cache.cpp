@@ -2,23 +2,14 @@
 
 #include <algorithm>
 
+#include "core/fnv1a.hpp"
+
 namespace imx {
-namespace {
-
-uint64_t fnv1a(uint64_t h, const void* data, size_t bytes) {
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 0x100000001b3ULL;
-  return h;
-}
-
-}  // namespace
 
 uint64_t tf_fingerprint(const TfLut& lut) {
-  uint64_t h = 0xcbf29ce484222325ULL;
   const std::vector<glm::vec4>& e = lut.entries();
-  h = fnv1a(h, e.data(), e.size() * sizeof(glm::vec4));
-  float scalars[3] = {lut.lo(), lut.hi(), lut.unit_distance()};
-  return fnv1a(h, scalars, sizeof scalars);
+  const float scalars[3] = {lut.lo(), lut.hi(), lut.unit_distance()};
+  return Fnv1a().add_bytes(e.data(), e.size() * sizeof(glm::vec4)).add(scalars).value();
 }
 
 std::shared_ptr<const PreintegrationTable> PreintegrationCache::get(const TfLut& lut, float dt,
