@@ -31,7 +31,7 @@ struct CsgTable {
   std::vector<ClipState> states;
 };
 
-// What each stage did, for `intermix csg`; stages past the requested level stay empty.
+// What each stage did, for `intermix-lab csg`; stages past the requested level stay empty.
 struct CsgTableReport {
   std::vector<ClipState> products;       // as normalized, without x ∧ ¬x
   std::vector<ClipState> after_merge;    // duplicates, absorption, X1Y + X0Y = X2Y

@@ -130,7 +130,7 @@ class CsgSource {
   double t_ = 0.0, t_end_ = 0.0;  // a medium's position in its range
 };
 
-// Classifies one sample ray (trace_csg and `intermix csg --intervals`): the CSG volumes' spans from
+// Classifies one sample ray (trace_csg and `intermix-lab csg --intervals`): the CSG volumes' spans from
 // `rv` (not its `marched` flags: a transparent volume still has a region), presence of opacity
 // volumes by one TF lookup at depth t, then classify_csg_ray. `surfaces` needs row.size() entries,
 // `ranges` csg_range_capacity(row.size()).

@@ -14,7 +14,7 @@ std::string scene_file() {
 }
 
 TEST(CliBench, TwoVariantsGiveTwoLabelledJsonRows) {
-  CliResult r = run_cli("bench " + scene_file() + kTiny +
+  CliResult r = run_lab("bench " + scene_file() + kTiny +
                         "--variant \"dark:image.background=[0,0,0],render.ert_threshold=1\" "
                         "--variant \"plain:\" --json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -30,21 +30,21 @@ TEST(CliBench, TwoVariantsGiveTwoLabelledJsonRows) {
 }
 
 TEST(CliBench, TheTablePrintsEveryLabel) {
-  CliResult r = run_cli("bench " + scene_file() + kTiny + "--variant a: --variant b:");
+  CliResult r = run_lab("bench " + scene_file() + kTiny + "--variant a: --variant b:");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("reference/a"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("reference/b"), std::string::npos) << r.output;
 }
 
 TEST(CliBench, BadVariantsAreClearErrors) {
-  CliResult no_label = run_cli("bench " + scene_file() + kTiny + "--variant image.width=8");
+  CliResult no_label = run_lab("bench " + scene_file() + kTiny + "--variant image.width=8");
   EXPECT_NE(no_label.exit_code, 0);
   EXPECT_NE(no_label.output.find("LABEL:key=value"), std::string::npos) << no_label.output;
-  CliResult twice = run_cli("bench " + scene_file() + kTiny + "--variant a: --variant a:");
+  CliResult twice = run_lab("bench " + scene_file() + kTiny + "--variant a: --variant a:");
   EXPECT_NE(twice.exit_code, 0);
   EXPECT_NE(twice.output.find("twice"), std::string::npos) << twice.output;
   CliResult bad_key =
-      run_cli("bench " + scene_file() + kTiny + "--variant \"x:render.no_such_key=1\"");
+      run_lab("bench " + scene_file() + kTiny + "--variant \"x:render.no_such_key=1\"");
   EXPECT_NE(bad_key.exit_code, 0);
   EXPECT_NE(bad_key.output.find("no_such_key"), std::string::npos) << bad_key.output;
 }

@@ -1,4 +1,4 @@
-// Runs the intermix program in tests and captures its exit code and output.
+// Runs the intermix and intermix-lab programs in tests and captures their exit code and output.
 #pragma once
 #include <sys/wait.h>
 
@@ -16,8 +16,9 @@ struct CliResult {
 };
 
 // `shell_prefix` runs before the program in the same shell (e.g. "ulimit -v 250000; ").
-inline CliResult run_cli(const std::string& args, const std::string& shell_prefix = "") {
-  std::string cmd = shell_prefix + std::string(IMX_CLI_PATH) + " --quiet " + args + " 2>&1";
+inline CliResult run_program(const char* program, const std::string& args,
+                             const std::string& shell_prefix) {
+  std::string cmd = shell_prefix + std::string(program) + " --quiet " + args + " 2>&1";
   CliResult r;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return r;
@@ -27,6 +28,14 @@ inline CliResult run_cli(const std::string& args, const std::string& shell_prefi
   int status = pclose(pipe);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
   return r;
+}
+
+inline CliResult run_cli(const std::string& args, const std::string& shell_prefix = "") {
+  return run_program(IMX_CLI_PATH, args, shell_prefix);
+}
+
+inline CliResult run_lab(const std::string& args, const std::string& shell_prefix = "") {
+  return run_program(IMX_LAB_PATH, args, shell_prefix);
 }
 
 // A fresh empty folder for one test.

@@ -44,7 +44,7 @@ class CliEval : public ::testing::Test {
   static void SetUpTestSuite() {
     // ctest runs each test in its own process, in parallel: one folder per process.
     dir_ = new fs::path(temp_dir("eval-" + std::to_string(getpid())));
-    result_ = new CliResult(run_cli("eval " + example("two-volumes") + " " + example("csg-smile") +
+    result_ = new CliResult(run_lab("eval " + example("two-volumes") + " " + example("csg-smile") +
                                     " --size 40 --ref-spp 4 --frames 1 --out " +
                                     (*dir_ / "report").string() + " --markdown " +
                                     (*dir_ / "eval.md").string()));
@@ -176,18 +176,18 @@ TEST_F(CliEval, ChromiumLoadsTheReportWithItsTables) {
 TEST(CliEvalErrors, ABadSceneFailsBeforeAnythingIsWritten) {
   auto dir = temp_dir("eval-bad");
   write_text(dir / "bad.json", R"({"objects": [], "camera": {"eye": [0, 0]}})");
-  CliResult r = run_cli("eval " + example("two-volumes") + " " + (dir / "bad.json").string() +
+  CliResult r = run_lab("eval " + example("two-volumes") + " " + (dir / "bad.json").string() +
                         " --size 16 --frames 1 --out " + (dir / "report").string());
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("bad.json"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "report" / "index.html"));
   EXPECT_FALSE(fs::exists(dir / "report" / "eval.json"));
-  CliResult method = run_cli("eval " + example("two-volumes") + " --method nope --out " +
+  CliResult method = run_lab("eval " + example("two-volumes") + " --method nope --out " +
                              (dir / "report").string());
   EXPECT_NE(method.exit_code, 0);
   EXPECT_NE(method.output.find("'nope'"), std::string::npos) << method.output;
   CliResult band =
-      run_cli("eval " + example("two-volumes") + " --band cube --out " + (dir / "report").string());
+      run_lab("eval " + example("two-volumes") + " --band cube --out " + (dir / "report").string());
   EXPECT_NE(band.exit_code, 0);
   EXPECT_NE(band.output.find("--band 'cube'"), std::string::npos) << band.output;
 }

@@ -43,14 +43,18 @@ std::vector<SceneFile> scene_files() {
   return files;
 }
 
-std::string label(const SceneFile& f) { return f.group + "-" + f.path.stem().string(); }
+std::string label(const SceneFile& f) {
+  return f.group + "-" + f.path.stem().string();
+}
 
 fs::path hash_file(const SceneFile& f) {
   return fs::path(IMX_GOLDEN_DIR) / "hashes" / (label(f) + ".txt");
 }
 
 std::string image_hash(const Image& image) {
-  return fmt::format("{:016x}", Fnv1a().add(image.width()).add(image.height())
+  return fmt::format("{:016x}", Fnv1a()
+                                    .add(image.width())
+                                    .add(image.height())
                                     .add_bytes(image.data(), image.size() * sizeof(glm::vec4))
                                     .value());
 }

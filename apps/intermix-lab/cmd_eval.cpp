@@ -17,7 +17,7 @@
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "commands.hpp"
+#include "lab_commands.hpp"
 #include "core/parallel.hpp"
 #include "eval_report.hpp"
 #include "intermix/band_metrics.hpp"
@@ -161,7 +161,7 @@ void write_text_atomically(const fs::path& file, const std::string& text) {
 }
 
 void progress(const std::string& line) {
-  if (!quiet()) std::fprintf(stderr, "intermix: eval %s\n", line.c_str());
+  if (!quiet()) std::fprintf(stderr, "intermix-lab: eval %s\n", line.c_str());
 }
 
 struct Options {

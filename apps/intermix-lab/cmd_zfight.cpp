@@ -4,7 +4,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "commands.hpp"
+#include "lab_commands.hpp"
 #include "core/parallel.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"

@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench_change.hpp"
-#include "commands.hpp"
+#include "lab_commands.hpp"
 #include "core/parallel.hpp"
 #include "core/process_usage.hpp"
 #include "core/progress_bar.hpp"
@@ -254,7 +254,7 @@ Command add_bench(CLI::App& app) {
 
     if (o->vtk) {
       if (!quiet())
-        std::fprintf(stderr, "intermix: bench vtk-%s (sample distance %g mm)\n",
+        std::fprintf(stderr, "intermix-lab: bench vtk-%s (sample distance %g mm)\n",
                      o->vtk_mode.c_str(), run.sample_distance_mm);
       PeerTiming t = run_vtk_peer(run);
       double rays = static_cast<double>(base.image.width) * base.image.height;
@@ -272,7 +272,7 @@ Command add_bench(CLI::App& app) {
                       {"empty_image", t.empty_image}});
       if (t.empty_image && !quiet())
         std::fprintf(stderr,
-                     "intermix: warning: VTK drew an empty image; its time measures no "
+                     "intermix-lab: warning: VTK drew an empty image; its time measures no "
                      "rendering\n");
     }
 

@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "commands.hpp"
+#include "lab_commands.hpp"
 #include "intermix/band_metrics.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"

@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "commands.hpp"
+#include "lab_commands.hpp"
 #include "core/parallel.hpp"
 #include "csg/clip_state.hpp"
 #include "csg/csg_expr.hpp"
