@@ -63,7 +63,7 @@ Command add_serve(CLI::App& app) {
                  "time a frame may take while the user moves (resolution adapts; default 45)")
       ->check(in_range(1, 10000));
   app.add_option("--web", o->web,
-                 "folder of the page (index.html, viewer.js, viewer.css; default: "
+                 "folder of the page (index.html, viewer.css, js/*.js; default: "
                  "PREFIX/share/intermix/web when installed, else the source tree's web/)");
   app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");
   return [o]() {

@@ -86,22 +86,43 @@ std::string_view path_of(std::string_view target) {
   return target.substr(0, target.find('?'));
 }
 
+// A page module's file name: letters, digits, '_' or '-', then ".js".
+bool is_module_name(const std::string& name) {
+  if (name.size() <= 3 || name.compare(name.size() - 3, 3, ".js") != 0) return false;
+  return std::all_of(name.begin(), name.end() - 3, [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+           c == '_' || c == '-';
+  });
+}
+
+// The page, read once: index.html (also at /), viewer.css, and each ES module web/js/NAME.js at
+// /js/NAME.js (text/javascript, as module scripts need). Nothing else of `dir` is served.
 std::map<std::string, PageFile> read_page(const std::filesystem::path& dir) {
-  const std::pair<const char*, const char*> files[] = {
-      {"index.html", "text/html; charset=utf-8"},
-      {"viewer.js", "text/javascript; charset=utf-8"},
-      {"viewer.css", "text/css; charset=utf-8"}};
-  std::map<std::string, PageFile> page;
-  for (const auto& [name, type] : files) {
-    const std::filesystem::path file = dir / name;
+  const auto unreadable = [](const std::filesystem::path& file) {
+    return Error(fmt::format("{}: cannot read the viewer's page (give the web folder with --web)",
+                             file.string()));
+  };
+  const auto read = [&](const std::filesystem::path& file) {
     std::ifstream in(file, std::ios::binary);
-    if (!in)
-      throw Error(fmt::format("{}: cannot read the viewer's page (give the web folder with --web)",
-                              file.string()));
+    if (!in) throw unreadable(file);
     std::ostringstream text;
     text << in.rdbuf();
-    page[std::string("/") + name] = {text.str(), type};
+    return text.str();
+  };
+  std::map<std::string, PageFile> page;
+  page["/index.html"] = {read(dir / "index.html"), "text/html; charset=utf-8"};
+  page["/viewer.css"] = {read(dir / "viewer.css"), "text/css; charset=utf-8"};
+  const std::filesystem::path modules = dir / "js";
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(modules, ec), end; !ec && it != end;
+       it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    std::error_code type_ec;
+    if (is_module_name(name) && it->is_regular_file(type_ec))
+      page["/js/" + name] = {read(it->path()), "text/javascript; charset=utf-8"};
   }
+  if (ec) throw unreadable(modules);
+  if (!page.count("/js/main.js")) throw unreadable(modules / "main.js");
   page["/"] = page["/index.html"];
   return page;
 }

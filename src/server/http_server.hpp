@@ -1,7 +1,7 @@
 // HttpServer: the viewer's HTTP + WebSocket endpoint on Boost.Beast (docs/viewer.md). It serves
-// the page's three files from web/ and one WebSocket per client at /ws, all behind the session
-// token, and passes WebSocket text messages to a ViewerSession. One network thread; rendering
-// runs on the session's own thread.
+// the page from web/ (index.html, viewer.css, the ES modules js/*.js) and one WebSocket per
+// client at /ws, all behind the session token, and passes WebSocket text messages to a
+// ViewerSession. One network thread; rendering runs on the session's own thread.
 #pragma once
 #include <chrono>
 #include <cstdint>
@@ -16,7 +16,7 @@ namespace imx::server {
 struct ServerOptions {
   std::string bind = "127.0.0.1";  // loopback: remote use goes through an SSH tunnel
   uint16_t port = 8080;            // 0: any free port (port() says which)
-  std::filesystem::path web_dir;   // index.html, viewer.js, viewer.css
+  std::filesystem::path web_dir;   // index.html, viewer.css, js/*.js
   std::string token;               // every request must carry ?token=<this>
   int max_clients = 32;            // WebSocket clients at once; more are refused (503)
   // A client whose socket has not taken one whole message (or a page response) within this

@@ -54,7 +54,7 @@ logged install.log cmake --install "$build" --prefix "$prefix"
 for f in include/intermix/renderer.hpp include/intermix/io.hpp \
          lib/cmake/intermix/intermixConfig.cmake lib/cmake/intermix/intermixConfigVersion.cmake \
          lib/cmake/intermix/intermixTargets.cmake lib/pkgconfig/intermix.pc \
-         bin/intermix share/intermix/web/index.html; do
+         bin/intermix share/intermix/web/index.html share/intermix/web/js/main.js; do
   [ -f "$prefix/$f" ] || fail "not installed: $f"
 done
 for m in methods csg fragments scene presets io metrics raster volume core; do

@@ -1,7 +1,8 @@
-// HttpServer: the page and the WebSocket only with the token; only the page's files; bounded
-// requests; a WebSocket client gets hello, frames, and an error for a bad message. A client
-// that stops reading holds a bounded queue and is dropped; idle connections are closed; out of
-// file descriptors the server neither spins nor stops serving.
+// HttpServer: the page and the WebSocket only with the token; only the page's files, and every ES
+// module the page imports (through index.html's import map, with the token); bounded requests;
+// a WebSocket client gets hello, frames, and an error for a bad message. A client that stops
+// reading holds a bounded queue and is dropped; idle connections are closed; out of file
+// descriptors the server neither spins nor stops serving.
 #include "server/http_server.hpp"
 
 #include <fcntl.h>
@@ -19,6 +20,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <regex>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -125,17 +128,87 @@ TEST(HttpServer, ServesThePageOnlyWithTheToken) {
   EXPECT_EQ(page.result(), http::status::ok);
   EXPECT_NE(page.body().find("<canvas id=\"view\""), std::string::npos);
   EXPECT_EQ(page[http::field::content_type], "text/html; charset=utf-8");
-  EXPECT_EQ(get(s.port(), "/viewer.js" + t).result(), http::status::ok);
+  EXPECT_EQ(get(s.port(), "/js/main.js" + t).result(), http::status::ok);
   EXPECT_EQ(get(s.port(), "/viewer.css" + t).result(), http::status::ok);
   EXPECT_EQ(get(s.port(), "/").result(), http::status::forbidden);
-  EXPECT_EQ(get(s.port(), "/viewer.js").result(), http::status::forbidden);
+  EXPECT_EQ(get(s.port(), "/js/main.js").result(), http::status::forbidden);
   EXPECT_EQ(get(s.port(), "/?token=0123456789abcdef0123456789abcdee").result(),
             http::status::forbidden);
   EXPECT_EQ(get(s.port(), "/?token=").result(), http::status::forbidden);
-  // Nothing but the page's three files, whatever the path.
+  // Nothing but the page's files, whatever the path.
   EXPECT_EQ(get(s.port(), "/../CMakeLists.txt" + t).result(), http::status::not_found);
   EXPECT_EQ(get(s.port(), "/etc/passwd" + t).result(), http::status::not_found);
+  EXPECT_EQ(get(s.port(), "/js/../index.html" + t).result(), http::status::not_found);
+  EXPECT_EQ(get(s.port(), "/js/no_such_module.js" + t).result(), http::status::not_found);
+  EXPECT_EQ(get(s.port(), "/js/" + t).result(), http::status::not_found);
+  EXPECT_EQ(get(s.port(), "/viewer.js" + t).result(), http::status::not_found);
   EXPECT_EQ(get(s.port(), "/" + t, 20000).result(), http::status::payload_too_large);
+}
+
+// The module paths of index.html's import map: its list `const modules = ['main', ...]` gives
+// each module ./js/NAME.js (resolved against the page, /js/NAME.js) with the token.
+std::set<std::string> import_map_paths(const std::string& html) {
+  std::smatch list;
+  if (!std::regex_search(html, list, std::regex(R"(const modules = \[([^\]]*)\])"))) return {};
+  std::set<std::string> paths;
+  const std::string names = list[1];
+  const std::regex name(R"('([A-Za-z0-9_-]+)')");
+  for (auto it = std::sregex_iterator(names.begin(), names.end(), name);
+       it != std::sregex_iterator(); ++it)
+    paths.insert("/js/" + (*it)[1].str() + ".js");
+  return paths;
+}
+
+// The specifiers a script imports: import '...', import ... from '...', export ... from '...',
+// import('...').
+std::vector<std::string> imports_of(const std::string& js) {
+  const std::regex spec(
+      R"(\b(?:import|export)\s*(?:[\w*{}\s,$]+\s*from\s*|\(\s*)?['"]([^'"]+)['"])");
+  std::vector<std::string> specs;
+  for (auto it = std::sregex_iterator(js.begin(), js.end(), spec); it != std::sregex_iterator();
+       ++it)
+    specs.push_back((*it)[1].str());
+  return specs;
+}
+
+// Every module the page imports, followed from index.html's inline module through each module's
+// imports, is in the import map (else the browser fetches it without the token, which is
+// refused) and is served with the token (200, JavaScript), not without; and every module of the
+// import map is imported by some module. A module file missing from web/js/ fails here.
+TEST(HttpServer, ServesEveryModuleThePageImports) {
+  Served s;
+  const std::string t = "?token=" + Served::token();
+  const std::string html = get(s.port(), "/" + t).body();
+  const std::set<std::string> mapped = import_map_paths(html);
+  ASSERT_FALSE(mapped.empty()) << "no `const modules = [...]` list in index.html";
+  std::vector<std::pair<std::string, std::string>> todo;  // (path, the file that imports it)
+  const auto add_imports = [&](const std::string& importer, const std::string& text) {
+    const std::string dir = importer.substr(0, importer.rfind('/') + 1);
+    for (const std::string& spec : imports_of(text)) {
+      EXPECT_EQ(spec.rfind("./", 0), 0u)
+          << importer << " imports '" << spec << "': page modules import './NAME.js'";
+      todo.emplace_back(dir + spec.substr(spec.rfind("./", 0) == 0 ? 2 : 0), importer);
+    }
+  };
+  add_imports("/index.html", html);
+  ASSERT_FALSE(todo.empty()) << "index.html imports no module";
+  std::set<std::string> seen;
+  while (!todo.empty()) {
+    const auto [path, importer] = todo.back();
+    todo.pop_back();
+    if (!seen.insert(path).second) continue;
+    EXPECT_TRUE(mapped.count(path))
+        << path << " (imported by " << importer
+        << ") is not in index.html's import map: the browser would fetch it without the token";
+    const auto module = get(s.port(), path + t);
+    EXPECT_EQ(module.result(), http::status::ok) << path << ", imported by " << importer;
+    EXPECT_EQ(module[http::field::content_type], "text/javascript; charset=utf-8") << path;
+    EXPECT_EQ(get(s.port(), path).result(), http::status::forbidden) << path;
+    if (module.result() == http::status::ok) add_imports(path, module.body());
+  }
+  for (const std::string& path : mapped)
+    EXPECT_TRUE(seen.count(path)) << path << " is in the import map but no module imports it";
+  EXPECT_GE(seen.size(), 5u);
 }
 
 TEST(HttpServer, WebSocketNeedsTheTokenAndAnswersBadMessages) {

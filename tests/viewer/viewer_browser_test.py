@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Headless-Chromium test of the viewer (`intermix serve` + web/viewer.js), docs/viewer.md.
+"""Headless-Chromium test of the viewer (`intermix serve` + web/), docs/viewer.md.
 
     tests/viewer/viewer_browser_test.py --intermix build/intermix --scene examples/fusion.json
     tests/viewer/viewer_browser_test.py --intermix build/intermix --scene examples/ct-head.json \\
@@ -258,6 +258,18 @@ JS_DIFF = """((a, b) => {
 })(window.__imxSnaps[%s], window.__imxSnaps[%s])"""
 
 
+# The page's modules (index.html's import map) and whether each was fetched with status 200.
+JS_MODULES = """(() => {
+  const map = document.querySelector('script[type="importmap"]');
+  const listed = map ? Object.values(JSON.parse(map.textContent).imports)
+                           .map((u) => new URL(u, location.href).href) : [];
+  const status = new Map(performance.getEntriesByType('resource')
+                             .map((r) => [r.name, r.responseStatus]));
+  return {listed: listed.length,
+          missing: listed.filter((u) => status.get(u) !== 200).map((u) => new URL(u).pathname)};
+})()"""
+
+
 def snap(b, name):
     return b.evaluate(JS_SNAP % json.dumps(name))
 
@@ -357,9 +369,9 @@ def check_access(checks, base, token):
     host, port = u.hostname, u.port
     ws_base = f'ws://{host}:{port}'
     ok_status, body = http_status(f'{base}/?token={token}')
-    checks.check('b. GET /?token=T serves the page', ok_status == 200 and b'viewer.js' in body,
+    checks.check('b. GET /?token=T serves the page', ok_status == 200 and b'js/main.js' in body,
                  ok_status)
-    for path, needle in (('index.html', b'viewer.js'), ('viewer.js', b'viewerStats'),
+    for path, needle in (('index.html', b'js/main.js'), ('js/main.js', b'viewerStats'),
                          ('viewer.css', b'{')):
         st, body = http_status(f'{base}/{path}?token={token}')
         checks.check(f'b. GET /{path}?token=T', st == 200 and needle in body, st)
@@ -370,7 +382,7 @@ def check_access(checks, base, token):
                       ('GET / with the token plus a character', f'{base}/?token={token}0'),
                       ('GET / with the token minus its last character',
                        f'{base}/?token={token[:-1]}'),
-                      ('GET /viewer.js without token', f'{base}/viewer.js'),
+                      ('GET /js/main.js without token', f'{base}/js/main.js'),
                       ('GET /index.html with an empty token', f'{base}/index.html?token=')):
         status, _ = http_status(url)
         checks.check(f'b. {what} -> 403', status == 403, status)
@@ -456,6 +468,11 @@ def run_test(args, out, checks, cleanup):
                  last.get('height') == TEST_SIZE and last.get('scale') == 1,
                  f"{last.get('format')} {last.get('width')}x{last.get('height')} "
                  f"scale {last.get('scale')}")
+    modules = browser.evaluate(JS_MODULES)
+    checks.check('a. every ES module of the import map was fetched with the token (200)',
+                 modules['listed'] > 0 and not modules['missing'],
+                 f"{modules['listed'] - len(modules['missing'])} of {modules['listed']}",
+                 f"not loaded: {modules['missing']}" if modules['missing'] else '')
     browser.screenshot(os.path.join(out, 'viewer-loaded.png'))
     objects = objects_on_page(browser)
     log(f'      objects on the page: {objects}')

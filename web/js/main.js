@@ -1,0 +1,75 @@
+// The viewer page's entry module (docs/viewer.md), imported by index.html: wires the modules
+// together once the page's elements exist and connects. It also publishes window.viewerStats
+// (stats.js) and window.viewer, the hooks the browser test (tests/viewer/) drives the page with.
+import {connect, setConnection} from './connection.js';
+import {setupInput} from './input.js';
+import {buildPanel, redrawEditors, tfEditor} from './panel.js';
+import {S, takeHello, takeState, token} from './state.js';
+import {bindStatus, finishRecording, startRecording, stats, updateStatus} from './stats.js';
+import {buildSelectors, onSaved, onScreenshot, setupToolbar} from './toolbar.js';
+import {copyCamera} from './vec.js';
+import {drawFrame, initView, layoutCanvas, resetView} from './view.js';
+
+window.viewerStats = stats;
+
+window.viewer = {
+  // the page position of a TF control point, to drag it with real mouse events
+  tfPoint(volume, index) {
+    const ed = tfEditor(volume);
+    return ed && index < ed.obj.tf.length ? ed.clientPos(index) : null;
+  },
+  tfPoints(volume) {
+    const o = S.byName.get(volume);
+    return o && o.tf ? o.tf.map((p) => [...p]) : null;
+  },
+  camera() { return S.camera ? copyCamera(S.camera) : null; },
+  // centre of an element of the page, by CSS selector
+  center(selector) {
+    const el = document.querySelector(selector);
+    if (!el) return null;
+    el.scrollIntoView({block: 'center'});
+    const r = el.getBoundingClientRect();
+    return {x: r.left + r.width / 2, y: r.top + r.height / 2, w: r.width, h: r.height};
+  },
+  startRecording,
+  // PSNR (8-bit RGB) of each recorded frame against the last one, and when it was drawn.
+  finishRecording,
+  now() { return performance.now(); },
+};
+
+function onHello(m) {
+  takeHello(m);
+  resetView();
+  buildSelectors();
+  buildPanel();
+  updateStatus();
+}
+
+function onState(m) {
+  if (!takeState(m)) return;
+  buildSelectors();
+  buildPanel();
+}
+
+function start() {
+  const canvas = document.getElementById('view');
+  initView(canvas);
+  bindStatus(document.getElementById('status'));
+  const connEl = document.getElementById('connection');
+  setupToolbar();
+  setupInput(canvas);
+  // A panel control being dragged is not rebuilt under the pointer by another client's state.
+  document.getElementById('panel').addEventListener('pointerdown', () => { S.panelBusy = true; });
+  window.addEventListener('pointerup', () => { S.panelBusy = false; }, true);
+  window.addEventListener('resize', () => {
+    layoutCanvas();
+    redrawEditors();
+  });
+  layoutCanvas();
+  connect(connEl, {hello: onHello, state: onState, saved: onSaved, frame: drawFrame,
+                   screenshot: onScreenshot});
+  if (!token) setConnection('no token in the address', 'bad');
+}
+
+if (document.readyState === 'loading') document.addEventListener('DOMContentLoaded', start);
+else start();
