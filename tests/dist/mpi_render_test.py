@@ -11,7 +11,9 @@
      voxels plus aprons, and its peak is at most those voxels (5% more for the skipping
      structures) plus the fixed cost measured on a 64^3 volume of the same scene.
 
-Usage: mpi_render_test.py INTERMIX EXAMPLES_DIR [--only N] [--scenes a,b]
+Usage: mpi_render_test.py INTERMIX EXAMPLES_DIR [--only N] [--scenes a,b] [--ranks 1,2,4]
+                          [--size 96]
+--ranks and --size apply to part 1: the rank counts tried and the image side.
 """
 import json
 import os
@@ -21,8 +23,9 @@ import sys
 import tempfile
 import time
 
-SIZE = 96  # image side: small, so the reference renders in seconds
+SIZE = 96  # image side: small, so the reference renders in seconds (part 1 takes --size)
 SCENES = ["fusion", "ct-implant", "two-volumes", "shells-volumes"]
+RANKS = [1, 2, 4]
 
 
 def mpirun(ranks):
@@ -65,8 +68,8 @@ def psnr(intermix, a, b):
     return float("inf") if value == "inf" else float(value)
 
 
-def render(intermix, scene, out, extra=()):
-    check([intermix, "render", scene, "-o", out, "--width", str(SIZE), "--height", str(SIZE),
+def render(intermix, scene, out, extra=(), size=SIZE):
+    check([intermix, "render", scene, "-o", out, "--width", str(size), "--height", str(size),
            *extra])
 
 
@@ -79,17 +82,17 @@ def distributed(intermix, ranks, scene, out, partition, report=None, size=SIZE, 
     return check(cmd)
 
 
-def scenes_match_single_process(intermix, examples, tmp, failures, scenes):
+def scenes_match_single_process(intermix, examples, tmp, failures, scenes, ranks_tried, size):
     for name in scenes:
         scene = os.path.join(examples, name + ".json")
         ref, single = f"{tmp}/{name}-ref.png", f"{tmp}/{name}-zslab.png"
-        render(intermix, scene, ref, ["--method", "reference"])
-        render(intermix, scene, single, ["--method", "zslab"])
+        render(intermix, scene, ref, ["--method", "reference"], size)
+        render(intermix, scene, single, ["--method", "zslab"], size)
         base = psnr(intermix, single, ref)
         for partition in ("objects", "bricks"):
-            for ranks in (1, 2, 4):
+            for ranks in ranks_tried:
                 out = f"{tmp}/{name}-{partition}-{ranks}.png"
-                distributed(intermix, ranks, scene, out, partition)
+                distributed(intermix, ranks, scene, out, partition, size=size)
                 got = psnr(intermix, out, ref)
                 same = psnr(intermix, out, single)
                 line = (f"{name:15s} {partition:7s} R={ranks}: {got:6.2f} dB vs reference "
@@ -185,9 +188,13 @@ def main():
     intermix, examples = sys.argv[1], sys.argv[2]
     only = sys.argv[sys.argv.index("--only") + 1] if "--only" in sys.argv else None
     scenes = sys.argv[sys.argv.index("--scenes") + 1].split(",") if "--scenes" in sys.argv else SCENES
+    ranks = ([int(r) for r in sys.argv[sys.argv.index("--ranks") + 1].split(",")]
+             if "--ranks" in sys.argv else RANKS)
+    size = int(sys.argv[sys.argv.index("--size") + 1]) if "--size" in sys.argv else SIZE
     failures = []
     with tempfile.TemporaryDirectory(prefix="imx-mpi-") as tmp:
-        parts = {"1": lambda: scenes_match_single_process(intermix, examples, tmp, failures, scenes),
+        parts = {"1": lambda: scenes_match_single_process(intermix, examples, tmp, failures, scenes,
+                                                          ranks, size),
                  "2": lambda: split_equals_unsplit(intermix, examples, tmp, failures),
                  "3": lambda: fault_ends_every_rank(intermix, tmp, failures),
                  "4": lambda: memory_per_rank(intermix, tmp, failures)}

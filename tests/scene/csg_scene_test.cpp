@@ -406,8 +406,12 @@ TEST(CsgSceneErrors, AtMost16Volumes) {
 
 // `levels` operators nested through "a".
 std::string nested(int levels) {
-  std::string csg = "\"skin\"";
-  for (int i = 0; i < levels; ++i) csg = R"({"op": "union", "a": )" + csg + R"(, "b": "ball"})";
+  // Built from both ends in linear time: wrapping the string once per level copied ~10 GB for
+  // 20,000 levels, 1.6 s here and 82 s under ASan.
+  std::string csg;
+  for (int i = 0; i < levels; ++i) csg += R"({"op": "union", "a": )";
+  csg += "\"skin\"";
+  for (int i = 0; i < levels; ++i) csg += R"(, "b": "ball"})";
   return csg;
 }
 
