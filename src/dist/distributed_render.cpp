@@ -24,6 +24,7 @@
 #include "intermix/image.hpp"
 #include "intermix/io.hpp"
 #include "io/atomic_file.hpp"
+#include "methods/method_table.hpp"
 #include "methods/zslab.hpp"
 #include "methods/zslab_frame.hpp"
 
@@ -300,7 +301,8 @@ void render_frame(const MpiSession& mpi, const DistributedRequest& request) {
   Scene outline;
   Partition partition;
   agreed(mpi, [&] {
-    if (!request.method.empty() && request.method != "zslab" && request.method != "zslab-hybrid")
+    const MethodInfo* method = find_method(request.method);
+    if (!request.method.empty() && !(method && method->distributable))
       throw Error(
           fmt::format("--distributed composites zSlab arrays: --method is '{}', expected zslab",
                       request.method));

@@ -10,6 +10,7 @@
 #include "methods/dfb.hpp"
 #include "methods/kbuffer.hpp"
 #include "methods/mdvr.hpp"
+#include "methods/method_table.hpp"
 #include "methods/oit.hpp"
 #include "methods/peel.hpp"
 #include "methods/reference.hpp"
@@ -19,22 +20,16 @@ namespace imx {
 
 namespace {
 
-// Every method of this build: its name, its samples per pixel when neither the scene nor the
-// caller sets them, its entry point, and whether it renders a scene's csg block and exclusive
-// mixing. One line per method.
-struct MethodEntry {
-  const char* name;
-  int default_spp;
-  Image (*render)(const Scene&, int spp, const RenderOptions&);
-  bool renders_csg = false;
-};
-
-constexpr MethodEntry kMethods[] = {
+// Every method of this build, one line each: its name, its samples per pixel when neither the
+// scene nor the caller sets them, its entry point, and what other code asks of it
+// (method_table.hpp).
+//  name, default spp, entry, renders CSG, keeps stages, distributable
+constexpr MethodInfo kMethods[] = {
     {"reference", kReferenceDefaultSpp, render_reference, true},
     {"csg", 1, render_csg, true},
     {"mdvr", 1, render_mdvr},
-    {"zslab", 1, render_zslab},
-    {"zslab-hybrid", 1, render_zslab_hybrid},
+    {"zslab", 1, render_zslab, false, KeptStages::zslab, true},
+    {"zslab-hybrid", 1, render_zslab_hybrid, false, KeptStages::zslab_hybrid, true},
     {"peel", 1, render_peel},
     {"dfb", 1, render_dfb},
     {"dfb-sfm", 1, render_dfb_sfm},
@@ -46,16 +41,25 @@ constexpr MethodEntry kMethods[] = {
 
 }  // namespace
 
+std::span<const MethodInfo> method_table() {
+  return kMethods;
+}
+
+const MethodInfo* find_method(std::string_view name) {
+  for (const MethodInfo& m : kMethods)
+    if (name == m.name) return &m;
+  return nullptr;
+}
+
 std::vector<std::string> available_methods() {
   std::vector<std::string> names;
-  for (const MethodEntry& m : kMethods) names.emplace_back(m.name);
+  for (const MethodInfo& m : kMethods) names.emplace_back(m.name);
   return names;
 }
 
 int default_spp(const std::string& method) {
-  for (const MethodEntry& m : kMethods)
-    if (method == m.name) return m.default_spp;
-  return 0;
+  const MethodInfo* m = find_method(method);
+  return m ? m->default_spp : 0;
 }
 
 Image render(const Scene& scene, const RenderOptions& options) {
@@ -65,19 +69,18 @@ Image render(const Scene& scene, const RenderOptions& options) {
   check_memory(uint64_t{2} * static_cast<uint64_t>(scene.image.width) *
                    static_cast<uint64_t>(scene.image.height) * sizeof(glm::vec4),
                fmt::format("a {}x{} image", scene.image.width, scene.image.height));
-  for (const MethodEntry& m : kMethods) {
-    if (method != m.name) continue;
-    if (scene.csg && !m.renders_csg)
+  if (const MethodInfo* m = find_method(method)) {
+    if (scene.csg && !m->renders_csg)
       throw Error(fmt::format(
           "method '{}' does not render CSG (the scene has a csg block); use csg or reference, "
           "or --set csg=null",
           method));
-    if (scene.render.mixing == "exclusive" && !m.renders_csg)
+    if (scene.render.mixing == "exclusive" && !m->renders_csg)
       throw Error(fmt::format(
           "method '{}' mixes volumes inclusively only (render.mixing is exclusive); use csg or "
           "reference, or --set render.mixing=inclusive",
           method));
-    return m.render(scene, spp > 0 ? spp : m.default_spp, cancellable(options));
+    return m->render(scene, spp > 0 ? spp : m->default_spp, cancellable(options));
   }
   throw Error(fmt::format("method '{}' is not available; this build has: {}", method,
                           fmt::join(available_methods(), ", ")));

@@ -2,6 +2,7 @@
 
 #include "intermix/error.hpp"
 #include "methods/cancellable.hpp"
+#include "methods/method_table.hpp"
 #include "methods/zslab.hpp"
 
 namespace imx {
@@ -21,9 +22,9 @@ Image Renderer::render(const Scene& scene, const RenderOptions& options) {
   const std::string method = options.method.empty() ? scene.render.method : options.method;
   impl_->stats = {};
   // imx::render refuses a CSG scene for the methods that do not render it.
-  if (scene.csg || (method != "zslab" && method != "zslab-hybrid"))
-    return imx::render(scene, options);
-  const bool hybrid = method == "zslab-hybrid";
+  const MethodInfo* m = find_method(method);
+  if (scene.csg || !m || m->keeps_stages == KeptStages::none) return imx::render(scene, options);
+  const bool hybrid = m->keeps_stages == KeptStages::zslab_hybrid;
   ZslabStageCache& cache = hybrid ? impl_->hybrid : impl_->full;
   ZslabStageCache& other = hybrid ? impl_->full : impl_->hybrid;
   // The method in use gets what the other one leaves of the budget, at least half of it.
