@@ -64,8 +64,16 @@ TEST(ClipRender, EveryMethodFollowsTheReferenceAsWellAsUnclipped) {
   const Scene cut = clip_head(), whole = clip_head({"objects.ct.clip=[]"});
   const Image ref_cut = render_with(cut, "reference"), ref_whole = render_with(whole, "reference");
   EXPECT_LT(psnr(ref_cut, ref_whole), 30.0) << "the ball must cut a visible part of the head";
+  // Under the sanitizers only at each method's default: at 16 samples per pixel the methods run
+  // the same code on 16 times the samples (most of the test's 54 s there), and the release build
+  // checks those numbers.
+#ifdef IMX_SANITIZED
+  const int spps[] = {0};
+#else
+  const int spps[] = {0, kReferenceDefaultSpp};
+#endif
   for (const char* method : kMethods) {
-    for (int spp : {0, kReferenceDefaultSpp}) {
+    for (int spp : spps) {
       const double clipped = psnr(render_with(cut, method, spp), ref_cut);
       const double unclipped = psnr(render_with(whole, method, spp), ref_whole);
       const std::string what = fmt::format("{} at {} spp: {:.2f} dB clipped, {:.2f} dB unclipped",

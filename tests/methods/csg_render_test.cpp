@@ -143,8 +143,16 @@ std::string half_ball(const char* op) {
 TEST(CsgRender, BallMinusAHalfSpaceCoversHalfTheDisk) {  // A3
   const double half_disk = std::numbers::pi * 44.8 * 44.8 / 2.0;
   double total = 0.0;
+  // Under the sanitizers the csg method only: the reference's two half balls at 128 x 128 and 4
+  // samples were most of the test's 60 s there; its numbers are checked in the release build, and
+  // its CSG code runs under the sanitizers in A5 and Q3 of this file.
+#ifdef IMX_SANITIZED
+  const char* const methods[] = {"csg"};
+#else
+  const char* const methods[] = {"csg", "reference"};
+#endif
   for (const char* op : {"difference", "intersection"})
-    for (const char* method : {"csg", "reference"}) {
+    for (const char* method : methods) {
       const Coverage c = coverage(render_with(scene_from(half_ball(op)), method, 4));
       EXPECT_NEAR(c.sum, half_disk, 0.02 * half_disk) << op << " " << method;
       if (std::string(method) == "csg") total += c.sum;
