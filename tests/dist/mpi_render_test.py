@@ -12,8 +12,9 @@
      structures) plus the fixed cost measured on a 64^3 volume of the same scene.
 
 Usage: mpi_render_test.py INTERMIX EXAMPLES_DIR [--only N] [--scenes a,b] [--ranks 1,2,4]
-                          [--size 96]
---ranks and --size apply to part 1: the rank counts tried and the image side.
+                          [--size 96] [--head-size N]
+--ranks and --size apply to part 1: the rank counts tried and the image side; --head-size to
+part 2: the side of ct-head's phantom (the example's 256 by default).
 """
 import json
 import os
@@ -102,12 +103,13 @@ def scenes_match_single_process(intermix, examples, tmp, failures, scenes, ranks
                     failures.append(line + ": more than 0.5 dB from zslab")
 
 
-def split_equals_unsplit(intermix, examples, tmp, failures):
+def split_equals_unsplit(intermix, examples, tmp, failures, head_size=None):
     scene = os.path.join(examples, "ct-head.json")
     single, split = f"{tmp}/head-zslab.png", f"{tmp}/head-4-bricks.png"
-    render(intermix, scene, single, ["--method", "zslab"])
+    sized = ["--set", f"objects.ct.source.size={head_size}"] if head_size else []
+    render(intermix, scene, single, ["--method", "zslab", *sized])
     report = f"{tmp}/head-4-bricks.json"
-    distributed(intermix, 4, scene, split, "bricks", report)
+    distributed(intermix, 4, scene, split, "bricks", report, extra=sized)
     bricks = sum(1 for r in json.load(open(report))["per_rank"] if "ct[" in r["part"])
     value = psnr(intermix, split, single)
     print(f"ct-head in {bricks} bricks vs unsplit: {value:.2f} dB", flush=True)
@@ -191,11 +193,13 @@ def main():
     ranks = ([int(r) for r in sys.argv[sys.argv.index("--ranks") + 1].split(",")]
              if "--ranks" in sys.argv else RANKS)
     size = int(sys.argv[sys.argv.index("--size") + 1]) if "--size" in sys.argv else SIZE
+    head_size = (int(sys.argv[sys.argv.index("--head-size") + 1]) if "--head-size" in sys.argv
+                 else None)
     failures = []
     with tempfile.TemporaryDirectory(prefix="imx-mpi-") as tmp:
         parts = {"1": lambda: scenes_match_single_process(intermix, examples, tmp, failures, scenes,
                                                           ranks, size),
-                 "2": lambda: split_equals_unsplit(intermix, examples, tmp, failures),
+                 "2": lambda: split_equals_unsplit(intermix, examples, tmp, failures, head_size),
                  "3": lambda: fault_ends_every_rank(intermix, tmp, failures),
                  "4": lambda: memory_per_rank(intermix, tmp, failures)}
         for key, part in parts.items():
