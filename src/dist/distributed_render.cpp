@@ -26,7 +26,6 @@
 #include "io/atomic_file.hpp"
 #include "methods/method_table.hpp"
 #include "methods/zslab.hpp"
-#include "methods/zslab_frame.hpp"
 
 namespace imx {
 

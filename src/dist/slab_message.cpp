@@ -7,8 +7,8 @@
 #include "core/colour.hpp"
 #include "core/parallel.hpp"
 #include "intermix/error.hpp"
-#include "methods/zslab_kernel.hpp"
 #include "slab/accumulate.hpp"
+#include "slab/zslab_params.hpp"
 
 namespace imx {
 
@@ -102,7 +102,7 @@ void merge_slab_message(ZtBuffer& arrays, PixelRange pixels, int spp,
         theirs[j] = unpack_bytes(message.data() + offset[i] + j * slab_size, arrays.format());
       std::span<const Slab> a(mine, static_cast<size_t>(own)), b(theirs, count[i]);
       SlabList out(std::span<Slab>(merged, static_cast<size_t>(n)));
-      intermix_stage(mine_first ? a : b, mine_first ? b : a, out, mix);
+      intermix(mine_first ? a : b, mine_first ? b : a, out, mix);
       arrays.store(first + i, out.items());
     }
   });

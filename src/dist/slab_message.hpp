@@ -12,8 +12,8 @@
 #include <glm/vec4.hpp>
 
 #include "dist/swap_schedule.hpp"
-#include "methods/zslab_buffer.hpp"
 #include "slab/intermix_kernel.hpp"
+#include "slab/zt_buffer.hpp"
 
 namespace imx {
 

@@ -9,10 +9,10 @@
 #include "core/parallel.hpp"
 #include "intermix/limits.hpp"
 #include "methods/stage_hash.hpp"
-#include "methods/zslab_buffer.hpp"
 #include "methods/zslab_frame.hpp"
 #include "methods/zslab_kept.hpp"
 #include "methods/zslab_object_kernel.hpp"
+#include "slab/zt_buffer.hpp"
 
 namespace imx {
 

@@ -8,6 +8,7 @@
 #include "intermix/image.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "slab/zslab_params.hpp"
 
 namespace imx {
 
@@ -60,6 +61,10 @@ struct ZslabStats {
 // budget. The image equals render_zslab(_hybrid) of the same scene bit for bit.
 Image render_zslab_cached(const Scene& scene, int spp, const RenderOptions& options, bool hybrid,
                           ZslabStageCache& cache, ZslabStats* stats = nullptr);
+
+// The per-sample settings render.layers, rt_layers, peel_layers, interpolation, ert_threshold
+// and overflow give (without their range checks, which the pipeline makes).
+ZslabParams zslab_params(const RenderSettings& render);
 
 // Memory of the stateless (tile-streamed) pipeline per sample: (2N + M) slabs of the format,
 // plus one flag bit.

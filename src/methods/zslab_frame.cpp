@@ -1,15 +1,15 @@
 #include "methods/zslab_frame.hpp"
 
-#include "methods/fragment_context.hpp"
-
 #include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
+#include "methods/fragment_context.hpp"
 #include "methods/sample_pattern.hpp"
 #include "methods/stage_hash.hpp"
+#include "methods/zslab.hpp"
 #include "volume/iso_crossing.hpp"
 #include "volume/projection.hpp"
 #include "volume/volume_marcher.hpp"

@@ -13,9 +13,9 @@
 #include "intermix/scene.hpp"
 #include "methods/clip_intervals.hpp"
 #include "methods/frame_setup.hpp"
-#include "methods/zslab_buffer.hpp"
 #include "methods/zslab_kernel.hpp"
 #include "raster/rasterizer.hpp"
+#include "slab/zt_buffer.hpp"
 
 namespace imx {
 
@@ -30,10 +30,6 @@ struct ZslabStage {
   uint64_t content = 0;           // hash of what this stage reads of its own objects
   std::string name;               // the objects' names, for messages
 };
-
-// The per-sample settings render.layers, rt_layers, peel_layers, interpolation, ert_threshold
-// and overflow give (without their range checks, which ZslabFrame makes).
-ZslabParams zslab_params(const RenderSettings& render);
 
 // render.sampling: every volume at the common step, or each at a step for its own pitch.
 enum class Sampling : uint8_t { common, per_volume };

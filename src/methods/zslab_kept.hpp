@@ -8,7 +8,7 @@
 #include <memory>
 #include <span>
 
-#include "methods/zslab_buffer.hpp"
+#include "slab/zt_buffer.hpp"
 
 namespace imx {
 

@@ -15,19 +15,12 @@
 #include "slab/intermix_kernel.hpp"
 #include "slab/slab.hpp"
 #include "slab/slab_array.hpp"
+#include "slab/zslab_params.hpp"
 
 namespace imx {
 
-inline constexpr int kMaxZslabLayers = RenderSettings::kMaxLayers;  // the largest N (ZT slabs)
-inline constexpr int kMaxRtLayers = RenderSettings::kMaxLayers;     // the largest M (RT layers)
-
-// Per-sample settings of a zSlab pipeline.
-struct ZslabParams {
-  IntermixSettings mix;  // interpolation, ERT, overflow of a full ZT array
-  int layers = 8;        // N
-  int rt_layers = 4;     // M
-  int peel_layers = 4;   // L
-};
+static_assert(kMaxZslabLayers == RenderSettings::kMaxLayers &&
+              kMaxRtLayers == RenderSettings::kMaxLayers);
 
 // Virtual zSlab of a surface at depth t: the slab [t - d, t] (SPEC §4).
 inline Slab virtual_slab(float t, float thickness, const glm::vec4& color) {
