@@ -4,10 +4,12 @@
 // RenderFailure -> RuntimeError, imx::Cancelled -> KeyboardInterrupt. The message is the
 // library's one line.
 #include <cerrno>
+#include <cstring>
 #include <new>
 
 #include <fmt/format.h>
 
+#include "arguments.hpp"
 #include "bindings.hpp"
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
@@ -31,10 +33,25 @@ PyObject* os_error_type(int code) {
   }
 }
 
+// A message as Python text. Bytes that are not UTF-8 (quoted from a binary file, or a file name
+// os.fsdecode gave) show as \xNN: a strict decode failed and left the exception without text.
+py::object message_text(const char* message) {
+  return py::reinterpret_steal<py::object>(PyUnicode_DecodeUTF8(
+      message, static_cast<Py_ssize_t>(std::strlen(message)), "backslashreplace"));
+}
+
+void set_error(PyObject* type, const char* message) {
+  const py::object text = message_text(message);
+  if (text) PyErr_SetObject(type, text.ptr());  // else the decode set its own (out of memory)
+}
+
 // An OSError subclass with the message alone as its text and `errno` set when known.
 void set_file_error(const FileError& e) {
   PyObject* type = os_error_type(e.code());
-  py::object error = py::reinterpret_steal<py::object>(PyObject_CallFunction(type, "s", e.what()));
+  const py::object text = message_text(e.what());
+  if (!text) return;
+  py::object error =
+      py::reinterpret_steal<py::object>(PyObject_CallFunctionObjArgs(type, text.ptr(), nullptr));
   if (!error) return;  // the call set its own exception (out of memory)
   if (e.code() != 0) PyObject_SetAttrString(error.ptr(), "errno", py::int_(e.code()).ptr());
   PyErr_SetObject(type, error.ptr());
@@ -45,16 +62,10 @@ void set_file_error(const FileError& e) {
 void bind_errors(py::module_& m) {
   m.def(
       "set_max_memory",
-      [](const py::object& bytes) {
-        if (!py::isinstance<py::int_>(bytes) || py::isinstance<py::bool_>(bytes))
-          throw py::type_error(
-              fmt::format("set_max_memory: bytes must be an int, got {}",
-                          py::str(py::type::of(bytes).attr("__name__")).cast<std::string>()));
-        const long long value = bytes.cast<long long>();  // OverflowError beyond 2**63
-        if (value < 0)
-          throw py::value_error(fmt::format("set_max_memory: bytes is {}, not 0 or more", value));
+      [](const IntParameter& bytes) {
         InputLimits limits = input_limits();
-        limits.max_memory = static_cast<uint64_t>(value);
+        limits.max_memory =
+            static_cast<uint64_t>(int_at_least(bytes, {"set_max_memory", "bytes"}, 0));
         set_input_limits(limits);
       },
       py::arg("bytes"),
@@ -68,17 +79,17 @@ void bind_errors(py::module_& m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const Cancelled& e) {
-      PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
+      set_error(PyExc_KeyboardInterrupt, e.what());
     } catch (const FileError& e) {
       set_file_error(e);
     } catch (const OutOfMemory& e) {
-      PyErr_SetString(PyExc_MemoryError, e.what());
+      set_error(PyExc_MemoryError, e.what());
     } catch (const std::bad_alloc&) {
-      PyErr_SetString(PyExc_MemoryError, out_of_memory_message("intermix").c_str());
+      set_error(PyExc_MemoryError, out_of_memory_message("intermix").c_str());
     } catch (const Error& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+      set_error(PyExc_ValueError, e.what());
     } catch (const RenderFailure& e) {
-      PyErr_SetString(PyExc_RuntimeError, e.what());
+      set_error(PyExc_RuntimeError, e.what());
     }
   });
 }

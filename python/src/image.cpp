@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "arguments.hpp"
 #include "bindings.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
@@ -23,19 +24,11 @@ py::object image_type() {
   return py::getattr(module, "_image_type", py::none());
 }
 
-bool is_path(const py::handle& value) {
-  return py::isinstance<py::str>(value) ||
-         py::isinstance(value, py::module_::import("os").attr("PathLike"));
-}
-
-std::filesystem::path path_of(const py::handle& path) {
-  return py::module_::import("os").attr("fspath")(path).cast<std::string>();
-}
-
 // An image argument: an array, or a PNG file's path (read as intermix read_png reads it).
-Image image_argument(const py::handle& value, const std::string& what) {
-  if (is_path(value)) {
-    const std::filesystem::path file = path_of(value);
+Image image_argument(const py::handle& value, const Argument& argument) {
+  const std::string what = fmt::format("{}: {}", argument.function, argument.name);
+  if (is_path_like(value) || PyBytes_Check(value.ptr())) {
+    const std::filesystem::path file = python::path(value, argument);
     py::gil_scoped_release release;
     return read_png(file);
   }
@@ -62,11 +55,19 @@ py::object image_to_array(Image&& image) {
 }
 
 Image array_to_image(const py::handle& value, const std::string& what) {
-  py::array given = py::module_::import("numpy").attr("asarray")(value);
+  py::array given;
+  try {
+    given = py::module_::import("numpy").attr("asarray")(value);
+  } catch (py::error_already_set& e) {
+    if (e.matches(PyExc_MemoryError)) throw;
+    const std::string reason = py::str(e.value()).cast<std::string>();
+    throw py::type_error(fmt::format("{}: a {} is not an image: {}", what, python_type_name(value),
+                                     reason.substr(0, reason.find('\n'))));
+  }
   if (given.ndim() != 3 || given.shape(2) != 4 || given.shape(0) < 1 || given.shape(1) < 1)
-    throw py::value_error(
-        fmt::format("{}: expected an (H, W, 4) array of premultiplied linear RGBA, got shape {}",
-                    what, py::str(given.attr("shape")).cast<std::string>()));
+    throw py::value_error(fmt::format(
+        "{}: expected an (H, W, 4) array of premultiplied linear RGBA (an image), got shape {}",
+        what, py::str(given.attr("shape")).cast<std::string>()));
   if (given.dtype().kind() != 'f')
     throw py::type_error(fmt::format(
         "{}: expected floats (premultiplied linear RGBA), got dtype {}; a display image "
@@ -100,8 +101,9 @@ void bind_image(py::module_& m) {
 
   m.def(
       "to_uint8",
-      [](const py::handle& image, bool linear) {
+      [](const ArrayParameter& image, const FlagParameter& linear_argument) {
         const Image in = array_to_image(image, "to_uint8");
+        const bool linear = flag(linear_argument, {"to_uint8", "linear"});
         std::vector<uint8_t> bytes;
         {
           py::gil_scoped_release release;
@@ -116,9 +118,11 @@ of straight (not premultiplied) RGBA, sRGB-encoded unless `linear`.
 
   m.def(
       "write_png",
-      [](const py::handle& image, const py::object& path, bool linear) {
+      [](const ArrayParameter& image, const PathParameter& path,
+         const FlagParameter& linear_argument) {
         const Image in = array_to_image(image, "write_png");
-        const std::filesystem::path file = path_of(path);
+        const std::filesystem::path file = python::path(path, {"write_png", "path"});
+        const bool linear = flag(linear_argument, {"write_png", "linear"});
         py::gil_scoped_release release;
         write_png(in, file, linear);
       },
@@ -129,8 +133,9 @@ of straight (not premultiplied) RGBA, sRGB-encoded unless `linear`.
 
   m.def(
       "read_png",
-      [](const py::object& path, bool linear) {
-        const std::filesystem::path file = path_of(path);
+      [](const PathParameter& path, const FlagParameter& linear_argument) {
+        const std::filesystem::path file = python::path(path, {"read_png", "path"});
+        const bool linear = flag(linear_argument, {"read_png", "linear"});
         Image image;
         {
           py::gil_scoped_release release;
@@ -145,8 +150,9 @@ decoded unless `linear`).
 
   m.def(
       "encode_png",
-      [](const py::handle& image, bool linear) {
+      [](const ArrayParameter& image, const FlagParameter& linear_argument) {
         const Image in = array_to_image(image, "encode_png");
+        const bool linear = flag(linear_argument, {"encode_png", "linear"});
         std::string png;
         {
           py::gil_scoped_release release;
@@ -159,9 +165,9 @@ decoded unless `linear`).
 
   m.def(
       "compare",
-      [](const py::handle& a, const py::handle& b) {
-        const Image ia = image_argument(a, "compare: a");
-        const Image ib = image_argument(b, "compare: b");
+      [](const ImageParameter& a, const ImageParameter& b) {
+        const Image ia = image_argument(a, {"compare", "a"});
+        const Image ib = image_argument(b, {"compare", "b"});
         ImageComparison c;
         {
           py::gil_scoped_release release;
@@ -186,9 +192,12 @@ Raises ValueError when the sizes differ.
 
   m.def(
       "error_heat_map",
-      [](const py::handle& a, const py::handle& b, double scale) {
-        const Image ia = image_argument(a, "error_heat_map: a");
-        const Image ib = image_argument(b, "error_heat_map: b");
+      [](const ImageParameter& a, const ImageParameter& b, const RealParameter& scale_argument) {
+        const Image ia = image_argument(a, {"error_heat_map", "a"});
+        const Image ib = image_argument(b, {"error_heat_map", "b"});
+        const double scale = finite_real(scale_argument, {"error_heat_map", "scale"});
+        if (scale <= 0.0)
+          throw py::value_error(fmt::format("error_heat_map: scale {:g} is not above 0", scale));
         Image map;
         {
           py::gil_scoped_release release;

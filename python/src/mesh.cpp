@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <pybind11/stl.h>
 
+#include "arguments.hpp"
 #include "bindings.hpp"
 #include "core/limits.hpp"
 #include "intermix/error.hpp"
@@ -20,7 +21,7 @@ using FloatRows = py::array_t<float, py::array::c_style | py::array::forcecast>;
 
 // An (n, 3) array of floats (n given, or any n >= 1 when `n` is -1), copied into vec3s.
 std::vector<glm::vec3> vec3_rows(const py::handle& value, const char* name, py::ssize_t n) {
-  py::array given = py::module_::import("numpy").attr("asarray")(value);
+  py::array given = array_argument(value, {"Mesh", name}, "an (N, 3) array of numbers");
   if (given.ndim() != 2 || given.shape(1) != 3 || (n >= 0 && given.shape(0) != n))
     throw py::value_error(fmt::format("Mesh: {} must have shape ({}, 3), got {}", name,
                                       n >= 0 ? std::to_string(n) : "N",
@@ -35,9 +36,17 @@ std::vector<glm::vec3> vec3_rows(const py::handle& value, const char* name, py::
   return out;
 }
 
-std::shared_ptr<PyMesh> make_mesh(const py::handle& vertices, const py::handle& triangles,
-                                  const py::object& normals, const py::object& colors,
-                                  const std::string& space, double crease_angle_deg) {
+// The largest crease angle: 180 degrees splits no edge.
+constexpr double kMaxCreaseAngleDeg = 180.0;
+
+std::shared_ptr<PyMesh> make_mesh(const ArrayParameter& vertices, const ArrayParameter& triangles,
+                                  const OptionalArrayParameter& normals,
+                                  const OptionalArrayParameter& colors,
+                                  const TextParameter& space_argument,
+                                  const RealParameter& crease_argument) {
+  const std::string space = text(space_argument, {"Mesh", "space"});
+  const double crease_angle_deg =
+      real_in(crease_argument, {"Mesh", "crease_angle_deg"}, 0.0, kMaxCreaseAngleDeg);
   const bool ras = space == "RAS" || space == "ras";
   if (!ras && space != "LPS" && space != "lps")
     throw py::value_error(fmt::format("Mesh: space '{}' is not LPS or RAS", space));
@@ -55,7 +64,8 @@ std::shared_ptr<PyMesh> make_mesh(const py::handle& vertices, const py::handle& 
                       i, p.x, p.y, p.z, kMaxCoordinateMm));
   }
 
-  py::array t = py::module_::import("numpy").attr("asarray")(triangles);
+  py::array t =
+      array_argument(triangles, {"Mesh", "triangles"}, "an (M, 3) array of vertex indices");
   if (t.ndim() != 2 || t.shape(1) != 3 || t.shape(0) == 0)
     throw py::value_error(fmt::format("Mesh: triangles must have shape (M, 3) with M >= 1, got {}",
                                       py::str(t.attr("shape")).cast<std::string>()));
@@ -92,12 +102,7 @@ std::shared_ptr<PyMesh> make_mesh(const py::handle& vertices, const py::handle& 
         throw py::value_error(fmt::format("Mesh: normals[{}] is not finite", i));
   }
   if (ras) detail::flip_ras_lps(mesh);
-  if (mesh.normals.empty()) {
-    if (!(crease_angle_deg >= 0.0 && crease_angle_deg <= 180.0))
-      throw py::value_error(
-          fmt::format("Mesh: crease angle {:g} degrees is not in [0, 180]", crease_angle_deg));
-    detail::compute_vertex_normals(mesh, crease_angle_deg);
-  }
+  if (mesh.normals.empty()) detail::compute_vertex_normals(mesh, crease_angle_deg);
   auto out = std::make_shared<PyMesh>();
   out->id = next_source_id("mesh");
   out->mesh = std::make_shared<const Mesh>(std::move(mesh));
@@ -165,9 +170,13 @@ Raises ValueError for bad shapes, indices or non-finite values.
 
   m.def(
       "read_mesh",
-      [](const py::object& path, const std::optional<std::string>& space, double crease_angle_deg) {
-        const std::filesystem::path file =
-            py::module_::import("os").attr("fspath")(path).cast<std::string>();
+      [](const PathParameter& path, const OptionalTextParameter& space_argument,
+         const RealParameter& crease_argument) {
+        const std::filesystem::path file = python::path(path, {"read_mesh", "path"});
+        const std::optional<std::string> space =
+            optional_text(space_argument, {"read_mesh", "space"});
+        const double crease_angle_deg =
+            real_in(crease_argument, {"read_mesh", "crease_angle_deg"}, 0.0, kMaxCreaseAngleDeg);
         MeshReadOptions options;
         if (space) {
           if (*space != "LPS" && *space != "RAS")

@@ -1,4 +1,5 @@
 // The extension module intermix._intermix; the package intermix (python/intermix) re-exports it.
+#include "arguments.hpp"
 #include "bindings.hpp"
 
 PYBIND11_MODULE(_intermix, m) {
@@ -11,4 +12,5 @@ PYBIND11_MODULE(_intermix, m) {
   imx::python::bind_scene(m);
   imx::python::bind_render(m);
   imx::python::bind_image(m);
+  imx::python::explain_mismatched_calls(m);  // last: it routes the functions bound above
 }

@@ -15,6 +15,7 @@
 #include <fmt/ranges.h>
 #include <pybind11/stl.h>
 
+#include "arguments.hpp"
 #include "core/parallel.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
@@ -77,44 +78,23 @@ void run_interruptible(const std::function<void()>& work, std::atomic<bool>& can
   }
 }
 
-void check_side(const char* name, int value) {
-  if (value < 1 || value > kMaxImageSide)
-    throw py::value_error(
-        fmt::format("render: {} {} is not in [1, {}]", name, value, kMaxImageSide));
+std::string unavailable_method_message(std::string_view function, const std::string& method) {
+  return fmt::format("{}: method '{}' is not available; this build has: {}", function, method,
+                     fmt::join(available_methods(), ", "));
 }
 
-// The frame to render and its options, from the scene and the request; ValueError for
-// arguments the engine would refuse.
+// The frame to render and its options, from the scene and the request (whose values
+// render_request checked); ValueError for a method this build lacks.
 Scene prepare(const Scene& scene, const RenderRequest& request, RenderOptions& options) {
   Scene frame = scene;
-  if (request.width) {
-    check_side("width", *request.width);
-    frame.image.width = *request.width;
-  }
-  if (request.height) {
-    check_side("height", *request.height);
-    frame.image.height = *request.height;
-  }
+  if (request.width) frame.image.width = *request.width;
+  if (request.height) frame.image.height = *request.height;
   options.method = request.method.value_or("");
   const std::string method = options.method.empty() ? scene.render.method : options.method;
   if (default_spp(method) == 0)
-    throw py::value_error(fmt::format("method '{}' is not available; this build has: {}", method,
-                                      fmt::join(available_methods(), ", ")));
-  if (request.spp) {
-    const int spp = *request.spp;
-    const int root = static_cast<int>(std::lround(std::sqrt(static_cast<double>(spp))));
-    if (spp < 1 || spp > kMaxSpp || root * root != spp)
-      throw py::value_error(
-          fmt::format("render: spp {} is not a perfect square in [1, {}] (1, 4, 9, 16, 25, ...)",
-                      spp, kMaxSpp));
-    options.spp = spp;
-  }
-  if (request.threads) {
-    if (*request.threads < 0 || *request.threads > kMaxThreads)
-      throw py::value_error(fmt::format("render: threads {} is not in [0, {}] (0: all cores)",
-                                        *request.threads, kMaxThreads));
-    options.threads = *request.threads;
-  }
+    throw py::value_error(unavailable_method_message(request.function, method));
+  if (request.spp) options.spp = *request.spp;
+  if (request.threads) options.threads = *request.threads;
   return frame;
 }
 
@@ -148,6 +128,25 @@ RendererStats stats_of(PyRenderer& r) {
 
 }  // namespace
 
+RenderRequest render_request(std::string_view function, const py::handle& method,
+                             const py::handle& width, const py::handle& height,
+                             const py::handle& spp, const py::handle& threads) {
+  RenderRequest request;
+  request.function = std::string(function);
+  request.method = optional_text(method, {function, "method"});
+  request.width = optional_int_in(width, {function, "width"}, 1, kMaxImageSide);
+  request.height = optional_int_in(height, {function, "height"}, 1, kMaxImageSide);
+  request.spp = optional_int_in(spp, {function, "spp"}, 1, kMaxSpp);
+  const int root =
+      static_cast<int>(std::lround(std::sqrt(static_cast<double>(request.spp.value_or(1)))));
+  if (request.spp && root * root != *request.spp)
+    throw py::value_error(
+        fmt::format("{}: spp {} is not a perfect square in [1, {}] (1, 4, 9, 16, 25, ...)",
+                    function, *request.spp, kMaxSpp));
+  request.threads = optional_int_in(threads, {function, "threads"}, 0, kMaxThreads);
+  return request;
+}
+
 py::object render_scene(const Scene& scene, const RenderRequest& request, PyRenderer* renderer) {
   return image_to_array(render_image(scene, request, renderer));
 }
@@ -170,11 +169,10 @@ void bind_render(py::module_& m) {
         "Names of the rendering methods this build implements (README, Methods).");
   m.def(
       "default_spp",
-      [](const std::string& method) {
+      [](const TextParameter& method_argument) {
+        const std::string method = text(method_argument, {"default_spp", "method"});
         const int spp = default_spp(method);
-        if (spp == 0)
-          throw py::value_error(fmt::format("method '{}' is not available; this build has: {}",
-                                            method, fmt::join(available_methods(), ", ")));
+        if (spp == 0) throw py::value_error(unavailable_method_message("default_spp", method));
         return spp;
       },
       py::arg("method"),
@@ -212,24 +210,24 @@ Scene keeps them across set() and add_*(), so pass the same Scene (or its copies
 Renderer(kept_budget=None): kept_budget bounds the kept arrays in bytes (default 512 MiB; the
 largest are evicted first). One frame at a time: concurrent calls on one Renderer wait in turn.
 )doc")
-      .def(py::init([](std::optional<long long> kept_budget) {
+      .def(py::init([](const OptionalIntParameter& kept_budget) {
              auto r = std::make_shared<PyRenderer>();
-             if (kept_budget) {
-               if (*kept_budget < 0)
-                 throw py::value_error(
-                     fmt::format("Renderer: kept_budget {} must be >= 0 (bytes)", *kept_budget));
-               r->renderer.set_kept_budget(static_cast<uint64_t>(*kept_budget));
-             }
+             if (!kept_budget.is_none())
+               r->renderer.set_kept_budget(static_cast<uint64_t>(
+                   int_at_least(kept_budget, {"Renderer", "kept_budget"}, 0)));
              return r;
            }),
            py::arg("kept_budget") = py::none())
       .def(
           "render",
-          [](PyRenderer& r, const PyScene& scene, const std::optional<std::string>& method,
-             std::optional<int> width, std::optional<int> height, std::optional<int> spp,
-             std::optional<int> threads) {
-            return render_scene(scene.scene(), RenderRequest{method, width, height, spp, threads},
-                                &r);
+          [](PyRenderer& r, const SceneParameter& scene, const OptionalTextParameter& method,
+             const OptionalIntParameter& width, const OptionalIntParameter& height,
+             const OptionalIntParameter& spp, const OptionalIntParameter& threads) {
+            const PyScene& s =
+                instance_of<PyScene>(scene, {"Renderer.render", "scene"}, "an intermix.Scene");
+            return render_scene(
+                s.scene(), render_request("Renderer.render", method, width, height, spp, threads),
+                &r);
           },
           py::arg("scene"), py::arg("method") = py::none(), py::arg("width") = py::none(),
           py::arg("height") = py::none(), py::arg("spp") = py::none(),
@@ -252,13 +250,12 @@ largest are evicted first). One frame at a time: concurrent calls on one Rendere
             std::lock_guard<std::mutex> lock(r.mutex);
             return r.renderer.kept_budget();
           },
-          [](PyRenderer& r, long long bytes) {
-            if (bytes < 0)
-              throw py::value_error(
-                  fmt::format("Renderer: kept_budget {} must be >= 0 (bytes)", bytes));
+          [](PyRenderer& r, const IntParameter& bytes) {
+            const auto budget =
+                static_cast<uint64_t>(int_at_least(bytes, {"Renderer", "kept_budget"}, 0));
             py::gil_scoped_release release;
             std::lock_guard<std::mutex> lock(r.mutex);
-            r.renderer.set_kept_budget(static_cast<uint64_t>(bytes));
+            r.renderer.set_kept_budget(budget);
           },
           "Bytes the kept slab arrays may take (0 keeps nothing).")
       .def(

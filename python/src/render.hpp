@@ -3,6 +3,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "bindings.hpp"
 #include "intermix/renderer.hpp"
@@ -14,7 +15,15 @@ namespace imx::python {
 struct RenderRequest {
   std::optional<std::string> method;
   std::optional<int> width, height, spp, threads;
+  std::string function = "render";  // names the call in errors: "Scene.render"
 };
+
+// A render call's arguments, checked (TypeError, ValueError naming `function` and the
+// argument): method a str, width and height in [1, 16384] as the scene's image, spp a perfect
+// square in [1, 1024], threads in [0, 1024]; None keeps the scene's own.
+RenderRequest render_request(std::string_view function, const py::handle& method,
+                             const py::handle& width, const py::handle& height,
+                             const py::handle& spp, const py::handle& threads);
 
 // intermix.Renderer: an imx::Renderer (stage reuse between frames) used by one render at a time.
 struct PyRenderer {

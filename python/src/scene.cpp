@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <pybind11/stl.h>
 
+#include "arguments.hpp"
 #include "intermix/error.hpp"
 #include "render.hpp"
 #include "scene/overrides.hpp"
@@ -17,20 +18,21 @@ namespace {
 
 constexpr const char* kDictOrigin = "scene dict";
 
-std::filesystem::path path_of(const py::handle& path) {
-  return py::module_::import("os").attr("fspath")(path).cast<std::string>();
+bool is_mapping(const py::handle& value) {
+  return py::isinstance<py::dict>(value) ||
+         py::isinstance(value, py::module_::import("collections.abc").attr("Mapping"));
 }
 
 // The folder relative paths resolve against: `base_dir`, else the current one.
-std::filesystem::path folder_of(const py::object& base_dir) {
-  if (!base_dir.is_none()) return path_of(base_dir);
+std::filesystem::path folder_of(const py::handle& base_dir, std::string_view function) {
+  if (auto folder = optional_path(base_dir, {function, "base_dir"})) return *folder;
   std::error_code ec;
   std::filesystem::path cwd = std::filesystem::current_path(ec);
   return ec ? std::filesystem::path(".") : cwd;
 }
 
-std::shared_ptr<PyScene> from_file(const py::object& path) {
-  const std::filesystem::path file = path_of(path);
+std::shared_ptr<PyScene> from_file(const PathParameter& path) {
+  const std::filesystem::path file = python::path(path, {"Scene.from_file", "path"});
   const std::string text = detail::read_scene_file(file);
   std::filesystem::path base_dir = file.parent_path();
   if (base_dir.empty()) base_dir = ".";
@@ -38,15 +40,13 @@ std::shared_ptr<PyScene> from_file(const py::object& path) {
                                    file.string(), base_dir, file);
 }
 
-std::shared_ptr<PyScene> from_dict(const py::handle& dict, const py::object& base_dir) {
-  if (!py::isinstance(dict, py::module_::import("collections.abc").attr("Mapping")))
-    throw py::type_error(
-        fmt::format("Scene.from_dict: expected a dict, got {}",
-                    py::str(py::type::handle_of(dict).attr("__name__")).cast<std::string>()));
+std::shared_ptr<PyScene> from_dict(const SceneDictParameter& dict,
+                                   const OptionalPathParameter& base_dir) {
+  if (!is_mapping(dict)) throw_wrong_type({"Scene.from_dict", "scene"}, "a dict", dict);
+  const std::filesystem::path folder = folder_of(base_dir, "Scene.from_dict");
   GivenSources sources;
   nlohmann::json document = to_document(dict, sources, kDictOrigin);
-  return std::make_shared<PyScene>(std::move(document), std::move(sources), kDictOrigin,
-                                   folder_of(base_dir));
+  return std::make_shared<PyScene>(std::move(document), std::move(sources), kDictOrigin, folder);
 }
 
 std::string object_name(const Scene& scene, const ObjectRef& ref) {
@@ -60,31 +60,33 @@ const char* kind_name(ObjectKind kind) {
   return kind == ObjectKind::volume ? "volume" : kind == ObjectKind::mesh ? "mesh" : "plane";
 }
 
-RenderRequest request_of(const std::optional<std::string>& method, std::optional<int> width,
-                         std::optional<int> height, std::optional<int> spp,
-                         std::optional<int> threads) {
-  return RenderRequest{method, width, height, spp, threads};
+// A file source's dict: {"file": path}.
+py::dict file_source(const py::handle& source, const Argument& argument) {
+  return py::dict(py::arg("file") = py::str(python::path(source, argument).string()));
 }
 
 // A volume source from Python: a Volume, an array (with `affine` and `space`), a source dict or
 // a file path.
-py::object volume_source(const py::object& source, const py::object& affine,
-                         const std::string& space) {
-  if (py::isinstance(source, py::module_::import("numpy").attr("ndarray")))
+py::object volume_source(const py::handle& source, const py::handle& affine,
+                         const py::handle& space) {
+  const Argument argument{"Scene.add_volume", "source"};
+  if (py::isinstance<py::array>(source))
     return py::type::of<PyVolume>()(source, affine, py::arg("space") = space);
+  text(space, {"Scene.add_volume", "space"});
   if (!affine.is_none())
-    throw py::value_error("add_volume: an affine goes with an array source only");
-  if (py::isinstance<py::str>(source) ||
-      py::isinstance(source, py::module_::import("os").attr("PathLike")))
-    return py::dict(py::arg("file") = py::str(path_of(source).string()));
-  return source;
+    throw py::value_error("Scene.add_volume: affine goes with an array source only");
+  if (is_path_like(source) || PyBytes_Check(source.ptr())) return file_source(source, argument);
+  if (py::isinstance<PyVolume>(source) || is_mapping(source))
+    return py::reinterpret_borrow<py::object>(source);
+  throw_wrong_type(argument, "an intermix.Volume, a numpy array, a path or a source dict", source);
 }
 
-py::object mesh_source(const py::object& source) {
-  if (py::isinstance<py::str>(source) ||
-      py::isinstance(source, py::module_::import("os").attr("PathLike")))
-    return py::dict(py::arg("file") = py::str(path_of(source).string()));
-  return source;
+py::object mesh_source(const py::handle& source) {
+  const Argument argument{"Scene.add_mesh", "source"};
+  if (is_path_like(source) || PyBytes_Check(source.ptr())) return file_source(source, argument);
+  if (py::isinstance<PyMesh>(source) || is_mapping(source))
+    return py::reinterpret_borrow<py::object>(source);
+  throw_wrong_type(argument, "an intermix.Mesh, a path or a source dict", source);
 }
 
 }  // namespace
@@ -178,9 +180,10 @@ Every change is checked by the scene loader and either applies whole or raises w
 loader's message (ValueError; OSError for files that cannot be read), leaving the scene as it
 was. Sources are read once per scene and shared by its changes.
 )doc");
-  cls.def(py::init([](const py::object& base_dir) {
+  cls.def(py::init([](const OptionalPathParameter& base_dir) {
             return std::make_shared<PyScene>(nlohmann::json{{"objects", nlohmann::json::array()}},
-                                             GivenSources{}, kDictOrigin, folder_of(base_dir));
+                                             GivenSources{}, kDictOrigin,
+                                             folder_of(base_dir, "Scene"));
           }),
           py::arg("base_dir") = py::none(),
           "An empty scene (no objects; default camera, image and lights) to add objects to.")
@@ -198,14 +201,21 @@ object's an intermix.Mesh. Errors name the JSON path as for files ("scene dict: 
 )doc")
       .def_static(
           "from_json",
-          [](const std::string& text, const py::object& base_dir) {
-            return std::make_shared<PyScene>(detail::parse_scene_json(text, "scene text"),
-                                             GivenSources{}, "scene text", folder_of(base_dir));
+          [](const TextParameter& text_argument, const OptionalPathParameter& base_dir) {
+            const std::string json = text(text_argument, {"Scene.from_json", "text"});
+            const std::filesystem::path folder = folder_of(base_dir, "Scene.from_json");
+            return std::make_shared<PyScene>(detail::parse_scene_json(json, "scene text"),
+                                             GivenSources{}, "scene text", folder);
           },
           py::arg("text"), py::arg("base_dir") = py::none(),
           "A scene from JSON text (a scene file's content).")
-      .def("set", &PyScene::set, py::arg("path"), py::arg("value"),
-           R"doc(Sets one value by its dotted path, as `intermix render --set path=value` does:
+      .def(
+          "set",
+          [](PyScene& s, const TextParameter& path, const SceneValueParameter& value) {
+            s.set(text(path, {"Scene.set", "path"}), value);
+          },
+          py::arg("path"), py::arg("value"),
+          R"doc(Sets one value by its dotted path, as `intermix render --set path=value` does:
 "image.width", "render.spp", "objects.0.material.opacity", or an object by name:
 "objects.ct.transfer_function.points". `value` is any scene value (a number, list, dict,
 str, numpy array, Volume, Mesh, ...). Missing object keys are created. The scene is checked
@@ -213,9 +223,11 @@ again; on an error it stays as it was.
 )doc")
       .def(
           "add_volume",
-          [](PyScene& s, const std::string& name, const py::object& source,
-             const py::object& affine, const std::string& space, const py::kwargs& fields) {
-            s.add(name, "volume", volume_source(source, affine, space), fields);
+          [](PyScene& s, const TextParameter& name, const VolumeSourceParameter& source,
+             const OptionalArrayParameter& affine, const TextParameter& space,
+             const py::kwargs& fields) {
+            const std::string added_name = text(name, {"Scene.add_volume", "name"});
+            s.add(added_name, "volume", volume_source(source, affine, space), fields);
           },
           py::arg("name"), py::arg("source"), py::arg("affine") = py::none(),
           py::arg("space") = "LPS",
@@ -226,8 +238,11 @@ arguments are the object's other keys: transfer_function={"preset": "ct-bone"} o
 )doc")
       .def(
           "add_mesh",
-          [](PyScene& s, const std::string& name, const py::object& source,
-             const py::kwargs& fields) { s.add(name, "mesh", mesh_source(source), fields); },
+          [](PyScene& s, const TextParameter& name, const MeshSourceParameter& source,
+             const py::kwargs& fields) {
+            const std::string added_name = text(name, {"Scene.add_mesh", "name"});
+            s.add(added_name, "mesh", mesh_source(source), fields);
+          },
           py::arg("name"), py::arg("source"),
           R"doc(Adds a mesh object. `source` is an intermix.Mesh, a file path or a source dict
 ({"primitive": "sphere", "radius": 20}). Keyword arguments are the object's other keys:
@@ -235,8 +250,8 @@ material={"color": [r, g, b], "opacity": a}, transform, thickness, visible.
 )doc")
       .def(
           "add_plane",
-          [](PyScene& s, const std::string& name, const py::kwargs& fields) {
-            s.add(name, "plane", py::none(), fields);
+          [](PyScene& s, const TextParameter& name, const py::kwargs& fields) {
+            s.add(text(name, {"Scene.add_plane", "name"}), "plane", py::none(), fields);
           },
           py::arg("name"),
           R"doc(Adds a plane object (an MPR slice when volume= names a volume). Keyword arguments are its keys:
@@ -275,9 +290,11 @@ center, normal, up, size, volume, window, colormap, color, opacity.
           "The folder relative paths resolve against.")
       .def(
           "render",
-          [](const PyScene& s, const std::optional<std::string>& method, std::optional<int> width,
-             std::optional<int> height, std::optional<int> spp, std::optional<int> threads) {
-            return render_scene(s.scene(), request_of(method, width, height, spp, threads),
+          [](const PyScene& s, const OptionalTextParameter& method,
+             const OptionalIntParameter& width, const OptionalIntParameter& height,
+             const OptionalIntParameter& spp, const OptionalIntParameter& threads) {
+            return render_scene(s.scene(),
+                                render_request("Scene.render", method, width, height, spp, threads),
                                 nullptr);
           },
           py::arg("method") = py::none(), py::arg("width") = py::none(),

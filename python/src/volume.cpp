@@ -1,23 +1,31 @@
 // intermix.Volume (numpy voxels with an index-to-world affine), read_volume, write_volume and the
 // built-in phantoms.
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <limits>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <pybind11/stl.h>
 #include <glm/mat4x4.hpp>
 
+#include "arguments.hpp"
 #include "bindings.hpp"
 #include "intermix/dicom.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
+#include "io/frame_voxels.hpp"
 #include "io/raw_voxels.hpp"
+#include "scene/edit_distance.hpp"
 
 namespace imx::python {
 namespace {
+
+// make_phantom's sizes, as the scene loader's phantom "size" takes them.
+constexpr int kMinPhantomSize = 8, kMaxPhantomSize = 1024;
 
 // The engine's type for a numpy dtype it stores as it is ("" for any other).
 const char* engine_dtype(const py::dtype& dtype) {
@@ -94,7 +102,7 @@ VoxelStorage voxel_storage(const py::array& a) {
 
 glm::dmat4 affine_from(const py::handle& affine, const char* what) {
   py::array given =
-      py::module_::import("numpy").attr("asarray")(affine, py::arg("dtype") = "float64");
+      array_argument(affine, {what, "affine"}, "a 4x4 matrix of numbers", py::str("float64"));
   if (given.ndim() != 2 || given.shape(0) != 4 || given.shape(1) != 4)
     throw py::value_error(fmt::format("{}: the affine must be a 4x4 matrix, got shape {}", what,
                                       py::str(given.attr("shape")).cast<std::string>()));
@@ -139,15 +147,22 @@ bool parse_space(const std::string& space, const char* what) {
       fmt::format("{}: space '{}' is not LPS or RAS (the affine's world axes)", what, space));
 }
 
-std::shared_ptr<PyVolume> make_volume(const py::object& given, const py::object& affine,
-                                      const std::string& space, const std::string& axes) {
+std::shared_ptr<PyVolume> make_volume(const ArrayParameter& given,
+                                      const OptionalArrayParameter& affine,
+                                      const TextParameter& space_argument,
+                                      const TextParameter& axes_argument) {
   py::module_ np = py::module_::import("numpy");
+  const std::string space = text(space_argument, {"Volume", "space"});
+  const std::string axes = text(axes_argument, {"Volume", "axes"});
   if (axes != "auto" && axes != "kji" && axes != "ijk")
     throw py::value_error(fmt::format(
         "Volume: axes '{}' is not auto, kji (array[k, j, i], C order) or ijk (array[i, j, k], "
         "nibabel's order)",
         axes));
-  py::array a = np.attr("asanyarray")(given);
+  // An ndarray subclass (a memmap) stays one; anything else becomes an array.
+  py::array a = py::isinstance<py::array>(given)
+                    ? py::reinterpret_borrow<py::array>(given)
+                    : array_argument(given, {"Volume", "array"}, "an array of voxels");
   // nibabel's 4-D (X, Y, Z, T) with one frame: that frame (a view, no copy).
   if (a.ndim() == 4 && a.shape(3) == 1)
     a = a.attr("__getitem__")(py::make_tuple(py::ellipsis(), 0));
@@ -211,22 +226,34 @@ py::array voxels_array(const std::shared_ptr<const VolumeData>& data, bool write
                     {data->dims.z, data->dims.y, data->dims.x}, data, writeable);
 }
 
-// Path arguments: str or os.PathLike.
-std::filesystem::path path_of(const py::object& path) {
-  return py::module_::import("os").attr("fspath")(path).cast<std::string>();
+// A DICOM series as read_volume takes it: its number (an int), id or UID (a str), or None.
+std::optional<std::string> series_of(const py::handle& series, const Argument& argument) {
+  if (series.is_none() || PyUnicode_Check(series.ptr())) return optional_text(series, argument);
+  if (is_int_like(series))
+    return std::to_string(int_in(series, argument, 0, std::numeric_limits<int>::max()));
+  throw_wrong_type(argument, "a str or an int (a series number, id or UID)", series);
 }
 
-py::tuple read_volume_file(const py::object& path, const std::string& space,
-                           const py::object& series, const std::string& units,
-                           std::optional<double> slice_spacing_mm, int frame) {
-  const bool lps = parse_space(space, "read_volume");
-  const std::filesystem::path file = path_of(path);
+py::tuple read_volume_file(const PathParameter& path, const TextParameter& space_argument,
+                           const SeriesParameter& series_argument,
+                           const TextParameter& units_argument,
+                           const OptionalRealParameter& slice_spacing_argument,
+                           const IntParameter& frame_argument) {
+  const std::filesystem::path file = python::path(path, {"read_volume", "path"});
+  const bool lps = parse_space(text(space_argument, {"read_volume", "space"}), "read_volume");
+  const std::optional<std::string> series = series_of(series_argument, {"read_volume", "series"});
+  const std::string units = text(units_argument, {"read_volume", "units"});
+  const std::optional<double> slice_spacing_mm =
+      optional_finite_real(slice_spacing_argument, {"read_volume", "slice_spacing_mm"});
+  // Frames are counted from 0; no file may hold more than kMaxFrames.
+  const int frame =
+      static_cast<int>(int_in(frame_argument, {"read_volume", "frame"}, 0, detail::kMaxFrames - 1));
   DicomReadOptions options;
-  if (!series.is_none()) options.series = py::str(series).cast<std::string>();
+  if (series) options.series = *series;
   options.units = units;
   options.slice_spacing_mm = slice_spacing_mm;
   options.frame = frame;
-  const bool dicom_options = !series.is_none() || !units.empty() || slice_spacing_mm;
+  const bool dicom_options = series || !units.empty() || slice_spacing_mm;
   if (!units.empty() && units != "suv")
     throw py::value_error(fmt::format("read_volume: units '{}' is not suv", units));
   std::shared_ptr<VolumeData> data;
@@ -249,14 +276,16 @@ py::tuple read_volume_file(const py::object& path, const std::string& space,
 }
 
 // What a file holds without its voxels: dims, type, frames and their labels.
-py::dict read_volume_info(const py::object& path, const py::object& series) {
-  const std::filesystem::path file = path_of(path);
+py::dict read_volume_info(const PathParameter& path, const SeriesParameter& series_argument) {
+  const std::filesystem::path file = python::path(path, {"read_volume_info", "path"});
+  const std::optional<std::string> series =
+      series_of(series_argument, {"read_volume_info", "series"});
   VolumeHeader h;
   {
     py::gil_scoped_release release;
     if (is_dicom_source(file)) {
       DicomReadOptions options;
-      if (!series.is_none()) options.series = py::str(series).cast<std::string>();
+      if (series) options.series = *series;
       h = read_dicom_header(file, options);
     } else {
       h = read_volume_header(file);
@@ -411,8 +440,12 @@ and, where the file says, "time_s", "b_value", "b_vector" (along i, j, k), "echo
 
   m.def(
       "write_volume",
-      [](const PyVolume& v, const py::object& path, bool compress) {
-        const std::filesystem::path file = path_of(path);
+      [](const VolumeParameter& volume, const PathParameter& path,
+         const FlagParameter& compress_argument) {
+        const PyVolume& v =
+            instance_of<PyVolume>(volume, {"write_volume", "volume"}, "an intermix.Volume");
+        const std::filesystem::path file = python::path(path, {"write_volume", "path"});
+        const bool compress = flag(compress_argument, {"write_volume", "compress"});
         py::gil_scoped_release release;
         write_volume(*v.data, file, compress);
       },
@@ -424,7 +457,15 @@ atomically. `compress` applies to NRRD and MetaImage (NIfTI follows the .gz).
   m.def("phantom_names", &phantom_names, "Names of the built-in volume phantoms.");
   m.def(
       "phantom",
-      [](const std::string& name, int size) {
+      [](const TextParameter& name_argument, const IntParameter& size_argument) {
+        const std::string name = text(name_argument, {"phantom", "name"});
+        const int size = static_cast<int>(
+            int_in(size_argument, {"phantom", "size"}, kMinPhantomSize, kMaxPhantomSize));
+        const std::vector<std::string> names = phantom_names();
+        if (std::find(names.begin(), names.end(), name) == names.end())
+          throw py::value_error(
+              fmt::format("phantom: name '{}' is not a built-in phantom{}; they are: {}", name,
+                          detail::did_you_mean(name, names), fmt::join(names, ", ")));
         std::shared_ptr<VolumeData> data;
         {
           py::gil_scoped_release release;

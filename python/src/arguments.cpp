@@ -1,0 +1,439 @@
+// Python arguments as C++ values with intermix's own messages (arguments.hpp).
+#include "arguments.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "scene/edit_distance.hpp"
+
+namespace imx::python {
+namespace {
+
+py::module_ numpy() {
+  return py::module_::import("numpy");
+}
+
+bool is_numpy_instance(const py::handle& value, const char* numpy_type) {
+  return py::isinstance(value, numpy().attr(numpy_type));
+}
+
+bool is_any_bool(const py::handle& value) {
+  return PyBool_Check(value.ptr()) ||
+         (!PyLong_Check(value.ptr()) && is_numpy_instance(value, "bool_"));
+}
+
+std::string prefix(const Argument& argument) {
+  return fmt::format("{}: {}", argument.function, argument.name);
+}
+
+// The digits of an int, or its magnitude when they would fill the screen ("about -1e90").
+std::string int_text(const py::handle& integer) {
+  const auto bits = integer.attr("bit_length")().cast<long long>();
+  if (bits <= 256) return py::str(integer).cast<std::string>();
+  const bool negative = PyObject_RichCompareBool(integer.ptr(), py::int_(0).ptr(), Py_LT) == 1;
+  const auto digits = static_cast<long long>(static_cast<double>(bits - 1) * std::log10(2.0));
+  return fmt::format("about {}1e{}", negative ? "-" : "", digits);
+}
+
+// The Python int that `value` stands for: an int or a numpy integer, never a bool.
+py::int_ index_of(const py::handle& value, const Argument& argument) {
+  if (PyLong_Check(value.ptr()) && !PyBool_Check(value.ptr()))
+    return py::reinterpret_borrow<py::int_>(value);
+  if (!PyIndex_Check(value.ptr()) || is_any_bool(value))
+    throw_wrong_type(argument, "an int", value);
+  PyObject* index = PyNumber_Index(value.ptr());
+  if (index == nullptr) {
+    PyErr_Clear();  // an __index__ that raised: the value is no int after all
+    throw_wrong_type(argument, "an int", value);
+  }
+  return py::reinterpret_steal<py::int_>(index);
+}
+
+// `value` as a long long, or nullopt beyond its range.
+std::optional<long long> long_long_of(const py::int_& value) {
+  int overflow = 0;
+  const long long result = PyLong_AsLongLongAndOverflow(value.ptr(), &overflow);
+  if (overflow != 0) return std::nullopt;
+  return result;
+}
+
+double real_of(const py::handle& value, const Argument& argument) {
+  PyObject* p = value.ptr();
+  const bool numeric = PyFloat_Check(p) || PyLong_Check(p) || PyIndex_Check(p) ||
+                       (Py_TYPE(p)->tp_as_number && Py_TYPE(p)->tp_as_number->nb_float);
+  if (!numeric || is_any_bool(value) || PyComplex_Check(p) ||
+      is_numpy_instance(value, "complexfloating"))
+    throw_wrong_type(argument, "a real number", value);
+  const double result = PyFloat_AsDouble(p);
+  if (result == -1.0 && PyErr_Occurred()) {
+    const bool too_large = PyErr_ExceptionMatches(PyExc_OverflowError);
+    PyErr_Clear();
+    if (!too_large) throw_wrong_type(argument, "a real number", value);
+    const std::string shown = PyIndex_Check(p) ? int_text(index_of(value, argument))
+                                               : py::repr(value).cast<std::string>();
+    throw py::value_error(fmt::format("{} {} is beyond the range of a number (about 1.8e308)",
+                                      prefix(argument), shown));
+  }
+  return result;
+}
+
+// Text as UTF-8, or ValueError for a str that has none (lone surrogates).
+std::string utf8_of(const py::handle& value, const Argument& argument) {
+  Py_ssize_t size = 0;
+  const char* data = PyUnicode_AsUTF8AndSize(value.ptr(), &size);
+  if (data == nullptr) {
+    PyErr_Clear();
+    throw py::value_error(
+        fmt::format("{} is not valid text (it holds lone surrogates)", prefix(argument)));
+  }
+  return std::string(data, static_cast<size_t>(size));
+}
+
+}  // namespace
+
+bool is_int_like(const py::handle& value) {
+  return PyIndex_Check(value.ptr()) && !is_any_bool(value);
+}
+
+std::string python_type_name(const py::handle& value) {
+  if (value.is_none()) return "None";
+  const py::handle type = reinterpret_cast<PyObject*>(Py_TYPE(value.ptr()));
+  const std::string name = py::str(type.attr("__qualname__")).cast<std::string>();
+  const py::object module = py::getattr(type, "__module__", py::none());
+  if (!py::isinstance<py::str>(module)) return name;
+  std::string module_name = module.cast<std::string>();
+  if (module_name == "builtins") return name;
+  if (module_name == "intermix._intermix") module_name = "intermix";  // before __init__ renames
+  return module_name + "." + name;
+}
+
+void throw_wrong_type(const Argument& argument, std::string_view expected,
+                      const py::handle& value) {
+  throw py::type_error(
+      fmt::format("{} must be {}, got {}", prefix(argument), expected, python_type_name(value)));
+}
+
+long long int_in(const py::handle& value, const Argument& argument, long long lo, long long hi) {
+  const py::int_ index = index_of(value, argument);
+  const std::optional<long long> result = long_long_of(index);
+  if (!result || *result < lo || *result > hi)
+    throw py::value_error(
+        fmt::format("{} {} is not in [{}, {}]", prefix(argument), int_text(index), lo, hi));
+  return *result;
+}
+
+std::optional<long long> optional_int_in(const py::handle& value, const Argument& argument,
+                                         long long lo, long long hi) {
+  if (value.is_none()) return std::nullopt;
+  return int_in(value, argument, lo, hi);
+}
+
+long long int_at_least(const py::handle& value, const Argument& argument, long long lo) {
+  const py::int_ index = index_of(value, argument);
+  const std::optional<long long> result = long_long_of(index);
+  if (result && *result >= lo) return *result;
+  if (!result && PyObject_RichCompareBool(index.ptr(), py::int_(0).ptr(), Py_GT) == 1)
+    throw py::value_error(fmt::format("{} is {}, more than {}", prefix(argument), int_text(index),
+                                      std::numeric_limits<long long>::max()));
+  throw py::value_error(
+      fmt::format("{} is {}, not {} or more", prefix(argument), int_text(index), lo));
+}
+
+double finite_real(const py::handle& value, const Argument& argument) {
+  const double result = real_of(value, argument);
+  if (!std::isfinite(result))
+    throw py::value_error(fmt::format("{} {} is not a finite number", prefix(argument), result));
+  return result;
+}
+
+double real_in(const py::handle& value, const Argument& argument, double lo, double hi) {
+  const double result = finite_real(value, argument);
+  if (result < lo || result > hi)
+    throw py::value_error(
+        fmt::format("{} {:g} is not in [{:g}, {:g}]", prefix(argument), result, lo, hi));
+  return result;
+}
+
+std::optional<double> optional_finite_real(const py::handle& value, const Argument& argument) {
+  if (value.is_none()) return std::nullopt;
+  return finite_real(value, argument);
+}
+
+bool flag(const py::handle& value, const Argument& argument) {
+  if (PyBool_Check(value.ptr())) return value.ptr() == Py_True;
+  if (!PyLong_Check(value.ptr()) && is_numpy_instance(value, "bool_"))
+    return PyObject_IsTrue(value.ptr()) == 1;
+  throw_wrong_type(argument, "a bool (True or False)", value);
+}
+
+std::string text(const py::handle& value, const Argument& argument) {
+  if (!PyUnicode_Check(value.ptr())) throw_wrong_type(argument, "a str", value);
+  return utf8_of(value, argument);
+}
+
+std::optional<std::string> optional_text(const py::handle& value, const Argument& argument) {
+  if (value.is_none()) return std::nullopt;
+  return text(value, argument);
+}
+
+bool is_path_like(const py::handle& value) {
+  return PyUnicode_Check(value.ptr()) ||
+         py::isinstance(value, py::module_::import("os").attr("PathLike"));
+}
+
+std::filesystem::path path(const py::handle& value, const Argument& argument) {
+  constexpr const char* kExpected = "a path (a str or an os.PathLike)";
+  if (PyBytes_Check(value.ptr()) || PyByteArray_Check(value.ptr()))
+    throw py::type_error(fmt::format("{} must be {}, got {}; decode bytes paths with os.fsdecode",
+                                     prefix(argument), kExpected, python_type_name(value)));
+  if (!is_path_like(value)) throw_wrong_type(argument, kExpected, value);
+  py::object given;
+  try {
+    given = py::module_::import("os").attr("fspath")(value);
+  } catch (const py::error_already_set& e) {
+    throw py::type_error(fmt::format("{}: os.fspath failed on the {}: {}", prefix(argument),
+                                     python_type_name(value), e.what()));
+  }
+  if (!PyUnicode_Check(given.ptr()))
+    throw py::type_error(fmt::format("{} must be {}, got a {} whose path is {}", prefix(argument),
+                                     kExpected, python_type_name(value), python_type_name(given)));
+  // The file system's bytes: a name os.fsdecode made of bytes that are not UTF-8 comes back.
+  PyObject* encoded = PyUnicode_EncodeFSDefault(given.ptr());
+  if (encoded == nullptr) {
+    PyErr_Clear();
+    throw py::value_error(fmt::format("{} cannot be encoded as a file name", prefix(argument)));
+  }
+  const py::bytes bytes = py::reinterpret_steal<py::bytes>(encoded);
+  std::string name = bytes;
+  if (name.find('\0') != std::string::npos)
+    throw py::value_error(fmt::format("{} holds a NUL character", prefix(argument)));
+  return name;
+}
+
+std::optional<std::filesystem::path> optional_path(const py::handle& value,
+                                                   const Argument& argument) {
+  if (value.is_none()) return std::nullopt;
+  return path(value, argument);
+}
+
+py::array array_argument(const py::handle& value, const Argument& argument,
+                         std::string_view expected, const py::handle& dtype) {
+  try {
+    return numpy().attr("asarray")(value, py::arg("dtype") = dtype);
+  } catch (py::error_already_set& e) {
+    const std::string reason = py::str(e.value()).cast<std::string>();
+    const std::string message = fmt::format("{} is not {}: {}", prefix(argument), expected,
+                                            reason.substr(0, reason.find('\n')));
+    if (e.matches(PyExc_TypeError)) throw py::type_error(message);
+    if (e.matches(PyExc_MemoryError)) throw;
+    throw py::value_error(message);
+  }
+}
+
+// ---- calls that fit no signature ----
+
+namespace {
+
+using FunctionRecord = py::detail::function_record;
+
+// pybind11's dispatcher, which every function of the module shares (its PyMethodDef's ml_meth).
+PyCFunctionWithKeywords pybind11_dispatcher = nullptr;
+
+std::string quoted_list(const std::vector<std::string>& names) {
+  std::vector<std::string> quoted;
+  for (const std::string& name : names) quoted.push_back("'" + name + "'");
+  return fmt::format("{}", fmt::join(quoted, ", "));
+}
+
+// How Python spells the function: "phantom", "Scene.render", "Volume" (its constructor), "a
+// Volume property" (properties' functions have no name of their own).
+std::string function_name(const FunctionRecord& record) {
+  const std::string name = record.name ? record.name : "";
+  if (!record.scope || !PyType_Check(record.scope.ptr())) return name;
+  const std::string type = py::str(record.scope.attr("__name__")).cast<std::string>();
+  if (name.empty()) return "a " + type + " property";
+  return name == "__init__" ? type : type + "." + name;
+}
+
+// The parameters a caller names: every one but self.
+struct Parameters {
+  std::vector<std::string> names;
+  std::vector<py::handle> defaults;  // null where there is none
+  size_t positional = 0;             // the first `positional` may be given by position
+  bool takes_keywords = false;       // **kwargs takes any other keyword
+};
+
+Parameters parameters_of(const FunctionRecord& record) {
+  Parameters p;
+  const size_t self = record.is_method ? 1 : 0;
+  const size_t count = record.nargs - (record.has_args ? 1 : 0) - (record.has_kwargs ? 1 : 0);
+  for (size_t i = self; i < count; ++i) {
+    const bool known = i < record.args.size() && record.args[i].name != nullptr;
+    p.names.push_back(known ? record.args[i].name : fmt::format("arg{}", i - self));
+    p.defaults.push_back(i < record.args.size() ? record.args[i].value : py::handle());
+  }
+  p.positional = record.nargs_pos > self ? record.nargs_pos - self : 0;
+  p.takes_keywords = record.has_kwargs;
+  return p;
+}
+
+// "(path, *, space='LPS', frame=0)": the signature as Python writes it.
+std::string signature_of(const Parameters& p) {
+  std::vector<std::string> parts;
+  for (size_t i = 0; i < p.names.size(); ++i) {
+    if (i == p.positional) parts.emplace_back("*");
+    parts.push_back(p.defaults[i] ? p.names[i] + "=" + py::repr(p.defaults[i]).cast<std::string>()
+                                  : p.names[i]);
+  }
+  if (p.takes_keywords) parts.emplace_back("**keys");
+  return fmt::format("({})", fmt::join(parts, ", "));
+}
+
+// What is wrong with a call pybind11 found no overload for, in Python's words.
+std::string describe_mismatch(const FunctionRecord& record, PyObject* args, PyObject* kwargs) {
+  const std::string function = function_name(record);
+  const Parameters p = parameters_of(record);
+  const std::string takes = "; it takes " + signature_of(p);
+  const auto given = static_cast<size_t>(PyTuple_GET_SIZE(args));
+  const size_t self = record.is_method ? 1 : 0;
+  if (record.is_method && !record.is_constructor) {
+    const std::string type = py::str(record.scope.attr("__name__")).cast<std::string>();
+    if (given == 0)
+      return fmt::format("{}: called without an intermix.{} (call it on one)", function, type);
+    const py::handle first = PyTuple_GET_ITEM(args, 0);
+    if (PyObject_IsInstance(first.ptr(), record.scope.ptr()) != 1) {
+      PyErr_Clear();
+      return fmt::format("{}: self must be an intermix.{}, got {}", function, type,
+                         python_type_name(first));
+    }
+  }
+  const size_t positional = given - std::min(given, self);
+  if (!record.has_args && positional > p.positional) {
+    const std::vector<std::string> names(p.names.begin(), p.names.begin() + p.positional);
+    const std::string by_position =
+        p.positional == 0 ? "takes no positional arguments"
+                          : fmt::format("takes at most {} positional argument{} ({})", p.positional,
+                                        p.positional == 1 ? "" : "s", fmt::join(names, ", "));
+    return fmt::format("{}: {}, got {}{}", function, by_position, positional, takes);
+  }
+  std::vector<std::string> named;
+  if (kwargs != nullptr) {
+    PyObject *key = nullptr, *value = nullptr;
+    Py_ssize_t pos = 0;
+    while (PyDict_Next(kwargs, &pos, &key, &value)) {
+      const std::string name = py::str(key).cast<std::string>();
+      named.push_back(name);
+      const auto it = std::find(p.names.begin(), p.names.end(), name);
+      if (it == p.names.end()) {
+        if (p.takes_keywords) continue;
+        return fmt::format("{}: got an unexpected keyword argument '{}'{}{}", function, name,
+                           imx::detail::did_you_mean(name, p.names), takes);
+      }
+      if (static_cast<size_t>(it - p.names.begin()) < positional)
+        return fmt::format("{}: got '{}' twice, by position and by keyword{}", function, name,
+                           takes);
+    }
+  }
+  std::vector<std::string> missing;
+  for (size_t i = positional; i < p.names.size(); ++i)
+    if (!p.defaults[i] && std::find(named.begin(), named.end(), p.names[i]) == named.end())
+      missing.push_back(p.names[i]);
+  if (!missing.empty())
+    return fmt::format("{}: missing the argument{} {}{}", function, missing.size() == 1 ? "" : "s",
+                       quoted_list(missing), takes);
+  return fmt::format("{}: cannot take these arguments{}", function, takes);
+}
+
+// Replaces pybind11's "NAME(): incompatible function arguments ..." TypeError, which is set,
+// by intermix's own; any other error stays as it is.
+void replace_mismatch_error(PyObject* capsule, PyObject* args, PyObject* kwargs) {
+  PyObject *type = nullptr, *value = nullptr, *trace = nullptr;
+  PyErr_Fetch(&type, &value, &trace);
+  std::string message;
+  try {
+    const auto* record = static_cast<const FunctionRecord*>(
+        PyCapsule_GetPointer(capsule, py::detail::get_function_record_capsule_name()));
+    if (record == nullptr) throw py::error_already_set();
+    const std::string text = value ? py::str(value).cast<std::string>() : std::string();
+    const std::string expected =
+        std::string(record->name ? record->name : "") + "(): incompatible ";
+    if (text.compare(0, expected.size(), expected) == 0)
+      message = describe_mismatch(*record, args, kwargs);
+  } catch (...) {
+    PyErr_Clear();  // describing failed: pybind11's message is better than none
+    message.clear();
+  }
+  if (message.empty()) {
+    PyErr_Restore(type, value, trace);
+    return;
+  }
+  Py_XDECREF(type);
+  Py_XDECREF(value);
+  Py_XDECREF(trace);
+  PyErr_SetString(PyExc_TypeError, message.c_str());
+}
+
+PyObject* dispatch_with_own_errors(PyObject* capsule, PyObject* args, PyObject* kwargs) {
+  PyObject* result = pybind11_dispatcher(capsule, args, kwargs);
+  if (result == nullptr && PyErr_ExceptionMatches(PyExc_TypeError))
+    replace_mismatch_error(capsule, args, kwargs);
+  return result;
+}
+
+// Routes a pybind11 function's calls through dispatch_with_own_errors (its PyMethodDef is its
+// own, so no other function changes); anything else is left alone.
+void route_through_own_errors(const py::handle& function) {
+  if (!function || !PyCFunction_Check(function.ptr())) return;
+  auto* cfunction = reinterpret_cast<PyCFunctionObject*>(function.ptr());
+  if (cfunction->m_self == nullptr || !PyCapsule_CheckExact(cfunction->m_self)) return;
+  if (!py::detail::is_function_record_capsule(
+          py::reinterpret_borrow<py::capsule>(cfunction->m_self)))
+    return;
+  PyMethodDef* def = cfunction->m_ml;
+  if ((def->ml_flags & METH_KEYWORDS) == 0) return;
+  auto* current =
+      reinterpret_cast<PyCFunctionWithKeywords>(reinterpret_cast<void (*)()>(def->ml_meth));
+  if (current == &dispatch_with_own_errors) return;
+  if (pybind11_dispatcher == nullptr) pybind11_dispatcher = current;
+  if (current != pybind11_dispatcher) return;
+  def->ml_meth =
+      reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(&dispatch_with_own_errors));
+}
+
+// The functions behind a class attribute: a method's, a static method's, a property's getter
+// and setter, or the attribute itself.
+std::vector<py::object> functions_behind(const py::handle& attribute) {
+  if (PyInstanceMethod_Check(attribute.ptr()))
+    return {py::reinterpret_borrow<py::object>(PyInstanceMethod_GET_FUNCTION(attribute.ptr()))};
+  const py::module_ builtins = py::module_::import("builtins");
+  if (py::isinstance(attribute, builtins.attr("staticmethod"))) return {attribute.attr("__func__")};
+  if (py::isinstance(attribute, builtins.attr("property")))
+    return {attribute.attr("fget"), attribute.attr("fset")};
+  return {py::reinterpret_borrow<py::object>(attribute)};
+}
+
+}  // namespace
+
+void explain_mismatched_calls(py::module_& module) {
+  const py::object module_name = module.attr("__name__");
+  for (const auto item : py::reinterpret_borrow<py::dict>(module.attr("__dict__"))) {
+    const py::handle value = item.second;
+    route_through_own_errors(value);
+    if (!PyType_Check(value.ptr()) ||
+        !py::getattr(value, "__module__", py::none()).equal(module_name))
+      continue;
+    // tp_dict, not __dict__: a class's __dict__ is a read-only proxy.
+    const auto* type = reinterpret_cast<PyTypeObject*>(value.ptr());
+    for (const auto member : py::reinterpret_borrow<py::dict>(type->tp_dict))
+      for (const py::object& function : functions_behind(member.second))
+        route_through_own_errors(function);
+  }
+}
+
+}  // namespace imx::python

@@ -1,0 +1,305 @@
+"""Issue 32: every bad argument raises TypeError, ValueError, OSError or MemoryError with
+intermix's own message naming the function and the argument, never pybind11's text.
+
+The sweep calls every public function with each bad value in each argument (a value that is
+valid there just runs); python/src/arguments.* converts the arguments.
+"""
+
+import math
+import os
+import pathlib
+
+import numpy as np
+import pytest
+
+import intermix
+
+BAD_VALUES = [2**31, 2**63, 2**70, -1, -(2**31), 0, 1.5, math.nan, math.inf, "x", None, [], {},
+              object(), b"abc", True, np.int64(2**40), np.float32(3), np.bool_(True)]
+PYBIND11_PHRASES = ("incompatible function arguments", "incompatible constructor arguments",
+                    "Unable to cast", "Invoked with", "std::", "pybind11")
+ALLOWED = (TypeError, ValueError, OSError, MemoryError)
+
+SPHERE_SCENE = {
+    "camera": {"eye": [0, -300, 0], "target": [0, 0, 0], "up": [0, 0, 1]},
+    "image": {"width": 8, "height": 8},
+    "render": {"method": "mdvr"},
+    "objects": [{"name": "s", "type": "mesh", "source": {"primitive": "sphere", "radius": 40}}],
+}
+IMAGE = np.zeros((4, 4, 4), np.float32)
+VOXELS = np.zeros((4, 4, 4), np.float32)
+VERTICES = np.eye(3, dtype=np.float32)
+TRIANGLES = np.array([[0, 1, 2]], np.uint32)
+MISSING = "/nonexistent/intermix-test.nii"
+
+
+def scene():
+    return intermix.Scene.from_dict(SPHERE_SCENE)
+
+
+def budget(value):
+    try:
+        intermix.set_max_memory(value)
+    finally:
+        intermix.set_max_memory(0)
+
+
+def kept_budget(value):
+    setattr(intermix.Renderer(), "kept_budget", value)
+
+
+VOLUME = intermix.phantom("cube", 8)
+BALL = {"primitive": "sphere", "radius": 5}
+
+# (call, the words of which the message names one: the argument, or the JSON path it sets)
+SWEEP = {
+    "Scene.render(method)": (lambda v: scene().render(method=v), ["method"]),
+    "Scene.render(width)": (lambda v: scene().render(width=v), ["width"]),
+    "Scene.render(height)": (lambda v: scene().render(height=v), ["height"]),
+    "Scene.render(spp)": (lambda v: scene().render(spp=v), ["spp"]),
+    "Scene.render(threads)": (lambda v: scene().render(threads=v), ["threads"]),
+    "Renderer(kept_budget)": (lambda v: intermix.Renderer(v), ["kept_budget"]),
+    "Renderer.kept_budget =": (kept_budget, ["kept_budget"]),
+    "Renderer.render(scene)": (lambda v: intermix.Renderer().render(v), ["scene"]),
+    "Renderer.render(method)": (lambda v: intermix.Renderer().render(scene(), method=v), ["method"]),
+    "Renderer.render(width)": (lambda v: intermix.Renderer().render(scene(), width=v), ["width"]),
+    "Renderer.render(height)": (lambda v: intermix.Renderer().render(scene(), height=v), ["height"]),
+    "Renderer.render(spp)": (lambda v: intermix.Renderer().render(scene(), spp=v), ["spp"]),
+    "Renderer.render(threads)": (lambda v: intermix.Renderer().render(scene(), threads=v), ["threads"]),
+    "phantom(name)": (lambda v: intermix.phantom(v, 8), ["name"]),
+    "phantom(size)": (lambda v: intermix.phantom("cube", v), ["size"]),
+    "default_spp(method)": (lambda v: intermix.default_spp(v), ["method"]),
+    "set_max_memory(bytes)": (budget, ["bytes"]),
+    "read_volume(path)": (lambda v: intermix.read_volume(v), ["path"]),
+    "read_volume(space)": (lambda v: intermix.read_volume(MISSING, space=v), ["space"]),
+    "read_volume(series)": (lambda v: intermix.read_volume(MISSING, series=v), ["series"]),
+    "read_volume(units)": (lambda v: intermix.read_volume(MISSING, units=v), ["units"]),
+    "read_volume(slice_spacing_mm)": (
+        lambda v: intermix.read_volume(MISSING, slice_spacing_mm=v), ["slice_spacing_mm"]),
+    "read_volume(frame)": (lambda v: intermix.read_volume(MISSING, frame=v), ["frame"]),
+    "read_volume_info(path)": (lambda v: intermix.read_volume_info(v), ["path"]),
+    "read_volume_info(series)": (lambda v: intermix.read_volume_info(MISSING, series=v), ["series"]),
+    "read_mesh(path)": (lambda v: intermix.read_mesh(v), ["path"]),
+    "read_mesh(space)": (lambda v: intermix.read_mesh("/nonexistent/m.ply", space=v), ["space"]),
+    "read_mesh(crease_angle_deg)": (
+        lambda v: intermix.read_mesh("/nonexistent/m.ply", crease_angle_deg=v), ["crease_angle_deg"]),
+    "write_volume(volume)": (lambda v: intermix.write_volume(v, "v.nrrd"), ["volume"]),
+    "write_volume(path)": (lambda v: intermix.write_volume(VOLUME, v), ["path"]),
+    "write_volume(compress)": (lambda v: intermix.write_volume(VOLUME, "v.nrrd", compress=v), ["compress"]),
+    "to_uint8(image)": (lambda v: intermix.to_uint8(v), ["image"]),
+    "to_uint8(linear)": (lambda v: intermix.to_uint8(IMAGE, v), ["linear"]),
+    "write_png(image)": (lambda v: intermix.write_png(v, "i.png"), ["image"]),
+    "write_png(path)": (lambda v: intermix.write_png(IMAGE, v), ["path"]),
+    "write_png(linear)": (lambda v: intermix.write_png(IMAGE, "i.png", v), ["linear"]),
+    "read_png(path)": (lambda v: intermix.read_png(v), ["path"]),
+    "read_png(linear)": (lambda v: intermix.read_png("/nonexistent/i.png", v), ["linear"]),
+    "encode_png(image)": (lambda v: intermix.encode_png(v), ["image"]),
+    "encode_png(linear)": (lambda v: intermix.encode_png(IMAGE, v), ["linear"]),
+    "compare(a)": (lambda v: intermix.compare(v, IMAGE), ["compare: a"]),
+    "compare(b)": (lambda v: intermix.compare(IMAGE, v), ["compare: b"]),
+    "error_heat_map(a)": (lambda v: intermix.error_heat_map(v, IMAGE), ["error_heat_map: a"]),
+    "error_heat_map(b)": (lambda v: intermix.error_heat_map(IMAGE, v), ["error_heat_map: b"]),
+    "error_heat_map(scale)": (lambda v: intermix.error_heat_map(IMAGE, IMAGE, v), ["scale"]),
+    "Volume(array)": (lambda v: intermix.Volume(v), ["array"]),
+    "Volume(affine)": (lambda v: intermix.Volume(VOXELS, v), ["affine"]),
+    "Volume(space)": (lambda v: intermix.Volume(VOXELS, space=v), ["space"]),
+    "Volume(axes)": (lambda v: intermix.Volume(VOXELS, axes=v), ["axes"]),
+    "Mesh(vertices)": (lambda v: intermix.Mesh(v, TRIANGLES), ["vertices"]),
+    "Mesh(triangles)": (lambda v: intermix.Mesh(VERTICES, v), ["triangles"]),
+    "Mesh(normals)": (lambda v: intermix.Mesh(VERTICES, TRIANGLES, normals=v), ["normals"]),
+    "Mesh(colors)": (lambda v: intermix.Mesh(VERTICES, TRIANGLES, colors=v), ["colors"]),
+    "Mesh(space)": (lambda v: intermix.Mesh(VERTICES, TRIANGLES, space=v), ["space"]),
+    "Mesh(crease_angle_deg)": (
+        lambda v: intermix.Mesh(VERTICES, TRIANGLES, crease_angle_deg=v), ["crease_angle_deg"]),
+    "Scene(base_dir)": (lambda v: intermix.Scene(v), ["base_dir"]),
+    "Scene.from_file(path)": (lambda v: intermix.Scene.from_file(v), ["path"]),
+    "Scene.from_dict(scene)": (lambda v: intermix.Scene.from_dict(v), ["scene"]),
+    "Scene.from_dict(base_dir)": (lambda v: intermix.Scene.from_dict({"objects": []}, base_dir=v), ["base_dir"]),
+    "Scene.from_json(text)": (lambda v: intermix.Scene.from_json(v), ["text"]),
+    "Scene.from_json(base_dir)": (lambda v: intermix.Scene.from_json('{"objects": []}', base_dir=v), ["base_dir"]),
+    "Scene.set(path)": (lambda v: scene().set(v, 1), ["path", "scene.set"]),
+    "Scene.set(value)": (lambda v: scene().set("camera.fov_deg", v), ["camera.fov_deg"]),
+    "Scene.add_volume(name)": (lambda v: scene().add_volume(v, VOLUME), ["name"]),
+    "Scene.add_volume(source)": (lambda v: scene().add_volume("v", v), ["source"]),
+    "Scene.add_volume(affine)": (lambda v: scene().add_volume("v", VOXELS, v), ["affine"]),
+    "Scene.add_volume(space)": (lambda v: scene().add_volume("v", VOXELS, space=v), ["space"]),
+    "Scene.add_volume(**style)": (lambda v: scene().add_volume("v", VOLUME, style=v), ["style"]),
+    "Scene.add_mesh(name)": (lambda v: scene().add_mesh(v, BALL), ["name"]),
+    "Scene.add_mesh(source)": (lambda v: scene().add_mesh("m", v), ["source"]),
+    "Scene.add_mesh(**material)": (
+        lambda v: scene().add_mesh("m", BALL, material=v), ["material"]),
+    "Scene.add_plane(name)": (lambda v: scene().add_plane(v, center=[0, 0, 0], normal=[0, 0, 1], size=[9, 9]), ["name"]),
+    "Scene.add_plane(**normal)": (lambda v: scene().add_plane("p", center=[0, 0, 0], size=[9, 9], normal=v), ["normal"]),
+}
+
+
+def check_message(error, words, value, label):
+    message = str(error)
+    assert isinstance(error, ALLOWED), f"{label}({value!r}): {type(error).__name__}: {message}"
+    assert not any(p in message for p in PYBIND11_PHRASES), f"{label}({value!r}): {message}"
+    if isinstance(error, OSError):
+        return  # a file that cannot be read or written: the message names the file
+    named = any(w in message for w in words)
+    # A path the library could not use (a wrong extension), or a key path scene.set could not
+    # set, is named by itself.
+    named = named or (isinstance(value, str) and (f"{value}:" in message or f"'{value}'" in message))
+    assert named, f"{label}({value!r}): {type(error).__name__}: {message!r} names none of {words}"
+
+
+def test_every_bad_argument_gets_intermixs_own_message(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # valid path values ("x") write here
+    failures = []
+    for label, (call, words) in SWEEP.items():
+        for value in BAD_VALUES:
+            try:
+                call(value)
+            except Exception as e:  # noqa: BLE001: every exception is judged
+                try:
+                    check_message(e, words, value, label)
+                except AssertionError as failure:
+                    failures.append(str(failure).split("\n")[0])
+    assert intermix.max_memory() > 0
+    assert not failures, f"{len(failures)} bad messages:\n" + "\n".join(failures[:40])
+
+
+def public_callables():
+    """Every public function and method of the package, with a name for messages."""
+    for name in intermix.__all__:
+        value = getattr(intermix, name)
+        if name == "Image":
+            continue  # pure Python
+        if isinstance(value, type):
+            for member in dir(value):
+                if member.startswith("_") and member != "__init__":
+                    continue
+                attribute = getattr(value, member)
+                if callable(attribute):
+                    yield f"{name}.{member}", value, member
+        else:
+            yield name, None, name
+
+
+def test_calls_that_fit_no_signature_get_intermixs_own_type_error():
+    failures = []
+    for label, cls, member in public_callables():
+        if cls is None:
+            function = getattr(intermix, member)
+        elif member == "__init__":
+            function = cls
+        elif isinstance(cls.__dict__.get(member), staticmethod):
+            function = getattr(cls, member)
+        else:
+            instance = scene() if cls is intermix.Scene else None
+            if cls is intermix.Renderer:
+                instance = intermix.Renderer()
+            if instance is None:
+                continue  # Volume, Mesh, RendererStats have no public methods
+            function = getattr(instance, member)
+        for args, kwargs in [((), {"__no_such_keyword": 1}), ((0,) * 12, {})]:
+            try:
+                function(*args, **kwargs)
+            except Exception as e:  # noqa: BLE001
+                message = str(e)
+                if not isinstance(e, ALLOWED) or any(p in message for p in PYBIND11_PHRASES):
+                    failures.append(f"{label}: {type(e).__name__}: {message[:120]!r}")
+    assert not failures, "\n".join(failures)
+
+
+def message_of(call):
+    with pytest.raises(ALLOWED) as e:
+        call()
+    return type(e.value), str(e.value)
+
+
+def test_exact_messages():
+    s = scene()
+    assert message_of(lambda: s.render(width=2**31)) == (
+        ValueError, "Scene.render: width 2147483648 is not in [1, 16384]")
+    assert message_of(lambda: s.render(width="8")) == (
+        TypeError, "Scene.render: width must be an int, got str")
+    assert message_of(lambda: s.render(spp=np.float32(4))) == (
+        TypeError, "Scene.render: spp must be an int, got numpy.float32")
+    assert message_of(lambda: intermix.Renderer().render(s, height=True)) == (
+        TypeError, "Renderer.render: height must be an int, got bool")
+    assert message_of(lambda: intermix.phantom("cube", 1.5)) == (
+        TypeError, "phantom: size must be an int, got float")
+    assert message_of(lambda: intermix.phantom("cube", 2**70)) == (
+        ValueError, "phantom: size 1180591620717411303424 is not in [8, 1024]")
+    assert message_of(lambda: intermix.read_volume(MISSING, frame=-1)) == (
+        ValueError, "read_volume: frame -1 is not in [0, 65535]")
+    assert message_of(lambda: intermix.write_volume("x", "v.nii")) == (
+        TypeError, "write_volume: volume must be an intermix.Volume, got str")
+    assert message_of(lambda: intermix.Renderer(kept_budget="x")) == (
+        TypeError, "Renderer: kept_budget must be an int, got str")
+    assert message_of(lambda: intermix.to_uint8(IMAGE, "yes")) == (
+        TypeError, "to_uint8: linear must be a bool (True or False), got str")
+    assert message_of(lambda: intermix.Scene.from_json(5)) == (
+        TypeError, "Scene.from_json: text must be a str, got int")
+    assert message_of(lambda: s.add_volume(5, VOLUME)) == (
+        TypeError, "Scene.add_volume: name must be a str, got int")
+    assert message_of(lambda: intermix.read_mesh(MISSING, crease_angle_deg=math.nan)) == (
+        ValueError, "read_mesh: crease_angle_deg nan is not a finite number")
+    assert message_of(lambda: intermix.read_png(b"x.png")) == (
+        TypeError, "read_png: path must be a path (a str or an os.PathLike), got bytes; decode "
+                   "bytes paths with os.fsdecode")
+    assert message_of(lambda: intermix.read_volume("a\0b.nii")) == (
+        ValueError, "read_volume: path holds a NUL character")
+    assert message_of(lambda: intermix.set_max_memory(2**63)) == (
+        ValueError, "set_max_memory: bytes is 9223372036854775808, more than 9223372036854775807")
+
+
+def test_exact_messages_for_calls_that_fit_no_signature():
+    s = scene()
+    assert message_of(lambda: s.render(widht=8)) == (
+        TypeError, "Scene.render: got an unexpected keyword argument 'widht' (did you mean "
+                   "'width'?); it takes (method=None, width=None, height=None, spp=None, "
+                   "threads=None)")
+    assert message_of(lambda: intermix.Scene.set(1, 1)) == (
+        TypeError, "Scene.set: self must be an intermix.Scene, got int")
+    assert message_of(lambda: intermix.phantom("cube", 8, 9)) == (
+        TypeError, "phantom: takes at most 2 positional arguments (name, size), got 3; it takes "
+                   "(name, size=128)")
+    assert message_of(lambda: intermix.read_volume(MISSING, "RAS")) == (
+        TypeError, "read_volume: takes at most 1 positional argument (path), got 2; it takes "
+                   "(path, *, space='LPS', series=None, units='', slice_spacing_mm=None, frame=0)")
+    assert message_of(lambda: intermix.Mesh(VERTICES)) == (
+        TypeError, "Mesh: missing the argument 'triangles'; it takes (vertices, triangles, "
+                   "normals=None, colors=None, *, space='LPS', crease_angle_deg=60.0)")
+    assert message_of(lambda: intermix.read_mesh(MISSING, path=MISSING))[1].startswith(
+        "read_mesh: got 'path' twice, by position and by keyword")
+
+
+def test_valid_values_of_every_accepted_kind(tmp_path):
+    s = scene()
+    # numpy integers are ints, numpy bools are bools, os.PathLike is a path.
+    image = s.render(width=np.int64(8), height=np.int32(6), spp=np.uint8(1), threads=np.int16(1))
+    assert image.shape == (6, 8, 4)
+    intermix.write_png(image, tmp_path / "a.png", linear=np.bool_(False))
+    assert intermix.read_png(pathlib.PurePath(tmp_path / "a.png")).shape == (6, 8, 4)
+    assert intermix.error_heat_map(image, image, np.float32(4)).shape == (6, 8, 4)
+    mesh = intermix.Mesh(VERTICES, TRIANGLES, crease_angle_deg=np.int64(30))
+    assert mesh.normals.shape == (3, 3)
+    r = intermix.Renderer(kept_budget=np.int64(1 << 20))
+    r.kept_budget = 0
+    assert r.kept_budget == 0
+    assert intermix.phantom("cube", np.int64(8)).shape == (8, 8, 8)
+
+
+def test_help_keeps_the_parameters_and_their_types():
+    doc = intermix.Scene.render.__doc__
+    assert doc.startswith("render(self: intermix._intermix.Scene, method: Optional[str] = None, "
+                          "width: Optional[int] = None"), doc
+    assert "Overloaded" not in doc
+    assert intermix.read_volume.__doc__.startswith(
+        "read_volume(path: Union[str, os.PathLike], *, space: str = 'LPS'")
+    assert "size: int = 128" in intermix.phantom.__doc__
+
+
+def test_a_message_quoting_bytes_that_are_not_utf8_keeps_its_text(tmp_path):
+    # The parser quotes the file's first byte; a strict decode left the ValueError empty.
+    (tmp_path / "scene.json").write_bytes(b"\x89PNG\r\n")
+    with pytest.raises(ValueError) as e:
+        intermix.Scene.from_file(tmp_path / "scene.json")
+    assert str(e.value).startswith(f"{tmp_path}/scene.json: "), str(e.value)
+    with pytest.raises(ValueError, match="^scene text: "):
+        intermix.Scene.from_json("\x89PNG")
