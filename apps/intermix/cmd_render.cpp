@@ -1,11 +1,14 @@
-// intermix render SCENE.json -o OUT.png: one frame of a scene file.
+// intermix render SCENE.json -o OUT.png: one frame of a scene file; or of a scene built from
+// volume, DICOM and mesh files (intermix render FLAIR.nii.gz -o f.png).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <iterator>
 #include <regex>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "commands.hpp"
 #include "core/parallel.hpp"
@@ -15,13 +18,16 @@
 #include "intermix/io.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "io/atomic_file.hpp"
+#include "scene/scene_from_files.hpp"
 
 namespace imx::cli {
 
 namespace {
 
 struct Options {
-  std::string scene, output, method;
+  std::vector<std::string> inputs;  // one scene file, or the files a scene is built from
+  std::string scene, output, method, view, save_scene;
   int width = 0, height = 0, spp = 0, threads = 0;
   std::vector<std::string> overrides;
   std::string frame_range, frame_object;
@@ -30,10 +36,26 @@ struct Options {
   std::string partition = "auto", report;
 };
 
+bool is_scene_file(const Options& o) {
+  return o.inputs.size() == 1 && std::filesystem::path(o.inputs[0]).extension() == ".json";
+}
+
+// The scene file, or the scene built from the input files (scene_from_files.hpp); then
+// --save-scene writes the built document, which renders the same image again.
+Scene load_inputs(const Options& o, const std::vector<std::string>& overrides) {
+  if (is_scene_file(o)) return load_scene(o.scene, overrides);
+  const std::vector<std::filesystem::path> files(o.inputs.begin(), o.inputs.end());
+  FilesScene built = scene_from_files(files, o.view.empty() ? "anterior" : o.view, overrides);
+  if (!o.save_scene.empty())
+    write_file_atomically(o.save_scene,
+                          [&](std::ostream& out) { out << built.document.dump(2) << "\n"; });
+  return std::move(built.scene);
+}
+
 // Loads, renders and writes one image, printing its notes and time.
 void render_one(const Options& o, const std::vector<std::string>& overrides,
                 const std::string& output) {
-  Scene scene = load_scene(o.scene, overrides);
+  Scene scene = load_inputs(o, overrides);
   print_notes(scene.notes);
   RenderOptions options;
   options.method = o.method;
@@ -51,7 +73,10 @@ void render_one(const Options& o, const std::vector<std::string>& overrides,
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   bar.finish();
   write_png(image, output, o.linear);
-  std::string method = o.method.empty() ? scene.render.method : o.method;
+  const ResolvedMethod resolved = resolve_method(scene, o.method);
+  const std::string method = resolved.reason.empty()
+                                 ? resolved.name
+                                 : fmt::format("{} (auto: {})", resolved.name, resolved.reason);
   if (!quiet())
     std::fprintf(stderr, "intermix: %s: %dx%d with %s on %d threads in %.3f s -> %s\n",
                  o.scene.c_str(), image.width(), image.height(), method.c_str(),
@@ -75,7 +100,7 @@ int render_frames(const Options& o, const std::vector<std::string>& overrides) {
         "{}: with --frame-range, -o needs one frame number such as out_%03d.png", o.output));
   std::string object = o.frame_object;
   if (object.empty()) {
-    const Scene probe = load_scene(o.scene, overrides);
+    const Scene probe = load_inputs(o, overrides);
     if (probe.volumes.size() != 1)
       throw Error(fmt::format("{}: {} volume objects; name one with --frame-object", o.scene,
                               probe.volumes.size()));
@@ -95,9 +120,14 @@ int render_frames(const Options& o, const std::vector<std::string>& overrides) {
 
 Command add_render(CLI::App& app) {
   auto o = std::make_shared<Options>();
-  app.add_option("scene", o->scene, "scene file (JSON)")->required();
+  app.add_option("inputs", o->inputs,
+                 "a scene file (JSON), or volume files, DICOM folders and mesh files to build a "
+                 "scene from")
+      ->required();
   app.add_option("-o,--output", o->output, "output PNG")->required();
-  app.add_option("--method", o->method, "rendering method (default: the scene's, else reference)");
+  app.add_option("--method", o->method,
+                 "rendering method (default: the scene's, else auto: the fastest within reach of "
+                 "the best image for the scene's content)");
   app.add_option("--width", o->width, "image width in pixels (overrides the scene)")
       ->check(in_range(1, kMaxImageSide));
   app.add_option("--height", o->height, "image height in pixels (overrides the scene)")
@@ -123,16 +153,30 @@ Command add_render(CLI::App& app) {
   app.add_option("--frame-object", o->frame_object,
                  "with --frame-range: the volume object whose frames run (default: the scene's "
                  "only volume)");
+  app.add_option("--view", o->view,
+                 "the patient direction the camera looks from: anterior (default), posterior, "
+                 "left, right, superior or inferior (a scene file: frames its objects)")
+      ->check(CLI::IsMember({"anterior", "posterior", "left", "right", "superior", "inferior"}));
+  app.add_option("--save-scene", o->save_scene,
+                 "with input files: write the scene built from them (JSON), to edit and render "
+                 "again");
   app.add_option("--report", o->report,
                  "with --distributed: write timings, bytes exchanged and memory per rank (JSON)");
   return [o]() {
+    o->scene = is_scene_file(*o) ? o->inputs[0] : fmt::format("{}", fmt::join(o->inputs, " "));
     std::vector<std::string> overrides = o->overrides;
+    if (is_scene_file(*o) && !o->save_scene.empty())
+      throw Error("--save-scene applies to a scene built from files; this is a scene file");
+    if (is_scene_file(*o) && !o->view.empty())
+      overrides.push_back("camera={\"view\": \"" + o->view + "\"}");
     if (o->width > 0) overrides.push_back(fmt::format("image.width={}", o->width));
     if (o->height > 0) overrides.push_back(fmt::format("image.height={}", o->height));
     if (!o->distributed && (o->report.size() || o->partition != "auto"))
       throw Error("--partition and --report apply only with --distributed");
     if (o->distributed && !o->frame_range.empty())
       throw Error("--frame-range does not apply with --distributed");
+    if (o->distributed && !is_scene_file(*o))
+      throw Error("--distributed renders a scene file; write one with --save-scene first");
     if (o->distributed) {
       DistributedRequest request;
       request.scene = o->scene;

@@ -11,7 +11,7 @@
 namespace imx {
 
 struct RenderOptions {
-  std::string method;  // empty: the scene's render.method
+  std::string method;  // empty: the scene's render.method; "auto": resolve_method's choice
   int spp = 0;         // 0: the scene's, else the method's default
   int threads = 0;     // 0: all cores
   // Called now and then with the finished fraction in [0, 1], from one thread at a time.
@@ -25,6 +25,15 @@ struct RenderOptions {
 
 // Names of the methods this build implements.
 std::vector<std::string> available_methods();
+
+// The method render() uses for `scene` when asked for `method` (empty: the scene's
+// render.method): that name, or for "auto" (the default) the fastest method within reach of
+// the best image on the scene's kind of content (src/methods/automatic_method.hpp), with why.
+struct ResolvedMethod {
+  std::string name;
+  std::string reason;  // empty unless chosen by "auto": "volumes only", "a csg block", ...
+};
+ResolvedMethod resolve_method(const Scene& scene, const std::string& method = "");
 
 // Samples per pixel `method` renders with when neither the scene nor the caller sets them
 // (0 for an unknown method).

@@ -175,7 +175,7 @@ struct CsgExpression {
 };
 
 struct RenderSettings {
-  std::string method = "reference";
+  std::string method = "auto";  // a method's name, or auto (resolve_method in render.hpp)
   int spp = 0;           // samples per pixel, a perfect square; 0 = the method's default
   double step_mm = 0.0;  // ray step; 0 = the method's default
   double reference_step_fraction =

@@ -90,7 +90,7 @@ Scene prepare(const Scene& scene, const RenderRequest& request, RenderOptions& o
   if (request.width) frame.image.width = *request.width;
   if (request.height) frame.image.height = *request.height;
   options.method = request.method.value_or("");
-  const std::string method = options.method.empty() ? scene.render.method : options.method;
+  const std::string method = resolve_method(scene, options.method).name;  // "auto": by content
   if (default_spp(method) == 0)
     throw py::value_error(unavailable_method_message(request.function, method));
   if (request.spp) options.spp = *request.spp;

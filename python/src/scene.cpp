@@ -302,8 +302,8 @@ center, normal, up, size, volume, window, colormap, color, opacity.
           py::arg("threads") = py::none(),
           R"doc(Renders one frame and returns it as an intermix.Image: an (H, W, 4) float32 numpy array of
 premultiplied linear RGBA over the scene's background (image.to_uint8() gives the sRGB display
-image, as `intermix render` writes it). `method` defaults to the scene's render.method
-(intermix.available_methods()), `width`/`height` to the scene's image size, `spp` (a perfect
+image, as `intermix render` writes it). `method` defaults to the scene's render.method, else "auto" (the fastest method
+within reach of the best image for the scene's content; intermix.available_methods()), `width`/`height` to the scene's image size, `spp` (a perfect
 square) to the scene's render.spp, else the method's default, and `threads` to all cores.
 
 The GIL is released while rendering (other Python threads run, and may render too), and Ctrl-C

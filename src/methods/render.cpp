@@ -5,6 +5,7 @@
 
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
+#include "methods/automatic_method.hpp"
 #include "methods/cancellable.hpp"
 #include "methods/csg.hpp"
 #include "methods/dfb.hpp"
@@ -62,8 +63,15 @@ int default_spp(const std::string& method) {
   return m ? m->default_spp : 0;
 }
 
+ResolvedMethod resolve_method(const Scene& scene, const std::string& method) {
+  const std::string& asked = method.empty() ? scene.render.method : method;
+  if (asked != "auto") return {asked, ""};
+  MethodChoice choice = choose_method(scene);
+  return {std::move(choice.method), std::move(choice.reason)};
+}
+
 Image render(const Scene& scene, const RenderOptions& options) {
-  const std::string method = options.method.empty() ? scene.render.method : options.method;
+  const std::string method = resolve_method(scene, options.method).name;
   int spp = options.spp > 0 ? options.spp : scene.render.spp;
   // The image and its per-tile sample buffers; kept stage outputs are checked where they are.
   check_memory(uint64_t{2} * static_cast<uint64_t>(scene.image.width) *
@@ -82,7 +90,7 @@ Image render(const Scene& scene, const RenderOptions& options) {
           method));
     return m->render(scene, spp > 0 ? spp : m->default_spp, cancellable(options));
   }
-  throw Error(fmt::format("method '{}' is not available; this build has: {}", method,
+  throw Error(fmt::format("method '{}' is not available; this build has: auto, {}", method,
                           fmt::join(available_methods(), ", ")));
 }
 

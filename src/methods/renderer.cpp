@@ -19,7 +19,7 @@ Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
 Image Renderer::render(const Scene& scene, const RenderOptions& options) {
-  const std::string method = options.method.empty() ? scene.render.method : options.method;
+  const std::string method = resolve_method(scene, options.method).name;
   impl_->stats = {};
   // imx::render refuses a CSG scene for the methods that do not render it.
   const MethodInfo* m = find_method(method);

@@ -5,6 +5,7 @@
 #include <system_error>
 
 #include <fmt/format.h>
+#include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include "intermix/error.hpp"
@@ -45,7 +46,12 @@ Scene detail::parse_scene_document(const nlohmann::json& root, const std::string
   r.check_keys({"description", "camera", "image", "lights", "objects", "csg", "render"});
   Scene scene;
   if (auto v = r.find("description")) v->string();
-  if (auto v = r.find("camera")) scene.camera = detail::parse_camera(*v);
+  // No camera, or a camera with a "view": framed around the objects once they are read.
+  std::optional<PatientView> view;
+  if (auto v = r.find("camera"))
+    scene.camera = detail::parse_camera(*v, &view);
+  else
+    view = PatientView::anterior;
   if (auto v = r.find("image")) scene.image = detail::parse_image(*v);
   if (auto v = r.find("lights")) scene.lights = detail::parse_lights(*v);
   if (auto v = r.find("render")) scene.render = detail::parse_render(*v);
@@ -69,6 +75,7 @@ Scene detail::parse_scene_document(const nlohmann::json& root, const std::string
   }
 
   context.used.clear();
+  context.automatic_looks.clear();
   for (size_t i = 0; i < objects.size(); ++i)
     if (kinds[i] == "volume")
       scene.volumes.push_back(detail::parse_volume_object(objects[i], context));
@@ -95,6 +102,16 @@ Scene detail::parse_scene_document(const nlohmann::json& root, const std::string
   if (render) {
     detail::check_last_volume(*render, scene, types);
     detail::check_mixing_priority(*render, scene, types);
+  }
+  if (view) {
+    scene.camera = framed_camera(scene.camera, visible_bounds(scene), *view,
+                                 static_cast<double>(scene.image.width) / scene.image.height);
+    if (!r.has("camera"))
+      context.notes.push_back(fmt::format(
+          "no camera: looking from the anterior at the objects' centre [{:.1f}, {:.1f}, {:.1f}] "
+          "from {:.0f} mm",
+          scene.camera.target.x, scene.camera.target.y, scene.camera.target.z,
+          glm::length(scene.camera.eye - scene.camera.target)));
   }
   // A CSG scene is meant for the csg method unless it asks for another (CSG.md §4.2).
   if (scene.csg && !(render && render->has("method"))) scene.render.method = "csg";

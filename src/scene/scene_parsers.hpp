@@ -12,6 +12,7 @@
 #include <glm/vec2.hpp>
 
 #include "intermix/scene.hpp"
+#include "scene/camera_framing.hpp"
 #include "scene/json_reader.hpp"
 
 namespace imx::detail {
@@ -27,6 +28,12 @@ struct SceneContext {
   std::vector<std::string> notes;                  // moved into Scene::notes when loading ends
   std::map<std::string, glm::dvec2> windows = {};  // DICOM series' own windows, by volume key
   std::map<std::string, int> frame_counts = {};    // frames of multi-frame sources, by key
+  // DICOM series' modality and units ("CT", "HU"), by volume key: what the automatic transfer
+  // function goes by.
+  std::map<std::string, std::pair<std::string, std::string>> modalities = {};
+  // The transfer function (and shading) chosen for each volume object that named none, by its
+  // JSON path ("objects[2]"): what a saved document writes in its place.
+  std::map<std::string, std::pair<nlohmann::json, nlohmann::json>> automatic_looks = {};
   // Volumes and meshes a program gives instead of files (the Python package's numpy arrays):
   // a source {"$volume": ID} or {"$mesh": ID} names one. Files have none, so there the key is
   // unknown like any other.
@@ -53,7 +60,9 @@ nlohmann::json parse_scene_json(const std::string& json_text, const std::string&
 Scene parse_scene_document(const nlohmann::json& root, const std::string& origin,
                            SceneContext& context);
 
-Camera parse_camera(const JsonReader& r);
+// A "view" (anterior, left, ...) sets *framed_view and leaves eye, target and up to framing: the caller
+// frames the objects (camera_framing.hpp); without `framed_view`, "view" is an error.
+Camera parse_camera(const JsonReader& r, std::optional<PatientView>* framed_view = nullptr);
 ImageSettings parse_image(const JsonReader& r);
 std::vector<Light> parse_lights(const JsonReader& r);
 RenderSettings parse_render(const JsonReader& r);

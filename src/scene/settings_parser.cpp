@@ -39,9 +39,19 @@ std::vector<std::vector<std::string>> parse_mixing_priority(const JsonReader& r)
 
 }  // namespace
 
-Camera parse_camera(const JsonReader& r) {
-  r.check_keys({"eye", "target", "up", "fov_deg", "projection", "ortho_height"});
+Camera parse_camera(const JsonReader& r, std::optional<PatientView>* framed_view) {
+  r.check_keys({"eye", "target", "up", "fov_deg", "projection", "ortho_height", "view"});
   Camera cam;
+  if (auto v = r.find("view")) {
+    if (framed_view == nullptr) v->fail("a view needs the scene's objects to frame");
+    for (const char* placed : {"eye", "target", "up"})
+      if (r.has(placed))
+        r.get(placed).fail(
+            "give either \"view\" (the camera frames the objects) or eye, target "
+            "and up, not both");
+    *framed_view = find_patient_view(
+        v->choice({"anterior", "posterior", "left", "right", "superior", "inferior"}));
+  }
   if (auto v = r.find("eye")) cam.eye = v->vec3(Range::coordinate());
   if (auto v = r.find("target")) cam.target = v->vec3(Range::coordinate());
   if (auto v = r.find("up")) cam.up = v->direction();

@@ -5,6 +5,7 @@
 #include <functional>
 #include <new>
 #include <system_error>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -13,6 +14,7 @@
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
+#include "scene/automatic_look.hpp"
 #include "scene/edit_distance.hpp"
 #include "scene/scene_parsers.hpp"
 
@@ -24,9 +26,14 @@ constexpr int kDefaultPhantomSize = 128;
 // Loads (or reuses) the volume a "source" names; errors from the readers get the JSON path.
 // A DICOM source (folder, DICOMDIR, DICM file) also gives its series' window.
 // With context.region, only the box it chooses for `object` is read: `placed` gets where.
+// What a source says of itself beyond its voxels (DICOM series only).
+struct SourceFacts {
+  std::optional<glm::dvec2> window;
+  std::string modality, units;
+};
+
 std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, SceneContext& context,
-                                                     std::optional<glm::dvec2>* window,
-                                                     const std::string& object,
+                                                     SourceFacts& facts, const std::string& object,
                                                      VolumeObject& placed) {
   if (!context.given_meshes.empty() && src.json().is_object() && src.has("$mesh"))
     src.fail("is a mesh the program gave, not a volume");
@@ -111,6 +118,7 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
         for (const std::string& note : d.notes)
           context.notes.push_back(fmt::format("{}: {}", path.string(), note));
         if (d.window) context.windows[key] = *d.window;
+        context.modalities[key] = {d.series.modality, d.units};
         return std::move(d.volume);
       };
     } else {
@@ -132,8 +140,9 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     }
   }
   auto window_of = [&] {
-    if (window == nullptr) return;
-    if (auto it = context.windows.find(key); it != context.windows.end()) *window = it->second;
+    if (auto it = context.windows.find(key); it != context.windows.end()) facts.window = it->second;
+    if (auto it = context.modalities.find(key); it != context.modalities.end())
+      std::tie(facts.modality, facts.units) = it->second;
   };
   VoxelBox box;
   try {
@@ -235,26 +244,43 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   else if (v.style == VolumeStyle::iso)
     r.fail("missing required key 'iso_value' (the style is iso)");
   std::optional<Shading> preset_shading;  // a preset's own, when the volume gives none
+  const bool automatic = !r.has("transfer_function") && v.style != VolumeStyle::iso;
+  if (automatic && context.region)
+    r.fail(
+        "missing required key 'transfer_function': a render by region (distributed) needs it "
+        "given, as the automatic one depends on every voxel");
   if (auto tf = r.find("transfer_function")) {
     ParsedTransferFunction parsed = parse_transfer_function(*tf, context);
     v.transfer_function = std::move(parsed.transfer_function);
     preset_shading = parsed.shading;
   } else if (v.style == VolumeStyle::iso) {
     v.transfer_function.points = {TfPoint{v.iso_value, glm::vec4(1.0f)}};  // white, opaque
-  } else {
-    r.fail("missing required key 'transfer_function' (needed by every style but iso)");
   }
-  // Hidden: every alpha 0, so it adds nothing anywhere, while planes still sample its data.
-  if (!parse_visible(r))
-    for (TfPoint& p : v.transfer_function.points) p.rgba.a = 0.0f;
-  if (auto s = r.find("shading"))
-    v.shading = parse_shading(*s);
-  else if (preset_shading)
-    v.shading = *preset_shading;
+  if (auto s = r.find("shading")) v.shading = parse_shading(*s);
   if (auto c = r.find("clip_planes")) v.clip_planes = parse_clip_planes(*c);
   // "clip" names meshes, which come later in the file: parse_clip_meshes reads it.
   // The source last: reading a large file is the slowest step, so cheap errors come first.
-  v.data = load_volume_source(r.get("source"), context, &v.display_window, v.name, v);
+  SourceFacts facts;
+  v.data = load_volume_source(r.get("source"), context, facts, v.name, v);
+  v.display_window = facts.window;
+  if (automatic) {
+    // Chosen from the voxels, and parsed as the file would spell it (automatic_look.hpp).
+    const AutomaticLook look = automatic_look(*v.data, facts.modality, facts.units);
+    const JsonReader tf(look.transfer_function, r.origin(), r.path() + ".transfer_function");
+    ParsedTransferFunction parsed = parse_transfer_function(tf, context);
+    v.transfer_function = std::move(parsed.transfer_function);
+    preset_shading =
+        look.shading.is_null()
+            ? parsed.shading
+            : parse_shading(JsonReader(look.shading, r.origin(), r.path() + ".shading"));
+    context.notes.push_back(
+        fmt::format("{} ('{}'): no transfer_function: {}", r.path(), v.name, look.reason));
+    context.automatic_looks[r.path()] = {look.transfer_function, look.shading};
+  }
+  if (!r.has("shading") && preset_shading) v.shading = *preset_shading;
+  // Hidden: every alpha 0, so it adds nothing anywhere, while planes still sample its data.
+  if (!parse_visible(r))
+    for (TfPoint& p : v.transfer_function.points) p.rgba.a = 0.0f;
   if (!context.region) {  // the whole source
     v.source_dims = v.data->dims;
     v.region = VoxelBox::whole(v.data->dims);

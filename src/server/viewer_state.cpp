@@ -21,6 +21,7 @@
 #include "scene/overrides.hpp"
 #include "scene/scene_parsers.hpp"
 #include "scene/strict_json.hpp"
+#include "volume/value_sample.hpp"
 
 namespace imx::server {
 namespace {
@@ -311,41 +312,17 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
   return changed;
 }
 
-// Calls fn(value) for the finite voxels of a regular subsample of `data` of at most about
-// kHistogramSamples voxels (every voxel of a small volume).
-template <class Fn>
-void for_each_sample(const VolumeData& data, Fn&& fn) {
-  const double voxels = static_cast<double>(data.voxel_count());
-  const size_t stride = voxels > kHistogramSamples
-                            ? static_cast<size_t>(std::ceil(std::cbrt(voxels / kHistogramSamples)))
-                            : 1;
-  const size_t nx = static_cast<size_t>(std::max(data.dims.x, 0));
-  const size_t ny = static_cast<size_t>(std::max(data.dims.y, 0));
-  const size_t nz = static_cast<size_t>(std::max(data.dims.z, 0));
-  std::visit(
-      [&](const auto& v) {
-        if (v.size() < nx * ny * nz) return;  // inconsistent data: validate() refuses it
-        for (size_t z = 0; z < nz; z += stride)
-          for (size_t y = 0; y < ny; y += stride) {
-            const auto* row = v.data() + (z * ny + y) * nx;
-            for (size_t x = 0; x < nx; x += stride)
-              if (const double s = static_cast<double>(row[x]); std::isfinite(s)) fn(s);
-          }
-      },
-      data.voxels);
-}
-
 // Counts of the sampled voxels in `bins` equal bins over their range.
 Json histogram(const VolumeData& data, int bins) {
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for_each_sample(data, [&](double s) {
+  for_each_sampled_value(data, kHistogramSamples, [&](double s) {
     lo = std::min(lo, s);
     hi = std::max(hi, s);
   });
   std::vector<int64_t> counts(static_cast<size_t>(bins), 0);
   if (!(lo <= hi)) return {{"range", Json::array({0.0, 0.0})}, {"counts", counts}};
   const double scale = hi > lo ? bins / (hi - lo) : 0.0;
-  for_each_sample(data, [&](double s) {
+  for_each_sampled_value(data, kHistogramSamples, [&](double s) {
     ++counts[static_cast<size_t>(std::min(bins - 1, static_cast<int>((s - lo) * scale)))];
   });
   return {{"range", Json::array({lo, hi})}, {"counts", counts}};

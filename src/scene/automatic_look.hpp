@@ -1,0 +1,31 @@
+// The transfer function a volume gets when its scene object names none (and every volume of a
+// scene built from files): chosen from what the volume is, as a scene file spells it, so that a
+// saved scene renders the same. The rules, in order:
+// - CT (DICOM modality CT, units HU, or values from air at -1000 up past water): preset ct-bone;
+// - PET (modality PT, or units g/ml or BQML): a hot colour ramp over the upper values;
+// - a signed map (floats well on both sides of zero: t or z statistics): blue below -t, red to
+//   yellow above t, nothing between, with t = 40% of the largest robust magnitude;
+// - a mask (one value above a background): its boundary as a shaded surface;
+// - anything else (MR, ...): a grey ramp over the robust range (2nd to 98th percentile, as
+//   NiiVue's cal_min/cal_max), transparent below its first tenth.
+#pragma once
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "intermix/volume.hpp"
+
+namespace imx {
+
+struct AutomaticLook {
+  nlohmann::json transfer_function;  // {"preset": ...} or {"points": [...]}
+  nlohmann::json shading;            // an object's "shading", or null for the preset's own
+  std::string reason;                // "CT (HU): preset ct-bone", for a note
+};
+
+// `modality` and `units` are the DICOM series' (empty for other files).
+AutomaticLook automatic_look(const VolumeData& data, std::string_view modality,
+                             std::string_view units);
+
+}  // namespace imx

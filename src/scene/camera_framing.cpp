@@ -1,0 +1,140 @@
+#include "scene/camera_framing.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/trigonometric.hpp>
+
+namespace imx {
+namespace {
+
+// The image holds the box with this much room to spare along its tighter side.
+constexpr double kMargin = 1.15;
+
+void include(WorldBox& box, const glm::dvec3& p) {
+  box.lo = glm::min(box.lo, p);
+  box.hi = glm::max(box.hi, p);
+}
+
+// Towards the eye from the target, and the image's up, in LPS world coordinates.
+struct ViewAxes {
+  glm::dvec3 to_eye, up;
+};
+
+ViewAxes axes_of(PatientView view) {
+  switch (view) {
+    case PatientView::anterior:
+      return {{0, -1, 0}, {0, 0, 1}};
+    case PatientView::posterior:
+      return {{0, 1, 0}, {0, 0, 1}};
+    case PatientView::left:
+      return {{1, 0, 0}, {0, 0, 1}};
+    case PatientView::right:
+      return {{-1, 0, 0}, {0, 0, 1}};
+    case PatientView::superior:
+      return {{0, 0, 1}, {0, -1, 0}};
+    case PatientView::inferior:
+      return {{0, 0, -1}, {0, -1, 0}};
+  }
+  return {{0, -1, 0}, {0, 0, 1}};
+}
+
+void include_volume(WorldBox& box, const VolumeObject& v) {
+  if (!v.data) return;
+  // Read by region, the data is a box of the source: frame the whole source, as every process
+  // rendering part of it must.
+  const glm::dvec3 dims =
+      v.source_dims.x > 0 ? glm::dvec3(v.source_dims) : glm::dvec3(v.data->dims);
+  const glm::dvec3 offset = v.source_dims.x > 0 ? glm::dvec3(v.region.lo) : glm::dvec3(0.0);
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::dvec3 index((corner & 1) ? dims.x - 0.5 : -0.5, (corner & 2) ? dims.y - 0.5 : -0.5,
+                           (corner & 4) ? dims.z - 0.5 : -0.5);
+    include(box, glm::dvec3(v.index_to_world * glm::dvec4(index - offset, 1.0)));
+  }
+}
+
+void include_plane(WorldBox& box, const PlaneObject& p) {
+  const glm::dvec3 n = glm::normalize(p.normal);
+  const glm::dvec3 up = glm::normalize(p.up - glm::dot(p.up, n) * n);
+  const glm::dvec3 right = glm::cross(up, n);
+  for (double a : {-0.5, 0.5})
+    for (double b : {-0.5, 0.5}) include(box, p.center + a * p.size.x * right + b * p.size.y * up);
+}
+
+bool volume_shows(const VolumeObject& v) {
+  return std::any_of(v.transfer_function.points.begin(), v.transfer_function.points.end(),
+                     [](const TfPoint& p) { return p.rgba.a > 0.0f; });
+}
+
+}  // namespace
+
+const std::vector<std::string>& patient_view_names() {
+  static const std::vector<std::string> names = {"anterior", "posterior", "left",
+                                                 "right",    "superior",  "inferior"};
+  return names;
+}
+
+std::optional<PatientView> find_patient_view(std::string_view name) {
+  const std::vector<std::string>& names = patient_view_names();
+  for (size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return static_cast<PatientView>(i);
+  return std::nullopt;
+}
+
+WorldBox visible_bounds(const Scene& scene) {
+  WorldBox shown, all;
+  for (const VolumeObject& v : scene.volumes) {
+    include_volume(all, v);
+    if (volume_shows(v)) include_volume(shown, v);
+  }
+  for (const MeshObject& m : scene.meshes) {
+    if (!m.mesh) continue;
+    const bool visible = m.material.opacity > 0.0f;
+    for (const glm::vec3& p : m.mesh->positions) {
+      include(all, glm::dvec3(p));
+      if (visible) include(shown, glm::dvec3(p));
+    }
+  }
+  for (const PlaneObject& p : scene.planes) {
+    include_plane(all, p);
+    if (p.opacity > 0.0f) include_plane(shown, p);
+  }
+  return shown.empty() ? all : shown;
+}
+
+Camera framed_camera(const Camera& camera, const WorldBox& box, PatientView view, double aspect) {
+  const ViewAxes axes = axes_of(view);
+  Camera framed = camera;
+  framed.up = axes.up;
+  if (box.empty()) {
+    framed.target = glm::dvec3(0.0);
+    framed.eye = 600.0 * axes.to_eye;
+    return framed;
+  }
+  const glm::dvec3 centre = 0.5 * (box.lo + box.hi);
+  const glm::dvec3 right = glm::cross(-axes.to_eye, axes.up);
+  // The box's half extents across the image and along the view, from its eight corners.
+  double half_width = 0.0, half_height = 0.0, half_depth = 0.0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::dvec3 p((corner & 1) ? box.hi.x : box.lo.x, (corner & 2) ? box.hi.y : box.lo.y,
+                       (corner & 4) ? box.hi.z : box.lo.z);
+    const glm::dvec3 d = p - centre;
+    half_width = std::max(half_width, std::abs(glm::dot(d, right)));
+    half_height = std::max(half_height, std::abs(glm::dot(d, axes.up)));
+    half_depth = std::max(half_depth, std::abs(glm::dot(d, axes.to_eye)));
+  }
+  const double needed_half_height =
+      kMargin * std::max({half_height, half_width / std::max(aspect, 1e-6), 1e-3});
+  const double tan_half_fov = std::tan(glm::radians(camera.fov_deg) / 2.0);
+  // The nearest face of the box fits; deeper parts look smaller in perspective.
+  const double distance = half_depth + needed_half_height / tan_half_fov;
+  framed.target = centre;
+  framed.eye = centre + distance * axes.to_eye;
+  framed.ortho_height = 2.0 * needed_half_height;
+  return framed;
+}
+
+}  // namespace imx

@@ -1,0 +1,112 @@
+#include "scene/scene_from_files.hpp"
+
+#include <set>
+#include <system_error>
+
+#include <fmt/format.h>
+
+#include "intermix/dicom.hpp"
+#include "intermix/error.hpp"
+#include "intermix/io.hpp"
+#include "scene/overrides.hpp"
+#include "scene/scene_parsers.hpp"
+
+namespace imx {
+namespace {
+
+using Json = nlohmann::json;
+
+constexpr const char* kOrigin = "scene from files";
+
+// An object name from a file's name: "FLAIR.nii.gz" -> "FLAIR", a folder by its own name, with
+// the characters --set paths reserve replaced, and a number added when it is taken.
+std::string object_name(const std::filesystem::path& file, std::set<std::string>& taken) {
+  std::filesystem::path p = file;
+  if (p.filename().empty()) p = p.parent_path();  // "CT/"
+  std::string name = p.filename().string();
+  for (const char* ext : {".gz", ".nii", ".nrrd", ".nhdr", ".mha", ".mhd", ".mgh", ".mgz", ".hdr",
+                          ".img", ".dcm", ".ply", ".stl", ".obj", ".gii", ".off"})
+    if (name.size() > std::string(ext).size() && name.ends_with(ext))
+      name.resize(name.size() - std::string(ext).size());
+  for (char& c : name)
+    if (c == '.' || c == '[' || c == ']' || c == '=' || c == ' ') c = '_';
+  if (name.empty() || name.find_first_not_of("0123456789") == std::string::npos)
+    name = "object" + name;
+  std::string unique = name;
+  for (int n = 2; taken.contains(unique); ++n) unique = fmt::format("{}_{}", name, n);
+  taken.insert(unique);
+  return unique;
+}
+
+Json color_json(const glm::vec3& c) {
+  return Json::array({c.r, c.g, c.b});
+}
+
+}  // namespace
+
+const std::vector<glm::vec3>& mesh_palette() {
+  // Distinct, light enough to shade, none of them grey (a CT's own colour).
+  static const std::vector<glm::vec3> palette = {
+      {0.90f, 0.75f, 0.35f}, {0.85f, 0.35f, 0.30f}, {0.35f, 0.60f, 0.90f}, {0.45f, 0.80f, 0.45f},
+      {0.80f, 0.50f, 0.85f}, {0.95f, 0.60f, 0.20f}, {0.40f, 0.85f, 0.85f}, {0.90f, 0.55f, 0.65f}};
+  return palette;
+}
+
+FilesScene scene_from_files(const std::vector<std::filesystem::path>& files,
+                            const std::string& view, const std::vector<std::string>& overrides) {
+  if (files.empty()) throw Error(fmt::format("{}: no files given", kOrigin));
+  Json objects = Json::array();
+  std::set<std::string> taken;
+  size_t meshes = 0;
+  for (const std::filesystem::path& file : files) {
+    std::error_code ec;
+    if (!std::filesystem::exists(file, ec))
+      throw FileError(fmt::format("{}: no such file or folder", file.string()), ENOENT);
+    const std::filesystem::path absolute = std::filesystem::absolute(file, ec).lexically_normal();
+    Json object = {{"name", object_name(file, taken)}};
+    if (is_dicom_source(file) || is_volume_file(file)) {
+      object["type"] = "volume";
+      object["source"] = {{"file", absolute.string()}};
+    } else if (is_mesh_file(file)) {
+      object["type"] = "mesh";
+      object["source"] = {{"file", absolute.string()}};
+      object["material"] = {
+          {"color", color_json(mesh_palette()[meshes++ % mesh_palette().size()])}};
+    } else {
+      throw Error(
+          fmt::format("{}: not a file intermix reads: volumes {}; meshes {}; or a scene "
+                      "file (.json) alone",
+                      file.string(), volume_formats(), mesh_formats()));
+    }
+    objects.push_back(std::move(object));
+  }
+  FilesScene built;
+  built.document = {{"camera", {{"view", view}}},
+                    {"image", {{"width", 512}, {"height", 512}}},
+                    {"objects", std::move(objects)}};
+  for (const std::string& assignment : overrides)
+    detail::apply_override(built.document, assignment, kOrigin);
+  detail::SceneContext context;
+  context.base_dir = ".";
+  built.scene = detail::parse_scene_document(built.document, kOrigin, context);
+  // Write out what reading chose: the framed camera, each automatic transfer function.
+  const Camera& c = built.scene.camera;
+  Json& camera = built.document["camera"];
+  camera.erase("view");
+  camera["eye"] = {c.eye.x, c.eye.y, c.eye.z};
+  camera["target"] = {c.target.x, c.target.y, c.target.z};
+  camera["up"] = {c.up.x, c.up.y, c.up.z};
+  camera["fov_deg"] = c.fov_deg;
+  if (c.projection == Projection::orthographic) camera["ortho_height"] = c.ortho_height;
+  Json& document_objects = built.document["objects"];
+  for (size_t i = 0; i < document_objects.size(); ++i) {
+    auto it = context.automatic_looks.find(fmt::format("objects[{}]", i));
+    if (it == context.automatic_looks.end()) continue;
+    document_objects[i]["transfer_function"] = it->second.first;
+    if (!it->second.second.is_null() && !document_objects[i].contains("shading"))
+      document_objects[i]["shading"] = it->second.second;
+  }
+  return built;
+}
+
+}  // namespace imx

@@ -1,0 +1,33 @@
+// A scene built from files alone (`intermix render FLAIR.nii.gz`, `intermix serve CT/`,
+// Python's Scene.from_files): each volume file or DICOM folder a volume object with the
+// automatic transfer function of what it is (automatic_look.hpp), each mesh file a mesh object in
+// a palette colour, and a camera framing them all from a patient direction. The document it
+// returns has every choice written out, so saved and rendered again it gives the same image.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "intermix/scene.hpp"
+
+namespace imx {
+
+struct FilesScene {
+  nlohmann::json document;  // the scene file for these inputs, every choice explicit
+  Scene scene;              // as parsed from it
+};
+
+// `view` is a patient direction (camera_framing.hpp); `overrides` are --set assignments applied
+// to the built document before it is read ("image.width=256", "objects.FLAIR.style=mip").
+// Throws imx::Error naming a file that is neither a volume nor a mesh intermix reads, and every
+// error load_scene gives, with "scene from files" as the document's name.
+FilesScene scene_from_files(const std::vector<std::filesystem::path>& files,
+                            const std::string& view = "anterior",
+                            const std::vector<std::string>& overrides = {});
+
+// The colours meshes of a scene from files get, in order (then again from the first).
+const std::vector<glm::vec3>& mesh_palette();
+
+}  // namespace imx
