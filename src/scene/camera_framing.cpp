@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <tuple>
+#include <utility>
+#include <variant>
 
 #include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
@@ -42,16 +46,63 @@ ViewAxes axes_of(PatientView view) {
   return {{0, -1, 0}, {0, 0, 1}};
 }
 
-void include_volume(WorldBox& box, const VolumeObject& v) {
+// Whether the transfer function gives `value` any opacity (constant beyond its end points).
+bool opaque_at(const TransferFunction& tf, double value) {
+  const std::vector<TfPoint>& p = tf.points;
+  if (p.empty()) return false;
+  if (value <= p.front().value) return p.front().rgba.a > 0.0f;
+  for (size_t i = 1; i < p.size(); ++i)
+    if (value <= p[i].value) return p[i - 1].rgba.a > 0.0f || p[i].rgba.a > 0.0f;
+  return p.back().rgba.a > 0.0f;
+}
+
+// The index box (first and last voxel centres) of the voxels the transfer function shows, from
+// a subsample of about a million voxels, grown by the sampling stride so that none is missed;
+// empty (lo > hi) when none shows.
+std::pair<glm::dvec3, glm::dvec3> shown_voxels(const VolumeData& data, const TransferFunction& tf) {
+  constexpr double kMaxSamples = 1024.0 * 1024.0;
+  const double voxels = static_cast<double>(data.voxel_count());
+  const int stride =
+      voxels > kMaxSamples ? static_cast<int>(std::ceil(std::cbrt(voxels / kMaxSamples))) : 1;
+  glm::ivec3 lo(std::numeric_limits<int>::max()), hi(std::numeric_limits<int>::min());
+  std::visit(
+      [&](const auto& values) {
+        if (values.size() < data.voxel_count()) return;  // inconsistent: validate() refuses it
+        for (int k = 0; k < data.dims.z; k += stride)
+          for (int j = 0; j < data.dims.y; j += stride) {
+            const auto* row =
+                values.data() + (static_cast<size_t>(k) * data.dims.y + j) * data.dims.x;
+            for (int i = 0; i < data.dims.x; i += stride)
+              if (const double s = static_cast<double>(row[i]);
+                  std::isfinite(s) && opaque_at(tf, s)) {
+                lo = glm::min(lo, glm::ivec3(i, j, k));
+                hi = glm::max(hi, glm::ivec3(i, j, k));
+              }
+          }
+      },
+      data.voxels);
+  if (lo.x > hi.x) return {glm::dvec3(1.0), glm::dvec3(0.0)};
+  return {glm::max(glm::dvec3(lo - stride), glm::dvec3(0.0)),
+          glm::min(glm::dvec3(hi + stride), glm::dvec3(data.dims - 1))};
+}
+
+void include_volume(WorldBox& box, const VolumeObject& v, bool shown_only) {
   if (!v.data) return;
-  // Read by region, the data is a box of the source: frame the whole source, as every process
-  // rendering part of it must.
-  const glm::dvec3 dims =
-      v.source_dims.x > 0 ? glm::dvec3(v.source_dims) : glm::dvec3(v.data->dims);
-  const glm::dvec3 offset = v.source_dims.x > 0 ? glm::dvec3(v.region.lo) : glm::dvec3(0.0);
+  glm::dvec3 lo(0.0), hi = glm::dvec3(v.data->dims) - 1.0, offset(0.0);
+  if (v.source_dims.x > 0 && v.source_dims != v.data->dims) {
+    // Read by region, the data is a box of the source: frame the whole source, as every
+    // process rendering part of it must.
+    hi = glm::dvec3(v.source_dims) - 1.0;
+    offset = glm::dvec3(v.region.lo);
+  } else if (shown_only && v.style != VolumeStyle::xray) {
+    // What shows of it: a small mask in a large grid fills the frame, not its empty grid.
+    std::tie(lo, hi) = shown_voxels(*v.data, v.transfer_function);
+    if (lo.x > hi.x) return;
+  }
   for (int corner = 0; corner < 8; ++corner) {
-    const glm::dvec3 index((corner & 1) ? dims.x - 0.5 : -0.5, (corner & 2) ? dims.y - 0.5 : -0.5,
-                           (corner & 4) ? dims.z - 0.5 : -0.5);
+    const glm::dvec3 index((corner & 1) ? hi.x + 0.5 : lo.x - 0.5,
+                           (corner & 2) ? hi.y + 0.5 : lo.y - 0.5,
+                           (corner & 4) ? hi.z + 0.5 : lo.z - 0.5);
     include(box, glm::dvec3(v.index_to_world * glm::dvec4(index - offset, 1.0)));
   }
 }
@@ -84,11 +135,11 @@ std::optional<PatientView> find_patient_view(std::string_view name) {
   return std::nullopt;
 }
 
-WorldBox visible_bounds(const Scene& scene) {
+WorldBox visible_bounds(const Scene& scene, bool whole_grids) {
   WorldBox shown, all;
   for (const VolumeObject& v : scene.volumes) {
-    include_volume(all, v);
-    if (volume_shows(v)) include_volume(shown, v);
+    include_volume(all, v, false);
+    if (volume_shows(v)) include_volume(shown, v, !whole_grids);
   }
   for (const MeshObject& m : scene.meshes) {
     if (!m.mesh) continue;

@@ -104,7 +104,7 @@ Scene detail::parse_scene_document(const nlohmann::json& root, const std::string
     detail::check_mixing_priority(*render, scene, types);
   }
   if (view) {
-    scene.camera = framed_camera(scene.camera, visible_bounds(scene), *view,
+    scene.camera = framed_camera(scene.camera, visible_bounds(scene, bool(context.region)), *view,
                                  static_cast<double>(scene.image.width) / scene.image.height);
     if (!r.has("camera"))
       context.notes.push_back(fmt::format(

@@ -52,7 +52,7 @@ double box_extent_on_image(const Scene& s, const VolumeObject& v) {
 
 const char* kHeadWithoutCamera = R"({"image": {"width": 200, "height": 100},
   "objects": [{"name": "ct", "type": "volume", "source": {"phantom": "ct-head", "size": 32},
-               "transfer_function": {"preset": "ct-bone"}}]})";
+               "transfer_function": {"points": [[-2000, 1, 1, 1, 0.1], [3000, 1, 1, 1, 0.1]]}}]})";
 
 TEST(AutomaticCamera, ASceneWithoutCameraFramesItsObjectsFromTheAnterior) {
   const Scene s = parse(kHeadWithoutCamera);
@@ -86,6 +86,24 @@ TEST(AutomaticCamera, AViewTurnsTheCameraToThatPatientDirection) {
     EXPECT_LE(box_extent_on_image(s, s.volumes[0]), 1.0) << name;
     EXPECT_GE(box_extent_on_image(s, s.volumes[0]), 0.8) << name;
   }
+}
+
+TEST(AutomaticCamera, ItFramesWhatTheTransferFunctionShowsNotTheEmptyGrid) {
+  // Only the bone of the CT phantom shows (above 600 HU): the camera aims at the bone's box.
+  const Scene all = parse(kHeadWithoutCamera);
+  std::string text = kHeadWithoutCamera;
+  text.replace(text.find("[[-2000, 1, 1, 1, 0.1]"), std::string("[[-2000, 1, 1, 1, 0.1]").size(),
+               "[[599, 1, 1, 1, 0], [600, 1, 1, 1, 0.5]");
+  const Scene bone = parse(text);
+  // Bone lies within the head: the bone's box is framed closer than the whole grid.
+  EXPECT_LT(glm::length(bone.camera.eye - bone.camera.target),
+            glm::length(all.camera.eye - all.camera.target));
+  // Nothing shown at all (every alpha 0): the whole grid is framed.
+  text = kHeadWithoutCamera;
+  text.replace(text.find("0.1]"), 4, "0]");
+  text.replace(text.find("0.1]"), 4, "0]");
+  const Scene none = parse(text);
+  EXPECT_EQ(none.camera.eye, all.camera.eye);
 }
 
 TEST(AutomaticCamera, AViewWithAnEyeIsAnError) {
