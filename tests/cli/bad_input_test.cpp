@@ -5,49 +5,50 @@
 #include <gtest/gtest.h>
 
 #include "cli_runner.hpp"
+#include "scene_fixture.hpp"
+#include "temp_dir.hpp"
 
 namespace imx::test {
 namespace {
 
-const char* kQuad =
-    R"({"name": "q", "type": "mesh", "source": {"primitive": "quad", "size": [50, 50]}})";
+const std::string kQuad = mesh_json("q", R"("primitive": "quad", "size": [50, 50])");
 
+// A 32x32 image of `objects`; `extra`: more top-level members.
 std::string scene_with(const std::string& objects, const std::string& extra = "") {
-  return std::string(R"({"image": {"width": 32, "height": 32}, "objects": [)") + objects + "]" +
-         extra + "}";
+  return with_objects(objects, R"("image": {"width": 32, "height": 32})" + extra);
 }
 
-void expect_failure(const std::filesystem::path& dir, const std::string& scene_text,
+void expect_failure(const TempDir& dir, const std::string& scene_text,
                     const std::vector<std::string>& culprits, const std::string& extra_args = "") {
-  write_text(dir / "scene.json", scene_text);
+  dir.write("scene.json", scene_text);
   auto out = dir / "out.png";
   CliResult r =
       run_cli("render " + (dir / "scene.json").string() + " -o " + out.string() + " " + extra_args);
   EXPECT_NE(r.exit_code, 0) << r.output;
   for (const std::string& c : culprits) EXPECT_NE(r.output.find(c), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(out));
-  for (auto& entry : std::filesystem::directory_iterator(dir))
+  for (auto& entry : std::filesystem::directory_iterator(dir.path()))
     EXPECT_EQ(entry.path().extension() == ".png", false) << "left behind: " << entry.path();
 }
 
 TEST(CliBadInput, MalformedJson) {
-  auto dir = temp_dir("malformed");
+  TempDir dir;
   expect_failure(dir, R"({"image": {"width": 32,, }})", {"scene.json", "parse"});
 }
 
 TEST(CliBadInput, UnknownKeyWithSuggestion) {
-  auto dir = temp_dir("unknown-key");
+  TempDir dir;
   expect_failure(dir, scene_with(kQuad, R"(, "imgae": {})"), {"scene.json", "imgae", "image"});
 }
 
 TEST(CliBadInput, WrongType) {
-  auto dir = temp_dir("wrong-type");
+  TempDir dir;
   expect_failure(dir, R"({"image": {"width": "wide"}, "objects": []})",
                  {"scene.json", "image.width", "wide"});
 }
 
 TEST(CliBadInput, MissingFile) {
-  auto dir = temp_dir("missing-file");
+  TempDir dir;
   expect_failure(dir,
                  scene_with(R"({"name": "m", "type": "mesh", "source": {"file": "nowhere.stl"}})"),
                  {"nowhere.stl"});
@@ -58,14 +59,14 @@ TEST(CliBadInput, MissingFile) {
 }
 
 TEST(CliBadInput, ZeroOrNegativeSize) {
-  auto dir = temp_dir("zero-size");
+  TempDir dir;
   expect_failure(dir, R"({"image": {"width": 0, "height": 32}, "objects": []})",
                  {"image.width", "0"});
   expect_failure(dir, scene_with(kQuad), {"image.height", "-5"}, "--set image.height=-5");
 }
 
 TEST(CliBadInput, NonFiniteTransform) {
-  auto dir = temp_dir("nan-transform");
+  TempDir dir;
   // JSON has no NaN literal; an overflowing number is the way such values arrive.
   expect_failure(
       dir,
@@ -79,23 +80,23 @@ TEST(CliBadInput, NonFiniteTransform) {
                      "transform": {"scale": [1, 0, 1]}})"),
       {"objects[0].transform"});
   // A NaN in a volume file's space directions.
-  write_text(dir / "nan.nhdr",
-             "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nspace: left-posterior-superior\n"
-             "space directions: (nan,0,0) (0,1,0) (0,0,1)\nspace origin: (0,0,0)\n"
-             "encoding: raw\ndata file: nan.raw\n");
-  write_text(dir / "nan.raw", std::string(8, '\1'));
+  dir.write("nan.nhdr",
+            "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nspace: left-posterior-superior\n"
+            "space directions: (nan,0,0) (0,1,0) (0,0,1)\nspace origin: (0,0,0)\n"
+            "encoding: raw\ndata file: nan.raw\n");
+  dir.write("nan.raw", std::string(8, '\1'));
   expect_failure(dir, scene_with(R"({"name": "v", "type": "volume", "source": {"file": "nan.nhdr"},
                      "transfer_function": {"points": [[0, 1, 1, 1, 1]]}})"),
                  {"nan.nhdr"});
 }
 
 TEST(CliBadInput, TruncatedNrrd) {
-  auto dir = temp_dir("truncated");
-  write_text(dir / "cut.nrrd",
-             "NRRD0004\ntype: short\ndimension: 3\nsizes: 16 16 16\nencoding: raw\n"
-             "endian: little\nspace directions: (1,0,0) (0,1,0) (0,0,1)\n"
-             "space origin: (0,0,0)\nspace: left-posterior-superior\n\n" +
-                 std::string(100, '\0'));
+  TempDir dir;
+  dir.write("cut.nrrd",
+            "NRRD0004\ntype: short\ndimension: 3\nsizes: 16 16 16\nencoding: raw\n"
+            "endian: little\nspace directions: (1,0,0) (0,1,0) (0,0,1)\n"
+            "space origin: (0,0,0)\nspace: left-posterior-superior\n\n" +
+                std::string(100, '\0'));
   expect_failure(dir, scene_with(R"({"name": "v", "type": "volume", "source": {"file": "cut.nrrd"},
                      "transfer_function": {"points": [[0, 1, 1, 1, 1]]}})"),
                  {"cut.nrrd"});
@@ -105,19 +106,19 @@ TEST(CliBadInput, TruncatedNrrd) {
 }
 
 TEST(CliBadInput, UnknownMethodListsTheAvailableOnes) {
-  auto dir = temp_dir("method");
+  TempDir dir;
   expect_failure(dir, scene_with(kQuad), {"zslab-wrong", "reference"}, "--method zslab-wrong");
 }
 
 TEST(CliBadInput, AThreadCountTbbCannotTakeIsRefused) {
-  auto dir = temp_dir("threads");
+  TempDir dir;
   expect_failure(dir, scene_with(kQuad), {"--threads", "2147483647", "1024"},
                  "--threads 2147483647");
 }
 
 TEST(CliBadInput, OutputOntoAFifoIsRefusedAndTheFifoKept) {
-  auto dir = temp_dir("fifo-out");
-  write_text(dir / "scene.json", scene_with(kQuad));
+  TempDir dir;
+  dir.write("scene.json", scene_with(kQuad));
   const auto out = dir / "out.png";
   ASSERT_EQ(std::system(("mkfifo " + out.string()).c_str()), 0);
   CliResult r = run_cli("render " + (dir / "scene.json").string() + " -o " + out.string());
@@ -127,8 +128,8 @@ TEST(CliBadInput, OutputOntoAFifoIsRefusedAndTheFifoKept) {
 }
 
 TEST(CliBadInput, ImagesOfDifferentSizesAreNamedWithTheirSizes) {
-  auto dir = temp_dir("compare-sizes");
-  write_text(dir / "scene.json", scene_with(kQuad));
+  TempDir dir;
+  dir.write("scene.json", scene_with(kQuad));
   const std::string scene = (dir / "scene.json").string();
   ASSERT_EQ(run_cli("render " + scene + " -o " + (dir / "a.png").string()).exit_code, 0);
   ASSERT_EQ(run_cli("render " + scene + " --width 16 -o " + (dir / "b.png").string()).exit_code, 0);
@@ -139,8 +140,8 @@ TEST(CliBadInput, ImagesOfDifferentSizesAreNamedWithTheirSizes) {
 }
 
 TEST(CliBadInput, MemoryBudgetIsCheckedBeforeAllocating) {
-  auto dir = temp_dir("memory-budget");
-  write_text(dir / "scene.json", scene_with(kQuad));
+  TempDir dir;
+  dir.write("scene.json", scene_with(kQuad));
   CliResult r = run_cli("--max-memory 1K render " + (dir / "scene.json").string() + " -o " +
                         (dir / "out.png").string());
   EXPECT_EQ(r.exit_code, 1) << r.output;
@@ -157,17 +158,17 @@ TEST(CliBadInput, MemoryBudgetIsCheckedBeforeAllocating) {
 }
 
 TEST(CliBadInput, APrimitiveIsTessellatedWithinTheBudgetAndItsLimits) {
-  auto dir = temp_dir("primitive-budget");
+  TempDir dir;
   const std::string sphere =
       R"({"name": "s", "type": "mesh", "source": {"primitive": "sphere", "radius": 10, "segments": )";
-  write_text(dir / "scene.json", scene_with(sphere + "1024}}"));
+  dir.write("scene.json", scene_with(sphere + "1024}}"));
   CliResult r = run_cli("--max-memory 1M render " + (dir / "scene.json").string() + " -o " +
                         (dir / "out.png").string());
   EXPECT_EQ(r.exit_code, 1) << r.output;
   for (const char* part : {"objects[0].source: sphere: segments 1024", "memory budget of 1.0 MiB"})
     EXPECT_NE(r.output.find(part), std::string::npos) << part << " missing from: " << r.output;
   // 4096 segments took over 5 GB; the most is now 1024.
-  write_text(dir / "scene.json", scene_with(sphere + "4096}}"));
+  dir.write("scene.json", scene_with(sphere + "4096}}"));
   r = run_cli("render " + (dir / "scene.json").string() + " -o " + (dir / "out.png").string());
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("objects[0].source.segments: 4096 is not in [3, 1024]"),
@@ -183,10 +184,10 @@ TEST(CliBadInput, OutOfMemoryNamesTheInputAndTheBudget) {
   GTEST_SKIP() << "AddressSanitizer reserves terabytes of address space: it cannot start under an "
                   "address-space limit, and it aborts rather than throw std::bad_alloc";
 #endif
-  auto dir = temp_dir("out-of-memory");
-  write_text(dir / "scene.json",
-             scene_with(R"({"name": "big", "type": "volume", "source": {"phantom": "ct-head",)"
-                        R"( "size": 640}, "transfer_function": {"preset": "ct-bone"}})"));
+  TempDir dir;
+  dir.write("scene.json",
+            scene_with(R"({"name": "big", "type": "volume", "source": {"phantom": "ct-head",)"
+                       R"( "size": 640}, "transfer_function": {"preset": "ct-bone"}})"));
   CliResult r =
       run_cli("render " + (dir / "scene.json").string() + " -o " + (dir / "out.png").string(),
               "ulimit -v 250000; ");
@@ -198,7 +199,7 @@ TEST(CliBadInput, OutOfMemoryNamesTheInputAndTheBudget) {
 }
 
 TEST(CliBadInput, APngClaimingHugeDimensionsIsRefusedBeforeDecoding) {
-  auto dir = temp_dir("png-bomb");
+  TempDir dir;
   // Signature, IHDR for 65536 x 32768 RGBA, a 10-byte IDAT and IEND, 69 bytes in all (CRCs of
   // IHDR and IEND are right; spng reads the header before it checks the rest).
   const unsigned char png[] = {
@@ -226,7 +227,7 @@ TEST(CliBadInput, RangeErrorsPrintShortBounds) {
 }
 
 TEST(CliBadInput, WhatAMethodRefusesNamesTheSceneFile) {
-  auto dir = temp_dir("method-error");
+  TempDir dir;
   const std::string fog =
       R"({"name": "fog", "type": "volume", "source": {"phantom": "cube", "size": 8},
           "transfer_function": {"points": [[0, 1, 1, 1, 0.1]]}})";

@@ -3,6 +3,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
+#include "scene_fixture.hpp"
+#include "temp_dir.hpp"
 
 namespace imx::test {
 namespace {
@@ -10,7 +12,7 @@ namespace {
 const std::string kTiny = " --width 32 --height 32 --frames 1 --spp 1 --method reference ";
 
 std::string scene_file() {
-  return std::string(IMX_EXAMPLES_DIR) + "/shells.json";
+  return example_scene("shells");
 }
 
 TEST(CliBench, TwoVariantsGiveTwoLabelledJsonRows) {
@@ -50,7 +52,7 @@ TEST(CliBench, BadVariantsAreClearErrors) {
 }
 
 TEST(CliPhantom, WritesAMetaImageThatInfoDescribesAndRejectsOtherExtensions) {
-  auto dir = temp_dir("phantom-mha");
+  TempDir dir;
   auto file = (dir / "cube.mha").string();
   CliResult w = run_cli("phantom cube --size 16 -o " + file);
   ASSERT_EQ(w.exit_code, 0) << w.output;

@@ -7,16 +7,13 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
+#include "scene_fixture.hpp"
 
 namespace imx::test {
 namespace {
 
-std::string example(const char* name) {
-  return std::string(IMX_EXAMPLES_DIR) + "/" + name;
-}
-
 TEST(CliCsg, CutawayHasThreePrimitivesAndTwoStates) {
-  CliResult r = run_lab("csg " + example("csg-cutaway.json") + " --json");
+  CliResult r = run_lab("csg " + example_scene("csg-cutaway") + " --json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   auto j = nlohmann::json::parse(r.output);
   ASSERT_EQ(j["primitives"].size(), 3u);
@@ -40,7 +37,7 @@ TEST(CliCsg, CutawayHasThreePrimitivesAndTwoStates) {
 
 TEST(CliCsg, FullSimplificationShowsItsStage) {
   CliResult r =
-      run_lab("csg " + example("csg-cutaway.json") + " --json --set render.csg_simplify=full");
+      run_lab("csg " + example_scene("csg-cutaway") + " --json --set render.csg_simplify=full");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   auto j = nlohmann::json::parse(r.output);
   ASSERT_TRUE(j["stages"].contains("full"));
@@ -48,7 +45,7 @@ TEST(CliCsg, FullSimplificationShowsItsStage) {
 }
 
 TEST(CliCsg, SlicedAppleHasTwentyStates) {
-  CliResult r = run_lab("csg " + example("csg-sliced.json") + " --json");
+  CliResult r = run_lab("csg " + example_scene("csg-sliced") + " --json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   auto j = nlohmann::json::parse(r.output);
   EXPECT_EQ(j["primitives"].size(), 21u);
@@ -56,14 +53,14 @@ TEST(CliCsg, SlicedAppleHasTwentyStates) {
 }
 
 TEST(CliCsg, HumanOutputHasLegendAndStates) {
-  CliResult r = run_lab("csg " + example("csg-cutaway.json"));
+  CliResult r = run_lab("csg " + example_scene("csg-cutaway"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("legend: skin=0 ball=1 bone=2"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("states (2): 102 221"), std::string::npos) << r.output;
 }
 
 TEST(CliCsg, SceneWithoutCsgIsAOneLineError) {
-  const std::string scene = example("shells.json");
+  const std::string scene = example_scene("shells");
   CliResult r = run_lab("csg " + scene);
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
@@ -72,7 +69,7 @@ TEST(CliCsg, SceneWithoutCsgIsAOneLineError) {
 
 TEST(CliCsg, IntervalsCountEveryRay) {
   CliResult r =
-      run_lab("csg " + example("csg-cutaway.json") + " --intervals --json --width 32 --height 32");
+      run_lab("csg " + example_scene("csg-cutaway") + " --intervals --json --width 32 --height 32");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   auto j = nlohmann::json::parse(r.output);
   const auto& iv = j["intervals"];

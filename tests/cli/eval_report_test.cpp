@@ -2,34 +2,19 @@
 // every image it wrote, and a headless Chromium (when installed) finds the tables.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <unistd.h>
 
 #include <cstdlib>
 #include <regex>
 #include <set>
 
 #include "cli_runner.hpp"
+#include "scene_fixture.hpp"
+#include "temp_dir.hpp"
 
 namespace imx::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string example(const std::string& name) {
-  return std::string(IMX_EXAMPLES_DIR) + "/" + name + ".json";
-}
-
-// stdout only of a shell command (Chromium's stderr is noise).
-std::string run_stdout(const std::string& cmd) {
-  std::string out;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return out;
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
-  pclose(pipe);
-  return out;
-}
 
 size_t count(const std::string& text, const std::string& what) {
   size_t n = 0;
@@ -42,12 +27,12 @@ size_t count(const std::string& text, const std::string& what) {
 class CliEval : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    // ctest runs each test in its own process, in parallel: one folder per process.
-    dir_ = new fs::path(temp_dir("eval-" + std::to_string(getpid())));
-    result_ = new CliResult(run_lab("eval " + example("two-volumes") + " " + example("csg-smile") +
-                                    " --size 40 --ref-spp 4 --frames 1 --out " +
-                                    (*dir_ / "report").string() + " --markdown " +
-                                    (*dir_ / "eval.md").string()));
+    // ctest runs each test in its own process, in parallel: TempDir is one folder per process.
+    dir_ = new TempDir;
+    result_ = new CliResult(
+        run_lab("eval " + example_scene("two-volumes") + " " + example_scene("csg-smile") +
+                " --size 40 --ref-spp 4 --frames 1 --out " + (*dir_ / "report").string() +
+                " --markdown " + (*dir_ / "eval.md").string()));
   }
   static void TearDownTestSuite() {
     delete result_;
@@ -56,10 +41,10 @@ class CliEval : public ::testing::Test {
   static nlohmann::json report() {
     return nlohmann::json::parse(read_bytes(*dir_ / "report" / "eval.json"));
   }
-  static fs::path* dir_;
+  static TempDir* dir_;
   static CliResult* result_;
 };
-fs::path* CliEval::dir_ = nullptr;
+TempDir* CliEval::dir_ = nullptr;
 CliResult* CliEval::result_ = nullptr;
 
 TEST_F(CliEval, JsonHoldsEveryMethodOnEveryScene) {
@@ -163,9 +148,11 @@ TEST_F(CliEval, ChromiumLoadsTheReportWithItsTables) {
   if (std::system("command -v chromium >/dev/null 2>&1") != 0)
     GTEST_SKIP() << "chromium is not installed (scripts/install-deps installs it)";
   const fs::path index = fs::absolute(*dir_ / "report" / "index.html");
-  std::string dom =
-      run_stdout("timeout 90 chromium --headless --no-sandbox --disable-gpu --dump-dom 'file://" +
-                 index.string() + "' 2>/dev/null");
+  // Its stdout only: Chromium's stderr is noise.
+  const std::string dom =
+      run_shell("timeout 90 chromium --headless --no-sandbox --disable-gpu --dump-dom 'file://" +
+                index.string() + "' 2>/dev/null")
+          .output;
   ASSERT_NE(dom.find("</html>"), std::string::npos) << dom.substr(0, 2000);
   EXPECT_EQ(count(dom, "class=\"scene\""), 2u);
   EXPECT_EQ(count(dom, "class=\"summary\""), 1u);
@@ -174,20 +161,20 @@ TEST_F(CliEval, ChromiumLoadsTheReportWithItsTables) {
 }
 
 TEST(CliEvalErrors, ABadSceneFailsBeforeAnythingIsWritten) {
-  auto dir = temp_dir("eval-bad");
-  write_text(dir / "bad.json", R"({"objects": [], "camera": {"eye": [0, 0]}})");
-  CliResult r = run_lab("eval " + example("two-volumes") + " " + (dir / "bad.json").string() +
+  TempDir dir;
+  dir.write("bad.json", R"({"objects": [], "camera": {"eye": [0, 0]}})");
+  CliResult r = run_lab("eval " + example_scene("two-volumes") + " " + (dir / "bad.json").string() +
                         " --size 16 --frames 1 --out " + (dir / "report").string());
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("bad.json"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "report" / "index.html"));
   EXPECT_FALSE(fs::exists(dir / "report" / "eval.json"));
-  CliResult method = run_lab("eval " + example("two-volumes") + " --method nope --out " +
+  CliResult method = run_lab("eval " + example_scene("two-volumes") + " --method nope --out " +
                              (dir / "report").string());
   EXPECT_NE(method.exit_code, 0);
   EXPECT_NE(method.output.find("'nope'"), std::string::npos) << method.output;
-  CliResult band =
-      run_lab("eval " + example("two-volumes") + " --band cube --out " + (dir / "report").string());
+  CliResult band = run_lab("eval " + example_scene("two-volumes") + " --band cube --out " +
+                           (dir / "report").string());
   EXPECT_NE(band.exit_code, 0);
   EXPECT_NE(band.output.find("--band 'cube'"), std::string::npos) << band.output;
 }

@@ -10,10 +10,13 @@
 #include <glm/matrix.hpp>
 #include <nlohmann/json.hpp>
 
-#include "../io/fsl_diffusion_files.hpp"
 #include "cli_runner.hpp"
+#include "fsl_diffusion_files.hpp"
 #include "intermix/dicom.hpp"
 #include "intermix/io.hpp"
+#include "scene_fixture.hpp"
+#include "shared_data.hpp"
+#include "temp_dir.hpp"
 
 namespace imx {
 namespace {
@@ -21,21 +24,19 @@ namespace {
 namespace fs = std::filesystem;
 using test::read_rows;
 using test::run_cli;
+using test::TempDir;
 
 fs::path dicom4d(const std::string& name) {
-  return fs::path(IMX_SHARED_DATA) / "dicom4d" / name;
+  return test::shared_data("dicom4d") / name;
 }
-
-#define REQUIRE_DICOM4D(name) \
-  if (!fs::exists(dicom4d(name))) GTEST_SKIP() << "no " << dicom4d(name).string()
 
 glm::dvec3 bvec_world(const std::vector<std::vector<double>>& bvec, size_t f, const glm::dmat4& m) {
   return test::bvec_world(glm::dvec3(bvec[0][f], bvec[1][f], bvec[2][f]), m);
 }
 
 TEST(CliFrames, ConvertWritesTheWholeDiffusionSeriesAsDcm2niixDoes) {
-  REQUIRE_DICOM4D("xa30-dwi-10");
-  const fs::path dir = test::temp_dir("frames-dwi");
+  SKIP_WITHOUT_SHARED_DATA(dicom4d("xa30-dwi-10"));
+  TempDir dir;
   const fs::path out = dir / "dwi.nii.gz";
   test::CliResult r = run_cli("convert " + dicom4d("xa30-dwi-10").string() + " -o " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -76,8 +77,8 @@ TEST(CliFrames, ConvertWritesTheWholeDiffusionSeriesAsDcm2niixDoes) {
 }
 
 TEST(CliFrames, OneFrameWithFrameAndAClearErrorForOtherFormats) {
-  REQUIRE_DICOM4D("xa30-asl-25");
-  const fs::path dir = test::temp_dir("frames-asl");
+  SKIP_WITHOUT_SHARED_DATA(dicom4d("xa30-asl-25"));
+  TempDir dir;
   const std::string asl = dicom4d("xa30-asl-25").string();
   test::CliResult r = run_cli("convert " + asl + " -o " + (dir / "asl.nrrd").string());
   EXPECT_EQ(r.exit_code, 1);
@@ -97,20 +98,12 @@ TEST(CliFrames, OneFrameWithFrameAndAClearErrorForOtherFormats) {
 }
 
 TEST(CliFrames, RenderFrameRangeWritesOneImagePerFrame) {
-  REQUIRE_DICOM4D("xa30-asl-25");
-  const fs::path dir = test::temp_dir("frames-render");
-  test::write_text(
-      dir / "asl.json",
-      nlohmann::json{
-          {"camera", {{"eye", {0, 600, 40}}, {"target", {0, 0, 40}}, {"up", {0, 0, 1}}}},
-          {"image", {{"width", 24}, {"height", 24}}},
-          {"objects",
-           {{{"name", "asl"},
-             {"type", "volume"},
-             {"source", {{"file", dicom4d("xa30-asl-25").string()}}},
-             {"style", "mip"},
-             {"transfer_function", {{"points", {{0, 0, 0, 0, 0}, {2000, 1, 1, 1, 1}}}}}}}}}
-          .dump());
+  SKIP_WITHOUT_SHARED_DATA(dicom4d("xa30-asl-25"));
+  TempDir dir;
+  dir.write("asl.json",
+            test::scene_document({test::mip_volume("asl", dicom4d("xa30-asl-25"), 2000)}, 24,
+                                 {0, 600, 40}, {0, 0, 40})
+                .dump());
   const std::string out = (dir / "f_%02d.png").string();
   test::CliResult r =
       run_cli("render " + (dir / "asl.json").string() + " --frame-range 1:3 -o " + out);

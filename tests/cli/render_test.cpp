@@ -2,17 +2,21 @@
 #include <gtest/gtest.h>
 
 #include "cli_runner.hpp"
+#include "scene_fixture.hpp"
+#include "temp_dir.hpp"
 
 namespace imx::test {
 namespace {
 
 TEST(CliRender, OneAndTwoThreadsGiveByteIdenticalPngs) {
-  auto dir = temp_dir("threads");
-  std::string scene = std::string(IMX_EXAMPLES_DIR) + "/ct-implant.json";
+  TempDir dir;
+  const std::string scene = example_scene("ct-implant");
   std::string common = " --width 64 --height 64 --spp 4 --set objects.ct.source.size=64 ";
-  CliResult one = run_cli("render " + scene + common + "--threads 1 -o " + (dir / "1.png").string());
+  CliResult one =
+      run_cli("render " + scene + common + "--threads 1 -o " + (dir / "1.png").string());
   ASSERT_EQ(one.exit_code, 0) << one.output;
-  CliResult two = run_cli("render " + scene + common + "--threads 2 -o " + (dir / "2.png").string());
+  CliResult two =
+      run_cli("render " + scene + common + "--threads 2 -o " + (dir / "2.png").string());
   ASSERT_EQ(two.exit_code, 0) << two.output;
   std::string a = read_bytes(dir / "1.png"), b = read_bytes(dir / "2.png");
   EXPECT_GT(a.size(), 100u);
@@ -20,23 +24,18 @@ TEST(CliRender, OneAndTwoThreadsGiveByteIdenticalPngs) {
 }
 
 TEST(CliRender, PrintsItsTime) {
-  auto dir = temp_dir("time");
-  std::string scene = std::string(IMX_EXAMPLES_DIR) + "/shells.json";
+  TempDir dir;
   // Without --quiet the timing line is printed.
-  std::string cmd = std::string(IMX_CLI_PATH) + " render " + scene +
-                    " --width 32 --height 32 --spp 1 -o " + (dir / "s.png").string() + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  ASSERT_TRUE(pipe);
-  char buf[4096];
-  std::string out;
-  while (fgets(buf, sizeof buf, pipe)) out += buf;
-  EXPECT_EQ(pclose(pipe), 0) << out;
-  EXPECT_NE(out.find(" s -> "), std::string::npos) << out;
+  CliResult r =
+      run_shell(std::string(IMX_CLI_PATH) + " render " + example_scene("shells") +
+                " --width 32 --height 32 --spp 1 -o " + (dir / "s.png").string() + " 2>&1");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find(" s -> "), std::string::npos) << r.output;
   EXPECT_TRUE(std::filesystem::exists(dir / "s.png"));
 }
 
 TEST(CliPhantom, WritesANrrdThatInfoDescribes) {
-  auto dir = temp_dir("phantom");
+  TempDir dir;
   auto file = (dir / "cube.nrrd").string();
   CliResult w = run_cli("phantom cube --size 32 -o " + file);
   ASSERT_EQ(w.exit_code, 0) << w.output;

@@ -4,13 +4,13 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
+#include "scene_fixture.hpp"
 
 namespace imx::test {
 namespace {
 
 TEST(CliZFight, MeasuresEachMethodAndPrintsJson) {
-  std::string scene = std::string(IMX_EXAMPLES_DIR) + "/coplanar-tilted.json";
-  CliResult r = run_lab("zfight " + scene +
+  CliResult r = run_lab("zfight " + example_scene("coplanar-tilted") +
                         " --width 48 --height 48 --set camera.fov_deg=12 --method dfb "
                         "--method dfb-sfm --json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -22,8 +22,8 @@ TEST(CliZFight, MeasuresEachMethodAndPrintsJson) {
 }
 
 TEST(CliZFight, SceneWithoutCoplanarSurfacesIsAClearError) {
-  std::string scene = std::string(IMX_EXAMPLES_DIR) + "/shells.json";
-  CliResult r = run_lab("zfight " + scene + " --width 32 --height 32 --method dfb");
+  CliResult r =
+      run_lab("zfight " + example_scene("shells") + " --width 32 --height 32 --method dfb");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("no coplanar surfaces"), std::string::npos) << r.output;
 }

@@ -15,6 +15,7 @@
 #include "fsl_diffusion_files.hpp"
 #include "intermix/dicom.hpp"
 #include "intermix/io.hpp"
+#include "shared_data.hpp"
 
 namespace imx {
 namespace {
@@ -24,7 +25,7 @@ using test::bvec_world;
 using test::read_rows;
 
 fs::path dicom4d(const std::string& name) {
-  return fs::path(IMX_SHARED_DATA) / "dicom4d" / name;
+  return test::shared_data("dicom4d") / name;
 }
 
 // Where voxel (i, j, k) of `mine` lies in `ref`'s grid: a signed permutation plus an integer
@@ -86,7 +87,7 @@ class Dicom4d : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(Dicom4d, EveryFrameMatchesDcm2niixInOrderAndPlace) {
   const std::string name = GetParam();
-  if (!fs::exists(dicom4d(name))) GTEST_SKIP() << "no " << dicom4d(name).string();
+  SKIP_WITHOUT_SHARED_DATA(dicom4d(name));
   const fs::path ref_file = dicom4d("ref/" + name + ".nii.gz");
   const VolumeHeader ref_header = read_volume_header(ref_file);
   const VolumeHeader header = read_dicom_header(dicom4d(name));
@@ -121,7 +122,7 @@ INSTANTIATE_TEST_SUITE_P(SharedSeries, Dicom4d,
 
 TEST(Dicom4dDiffusion, BValuesAndDirectionsEqualDcm2niixs) {
   const std::string name = "xa30-dwi-10";
-  if (!fs::exists(dicom4d(name))) GTEST_SKIP() << "no " << dicom4d(name).string();
+  SKIP_WITHOUT_SHARED_DATA(dicom4d(name));
   const std::vector<std::vector<double>> bval = read_rows(dicom4d("ref/" + name + ".bval"));
   const std::vector<std::vector<double>> bvec = read_rows(dicom4d("ref/" + name + ".bvec"));
   ASSERT_EQ(bval.size(), 1u);

@@ -16,6 +16,7 @@
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "io/dicom/dicom_reader.hpp"
+#include "shared_data.hpp"
 #include "temp_dir.hpp"
 
 namespace imx {
@@ -23,12 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path shared(const std::string& name) {
-  return fs::path(IMX_SHARED_DATA) / name;
-}
-
-#define REQUIRE_SHARED(name) \
-  if (!fs::exists(shared(name))) GTEST_SKIP() << "no " << shared(name).string()
+using test::shared_data;
 
 glm::dvec3 world(const glm::dmat4& m, glm::dvec3 idx) {
   return glm::dvec3(m * glm::dvec4(idx, 1));
@@ -52,9 +48,9 @@ std::optional<double> sample(const VolumeData& v, glm::dvec3 p) {
 }
 
 TEST(DicomData, PhilipsSeriesMatchesDcm2niixVoxelsAndWorldPositions) {
-  REQUIRE_SHARED("dicom/ct-philips");
-  DicomVolume d = read_dicom(shared("dicom/ct-philips"));
-  VolumeData ref = read_volume(shared("dicom/ref/ct-philips.nii.gz"));
+  SKIP_WITHOUT_SHARED_DATA("dicom/ct-philips");
+  DicomVolume d = read_dicom(shared_data("dicom/ct-philips"));
+  VolumeData ref = read_volume(shared_data("dicom/ref/ct-philips.nii.gz"));
   ASSERT_EQ(d.volume.dims, ref.dims);
   EXPECT_EQ(d.series.number, 201);
   EXPECT_EQ(d.series.slices, 28);
@@ -94,8 +90,8 @@ TEST(DicomData, PhilipsSeriesMatchesDcm2niixVoxelsAndWorldPositions) {
 }
 
 TEST(DicomData, DirfileAndSingleFileAndListing) {
-  REQUIRE_SHARED("dicom/ct-philips");
-  std::vector<DicomSeriesInfo> list = list_dicom_series(shared("dicom/ct-philips/DIRFILE"));
+  SKIP_WITHOUT_SHARED_DATA("dicom/ct-philips");
+  std::vector<DicomSeriesInfo> list = list_dicom_series(shared_data("dicom/ct-philips/DIRFILE"));
   ASSERT_EQ(list.size(), 1u);
   EXPECT_EQ(list[0].id, "201");
   EXPECT_EQ(list[0].description, "STD BRAIN 5MM");
@@ -103,19 +99,19 @@ TEST(DicomData, DirfileAndSingleFileAndListing) {
   EXPECT_EQ(list[0].rows, 512);
   EXPECT_EQ(list[0].slices, 28);
   EXPECT_EQ(list[0].files.size(), 28u);  // the DIRFILE itself is not an image
-  DicomVolume one = read_dicom(shared("dicom/ct-philips/I10"));
+  DicomVolume one = read_dicom(shared_data("dicom/ct-philips/I10"));
   EXPECT_EQ(one.volume.dims, glm::ivec3(512, 512, 1));
-  EXPECT_TRUE(is_dicom_source(shared("dicom/ct-philips")));
-  EXPECT_TRUE(is_dicom_source(shared("dicom/ct-philips/I10")));
-  EXPECT_FALSE(is_dicom_source(shared("FLAIR.nrrd")));
+  EXPECT_TRUE(is_dicom_source(shared_data("dicom/ct-philips")));
+  EXPECT_TRUE(is_dicom_source(shared_data("dicom/ct-philips/I10")));
+  EXPECT_FALSE(is_dicom_source(shared_data("FLAIR.nrrd")));
 }
 
 TEST(DicomData, NineTransferSyntaxesDecodeToIdenticalPixels) {
-  REQUIRE_SHARED("dicom/ts");
-  DicomVolume first = read_dicom(shared("dicom/ts/1.dcm"));
+  SKIP_WITHOUT_SHARED_DATA("dicom/ts");
+  DicomVolume first = read_dicom(shared_data("dicom/ts/1.dcm"));
   for (int n = 2; n <= 9; ++n) {
     SCOPED_TRACE(n);
-    DicomVolume d = read_dicom(shared("dicom/ts/" + std::to_string(n) + ".dcm"));
+    DicomVolume d = read_dicom(shared_data("dicom/ts/" + std::to_string(n) + ".dcm"));
     ASSERT_EQ(d.volume.dims, first.volume.dims);
     EXPECT_EQ(d.volume.voxels, first.volume.voxels);
     EXPECT_EQ(d.volume.index_to_world, first.volume.index_to_world);
@@ -128,12 +124,13 @@ TEST(DicomData, NineTransferSyntaxesDecodeToIdenticalPixels) {
 // codec's headers lie): each either loads or is one imx::Error naming the file. Before the
 // decoders ran in a process of their own, about 1 in 40 such mutants aborted the whole program.
 TEST(DicomData, CompressedMutantsLoadOrFailWithTheirNameNeverCrash) {
-  REQUIRE_SHARED("dicom/ts");
+  SKIP_WITHOUT_SHARED_DATA("dicom/ts");
   test::TempDir dir;
   std::mt19937 random(2026);
   int refused = 0, loaded = 0, reported_corrupt = 0, decoder_died = 0;
   for (int n = 4; n <= 9; ++n) {
-    const std::string bytes = test::read_bytes(shared("dicom/ts/" + std::to_string(n) + ".dcm"));
+    const std::string bytes =
+        test::read_bytes(shared_data("dicom/ts/" + std::to_string(n) + ".dcm"));
     const size_t pixels = bytes.rfind(std::string("\xe0\x7f\x10\x00", 4)) + 12;
     for (int m = 0; m < 40; ++m) {
       std::string mutant = bytes;
@@ -158,8 +155,8 @@ TEST(DicomData, CompressedMutantsLoadOrFailWithTheirNameNeverCrash) {
 }
 
 TEST(DicomData, EnhancedMultiFrameUsesPerFrameGroups) {
-  REQUIRE_SHARED("enh.dcm");
-  DicomVolume d = read_dicom(shared("enh.dcm"));
+  SKIP_WITHOUT_SHARED_DATA("enh.dcm");
+  DicomVolume d = read_dicom(shared_data("enh.dcm"));
   EXPECT_EQ(d.volume.dims, glm::ivec3(64, 64, 6));
   EXPECT_EQ(d.series.modality, "MR");
   glm::dvec3 s = d.volume.spacing();
@@ -178,11 +175,11 @@ TEST(DicomData, EnhancedMultiFrameUsesPerFrameGroups) {
 }
 
 TEST(DicomData, GeTiltAcquiredSlicesLieWhereTheTagsSay) {
-  REQUIRE_SHARED("dicom/ct-ge-tilt");
+  SKIP_WITHOUT_SHARED_DATA("dicom/ct-ge-tilt");
   detail::AcquiredSeries a =
-      std::move(detail::read_acquired_volumes(shared("dicom/ct-ge-tilt"), "", {0}).front());
+      std::move(detail::read_acquired_volumes(shared_data("dicom/ct-ge-tilt"), "", {0}).front());
   ASSERT_EQ(a.stack.frames.size(), 28u);
-  DicomVolume d = read_dicom(shared("dicom/ct-ge-tilt"));
+  DicomVolume d = read_dicom(shared_data("dicom/ct-ge-tilt"));
   // Before resampling: voxel (i, j) of slice s at IPP_s + i dcol row + j drow column.
   const glm::dvec3 row(1, 0, 0), col(0, 0.9483237, -0.3173047);
   const double dc = 0.4882812, dr = 0.4882812;
@@ -235,10 +232,10 @@ TEST(DicomData, GeTiltAcquiredSlicesLieWhereTheTagsSay) {
 }
 
 TEST(DicomData, GeTiltSlicesEqualDcm2niixSlices) {
-  REQUIRE_SHARED("dicom/ref/ct-ge-tilt.nii.gz");
+  SKIP_WITHOUT_SHARED_DATA("dicom/ref/ct-ge-tilt.nii.gz");
   detail::AcquiredSeries a =
-      std::move(detail::read_acquired_volumes(shared("dicom/ct-ge-tilt"), "", {0}).front());
-  VolumeData ref = read_volume(shared("dicom/ref/ct-ge-tilt.nii.gz"));
+      std::move(detail::read_acquired_volumes(shared_data("dicom/ct-ge-tilt"), "", {0}).front());
+  VolumeData ref = read_volume(shared_data("dicom/ref/ct-ge-tilt.nii.gz"));
   ASSERT_EQ(ref.dims, glm::ivec3(512, 512, 28));
   // dcm2niix stores rows bottom-up (j flipped) and the slices in our order.
   size_t mismatches = 0;
@@ -251,9 +248,9 @@ TEST(DicomData, GeTiltSlicesEqualDcm2niixSlices) {
 }
 
 TEST(DicomData, GeTiltMatchesDcm2niixTiltCorrectedVolume) {
-  REQUIRE_SHARED("dicom/ref/ct-ge-tilt_corrected_equidistant.nii.gz");
-  DicomVolume d = read_dicom(shared("dicom/ct-ge-tilt"));
-  VolumeData ref = read_volume(shared("dicom/ref/ct-ge-tilt_corrected_equidistant.nii.gz"));
+  SKIP_WITHOUT_SHARED_DATA("dicom/ref/ct-ge-tilt_corrected_equidistant.nii.gz");
+  DicomVolume d = read_dicom(shared_data("dicom/ct-ge-tilt"));
+  VolumeData ref = read_volume(shared_data("dicom/ref/ct-ge-tilt_corrected_equidistant.nii.gz"));
   // Normalized cross-correlation over an axial and a sagittal MPR plane through the middle of
   // our volume, sampled at 1 mm in world space where both volumes have data inside the scan's
   // field of view (GDCM's padding value -1500 elsewhere).

@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "encodings.hpp"
 #include "expect_error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
@@ -26,6 +27,7 @@
 namespace imx {
 namespace {
 
+using test::base64;
 using test::expect_error;
 using test::TempDir;
 using test::write_bytes;
@@ -36,21 +38,6 @@ using test::PeakGrowth;
 struct LimitsGuard {
   ~LimitsGuard() { set_input_limits({}); }
 };
-
-std::string base64(const std::string& bytes) {
-  static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (size_t i = 0; i < bytes.size(); i += 3) {
-    uint32_t v = uint32_t(uint8_t(bytes[i])) << 16;
-    if (i + 1 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 1])) << 8;
-    if (i + 2 < bytes.size()) v |= uint8_t(bytes[i + 2]);
-    out += table[(v >> 18) & 63];
-    out += table[(v >> 12) & 63];
-    out += i + 1 < bytes.size() ? table[(v >> 6) & 63] : '=';
-    out += i + 2 < bytes.size() ? table[v & 63] : '=';
-  }
-  return out;
-}
 
 // `n` zero bytes as a zlib stream, made a MiB at a time.
 std::string deflated_zeros(uint64_t n) {

@@ -10,6 +10,7 @@
 
 #include "intermix/io.hpp"
 #include "io/mesh_primitives.hpp"
+#include "shared_data.hpp"
 
 namespace imx {
 namespace {
@@ -193,22 +194,16 @@ TEST(MeshTopology, EmptyMeshEnclosesNothing) {
   EXPECT_EQ(t.signed_volume, 0.0);
 }
 
-std::filesystem::path shared_data() {
-  return IMX_SHARED_DATA;
-}
-
 TEST(MeshTopology, SharedCubePlyIsClosed) {
-  const std::filesystem::path file = shared_data() / "cube.ply";
-  if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " is absent";
-  MeshTopology t = check_closed(read_mesh(file));
+  SKIP_WITHOUT_SHARED_DATA("cube.ply");
+  MeshTopology t = check_closed(read_mesh(test::shared_data("cube.ply")));
   EXPECT_TRUE(t.closed()) << t.open_edges << " open, " << t.unpaired_edges << " unpaired";
   EXPECT_NEAR(t.signed_volume, 1.0, 1e-9);  // a unit cube of quads, wound outward
 }
 
 TEST(MeshTopology, SharedBunnyPlyHasHoles) {
-  const std::filesystem::path file = shared_data() / "bunny.ply";
-  if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " is absent";
-  MeshTopology t = check_closed(read_mesh(file));
+  SKIP_WITHOUT_SHARED_DATA("bunny.ply");
+  MeshTopology t = check_closed(read_mesh(test::shared_data("bunny.ply")));
   RecordProperty("open_edges", static_cast<int>(t.open_edges));
   RecordProperty("unpaired_edges", static_cast<int>(t.unpaired_edges));
   // The Stanford scan has holes in its base, so CSG must refuse it.

@@ -1,4 +1,5 @@
-// MetaImage (.mha/.mhd) reading and writing: round trips, ITK's layout, detached data, errors.
+// MetaImage (.mha/.mhd) reading and writing: ITK's layout, detached data, errors (the round
+// trips: volume_round_trip_test.cpp).
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
@@ -6,68 +7,29 @@
 #include <filesystem>
 
 #include <gtest/gtest.h>
-#include <zlib.h>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "encodings.hpp"
 #include "expect_error.hpp"
 #include "intermix/io.hpp"
 #include "pattern_volume.hpp"
+#include "shared_data.hpp"
 #include "temp_dir.hpp"
+#include "volume_bytes.hpp"
 
 namespace imx {
 namespace {
 
 using test::expect_error;
 using test::pattern_volume;
+using test::raw_bytes;
 using test::TempDir;
 using test::write_bytes;
-
-template <class T>
-std::string raw_bytes(const std::vector<T>& v) {
-  return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-}
-
-std::string zlib_bytes(const std::string& bytes) {
-  uLongf size = compressBound(static_cast<uLong>(bytes.size()));
-  std::string out(size, '\0');
-  compress2(reinterpret_cast<Bytef*>(out.data()), &size,
-            reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uLong>(bytes.size()), 6);
-  out.resize(size);
-  return out;
-}
-
-void expect_same_affine(const glm::dmat4& a, const glm::dmat4& b, double tol) {
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r)
-      EXPECT_NEAR(a[c][r], b[c][r], tol) << "entry [" << c << "][" << r << "]";
-}
 
 // A 2x2x2 MET_SHORT header with `extra` keys before the data, then the data line.
 std::string header_2x2x2(const std::string& extra, const std::string& data_file = "LOCAL") {
   return "ObjectType = Image\nNDims = 3\nDimSize = 2 2 2\nElementType = MET_SHORT\n" + extra +
          "ElementDataFile = " + data_file + "\n";
-}
-
-template <class T>
-class MetaImageRoundTrip : public ::testing::Test {};
-using VoxelTypes = ::testing::Types<uint8_t, int16_t, uint16_t, float>;
-TYPED_TEST_SUITE(MetaImageRoundTrip, VoxelTypes);
-
-TYPED_TEST(MetaImageRoundTrip, RawAndCompressedKeepVoxelsAndObliqueAffine) {
-  TempDir dir;
-  VolumeData v = pattern_volume<TypeParam>({7, 5, 3});
-  for (bool compress : {false, true}) {
-    auto file = dir / (compress ? "v_z.mha" : "v_raw.mha");
-    write_metaimage(v, file, compress);
-    VolumeData r = read_volume(file);
-    EXPECT_EQ(r.type(), v.type());
-    EXPECT_EQ(r.dims, v.dims);
-    EXPECT_EQ(std::get<VoxelBuffer<TypeParam>>(r.voxels),
-              std::get<VoxelBuffer<TypeParam>>(v.voxels));
-    // Directions and spacing are stored apart, so the affine comes back to rounding.
-    expect_same_affine(r.index_to_world, v.index_to_world, 1e-12);
-  }
-  EXPECT_EQ(dir.entries().size(), 2u) << "no temporary files may remain";
 }
 
 TEST(MetaImageWriter, WritesItksKeysWithTheDataLast) {
@@ -102,8 +64,8 @@ TEST(MetaImageWriter, RejectsAnInconsistentVolumeAndLeavesNothing) {
 }
 
 TEST(MetaImageReader, ReadsTheSharedItkFile) {
-  std::filesystem::path file = std::filesystem::path(IMX_SHARED_DATA) / "mha.mha";
-  if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " is absent";
+  SKIP_WITHOUT_SHARED_DATA("mha.mha");
+  const std::filesystem::path file = test::shared_data("mha.mha");
   VolumeData v = read_volume(file);
   EXPECT_EQ(v.dims, glm::ivec3(64, 64, 37));
   EXPECT_EQ(v.type(), VoxelType::i16);
@@ -140,7 +102,7 @@ TEST(MetaImageReader, ReadsDetachedBigEndianDoublesWithAHeaderSize) {
 TEST(MetaImageReader, ReadsADetachedZrawAndHeaderSizeMinusOne) {
   TempDir dir;
   std::vector<int16_t> values = {1, -2, 3, -4, 5, -6, 7, -8};
-  write_bytes(dir / "c.zraw", zlib_bytes(raw_bytes(values)));
+  write_bytes(dir / "c.zraw", test::zlib_compressed(raw_bytes(values)));
   write_bytes(dir / "c.mhd", header_2x2x2("CompressedData = True\n", "c.zraw"));
   EXPECT_EQ(std::get<VoxelBuffer<int16_t>>(read_volume(dir / "c.mhd").voxels),
             VoxelBuffer<int16_t>(values));
@@ -174,7 +136,7 @@ TEST(MetaImageReaderErrors, TruncatedRawAndCompressedData) {
   write_bytes(dir / "t.mha", header_2x2x2("") + std::string(10, '\0'));
   expect_error([&] { read_volume(dir / "t.mha"); }, {"t.mha", "expected 16 bytes", "found 10"});
 
-  std::string z = zlib_bytes(std::string(16, '\x01'));
+  std::string z = test::zlib_compressed(std::string(16, '\x01'));
   write_bytes(dir / "tz.mha", header_2x2x2("CompressedData = True\n") + z.substr(0, z.size() / 2));
   expect_error([&] { read_volume(dir / "tz.mha"); }, {"tz.mha", "expected 16 bytes"});
 

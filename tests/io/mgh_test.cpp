@@ -12,9 +12,9 @@
 
 #include "expect_error.hpp"
 #include "intermix/io.hpp"
-#include "io/gzip.hpp"
 #include "nibabel_reference.hpp"
 #include "temp_dir.hpp"
+#include "volume_bytes.hpp"
 
 namespace imx {
 namespace {
@@ -22,6 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::expect_equals_reference;
 using test::expect_error;
+using test::gzipped;
 using test::NibabelImage;
 using test::read_reference;
 using test::TempDir;
@@ -135,14 +136,6 @@ std::string mgh_bytes(const MghFields& f, const std::string& data) {
   for (float v : {0.0f, 0.0f, 0.0f}) put_f32(out, v);
   out.resize(284, '\0');
   return out + data;
-}
-
-std::string gzipped(const std::string& bytes) {
-  std::ostringstream out;
-  detail::gzip(
-      std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()), out,
-      6, "test");
-  return out.str();
 }
 
 TEST(MghBytes, ABigEndianHeaderBuiltByHandReads) {

@@ -12,13 +12,15 @@
 
 #include "expect_error.hpp"
 #include "intermix/io.hpp"
-#include "io/gzip.hpp"
+#include "shared_data.hpp"
 #include "temp_dir.hpp"
+#include "volume_bytes.hpp"
 
 namespace imx {
 namespace {
 
 using test::expect_error;
+using test::raw_bytes;
 using test::TempDir;
 
 // A NIfTI-1 header built by hand, so the reader is checked against the standard rather
@@ -46,17 +48,8 @@ std::string file_bytes(const nifti_1_header& h, const std::string& data) {
   return out + data;
 }
 
-template <class T>
-std::string raw_bytes(const std::vector<T>& v) {
-  return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-}
-
 void write_gz(const std::filesystem::path& file, const std::string& bytes) {
-  std::ostringstream out;
-  detail::gzip(
-      std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()), out,
-      6, "test");
-  test::write_bytes(file, out.str());
+  test::write_bytes(file, test::gzipped(bytes));
 }
 
 TEST(NiftiReader, SformConvertsRasToLps) {
@@ -298,16 +291,12 @@ TEST(NiftiReaderErrors, AVoxOffsetInsideTheHeaderAndNonFinitePlacementAreRefused
 
 // ---- the shared real files
 
-std::filesystem::path shared_data() {
-  return IMX_SHARED_DATA;
-}
+using test::shared_data;
 
 TEST(SharedData, FlairNrrdAndNiftiAgree) {
-  if (!std::filesystem::exists(shared_data() / "FLAIR.nrrd") ||
-      !std::filesystem::exists(shared_data() / "FLAIR.nii.gz"))
-    GTEST_SKIP() << "shared data not found at " << shared_data();
-  VolumeData a = read_volume(shared_data() / "FLAIR.nrrd");
-  VolumeData b = read_volume(shared_data() / "FLAIR.nii.gz");
+  SKIP_WITHOUT_SHARED_DATA("FLAIR.nrrd", "FLAIR.nii.gz");
+  VolumeData a = read_volume(shared_data("FLAIR.nrrd"));
+  VolumeData b = read_volume(shared_data("FLAIR.nii.gz"));
   EXPECT_EQ(a.dims, glm::ivec3(124, 160, 140));
   EXPECT_EQ(a.dims, b.dims);
   ASSERT_EQ(a.type(), VoxelType::u8);
@@ -322,9 +311,8 @@ TEST(SharedData, FlairNrrdAndNiftiAgree) {
 }
 
 TEST(SharedData, HippoLoads) {
-  if (!std::filesystem::exists(shared_data() / "hippo.nii.gz"))
-    GTEST_SKIP() << "shared data not found at " << shared_data();
-  VolumeData v = read_volume(shared_data() / "hippo.nii.gz");
+  SKIP_WITHOUT_SHARED_DATA("hippo.nii.gz");
+  VolumeData v = read_volume(shared_data("hippo.nii.gz"));
   EXPECT_GT(v.voxel_count(), 0u);
   EXPECT_NO_THROW(v.validate("hippo"));
   auto [lo, hi] = v.range();

@@ -15,24 +15,18 @@
 
 #include "expect_error.hpp"
 #include "intermix/io.hpp"
-#include "io/gzip.hpp"
 #include "pattern_volume.hpp"
 #include "temp_dir.hpp"
+#include "volume_bytes.hpp"
 
 namespace imx {
 namespace {
 
 using test::expect_error;
+using test::gzipped;
+using test::raw_bytes;
 using test::TempDir;
 using test::write_bytes;
-
-std::string gzipped(const std::string& bytes) {
-  std::ostringstream out;
-  detail::gzip(
-      std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()), out,
-      6, "test");
-  return out.str();
-}
 
 // bzip2 with libbz2 itself, so the reader is checked against the library's own writer.
 std::string bzipped(const std::string& bytes) {
@@ -43,11 +37,6 @@ std::string bzipped(const std::string& bytes) {
             BZ_OK);
   out.resize(length);
   return out;
-}
-
-template <class T>
-std::string raw_bytes(const std::vector<T>& v) {
-  return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
 }
 
 std::vector<int16_t> ramp(size_t n, int start = -50) {

@@ -6,58 +6,19 @@
 
 #include "expect_error.hpp"
 #include "intermix/io.hpp"
-#include "io/gzip.hpp"
 #include "pattern_volume.hpp"
 #include "temp_dir.hpp"
+#include "volume_bytes.hpp"
 
 namespace imx {
 namespace {
 
 using test::expect_error;
+using test::gzipped;
 using test::pattern_volume;
+using test::raw_bytes;
 using test::TempDir;
 using test::write_bytes;
-
-std::string gzipped(const std::string& bytes) {
-  std::ostringstream out;
-  detail::gzip(
-      std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()), out,
-      6, "test");
-  return out.str();
-}
-
-template <class T>
-std::string raw_bytes(const std::vector<T>& v) {
-  return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-}
-
-void expect_same_affine(const glm::dmat4& a, const glm::dmat4& b, double tol) {
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r)
-      EXPECT_NEAR(a[c][r], b[c][r], tol) << "entry [" << c << "][" << r << "]";
-}
-
-template <class T>
-class NrrdRoundTrip : public ::testing::Test {};
-using VoxelTypes = ::testing::Types<uint8_t, int16_t, uint16_t, float>;
-TYPED_TEST_SUITE(NrrdRoundTrip, VoxelTypes);
-
-TYPED_TEST(NrrdRoundTrip, RawAndGzipKeepVoxelsAndObliqueAffine) {
-  TempDir dir;
-  VolumeData v = pattern_volume<TypeParam>({7, 5, 3});
-  for (bool gzip : {false, true}) {
-    auto file = dir / (gzip ? "v_gz.nrrd" : "v_raw.nrrd");
-    write_nrrd(v, file, gzip);
-    VolumeData r = read_volume(file);
-    EXPECT_EQ(r.type(), v.type());
-    EXPECT_EQ(r.dims, v.dims);
-    EXPECT_EQ(std::get<VoxelBuffer<TypeParam>>(r.voxels),
-              std::get<VoxelBuffer<TypeParam>>(v.voxels));
-    // The header prints shortest round-trip decimals, so the affine comes back exactly.
-    expect_same_affine(r.index_to_world, v.index_to_world, 0.0);
-  }
-  EXPECT_EQ(dir.entries().size(), 2u) << "no temporary files may remain";
-}
 
 TEST(NrrdWriter, WritesTheDocumentedHeader) {
   TempDir dir;
@@ -102,7 +63,7 @@ TEST(NrrdReader, ConvertsRasToLps) {
   VolumeData v = read_volume(dir / "ras.nrrd");
   glm::dmat4 expected(glm::dvec4(-1, 0, 0, 0), glm::dvec4(0, -2, 0, 0), glm::dvec4(0, 0, 3, 0),
                       glm::dvec4(-10, -20, 30, 1));
-  expect_same_affine(v.index_to_world, expected, 0.0);
+  test::expect_same_affine(v.index_to_world, expected, 0.0);
   EXPECT_EQ(v.value_at(1, 1, 1), 9.0);
 }
 

@@ -5,6 +5,7 @@
 #include <type_traits>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -33,6 +34,13 @@ VolumeData pattern_volume(glm::ivec3 dims) {
   out.voxels = std::move(v);
   out.index_to_world = oblique_affine();
   return out;
+}
+
+// Every entry of `a` within `tol` of `b`'s.
+inline void expect_same_affine(const glm::dmat4& a, const glm::dmat4& b, double tol) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      EXPECT_NEAR(a[c][r], b[c][r], tol) << "entry [" << c << "][" << r << "]";
 }
 
 }  // namespace imx::test

@@ -15,16 +15,18 @@
 
 #include "expect_error.hpp"
 #include "intermix/io.hpp"
-#include "io/gzip.hpp"
 #include "io/raw_voxels.hpp"
 #include "pattern_volume.hpp"
+#include "shared_data.hpp"
 #include "temp_dir.hpp"
+#include "volume_bytes.hpp"
 
 namespace imx {
 namespace {
 
 namespace fs = std::filesystem;
 using test::expect_error;
+using test::gzipped;
 using test::TempDir;
 
 // Not symmetric along any axis, so a swapped axis or a wrong row offset shows.
@@ -117,14 +119,6 @@ std::string voxel_bytes(glm::ivec3 d, bool big_endian = false, double scale = 1.
         out.append(b, sizeof(T));
       }
   return out;
-}
-
-std::string gzipped(const std::string& bytes) {
-  std::ostringstream out;
-  detail::gzip(
-      std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()), out,
-      6, "test");
-  return out.str();
 }
 
 std::string nrrd_header(const std::string& type, const std::string& extra) {
@@ -458,7 +452,7 @@ TEST(PhantomRegion, BoxesAndNamesAreChecked) {
 
 // The volumes of ../shared/data (skipped when it is absent): a middle box and a corner box.
 TEST(VolumeRegionSharedData, RealFilesRegionReadsAreTheirCrops) {
-  const fs::path data = IMX_SHARED_DATA;
+  const fs::path data = test::shared_data();
   int found = 0;
   for (const char* name : {"FLAIR.nrrd", "FLAIR.nii.gz", "hippo.nii.gz", "mha.mha"}) {
     const fs::path file = data / name;

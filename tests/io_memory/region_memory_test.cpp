@@ -18,9 +18,9 @@
 #include <nifti/nifti1.h>
 #include <zlib.h>
 
-#include "../io/peak_growth.hpp"
-#include "../io/temp_dir.hpp"
 #include "intermix/io.hpp"
+#include "peak_growth.hpp"
+#include "temp_dir.hpp"
 
 namespace imx {
 namespace {

@@ -2,8 +2,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "expect_error.hpp"
 #include "presets/paraview_colormap.hpp"
-#include "shared_data.hpp"
+#include "temp_dir.hpp"
 #include "volume/tf_lut.hpp"
 
 namespace imx {

@@ -1,7 +1,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
 #include <set>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "presets/slicer_volume_property.hpp"
 #include "presets/volume_presets.hpp"
@@ -10,6 +17,45 @@
 
 namespace imx {
 namespace {
+
+// Each <VolumeProperty .../> element of Slicer's presets file as its attributes (a reader written
+// apart from the generator script).
+std::vector<std::map<std::string, std::string>> read_slicer_presets_xml(
+    const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string s = text.str();
+  std::vector<std::map<std::string, std::string>> out;
+  for (size_t at = s.find("<VolumeProperty"); at != std::string::npos;
+       at = s.find("<VolumeProperty", at + 1)) {
+    const size_t end = s.find("/>", at);
+    std::map<std::string, std::string> attributes;
+    size_t i = at + std::string("<VolumeProperty").size();
+    while (true) {
+      const size_t eq = s.find("=\"", i);
+      if (eq == std::string::npos || eq > end) break;
+      size_t key_start = s.rfind(' ', eq) + 1;
+      const size_t close = s.find('"', eq + 2);
+      attributes[s.substr(key_start, eq - key_start)] = s.substr(eq + 2, close - eq - 2);
+      i = close + 1;
+    }
+    out.push_back(attributes);
+  }
+  return out;
+}
+
+// "N v1 ... vN" as its N numbers.
+std::vector<double> slicer_numbers(const std::string& text) {
+  std::istringstream in(text);
+  size_t n = 0;
+  in >> n;
+  std::vector<double> out;
+  std::string token;
+  while (in >> token) out.push_back(std::strtod(token.c_str(), nullptr));
+  EXPECT_EQ(out.size(), n) << text;
+  return out;
+}
 
 // A Slicer function (groups of `stride` numbers: x then values) at x, written apart from
 // the library: linear between points, constant beyond the ends, a later point at the same x
@@ -117,8 +163,8 @@ TEST(VolumePresets, OnlyUctSkullHasAGradientOpacityThatMatters) {
 // Slicer's colour and opacity at every original control point and half way between neighbours.
 TEST(VolumePresets, EveryPresetInSlicersFileEvaluatesToItsFunctions) {
   const auto file = test::shared_data("slicer-volume-rendering-presets.xml");
-  if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " is absent";
-  const auto presets = test::read_slicer_presets_xml(file);
+  SKIP_WITHOUT_SHARED_DATA(file);
+  const auto presets = read_slicer_presets_xml(file);
   ASSERT_EQ(presets.size(), volume_preset_names().size());
   for (const auto& attributes : presets) {
     const std::string name = attributes.at("name");
@@ -130,8 +176,8 @@ TEST(VolumePresets, EveryPresetInSlicersFileEvaluatesToItsFunctions) {
     EXPECT_EQ(p->diffuse, std::stod(attributes.at("diffuse")));
     EXPECT_EQ(p->specular, std::stod(attributes.at("specular")));
     EXPECT_EQ(p->specular_power, std::stod(attributes.at("specularPower")));
-    const std::vector<double> opacity = test::slicer_numbers(attributes.at("scalarOpacity"));
-    const std::vector<double> color = test::slicer_numbers(attributes.at("colorTransfer"));
+    const std::vector<double> opacity = slicer_numbers(attributes.at("scalarOpacity"));
+    const std::vector<double> color = slicer_numbers(attributes.at("colorTransfer"));
     const TransferFunction tf = to_transfer_function(*p);
     std::vector<double> xs;
     for (size_t i = 0; i < opacity.size(); i += 2) xs.push_back(opacity[i]);

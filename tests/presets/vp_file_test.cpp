@@ -2,9 +2,11 @@
 
 #include <fmt/format.h>
 
+#include "expect_error.hpp"
 #include "presets/volume_presets.hpp"
 #include "presets/vp_file.hpp"
 #include "shared_data.hpp"
+#include "temp_dir.hpp"
 #include "volume/tf_lut.hpp"
 
 namespace imx {
@@ -32,7 +34,7 @@ std::string vp_of(const detail::VolumePresetData& d) {
 
 TEST(VpFile, SlicersSampleFileReads) {
   const auto file = test::shared_data("slicer-VolumeProperty.vp");
-  if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " is absent";
+  SKIP_WITHOUT_SHARED_DATA(file);
   SlicerVolumeProperty p = read_vp_file(file);
   EXPECT_TRUE(p.shade);
   EXPECT_EQ(p.ambient, 0.42);

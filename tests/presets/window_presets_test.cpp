@@ -22,7 +22,7 @@ TEST(WindowPresets, NamesGiveCentreAndWidth) {
 
 TEST(WindowPresets, EveryPresetInSlicersFileIsThere) {
   const auto file = test::shared_data("slicer-window-level-presets.json");
-  if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " is absent";
+  SKIP_WITHOUT_SHARED_DATA(file);
   nlohmann::json j = nlohmann::json::parse(std::ifstream(file));
   const auto& presets = j.at("volumeDisplayPresets");
   ASSERT_EQ(presets.size(), window_preset_names().size());

@@ -7,10 +7,10 @@
 #include <gtest/gtest.h>
 #include <glm/glm.hpp>
 
-#include "../scene/test_helpers.hpp"
 #include "intermix/io.hpp"
 #include "io/mesh_primitives.hpp"
 #include "raster_test_util.hpp"
+#include "temp_dir.hpp"
 
 namespace imx {
 namespace {

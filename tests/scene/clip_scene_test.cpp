@@ -4,12 +4,12 @@
 #include <string>
 #include <vector>
 
-#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "intermix/scene.hpp"
 #include "io/mesh_topology.hpp"
-#include "test_helpers.hpp"
+#include "scene_fixture.hpp"
+#include "temp_dir.hpp"
 
 namespace imx {
 namespace {
@@ -22,18 +22,9 @@ using test::parse_error;
 // plane "axial", and `more` objects.
 std::string scene(const std::string& ct_clip, const std::string& pet_clip = "",
                   const std::string& more = "") {
-  auto volume = [](const char* name, const std::string& clip) {
-    return fmt::format(
-        R"({{"name": "{}", "type": "volume", "source": {{"phantom": "cube", "size": 8}},
-            "transfer_function": {{"points": [[0, 1, 1, 1, 0], [100, 1, 1, 1, 1]]}}{}}})",
-        name, clip.empty() ? "" : R"(, "clip": )" + clip);
-  };
-  return R"({"objects": [)" + volume("ct", ct_clip) + ", " + volume("pet", pet_clip) + R"(,
-    {"name": "ball", "type": "mesh", "source": {"primitive": "sphere", "radius": 10}},
-    {"name": "brick", "type": "mesh", "source": {"primitive": "box", "size": 20}},
-    {"name": "sheet", "type": "mesh", "source": {"primitive": "quad", "size": 20}},
-    {"name": "axial", "type": "plane", "center": [0, 0, 5], "normal": [0, 0, 1], "size": 50})" +
-         more + "]}";
+  auto clip = [](const std::string& list) { return list.empty() ? "" : R"("clip": )" + list; };
+  return test::with_objects(test::shapes_objects("ct", "pet", clip(ct_clip), clip(pet_clip)) +
+                            more);
 }
 
 TEST(ClipScene, NamesResolveToMeshesWithTheirKeep) {
@@ -51,21 +42,9 @@ TEST(ClipScene, NamesResolveToMeshesWithTheirKeep) {
   EXPECT_TRUE(s.volumes[1].clip_meshes[0].keep_inside);
 }
 
-// A unit cube as an ASCII PLY file whose faces all wind inward.
-std::string inward_cube_ply() {
-  std::string s =
-      "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
-      "property float z\nelement face 12\nproperty list uchar int vertex_indices\nend_header\n";
-  for (int i = 0; i < 8; ++i) s += fmt::format("{} {} {}\n", i & 1, (i >> 1) & 1, (i >> 2) & 1);
-  const int faces[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
-                            {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
-  for (const auto& f : faces) s += fmt::format("3 {} {} {}\n", f[0], f[2], f[1]);
-  return s;
-}
-
 TEST(ClipScene, AnInwardMeshIsTurnedOutward) {
   test::TempDir dir;
-  dir.write("inward.ply", inward_cube_ply());
+  dir.write("inward.ply", test::cube_ply(/*inward=*/true));
   const std::string cube =
       R"(, {"name": "cube", "type": "mesh", "source": {"file": "inward.ply"}})";
   const Scene plain = parse(scene("", "", cube), {}, dir.path());

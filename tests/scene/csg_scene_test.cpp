@@ -11,7 +11,9 @@
 #include "intermix/io.hpp"
 #include "intermix/scene.hpp"
 #include "io/mesh_topology.hpp"
-#include "test_helpers.hpp"
+#include "scene_fixture.hpp"
+#include "shared_data.hpp"
+#include "temp_dir.hpp"
 
 namespace imx {
 namespace {
@@ -20,33 +22,17 @@ using test::error_of;
 using test::parse;
 using test::parse_error;
 
-std::string volume(const std::string& name, const std::string& extra = "") {
-  return fmt::format(
-      R"({{"name": "{}", "type": "volume", "source": {{"phantom": "cube", "size": 8}},
-          "transfer_function": {{"points": [[0, 1, 1, 1, 0], [100, 1, 1, 1, 1]]}}{}}})",
-      name, extra.empty() ? "" : ", " + extra);
-}
-
-std::string mesh(const std::string& name, const std::string& source = R"("primitive": "sphere",
-                                                                         "radius": 10)",
-                 const std::string& extra = "") {
-  return fmt::format(R"({{"name": "{}", "type": "mesh", "source": {{{}}}{}}})", name, source,
-                     extra.empty() ? "" : ", " + extra);
-}
-
-const std::string kPlane =
-    R"({"name": "axial", "type": "plane", "center": [0, 0, 5], "normal": [0, 0, 1], "size": 50})";
+using test::mesh_json;
+using test::volume_json;
 
 // skin, bone (volumes), ball, brick (meshes), sheet (an open quad), axial (a plane).
 std::string objects() {
-  return volume("skin") + ", " + volume("bone") + ", " + mesh("ball") + ", " +
-         mesh("brick", R"("primitive": "box", "size": 20)") + ", " +
-         mesh("sheet", R"("primitive": "quad", "size": 20)") + ", " + kPlane;
+  return test::shapes_objects("skin", "bone");
 }
 
 std::string scene_with(const std::string& csg, const std::string& rest = "",
                        const std::string& object_list = objects()) {
-  return R"({"objects": [)" + object_list + R"(], "csg": )" + csg + rest + "}";
+  return test::with_objects(object_list, R"("csg": )" + csg + rest);
 }
 
 const CsgNode& node(const Scene& s, int index) {
@@ -146,7 +132,7 @@ TEST(CsgScene, OnePrimitiveIsAnExpression) {
 TEST(CsgScene, NullMeansNoCsg) {
   Scene s = parse(scene_with("null"));
   EXPECT_FALSE(s.csg);
-  EXPECT_EQ(s.render.method, "reference");
+  EXPECT_EQ(s.render.method, "auto");
   EXPECT_FALSE(parse(R"({"objects": []})").csg);
 }
 
@@ -163,7 +149,7 @@ TEST(CsgScene, Overrides) {
                      "b": "bone"})");
   Scene plain = parse(text, {"csg=null"});
   EXPECT_FALSE(plain.csg);
-  EXPECT_EQ(plain.render.method, "reference");
+  EXPECT_EQ(plain.render.method, "auto");
   EXPECT_EQ(shape(parse(text, {"csg.a.b=ball"})), "((skin - ball) + bone)");
   EXPECT_EQ(shape(parse(text, {R"(csg.a.b={"object": "ball", "presence": "region"})"})),
             "((skin - ball) + bone)");
@@ -186,9 +172,9 @@ TEST(CsgScene, Overrides) {
 TEST(CsgScene, MeshInterior) {
   Scene s = parse(scene_with(
       R"({"op": "difference", "a": "brick", "b": "ball"})", "",
-      mesh("ball", R"("primitive": "sphere", "radius": 10)",
-           R"("interior": {"color": [1, 0.5, 0], "opacity": 0.25, "unit_distance": 2})") +
-          ", " + mesh("brick", R"("primitive": "box", "size": 20)", R"("interior": {})")));
+      mesh_json("ball", R"("primitive": "sphere", "radius": 10)",
+                R"("interior": {"color": [1, 0.5, 0], "opacity": 0.25, "unit_distance": 2})") +
+          ", " + mesh_json("brick", R"("primitive": "box", "size": 20)", R"("interior": {})")));
   ASSERT_TRUE(s.meshes[0].interior);
   EXPECT_EQ(s.meshes[0].interior->color, glm::vec3(1, 0.5f, 0));
   EXPECT_EQ(s.meshes[0].interior->opacity, 0.25f);
@@ -200,29 +186,14 @@ TEST(CsgScene, MeshInterior) {
   EXPECT_FALSE(parse(scene_with(R"("ball")")).meshes[0].interior);
 }
 
-// A unit cube as an ASCII PLY file; `inward` winds every face the wrong way round.
-std::string cube_ply(bool inward, bool one_face_reversed = false) {
-  std::string s =
-      "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
-      "property float z\nelement face 12\nproperty list uchar int vertex_indices\nend_header\n";
-  for (int i = 0; i < 8; ++i) s += fmt::format("{} {} {}\n", i & 1, (i >> 1) & 1, (i >> 2) & 1);
-  const int faces[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
-                            {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
-  for (int f = 0; f < 12; ++f) {
-    bool reverse = inward != (one_face_reversed && f == 0);
-    const int* v = faces[f];
-    s += reverse ? fmt::format("3 {} {} {}\n", v[0], v[2], v[1])
-                 : fmt::format("3 {} {} {}\n", v[0], v[1], v[2]);
-  }
-  return s;
-}
+using test::cube_ply;
 
 TEST(CsgScene, InwardMeshIsFlippedOnlyWhereItIsAPrimitive) {
   test::TempDir dir;
   dir.write("inward.ply", cube_ply(true));
   ASSERT_LT(check_closed(read_mesh(dir.path() / "inward.ply")).signed_volume, 0.0);
-  const std::string list = mesh("cutter", R"("file": "inward.ply")") + ", " +
-                           mesh("copy", R"("file": "inward.ply")") + ", " + mesh("ball");
+  const std::string list = mesh_json("cutter", R"("file": "inward.ply")") + ", " +
+                           mesh_json("copy", R"("file": "inward.ply")") + ", " + mesh_json("ball");
   Scene s = parse(scene_with(R"({"op": "difference", "a": "ball", "b": "cutter"})", "", list), {},
                   dir.path());
   MeshTopology cutter = check_closed(*s.meshes[0].mesh);
@@ -235,16 +206,18 @@ TEST(CsgScene, InwardMeshIsFlippedOnlyWhereItIsAPrimitive) {
 
 TEST(CsgScene, MirroredMeshStaysOutward) {
   // transform_mesh already rewinds a mirrored mesh, so the parser has nothing to flip.
-  Scene s = parse(scene_with(R"("ball")", "",
-                             mesh("ball", R"("primitive": "cylinder", "radius": 10, "height": 30)",
-                                  R"("transform": {"scale": [-1, 1, 2]})")));
+  Scene s =
+      parse(scene_with(R"("ball")", "",
+                       mesh_json("ball", R"("primitive": "cylinder", "radius": 10, "height": 30)",
+                                 R"("transform": {"scale": [-1, 1, 2]})")));
   MeshTopology t = check_closed(*s.meshes[0].mesh);
   EXPECT_TRUE(t.closed());
   EXPECT_GT(t.signed_volume, 0.0);
 }
 
 TEST(CsgScene, RenderSettings) {
-  Scene s = parse(R"({"objects": [)" + volume("ct") + ", " + volume("pet") + ", " + volume("mr") +
+  Scene s = parse(R"({"objects": [)" + volume_json("ct") + ", " + volume_json("pet") + ", " +
+                  volume_json("mr") +
                   R"(], "render": {"csg_simplify": "full", "csg_presence_threshold": 0.05,
                      "csg_max_states": 100, "mixing": "exclusive",
                      "mixing_priority": ["pet", ["ct", "mr"]], "mixing_threshold": 0.5}})");
@@ -288,8 +261,8 @@ TEST(CsgSceneErrors, WrongKindsOfObject) {
                   "scene.json: csg.b: 'axial' is a plane; CSG primitives are volumes and closed "
                   "meshes");
   for (const char* style : {"iso", "mip", "xray"}) {
-    std::string list =
-        volume("ct", fmt::format(R"("style": "{}", "iso_value": 50)", style)) + ", " + mesh("ball");
+    std::string list = volume_json("ct", fmt::format(R"("style": "{}", "iso_value": 50)", style)) +
+                       ", " + mesh_json("ball");
     EXPECT_CONTAINS(parse_error(scene_with(R"({"op": "union", "a": "ball", "b": "ct"})", "", list)),
                     fmt::format("scene.json: csg.b: 'ct' is a volume of style {}; CSG primitives "
                                 "are dvr volumes and closed meshes",
@@ -306,14 +279,14 @@ TEST(CsgSceneErrors, OpenMeshes) {
   test::TempDir dir;
   dir.write("twisted.ply", cube_ply(false, true));
   EXPECT_CONTAINS(
-      parse_error(scene_with(R"("twisted")", "", mesh("twisted", R"("file": "twisted.ply")")), {},
-                  dir.path()),
+      parse_error(scene_with(R"("twisted")", "", mesh_json("twisted", R"("file": "twisted.ply")")),
+                  {}, dir.path()),
       "scene.json: csg: mesh 'twisted' is not consistently wound: 6 directed edges "
       "without its reverse");
 
-  const std::filesystem::path bunny = std::filesystem::path(IMX_SHARED_DATA) / "bunny.ply";
-  if (!std::filesystem::exists(bunny)) GTEST_SKIP() << bunny << " is absent";
-  const std::string list = mesh("bunny", fmt::format(R"("file": "{}")", bunny.string()));
+  SKIP_WITHOUT_SHARED_DATA("bunny.ply");
+  const std::filesystem::path bunny = test::shared_data("bunny.ply");
+  const std::string list = mesh_json("bunny", fmt::format(R"("file": "{}")", bunny.string()));
   std::string msg = parse_error(scene_with(R"({"object": "bunny"})", "", list));
   EXPECT_CONTAINS(msg, "scene.json: csg: mesh 'bunny' is not closed: ");
   EXPECT_CONTAINS(msg, " open edges");
@@ -384,7 +357,9 @@ std::string union_of_many(int n, const std::function<std::string(const std::stri
 }
 
 TEST(CsgSceneErrors, AtMost64Primitives) {
-  auto box = [](const std::string& name) { return mesh(name, R"("primitive": "box", "size": 1)"); };
+  auto box = [](const std::string& name) {
+    return mesh_json(name, R"("primitive": "box", "size": 1)");
+  };
   Scene s = parse(union_of_many(64, box));
   EXPECT_EQ(s.csg->nodes.size(), 64u + 63u);
   EXPECT_CONTAINS(parse_error(union_of_many(65, box)),
@@ -397,7 +372,7 @@ TEST(CsgSceneErrors, AtMost64Primitives) {
 }
 
 TEST(CsgSceneErrors, AtMost16Volumes) {
-  auto vol = [](const std::string& name) { return volume(name); };
+  auto vol = [](const std::string& name) { return volume_json(name); };
   EXPECT_NO_THROW(parse(union_of_many(16, vol)));
   EXPECT_CONTAINS(parse_error(union_of_many(17, vol)),
                   "scene.json: csg.of[16]: at most 16 volumes (a ray holds 16); 'p16' is the "
@@ -441,8 +416,8 @@ TEST(CsgSceneErrors, NestingDeeperThan256) {
 
 TEST(CsgSceneErrors, InteriorOnlyOnPrimitives) {
   const std::string list =
-      volume("skin") + ", " + mesh("ball") + ", " +
-      mesh("brick", R"("primitive": "box", "size": 20)", R"("interior": {"opacity": 0.5})");
+      volume_json("skin") + ", " + mesh_json("ball") + ", " +
+      mesh_json("brick", R"("primitive": "box", "size": 20)", R"("interior": {"opacity": 0.5})");
   EXPECT_CONTAINS(parse_error(scene_with(R"({"op": "union", "a": "skin", "b": "ball"})", "", list)),
                   "scene.json: objects[2].interior: only CSG primitives have an interior (mesh "
                   "'brick' is not in the csg expression)");
@@ -455,8 +430,8 @@ TEST(CsgSceneErrors, InteriorOnlyOnPrimitives) {
 
 TEST(CsgSceneErrors, InteriorValues) {
   auto error = [](const std::string& interior) {
-    return parse_error(scene_with(R"("ball")", "",
-                                  mesh("ball", R"("primitive": "sphere", "radius": 5)", interior)));
+    return parse_error(scene_with(
+        R"("ball")", "", mesh_json("ball", R"("primitive": "sphere", "radius": 5)", interior)));
   };
   EXPECT_CONTAINS(error(R"("interior": {"opacity": 2})"),
                   "scene.json: objects[0].interior.opacity: 2 is not in [0, 1]");
@@ -473,8 +448,8 @@ TEST(CsgSceneErrors, InteriorValues) {
 }
 
 std::string render_error(const std::string& render) {
-  return parse_error(R"({"objects": [)" + volume("ct") + ", " + volume("pet") + ", " +
-                     mesh("ball") + R"(], "render": )" + render + "}");
+  return parse_error(R"({"objects": [)" + volume_json("ct") + ", " + volume_json("pet") + ", " +
+                     mesh_json("ball") + R"(], "render": )" + render + "}");
 }
 
 TEST(CsgSceneErrors, RenderSettings) {

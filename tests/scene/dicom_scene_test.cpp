@@ -11,7 +11,9 @@
 
 #include "intermix/io.hpp"
 #include "intermix/scene.hpp"
-#include "test_helpers.hpp"
+#include "scene_fixture.hpp"
+#include "shared_data.hpp"
+#include "temp_dir.hpp"
 
 namespace imx {
 namespace {
@@ -19,7 +21,7 @@ namespace {
 using test::parse;
 using test::parse_error;
 
-const std::filesystem::path kPhilips = std::filesystem::path(IMX_SHARED_DATA) / "dicom/ct-philips";
+const std::filesystem::path kPhilips = test::shared_data("dicom/ct-philips");
 
 std::string dicom_scene(const std::string& source, const std::string& plane_keys = "") {
   return fmt::format(
@@ -30,7 +32,7 @@ std::string dicom_scene(const std::string& source, const std::string& plane_keys
 }
 
 TEST(DicomScene, AFolderLoadsItsSeriesWithItsWindowAndANote) {
-  if (!std::filesystem::exists(kPhilips)) GTEST_SKIP() << "no " << kPhilips;
+  SKIP_WITHOUT_SHARED_DATA(kPhilips);
   Scene s = parse(dicom_scene(fmt::format(R"({{"file": "{}"}})", kPhilips.string())));
   const VolumeObject& ct = s.volumes[0];
   EXPECT_EQ(ct.data->dims, glm::ivec3(512, 512, 28));
@@ -47,9 +49,8 @@ TEST(DicomScene, AFolderLoadsItsSeriesWithItsWindowAndANote) {
 }
 
 TEST(DicomScene, WithSeveralSeriesTheLargestLoadsAndANoteSaysWhich) {
-  const std::filesystem::path ge = std::filesystem::path(IMX_SHARED_DATA) / "dicom/ct-ge-tilt";
-  if (!std::filesystem::exists(kPhilips) || !std::filesystem::exists(ge))
-    GTEST_SKIP() << "no " << kPhilips << " or " << ge;
+  const std::filesystem::path ge = test::shared_data("dicom/ct-ge-tilt");
+  SKIP_WITHOUT_SHARED_DATA(kPhilips, ge);
   // The Philips series (28 slices) beside the first 10 slices of the GE series.
   test::TempDir dir;
   for (const auto& e : std::filesystem::directory_iterator(kPhilips))
@@ -72,7 +73,7 @@ TEST(DicomScene, WithSeveralSeriesTheLargestLoadsAndANoteSaysWhich) {
 }
 
 TEST(DicomScene, AnUnknownSeriesIsOneErrorAtTheSource) {
-  if (!std::filesystem::exists(kPhilips)) GTEST_SKIP() << "no " << kPhilips;
+  SKIP_WITHOUT_SHARED_DATA(kPhilips);
   std::string e = parse_error(
       dicom_scene(fmt::format(R"({{"file": "{}", "series": 999}})", kPhilips.string())));
   EXPECT_NE(e.find("objects[0].source"), std::string::npos) << e;

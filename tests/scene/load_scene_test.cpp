@@ -7,7 +7,10 @@
 
 #include "intermix/io.hpp"
 #include "intermix/scene.hpp"
-#include "test_helpers.hpp"
+#include "mesh_checks.hpp"
+#include "scene_fixture.hpp"
+#include "shared_data.hpp"
+#include "temp_dir.hpp"
 
 namespace imx {
 namespace {
@@ -16,13 +19,9 @@ using test::error_of;
 using test::parse;
 using test::parse_error;
 
-// A scene whose objects array is `objects` (JSON text).
-std::string with_objects(const std::string& objects) {
-  return R"({"objects": [)" + objects + "]}";
-}
+using test::with_objects;
 
-const std::string kSphere =
-    R"({"name": "ball", "type": "mesh", "source": {"primitive": "sphere", "radius": 10}})";
+const std::string kSphere = test::mesh_json("ball");
 const std::string kPlane =
     R"({"name": "cut", "type": "plane", "center": [0, 0, 5], "normal": [0, 0, 2], "size": 50})";
 
@@ -40,7 +39,7 @@ TEST(ParseScene, MinimalSceneHasDefaults) {
   EXPECT_EQ(s.camera.fov_deg, 30.0);
   ASSERT_EQ(s.lights.size(), 1u);
   EXPECT_EQ(s.lights[0].type, LightType::headlight);
-  EXPECT_EQ(s.render.method, "reference");
+  EXPECT_EQ(s.render.method, "auto");  // resolve_method picks by content
   EXPECT_TRUE(s.order.empty());
   EXPECT_TRUE(s.file.empty());
 }
@@ -268,8 +267,8 @@ TEST(LoadScene, VolumeObjectsShareTheirSourceAndApplyTheTransform) {
 }
 
 TEST(LoadScene, SharedFlairVolumeLoads) {
-  const std::filesystem::path flair = std::filesystem::path(IMX_SHARED_DATA) / "FLAIR.nrrd";
-  if (!std::filesystem::exists(flair)) GTEST_SKIP() << "no shared data";
+  SKIP_WITHOUT_SHARED_DATA("FLAIR.nrrd");
+  const std::filesystem::path flair = test::shared_data("FLAIR.nrrd");
   Scene s = parse(with_objects(R"({"name": "mr", "type": "volume", "source": {"file": ")" +
                                flair.string() +
                                R"("}, "transfer_function": {"points": [[0, 0, 0, 0, 0]]}})"));

@@ -1,6 +1,4 @@
 // GIfTI surfaces (.gii): index orders, encodings, byte orders, RAS to LPS, and hostile files.
-#include <zlib.h>
-
 #include <bit>
 #include <cstdint>
 #include <cstring>
@@ -10,45 +8,23 @@
 
 #include <gtest/gtest.h>
 
+#include "encodings.hpp"
+#include "expect_error.hpp"
 #include "intermix/io.hpp"
 #include "io/gifti_reader.hpp"
 #include "io/mesh_topology.hpp"
-#include "test_helpers.hpp"
+#include "shared_data.hpp"
+#include "temp_dir.hpp"
 
 namespace imx {
 namespace {
 
+using test::base64;
 using test::error_of;
-
-const std::filesystem::path kData = IMX_SHARED_DATA;
 
 // A tetrahedron off the origin in RAS, outward-wound.
 const float kPoints[4][3] = {{10, 20, 30}, {11, 20, 30}, {10, 21, 30}, {10, 20, 31}};
 const int32_t kTriangles[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
-
-std::string base64(const std::string& bytes) {
-  static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (size_t i = 0; i < bytes.size(); i += 3) {
-    uint32_t v = uint32_t(uint8_t(bytes[i])) << 16;
-    if (i + 1 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 1])) << 8;
-    if (i + 2 < bytes.size()) v |= uint8_t(bytes[i + 2]);
-    out += table[(v >> 18) & 63];
-    out += table[(v >> 12) & 63];
-    out += i + 1 < bytes.size() ? table[(v >> 6) & 63] : '=';
-    out += i + 2 < bytes.size() ? table[v & 63] : '=';
-  }
-  return out;
-}
-
-std::string zlib(const std::string& bytes) {
-  uLongf size = compressBound(bytes.size());
-  std::string out(size, '\0');
-  compress(reinterpret_cast<Bytef*>(out.data()), &size,
-           reinterpret_cast<const Bytef*>(bytes.data()), bytes.size());
-  out.resize(size);
-  return out;
-}
 
 // The bytes of rows x 3 values in the given order and byte order.
 template <class T>
@@ -106,7 +82,7 @@ Array points(const std::string& encoding, bool column_major, bool big_endian = f
   if (encoding == "ASCII") a.data = ascii(kPoints, 4, column_major);
   std::string bytes = raw(kPoints, 4, column_major, big_endian);
   if (encoding == "Base64Binary") a.data = base64(bytes);
-  if (encoding == "GZipBase64Binary") a.data = base64(zlib(bytes));
+  if (encoding == "GZipBase64Binary") a.data = base64(test::zlib_compressed(bytes));
   return a;
 }
 
@@ -120,7 +96,7 @@ Array triangles(const std::string& encoding, bool column_major, bool big_endian 
   if (encoding == "ASCII") a.data = ascii(kTriangles, 4, column_major);
   std::string bytes = raw(kTriangles, 4, column_major, big_endian);
   if (encoding == "Base64Binary") a.data = base64(bytes);
-  if (encoding == "GZipBase64Binary") a.data = base64(zlib(bytes));
+  if (encoding == "GZipBase64Binary") a.data = base64(test::zlib_compressed(bytes));
   return a;
 }
 
@@ -196,8 +172,8 @@ TEST(MeshGifti, TheCoordinateSystemTransformIsNotApplied) {
 }
 
 TEST(MeshGifti, ColumnMajorOrderSampleIsClosedAndOutward) {
-  const auto file = kData / "ColumnMajorOrder.gii";
-  if (!std::filesystem::exists(file)) GTEST_SKIP() << "no shared data";
+  SKIP_WITHOUT_SHARED_DATA("ColumnMajorOrder.gii");
+  const auto file = test::shared_data("ColumnMajorOrder.gii");
   const Mesh raw_mesh = detail::read_gifti(file);
   EXPECT_EQ(raw_mesh.positions.size(), 5124u);
   EXPECT_EQ(raw_mesh.triangles.size(), 10240u);
@@ -233,7 +209,7 @@ TEST(MeshGifti, BadFilesGetOneClearError) {
   // A 10 MB run of zeros compresses to about 10 KB: claimed as 4 rows of 3 floats.
   Array bomb = good_p;
   bomb.encoding = "GZipBase64Binary";
-  bomb.data = base64(zlib(std::string(10 << 20, '\0')));
+  bomb.data = base64(test::zlib_compressed(std::string(10 << 20, '\0')));
   Array huge = good_p;
   huge.dims = "Dimensionality=\"2\" Dim0=\"2000000000\" Dim1=\"3\"";
   struct Case {
@@ -275,7 +251,8 @@ TEST(MeshGifti, BadFilesGetOneClearError) {
       {"truncated_zlib",
        gifti({with(points("GZipBase64Binary", false),
                    [](Array& a) {
-                     a.data = base64(zlib(raw(kPoints, 4, false, false)).substr(0, 20));
+                     a.data =
+                         base64(test::zlib_compressed(raw(kPoints, 4, false, false)).substr(0, 20));
                    }),
               good_t}),
        "the compressed data is truncated"},

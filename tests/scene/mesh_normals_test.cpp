@@ -9,11 +9,12 @@
 #include <gtest/gtest.h>
 #include <glm/glm.hpp>
 
+#include "expect_error.hpp"
 #include "intermix/io.hpp"
 #include "io/mesh_primitives.hpp"
 #include "io/mesh_topology.hpp"
 #include "io/vertex_normals.hpp"
-#include "test_helpers.hpp"
+#include "temp_dir.hpp"
 
 namespace imx {
 namespace {

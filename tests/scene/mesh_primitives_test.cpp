@@ -6,7 +6,8 @@
 #include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "test_helpers.hpp"
+#include "expect_error.hpp"
+#include "mesh_checks.hpp"
 
 namespace imx {
 namespace {

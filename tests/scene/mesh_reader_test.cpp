@@ -2,19 +2,22 @@
 
 #include <gtest/gtest.h>
 
+#include "expect_error.hpp"
 #include "intermix/io.hpp"
-#include "test_helpers.hpp"
+#include "mesh_checks.hpp"
+#include "shared_data.hpp"
+#include "temp_dir.hpp"
 
 namespace imx {
 namespace {
 
 using test::error_of;
 
-const std::filesystem::path kData = IMX_SHARED_DATA;
+using test::shared_data;
 
 TEST(ReadMesh, CubePlyBecomesTwelveTriangles) {
-  if (!std::filesystem::exists(kData / "cube.ply")) GTEST_SKIP() << "no shared data";
-  Mesh m = read_mesh(kData / "cube.ply");
+  SKIP_WITHOUT_SHARED_DATA("cube.ply");
+  Mesh m = read_mesh(shared_data("cube.ply"));
   EXPECT_EQ(m.triangles.size(), 12u);  // 2 triangles and 5 quads in the file
   ASSERT_EQ(m.normals.size(), m.positions.size());
   for (const glm::vec3& p : m.positions) {
@@ -27,8 +30,8 @@ TEST(ReadMesh, CubePlyBecomesTwelveTriangles) {
 }
 
 TEST(ReadMesh, BunnyHasAllItsFacesAndNormals) {
-  if (!std::filesystem::exists(kData / "bunny.ply")) GTEST_SKIP() << "no shared data";
-  Mesh m = read_mesh(kData / "bunny.ply");
+  SKIP_WITHOUT_SHARED_DATA("bunny.ply");
+  Mesh m = read_mesh(shared_data("bunny.ply"));
   EXPECT_EQ(m.triangles.size(), 69451u);
   EXPECT_LE(m.positions.size(), 35947u);
   ASSERT_EQ(m.normals.size(), m.positions.size());

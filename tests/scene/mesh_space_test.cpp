@@ -7,7 +7,8 @@
 
 #include "intermix/io.hpp"
 #include "io/mesh_topology.hpp"
-#include "test_helpers.hpp"
+#include "scene_fixture.hpp"
+#include "temp_dir.hpp"
 
 namespace imx {
 namespace {
@@ -137,7 +138,8 @@ TEST(MeshSpace, SceneNotesASpaceTakenFromTheHeader) {
   test::TempDir dir;
   dir.write("cortex.stl", ascii_stl("solid 3D Slicer output. SPACE=RAS"));
   const std::string objects =
-      R"({"objects": [{"name": "cortex", "type": "mesh", "source": {"file": "cortex.stl"}},
+      R"({"camera": {"eye": [0, -100, 0]},
+          "objects": [{"name": "cortex", "type": "mesh", "source": {"file": "cortex.stl"}},
                       {"name": "again", "type": "mesh", "source": {"file": "cortex.stl"}},
                       {"name": "forced", "type": "mesh",
                        "source": {"file": "cortex.stl", "space": "LPS"}}]})";

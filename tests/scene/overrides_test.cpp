@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "test_helpers.hpp"
+#include "expect_error.hpp"
 
 namespace imx::detail {
 namespace {

@@ -2,7 +2,7 @@
 
 #include "intermix/io.hpp"
 #include "intermix/scene.hpp"
-#include "test_helpers.hpp"
+#include "scene_fixture.hpp"
 
 namespace imx {
 namespace {

@@ -6,8 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include "expect_error.hpp"
 #include "intermix/io.hpp"
-#include "test_helpers.hpp"
+#include "shared_data.hpp"
+#include "temp_dir.hpp"
 
 namespace imx {
 namespace {
@@ -124,10 +126,8 @@ TEST(ReadPly, MalformedFilesAreErrorsNamingTheFile) {
 }
 
 TEST(ReadPly, EveryTruncationOfTheBunnyIsAnErrorNotACrash) {
-  const std::filesystem::path bunny = std::filesystem::path(IMX_SHARED_DATA) / "bunny.ply";
-  if (!std::filesystem::exists(bunny)) GTEST_SKIP() << "no shared data";
-  std::ifstream in(bunny, std::ios::binary);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  SKIP_WITHOUT_SHARED_DATA("bunny.ply");
+  const std::string text = test::read_bytes(test::shared_data("bunny.ply"));
   test::TempDir dir;
   for (size_t cut : {size_t{100}, size_t{300}, text.size() / 3, text.size() - 20}) {
     auto file = dir.write("cut.ply", text.substr(0, cut));

@@ -5,11 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include "expect_error.hpp"
 #include "intermix/io.hpp"
 #include "io/mesh_primitives.hpp"
 #include "scene/overrides.hpp"
 #include "scene/scene_parsers.hpp"
-#include "test_helpers.hpp"
+#include "temp_dir.hpp"
 
 namespace imx::detail {
 namespace {

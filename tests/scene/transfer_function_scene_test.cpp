@@ -10,7 +10,8 @@
 #include "presets/tf_adjust.hpp"
 #include "presets/volume_presets.hpp"
 #include "scene/scene_parsers.hpp"
-#include "test_helpers.hpp"
+#include "scene_fixture.hpp"
+#include "temp_dir.hpp"
 
 namespace imx {
 namespace {
@@ -21,7 +22,8 @@ using test::parse_error;
 // A scene with one small phantom volume whose "transfer_function" (and more keys) is `tf`.
 std::string volume_scene(const std::string& tf, const std::string& more = "") {
   return fmt::format(
-      R"({{"objects": [{{"name": "ct", "type": "volume", "source": {{"phantom": "cube", "size": 8}},
+      R"({{"camera": {{"eye": [0, -100, 0]}},
+          "objects": [{{"name": "ct", "type": "volume", "source": {{"phantom": "cube", "size": 8}},
           "transfer_function": {}{}}}]}})",
       tf, more);
 }
@@ -141,7 +143,8 @@ TEST(TransferFunctionScene, VpAndParaviewFilesResolveAgainstTheSceneFolder) {
 
 std::string plane_scene(const std::string& plane_keys) {
   return fmt::format(
-      R"({{"objects": [{{"name": "ct", "type": "volume", "source": {{"phantom": "cube", "size": 8}},
+      R"({{"camera": {{"eye": [0, -100, 0]}},
+          "objects": [{{"name": "ct", "type": "volume", "source": {{"phantom": "cube", "size": 8}},
           "transfer_function": {{"points": [[0, 0, 0, 0, 0]]}}}},
         {{"name": "axial", "type": "plane", "volume": "ct", "normal": [0, 0, 1]{}}}]}})",
       plane_keys);

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "intermix/scene.hpp"
-#include "test_helpers.hpp"
+#include "scene_fixture.hpp"
 
 namespace imx {
 namespace {

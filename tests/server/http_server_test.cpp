@@ -35,6 +35,7 @@
 #include <nlohmann/json.hpp>
 
 #include "intermix/error.hpp"
+#include "temp_dir.hpp"
 
 namespace imx::server {
 namespace {
@@ -52,15 +53,13 @@ using Clock = std::chrono::steady_clock;
 class Served {
  public:
   explicit Served(std::chrono::milliseconds write_timeout = 10s) {
-    file_ = std::filesystem::temp_directory_path() /
-            ("imx_http_server_test_" + std::to_string(::getpid()) + ".json");
-    std::ofstream(file_)
-        << R"({"camera": {"eye": [0, -300, 0], "target": [0, 0, 0], "up": [0, 0, 1]},
+    const std::filesystem::path file = dir_.write(
+        "scene.json", R"({"camera": {"eye": [0, -300, 0], "target": [0, 0, 0], "up": [0, 0, 1]},
       "image": {"width": 16, "height": 16},
-      "objects": [{"name": "ball", "type": "mesh", "source": {"primitive": "sphere", "radius": 40}}]})";
+      "objects": [{"name": "ball", "type": "mesh", "source": {"primitive": "sphere", "radius": 40}}]})");
     SessionOptions session_options;
     session_options.log = false;
-    session_ = std::make_unique<ViewerSession>(load_viewer_state(file_), session_options);
+    session_ = std::make_unique<ViewerSession>(load_viewer_state(file), session_options);
     ServerOptions options;
     options.port = 0;
     options.web_dir = IMX_WEB_DIR;
@@ -74,7 +73,6 @@ class Served {
     server_->stop();
     thread_.join();
     session_->stop();
-    std::filesystem::remove(file_);
   }
   uint16_t port() const { return server_->port(); }
   static std::string token() { return "0123456789abcdef0123456789abcdef"; }
@@ -99,7 +97,7 @@ class Served {
   }
 
  private:
-  std::filesystem::path file_;
+  test::TempDir dir_;
   std::unique_ptr<ViewerSession> session_;
   std::unique_ptr<HttpServer> server_;
   std::thread thread_;

@@ -19,11 +19,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "../scene/test_helpers.hpp"
 #include "intermix/io.hpp"
 #include "intermix/metrics.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "scene_fixture.hpp"
+#include "temp_dir.hpp"
 
 namespace imx::server {
 namespace {
@@ -90,15 +91,7 @@ class Recorder : public ClientSink {
 
 // fusion.json at kSize pixels with small phantoms, copied into `dir` (save writes beside it).
 std::filesystem::path small_fusion(const TempDir& dir) {
-  std::ifstream in(std::filesystem::path(IMX_EXAMPLES_DIR) / "fusion.json");
-  Json scene = Json::parse(in);
-  scene["image"]["width"] = kSize;
-  scene["image"]["height"] = kSize;
-  for (Json& o : scene["objects"])
-    if (o.contains("source") && o["source"].contains("phantom")) o["source"]["size"] = 40;
-  const std::filesystem::path file = dir.path() / "fusion.json";
-  std::ofstream(file) << scene.dump(2);
-  return file;
+  return test::write_small_example(dir.path(), "fusion", kSize, 40);
 }
 
 Image decode(const std::string& png, const TempDir& dir) {
@@ -323,11 +316,9 @@ TEST(ViewerSession, RepeatedScreenshotRequestsAreAnsweredOnce) {
 // A method that refuses the scene (zslab on a CSG scene) is reported, and the session goes back
 // to the last method that rendered, so the user keeps a picture.
 TEST(ViewerSession, AMethodThatRefusesTheSceneFallsBack) {
-  ViewerSession session(
-      load_viewer_state(std::filesystem::path(IMX_EXAMPLES_DIR) / "csg-cutaway.json",
-                        {"image.width=24", "image.height=24", "objects.skin.source.size=32",
-                         "objects.bone.source.size=32"}),
-      quiet_options(1));
+  ViewerSession session(load_viewer_state(test::example_scene("csg-cutaway"),
+                                          test::small_example_overrides(24, {"skin", "bone"}, 32)),
+                        quiet_options(1));
   EXPECT_EQ(session.method(), "csg");  // the default for a CSG scene
   auto client = std::make_shared<Recorder>();
   session.add_client(client);

@@ -14,11 +14,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "../scene/test_helpers.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "scene_fixture.hpp"
+#include "temp_dir.hpp"
 
 namespace imx::server {
 namespace {
@@ -30,18 +31,11 @@ using Json = nlohmann::json;
 
 constexpr int kSize = 40;
 
-std::filesystem::path example(const std::string& name) {
-  return std::filesystem::path(IMX_EXAMPLES_DIR) / name;
-}
-
 // An example at kSize pixels with its phantoms at `phantom` voxels, so that tests stay fast.
 ViewerState small(const std::string& name, const std::vector<std::string>& volumes,
                   int phantom = 48) {
-  std::vector<std::string> overrides = {"image.width=" + std::to_string(kSize),
-                                        "image.height=" + std::to_string(kSize)};
-  for (const std::string& v : volumes)
-    overrides.push_back("objects." + v + ".source.size=" + std::to_string(phantom));
-  return load_viewer_state(example(name), overrides);
+  return load_viewer_state(test::example_scene(name),
+                           test::small_example_overrides(kSize, volumes, phantom));
 }
 
 Image draw(const Scene& scene) {
@@ -79,7 +73,7 @@ Json edit(const std::string& object, Json fields) {
 }
 
 TEST(ViewerState, LoadsTheSceneAndItsDocument) {
-  ViewerState s = small("ct-implant.json", {"ct"});
+  ViewerState s = small("ct-implant", {"ct"});
   ASSERT_EQ(s.scene.order.size(), 4u);
   EXPECT_EQ(s.visible, std::vector<bool>(4, true));
   EXPECT_EQ(s.opacity, (std::vector<float>{1.0f, 0.5f, 0.5f, 0.6f}));
@@ -95,7 +89,7 @@ TEST(ViewerState, LoadsTheSceneAndItsDocument) {
 }
 
 TEST(ViewerState, CameraEditRoundTrips) {
-  ViewerState s = small("ct-implant.json", {"ct"});
+  ViewerState s = small("ct-implant", {"ct"});
   s.document["camera"]["projection"] = "perspective";
   expect_edit_round_trips(s, {{"type", "camera"},
                               {"seq", 3},
@@ -113,7 +107,7 @@ TEST(ViewerState, CameraEditRoundTrips) {
 }
 
 TEST(ViewerState, MeshVisibilityAndOpacityRoundTrip) {
-  ViewerState s = small("ct-implant.json", {"ct"});
+  ViewerState s = small("ct-implant", {"ct"});
   expect_edit_round_trips(s, edit("screw-left", {{"visible", false}}));
   EXPECT_EQ(s.scene.meshes[0].material.opacity, 0.0f);
   EXPECT_FALSE(s.visible[1]);
@@ -131,7 +125,7 @@ TEST(ViewerState, MeshVisibilityAndOpacityRoundTrip) {
 }
 
 TEST(ViewerState, VolumeOpacityAndVisibilityRoundTrip) {
-  ViewerState s = small("fusion.json", {"ct", "pet"});
+  ViewerState s = small("fusion", {"ct", "pet"});
   expect_edit_round_trips(s, edit("ct", {{"opacity", 0.3}}));
   const TransferFunction& user = s.transfer_functions[0];
   const TransferFunction& shown = s.scene.volumes[0].transfer_function;
@@ -145,7 +139,7 @@ TEST(ViewerState, VolumeOpacityAndVisibilityRoundTrip) {
 }
 
 TEST(ViewerState, TransferFunctionEditRoundTrips) {
-  ViewerState s = small("fusion.json", {"ct", "pet"});
+  ViewerState s = small("fusion", {"ct", "pet"});
   s.document["objects"][1]["transfer_function"]["unit_distance"] = 1.0;
   expect_edit_round_trips(
       s, edit("pet", {{"transfer_function", {{0, 0, 0, 0, 0}, {3, 0, 1, 0, 0.5}, {12, 0, 1, 1, 1}}},
@@ -174,7 +168,7 @@ TEST(ViewerState, PresetBecomesPointsWithItsShading) {
 }
 
 TEST(ViewerState, PlaneEditsRoundTrip) {
-  ViewerState s = small("mpr.json", {"ct"});
+  ViewerState s = small("mpr", {"ct"});
   expect_edit_round_trips(s, edit("axial", {{"window", {300, 900}}}));
   EXPECT_EQ(s.scene.planes[0].window, glm::dvec2(300, 900));
   expect_edit_round_trips(s, edit("axial", {{"center", {0, 0, 40}}}));
@@ -187,7 +181,7 @@ TEST(ViewerState, PlaneEditsRoundTrip) {
 }
 
 TEST(ViewerState, ClipPlanesEditRoundTrips) {
-  ViewerState s = small("mpr.json", {"ct"});
+  ViewerState s = small("mpr", {"ct"});
   expect_edit_round_trips(
       s,
       edit("ct", {{"clip_planes", Json::array({{{"point", {0, 0, 0}}, {"normal", {0, 2, 0}}}})}}));
@@ -198,7 +192,7 @@ TEST(ViewerState, ClipPlanesEditRoundTrips) {
 }
 
 TEST(ViewerState, DataKeepsItsIdentityAcrossEdits) {
-  ViewerState s = small("ct-implant.json", {"ct"});
+  ViewerState s = small("ct-implant", {"ct"});
   const auto volume = s.scene.volumes[0].data;
   const auto mesh = s.scene.meshes[1].mesh;
   apply_edit(s, edit("ct", {{"opacity", 0.5}, {"visible", false}}));
@@ -233,7 +227,7 @@ TEST(ViewerState, HiddenInTheFileKeepsTheUsersValues) {
 }
 
 TEST(ViewerState, BadMessagesChangeNothing) {
-  ViewerState s = small("mpr.json", {"ct"}, 24);
+  ViewerState s = small("mpr", {"ct"}, 24);
   const Json document = s.document;
   const Image image = draw(s.scene);
   const struct {
@@ -284,7 +278,7 @@ TEST(ViewerState, BadMessagesChangeNothing) {
 }
 
 TEST(ViewerState, DescribesCameraAndObjects) {
-  ViewerState s = small("mpr.json", {"ct"}, 24);
+  ViewerState s = small("mpr", {"ct"}, 24);
   apply_edit(s, edit("coronal", {{"visible", false}}));
   const Json d = describe_state(s);
   EXPECT_EQ(d["camera"]["fov_deg"], 32.0);
@@ -307,7 +301,7 @@ TEST(ViewerState, DescribesCameraAndObjects) {
 }
 
 TEST(ViewerState, HistogramsCountEveryVoxelOfASmallVolume) {
-  ViewerState s = small("fusion.json", {"ct", "pet"}, 24);
+  ViewerState s = small("fusion", {"ct", "pet"}, 24);
   const Json h = describe_histograms(s, 64);
   ASSERT_TRUE(h.contains("ct") && h.contains("pet"));
   const auto [lo, hi] = s.scene.volumes[0].data->range();
@@ -343,13 +337,13 @@ TEST(ViewerState, HistogramsSubsampleALargeVolume) {
 TEST(ViewerState, EveryPresetIsAnEditThatRendersAsThePreset) {
   const Json presets = describe_tf_presets();
   EXPECT_EQ(presets.size(), 31u);
-  ViewerState s = small("ct-head.json", {"ct"}, 24);
+  ViewerState s = small("ct-head", {"ct"}, 24);
   for (const auto& [name, points] : presets.items()) {
     SCOPED_TRACE(name);
     ASSERT_GE(points.size(), 2u);
     apply_edit(s, edit("ct", {{"transfer_function", points}}));
   }
-  ViewerState by_name = small("ct-head.json", {"ct"}, 24);
+  ViewerState by_name = small("ct-head", {"ct"}, 24);
   apply_edit(s, edit("ct", {{"transfer_function", presets["ct-bone"]}}));
   Json preset_document = by_name.document;
   preset_document["objects"][0]["transfer_function"] = {{"preset", "ct-bone"}};
@@ -383,22 +377,15 @@ std::filesystem::path write_frames_scene(const TempDir& dir) {
     frames.push_back(std::move(v));
   }
   write_nifti_frames(frames, dir.path() / "ball.nii", 1.0, false);
-  return dir.write(
-      "scene.json",
-      Json{{"camera", {{"eye", {0, -120, 0}}, {"target", {0, 0, 0}}, {"up", {0, 0, 1}}}},
-           {"image", {{"width", kSize}, {"height", kSize}}},
-           {"objects",
-            {{{"name", "ball"},
-              {"type", "volume"},
-              {"source", {{"file", (dir.path() / "ball.nii").string()}}},
-              {"style", "mip"},
-              {"transfer_function", {{"points", {{0, 0, 0, 0, 0}, {100, 1, 1, 1, 1}}}}}},
-             {{"name", "head"},
-              {"type", "volume"},
-              {"source", {{"phantom", "ct-head"}, {"size", 24}}},
-              {"visible", false},
-              {"transfer_function", {{"preset", "ct-bone"}}}}}}}
-          .dump());
+  const Json head = {{"name", "head"},
+                     {"type", "volume"},
+                     {"source", {{"phantom", "ct-head"}, {"size", 24}}},
+                     {"visible", false},
+                     {"transfer_function", {{"preset", "ct-bone"}}}};
+  return dir.write("scene.json",
+                   test::scene_document({test::mip_volume("ball", dir / "ball.nii", 100), head},
+                                        kSize, {0, -120, 0}, {0, 0, 0})
+                       .dump());
 }
 
 TEST(ViewerState, FrameEditLoadsOnlyThatVolumesFrameAndRoundTrips) {

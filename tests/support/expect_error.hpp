@@ -1,5 +1,7 @@
-// expect_error: runs code that must throw imx::Error whose message holds given fragments.
+// imx::Error in tests: the message code throws (error_of), a check that it throws one holding
+// given fragments (expect_error), and EXPECT_CONTAINS for a message's parts.
 #pragma once
+#include <functional>
 #include <initializer_list>
 #include <string>
 
@@ -8,6 +10,16 @@
 #include "intermix/error.hpp"
 
 namespace imx::test {
+
+// The message of the imx::Error that fn throws, or "(no error)".
+inline std::string error_of(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
 
 // Returns the message, after checking it contains every fragment.
 template <class Fn>
@@ -29,3 +41,6 @@ std::string expect_error(Fn&& fn, std::initializer_list<std::string> fragments) 
 }
 
 }  // namespace imx::test
+
+#define EXPECT_CONTAINS(text, part) \
+  EXPECT_NE(std::string(text).find(part), std::string::npos) << "message: " << (text)
