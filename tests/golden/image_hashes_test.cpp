@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,11 @@ std::vector<SceneFile> scene_files() {
 
 std::string label(const SceneFile& f) {
   return f.group + "-" + f.path.stem().string();
+}
+
+// ctest's listing names the scene, not the parameter's bytes.
+void PrintTo(const SceneFile& f, std::ostream* out) {
+  *out << label(f);
 }
 
 fs::path hash_file(const SceneFile& f) {
