@@ -99,6 +99,51 @@ struct StageThickness {
   }
 };
 
+// The ping-pong ZT arrays of a surface stage, on the stack: virtual slabs fill the M RT layers,
+// and each time they are full (and at the end) the layers are rearranged and intermixed with the
+// current array into the other one; the stored array is the first current one. Pure.
+class SurfaceStageMerge {
+ public:
+  SurfaceStageMerge(std::span<const Slab> stored, const ZslabParams& p)
+      : stored_(stored),
+        p_(p),
+        m_(std::clamp(p.rt_layers, 1, kMaxRtLayers)),
+        n_(std::clamp(p.layers, 1, kMaxZslabLayers)) {}
+
+  // Adds a slab to the RT layers; a flush when they are full.
+  void add(const Slab& s) {
+    rt_[rt_count_++] = s;
+    if (rt_count_ == m_) flush();
+  }
+
+  // Flushes the layers left and writes the merged array to `out`.
+  void finish(SlabList& out) {
+    if (rt_count_ > 0) flush();
+    out.clear();
+    for (int k = 0; k < cur_count_; ++k) out.push_back(zt_[cur_][k], Overflow::tail);
+  }
+
+ private:
+  void flush() {
+    SlabList merged(std::span<Slab>(merged_, kMaxRtLayers));
+    rearrange_layers(std::span<Slab>(rt_, rt_count_), merged, p_.mix.interpolation);
+    int dst = cur_ == 0 ? 1 : 0;
+    SlabList next(std::span<Slab>(zt_[dst], n_));
+    std::span<const Slab> in = cur_ < 0 ? stored_ : std::span<const Slab>(zt_[cur_], cur_count_);
+    intermix_stage(in, merged.items(), next, p_.mix);
+    cur_ = dst;
+    cur_count_ = next.size();
+    rt_count_ = 0;
+  }
+
+  std::span<const Slab> stored_;
+  const ZslabParams& p_;
+  int m_, n_;
+  Slab rt_[kMaxRtLayers], merged_[kMaxRtLayers];
+  Slab zt_[2][kMaxZslabLayers];
+  int rt_count_ = 0, cur_ = -1, cur_count_ = 0;  // cur_ < 0: the stored array is the current one
+};
+
 // A polygon stage for one sample: depth peeling keeps each object's first L fragments (sorted by
 // t), they fill the M RT layers, and each time the layers fill (and at the end) they are
 // rearranged and intermixed with the array so far. Returns false when no fragment touches the
@@ -106,33 +151,15 @@ struct StageThickness {
 inline bool run_surface_stage(std::span<const Fragment> fragments, const StageThickness& th,
                               std::span<const Slab> stored, SlabList& out, const ZslabParams& p) {
   if (fragments.empty()) return false;
-  const int m = std::clamp(p.rt_layers, 1, kMaxRtLayers);
-  const int n = std::clamp(p.layers, 1, kMaxZslabLayers);
-  Slab rt_slots[kMaxRtLayers], merged_slots[kMaxRtLayers];
-  Slab zt[2][kMaxZslabLayers];
+  SurfaceStageMerge merge(stored, p);
   int peeled[kMaxRtLayers] = {};
-  int rt_count = 0, cur = -1, cur_count = 0;  // cur < 0: the stored array is the current one
-  auto flush = [&]() {
-    SlabList merged(std::span<Slab>(merged_slots, kMaxRtLayers));
-    rearrange_layers(std::span<Slab>(rt_slots, rt_count), merged, p.mix.interpolation);
-    int dst = cur == 0 ? 1 : 0;
-    SlabList next(std::span<Slab>(zt[dst], n));
-    std::span<const Slab> in = cur < 0 ? stored : std::span<const Slab>(zt[cur], cur_count);
-    intermix_stage(in, merged.items(), next, p.mix);
-    cur = dst;
-    cur_count = next.size();
-    rt_count = 0;
-  };
   for (const Fragment& f : fragments) {
     uint32_t o = std::min<uint32_t>(f.object, kMaxRtLayers - 1);
     if (peeled[o] >= p.peel_layers) continue;  // beyond the L peeling passes of its object
     ++peeled[o];
-    rt_slots[rt_count++] = virtual_slab(f.t, th.of(f.object, f.t), f.color);
-    if (rt_count == m) flush();
+    merge.add(virtual_slab(f.t, th.of(f.object, f.t), f.color));
   }
-  if (rt_count > 0) flush();
-  out.clear();
-  for (int k = 0; k < cur_count; ++k) out.push_back(zt[cur][k], Overflow::tail);
+  merge.finish(out);
   return true;
 }
 

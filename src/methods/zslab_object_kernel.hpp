@@ -42,29 +42,9 @@ inline bool merge_surface_slabs(std::span<const Slab> own, std::span<const Slab>
     intermix(stored, own[0].is_empty() ? std::span<const Slab>() : own, out, p.mix);
     return true;
   }
-  const int m = std::clamp(p.rt_layers, 1, kMaxRtLayers);
-  const int n = std::clamp(p.layers, 1, kMaxZslabLayers);
-  Slab rt_slots[kMaxRtLayers], merged_slots[kMaxRtLayers];
-  Slab zt[2][kMaxZslabLayers];
-  int rt_count = 0, cur = -1, cur_count = 0;  // cur < 0: the stored array is the current one
-  auto flush = [&]() {
-    SlabList merged(std::span<Slab>(merged_slots, kMaxRtLayers));
-    rearrange_layers(std::span<Slab>(rt_slots, rt_count), merged, p.mix.interpolation);
-    int dst = cur == 0 ? 1 : 0;
-    SlabList next(std::span<Slab>(zt[dst], n));
-    std::span<const Slab> in = cur < 0 ? stored : std::span<const Slab>(zt[cur], cur_count);
-    intermix_stage(in, merged.items(), next, p.mix);
-    cur = dst;
-    cur_count = next.size();
-    rt_count = 0;
-  };
-  for (const Slab& s : own) {
-    rt_slots[rt_count++] = s;
-    if (rt_count == m) flush();
-  }
-  if (rt_count > 0) flush();
-  out.clear();
-  for (int k = 0; k < cur_count; ++k) out.push_back(zt[cur][k], Overflow::tail);
+  SurfaceStageMerge merge(stored, p);
+  for (const Slab& s : own) merge.add(s);
+  merge.finish(out);
   return true;
 }
 
