@@ -12,7 +12,7 @@
 #include "intermix/io.hpp"
 #include "intermix/metrics.hpp"
 #include "intermix/scene.hpp"
-#include "methods/first_hit_depth.hpp"
+#include "probes/first_hit_depth.hpp"
 
 namespace imx::cli {
 

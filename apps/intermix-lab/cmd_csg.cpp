@@ -11,11 +11,11 @@
 #include "csg/clip_state.hpp"
 #include "csg/csg_expr.hpp"
 #include "csg/state_table.hpp"
+#include "frame/csg_frame.hpp"
+#include "frame/frame_setup.hpp"
 #include "intermix/error.hpp"
 #include "intermix/scene.hpp"
-#include "methods/csg_frame.hpp"
-#include "methods/csg_statistics.hpp"
-#include "methods/frame_setup.hpp"
+#include "probes/csg_statistics.hpp"
 
 namespace imx::cli {
 namespace {

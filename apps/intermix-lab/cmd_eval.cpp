@@ -28,7 +28,7 @@
 #include "intermix/renderer.hpp"
 #include "intermix/scene.hpp"
 #include "io/atomic_file.hpp"
-#include "methods/first_hit_depth.hpp"
+#include "probes/first_hit_depth.hpp"
 
 namespace fs = std::filesystem;
 

@@ -8,7 +8,7 @@
 #include "core/parallel.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
-#include "methods/z_fighting_probe.hpp"
+#include "probes/z_fighting_probe.hpp"
 
 namespace imx::cli {
 

@@ -25,7 +25,7 @@
 #include "intermix/io.hpp"
 #include "io/atomic_file.hpp"
 #include "methods/method_table.hpp"
-#include "methods/zslab.hpp"
+#include "methods/zslab/zslab.hpp"
 
 namespace imx {
 

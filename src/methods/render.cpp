@@ -7,15 +7,15 @@
 #include "intermix/limits.hpp"
 #include "methods/automatic_method.hpp"
 #include "methods/cancellable.hpp"
-#include "methods/csg.hpp"
-#include "methods/dfb.hpp"
-#include "methods/kbuffer.hpp"
-#include "methods/mdvr.hpp"
+#include "methods/csg/csg.hpp"
+#include "methods/fragment/dfb.hpp"
+#include "methods/fragment/kbuffer.hpp"
+#include "methods/fragment/oit.hpp"
+#include "methods/fragment/peel.hpp"
+#include "methods/mdvr/mdvr.hpp"
 #include "methods/method_table.hpp"
-#include "methods/oit.hpp"
-#include "methods/peel.hpp"
-#include "methods/reference.hpp"
-#include "methods/zslab.hpp"
+#include "methods/reference/reference.hpp"
+#include "methods/zslab/zslab.hpp"
 
 namespace imx {
 

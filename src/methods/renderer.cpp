@@ -3,7 +3,7 @@
 #include "intermix/error.hpp"
 #include "methods/cancellable.hpp"
 #include "methods/method_table.hpp"
-#include "methods/zslab.hpp"
+#include "methods/zslab/zslab.hpp"
 
 namespace imx {
 

@@ -14,7 +14,7 @@
 namespace imx::detail {
 namespace {
 
-constexpr size_t kMaxClipMeshes = 64;  // one winding each per ray (methods/clip_intervals.hpp)
+constexpr size_t kMaxClipMeshes = 64;  // one winding each per ray (frame/clip_intervals.hpp)
 
 std::string plural(size_t n, const char* word) {
   return fmt::format("{} {}{}", n, word, n == 1 ? "" : "s");

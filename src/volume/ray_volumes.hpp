@@ -23,7 +23,7 @@ using VolumeMask = uint32_t;
 inline constexpr VolumeMask kEveryVolume = ~VolumeMask{0};
 
 // The pieces of one sample ray that clip geometry keeps of each clipped volume (SPEC §7), found
-// once per ray by the clip step (methods/clip_intervals.hpp) before the method's kernel runs.
+// once per ray by the clip step (frame/clip_intervals.hpp) before the method's kernel runs.
 struct RayClip {
   VolumeMask clipped = 0;  // bit k: volume k has clip meshes, and volume[k] is what they keep
   ClipPieces volume[kMaxRayVolumes];

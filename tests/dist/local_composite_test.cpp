@@ -9,8 +9,7 @@
 #include "dist/swap_schedule.hpp"
 #include "intermix/metrics.hpp"
 #include "intermix/render.hpp"
-#include "methods/zslab.hpp"
-#include "methods/zslab_frame.hpp"
+#include "methods/zslab/zslab.hpp"
 #include "slab/accumulate.hpp"
 #include "slab/over.hpp"
 

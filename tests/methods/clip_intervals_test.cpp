@@ -1,6 +1,6 @@
 // The clip step of one ray (SPEC §7 clip geometry): which pieces of a ray each clipped volume
 // keeps, from the clip meshes' sorted fragments; and what RayVolumes makes of them.
-#include "methods/clip_intervals.hpp"
+#include "frame/clip_intervals.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include <fmt/format.h>
 
 #include "homogeneous_volume.hpp"
-#include "methods/mdvr_kernel.hpp"
+#include "methods/mdvr/mdvr_kernel.hpp"
 #include "volume/ray_volumes.hpp"
 
 namespace imx {

@@ -19,7 +19,7 @@
 #include "intermix/render.hpp"
 #include "intermix/renderer.hpp"
 #include "intermix/scene.hpp"
-#include "methods/reference.hpp"
+#include "methods/reference/reference.hpp"
 
 namespace imx {
 namespace {

@@ -12,7 +12,7 @@
 #include "intermix/metrics.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
-#include "methods/z_fighting_probe.hpp"
+#include "probes/z_fighting_probe.hpp"
 
 namespace imx {
 namespace {

@@ -5,8 +5,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "homogeneous_volume.hpp"
-#include "methods/mdvr_kernel.hpp"
-#include "methods/reference_kernel.hpp"
+#include "methods/mdvr/mdvr_kernel.hpp"
+#include "methods/reference/reference_kernel.hpp"
 
 namespace imx {
 namespace {

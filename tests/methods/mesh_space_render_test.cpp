@@ -17,7 +17,7 @@
 
 #include "intermix/scene.hpp"
 #include "io/mesh_primitives.hpp"
-#include "methods/first_hit_depth.hpp"
+#include "probes/first_hit_depth.hpp"
 
 namespace imx {
 namespace {

@@ -7,12 +7,12 @@
 
 #include "../slab/slab_test_util.hpp"
 #include "homogeneous_volume.hpp"
-#include "methods/dfb_kernel.hpp"
-#include "methods/kbuffer_kernel.hpp"
-#include "methods/mboit_kernel.hpp"
-#include "methods/peel_kernel.hpp"
-#include "methods/reference_kernel.hpp"
-#include "methods/wboit_kernel.hpp"
+#include "methods/fragment/dfb_kernel.hpp"
+#include "methods/fragment/kbuffer_kernel.hpp"
+#include "methods/fragment/mboit_kernel.hpp"
+#include "methods/fragment/peel_kernel.hpp"
+#include "methods/fragment/wboit_kernel.hpp"
+#include "methods/reference/reference_kernel.hpp"
 #include "slab/mix.hpp"
 
 namespace imx {

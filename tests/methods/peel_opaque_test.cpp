@@ -12,8 +12,8 @@
 #include "intermix/metrics.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
-#include "methods/peel_kernel.hpp"
-#include "methods/reference_kernel.hpp"
+#include "methods/fragment/peel_kernel.hpp"
+#include "methods/reference/reference_kernel.hpp"
 
 namespace imx {
 namespace {

@@ -5,7 +5,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "homogeneous_volume.hpp"
-#include "methods/reference_kernel.hpp"
+#include "methods/reference/reference_kernel.hpp"
 
 namespace imx {
 namespace {

@@ -10,7 +10,7 @@
 #include "intermix/render.hpp"
 #include "intermix/renderer.hpp"
 #include "intermix/scene.hpp"
-#include "methods/zslab_frame.hpp"
+#include "methods/zslab/zslab_frame.hpp"
 
 namespace imx {
 namespace {

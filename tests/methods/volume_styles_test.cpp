@@ -9,7 +9,7 @@
 
 #include "homogeneous_volume.hpp"
 #include "intermix/io.hpp"
-#include "methods/mdvr_kernel.hpp"
+#include "methods/mdvr/mdvr_kernel.hpp"
 #include "volume/iso_crossing.hpp"
 #include "volume/projection.hpp"
 

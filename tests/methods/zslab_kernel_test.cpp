@@ -5,7 +5,7 @@
 #include <random>
 #include <vector>
 
-#include "methods/zslab_kernel.hpp"
+#include "methods/zslab/zslab_kernel.hpp"
 #include "slab/mix.hpp"
 #include "slab/over.hpp"
 

@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "methods/zslab_object_kernel.hpp"
+#include "methods/zslab/zslab_object_kernel.hpp"
 
 namespace imx {
 namespace {

@@ -15,8 +15,8 @@
 #include "intermix/renderer.hpp"
 #include "intermix/scene.hpp"
 #include "marcher_finds.hpp"
-#include "methods/zslab.hpp"
-#include "methods/zslab_frame.hpp"
+#include "methods/zslab/zslab.hpp"
+#include "methods/zslab/zslab_frame.hpp"
 
 namespace imx {
 namespace {

@@ -1,13 +1,13 @@
 // The reuse plan of a cached zSlab frame (zslab_reuse_plan.hpp): eviction within the budget,
 // kept arrays matched by key and shape, the merged prefix read, written or dropped.
-#include "methods/zslab_reuse_plan.hpp"
+#include "methods/zslab/zslab_reuse_plan.hpp"
 
 #include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
 
-#include "methods/zslab_kept.hpp"
+#include "methods/zslab/zslab_kept.hpp"
 
 namespace imx {
 namespace {

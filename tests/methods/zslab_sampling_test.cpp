@@ -11,7 +11,7 @@
 #include "intermix/metrics.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
-#include "methods/zslab_frame.hpp"
+#include "methods/zslab/zslab_frame.hpp"
 #include "volume/volume_marcher.hpp"
 
 namespace imx {

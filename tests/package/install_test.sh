@@ -57,10 +57,11 @@ for f in include/intermix/renderer.hpp include/intermix/io.hpp \
          bin/intermix share/intermix/web/index.html share/intermix/web/js/main.js; do
   [ -f "$prefix/$f" ] || fail "not installed: $f"
 done
-for m in methods csg fragments scene presets io metrics raster volume core; do
+for m in methods frame csg scene presets io metrics raster volume core; do
   [ -f "$prefix/lib/libimx_$m.a" ] || fail "not installed: lib/libimx_$m.a"
 done
 [ ! -e "$prefix/lib/libimx_server.a" ] || fail "imx_server is installed but is no public API"
+[ ! -e "$prefix/lib/libimx_probes.a" ] || fail "imx_probes is installed but is no public API"
 [ -z "$(find "$prefix/include" -type f ! -path "$prefix/include/intermix/*.hpp")" ] ||
   fail "files besides include/intermix/*.hpp in the include folder"
 if grep -qF -e "$source/" -e "$build/" "$prefix"/lib/cmake/intermix/*.cmake "$prefix/lib/pkgconfig/intermix.pc"; then

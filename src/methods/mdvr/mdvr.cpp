@@ -1,0 +1,117 @@
+#include "methods/mdvr/mdvr.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/colour.hpp"
+#include "core/parallel.hpp"
+#include "frame/frame_setup.hpp"
+#include "frame/ray_base.hpp"
+#include "methods/mdvr/mdvr_kernel.hpp"
+#include "volume/packet_marcher.hpp"
+#include "volume/packet_projection.hpp"
+
+namespace imx {
+namespace {
+
+// One volume and nothing else (nothing clipping it either) at one sample per pixel: trace_mdvr
+// is then exactly VolumeMarcher::composite (dvr) or the one projection or iso hit per ray,
+// which the rays of a tile can share in vector lanes.
+bool packets_apply(const Scene& scene, const FrameSetup& frame, int spp) {
+  if (!scene.render.packets || spp != 1 || !scene.meshes.empty() || !scene.planes.empty() ||
+      !frame.clip.empty() || frame.volumes.size() != 1)
+    return false;
+  const PreparedVolume& v = frame.volumes[0];
+  return v.object->style == VolumeStyle::dvr ? packet_marching_supported(v, frame.lights)
+                                             : packet_projection_supported(v);
+}
+
+// render_per_sample with trace_mdvr for that case: per tile, the rays that meet the volume go
+// through composite_packets() or project_packets() together (pixel centres, as
+// stratified_offsets(1)).
+Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const MdvrParams& params,
+                          const RenderOptions& options) {
+  constexpr int kTileSize = 16;
+  const PreparedVolume& v = frame.volumes[0];
+  const bool visible = v.lut.max_opacity() > 0.0f;  // else RayVolumes marches nothing
+  const int w = scene.image.width, h = scene.image.height;
+  Image image(w, h);
+  const glm::vec4 background = scene.image.background;
+  const glm::vec4 empty = over_background(glm::vec4(0.0f), background);
+  const PacketCamera camera(frame.camera);
+  for_each_tile(
+      w, h, kTileSize, options.threads,
+      [&](const TileRect& tile, int) {
+        PacketRay rays[kTileSize * kTileSize];
+        glm::ivec2 pixel[kTileSize * kTileSize];
+        glm::vec4 colour[kTileSize * kTileSize];
+        int n = 0;
+        // In blocks of 4 x 2 pixels, so that the eight rays of a packet stay close together
+        // (ct-head 36.0 against 37.5 ms in rows of 8). Pixels no occupied brick reaches cast no
+        // ray: they would find nothing (40-55% of the rays that meet the box, ct-head and FLAIR).
+        auto add = [&](int x, int y) {
+          image.at(x, y) = empty;
+          if (!visible || !frame.may_show(0, x, y)) return;
+          rays[n] = {frame.camera.ray(x + 0.5, y + 0.5)};
+          pixel[n++] = {x, y};
+        };
+        for (int y = tile.y0; y < tile.y1; y += 2) {
+          for (int x = tile.x0; x < tile.x1; x += 4) {
+            const bool whole = x + 4 <= tile.x1 && y + 2 <= tile.y1;
+            if (whole && visible && frame.may_show(0, x, y)) {
+              camera.block(x, y, rays + n);
+              for (int k = 0; k < 8; ++k) {
+                image.at(x + k % 4, y + k / 4) = empty;
+                pixel[n++] = {x + k % 4, y + k / 4};
+              }
+              continue;
+            }
+            for (int dy = 0; dy < 2 && y + dy < tile.y1; ++dy)
+              for (int dx = 0; dx < 4 && x + dx < tile.x1; ++dx) add(x + dx, y + dy);
+          }
+        }
+        // The box test in lanes, then only the rays that meet the volume, in the same order.
+        intersect_packets(v, std::span<PacketRay>(rays, n));
+        int kept = 0;
+        for (int k = 0; k < n; ++k)
+          if (!RayInterval{rays[k].t0, rays[k].t1}.empty())
+            rays[kept] = rays[k], pixel[kept++] = pixel[k];
+        n = kept;
+        if (v.object->style == VolumeStyle::dvr)
+          composite_packets(v, std::span<const PacketRay>(rays, n), params.step, frame.lights,
+                            params.ert, std::span<glm::vec4>(colour, n));
+        else
+          project_packets(v, std::span<const PacketRay>(rays, n), params.step,
+                          params.iso_bisections, frame.lights, std::span<glm::vec4>(colour, n));
+        for (int k = 0; k < n; ++k)
+          image.at(pixel[k].x, pixel[k].y) = over_background(colour[k], background);
+      },
+      [&](int done, int total) {
+        if (options.progress) options.progress(static_cast<double>(done) / total);
+      });
+  return image;
+}
+
+}  // namespace
+
+MdvrParams prepare_mdvr(const Scene& scene, FrameSetup& frame) {
+  MdvrParams params;
+  params.step = static_cast<float>(frame.ray_step(scene.render));
+  params.ert = static_cast<float>(scene.render.ert_threshold);
+  frame.accelerate(params.step, MarchSettings::from(scene.render));
+  return params;
+}
+
+Image render_mdvr(const Scene& scene, int spp, const RenderOptions& options) {
+  FrameSetup frame(scene);
+  frame.require_per_sample_support("mdvr");
+  const MdvrParams params = prepare_mdvr(scene, frame);
+  if (packets_apply(scene, frame, spp)) return render_mdvr_packets(scene, frame, params, options);
+  return render_per_sample(
+      scene, frame, spp, options,
+      [&](const Ray& ray, std::span<const Fragment> fragments, const VolumeFilter& filter) {
+        return trace_mdvr(ray, fragments, frame.volumes, frame.lights, params, filter);
+      });
+}
+
+}  // namespace imx
