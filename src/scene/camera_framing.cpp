@@ -6,11 +6,12 @@
 #include <limits>
 #include <tuple>
 #include <utility>
-#include <variant>
 
 #include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/trigonometric.hpp>
+
+#include "volume/value_sample.hpp"
 
 namespace imx {
 namespace {
@@ -61,27 +62,14 @@ bool opaque_at(const TransferFunction& tf, double value) {
 // empty (lo > hi) when none shows.
 std::pair<glm::dvec3, glm::dvec3> shown_voxels(const VolumeData& data, const TransferFunction& tf) {
   constexpr double kMaxSamples = 1024.0 * 1024.0;
-  const double voxels = static_cast<double>(data.voxel_count());
-  const int stride =
-      voxels > kMaxSamples ? static_cast<int>(std::ceil(std::cbrt(voxels / kMaxSamples))) : 1;
   glm::ivec3 lo(std::numeric_limits<int>::max()), hi(std::numeric_limits<int>::min());
-  std::visit(
-      [&](const auto& values) {
-        if (values.size() < data.voxel_count()) return;  // inconsistent: validate() refuses it
-        for (int k = 0; k < data.dims.z; k += stride)
-          for (int j = 0; j < data.dims.y; j += stride) {
-            const auto* row =
-                values.data() + (static_cast<size_t>(k) * data.dims.y + j) * data.dims.x;
-            for (int i = 0; i < data.dims.x; i += stride)
-              if (const double s = static_cast<double>(row[i]);
-                  std::isfinite(s) && opaque_at(tf, s)) {
-                lo = glm::min(lo, glm::ivec3(i, j, k));
-                hi = glm::max(hi, glm::ivec3(i, j, k));
-              }
-          }
-      },
-      data.voxels);
+  for_each_sampled_voxel(data, kMaxSamples, [&](int i, int j, int k, double s) {
+    if (!opaque_at(tf, s)) return;
+    lo = glm::min(lo, glm::ivec3(i, j, k));
+    hi = glm::max(hi, glm::ivec3(i, j, k));
+  });
   if (lo.x > hi.x) return {glm::dvec3(1.0), glm::dvec3(0.0)};
+  const int stride = sample_stride(data, kMaxSamples);
   return {glm::max(glm::dvec3(lo - stride), glm::dvec3(0.0)),
           glm::min(glm::dvec3(hi + stride), glm::dvec3(data.dims - 1))};
 }

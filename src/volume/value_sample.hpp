@@ -12,27 +12,36 @@
 
 namespace imx {
 
-// Calls fn(value) for the finite voxels of a regular subsample of `data` (every stride-th voxel
-// along each axis) of at most about `max_samples` voxels: every voxel of a small volume.
-template <class Fn>
-void for_each_sampled_value(const VolumeData& data, double max_samples, Fn&& fn) {
+// The step along each axis that leaves at most about `max_samples` of `data`'s voxels (1: all).
+inline int sample_stride(const VolumeData& data, double max_samples) {
   const double voxels = static_cast<double>(data.voxel_count());
-  const size_t stride =
-      voxels > max_samples ? static_cast<size_t>(std::ceil(std::cbrt(voxels / max_samples))) : 1;
-  const size_t nx = static_cast<size_t>(std::max(data.dims.x, 0));
-  const size_t ny = static_cast<size_t>(std::max(data.dims.y, 0));
-  const size_t nz = static_cast<size_t>(std::max(data.dims.z, 0));
+  return voxels > max_samples ? static_cast<int>(std::ceil(std::cbrt(voxels / max_samples))) : 1;
+}
+
+// Calls fn(i, j, k, value) for the finite voxels of a regular subsample of `data` (every
+// sample_stride-th voxel along each axis): every voxel of a small volume.
+template <class Fn>
+void for_each_sampled_voxel(const VolumeData& data, double max_samples, Fn&& fn) {
+  const int stride = sample_stride(data, max_samples);
+  const int nx = std::max(data.dims.x, 0), ny = std::max(data.dims.y, 0),
+            nz = std::max(data.dims.z, 0);
   std::visit(
       [&](const auto& v) {
-        if (v.size() < nx * ny * nz) return;  // inconsistent data: validate() refuses it
-        for (size_t z = 0; z < nz; z += stride)
-          for (size_t y = 0; y < ny; y += stride) {
-            const auto* row = v.data() + (z * ny + y) * nx;
-            for (size_t x = 0; x < nx; x += stride)
-              if (const double s = static_cast<double>(row[x]); std::isfinite(s)) fn(s);
+        if (v.size() < data.voxel_count()) return;  // inconsistent data: validate() refuses it
+        for (int z = 0; z < nz; z += stride)
+          for (int y = 0; y < ny; y += stride) {
+            const auto* row = v.data() + (static_cast<size_t>(z) * ny + y) * nx;
+            for (int x = 0; x < nx; x += stride)
+              if (const double s = static_cast<double>(row[x]); std::isfinite(s)) fn(x, y, z, s);
           }
       },
       data.voxels);
+}
+
+// The same, for statistics that need only the values.
+template <class Fn>
+void for_each_sampled_value(const VolumeData& data, double max_samples, Fn&& fn) {
+  for_each_sampled_voxel(data, max_samples, [&](int, int, int, double s) { fn(s); });
 }
 
 // The values below which each of `fractions` (in [0, 1]) of the finite voxels lie, from a

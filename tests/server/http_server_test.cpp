@@ -179,21 +179,21 @@ TEST(HttpServer, ServesEveryModuleThePageImports) {
   const std::string html = get(s.port(), "/" + t).body();
   const std::set<std::string> mapped = import_map_paths(html);
   ASSERT_FALSE(mapped.empty()) << "no `const modules = [...]` list in index.html";
-  std::vector<std::pair<std::string, std::string>> todo;  // (path, the file that imports it)
+  std::vector<std::pair<std::string, std::string>> pending;  // (path, the file that imports it)
   const auto add_imports = [&](const std::string& importer, const std::string& text) {
     const std::string dir = importer.substr(0, importer.rfind('/') + 1);
     for (const std::string& spec : imports_of(text)) {
       EXPECT_EQ(spec.rfind("./", 0), 0u)
           << importer << " imports '" << spec << "': page modules import './NAME.js'";
-      todo.emplace_back(dir + spec.substr(spec.rfind("./", 0) == 0 ? 2 : 0), importer);
+      pending.emplace_back(dir + spec.substr(spec.rfind("./", 0) == 0 ? 2 : 0), importer);
     }
   };
   add_imports("/index.html", html);
-  ASSERT_FALSE(todo.empty()) << "index.html imports no module";
+  ASSERT_FALSE(pending.empty()) << "index.html imports no module";
   std::set<std::string> seen;
-  while (!todo.empty()) {
-    const auto [path, importer] = todo.back();
-    todo.pop_back();
+  while (!pending.empty()) {
+    const auto [path, importer] = pending.back();
+    pending.pop_back();
     if (!seen.insert(path).second) continue;
     EXPECT_TRUE(mapped.count(path))
         << path << " (imported by " << importer
