@@ -37,8 +37,10 @@ struct DicomSeriesInfo {
 // that are not DICOM images are skipped; gzip-compressed ones (.dcm.gz, NAME.gz) are read.
 // Sorted by series number, then part. Files that start as DICOM but cannot be read are left out
 // of the series and, when `refused` is given, listed there, one message each naming the file
-// and why (read_dicom refuses such a folder). Throws imx::Error naming `source` when it cannot
-// be read or holds no DICOM image.
+// and why (read_dicom refuses such a folder). With `refused`, compressed pixel data is decoded
+// too (in child processes, keeping nothing), so a file whose stream is corrupt is listed there
+// as well, although it stays counted in its series. Throws imx::Error naming `source` when it
+// cannot be read or holds no DICOM image.
 std::vector<DicomSeriesInfo> list_dicom_series(const std::filesystem::path& source,
                                                std::vector<std::string>* refused = nullptr);
 

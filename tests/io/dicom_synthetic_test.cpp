@@ -625,6 +625,13 @@ TEST(DicomErrors, ACorruptCompressedStreamIsAnErrorNamingItsSyntax) {
   write_slice(dir / "bad.jpeg.dcm", s);
   expect_error([&] { read_dicom(dir / "bad.jpeg.dcm"); },
                {"bad.jpeg.dcm", "1.2.840.10008.1.2.4.70 (JPEG Lossless", "corrupt"});
+  // The listing decodes compressed files, so it names the one reading would refuse.
+  write_series(dir, {1, 2});
+  std::vector<std::string> refused;
+  ASSERT_EQ(list_dicom_series(dir.path(), &refused).size(), 1u);
+  ASSERT_EQ(refused.size(), 1u);
+  EXPECT_NE(refused.front().find("bad.jpeg.dcm"), std::string::npos) << refused.front();
+  EXPECT_NE(refused.front().find("corrupt"), std::string::npos) << refused.front();
 }
 
 TEST(DicomErrors, ATransferSyntaxThatDoesNotMatchThePixelDataIsRefused) {

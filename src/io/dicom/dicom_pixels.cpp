@@ -384,6 +384,30 @@ std::vector<CodecPixels> decode_with_codecs(std::span<const DicomFileHeader* con
   return out;
 }
 
+std::vector<std::string> codec_failures(std::span<const DicomFileHeader* const> headers) {
+  std::vector<const DicomFileHeader*> coded;
+  for (const DicomFileHeader* h : headers)
+    if (needs_codec(*h)) coded.push_back(h);
+  // A chunk's pixels are dropped before the next, so a large folder never sits in memory whole.
+  constexpr size_t kChunk = 64;
+  std::vector<std::string> out;
+  for (size_t begin = 0; begin < coded.size(); begin += kChunk) {
+    const auto chunk = std::span(coded).subspan(begin, std::min(kChunk, coded.size() - begin));
+    try {
+      decode_with_codecs(chunk);
+      continue;
+    } catch (const Error&) {
+    }
+    // Something in the chunk failed: only each file alone can say which, and why.
+    for (const DicomFileHeader* h : chunk) try {
+        decode_with_codecs(std::span(&h, 1));
+      } catch (const Error& e) {
+        out.push_back(e.what());
+      }
+  }
+  return out;
+}
+
 DecodedFrames decode_dicom_frames(const DicomFileHeader& header, const CodecPixels* codec) {
   check_decodable(header);
   const std::string what = header.file.string();

@@ -5,6 +5,7 @@
 #include <memory>
 #include <new>
 #include <span>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -60,6 +61,12 @@ bool needs_codec(const DicomFileHeader& header);
 // is an error too; what codecs print is kept for --verbose (core/library_output.hpp). Throws
 // imx::Error naming the first file that fails.
 std::vector<CodecPixels> decode_with_codecs(std::span<const DicomFileHeader* const> headers);
+
+// Decodes the files that need codecs as decode_with_codecs does, a few at a time, keeping no
+// pixels: one message per file that cannot be decoded (what reading it would throw), in the
+// order given; empty when every file decodes. What `info` checks so that it lists each file
+// `convert` would refuse.
+std::vector<std::string> codec_failures(std::span<const DicomFileHeader* const> headers);
 
 // Decodes every frame of `header.file` (from `codec`, that file's decode_with_codecs result, when
 // given) and applies each frame's RescaleSlope and RescaleIntercept. Throws imx::Error naming the

@@ -258,8 +258,16 @@ std::string lower(std::string s) {
 std::vector<DicomSeriesInfo> list_dicom_series(const std::filesystem::path& source,
                                                std::vector<std::string>* refused) {
   std::vector<DicomSeriesInfo> out;
-  for (detail::DicomSeriesGroup& g : detail::scan_dicom_series(source, refused))
+  for (detail::DicomSeriesGroup& g : detail::scan_dicom_series(source, refused)) {
+    // Compressed pixels are corrupt only as a decoder sees them: decode those to list them too.
+    if (refused != nullptr) {
+      std::vector<const detail::DicomFileHeader*> headers;
+      for (const detail::DicomFileHeader& h : g.headers) headers.push_back(&h);
+      for (std::string& failure : detail::codec_failures(headers))
+        refused->push_back(detail::original_names(g, std::move(failure)));
+    }
     out.push_back(std::move(g.info));
+  }
   return out;
 }
 
