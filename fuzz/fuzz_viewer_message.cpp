@@ -123,7 +123,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   imx::server::ViewerState state = original;
   nlohmann::json message;
   try {
-    message = imx::detail::parse_strict_json(std::string(as_view(data, size)), "message");
+    message = imx::scene_json::parse_strict_json(std::string(as_view(data, size)), "message");
   } catch (const std::exception& e) {
     refused(e);
     return 0;
@@ -134,14 +134,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   } catch (const imx::Error& e) {
     refused(e);
     // Strong guarantee: a refused edit changed nothing.
-    if (state.document != original.document || state.visible != original.visible ||
-        state.opacity != original.opacity || !same_scene(state.scene, original.scene))
+    if (state.document.json() != original.document.json() || state.visible != original.visible ||
+        state.opacity != original.opacity || !same_scene(state.scene(), original.scene()))
       __builtin_trap();
     return 0;
   }
   (void)imx::server::describe_state(state);
   // The saved file loads as what the session renders.
-  const std::string text = imx::server::saved_scene_text(state);
+  const std::string text = state.document.text();
   imx::Scene reloaded;
   try {
     reloaded = imx::parse_scene(text, scratch().path(), "saved");
@@ -149,7 +149,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::fprintf(stderr, "the saved scene does not load: %s\n%s\n", e.what(), text.c_str());
     __builtin_trap();
   }
-  if (!same_scene(state.scene, reloaded)) {
+  if (!same_scene(state.scene(), reloaded)) {
     std::fprintf(stderr, "the saved scene differs from the session:\n%s\n", text.c_str());
     __builtin_trap();
   }

@@ -157,7 +157,7 @@ std::filesystem::path write_peer_scene(const PeerRun& run, const std::filesystem
     throw Error(fmt::format("{}: invalid JSON: {}", origin, e.what()));
   }
   for (const std::string& assignment : run.overrides)
-    detail::apply_override(root, assignment, origin);
+    scene_json::apply_override(root, assignment, origin);
 
   if (!root.contains("objects") || !root["objects"].is_array())
     throw Error(fmt::format("{}: the scene has no \"objects\" list for the VTK peer", origin));

@@ -71,7 +71,7 @@ Command add_serve(CLI::App& app) {
     if (o->width > 0) overrides.push_back(fmt::format("image.width={}", o->width));
     if (o->height > 0) overrides.push_back(fmt::format("image.height={}", o->height));
     server::ViewerState state = server::load_viewer_state(o->scene, overrides);
-    print_notes(state.scene.notes);
+    print_notes(state.scene().notes);
     server::SessionOptions session_options;
     session_options.method = o->method;
     session_options.spp = o->spp;

@@ -10,7 +10,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "scene/edit_distance.hpp"
+#include "core/edit_distance.hpp"
 
 namespace imx::python {
 namespace {
@@ -333,7 +333,7 @@ std::string describe_mismatch(const FunctionRecord& record, PyObject* args, PyOb
       if (it == p.names.end()) {
         if (p.takes_keywords) continue;
         return fmt::format("{}: got an unexpected keyword argument '{}'{}{}", function, name,
-                           imx::detail::did_you_mean(name, p.names), takes);
+                           imx::did_you_mean(name, p.names), takes);
       }
       if (static_cast<size_t>(it - p.names.begin()) < positional)
         return fmt::format("{}: got '{}' twice, by position and by keyword{}", function, name,

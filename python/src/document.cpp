@@ -27,8 +27,8 @@ std::string type_name(const py::handle& value) {
 
 nlohmann::json convert(const py::handle& value, GivenSources& sources, const std::string& origin,
                        const std::string& path, int depth) {
-  if (depth > detail::kMaxJsonDepth)
-    fail(origin, path, fmt::format("nested deeper than {} levels", detail::kMaxJsonDepth));
+  if (depth > scene_json::kMaxJsonDepth)
+    fail(origin, path, fmt::format("nested deeper than {} levels", scene_json::kMaxJsonDepth));
   if (value.is_none()) return nullptr;
   if (py::isinstance<py::bool_>(value)) return value.cast<bool>();
   if (py::isinstance<py::int_>(value)) {

@@ -33,11 +33,11 @@ std::filesystem::path folder_of(const py::handle& base_dir, std::string_view fun
 
 std::shared_ptr<PyScene> from_file(const PathParameter& path) {
   const std::filesystem::path file = python::path(path, {"Scene.from_file", "path"});
-  const std::string text = detail::read_scene_file(file);
+  const std::string text = scene_json::read_scene_file(file);
   std::filesystem::path base_dir = file.parent_path();
   if (base_dir.empty()) base_dir = ".";
-  return std::make_shared<PyScene>(detail::parse_scene_json(text, file.string()), GivenSources{},
-                                   file.string(), base_dir, file);
+  return std::make_shared<PyScene>(scene_json::parse_scene_json(text, file.string()),
+                                   GivenSources{}, file.string(), base_dir, file);
 }
 
 std::shared_ptr<PyScene> from_dict(const SceneDictParameter& dict,
@@ -91,39 +91,43 @@ py::object mesh_source(const py::handle& source) {
 
 }  // namespace
 
-PyScene::PyScene(nlohmann::json document, GivenSources sources, std::string origin,
-                 std::filesystem::path base_dir, std::filesystem::path file)
-    : origin_(std::move(origin)), file_(std::move(file)) {
-  context_.base_dir = std::move(base_dir);
-  rebuild(std::move(document), std::move(sources));
-}
+namespace {
 
-void PyScene::rebuild(nlohmann::json document, GivenSources sources) {
-  context_.given_volumes.clear();
-  context_.given_meshes.clear();
+// The data of the Volume and Mesh objects among `sources`, for the loader.
+GivenData given_data(const GivenSources& sources) {
+  GivenData given;
   for (const auto& [id, object] : sources) {
     if (py::isinstance<PyVolume>(object))
-      context_.given_volumes[id] = object.cast<const PyVolume&>().data;
+      given.volumes[id] = object.cast<const PyVolume&>().data;
     else
-      context_.given_meshes[id] = object.cast<const PyMesh&>().mesh;
+      given.meshes[id] = object.cast<const PyMesh&>().mesh;
   }
-  // With the GIL held: another thread may not change this scene's context meanwhile.
-  Scene scene = detail::parse_scene_document(document, origin_, context_);
-  scene.file = file_;
-  // Sources no object uses any more are let go.
-  auto prune = [&](auto& cache) {
-    for (auto it = cache.begin(); it != cache.end();)
-      it = context_.used.count(it->first) ? std::next(it) : cache.erase(it);
-  };
-  prune(context_.volumes);
-  prune(context_.meshes);
-  prune(context_.placed_meshes);
+  return given;
+}
+
+}  // namespace
+
+PyScene::PyScene(nlohmann::json document, GivenSources sources, std::string origin,
+                 std::filesystem::path base_dir, std::filesystem::path file)
+    : origin_(std::move(origin)),
+      file_(std::move(file)),
+      document_(document, origin_, std::move(base_dir), given_data(sources), file_) {
   keep_named_sources(document, sources);
-  for (std::string& note : scene.notes)
-    if (std::find(notes_.begin(), notes_.end(), note) == notes_.end()) notes_.push_back(note);
-  document_ = std::move(document);
   sources_ = std::move(sources);
-  scene_ = std::move(scene);
+  keep_notes();
+}
+
+// With the GIL held: another thread may not change this scene meanwhile.
+void PyScene::rebuild(nlohmann::json document, GivenSources sources) {
+  document_.edit([&](nlohmann::json& json) { json = document; }, given_data(sources));
+  keep_named_sources(document, sources);
+  sources_ = std::move(sources);
+  keep_notes();
+}
+
+void PyScene::keep_notes() {
+  for (const std::string& note : document_.scene().notes)
+    if (std::find(notes_.begin(), notes_.end(), note) == notes_.end()) notes_.push_back(note);
 }
 
 void PyScene::set(const std::string& path, const py::handle& value) {
@@ -131,24 +135,25 @@ void PyScene::set(const std::string& path, const py::handle& value) {
     throw py::value_error(fmt::format("{}: scene.set('{}'): a key path has no '='", origin_, path));
   GivenSources sources = sources_;
   const nlohmann::json json_value = to_document(value, sources, origin_, path);
-  nlohmann::json document = document_;
-  detail::apply_override(document, path + "=" + json_value.dump(), origin_,
-                         fmt::format("scene.set('{}')", path));
+  nlohmann::json document = document_.json();
+  scene_json::apply_override(document, path + "=" + json_value.dump(), origin_,
+                             fmt::format("scene.set('{}')", path));
   rebuild(std::move(document), std::move(sources));
 }
 
 void PyScene::add(const std::string& name, const std::string& type, const py::object& source,
                   const py::dict& fields) {
-  auto objects = document_.find("objects");
+  const nlohmann::json& current = document_.json();
+  auto objects = current.find("objects");
   const size_t index =
-      objects != document_.end() && objects->is_array() ? objects->size() : size_t{0};
+      objects != current.end() && objects->is_array() ? objects->size() : size_t{0};
   const std::string path = fmt::format("objects[{}]", index);
   GivenSources sources = sources_;
   nlohmann::json object = to_document(fields, sources, origin_, path);
   object["name"] = name;
   object["type"] = type;
   if (!source.is_none()) object["source"] = to_document(source, sources, origin_, path + ".source");
-  nlohmann::json document = document_;
+  nlohmann::json document = current;
   nlohmann::json& list = document["objects"];
   if (list.is_null()) list = nlohmann::json::array();
   if (!list.is_array())
@@ -204,7 +209,7 @@ object's an intermix.Mesh. Errors name the JSON path as for files ("scene dict: 
           [](const TextParameter& text_argument, const OptionalPathParameter& base_dir) {
             const std::string json = text(text_argument, {"Scene.from_json", "text"});
             const std::filesystem::path folder = folder_of(base_dir, "Scene.from_json");
-            return std::make_shared<PyScene>(detail::parse_scene_json(json, "scene text"),
+            return std::make_shared<PyScene>(scene_json::parse_scene_json(json, "scene text"),
                                              GivenSources{}, "scene text", folder);
           },
           py::arg("text"), py::arg("base_dir") = py::none(),

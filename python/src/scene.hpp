@@ -8,14 +8,14 @@
 
 #include "document.hpp"
 #include "intermix/scene.hpp"
-#include "scene/scene_parsers.hpp"
+#include "scene/scene_document.hpp"
 
 namespace imx::python {
 
-// Every change (set, add_*) edits a copy of the document and parses it again through the scene
-// loader, with the loader's own errors; only a document that parses replaces the current one.
-// The loader context is kept between parses, so sources are read once and keep their identity
-// (imx::Renderer reuses what it rendered of unchanged objects).
+// Every change (set, add_*) is a SceneDocument edit: the whole document is parsed again by the
+// scene loader, with its own errors, and replaces the current one only when it parses. Sources
+// are read once and keep their identity (imx::Renderer reuses what it rendered of unchanged
+// objects). The Python objects given as sources are kept beside it, for to_dict.
 class PyScene {
  public:
   // `origin` names the document in errors (the file, or "scene dict"); relative paths resolve
@@ -23,12 +23,12 @@ class PyScene {
   PyScene(nlohmann::json document, GivenSources sources, std::string origin,
           std::filesystem::path base_dir, std::filesystem::path file = {});
 
-  const Scene& scene() const { return scene_; }
-  const nlohmann::json& document() const { return document_; }
+  const Scene& scene() const { return document_.scene(); }
+  const nlohmann::json& document() const { return document_.json(); }
   const GivenSources& sources() const { return sources_; }
   const std::string& origin() const { return origin_; }
   const std::filesystem::path& file() const { return file_; }
-  const std::filesystem::path& base_dir() const { return context_.base_dir; }
+  const std::filesystem::path& base_dir() const { return document_.base_dir(); }
   const std::vector<std::string>& notes() const { return notes_; }
 
   // `path` as --set takes it; `value` any scene value (document.hpp).
@@ -39,13 +39,12 @@ class PyScene {
 
  private:
   void rebuild(nlohmann::json document, GivenSources sources);
+  void keep_notes();
 
-  nlohmann::json document_;
   GivenSources sources_;
   std::string origin_;
   std::filesystem::path file_;
-  detail::SceneContext context_;
-  Scene scene_;
+  SceneDocument document_;
   std::vector<std::string> notes_;
 };
 

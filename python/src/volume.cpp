@@ -19,7 +19,7 @@
 #include "intermix/limits.hpp"
 #include "io/frame_voxels.hpp"
 #include "io/raw_voxels.hpp"
-#include "scene/edit_distance.hpp"
+#include "core/edit_distance.hpp"
 
 namespace imx::python {
 namespace {
@@ -465,7 +465,7 @@ atomically. `compress` applies to NRRD and MetaImage (NIfTI follows the .gz).
         if (std::find(names.begin(), names.end(), name) == names.end())
           throw py::value_error(
               fmt::format("phantom: name '{}' is not a built-in phantom{}; they are: {}", name,
-                          detail::did_you_mean(name, names), fmt::join(names, ", ")));
+                          did_you_mean(name, names), fmt::join(names, ", ")));
         std::shared_ptr<VolumeData> data;
         {
           py::gil_scoped_release release;

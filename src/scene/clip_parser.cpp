@@ -8,10 +8,10 @@
 #include <fmt/format.h>
 
 #include "io/mesh_topology.hpp"
-#include "scene/edit_distance.hpp"
+#include "core/edit_distance.hpp"
 #include "scene/scene_parsers.hpp"
 
-namespace imx::detail {
+namespace imx::scene_json {
 namespace {
 
 constexpr size_t kMaxClipMeshes = 64;  // one winding each per ray (frame/clip_intervals.hpp)
@@ -86,4 +86,4 @@ void parse_clip_meshes(const std::vector<JsonReader>& objects, Scene& scene) {
   }
 }
 
-}  // namespace imx::detail
+}  // namespace imx::scene_json

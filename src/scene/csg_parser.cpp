@@ -9,10 +9,10 @@
 #include <fmt/format.h>
 
 #include "io/mesh_topology.hpp"
-#include "scene/edit_distance.hpp"
+#include "core/edit_distance.hpp"
 #include "scene/scene_parsers.hpp"
 
-namespace imx::detail {
+namespace imx::scene_json {
 namespace {
 
 constexpr size_t kMaxPrimitives = 64;  // one bit each in a uint64 mask
@@ -257,4 +257,4 @@ void check_interiors(const std::vector<JsonReader>& objects, const Scene& scene)
   }
 }
 
-}  // namespace imx::detail
+}  // namespace imx::scene_json

@@ -1,9 +1,9 @@
 #include <fmt/format.h>
 
-#include "scene/edit_distance.hpp"
+#include "core/edit_distance.hpp"
 #include "scene/scene_parsers.hpp"
 
-namespace imx::detail {
+namespace imx::scene_json {
 
 int find_volume(const JsonReader& at, const std::string& name, const Scene& scene,
                 const std::map<std::string, std::string>& object_types) {
@@ -17,4 +17,4 @@ int find_volume(const JsonReader& at, const std::string& name, const Scene& scen
   at.fail(fmt::format("no volume named '{}'{}", name, did_you_mean(name, names)));
 }
 
-}  // namespace imx::detail
+}  // namespace imx::scene_json

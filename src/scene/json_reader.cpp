@@ -6,9 +6,9 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
-#include "scene/edit_distance.hpp"
+#include "core/edit_distance.hpp"
 
-namespace imx::detail {
+namespace imx::scene_json {
 namespace {
 
 constexpr size_t kMaxShownChars = 60;
@@ -201,4 +201,4 @@ glm::vec3 JsonReader::color() const {
   return glm::vec3(vec3(Range::closed(0.0, 1.0)));
 }
 
-}  // namespace imx::detail
+}  // namespace imx::scene_json

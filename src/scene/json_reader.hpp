@@ -15,7 +15,7 @@
 
 #include "core/limits.hpp"
 
-namespace imx::detail {
+namespace imx::scene_json {
 
 // An interval of allowed numbers; open or closed at either end, unbounded by default.
 struct Range {
@@ -102,4 +102,4 @@ class JsonReader {
   std::string path_;
 };
 
-}  // namespace imx::detail
+}  // namespace imx::scene_json

@@ -11,14 +11,14 @@
 #include "intermix/error.hpp"
 #include "intermix/scene.hpp"
 #include "io/regular_file.hpp"
-#include "scene/overrides.hpp"
+#include "scene/scene_document.hpp"
 #include "scene/scene_parsers.hpp"
 #include "scene/strict_json.hpp"
 
 namespace imx {
 namespace {
 
-using detail::JsonReader;
+using scene_json::JsonReader;
 
 // nlohmann's messages start with "[json.exception.parse_error.101] ": keep the readable part.
 std::string readable(const std::string& what) {
@@ -40,8 +40,8 @@ void check_name(const JsonReader& r, const std::string& name) {
 
 }  // namespace
 
-Scene detail::parse_scene_document(const nlohmann::json& root, const std::string& origin,
-                                   detail::SceneContext& context) {
+Scene scene_json::parse_scene_document(const nlohmann::json& root, const std::string& origin,
+                                   scene_json::SceneContext& context) {
   JsonReader r(root, origin);
   r.check_keys({"description", "camera", "image", "lights", "objects", "csg", "render"});
   Scene scene;
@@ -49,12 +49,12 @@ Scene detail::parse_scene_document(const nlohmann::json& root, const std::string
   // No camera, or a camera with a "view": framed around the objects once they are read.
   std::optional<PatientView> view;
   if (auto v = r.find("camera"))
-    scene.camera = detail::parse_camera(*v, &view);
+    scene.camera = scene_json::parse_camera(*v, &view);
   else
     view = PatientView::anterior;
-  if (auto v = r.find("image")) scene.image = detail::parse_image(*v);
-  if (auto v = r.find("lights")) scene.lights = detail::parse_lights(*v);
-  if (auto v = r.find("render")) scene.render = detail::parse_render(*v);
+  if (auto v = r.find("image")) scene.image = scene_json::parse_image(*v);
+  if (auto v = r.find("lights")) scene.lights = scene_json::parse_lights(*v);
+  if (auto v = r.find("render")) scene.render = scene_json::parse_render(*v);
 
   // First every name and type, so that planes may name volumes listed after them.
   const std::vector<JsonReader> objects = r.get("objects").elements();
@@ -78,7 +78,7 @@ Scene detail::parse_scene_document(const nlohmann::json& root, const std::string
   context.automatic_looks.clear();
   for (size_t i = 0; i < objects.size(); ++i)
     if (kinds[i] == "volume")
-      scene.volumes.push_back(detail::parse_volume_object(objects[i], context));
+      scene.volumes.push_back(scene_json::parse_volume_object(objects[i], context));
   std::vector<ObjectRef> order;
   int volume_index = 0;
   for (size_t i = 0; i < objects.size(); ++i) {
@@ -86,22 +86,22 @@ Scene detail::parse_scene_document(const nlohmann::json& root, const std::string
       order.push_back({ObjectKind::volume, volume_index++});
     } else if (kinds[i] == "mesh") {
       order.push_back({ObjectKind::mesh, static_cast<int>(scene.meshes.size())});
-      scene.meshes.push_back(detail::parse_mesh_object(objects[i], context));
+      scene.meshes.push_back(scene_json::parse_mesh_object(objects[i], context));
     } else {
       order.push_back({ObjectKind::plane, static_cast<int>(scene.planes.size())});
-      scene.planes.push_back(detail::parse_plane_object(objects[i], scene, types));
+      scene.planes.push_back(scene_json::parse_plane_object(objects[i], scene, types));
     }
   }
   scene.order = std::move(order);
-  detail::parse_clip_meshes(objects, scene);
+  scene_json::parse_clip_meshes(objects, scene);
   std::optional<JsonReader> csg = r.find("csg");
-  if (csg) scene.csg = detail::parse_csg(*csg, scene);
+  if (csg) scene.csg = scene_json::parse_csg(*csg, scene);
   // "csg": null keeps the interiors a CSG file declares: it is the file's baseline without CSG.
-  if (!(csg && csg->json().is_null())) detail::check_interiors(objects, scene);
+  if (!(csg && csg->json().is_null())) scene_json::check_interiors(objects, scene);
   std::optional<JsonReader> render = r.find("render");
   if (render) {
-    detail::check_last_volume(*render, scene, types);
-    detail::check_mixing_priority(*render, scene, types);
+    scene_json::check_last_volume(*render, scene, types);
+    scene_json::check_mixing_priority(*render, scene, types);
   }
   if (view) {
     scene.camera = framed_camera(scene.camera, visible_bounds(scene, bool(context.region)), *view,
@@ -120,10 +120,10 @@ Scene detail::parse_scene_document(const nlohmann::json& root, const std::string
   return scene;
 }
 
-nlohmann::json detail::parse_scene_json(const std::string& json_text, const std::string& origin) {
+nlohmann::json scene_json::parse_scene_json(const std::string& json_text, const std::string& origin) {
   nlohmann::json root;
   try {
-    root = detail::parse_strict_json(json_text, origin);
+    root = scene_json::parse_strict_json(json_text, origin);
   } catch (const nlohmann::json::exception& e) {
     throw Error(fmt::format("{}: invalid JSON: {}", origin, readable(e.what())));
   }
@@ -133,7 +133,7 @@ nlohmann::json detail::parse_scene_json(const std::string& json_text, const std:
   return root;
 }
 
-std::string detail::read_scene_file(const std::filesystem::path& file) {
+std::string scene_json::read_scene_file(const std::filesystem::path& file) {
   require_regular_file(file);
   std::ifstream in(file, std::ios::binary);
   if (!in) throw FileError(fmt::format("{}: cannot open the file", file.string()), errno);
@@ -142,37 +142,18 @@ std::string detail::read_scene_file(const std::filesystem::path& file) {
   return text.str();
 }
 
-namespace {
-
-Scene parse_scene_text(const std::string& json_text, const std::filesystem::path& base_dir,
-                       const std::string& origin, const std::vector<std::string>& overrides,
-                       const VolumeRegionChooser& region) {
-  nlohmann::json root = detail::parse_scene_json(json_text, origin);
-  for (const std::string& assignment : overrides) detail::apply_override(root, assignment, origin);
-  detail::SceneContext context{base_dir, {}, {}, {}};
-  context.region = region;
-  return detail::parse_scene_document(root, origin, context);
-}
-
-}  // namespace
-
 Scene parse_scene(const std::string& json_text, const std::filesystem::path& base_dir,
                   const std::string& origin, const std::vector<std::string>& overrides) {
-  return parse_scene_text(json_text, base_dir, origin, overrides, VolumeRegionChooser());
+  return SceneDocument::from_text(json_text, origin, base_dir, overrides).take_scene();
 }
 
 Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
-  return load_scene(file, overrides, VolumeRegionChooser());
+  return SceneDocument::load(file, overrides).take_scene();
 }
 
 Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides,
                  const VolumeRegionChooser& region) {
-  const std::string text = detail::read_scene_file(file);
-  std::filesystem::path base_dir = file.parent_path();
-  if (base_dir.empty()) base_dir = ".";
-  Scene scene = parse_scene_text(text, base_dir, file.string(), overrides, region);
-  scene.file = file;
-  return scene;
+  return SceneDocument::load(file, overrides, region).take_scene();
 }
 
 }  // namespace imx

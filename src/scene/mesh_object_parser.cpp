@@ -11,7 +11,7 @@
 #include "io/mesh_primitives.hpp"
 #include "scene/scene_parsers.hpp"
 
-namespace imx::detail {
+namespace imx::scene_json {
 namespace {
 
 constexpr int kDefaultSegments = 64;
@@ -213,4 +213,4 @@ MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context) {
   return m;
 }
 
-}  // namespace imx::detail
+}  // namespace imx::scene_json

@@ -7,7 +7,7 @@
 
 #include "scene/scene_parsers.hpp"
 
-namespace imx::detail {
+namespace imx::scene_json {
 
 std::filesystem::path SceneContext::resolve_file(const JsonReader& file) const {
   std::string name = file.string();
@@ -52,4 +52,4 @@ bool parse_visible(const JsonReader& object) {
   return true;
 }
 
-}  // namespace imx::detail
+}  // namespace imx::scene_json

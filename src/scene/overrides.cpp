@@ -7,10 +7,10 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
-#include "scene/edit_distance.hpp"
+#include "core/edit_distance.hpp"
 #include "scene/strict_json.hpp"
 
-namespace imx::detail {
+namespace imx::scene_json {
 namespace {
 
 bool is_index(const std::string& token) {
@@ -126,4 +126,4 @@ void apply_override(nlohmann::json& root, const std::string& assignment, const s
   }
 }
 
-}  // namespace imx::detail
+}  // namespace imx::scene_json

@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace imx::detail {
+namespace imx::scene_json {
 
 // Applies one assignment. The path is dotted keys with array indices as numbers or in brackets
 // ("objects.0.material.opacity", "objects[0].material.opacity"); an array of objects may also be
@@ -15,4 +15,4 @@ namespace imx::detail {
 void apply_override(nlohmann::json& root, const std::string& assignment, const std::string& origin,
                     const std::string& edit = "");
 
-}  // namespace imx::detail
+}  // namespace imx::scene_json

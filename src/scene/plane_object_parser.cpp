@@ -9,10 +9,10 @@
 #include "core/math.hpp"
 #include "presets/colormap.hpp"
 #include "presets/window_presets.hpp"
-#include "scene/edit_distance.hpp"
+#include "core/edit_distance.hpp"
 #include "scene/scene_parsers.hpp"
 
-namespace imx::detail {
+namespace imx::scene_json {
 namespace {
 
 // Corners of the volume's voxel extent (half a voxel beyond the centres), in world space.
@@ -116,4 +116,4 @@ PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
   return p;
 }
 
-}  // namespace imx::detail
+}  // namespace imx::scene_json

@@ -9,7 +9,7 @@
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "scene/overrides.hpp"
-#include "scene/scene_parsers.hpp"
+#include "scene/scene_document.hpp"
 
 namespace imx {
 namespace {
@@ -80,33 +80,14 @@ FilesScene scene_from_files(const std::vector<std::filesystem::path>& files,
     }
     objects.push_back(std::move(object));
   }
-  FilesScene built;
-  built.document = {{"camera", {{"view", view}}},
-                    {"image", {{"width", 512}, {"height", 512}}},
-                    {"objects", std::move(objects)}};
+  Json document = {{"camera", {{"view", view}}},
+                   {"image", {{"width", 512}, {"height", 512}}},
+                   {"objects", std::move(objects)}};
   for (const std::string& assignment : overrides)
-    detail::apply_override(built.document, assignment, kOrigin);
-  detail::SceneContext context;
-  context.base_dir = ".";
-  built.scene = detail::parse_scene_document(built.document, kOrigin, context);
-  // Write out what reading chose: the framed camera, each automatic transfer function.
-  const Camera& c = built.scene.camera;
-  Json& camera = built.document["camera"];
-  camera.erase("view");
-  camera["eye"] = {c.eye.x, c.eye.y, c.eye.z};
-  camera["target"] = {c.target.x, c.target.y, c.target.z};
-  camera["up"] = {c.up.x, c.up.y, c.up.z};
-  camera["fov_deg"] = c.fov_deg;
-  if (c.projection == Projection::orthographic) camera["ortho_height"] = c.ortho_height;
-  Json& document_objects = built.document["objects"];
-  for (size_t i = 0; i < document_objects.size(); ++i) {
-    auto it = context.automatic_looks.find(fmt::format("objects[{}]", i));
-    if (it == context.automatic_looks.end()) continue;
-    document_objects[i]["transfer_function"] = it->second.first;
-    if (!it->second.second.is_null() && !document_objects[i].contains("shading"))
-      document_objects[i]["shading"] = it->second.second;
-  }
-  return built;
+    scene_json::apply_override(document, assignment, kOrigin);
+  SceneDocument read(std::move(document), kOrigin, ".");
+  read.write_out_choices();  // the framed camera, each automatic transfer function
+  return {read.json(), std::move(read).take_scene()};
 }
 
 }  // namespace imx

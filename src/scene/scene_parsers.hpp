@@ -15,7 +15,7 @@
 #include "scene/camera_framing.hpp"
 #include "scene/json_reader.hpp"
 
-namespace imx::detail {
+namespace imx::scene_json {
 
 // State shared while one scene's objects are read: where relative paths start, and loaded
 // sources so that objects with the same source share one copy. A program that parses edited
@@ -124,4 +124,4 @@ MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context);
 PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
                                const std::map<std::string, std::string>& object_types);
 
-}  // namespace imx::detail
+}  // namespace imx::scene_json

@@ -6,7 +6,7 @@
 
 #include "scene/scene_parsers.hpp"
 
-namespace imx::detail {
+namespace imx::scene_json {
 namespace {
 
 constexpr int kMaxImageSize = 16384;
@@ -183,4 +183,4 @@ void check_mixing_priority(const JsonReader& render, const Scene& scene,
   }
 }
 
-}  // namespace imx::detail
+}  // namespace imx::scene_json

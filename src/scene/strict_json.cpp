@@ -7,7 +7,7 @@
 
 #include "intermix/error.hpp"
 
-namespace imx::detail {
+namespace imx::scene_json {
 namespace {
 
 // One open object or array while parsing: where it is, and what it has seen so far.
@@ -74,4 +74,4 @@ nlohmann::json parse_strict_json(const std::string& text, const std::string& ori
   return nlohmann::json::parse(text, check);
 }
 
-}  // namespace imx::detail
+}  // namespace imx::scene_json

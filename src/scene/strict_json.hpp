@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace imx::detail {
+namespace imx::scene_json {
 
 // Objects and arrays nested deeper than this are an error. The deepest scene structure, a csg
 // expression, allows 256 levels of operators (each an object holding "a" or an "of" array).
@@ -16,4 +16,4 @@ inline constexpr int kMaxJsonDepth = 1024;
 // nesting past kMaxJsonDepth, and nlohmann::json::parse_error for malformed text.
 nlohmann::json parse_strict_json(const std::string& text, const std::string& origin);
 
-}  // namespace imx::detail
+}  // namespace imx::scene_json

@@ -11,10 +11,10 @@
 #include "presets/tf_adjust.hpp"
 #include "presets/volume_presets.hpp"
 #include "presets/vp_file.hpp"
-#include "scene/edit_distance.hpp"
+#include "core/edit_distance.hpp"
 #include "scene/scene_parsers.hpp"
 
-namespace imx::detail {
+namespace imx::scene_json {
 namespace {
 
 TransferFunction parse_points(const JsonReader& points) {
@@ -130,4 +130,4 @@ ParsedTransferFunction parse_transfer_function(const JsonReader& r, SceneContext
   return out;
 }
 
-}  // namespace imx::detail
+}  // namespace imx::scene_json

@@ -8,7 +8,7 @@
 #include "core/math.hpp"
 #include "scene/scene_parsers.hpp"
 
-namespace imx::detail {
+namespace imx::scene_json {
 namespace {
 
 glm::dmat4 parse_matrix(const JsonReader& r) {
@@ -72,4 +72,4 @@ glm::dmat4 parse_transform(const JsonReader& r) {
   return m;
 }
 
-}  // namespace imx::detail
+}  // namespace imx::scene_json

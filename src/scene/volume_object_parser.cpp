@@ -15,10 +15,10 @@
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
 #include "scene/automatic_look.hpp"
-#include "scene/edit_distance.hpp"
+#include "core/edit_distance.hpp"
 #include "scene/scene_parsers.hpp"
 
-namespace imx::detail {
+namespace imx::scene_json {
 namespace {
 
 constexpr int kDefaultPhantomSize = 128;
@@ -289,4 +289,4 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   return v;
 }
 
-}  // namespace imx::detail
+}  // namespace imx::scene_json

@@ -20,8 +20,8 @@ namespace imx::server {
 
 using Json = nlohmann::json;
 using Clock = std::chrono::steady_clock;
-using detail::JsonReader;
-using detail::Range;
+using scene_json::JsonReader;
+using scene_json::Range;
 
 namespace {
 
@@ -104,7 +104,7 @@ std::string readable(const Json::exception& e) {
 // A message as JSON, strictly; throws imx::Error for any text nlohmann refuses.
 Json parse_message(std::string_view text) {
   try {
-    return detail::parse_strict_json(std::string(text), "message");
+    return scene_json::parse_strict_json(std::string(text), "message");
   } catch (const Json::parse_error& e) {
     throw Error("message: not JSON: " + readable(e));  // it names the line and column
   } catch (const Json::exception& e) {  // a number beyond a double's range (out_of_range.406)
@@ -147,12 +147,12 @@ int viewer_spp(const Scene& scene, int requested) {
 std::string viewer_method(const ViewerState& state, const std::string& requested) {
   std::string method = requested;
   if (method.empty()) {
-    const Json& document = state.document;
+    const Json& document = state.document.json();
     const auto render = document.find("render");
     if (render != document.end() && render->is_object() && render->contains("method") &&
         (*render)["method"].is_string())
       method = (*render)["method"].get<std::string>();
-    else if (state.scene.csg || state.scene.render.mixing == "exclusive")
+    else if (state.scene().csg || state.scene().render.mixing == "exclusive")
       method = "csg";  // the methods that render CSG and exclusive mixing: csg and reference
     else
       method = "zslab";
@@ -178,8 +178,8 @@ struct ViewerSession::Snapshot {
 ViewerSession::ViewerSession(ViewerState state, SessionOptions options)
     : state_(std::move(state)), options_(std::move(options)) {
   method_ = last_good_method_ = viewer_method(state_, options_.method);
-  spp_ = viewer_spp(state_.scene, options_.spp);
-  histograms_ = describe_histograms(state_);
+  spp_ = viewer_spp(state_.scene(), options_.spp);
+  histograms_ = describe_histograms(state_.scene());
   tf_presets_ = describe_tf_presets();
   resolution_ = ResolutionControl(options_.moving_budget_ms);
   last_input_ = Clock::now();
@@ -230,7 +230,7 @@ void ViewerSession::add_client(const std::shared_ptr<ClientSink>& client) {
   hello["methods"] = available_methods();
   hello["method"] = method_;
   hello["spp"] = spp_;
-  hello["image"] = {{"width", state_.scene.image.width}, {"height", state_.scene.image.height}};
+  hello["image"] = {{"width", state_.scene().image.width}, {"height", state_.scene().image.height}};
   hello["histograms"] = histograms_;
   hello["tf_presets"] = tf_presets_;
   client->send_text(text_of(hello));
@@ -347,7 +347,7 @@ void ViewerSession::input_applied(const ClientSink* client, const Json& message)
 
 // The session as a scene file: the edited document with the method and spp it converges with.
 Json ViewerSession::saved_document() const {
-  Json document = state_.document;
+  Json document = state_.document.json();
   document["render"]["method"] = method_;
   document["render"]["spp"] = spp_;
   return document;
@@ -377,7 +377,7 @@ bool ViewerSession::take_work(std::unique_lock<std::mutex>& lock, Snapshot& out)
     const bool need_still = !moving_ && failed_version_ != version_ &&
                             (accumulated_version_ != version_ || accumulator_.samples() < spp_);
     if (shot || need_moving || need_still) {
-      out.scene = state_.scene;  // shares voxels and meshes: the Renderer knows them by identity
+      out.scene = state_.scene();  // shares voxels and meshes: the Renderer knows them by identity
       out.method = method_;
       out.spp = spp_;
       out.moving = moving_;

@@ -15,9 +15,9 @@
 #include <fmt/format.h>
 #include <glm/glm.hpp>
 
+#include "core/edit_distance.hpp"
 #include "intermix/error.hpp"
 #include "presets/volume_presets.hpp"
-#include "scene/edit_distance.hpp"
 #include "scene/overrides.hpp"
 #include "scene/scene_parsers.hpp"
 #include "scene/strict_json.hpp"
@@ -26,8 +26,8 @@
 namespace imx::server {
 namespace {
 
-using detail::JsonReader;
-using detail::Range;
+using scene_json::JsonReader;
+using scene_json::Range;
 using Json = nlohmann::json;
 
 // Bounds on one message's lists, far above what an editor sends, so that an edit costs little.
@@ -41,6 +41,13 @@ constexpr size_t kMaxListedNames = 24;
 
 const char* kind_name(ObjectKind kind) {
   return kind == ObjectKind::volume ? "volume" : kind == ObjectKind::mesh ? "mesh" : "plane";
+}
+
+const std::string& object_name(const Scene& scene, const ObjectRef& ref) {
+  const auto i = static_cast<size_t>(ref.index);
+  return ref.kind == ObjectKind::volume ? scene.volumes[i].name
+         : ref.kind == ObjectKind::mesh ? scene.meshes[i].name
+                                        : scene.planes[i].name;
 }
 
 // The shortest decimal that reads back as `f`: saved files show 0.95, not 0.949999988079071.
@@ -85,16 +92,13 @@ bool same_camera(const Camera& a, const Camera& b) {
          a.ortho_height == b.ortho_height && a.projection == b.projection;
 }
 
-// The user's transfer function as the renderer sees it: alphas scaled by the opacity (the
-// document holds exactly these points), all 0 when hidden (what the loader makes of them).
+// The user's transfer function with its alphas scaled by the opacity: what the document holds
+// (the loader makes them 0 when the volume is hidden).
 TransferFunction scaled(const TransferFunction& tf, float opacity) {
   TransferFunction out = tf;
   for (TfPoint& p : out.points)
     p.rgba.a = static_cast<float>(static_cast<double>(p.rgba.a) * static_cast<double>(opacity));
   return out;
-}
-TransferFunction shown(const TransferFunction& tf, bool visible, float opacity) {
-  return scaled(tf, visible ? opacity : 0.0f);
 }
 
 // A number the document holds at `key` of `object`, as the loader reads it into a float.
@@ -104,14 +108,11 @@ float document_float(const Json& object, const char* key, float fallback) {
 }
 
 // The scene-order index of the object a message names; else an error with the nearest name.
-size_t find_object(const ViewerState& state, const JsonReader& at) {
+size_t find_object(const Scene& scene, const JsonReader& at) {
   const std::string name = at.string();
   std::vector<std::string> names;
-  for (size_t k = 0; k < state.scene.order.size(); ++k) {
-    const ObjectRef& ref = state.scene.order[k];
-    const std::string& n = ref.kind == ObjectKind::volume ? state.scene.volumes[ref.index].name
-                           : ref.kind == ObjectKind::mesh ? state.scene.meshes[ref.index].name
-                                                          : state.scene.planes[ref.index].name;
+  for (size_t k = 0; k < scene.order.size(); ++k) {
+    const std::string& n = object_name(scene, scene.order[k]);
     if (n == name) return k;
     names.push_back(n);
   }
@@ -120,8 +121,7 @@ size_t find_object(const ViewerState& state, const JsonReader& at) {
     listed += (i ? ", " : "") + names[i];
   if (names.size() > kMaxListedNames) listed += fmt::format(", ... ({} in all)", names.size());
   at.fail(fmt::format("{} is not an object of the scene{}; they are: {}", at.text(),
-                      detail::did_you_mean(name, names),
-                      names.empty() ? std::string("(none)") : listed));
+                      did_you_mean(name, names), names.empty() ? std::string("(none)") : listed));
 }
 
 // The points of a transfer_function edit, checked by the scene loader's own parser.
@@ -132,10 +132,10 @@ TransferFunction parse_edit_tf(const JsonReader& at, double unit_distance) {
     at.fail(fmt::format("{} points; an edit takes at most {}", at.size(), kMaxTfPoints));
   const Json wrapper = {{"points", at.json()}};
   const JsonReader reader(wrapper, at.origin(), at.path());
-  detail::SceneContext context;  // points need no files
+  scene_json::SceneContext context;  // points need no files
   TransferFunction tf;
   try {
-    tf = detail::parse_transfer_function(reader, context).transfer_function;
+    tf = scene_json::parse_transfer_function(reader, context).transfer_function;
   } catch (const Error& e) {
     // The wrapper's "points" is the message's own transfer_function: name that instead.
     std::string message = e.what();
@@ -154,7 +154,7 @@ std::vector<ClipPlane> parse_edit_clip_planes(const JsonReader& at) {
     at.fail("expected an array of {\"point\": [3], \"normal\": [3]}, got " + at.describe());
   if (at.size() > kMaxClipPlanes)
     at.fail(fmt::format("{} clip planes; a volume takes at most {}", at.size(), kMaxClipPlanes));
-  return detail::parse_clip_planes(at);
+  return scene_json::parse_clip_planes(at);
 }
 
 bool apply_camera(ViewerState& state, const Json& message) {
@@ -165,47 +165,82 @@ bool apply_camera(ViewerState& state, const Json& message) {
   if (auto v = r.find("target")) v->vec3(Range::coordinate());
   if (auto v = r.find("up")) v->direction();
   if (auto v = r.find("fov_deg")) v->number(Range::open(0.0, 180.0));
-  auto it = state.document.find("camera");
-  Json camera = it != state.document.end() ? *it : Json::object();
-  for (const char* key : {"eye", "target", "up", "fov_deg"})
-    if (message.contains(key)) camera[key] = message[key];
-  const Camera parsed = detail::parse_camera(JsonReader(camera, "camera"));
-  const bool changed = !same_camera(parsed, state.scene.camera);
-  state.document["camera"] = std::move(camera);
-  state.scene.camera = parsed;
-  return changed;
+  const Camera before = state.scene().camera;
+  state.document.edit([&](Json& document) {
+    Json& camera = document["camera"];  // load_viewer_state wrote one out
+    for (const char* key : {"eye", "target", "up", "fov_deg"})
+      if (message.contains(key)) camera[key] = message[key];
+  });
+  return !same_camera(before, state.scene().camera);
 }
 
-// Frame `frame` of a multi-frame volume's source, read as the loader reads it: the document's
-// source gets the frame, and only this volume's data (and so its stage) changes.
-void load_frame(const ViewerState& state, Json& object, VolumeObject& volume, int frame,
-                const std::string& origin, size_t k) {
-  if (!object.contains("source") || !object["source"].is_object() ||
-      !object["source"].contains("file"))
-    throw Error(fmt::format("{}: frame: '{}' has no file source", origin, volume.name));
-  Json edited = object;
-  edited["source"]["frame"] = frame;
-  detail::SceneContext context;
-  context.base_dir = state.file.parent_path().empty() ? "." : state.file.parent_path();
-  const VolumeObject loaded = detail::parse_volume_object(
-      JsonReader(edited, origin, fmt::format("objects[{}]", k)), context);
-  volume.data = loaded.data;
-  volume.index_to_world = loaded.index_to_world;
-  volume.frame = frame;
-  object["source"]["frame"] = frame;
+// The edited object as the document holds it: every field checked as the loader checks it (the
+// whole document is parsed again after), nothing of the state changed yet.
+Json edited_object(const ViewerState& state, const JsonReader& r, size_t k, bool visible,
+                   float opacity, TransferFunction& tf) {
+  const Scene& scene = state.scene();
+  const ObjectRef ref = scene.order[k];
+  Json object = state.document.json()["objects"][k];
+  if (r.has("visible")) {
+    if (visible)
+      object.erase("visible");  // the default
+    else
+      object["visible"] = false;
+  }
+  if (ref.kind == ObjectKind::volume) {
+    const VolumeObject& volume = scene.volumes[static_cast<size_t>(ref.index)];
+    if (auto v = r.find("transfer_function")) tf = parse_edit_tf(*v, tf.unit_distance);
+    if (auto v = r.find("clip_planes")) {
+      parse_edit_clip_planes(*v);
+      object["clip_planes"] = v->json();
+    }
+    if (auto v = r.find("frame"); v && v->integer(0, volume.frames - 1) != volume.frame) {
+      if (!object.contains("source") || !object["source"].is_object() ||
+          !object["source"].contains("file"))
+        v->fail(fmt::format("'{}' has no file source", volume.name));
+      object["source"]["frame"] = v->integer(0, volume.frames - 1);
+    }
+    if (r.has("transfer_function") || r.has("opacity")) {
+      // Explicit points replace a preset or file: keep its shading and unit distance.
+      const Json* old_tf =
+          object.contains("transfer_function") ? &object["transfer_function"] : nullptr;
+      Json written = {{"points", points_json(scaled(tf, opacity))}};
+      if (tf.unit_distance != 1.0 || (old_tf && old_tf->contains("unit_distance")))
+        written["unit_distance"] = tf.unit_distance;
+      object["transfer_function"] = std::move(written);
+      if (!object.contains("shading") && !same_shading(volume.shading, Shading{}))
+        object["shading"] = shading_json(volume.shading);
+    }
+  } else if (ref.kind == ObjectKind::mesh) {
+    if (r.has("opacity")) {
+      if (!object.contains("material") || !object["material"].is_object())
+        object["material"] = Json::object();
+      object["material"]["opacity"] = tidy(opacity);
+    }
+  } else {
+    if (r.has("opacity")) object["opacity"] = tidy(opacity);
+    if (auto v = r.find("center")) {
+      v->vec3(Range::coordinate());
+      object["center"] = v->json();
+    }
+    if (auto v = r.find("window")) {
+      const glm::dvec2 w = v->vec2();
+      if (!(w.y > 0.0)) v->at(1).fail(fmt::format("window width {} must be > 0", w.y));
+      object["window"] = v->json();
+    }
+  }
+  return object;
 }
 
 bool apply_object_edit(ViewerState& state, const Json& message) {
   const JsonReader m(message, "edit");
   m.check_keys({"type", "seq", "moving", "object", "visible", "opacity", "transfer_function",
                 "window", "center", "clip_planes", "frame"});
-  const size_t k = find_object(state, m.get("object"));
-  const auto found = state.document.find("objects");
-  if (found == state.document.end() || !found->is_array() || k >= found->size() ||
-      k >= state.visible.size() || k >= state.opacity.size())
+  const size_t k = find_object(state.scene(), m.get("object"));
+  const Json& objects = state.document.json()["objects"];
+  if (k >= objects.size() || k >= state.visible.size() || k >= state.opacity.size())
     throw Error("edit: the session's scene document does not match its scene");
-  Json& objects = *found;
-  const ObjectRef ref = state.scene.order[k];
+  const ObjectRef ref = state.scene().order[k];
   const JsonReader r(message, fmt::format("edit of '{}'", message["object"].get<std::string>()));
   // Every field must fit the object's kind before anything is read.
   const std::pair<const char*, ObjectKind> only[] = {{"transfer_function", ObjectKind::volume},
@@ -222,91 +257,20 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
   float opacity = state.opacity[k];
   if (auto v = r.find("visible")) visible = v->boolean();
   if (auto v = r.find("opacity")) opacity = static_cast<float>(v->number(Range::closed(0.0, 1.0)));
-  Json object = objects[k];  // edited as a copy: nothing changes until every check passed
-  const Json before = object;
-  if (r.has("visible")) {
-    if (visible)
-      object.erase("visible");  // the default
-    else
-      object["visible"] = false;
-  }
-
-  if (ref.kind == ObjectKind::volume) {
-    const size_t i = static_cast<size_t>(ref.index);
-    VolumeObject volume = state.scene.volumes[i];  // shares the data: identity is kept
-    TransferFunction tf = state.transfer_functions[i];
-    if (auto v = r.find("transfer_function")) tf = parse_edit_tf(*v, tf.unit_distance);
-    if (auto v = r.find("clip_planes")) {
-      volume.clip_planes = parse_edit_clip_planes(*v);
-      object["clip_planes"] = v->json();
+  const bool volume = ref.kind == ObjectKind::volume;
+  TransferFunction tf =
+      volume ? state.transfer_functions[static_cast<size_t>(ref.index)] : TransferFunction{};
+  Json object = edited_object(state, r, k, visible, opacity, tf);
+  const bool changed = object != objects[k];
+  if (changed) {
+    try {
+      state.document.edit([&](Json& document) { document["objects"][k] = std::move(object); });
+    } catch (const Error& e) {
+      // The loader names the document's path ("objects[2].center"): say which edit it was.
+      throw Error(fmt::format("{}: {}", r.origin(), e.what()));
     }
-    if (auto v = r.find("frame"); v && v->integer(0, volume.frames - 1) != volume.frame)
-      load_frame(state, object, volume, v->integer(0, volume.frames - 1), r.origin(), k);
-    if (r.has("transfer_function") || r.has("opacity")) {
-      // Explicit points replace a preset or file: keep its shading and unit distance.
-      const Json* old_tf =
-          object.contains("transfer_function") ? &object["transfer_function"] : nullptr;
-      Json written = {{"points", points_json(scaled(tf, opacity))}};
-      if (tf.unit_distance != 1.0 || (old_tf && old_tf->contains("unit_distance")))
-        written["unit_distance"] = tf.unit_distance;
-      object["transfer_function"] = std::move(written);
-      if (!object.contains("shading") && !same_shading(volume.shading, Shading{}))
-        object["shading"] = shading_json(volume.shading);
-    }
-    volume.transfer_function = shown(tf, visible, opacity);
-    const bool changed = object != before;
-    objects[k] = std::move(object);
-    state.scene.volumes[i] = std::move(volume);
-    state.transfer_functions[i] = std::move(tf);
-    state.visible[k] = visible;
-    state.opacity[k] = opacity;
-    return changed;
   }
-
-  if (ref.kind == ObjectKind::mesh) {
-    const size_t i = static_cast<size_t>(ref.index);
-    MeshObject mesh = state.scene.meshes[i];
-    if (r.has("opacity")) {
-      if (!object.contains("material") || !object["material"].is_object())
-        object["material"] = Json::object();
-      object["material"]["opacity"] = tidy(opacity);
-    }
-    mesh.material.opacity = visible ? opacity : 0.0f;
-    if (mesh.interior) {
-      const float own = object.contains("interior")
-                            ? document_float(object["interior"], "opacity", MeshInterior{}.opacity)
-                            : MeshInterior{}.opacity;
-      mesh.interior->opacity = visible ? own : 0.0f;
-    }
-    const bool changed = object != before;
-    objects[k] = std::move(object);
-    state.scene.meshes[i] = std::move(mesh);
-    state.visible[k] = visible;
-    state.opacity[k] = opacity;
-    return changed;
-  }
-
-  // A plane: the edited JSON goes through the loader's plane parser, so both agree.
-  if (r.has("opacity")) object["opacity"] = tidy(opacity);
-  if (auto v = r.find("center")) {
-    v->vec3(Range::coordinate());
-    object["center"] = v->json();
-  }
-  if (auto v = r.find("window")) {
-    const glm::dvec2 w = v->vec2();
-    if (!(w.y > 0.0)) v->at(1).fail(fmt::format("window width {} must be > 0", w.y));
-    object["window"] = v->json();
-  }
-  std::map<std::string, std::string> types;
-  for (const ObjectRef& o : state.scene.order)
-    types[o.kind == ObjectKind::volume ? state.scene.volumes[o.index].name
-          : o.kind == ObjectKind::mesh ? state.scene.meshes[o.index].name
-                                       : state.scene.planes[o.index].name] = kind_name(o.kind);
-  PlaneObject plane = detail::parse_plane_object(
-      JsonReader(object, r.origin(), fmt::format("objects[{}]", k)), state.scene, types);
-  const bool changed = object != before;
-  objects[k] = std::move(object);
-  state.scene.planes[static_cast<size_t>(ref.index)] = std::move(plane);
+  if (volume) state.transfer_functions[static_cast<size_t>(ref.index)] = std::move(tf);
   state.visible[k] = visible;
   state.opacity[k] = opacity;
   return changed;
@@ -332,34 +296,16 @@ Json histogram(const VolumeData& data, int bins) {
 
 ViewerState load_viewer_state(const std::filesystem::path& file,
                               const std::vector<std::string>& overrides) {
-  ViewerState state;
-  state.scene = load_scene(file, overrides);
-  state.file = file;
-  state.initial_camera = state.scene.camera;
-  // The same text through the same steps as load_scene, kept as JSON for saving.
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  try {
-    state.document = detail::parse_strict_json(text.str(), file.string());
-    for (const std::string& assignment : overrides)
-      detail::apply_override(state.document, assignment, file.string());
-  } catch (const nlohmann::json::exception&) {
-    throw Error(fmt::format("{}: the file changed while it was read", file.string()));
-  }
-  const auto found =
-      state.document.is_object() ? state.document.find("objects") : state.document.end();
-  if (found == state.document.end() || !found->is_array() ||
-      found->size() != state.scene.order.size())
-    throw Error(fmt::format("{}: the file changed while it was read", file.string()));
-  const Json& objects = *found;
-
-  std::filesystem::path base_dir = file.parent_path();
-  if (base_dir.empty()) base_dir = ".";
-  state.transfer_functions.resize(state.scene.volumes.size());
-  for (size_t k = 0; k < state.scene.order.size(); ++k) {
+  ViewerState state{SceneDocument::load(file, overrides), file, {}, {}, {}, {}};
+  // Edits parse the document again: the framed camera and automatic looks must stay put.
+  state.document.write_out_choices();
+  const Scene& scene = state.scene();
+  state.initial_camera = scene.camera;
+  const Json& objects = state.document.json()["objects"];
+  state.transfer_functions.resize(scene.volumes.size());
+  for (size_t k = 0; k < scene.order.size(); ++k) {
     const Json& object = objects[k];
-    const ObjectRef ref = state.scene.order[k];
+    const ObjectRef ref = scene.order[k];
     const auto v = object.find("visible");
     const bool visible = v == object.end() || !v->is_boolean() || v->get<bool>();
     state.visible.push_back(visible);
@@ -370,14 +316,15 @@ ViewerState load_viewer_state(const std::filesystem::path& file,
       opacity = document_float(object, "opacity", PlaneObject{}.opacity);
     state.opacity.push_back(opacity);
     if (ref.kind != ObjectKind::volume) continue;
-    const VolumeObject& volume = state.scene.volumes[static_cast<size_t>(ref.index)];
+    const VolumeObject& volume = scene.volumes[static_cast<size_t>(ref.index)];
     TransferFunction& tf = state.transfer_functions[static_cast<size_t>(ref.index)];
     tf = volume.transfer_function;
     if (visible) continue;
     // Hidden in the file: its alphas are 0 in the scene; the file's own are the user's.
     if (object.contains("transfer_function")) {
-      detail::SceneContext context{base_dir, {}, {}, {}};
-      tf = detail::parse_transfer_function(
+      scene_json::SceneContext context;
+      context.base_dir = state.document.base_dir();
+      tf = scene_json::parse_transfer_function(
                JsonReader(object["transfer_function"], file.string(),
                           fmt::format("objects[{}].transfer_function", k)),
                context)
@@ -403,7 +350,7 @@ bool apply_edit(ViewerState& state, const nlohmann::json& message) {
 }
 
 nlohmann::json describe_state(const ViewerState& state) {
-  const Scene& scene = state.scene;
+  const Scene& scene = state.scene();
   Json objects = Json::array();
   for (size_t k = 0; k < scene.order.size(); ++k) {
     const ObjectRef ref = scene.order[k];
@@ -445,28 +392,25 @@ nlohmann::json describe_state(const ViewerState& state) {
           {"objects", std::move(objects)}};
 }
 
-nlohmann::json describe_histograms(const ViewerState& state, int bins) {
+nlohmann::json describe_histograms(const Scene& scene, int bins) {
   if (bins < 1 || bins > kMaxBins)
     throw Error(fmt::format("histograms: {} bins, expected 1 to {}", bins, kMaxBins));
   Json out = Json::object();
-  for (const VolumeObject& v : state.scene.volumes)
+  for (const VolumeObject& v : scene.volumes)
     out[v.name] = v.data ? histogram(*v.data, bins) : Json(nullptr);
   return out;
 }
 
 nlohmann::json describe_tf_presets() {
   Json out = Json::object();
-  detail::SceneContext context;  // presets need no files
+  scene_json::SceneContext context;  // presets need no files
   for (const std::string& name : volume_preset_names()) {
     const Json source = {{"preset", name}};
-    out[name] = points_json(
-        detail::parse_transfer_function(JsonReader(source, "preset"), context).transfer_function);
+    out[name] =
+        points_json(scene_json::parse_transfer_function(JsonReader(source, "preset"), context)
+                        .transfer_function);
   }
   return out;
-}
-
-std::string saved_scene_text(const ViewerState& state) {
-  return state.document.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace imx::server

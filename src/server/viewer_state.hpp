@@ -9,12 +9,14 @@
 #include <nlohmann/json.hpp>
 
 #include "intermix/scene.hpp"
+#include "scene/scene_document.hpp"
 
 namespace imx::server {
 
 struct ViewerState {
-  Scene scene;                 // what renders
-  nlohmann::json document;     // the scene file (after --set overrides) with the edits applied
+  // The scene file (after --set overrides) with every edit applied, and the Scene parsed from it:
+  // what "save scene" writes and what renders, changed together.
+  SceneDocument document;
   std::filesystem::path file;  // the scene file
   Camera initial_camera;       // "reset view"
   // Per object in scene order: the user's opacity (0..1). For a mesh or a plane it is the
@@ -24,17 +26,21 @@ struct ViewerState {
   // Per volume (scene.volumes order): the user's transfer function, before opacity and
   // visibility scale its alphas into scene.volumes[i].transfer_function.
   std::vector<TransferFunction> transfer_functions;
+
+  const Scene& scene() const { return document.scene(); }
 };
 
-// Loads the scene file in both forms. Throws imx::Error as load_scene does.
+// Loads the scene file, with the camera framing chose and each automatic transfer function
+// written into the document (so that edits keep them). Throws imx::Error as load_scene does.
 ViewerState load_viewer_state(const std::filesystem::path& file,
                               const std::vector<std::string>& overrides = {});
 
 // Applies one client message of type "camera" or "edit" (docs/viewer.md, protocol); any other
 // type is an error (the server handles "settings" itself). Objects are named, never indexed, and
-// never by file path. Throws imx::Error naming the field and value at fault, and then leaves the
-// state unchanged. Returns true when the image may change. Data (VolumeData, Mesh) keeps its
-// identity across edits, so the Renderer's caches recognise it.
+// never by file path. The edited document is parsed again whole (SceneDocument::edit). Throws
+// imx::Error naming the field and value at fault, and then leaves the state unchanged. Returns
+// true when the image may change. Data (VolumeData, Mesh) keeps its identity across edits, so
+// the Renderer's caches recognise it.
 bool apply_edit(ViewerState& state, const nlohmann::json& message);
 
 // The session's camera, initial_camera and objects as sent to clients ("hello" and "state").
@@ -42,14 +48,10 @@ nlohmann::json describe_state(const ViewerState& state);
 
 // Per volume, by name: {"range": [lo, hi], "counts": [...]} over `bins` (1..4096) bins of its
 // values; large volumes are subsampled on a regular grid of about 4M voxels.
-nlohmann::json describe_histograms(const ViewerState& state, int bins = 128);
+nlohmann::json describe_histograms(const Scene& scene, int bins = 128);
 
 // 3D Slicer's volume-rendering presets as transfer-function points, by the name a scene file
 // gives them: {"ct-bone": [[value, r, g, b, a], ...], ...}, for the page's preset menu.
 nlohmann::json describe_tf_presets();
-
-// The text of a scene file that renders the current state as the session does, for a file
-// saved beside the original scene (relative paths stay valid there).
-std::string saved_scene_text(const ViewerState& state);
 
 }  // namespace imx::server

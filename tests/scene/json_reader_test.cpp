@@ -7,7 +7,7 @@
 
 #include "expect_error.hpp"
 
-namespace imx::detail {
+namespace imx::scene_json {
 namespace {
 
 using nlohmann::json;
@@ -51,4 +51,4 @@ TEST(JsonReader, LongValuesAreShortenedInMessages) {
 }
 
 }  // namespace
-}  // namespace imx::detail
+}  // namespace imx::scene_json

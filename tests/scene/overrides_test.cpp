@@ -4,7 +4,7 @@
 
 #include "expect_error.hpp"
 
-namespace imx::detail {
+namespace imx::scene_json {
 namespace {
 
 using nlohmann::json;
@@ -93,4 +93,4 @@ TEST(Overrides, BadPathsNameTheOverride) {
 }
 
 }  // namespace
-}  // namespace imx::detail
+}  // namespace imx::scene_json

@@ -12,7 +12,7 @@
 #include "scene/scene_parsers.hpp"
 #include "temp_dir.hpp"
 
-namespace imx::detail {
+namespace imx::scene_json {
 namespace {
 
 using nlohmann::json;
@@ -111,4 +111,4 @@ TEST(SceneContext, FilesThatCannotBeReadAreFileErrors) {
 }
 
 }  // namespace
-}  // namespace imx::detail
+}  // namespace imx::scene_json

@@ -172,14 +172,14 @@ TEST(PlanePresets, WindowDefaultsToTheVolumesDisplayWindow) {
   const auto types = std::map<std::string, std::string>{{"ct", "volume"}};
   nlohmann::json plane = {
       {"name", "p"}, {"type", "plane"}, {"volume", "ct"}, {"normal", {0, 0, 1}}};
-  detail::JsonReader r(plane, "scene.json", "objects[1]");
+  scene_json::JsonReader r(plane, "scene.json", "objects[1]");
   scene.volumes[0].display_window = glm::dvec2(-600, 1600);
-  EXPECT_EQ(detail::parse_plane_object(r, scene, types).window, glm::dvec2(-600, 1600));
+  EXPECT_EQ(scene_json::parse_plane_object(r, scene, types).window, glm::dvec2(-600, 1600));
   plane["window"] = "ct-bone";  // an explicit window wins
-  EXPECT_EQ(detail::parse_plane_object(r, scene, types).window, glm::dvec2(400, 1000));
+  EXPECT_EQ(scene_json::parse_plane_object(r, scene, types).window, glm::dvec2(400, 1000));
   plane.erase("window");
   scene.volumes[0].display_window.reset();
-  EXPECT_EQ(detail::parse_plane_object(r, scene, types).window, glm::dvec2(40, 400));
+  EXPECT_EQ(scene_json::parse_plane_object(r, scene, types).window, glm::dvec2(40, 400));
 }
 
 TEST(PlanePresets, ColormapByName) {

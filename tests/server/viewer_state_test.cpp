@@ -54,14 +54,14 @@ bool same_bytes(const Image& a, const Image& b) {
 // session's bytes exactly.
 void expect_edit_round_trips(ViewerState& state, const Json& message) {
   SCOPED_TRACE(message.dump());
-  const Image before = draw(state.scene);
+  const Image before = draw(state.scene());
   EXPECT_TRUE(apply_edit(state, message));
-  const Image after = draw(state.scene);
+  const Image after = draw(state.scene());
   EXPECT_FALSE(same_bytes(before, after)) << "the edit changed nothing";
   TempDir dir;
-  const std::filesystem::path saved = dir.write("saved.json", saved_scene_text(state));
+  const std::filesystem::path saved = dir.write("saved.json", state.document.text());
   const Scene reloaded = load_scene(saved);
-  EXPECT_TRUE(same_bytes(after, draw(reloaded))) << saved_scene_text(state);
+  EXPECT_TRUE(same_bytes(after, draw(reloaded))) << state.document.text();
 }
 
 Json edit(const std::string& object, Json fields) {
@@ -74,23 +74,23 @@ Json edit(const std::string& object, Json fields) {
 
 TEST(ViewerState, LoadsTheSceneAndItsDocument) {
   ViewerState s = small("ct-implant", {"ct"});
-  ASSERT_EQ(s.scene.order.size(), 4u);
+  ASSERT_EQ(s.scene().order.size(), 4u);
   EXPECT_EQ(s.visible, std::vector<bool>(4, true));
   EXPECT_EQ(s.opacity, (std::vector<float>{1.0f, 0.5f, 0.5f, 0.6f}));
   ASSERT_EQ(s.transfer_functions.size(), 1u);
   EXPECT_EQ(s.transfer_functions[0].points.size(), 4u);
-  EXPECT_EQ(s.document["image"]["width"], kSize);  // overrides are in the document
-  EXPECT_EQ(s.document["objects"][0]["source"]["size"], 48);
-  EXPECT_EQ(s.initial_camera.eye, s.scene.camera.eye);
+  EXPECT_EQ(s.document.json()["image"]["width"], kSize);  // overrides are in the document
+  EXPECT_EQ(s.document.json()["objects"][0]["source"]["size"], 48);
+  EXPECT_EQ(s.initial_camera.eye, s.scene().camera.eye);
   // Saved untouched, the file renders as the session does.
   TempDir dir;
   EXPECT_TRUE(
-      same_bytes(draw(s.scene), draw(load_scene(dir.write("s.json", saved_scene_text(s))))));
+      same_bytes(draw(s.scene()), draw(load_scene(dir.write("s.json", s.document.text())))));
 }
 
 TEST(ViewerState, CameraEditRoundTrips) {
   ViewerState s = small("ct-implant", {"ct"});
-  s.document["camera"]["projection"] = "perspective";
+  s.document.set("camera.projection=perspective");
   expect_edit_round_trips(s, {{"type", "camera"},
                               {"seq", 3},
                               {"moving", true},
@@ -98,10 +98,10 @@ TEST(ViewerState, CameraEditRoundTrips) {
                               {"target", {0, 0, 20}},
                               {"up", {0, 0, 2}},
                               {"fov_deg", 25}});
-  EXPECT_EQ(s.document["camera"]["projection"], "perspective");  // other keys stay
-  EXPECT_EQ(s.scene.camera.up, glm::dvec3(0, 0, 1));
-  EXPECT_EQ(s.scene.camera.fov_deg, 25.0);
-  EXPECT_NE(s.initial_camera.eye, s.scene.camera.eye);
+  EXPECT_EQ(s.document.json()["camera"]["projection"], "perspective");  // other keys stay
+  EXPECT_EQ(s.scene().camera.up, glm::dvec3(0, 0, 1));
+  EXPECT_EQ(s.scene().camera.fov_deg, 25.0);
+  EXPECT_NE(s.initial_camera.eye, s.scene().camera.eye);
   // The same camera again changes nothing.
   EXPECT_FALSE(apply_edit(s, {{"type", "camera"}, {"eye", {300, -400, 100}}}));
 }
@@ -109,44 +109,44 @@ TEST(ViewerState, CameraEditRoundTrips) {
 TEST(ViewerState, MeshVisibilityAndOpacityRoundTrip) {
   ViewerState s = small("ct-implant", {"ct"});
   expect_edit_round_trips(s, edit("screw-left", {{"visible", false}}));
-  EXPECT_EQ(s.scene.meshes[0].material.opacity, 0.0f);
+  EXPECT_EQ(s.scene().meshes[0].material.opacity, 0.0f);
   EXPECT_FALSE(s.visible[1]);
   EXPECT_EQ(s.opacity[1], 0.5f);  // the user's opacity is kept while hidden
-  EXPECT_EQ(s.document["objects"][1]["visible"], false);
+  EXPECT_EQ(s.document.json()["objects"][1]["visible"], false);
   expect_edit_round_trips(s, edit("plate", {{"opacity", 0.95}}));
-  EXPECT_EQ(s.scene.meshes[2].material.opacity, 0.95f);
-  EXPECT_EQ(s.document["objects"][3]["material"]["opacity"], 0.95);
+  EXPECT_EQ(s.scene().meshes[2].material.opacity, 0.95f);
+  EXPECT_EQ(s.document.json()["objects"][3]["material"]["opacity"], 0.95);
   // Opacity of a hidden mesh: kept, not shown; showing it again uses it.
   EXPECT_FALSE(apply_edit(s, edit("screw-left", {{"opacity", 0.5}})));
-  EXPECT_EQ(s.scene.meshes[0].material.opacity, 0.0f);
+  EXPECT_EQ(s.scene().meshes[0].material.opacity, 0.0f);
   expect_edit_round_trips(s, edit("screw-left", {{"visible", true}, {"opacity", 0.9}}));
-  EXPECT_EQ(s.scene.meshes[0].material.opacity, 0.9f);
-  EXPECT_FALSE(s.document["objects"][1].contains("visible"));
+  EXPECT_EQ(s.scene().meshes[0].material.opacity, 0.9f);
+  EXPECT_FALSE(s.document.json()["objects"][1].contains("visible"));
 }
 
 TEST(ViewerState, VolumeOpacityAndVisibilityRoundTrip) {
   ViewerState s = small("fusion", {"ct", "pet"});
   expect_edit_round_trips(s, edit("ct", {{"opacity", 0.3}}));
   const TransferFunction& user = s.transfer_functions[0];
-  const TransferFunction& shown = s.scene.volumes[0].transfer_function;
+  const TransferFunction& shown = s.scene().volumes[0].transfer_function;
   ASSERT_EQ(user.points.size(), shown.points.size());
   EXPECT_EQ(user.points[5].rgba.a, 0.06f);  // the user's TF is unscaled
   EXPECT_FLOAT_EQ(shown.points[5].rgba.a, 0.06f * 0.3f);
   expect_edit_round_trips(s, edit("pet", {{"visible", false}}));
-  for (const TfPoint& p : s.scene.volumes[1].transfer_function.points) EXPECT_EQ(p.rgba.a, 0.0f);
+  for (const TfPoint& p : s.scene().volumes[1].transfer_function.points) EXPECT_EQ(p.rgba.a, 0.0f);
   expect_edit_round_trips(s, edit("pet", {{"visible", true}}));
-  EXPECT_EQ(s.scene.volumes[1].transfer_function.points[4].rgba.a, 0.9f);
+  EXPECT_EQ(s.scene().volumes[1].transfer_function.points[4].rgba.a, 0.9f);
 }
 
 TEST(ViewerState, TransferFunctionEditRoundTrips) {
   ViewerState s = small("fusion", {"ct", "pet"});
-  s.document["objects"][1]["transfer_function"]["unit_distance"] = 1.0;
+  s.document.set("objects.1.transfer_function.unit_distance=1.0");
   expect_edit_round_trips(
       s, edit("pet", {{"transfer_function", {{0, 0, 0, 0, 0}, {3, 0, 1, 0, 0.5}, {12, 0, 1, 1, 1}}},
                       {"opacity", 0.8}}));
   EXPECT_EQ(s.transfer_functions[1].points.size(), 3u);
   EXPECT_EQ(s.transfer_functions[1].points[1].rgba.a, 0.5f);
-  const Json& tf = s.document["objects"][1]["transfer_function"];
+  const Json& tf = s.document.json()["objects"][1]["transfer_function"];
   EXPECT_EQ(tf["points"][1][4], 0.4);  // scaled by the opacity, written tidily
   EXPECT_EQ(tf["unit_distance"], 1.0);
 }
@@ -159,9 +159,9 @@ TEST(ViewerState, PresetBecomesPointsWithItsShading) {
     "objects": [{"name": "head", "type": "volume", "source": {"phantom": "ct-head", "size": 48},
                  "transfer_function": {"preset": "ct-bone", "shift": 50}}]})");
   ViewerState s = load_viewer_state(file);
-  ASSERT_TRUE(s.scene.volumes[0].shading.enabled);  // the preset's shading
+  ASSERT_TRUE(s.scene().volumes[0].shading.enabled);  // the preset's shading
   expect_edit_round_trips(s, edit("head", {{"opacity", 0.5}}));
-  const Json& object = s.document["objects"][0];
+  const Json& object = s.document.json()["objects"][0];
   EXPECT_TRUE(object["transfer_function"].contains("points"));
   EXPECT_FALSE(object["transfer_function"].contains("preset"));
   EXPECT_EQ(object["shading"]["enabled"], true);
@@ -170,13 +170,13 @@ TEST(ViewerState, PresetBecomesPointsWithItsShading) {
 TEST(ViewerState, PlaneEditsRoundTrip) {
   ViewerState s = small("mpr", {"ct"});
   expect_edit_round_trips(s, edit("axial", {{"window", {300, 900}}}));
-  EXPECT_EQ(s.scene.planes[0].window, glm::dvec2(300, 900));
+  EXPECT_EQ(s.scene().planes[0].window, glm::dvec2(300, 900));
   expect_edit_round_trips(s, edit("axial", {{"center", {0, 0, 40}}}));
-  EXPECT_EQ(s.scene.planes[0].center, glm::dvec3(0, 0, 40));
+  EXPECT_EQ(s.scene().planes[0].center, glm::dvec3(0, 0, 40));
   expect_edit_round_trips(s, edit("coronal", {{"opacity", 0.9}}));
-  EXPECT_EQ(s.scene.planes[1].opacity, 0.9f);
+  EXPECT_EQ(s.scene().planes[1].opacity, 0.9f);
   expect_edit_round_trips(s, edit("sagittal", {{"visible", false}}));
-  EXPECT_EQ(s.scene.planes[2].opacity, 0.0f);
+  EXPECT_EQ(s.scene().planes[2].opacity, 0.0f);
   EXPECT_EQ(s.opacity[3], 1.0f);
 }
 
@@ -185,21 +185,21 @@ TEST(ViewerState, ClipPlanesEditRoundTrips) {
   expect_edit_round_trips(
       s,
       edit("ct", {{"clip_planes", Json::array({{{"point", {0, 0, 0}}, {"normal", {0, 2, 0}}}})}}));
-  ASSERT_EQ(s.scene.volumes[0].clip_planes.size(), 1u);
-  EXPECT_EQ(s.scene.volumes[0].clip_planes[0].normal, glm::dvec3(0, 1, 0));
+  ASSERT_EQ(s.scene().volumes[0].clip_planes.size(), 1u);
+  EXPECT_EQ(s.scene().volumes[0].clip_planes[0].normal, glm::dvec3(0, 1, 0));
   expect_edit_round_trips(s, edit("ct", {{"clip_planes", Json::array()}}));
-  EXPECT_TRUE(s.scene.volumes[0].clip_planes.empty());
+  EXPECT_TRUE(s.scene().volumes[0].clip_planes.empty());
 }
 
 TEST(ViewerState, DataKeepsItsIdentityAcrossEdits) {
   ViewerState s = small("ct-implant", {"ct"});
-  const auto volume = s.scene.volumes[0].data;
-  const auto mesh = s.scene.meshes[1].mesh;
+  const auto volume = s.scene().volumes[0].data;
+  const auto mesh = s.scene().meshes[1].mesh;
   apply_edit(s, edit("ct", {{"opacity", 0.5}, {"visible", false}}));
   apply_edit(s, edit("ct", {{"transfer_function", {{0, 1, 1, 1, 0}, {900, 1, 1, 1, 1}}}}));
   apply_edit(s, edit("screw-right", {{"opacity", 0.1}}));
-  EXPECT_EQ(s.scene.volumes[0].data.get(), volume.get());
-  EXPECT_EQ(s.scene.meshes[1].mesh.get(), mesh.get());
+  EXPECT_EQ(s.scene().volumes[0].data.get(), volume.get());
+  EXPECT_EQ(s.scene().meshes[1].mesh.get(), mesh.get());
 }
 
 TEST(ViewerState, HiddenInTheFileKeepsTheUsersValues) {
@@ -217,19 +217,19 @@ TEST(ViewerState, HiddenInTheFileKeepsTheUsersValues) {
   EXPECT_EQ(s.visible, std::vector<bool>(3, false));
   EXPECT_EQ(s.opacity, (std::vector<float>{1.0f, 0.7f, 0.4f}));
   EXPECT_EQ(s.transfer_functions[0].points[1].rgba.a, 0.5f);
-  EXPECT_EQ(s.scene.volumes[0].transfer_function.points[1].rgba.a, 0.0f);
+  EXPECT_EQ(s.scene().volumes[0].transfer_function.points[1].rgba.a, 0.0f);
   apply_edit(s, edit("v", {{"visible", true}}));
   apply_edit(s, edit("m", {{"visible", true}}));
   apply_edit(s, edit("p", {{"visible", true}}));
-  EXPECT_EQ(s.scene.volumes[0].transfer_function.points[1].rgba.a, 0.5f);
-  EXPECT_EQ(s.scene.meshes[0].material.opacity, 0.7f);
-  EXPECT_EQ(s.scene.planes[0].opacity, 0.4f);
+  EXPECT_EQ(s.scene().volumes[0].transfer_function.points[1].rgba.a, 0.5f);
+  EXPECT_EQ(s.scene().meshes[0].material.opacity, 0.7f);
+  EXPECT_EQ(s.scene().planes[0].opacity, 0.4f);
 }
 
 TEST(ViewerState, BadMessagesChangeNothing) {
   ViewerState s = small("mpr", {"ct"}, 24);
-  const Json document = s.document;
-  const Image image = draw(s.scene);
+  const Json document = s.document.json();
+  const Image image = draw(s.scene());
   const struct {
     Json message;
     const char* says;
@@ -271,10 +271,10 @@ TEST(ViewerState, BadMessagesChangeNothing) {
     EXPECT_CONTAINS(message, c.says);
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;
   }
-  EXPECT_EQ(s.document, document);
+  EXPECT_EQ(s.document.json(), document);
   EXPECT_EQ(s.visible, std::vector<bool>(4, true));
   EXPECT_EQ(s.opacity, (std::vector<float>{1.0f, 1.0f, 0.5f, 1.0f}));
-  EXPECT_TRUE(same_bytes(image, draw(s.scene)));
+  EXPECT_TRUE(same_bytes(image, draw(s.scene())));
 }
 
 TEST(ViewerState, DescribesCameraAndObjects) {
@@ -302,21 +302,21 @@ TEST(ViewerState, DescribesCameraAndObjects) {
 
 TEST(ViewerState, HistogramsCountEveryVoxelOfASmallVolume) {
   ViewerState s = small("fusion", {"ct", "pet"}, 24);
-  const Json h = describe_histograms(s, 64);
+  const Json h = describe_histograms(s.scene(), 64);
   ASSERT_TRUE(h.contains("ct") && h.contains("pet"));
-  const auto [lo, hi] = s.scene.volumes[0].data->range();
+  const auto [lo, hi] = s.scene().volumes[0].data->range();
   EXPECT_EQ(h["ct"]["range"], Json::array({lo, hi}));
   ASSERT_EQ(h["ct"]["counts"].size(), 64u);
   int64_t total = 0;
   for (const Json& c : h["ct"]["counts"]) total += c.get<int64_t>();
-  EXPECT_EQ(total, static_cast<int64_t>(s.scene.volumes[0].data->voxel_count()));
+  EXPECT_EQ(total, static_cast<int64_t>(s.scene().volumes[0].data->voxel_count()));
   EXPECT_GT(h["ct"]["counts"][0].get<int64_t>(), 0);   // the lowest value falls in the first bin
   EXPECT_GT(h["ct"]["counts"][63].get<int64_t>(), 0);  // and the highest in the last
-  EXPECT_CONTAINS(error_of([&] { describe_histograms(s, 0); }), "0 bins");
+  EXPECT_CONTAINS(error_of([&] { describe_histograms(s.scene(), 0); }), "0 bins");
 }
 
 TEST(ViewerState, HistogramsSubsampleALargeVolume) {
-  ViewerState s;
+  Scene s;
   VolumeData data;
   data.dims = {256, 256, 128};  // 8M voxels: every other voxel along each axis is read
   std::vector<uint16_t> voxels(data.voxel_count());
@@ -325,7 +325,7 @@ TEST(ViewerState, HistogramsSubsampleALargeVolume) {
   VolumeObject v;
   v.name = "big";
   v.data = std::make_shared<const VolumeData>(std::move(data));
-  s.scene.volumes.push_back(v);
+  s.volumes.push_back(v);
   const Json h = describe_histograms(s, 4);
   // x steps by 2 from 0: only the values 0 and 2 are read, 128 * 128 * 64 voxels.
   EXPECT_EQ(h["big"]["range"], Json::array({0.0, 2.0}));
@@ -345,10 +345,10 @@ TEST(ViewerState, EveryPresetIsAnEditThatRendersAsThePreset) {
   }
   ViewerState by_name = small("ct-head", {"ct"}, 24);
   apply_edit(s, edit("ct", {{"transfer_function", presets["ct-bone"]}}));
-  Json preset_document = by_name.document;
+  Json preset_document = by_name.document.json();
   preset_document["objects"][0]["transfer_function"] = {{"preset", "ct-bone"}};
   const Scene expected = parse_scene(preset_document.dump(), IMX_EXAMPLES_DIR, "preset");
-  Scene edited = s.scene;
+  Scene edited = s.scene();
   edited.volumes[0].shading = expected.volumes[0].shading;  // an edit keeps the volume's shading
   EXPECT_TRUE(same_bytes(draw(edited), draw(expected)));
 }
@@ -395,23 +395,23 @@ TEST(ViewerState, FrameEditLoadsOnlyThatVolumesFrameAndRoundTrips) {
   EXPECT_EQ(described["objects"][0]["frames"], 3);
   EXPECT_EQ(described["objects"][0]["frame"], 0);
   EXPECT_FALSE(described["objects"][1].contains("frames"));
-  const auto head = state.scene.volumes[1].data;
+  const auto head = state.scene().volumes[1].data;
   // As expect_edit_round_trips, with the saved file beside the volume file.
-  const Image before_edit = draw(state.scene);
+  const Image before_edit = draw(state.scene());
   EXPECT_TRUE(apply_edit(state, edit("ball", {{"frame", 2}})));
-  const Image after_edit = draw(state.scene);
+  const Image after_edit = draw(state.scene());
   EXPECT_FALSE(same_bytes(before_edit, after_edit)) << "the frame edit changed nothing";
   EXPECT_TRUE(
-      same_bytes(after_edit, draw(load_scene(dir.write("saved.json", saved_scene_text(state))))));
-  EXPECT_EQ(state.scene.volumes[0].frame, 2);
-  EXPECT_EQ(state.scene.volumes[0].data->value_at(7, 7, 2), 100.0);  // radius 7 reaches k = 2
-  EXPECT_EQ(state.scene.volumes[1].data, head);  // the other volume keeps its data
-  EXPECT_EQ(state.document["objects"][0]["source"]["frame"], 2);
+      same_bytes(after_edit, draw(load_scene(dir.write("saved.json", state.document.text())))));
+  EXPECT_EQ(state.scene().volumes[0].frame, 2);
+  EXPECT_EQ(state.scene().volumes[0].data->value_at(7, 7, 2), 100.0);  // radius 7 reaches k = 2
+  EXPECT_EQ(state.scene().volumes[1].data, head);  // the other volume keeps its data
+  EXPECT_EQ(state.document.json()["objects"][0]["source"]["frame"], 2);
 
-  const auto before = state.scene.volumes[0].data;
+  const auto before = state.scene().volumes[0].data;
   const std::string e = error_of([&] { apply_edit(state, edit("ball", {{"frame", 3}})); });
   EXPECT_NE(e.find("frame"), std::string::npos) << e;
-  EXPECT_EQ(state.scene.volumes[0].data, before);
+  EXPECT_EQ(state.scene().volumes[0].data, before);
   const std::string p = error_of([&] { apply_edit(state, edit("head", {{"frame", 1}})); });
   EXPECT_NE(p.find("frame"), std::string::npos) << p;
 }

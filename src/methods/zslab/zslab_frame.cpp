@@ -10,6 +10,7 @@
 #include "intermix/error.hpp"
 #include "methods/zslab/stage_hash.hpp"
 #include "methods/zslab/zslab.hpp"
+#include "scene/stage_fields.hpp"
 #include "volume/iso_crossing.hpp"
 #include "volume/projection.hpp"
 #include "volume/volume_marcher.hpp"
@@ -19,44 +20,6 @@ namespace imx {
 namespace {
 
 constexpr int kIsoBisections = 10;
-
-void hash_optional(StageHash& h, const std::optional<double>& v) {
-  h.add(v.has_value()).add(v.value_or(0.0));
-}
-
-void hash_shading(StageHash& h, const Shading& s) {
-  h.add(s.enabled).add(s.ambient).add(s.diffuse).add(s.specular).add(s.shininess);
-}
-
-// Data are hashed by identity: the stage cache holds the scene's data alive while it keeps a key
-// (a clipped volume's stage keeps its clip meshes too).
-void hash_volume(StageHash& h, const Scene& scene, const VolumeObject& v) {
-  h.add(v.data.get()).add(v.index_to_world).add(v.style).add(v.iso_value);
-  h.add(v.transfer_function.unit_distance).add(v.transfer_function.points.size());
-  for (const TfPoint& p : v.transfer_function.points) h.add(p.value).add(p.rgba);
-  hash_shading(h, v.shading);
-  h.add(v.clip_planes.size());
-  for (const ClipPlane& c : v.clip_planes) h.add(c.point).add(c.normal);
-  h.add(v.clip_meshes.size());
-  for (const ClipMesh& c : v.clip_meshes)
-    h.add(scene.meshes.at(static_cast<size_t>(c.mesh)).mesh.get()).add(c.keep_inside);
-}
-
-void hash_mesh(StageHash& h, const MeshObject& m) {
-  h.add(m.mesh.get()).add(m.material.color).add(m.material.opacity);
-  hash_shading(h, m.material.shading);
-  hash_optional(h, m.thickness);
-}
-
-void hash_plane(StageHash& h, const Scene& scene, const PlaneObject& p) {
-  h.add(p.center).add(p.normal).add(p.up).add(p.size).add(p.volume).add(p.window).add(p.color);
-  h.add(p.opacity).add(p.colormap);
-  hash_optional(h, p.thickness);
-  if (p.volume >= 0 && static_cast<size_t>(p.volume) < scene.volumes.size()) {
-    const VolumeObject& v = scene.volumes[p.volume];
-    h.add(v.data.get()).add(v.index_to_world);  // a plane reads the voxels, not the TF
-  }
-}
 
 // How much transparent structure a volume shows: the share of its bricks the TF keeps, times
 // the transparency of its most opaque step. The volume scoring highest is cast last.
@@ -148,12 +111,12 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast, int sample_ind
     if (ref.kind == ObjectKind::mesh) {
       const MeshObject& m = scene.meshes[ref.index];
       if (m.thickness) d = m.thickness;
-      hash_mesh(h, m);
+      hash_stage_fields(h, m);
       group.name += (group.name.empty() ? "" : "+") + m.name;
     } else {
       const PlaneObject& p = scene.planes[ref.index];
       if (p.thickness) d = p.thickness;
-      hash_plane(h, scene, p);
+      hash_stage_fields(h, scene, p);
       group.name += (group.name.empty() ? "" : "+") + p.name;
     }
     // auto: the smallest voxel pitch with volumes in the scene, else the pixel footprint
@@ -200,7 +163,7 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast, int sample_ind
     const PreparedVolume& pv = frame.volumes[st.volume];
     st.on_the_fly = hybrid && i + 1 == volume_order.size() && pv.object->style == VolumeStyle::dvr;
     StageHash h;
-    hash_volume(h, scene, *pv.object);
+    hash_stage_fields(h, scene, *pv.object);
     st.content = h.add(st.step).add(st.on_the_fly).value();
     stages.push_back(std::move(st));
   }

@@ -1,10 +1,10 @@
-#include "scene/edit_distance.hpp"
+#include "core/edit_distance.hpp"
 
 #include <algorithm>
 #include <cctype>
 #include <numeric>
 
-namespace imx::detail {
+namespace imx {
 namespace {
 
 std::string lower(std::string_view s) {
@@ -54,4 +54,4 @@ std::string did_you_mean(std::string_view word, const std::vector<std::string>& 
   return match ? " (did you mean '" + *match + "'?)" : std::string();
 }
 
-}  // namespace imx::detail
+}  // namespace imx

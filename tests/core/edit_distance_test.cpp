@@ -1,8 +1,8 @@
-#include "scene/edit_distance.hpp"
+#include "core/edit_distance.hpp"
 
 #include <gtest/gtest.h>
 
-namespace imx::detail {
+namespace imx {
 namespace {
 
 TEST(EditDistance, CountsEditsAndSwaps) {
@@ -25,4 +25,4 @@ TEST(ClosestMatch, SuggestsCloseOrCaseInsensitiveKeys) {
 }
 
 }  // namespace
-}  // namespace imx::detail
+}  // namespace imx

@@ -6,7 +6,7 @@
 #include <string_view>
 #include <vector>
 
-namespace imx::detail {
+namespace imx {
 
 // Optimal-string-alignment distance: insertions, deletions, substitutions and swaps of
 // neighbours each cost 1.
@@ -20,4 +20,4 @@ std::optional<std::string> closest_match(std::string_view word,
 // " (did you mean 'x'?)" for the closest match, or "" when there is none.
 std::string did_you_mean(std::string_view word, const std::vector<std::string>& candidates);
 
-}  // namespace imx::detail
+}  // namespace imx
