@@ -18,8 +18,6 @@ namespace {
 constexpr size_t kChunk = size_t{1} << 18;
 // libbz2 counts in unsigned int: feed larger outputs in pieces below that.
 constexpr size_t kMaxPiece = size_t{1} << 30;
-// Decompressed bytes past what the caller asked for that are still read to reach the CRC.
-constexpr size_t kMaxSurplus = size_t{1} << 20;
 
 std::string bzip2_message(int code) {
   switch (code) {
@@ -48,14 +46,13 @@ struct Bzip2Stream::State {
   bz_stream z{};
   bool started = false;
   std::vector<char> input = std::vector<char>(kChunk);
-  std::vector<uint8_t> scratch = std::vector<uint8_t>(kChunk);
   bool input_done = false;  // `in` has nothing more
-  bool ended = false;       // the stream's end, or its data stopped (truncated)
-  bool truncated = false;   // the data stopped before the stream's end
 };
 
 Bzip2Stream::Bzip2Stream(std::istream& in, std::string what)
-    : in_(in), what_(std::move(what)), state_(std::make_unique<State>()) {
+    : DecompressingStream(std::move(what), "bzip2 data", "its end-of-stream marker"),
+      in_(in),
+      state_(std::make_unique<State>()) {
   // small = 0: the fast decoder (about 3.6 MiB at most); verbosity 0.
   if (BZ2_bzDecompressInit(&state_->z, 0, 0) != BZ_OK)
     throw Error(fmt::format("{}: libbz2 failed to start", what_));
@@ -93,7 +90,7 @@ size_t Bzip2Stream::pull(uint8_t* dst, size_t room) {
   State& s = *state_;
   bz_stream& z = s.z;
   size_t done = 0;
-  while (done < room && !s.ended) {
+  while (done < room && !ended_) {
     if (z.avail_in == 0 && !s.input_done) refill();
     const size_t asked = std::min(room - done, kMaxPiece);
     z.next_out = reinterpret_cast<char*>(dst + done);
@@ -118,46 +115,18 @@ size_t Bzip2Stream::pull(uint8_t* dst, size_t room) {
         restart();
         continue;
       }
-      s.ended = true;
+      ended_ = true;
       break;
     }
     if (rc != BZ_OK)
       throw Error(fmt::format("{}: corrupt bzip2 data ({})", what_, bzip2_message(rc)));
     // No input left, none to come and nothing produced: the stream stops before its end.
     if (produced == 0 && z.avail_in == 0 && had_in == 0 && s.input_done) {
-      s.ended = s.truncated = true;
+      ended_ = truncated_ = true;
       break;
     }
   }
   return done;
-}
-
-size_t Bzip2Stream::read(std::span<uint8_t> out) {
-  return pull(out.data(), out.size());
-}
-
-size_t Bzip2Stream::skip(size_t n) {
-  size_t done = 0;
-  while (done < n) {
-    const size_t want = std::min(n - done, state_->scratch.size());
-    const size_t got = pull(state_->scratch.data(), want);
-    done += got;
-    if (got < want) break;
-  }
-  return done;
-}
-
-void Bzip2Stream::finish(size_t expected) {
-  size_t surplus = 0;
-  while (!state_->ended) {
-    surplus += pull(state_->scratch.data(), state_->scratch.size());
-    if (surplus > kMaxSurplus)
-      throw Error(
-          fmt::format("{}: the bzip2 data holds more than the {} bytes expected", what_, expected));
-  }
-  if (state_->truncated)
-    throw Error(fmt::format(
-        "{}: the bzip2 data ends before its end-of-stream marker (truncated file?)", what_));
 }
 
 }  // namespace imx::detail

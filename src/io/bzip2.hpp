@@ -7,6 +7,8 @@
 #include <span>
 #include <string>
 
+#include "io/decompressing_stream.hpp"
+
 namespace imx::detail {
 
 // bzip2 data read from `in` and decompressed piece by piece, as GzipStream does for gzip, so
@@ -15,31 +17,18 @@ namespace imx::detail {
 // output) read as one; anything else after the end is ignored. Every block's CRC and the
 // stream's combined CRC are checked by libbz2 as the data is read. Throws imx::Error naming
 // `what` when the data is corrupt.
-class Bzip2Stream {
+class Bzip2Stream final : public DecompressingStream {
  public:
   Bzip2Stream(std::istream& in, std::string what);
-  ~Bzip2Stream();
-  Bzip2Stream(const Bzip2Stream&) = delete;
-  Bzip2Stream& operator=(const Bzip2Stream&) = delete;
-
-  // Decompresses into `out`; returns how many bytes it holds, fewer only where the data ends.
-  size_t read(std::span<uint8_t> out);
-  // Decompresses `n` bytes and drops them; returns how many, fewer only where the data ends.
-  size_t skip(size_t n);
-  // Decompresses the rest so that the stream's CRC is checked: a corrupt stream must not pass
-  // because the caller wanted less than it holds. Throws when more than 1 MiB is left
-  // (`expected`: the bytes the caller wanted, for the message) or the data stops before the
-  // stream's end marker.
-  void finish(size_t expected);
+  ~Bzip2Stream() override;
 
  private:
-  size_t pull(uint8_t* dst, size_t room);
+  size_t pull(uint8_t* dst, size_t room) override;
   void refill();
   void restart();
 
   struct State;
   std::istream& in_;
-  std::string what_;
   std::unique_ptr<State> state_;
 };
 

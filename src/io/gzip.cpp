@@ -17,8 +17,6 @@ namespace {
 constexpr size_t kChunk = size_t{1} << 18;
 // zlib counts in 32-bit uInt: feed larger outputs in pieces below that.
 constexpr size_t kMaxPiece = size_t{1} << 30;
-// Inflated bytes past what the caller asked for that are still read to reach the checksum.
-constexpr size_t kMaxSurplus = size_t{1} << 20;
 
 std::string zlib_message(const z_stream& z, int code) {
   return z.msg ? z.msg : fmt::format("zlib error {}", code);
@@ -37,14 +35,13 @@ void check_inflatable(size_t needed, size_t compressed, const std::string& what)
 struct GzipStream::State {
   z_stream z{};
   std::vector<uint8_t> input = std::vector<uint8_t>(kChunk);
-  std::vector<uint8_t> scratch = std::vector<uint8_t>(kChunk);
   bool input_done = false;  // `in` has nothing more
-  bool ended = false;       // the stream's end, or its data stopped (truncated)
-  bool truncated = false;   // the data stopped before the stream's end
 };
 
 GzipStream::GzipStream(std::istream& in, std::string what)
-    : in_(in), what_(std::move(what)), state_(std::make_unique<State>()) {
+    : DecompressingStream(std::move(what), "gzip data", "its checksum"),
+      in_(in),
+      state_(std::make_unique<State>()) {
   // 15 + 32: largest window, and detect the gzip or zlib wrapper from the header.
   if (inflateInit2(&state_->z, 15 + 32) != Z_OK)
     throw Error(fmt::format("{}: zlib failed to start", what_));
@@ -66,7 +63,7 @@ size_t GzipStream::pull(uint8_t* dst, size_t room) {
   State& s = *state_;
   z_stream& z = s.z;
   size_t done = 0;
-  while (done < room && !s.ended) {
+  while (done < room && !ended_) {
     if (z.avail_in == 0 && !s.input_done) refill();
     const size_t asked = std::min(room - done, kMaxPiece);
     z.next_out = dst + done;
@@ -80,45 +77,18 @@ size_t GzipStream::pull(uint8_t* dst, size_t room) {
         inflateReset(&z);
         continue;
       }
-      s.ended = true;
+      ended_ = true;
       break;
     }
     if (rc == Z_BUF_ERROR && z.avail_in == 0) {
       if (!s.input_done) continue;  // needs more input: the loop reads it
-      s.ended = s.truncated = true;
+      ended_ = truncated_ = true;
       break;
     }
     if (rc != Z_OK)
       throw Error(fmt::format("{}: corrupt gzip data ({})", what_, zlib_message(z, rc)));
   }
   return done;
-}
-
-size_t GzipStream::read(std::span<uint8_t> out) {
-  return pull(out.data(), out.size());
-}
-
-size_t GzipStream::skip(size_t n) {
-  size_t done = 0;
-  while (done < n) {
-    const size_t want = std::min(n - done, state_->scratch.size());
-    const size_t got = pull(state_->scratch.data(), want);
-    done += got;
-    if (got < want) break;
-  }
-  return done;
-}
-
-void GzipStream::finish(size_t expected) {
-  size_t surplus = 0;
-  while (!state_->ended) {
-    surplus += pull(state_->scratch.data(), state_->scratch.size());
-    if (surplus > kMaxSurplus)
-      throw Error(fmt::format("{}: the compressed data holds more than the {} bytes expected",
-                              what_, expected));
-  }
-  if (state_->truncated)
-    throw Error(fmt::format("{}: the gzip data ends before its checksum (truncated file?)", what_));
 }
 
 size_t gunzip(std::istream& in, size_t skip, std::span<uint8_t> out, const std::string& what) {

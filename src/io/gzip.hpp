@@ -8,36 +8,25 @@
 #include <span>
 #include <string>
 
+#include "io/decompressing_stream.hpp"
+
 namespace imx::detail {
 
 // gzip (or zlib) data read from `in` and inflated piece by piece, so that a caller can keep
 // only the parts it wants (a box of voxels) with bounded memory: two 256 KiB buffers.
 // Concatenated gzip members read as one stream; anything else after the end is ignored.
 // Throws imx::Error naming `what` when the data is corrupt.
-class GzipStream {
+class GzipStream final : public DecompressingStream {
  public:
   GzipStream(std::istream& in, std::string what);
-  ~GzipStream();
-  GzipStream(const GzipStream&) = delete;
-  GzipStream& operator=(const GzipStream&) = delete;
-
-  // Inflates into `out`; returns how many bytes it holds, fewer only where the data ends.
-  size_t read(std::span<uint8_t> out);
-  // Inflates `n` bytes and drops them; returns how many, fewer only where the data ends.
-  size_t skip(size_t n);
-  // Inflates the rest so that zlib checks the trailer's checksum: a corrupt stream must not
-  // pass because the caller wanted less than it holds. Throws when more than 1 MiB is left
-  // (`expected`: the bytes the caller wanted, for the message) or the data stops before its
-  // checksum.
-  void finish(size_t expected);
+  ~GzipStream() override;
 
  private:
-  size_t pull(uint8_t* dst, size_t room);
+  size_t pull(uint8_t* dst, size_t room) override;
   void refill();
 
   struct State;
   std::istream& in_;
-  std::string what_;
   std::unique_ptr<State> state_;
 };
 

@@ -2,7 +2,9 @@
 #pragma once
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -49,6 +51,17 @@ inline std::vector<std::string_view> split_words(std::string_view s) {
     i = e;
   }
   return words;
+}
+
+// A number that is the whole of `s` (spaces around it and a leading '+' allowed), else nullopt.
+template <class T>
+std::optional<T> parse_header_number(std::string_view s) {
+  s = trim(s);
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  T v{};
+  auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (s.empty() || ec != std::errc() || end != s.data() + s.size()) return std::nullopt;
+  return v;
 }
 
 }  // namespace imx::detail

@@ -21,6 +21,6 @@ VolumeHeader read_metaimage_header(const std::filesystem::path& file);
 // checks them. Throws imx::Error naming the file, also for a box that is empty or leaves the
 // grid.
 VolumeData read_metaimage_region(const std::filesystem::path& file, const VoxelBox& box,
-                                int frame = 0);
+                                 int frame = 0);
 
 }  // namespace imx::detail

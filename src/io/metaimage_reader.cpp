@@ -32,15 +32,6 @@ bool is_key(std::string_view key) {
                                      [](unsigned char c) { return std::isalnum(c) || c == '_'; });
 }
 
-template <class T>
-std::optional<T> parse_number(std::string_view s) {
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  T v{};
-  auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (ec != std::errc() || end != s.data() + s.size() || s.empty()) return std::nullopt;
-  return v;
-}
-
 struct Header {
   std::map<std::string, std::string> fields;  // key (lower case) -> trimmed value
   std::streamoff data_offset = 0;             // where attached (LOCAL) data begins
@@ -153,7 +144,7 @@ std::vector<double> parse_numbers(const Header& h, std::string_view key, const s
     throw h.bad(key, value, fmt::format("has {} numbers, expected {}", words.size(), n));
   std::vector<double> out;
   for (std::string_view w : words) {
-    std::optional<double> v = parse_number<double>(w);
+    std::optional<double> v = parse_header_number<double>(w);
     if (!v) throw h.bad(key, value, fmt::format("holds '{}', which is not a number", shown(w)));
     if (!std::isfinite(*v)) throw h.bad(key, value, "holds a non-finite number (NaN or infinity)");
     out.push_back(*v);
@@ -169,7 +160,7 @@ glm::ivec3 parse_dims(const Header& h, int ndims, size_t& count) {
   glm::ivec3 dims(1);
   count = 1;
   for (int a = 0; a < ndims; ++a) {
-    std::optional<long long> n = parse_number<long long>(words[a]);
+    std::optional<long long> n = parse_header_number<long long>(words[a]);
     if (!n || *n <= 0 || *n > static_cast<long long>(kMaxVoxels))
       throw h.bad("DimSize", value, "must be positive integers");
     dims[a] = static_cast<int>(*n);
@@ -223,7 +214,7 @@ Layout parse_layout(const Header& h) {
   if (const std::string* type = h.find("ObjectType"); type && lower(*type) != "image")
     throw h.bad("ObjectType", *type, "is not supported (only Image)");
   const std::string& ndims_text = h.require("NDims");
-  std::optional<int> ndims = parse_number<int>(trim(ndims_text));
+  std::optional<int> ndims = parse_header_number<int>(trim(ndims_text));
   if (!ndims || (*ndims != 2 && *ndims != 3))
     throw h.bad("NDims", ndims_text, "is not supported (only 2 or 3)");
   if (const std::string* ch = h.find("ElementNumberOfChannels"); ch && trim(*ch) != "1")
@@ -274,7 +265,7 @@ VoxelStorage read_voxels(const std::filesystem::path& file, std::ifstream& in, c
   const size_t needed = static_cast<size_t>(dims.x) * dims.y * dims.z * raw_type_size(layout.type);
   long long header_size = 0;
   if (const std::string* hs = h.find("HeaderSize")) {
-    std::optional<long long> n = parse_number<long long>(trim(*hs));
+    std::optional<long long> n = parse_header_number<long long>(trim(*hs));
     if (!n || *n < -1) throw h.bad("HeaderSize", *hs, "must be an integer >= -1");
     if (*n == -1 && layout.compressed)
       throw h.bad("HeaderSize", *hs, "-1 (data at the end of the file) needs uncompressed data");
@@ -296,7 +287,7 @@ VoxelStorage read_voxels(const std::filesystem::path& file, std::ifstream& in, c
     return load_raw_voxels(in, offset, layout.type, dims, box, layout.big_endian, data_what);
   }
   if (const std::string* cds = h.find("CompressedDataSize")) {
-    std::optional<long long> n = parse_number<long long>(trim(*cds));
+    std::optional<long long> n = parse_header_number<long long>(trim(*cds));
     if (!n || *n <= 0) throw h.bad("CompressedDataSize", *cds, "must be a positive integer");
     if (static_cast<unsigned long long>(*n) > available)
       throw Error(
@@ -328,7 +319,7 @@ VolumeHeader read_metaimage_header(const std::filesystem::path& file) {
 }
 
 VolumeData read_metaimage_region(const std::filesystem::path& file, const VoxelBox& box,
-                                int frame) {
+                                 int frame) {
   require_frame(frame, 1, file.string());
   const std::string what = file.string();
   std::ifstream in = open_header(file);

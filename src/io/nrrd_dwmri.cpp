@@ -16,14 +16,10 @@ namespace imx::detail {
 
 namespace {
 
+// A finite number, as the DWMRI keys need.
 std::optional<double> number(std::string_view s) {
-  s = trim(s);
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  double v = 0.0;
-  auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (s.empty() || ec != std::errc() || end != s.data() + s.size() || !std::isfinite(v))
-    return std::nullopt;
-  return v;
+  const std::optional<double> v = parse_header_number<double>(s);
+  return v && std::isfinite(*v) ? v : std::nullopt;
 }
 
 const std::string* find_key(const std::map<std::string, std::string>& keys,

@@ -29,24 +29,6 @@ namespace imx::detail {
 
 namespace {
 
-std::optional<double> parse_double(std::string_view s) {
-  s = trim(s);
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  double v = 0.0;
-  auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (ec != std::errc() || end != s.data() + s.size() || s.empty()) return std::nullopt;
-  return v;
-}
-
-std::optional<long long> parse_integer(std::string_view s) {
-  s = trim(s);
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  long long v = 0;
-  auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (ec != std::errc() || end != s.data() + s.size() || s.empty()) return std::nullopt;
-  return v;
-}
-
 // Reads one line without its end-of-line; false at end of file. Throws on an endless line.
 bool read_line(std::istream& in, std::string& line, const std::string& what) {
   line.clear();
@@ -219,7 +201,7 @@ std::vector<std::optional<glm::dvec3>> parse_vectors(const std::string& value,
       size_t comma = inner.find(',', start);
       std::string_view piece = inner.substr(
           start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
-      std::optional<double> v = parse_double(piece);
+      std::optional<double> v = parse_header_number<double>(piece);
       if (!v) throw fail(fmt::format("'{}' is not a number", trim(piece)));
       if (!std::isfinite(*v)) throw fail("non-finite value (NaN or infinity)");
       parts.push_back(*v);
@@ -238,7 +220,8 @@ std::vector<std::optional<glm::dvec3>> parse_vectors(const std::string& value,
 glm::dvec3 space_signs(const Header& h, const std::string& what) {
   const std::string* space = find(h, "space");
   if (!space) {
-    if (const std::string* sd = find(h, "space dimension"); sd && parse_integer(*sd) != 3)
+    if (const std::string* sd = find(h, "space dimension");
+        sd && parse_header_number<long long>(*sd) != 3)
       throw Error(
           fmt::format("{}: field 'space dimension' is '{}', only 3 is supported", what, *sd));
     return {1, 1, 1};  // no named space: take the coordinates as they are
@@ -259,7 +242,7 @@ long long parse_count_field(const Header& h, const std::string& name, long long 
                             long long min, const std::string& what) {
   const std::string* v = find(h, name);
   if (!v) return fallback;
-  std::optional<long long> n = parse_integer(*v);
+  std::optional<long long> n = parse_header_number<long long>(*v);
   if (!n || *n < min)
     throw Error(fmt::format("{}: field '{}' value '{}' must be an integer >= {}", what, name,
                             shown(*v), min));
@@ -301,7 +284,7 @@ std::vector<double> axis_numbers(const Header& h, const std::string& field, int 
   auto words = axis_words(h, field, dimension, what);
   if (!words) return out;
   for (size_t a = 0; a < words->size(); ++a) {
-    std::optional<double> v = parse_double((*words)[a]);
+    std::optional<double> v = parse_header_number<double>((*words)[a]);
     if (!v)
       throw Error(fmt::format("{}: field '{}' value '{}' is not a number", what, field,
                               shown((*words)[a])));
@@ -436,7 +419,7 @@ int find_frame_axis(const Header& h, const std::string& what) {
 Axes parse_axes(const Header& h, const std::string& what) {
   Axes ax;
   const std::string& dimension = require(h, "dimension", what);
-  const std::optional<long long> d = parse_integer(dimension);
+  const std::optional<long long> d = parse_header_number<long long>(dimension);
   if (d != 3 && d != 4)
     throw Error(
         fmt::format("{}: field 'dimension' is '{}', only 3D volumes and 4-D files of 3D "
@@ -450,7 +433,7 @@ Axes parse_axes(const Header& h, const std::string& what) {
     throw Error(fmt::format("{}: field 'sizes' has {} entries, expected {}", what,
                             size_words.size(), ax.dimension));
   for (auto word : size_words) {
-    std::optional<long long> n = parse_integer(word);
+    std::optional<long long> n = parse_header_number<long long>(word);
     if (!n || *n <= 0 || *n > static_cast<long long>(kMaxVoxels))
       throw Error(fmt::format("{}: field 'sizes' value '{}' must be a positive integer", what,
                               shown(word)));
@@ -720,8 +703,9 @@ std::vector<std::string> parse_data_files(const Header& h, const Axes& ax, uint6
           fmt::format("{}: field 'data file' lists more than {} files", what, kMaxDataFiles));
   } else if ((words.size() == 4 || words.size() == 5) &&
              words[0].find('%') != std::string_view::npos) {
-    std::optional<long long> lo = parse_integer(words[1]), hi = parse_integer(words[2]),
-                             step = parse_integer(words[3]);
+    std::optional<long long> lo = parse_header_number<long long>(words[1]),
+                             hi = parse_header_number<long long>(words[2]),
+                             step = parse_header_number<long long>(words[3]);
     if (!lo || !hi || !step || *step == 0 || (*step > 0 ? *lo > *hi : *lo < *hi) ||
         std::abs(*lo) > (1LL << 40) || std::abs(*hi) > (1LL << 40))
       throw Error(
@@ -741,7 +725,7 @@ std::vector<std::string> parse_data_files(const Header& h, const Axes& ax, uint6
 
   long long subdim = ax.dimension - 1;
   if (subdim_word) {
-    std::optional<long long> s = parse_integer(*subdim_word);
+    std::optional<long long> s = parse_header_number<long long>(*subdim_word);
     if (!s || *s < 1 || *s > ax.dimension)
       throw Error(fmt::format("{}: field 'data file' subdim '{}' must be from 1 to {}", what,
                               shown(*subdim_word), ax.dimension));

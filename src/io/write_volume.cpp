@@ -29,14 +29,17 @@ std::optional<VolumeFormat> format_of(const std::filesystem::path& file) {
 
 }  // namespace
 
-bool can_write_volume(const std::filesystem::path& file) { return format_of(file).has_value(); }
+bool can_write_volume(const std::filesystem::path& file) {
+  return format_of(file).has_value();
+}
 
 void write_volume(const VolumeData& volume, const std::filesystem::path& file, bool compress) {
   std::optional<VolumeFormat> format = format_of(file);
   if (!format)
-    throw Error(fmt::format("{}: cannot write volumes of this type (write .nii.gz, .nii, .nrrd or "
-                            ".mha)",
-                            file.string()));
+    throw Error(
+        fmt::format("{}: cannot write volumes of this type (write .nii.gz, .nii, .nrrd or "
+                    ".mha)",
+                    file.string()));
   switch (*format) {
     case VolumeFormat::nifti_gz:
       return write_nifti(volume, file, true);

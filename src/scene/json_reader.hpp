@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <initializer_list>
 #include <limits>
+#include <new>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -14,6 +15,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/limits.hpp"
+#include "intermix/error.hpp"
+#include "intermix/limits.hpp"
 
 namespace imx::scene_json {
 
@@ -57,6 +60,21 @@ class JsonReader {
   [[noreturn]] void fail(std::string_view message) const;
   // The same as imx::FileError with `code` (errno): a file the value names cannot be read.
   [[noreturn]] void fail_file(std::string_view message, int code = 0) const;
+  // Runs `read`, which reads the file this value names, and returns what it returns; what it
+  // throws becomes this value's error: a FileError keeps its errno, running out of memory names
+  // `what` and the budget.
+  template <class Read>
+  auto reading(const std::string& what, Read&& read) const -> decltype(read()) {
+    try {
+      return read();
+    } catch (const FileError& e) {
+      fail_file(e.what(), e.code());
+    } catch (const std::bad_alloc&) {
+      fail(out_of_memory_message(what));
+    } catch (const std::exception& e) {
+      fail(e.what());
+    }
+  }
   // The value for messages: its JSON text, shortened when long.
   std::string text() const;
   // "string \"abc\"", "number 1.5", "object {...}".

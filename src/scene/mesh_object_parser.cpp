@@ -146,19 +146,12 @@ std::shared_ptr<const Mesh> load_mesh_source(const JsonReader& src, const std::s
                                 options.crease_angle_deg);
   context.used.insert(key);
   if (auto it = context.meshes.find(key); it != context.meshes.end()) return it->second;
-  std::shared_ptr<const Mesh> mesh;
-  try {
+  auto mesh = file_reader.reading(path.string(), [&] {
     MeshFile read = read_mesh_file(path, options);
     if (std::string note = space_note(name, path, read.info); !note.empty())
       context.notes.push_back(std::move(note));
-    mesh = std::make_shared<const Mesh>(std::move(read.mesh));
-  } catch (const FileError& e) {
-    file_reader.fail_file(e.what(), e.code());
-  } catch (const std::bad_alloc&) {
-    file_reader.fail(out_of_memory_message(path.string()));
-  } catch (const std::exception& e) {
-    file_reader.fail(e.what());
-  }
+    return std::make_shared<const Mesh>(std::move(read.mesh));
+  });
   context.meshes.emplace(key, mesh);
   return mesh;
 }

@@ -10,12 +10,12 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "core/edit_distance.hpp"
 #include "intermix/dicom.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
 #include "scene/automatic_look.hpp"
-#include "core/edit_distance.hpp"
 #include "scene/scene_parsers.hpp"
 
 namespace imx::scene_json {
@@ -145,8 +145,8 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
       std::tie(facts.modality, facts.units) = it->second;
   };
   VoxelBox box;
-  try {
-    if (context.region) {
+  if (context.region)
+    culprit.reading(what, [&] {
       // DICOM has no header-only read: the series is read once and cropped.
       if (!header) {
         auto whole = std::make_shared<VolumeData>(load());
@@ -163,14 +163,7 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
                            box.hi.y, box.hi.z);
         load = [load_box, box] { return load_box(box); };
       }
-    }
-  } catch (const FileError& e) {
-    culprit.fail_file(e.what(), e.code());
-  } catch (const std::bad_alloc&) {
-    culprit.fail(out_of_memory_message(what));
-  } catch (const std::exception& e) {
-    culprit.fail(e.what());
-  }
+    });
   context.used.insert(key);
   auto frames_of = [&] {
     placed.frame = frame.value_or(0);
@@ -183,21 +176,14 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     if (context.region) placed.region = box;
     return it->second;
   }
-  std::shared_ptr<const VolumeData> data;
-  try {
+  auto data = culprit.reading(what, [&] {
     VolumeData volume = load();
     volume.validate(what);
     if (const size_t missing = non_finite_count(volume); missing > 0)
       context.notes.push_back(fmt::format("{}: {} of {} voxels are NaN or infinite: no data", what,
                                           missing, volume.voxel_count()));
-    data = std::make_shared<const VolumeData>(std::move(volume));
-  } catch (const FileError& e) {
-    culprit.fail_file(e.what(), e.code());
-  } catch (const std::bad_alloc&) {
-    culprit.fail(out_of_memory_message(what));
-  } catch (const std::exception& e) {
-    culprit.fail(e.what());
-  }
+    return std::make_shared<const VolumeData>(std::move(volume));
+  });
   context.volumes.emplace(key, data);
   frames_of();
   window_of();

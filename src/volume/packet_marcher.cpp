@@ -8,6 +8,7 @@
 
 #include "volume/lane_bricks.hpp"
 #include "volume/lane_grid.hpp"
+#include "volume/lane_kernel.hpp"
 #include "volume/lanes.hpp"
 #include "volume/ray_shading.hpp"
 #include "volume/volume_marcher.hpp"
@@ -656,18 +657,7 @@ void composite_packets(const PreparedVolume& v, std::span<const PacketRay> rays,
                        std::span<const ShadingLight> lights, float ert, std::span<glm::vec4> out) {
 #if IMX_PACKET_LANES
   if (packet_marching_supported(v, lights)) {
-    v.grid.visit([&](const auto& grid) {
-      using T = std::remove_cvref_t<decltype(*grid.data)>;
-      if constexpr (std::is_floating_point_v<T>) {
-        if (v.has_no_data) {
-          PacketKernel<T, true> kernel(v, grid, rays, step, lights, ert, out);
-          kernel.run();
-          return;
-        }
-      }
-      PacketKernel<T> kernel(v, grid, rays, step, lights, ert, out);
-      kernel.run();
-    });
+    run_lane_kernel<PacketKernel>(v, rays, step, lights, ert, out);
     return;
   }
 #endif

@@ -9,6 +9,7 @@
 #include "volume/iso_crossing.hpp"
 #include "volume/lane_bricks.hpp"
 #include "volume/lane_grid.hpp"
+#include "volume/lane_kernel.hpp"
 #include "volume/projection.hpp"
 
 namespace imx {
@@ -416,18 +417,7 @@ void project_packets(const PreparedVolume& v, std::span<const PacketRay> rays, f
                      std::span<glm::vec4> out) {
 #if IMX_PACKET_LANES
   if (packet_projection_supported(v)) {
-    v.grid.visit([&](const auto& grid) {
-      using T = std::remove_cvref_t<decltype(*grid.data)>;
-      if constexpr (std::is_floating_point_v<T>) {
-        if (v.has_no_data) {
-          ProjectionKernel<T, true> kernel(v, grid, rays, step, bisections, lights, out);
-          kernel.run();
-          return;
-        }
-      }
-      ProjectionKernel<T> kernel(v, grid, rays, step, bisections, lights, out);
-      kernel.run();
-    });
+    run_lane_kernel<ProjectionKernel>(v, rays, step, bisections, lights, out);
     return;
   }
 #endif

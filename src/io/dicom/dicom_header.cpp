@@ -423,6 +423,64 @@ void check_pixel_data(const DicomFileHeader& h) {
         h.bits_allocated, needed));
 }
 
+namespace {
+
+// SpacingBetweenSlices, else SliceThickness: the first usable one. Where neither is and one
+// is present, its fault is kept for whoever needs a slice spacing (one slice, a mosaic, a
+// legacy multi-frame file); a stack of slices places them by their positions instead.
+void read_slice_spacing(const gdcm::DataSet& ds, DicomFileHeader& h) {
+  const std::string what = h.file.string();
+  for (uint16_t element : {uint16_t{0x0088}, uint16_t{0x0050}}) {
+    const char* name = element == 0x0088 ? "SpacingBetweenSlices" : "SliceThickness";
+    try {
+      if (auto v = used_numbers(ds, 0x0018, element, what, name,
+                                "a finite positive number expected", positive)) {
+        h.slice_spacing = v->front();
+        h.slice_spacing_fault.clear();
+        break;
+      }
+    } catch (const Error& e) {
+      if (h.slice_spacing_fault.empty()) h.slice_spacing_fault = e.what();
+    }
+  }
+}
+
+// Every frame's placement and values: the top-level tags, then the shared and per-frame
+// functional groups over them; a legacy multi-frame file's frames stacked along the normal.
+void read_frames(const gdcm::DataSet& ds, const std::string& image_type, DicomFileHeader& h) {
+  const std::string what = h.file.string();
+  DicomFrame base;
+  base.file = h.file;
+  base.position = vec3_of(ds, 0x0020, 0x0032, what, "ImagePositionPatient");
+  read_orientation(ds, base, what);
+  read_spacing(ds, base, what);
+  read_rescale(ds, base, what);
+  read_window(ds, base);
+  base.instance_number = h.instance_number;
+  read_volume_keys(ds, image_type, base);
+  gdcm::SmartPointer<gdcm::SequenceOfItems> shared_hold;
+  if (const gdcm::DataSet* shared = first_item(ds, 0x5200, 0x9229, shared_hold))
+    apply_functional_groups(*shared, base, what);
+  gdcm::SmartPointer<gdcm::SequenceOfItems> per_frame = tag_sequence(ds, 0x5200, 0x9230);
+  for (int f = 0; f < h.frame_count; ++f) {
+    DicomFrame frame = base;
+    frame.frame = f;
+    if (per_frame && static_cast<size_t>(f) < per_frame->GetNumberOfItems())
+      apply_functional_groups(per_frame->GetItem(static_cast<size_t>(f) + 1).GetNestedDataSet(),
+                              frame, what);
+    h.frames.push_back(std::move(frame));
+  }
+  // A legacy multi-frame file (no per-frame groups) stacks its frames along the normal.
+  if (!per_frame && h.frame_count > 1 && base.position && base.row_direction) {
+    const glm::dvec3 normal = glm::cross(*base.row_direction, *base.column_direction);
+    const double step =
+        required_slice_spacing(h, "the frames of a multi-frame file without per-frame positions");
+    for (DicomFrame& f : h.frames) f.position = *base.position + normal * (f.frame * step);
+  }
+}
+
+}  // namespace
+
 std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& file) {
   quiet_gdcm();
   if (!looks_like_dicom(file)) return std::nullopt;
@@ -487,23 +545,7 @@ std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& fi
   h.high_bit = tag_us(ds, 0x0028, 0x0102).value_or(h.bits_stored - 1);
   h.pixel_representation = tag_us(ds, 0x0028, 0x0103).value_or(0);
   h.samples_per_pixel = tag_us(ds, 0x0028, 0x0002).value_or(1);
-  // SpacingBetweenSlices, else SliceThickness: the first usable one. Where neither is and one
-  // is present, its fault is kept for whoever needs a slice spacing (one slice, a mosaic, a
-  // legacy multi-frame file); a stack of slices places them by their positions instead.
-  for (uint16_t element : {uint16_t{0x0088}, uint16_t{0x0050}}) {
-    const char* name = element == 0x0088 ? "SpacingBetweenSlices" : "SliceThickness";
-    try {
-      if (auto v = used_numbers(ds, 0x0018, element, what, name,
-                                "a finite positive number expected", positive)) {
-        h.slice_spacing = v->front();
-        h.slice_spacing_fault.clear();
-        break;
-      }
-    } catch (const Error& e) {
-      if (h.slice_spacing_fault.empty()) h.slice_spacing_fault = e.what();
-    }
-  }
-
+  read_slice_spacing(ds, h);
   const auto whole = [](double v) { return v >= 1.0 && v <= kMaxFrames && v == std::floor(v); };
   double frames = 1.0;
   if (auto n = used_numbers(ds, 0x0028, 0x0008, what, "NumberOfFrames",
@@ -519,35 +561,7 @@ std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& fi
   h.stored_columns = h.columns;
   h.stored_frames = h.frame_count;
 
-  // The top-level tags hold for every frame; functional groups override them.
-  DicomFrame base;
-  base.file = file;
-  base.position = vec3_of(ds, 0x0020, 0x0032, what, "ImagePositionPatient");
-  read_orientation(ds, base, what);
-  read_spacing(ds, base, what);
-  read_rescale(ds, base, what);
-  read_window(ds, base);
-  base.instance_number = h.instance_number;
-  read_volume_keys(ds, image_type, base);
-  gdcm::SmartPointer<gdcm::SequenceOfItems> shared_hold;
-  if (const gdcm::DataSet* shared = first_item(ds, 0x5200, 0x9229, shared_hold))
-    apply_functional_groups(*shared, base, what);
-  gdcm::SmartPointer<gdcm::SequenceOfItems> per_frame = tag_sequence(ds, 0x5200, 0x9230);
-  for (int f = 0; f < h.frame_count; ++f) {
-    DicomFrame frame = base;
-    frame.frame = f;
-    if (per_frame && static_cast<size_t>(f) < per_frame->GetNumberOfItems())
-      apply_functional_groups(per_frame->GetItem(static_cast<size_t>(f) + 1).GetNestedDataSet(),
-                              frame, what);
-    h.frames.push_back(std::move(frame));
-  }
-  // A legacy multi-frame file (no per-frame groups) stacks its frames along the normal.
-  if (!per_frame && h.frame_count > 1 && base.position && base.row_direction) {
-    const glm::dvec3 normal = glm::cross(*base.row_direction, *base.column_direction);
-    const double step =
-        required_slice_spacing(h, "the frames of a multi-frame file without per-frame positions");
-    for (DicomFrame& f : h.frames) f.position = *base.position + normal * (f.frame * step);
-  }
+  read_frames(ds, image_type, h);
   if (image_type.find("MOSAIC") != std::string::npos) split_into_tiles(ds, h);
   h.mirror_rows = ge_reversed_polarity(ds, file.string());
   read_suv_tags(ds, h.suv);
