@@ -11,7 +11,6 @@
 
 namespace imx::cli {
 
-
 Command add_phantom(CLI::App& app) {
   struct Options {
     std::string name, output;
@@ -21,8 +20,7 @@ Command add_phantom(CLI::App& app) {
   auto o = std::make_shared<Options>();
   app.add_option("name", o->name, fmt::format("phantom: {}", fmt::join(phantom_names(), ", ")))
       ->required();
-  app.add_option("-o,--output", o->output, "output file: .nrrd, .mha, .nii.gz or .nii")
-      ->required();
+  app.add_option("-o,--output", o->output, "output file: .nrrd, .mha, .nii.gz or .nii")->required();
   app.add_option("--size", o->size, "voxels along the largest axis");
   app.add_flag("--raw", o->raw, "write uncompressed voxels");
   return [o]() {

@@ -18,16 +18,15 @@
 #include "intermix/io.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
-#include "io/atomic_file.hpp"
-#include "scene/scene_from_files.hpp"
+#include "scene_inputs.hpp"
 
 namespace imx::cli {
 
 namespace {
 
 struct Options {
-  std::vector<std::string> inputs;  // one scene file, or the files a scene is built from
-  std::string scene, output, method, view, save_scene;
+  SceneInputs in;
+  std::string scene, output, method;  // scene: the inputs, for messages
   int width = 0, height = 0, spp = 0, threads = 0;
   std::vector<std::string> overrides;
   std::string frame_range, frame_object;
@@ -36,20 +35,11 @@ struct Options {
   std::string partition = "auto", report;
 };
 
-bool is_scene_file(const Options& o) {
-  return o.inputs.size() == 1 && std::filesystem::path(o.inputs[0]).extension() == ".json";
-}
-
-// The scene file, or the scene built from the input files (scene_from_files.hpp); then
-// --save-scene writes the built document, which renders the same image again.
+// The scene of the inputs; --save-scene writes a built one, which renders the same image again.
 Scene load_inputs(const Options& o, const std::vector<std::string>& overrides) {
-  if (is_scene_file(o)) return load_scene(o.scene, overrides);
-  const std::vector<std::filesystem::path> files(o.inputs.begin(), o.inputs.end());
-  FilesScene built = scene_from_files(files, o.view.empty() ? "anterior" : o.view, overrides);
-  if (!o.save_scene.empty())
-    write_file_atomically(o.save_scene,
-                          [&](std::ostream& out) { out << built.document.dump(2) << "\n"; });
-  return std::move(built.scene);
+  SceneDocument document = load_scene_inputs(o.in, overrides);
+  save_built_scene(o.in, document);
+  return std::move(document).take_scene();
 }
 
 // Loads, renders and writes one image, printing its notes and time.
@@ -120,10 +110,7 @@ int render_frames(const Options& o, const std::vector<std::string>& overrides) {
 
 Command add_render(CLI::App& app) {
   auto o = std::make_shared<Options>();
-  app.add_option("inputs", o->inputs,
-                 "a scene file (JSON), or volume files, DICOM folders and mesh files to build a "
-                 "scene from")
-      ->required();
+  add_scene_inputs(app, o->in);
   app.add_option("-o,--output", o->output, "output PNG")->required();
   app.add_option("--method", o->method,
                  "rendering method (default: the scene's, else auto: the fastest within reach of "
@@ -153,29 +140,17 @@ Command add_render(CLI::App& app) {
   app.add_option("--frame-object", o->frame_object,
                  "with --frame-range: the volume object whose frames run (default: the scene's "
                  "only volume)");
-  app.add_option("--view", o->view,
-                 "the patient direction the camera looks from: anterior (default), posterior, "
-                 "left, right, superior or inferior (a scene file: frames its objects)")
-      ->check(CLI::IsMember({"anterior", "posterior", "left", "right", "superior", "inferior"}));
-  app.add_option("--save-scene", o->save_scene,
-                 "with input files: write the scene built from them (JSON), to edit and render "
-                 "again");
   app.add_option("--report", o->report,
                  "with --distributed: write timings, bytes exchanged and memory per rank (JSON)");
   return [o]() {
-    o->scene = is_scene_file(*o) ? o->inputs[0] : fmt::format("{}", fmt::join(o->inputs, " "));
-    std::vector<std::string> overrides = o->overrides;
-    if (is_scene_file(*o) && !o->save_scene.empty())
-      throw Error("--save-scene applies to a scene built from files; this is a scene file");
-    if (is_scene_file(*o) && !o->view.empty())
-      overrides.push_back("camera={\"view\": \"" + o->view + "\"}");
-    if (o->width > 0) overrides.push_back(fmt::format("image.width={}", o->width));
-    if (o->height > 0) overrides.push_back(fmt::format("image.height={}", o->height));
+    o->scene = o->in.label();
+    const std::vector<std::string> overrides =
+        input_overrides(o->in, o->overrides, o->width, o->height);
     if (!o->distributed && (o->report.size() || o->partition != "auto"))
       throw Error("--partition and --report apply only with --distributed");
     if (o->distributed && !o->frame_range.empty())
       throw Error("--frame-range does not apply with --distributed");
-    if (o->distributed && !is_scene_file(*o))
+    if (o->distributed && !o->in.is_scene_file())
       throw Error("--distributed renders a scene file; write one with --save-scene first");
     if (o->distributed) {
       DistributedRequest request;

@@ -1,4 +1,4 @@
-// intermix serve SCENE.json: the interactive viewer in the browser (docs/viewer.md).
+// intermix serve SCENE.json | FILE...: the interactive viewer in the browser (docs/viewer.md).
 #include <cstdio>
 #include <filesystem>
 #include <system_error>
@@ -8,6 +8,8 @@
 #include "commands.hpp"
 #include "core/parallel.hpp"
 #include "intermix/limits.hpp"
+#include "scene/reading_planes.hpp"
+#include "scene_inputs.hpp"
 #include "server/http_server.hpp"
 #include "server/viewer_session.hpp"
 #include "server/viewer_state.hpp"
@@ -37,13 +39,14 @@ std::string default_web_dir() {
 
 Command add_serve(CLI::App& app) {
   struct Options {
-    std::string scene, method, bind = "127.0.0.1", web;
+    SceneInputs in;
+    std::string method, bind = "127.0.0.1", web;
     int port = 8080, spp = 0, threads = 0, width = 0, height = 0;
     double budget_ms = 45.0;
     std::vector<std::string> overrides;
   };
   auto o = std::make_shared<Options>();
-  app.add_option("scene", o->scene, "scene file (JSON)")->required();
+  add_scene_inputs(app, o->in);
   app.add_option("--port", o->port, "TCP port (0: any free one, printed)")
       ->check(in_range(0, 65535));
   app.add_option("--bind", o->bind,
@@ -67,11 +70,22 @@ Command add_serve(CLI::App& app) {
                  "PREFIX/share/intermix/web when installed, else the source tree's web/)");
   app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");
   return [o]() {
-    std::vector<std::string> overrides = o->overrides;
-    if (o->width > 0) overrides.push_back(fmt::format("image.width={}", o->width));
-    if (o->height > 0) overrides.push_back(fmt::format("image.height={}", o->height));
-    server::ViewerState state = server::load_viewer_state(o->scene, overrides);
-    print_notes(state.scene().notes);
+    const std::vector<std::string> overrides =
+        input_overrides(o->in, o->overrides, o->width, o->height);
+    SceneDocument document = load_scene_inputs(o->in, overrides);
+    print_notes(document.scene().notes);  // what loading chose; later parses read no file again
+    // A scene from files: saved in the current folder as scene.viewer-N.json.
+    std::filesystem::path saves_beside = "scene.json";
+    if (o->in.is_scene_file()) {
+      saves_beside = o->in.inputs[0];
+    } else {
+      const nlohmann::json planes = reading_planes(document.scene());
+      document.edit([&](nlohmann::json& json) {
+        for (const nlohmann::json& plane : planes) json["objects"].push_back(plane);
+      });
+    }
+    save_built_scene(o->in, document);
+    server::ViewerState state = server::viewer_state(std::move(document), saves_beside);
     server::SessionOptions session_options;
     session_options.method = o->method;
     session_options.spp = o->spp;
@@ -91,7 +105,7 @@ Command add_serve(CLI::App& app) {
         std::fprintf(stderr,
                      "intermix serve: %s with %s, converging to %d spp on %d threads; open the "
                      "address above in a browser, Ctrl+C stops\n",
-                     o->scene.c_str(), session.method().c_str(), session.spp(),
+                     o->in.label().c_str(), session.method().c_str(), session.spp(),
                      resolve_thread_count(o->threads));
       server.run();
       session.stop();  // nothing may send into the network thread once it is gone

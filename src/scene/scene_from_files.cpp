@@ -52,7 +52,7 @@ const std::vector<glm::vec3>& mesh_palette() {
   return palette;
 }
 
-FilesScene scene_from_files(const std::vector<std::filesystem::path>& files,
+SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
                             const std::string& view, const std::vector<std::string>& overrides) {
   if (files.empty()) throw Error(fmt::format("{}: no files given", kOrigin));
   Json objects = Json::array();
@@ -87,7 +87,7 @@ FilesScene scene_from_files(const std::vector<std::filesystem::path>& files,
     scene_json::apply_override(document, assignment, kOrigin);
   SceneDocument read(std::move(document), kOrigin, ".");
   read.write_out_choices();  // the framed camera, each automatic transfer function
-  return {read.json(), std::move(read).take_scene()};
+  return read;
 }
 
 }  // namespace imx

@@ -11,19 +11,16 @@
 #include <nlohmann/json.hpp>
 
 #include "intermix/scene.hpp"
+#include "scene/scene_document.hpp"
 
 namespace imx {
 
-struct FilesScene {
-  nlohmann::json document;  // the scene file for these inputs, every choice explicit
-  Scene scene;              // as parsed from it
-};
-
-// `view` is a patient direction (camera_framing.hpp); `overrides` are --set assignments applied
+// The document is the scene file for these inputs, every choice explicit (relative paths are
+// made absolute). `view` is a patient direction (camera_framing.hpp); `overrides` are --set assignments applied
 // to the built document before it is read ("image.width=256", "objects.FLAIR.style=mip").
 // Throws imx::Error naming a file that is neither a volume nor a mesh intermix reads, and every
 // error load_scene gives, with "scene from files" as the document's name.
-FilesScene scene_from_files(const std::vector<std::filesystem::path>& files,
+SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
                             const std::string& view = "anterior",
                             const std::vector<std::string>& overrides = {});
 

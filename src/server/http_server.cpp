@@ -90,8 +90,8 @@ std::string_view path_of(std::string_view target) {
 bool is_module_name(const std::string& name) {
   if (name.size() <= 3 || name.compare(name.size() - 3, 3, ".js") != 0) return false;
   return std::all_of(name.begin(), name.end() - 3, [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-           c == '_' || c == '-';
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '-';
   });
 }
 

@@ -29,6 +29,8 @@ constexpr int kDefaultViewerSpp = 4;
 constexpr int kMaxViewerSpp = 64;
 constexpr size_t kMaxLatenciesPerReport = 1024;
 constexpr size_t kMaxLatenciesKept = 100000;
+// Numbered saves of one scene (NAME.viewer-N.json) before save asks the user to tidy up.
+constexpr int kMaxSaves = 9999;
 // zlib level of still frames: level 1 encodes several times faster than the default and the
 // frames are sent once each.
 constexpr int kStillPngLevel = 1;
@@ -296,9 +298,9 @@ void ViewerSession::handle(const std::shared_ptr<ClientSink>& client, const Json
   } else if (type == "save") {
     r.check_keys({"type"});
     std::lock_guard lock(mutex_);
-    const std::string path = save();
+    const std::string name = save();
     client->send_text(text_of(
-        Json{{"type", "saved"}, {"path", path}, {"text", text_of(saved_document(), 2) + "\n"}}));
+        Json{{"type", "saved"}, {"file", name}, {"text", text_of(saved_document(), 2) + "\n"}}));
   } else if (type == "screenshot") {
     r.check_keys({"type"});
     {
@@ -353,17 +355,25 @@ Json ViewerSession::saved_document() const {
   return document;
 }
 
-// Writes the session beside its scene file as NAME.viewer.json; returns the path.
+// Writes the session beside its scene file as NAME.viewer-N.json, N the first number free, so
+// that no save replaces an earlier one; returns the file's name (clients never see server paths).
 std::string ViewerSession::save() {
   std::filesystem::path folder = state_.file.parent_path();
   if (folder.empty()) folder = ".";
-  const std::filesystem::path path = folder / (state_.file.stem().string() + ".viewer.json");
+  std::filesystem::path path;
+  for (int n = 1;; ++n) {
+    if (n > kMaxSaves)
+      throw Error(fmt::format("save: {} saves of this scene already; move some away", kMaxSaves));
+    path = folder / fmt::format("{}.viewer-{}.json", state_.file.stem().string(), n);
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec) && !ec) break;
+  }
   const std::string text = text_of(saved_document(), 2) + "\n";
   write_file_atomically(path, [&](std::ostream& out) {
     out.write(text.data(), static_cast<std::streamsize>(text.size()));
   });
   if (options_.log) std::fprintf(stderr, "intermix serve: saved %s\n", path.string().c_str());
-  return path.string();
+  return path.filename().string();
 }
 
 bool ViewerSession::take_work(std::unique_lock<std::mutex>& lock, Snapshot& out) {

@@ -296,7 +296,11 @@ Json histogram(const VolumeData& data, int bins) {
 
 ViewerState load_viewer_state(const std::filesystem::path& file,
                               const std::vector<std::string>& overrides) {
-  ViewerState state{SceneDocument::load(file, overrides), file, {}, {}, {}, {}};
+  return viewer_state(SceneDocument::load(file, overrides), file);
+}
+
+ViewerState viewer_state(SceneDocument document, std::filesystem::path file) {
+  ViewerState state{std::move(document), std::move(file), {}, {}, {}, {}};
   // Edits parse the document again: the framed camera and automatic looks must stay put.
   state.document.write_out_choices();
   const Scene& scene = state.scene();
@@ -325,7 +329,7 @@ ViewerState load_viewer_state(const std::filesystem::path& file,
       scene_json::SceneContext context;
       context.base_dir = state.document.base_dir();
       tf = scene_json::parse_transfer_function(
-               JsonReader(object["transfer_function"], file.string(),
+               JsonReader(object["transfer_function"], state.document.origin(),
                           fmt::format("objects[{}].transfer_function", k)),
                context)
                .transfer_function;

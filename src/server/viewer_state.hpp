@@ -17,7 +17,7 @@ struct ViewerState {
   // The scene file (after --set overrides) with every edit applied, and the Scene parsed from it:
   // what "save scene" writes and what renders, changed together.
   SceneDocument document;
-  std::filesystem::path file;  // the scene file
+  std::filesystem::path file;  // the scene file, or where saves of a scene from files go
   Camera initial_camera;       // "reset view"
   // Per object in scene order: the user's opacity (0..1). For a mesh or a plane it is the
   // material's opacity; for a volume it scales the alphas of its transfer function.
@@ -30,8 +30,12 @@ struct ViewerState {
   const Scene& scene() const { return document.scene(); }
 };
 
-// Loads the scene file, with the camera framing chose and each automatic transfer function
-// written into the document (so that edits keep them). Throws imx::Error as load_scene does.
+// The session state of a scene document: the camera framing chose and each automatic transfer
+// function are written into the document (so that edits keep them); `file` is where saves go
+// beside (its stem names them). Throws imx::Error as the loader does.
+ViewerState viewer_state(SceneDocument document, std::filesystem::path file);
+
+// viewer_state of the scene file with --set overrides, saved beside it.
 ViewerState load_viewer_state(const std::filesystem::path& file,
                               const std::vector<std::string>& overrides = {});
 

@@ -7,9 +7,12 @@
 #include <string>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
+#include "core/math.hpp"
 #include "intermix/io.hpp"
+#include "intermix/scene.hpp"
 #include "shared_data.hpp"
 #include "temp_dir.hpp"
 
@@ -79,6 +82,41 @@ TEST(CliFilesScene, AViewTurnsTheCameraAndAMeshJoinsTheVolume) {
       fmt::format("render {} {} -o {} --width 64 --height 64 --view left", volume, mesh, side));
   ASSERT_EQ(b.exit_code, 0) << b.output;
   EXPECT_NE(test::read_bytes(front), test::read_bytes(side));
+}
+
+// `intermix serve FILE` serves the scene render would build, plus three hidden reading planes
+// through the volume's centre; --save-scene writes that document as it starts.
+TEST(CliFilesScene, ServeBuildsTheSameSceneWithHiddenReadingPlanes) {
+  test::TempDir dir;
+  const std::string volume = (dir.path() / "head.nrrd").string();
+  ASSERT_EQ(run_cli("phantom ct-head --size 48 -o " + volume).exit_code, 0);
+  const std::string saved = (dir.path() / "served.json").string();
+  // The server runs until stopped: it has written the scene once it prints its address.
+  const test::CliResult served = test::run_shell(
+      fmt::format("cd {} && (timeout 60 {} serve {} --port 0 --save-scene {} & pid=$!; "
+                  "for i in $(seq 600); do [ -s {} ] && break; sleep 0.1; done; kill $pid) 2>&1",
+                  dir.path().string(), IMX_CLI_PATH, volume, saved, saved));
+  const nlohmann::json doc = nlohmann::json::parse(test::read_bytes(saved));
+  ASSERT_EQ(doc["objects"].size(), 4u) << served.output;
+  const char* names[] = {"axial", "coronal", "sagittal"};
+  for (int k = 0; k < 3; ++k) {
+    const nlohmann::json& plane = doc["objects"][k + 1];
+    EXPECT_EQ(plane["name"], names[k]);
+    EXPECT_EQ(plane["visible"], false);
+    EXPECT_EQ(plane["volume"], "head");
+  }
+  // The planes pass through the volume's centre; shown, the axial one is an MPR of it.
+  const Scene scene = load_scene(saved);
+  const VolumeData& v = *scene.volumes[0].data;
+  const glm::dvec3 centre = transform_point(v.index_to_world, glm::dvec3(v.dims - 1) * 0.5);
+  for (const PlaneObject& p : scene.planes) EXPECT_LT(glm::length(p.center - centre), 1e-3);
+  const std::string png = (dir.path() / "axial.png").string();
+  const test::CliResult shown =
+      run_cli(fmt::format("render {} -o {} --width 48 --height 48 --set objects.axial.visible=true "
+                          "--set objects.head.visible=false --view superior",
+                          saved, png));
+  ASSERT_EQ(shown.exit_code, 0) << shown.output;
+  EXPECT_GT(lit_extent(read_png(png)), 0.3);
 }
 
 TEST(CliFilesScene, BadInputsGetOneClearError) {

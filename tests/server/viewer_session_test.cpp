@@ -283,8 +283,10 @@ TEST(ViewerSession, SaveWritesASceneThatRendersTheConvergedFrame) {
       [](const Json& j) { return j["type"] == "frame" && j["seq"] == 2 && j["final"] == true; });
   session.on_message(client, R"({"type": "save"})");
   const Json saved = client->wait_type("saved").json;
-  const std::filesystem::path path = saved["path"].get<std::string>();
-  EXPECT_EQ(path, dir.path() / "fusion.viewer.json");
+  // Saved beside the scene under a numbered name; the reply names the file, not where it is.
+  EXPECT_EQ(saved["file"], "fusion.viewer-1.json");
+  EXPECT_FALSE(saved.contains("path"));
+  const std::filesystem::path path = dir.path() / "fusion.viewer-1.json";
   const Scene reloaded = load_scene(path);
   EXPECT_EQ(reloaded.render.method, "zslab");
   EXPECT_EQ(reloaded.render.spp, 4);

@@ -26,6 +26,7 @@ Needs only Debian's python3-websocket and chromium besides the standard library.
 
 import argparse
 import base64
+import glob
 import http.client
 import json
 import math
@@ -401,20 +402,15 @@ def check_access(checks, base, token):
 # ---------------------------------------------------------------- test mode
 def run_test(args, out, checks, cleanup):
     scene = os.path.abspath(args.scene)
-    saved_default = os.path.join(os.path.dirname(scene),
-                                 os.path.splitext(os.path.basename(scene))[0] + '.viewer.json')
-    # The server saves beside the scene: keep a file that was there, remove the test's own.
-    backup = None
-    if os.path.exists(saved_default):
-        backup = os.path.join(out, 'viewer.json.before-test')
-        shutil.copy2(saved_default, backup)
+    # The server saves beside the scene as NAME.viewer-N.json: the test moves its own saves away.
+    saves = os.path.join(os.path.dirname(scene),
+                         os.path.splitext(os.path.basename(scene))[0] + '.viewer-*.json')
+    saves_before = set(glob.glob(saves))
 
-    def restore_saved():
-        if backup:
-            shutil.copy2(backup, saved_default)
-        elif os.path.exists(saved_default):
-            shutil.move(saved_default, os.path.join(out, 'saved-scene.json'))
-    cleanup.append(restore_saved)
+    def move_saves():
+        for f in set(glob.glob(saves)) - saves_before:
+            shutil.move(f, os.path.join(out, 'saved-' + os.path.basename(f)))
+    cleanup.append(move_saves)
 
     sargs = ['--port', '0', '--bind', '127.0.0.1', '--method', args.method or 'zslab',
              '--set', f'image.width={TEST_SIZE}', '--set', f'image.height={TEST_SIZE}']
@@ -608,11 +604,11 @@ def run_test(args, out, checks, cleanup):
     sv = browser.evaluate("viewer.center('#save')")
     browser.click(sv['x'], sv['y'])
     saved = browser.wait_for('viewerStats.saved', timeout=10, what='the saved message')
-    path = saved.get('path') or ''
-    if path and not os.path.isabs(path):
-        path = os.path.join(os.getcwd(), path)
-    exists = bool(path) and os.path.isfile(path)
-    checks.check('g. save writes a scene file', exists, path)
+    name = saved.get('file') or ''
+    path = os.path.join(os.path.dirname(scene), name) if name else ''
+    exists = bool(name) and os.sep not in name and os.path.isfile(path)
+    checks.check('g. save writes a numbered scene file, named without a server path', exists,
+                 name)
     if exists:
         with open(path) as f:
             doc = json.load(f)

@@ -43,13 +43,14 @@ export function setupToolbar() {
       .addEventListener('click', () => send({type: 'screenshot'}));
 }
 
-// The `saved` answer: shows where the server wrote the scene and downloads the file.
+// The `saved` answer: shows the name the server saved the scene under (beside the scene file;
+// never a server path) and downloads the file.
 export function onSaved(m) {
-  stats.saved = {path: m.path};
-  document.getElementById('saved-path').textContent = 'saved: ' + m.path;
-  const base = (m.path || 'scene.json').split(/[\\/]/).pop() || 'scene.json';
+  stats.saved = {file: m.file};
+  document.getElementById('saved-path').textContent = 'saved: ' + m.file;
+  const name = m.file || 'scene.json';
   download(new Blob([m.text || ''], {type: 'application/json'}),
-           base.endsWith('.json') ? base : base + '.json');
+           name.endsWith('.json') ? name : name + '.json');
 }
 
 // The screenshot's PNG: downloads it.

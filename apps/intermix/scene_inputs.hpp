@@ -1,0 +1,35 @@
+// What render and serve take as their scene: one scene file, or volume files, DICOM folders and
+// mesh files to build one from (scene/scene_from_files.hpp), with --view and --save-scene.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "cli_support.hpp"
+#include "scene/scene_document.hpp"
+
+namespace imx::cli {
+
+struct SceneInputs {
+  std::vector<std::string> inputs;
+  std::string view, save_scene;
+
+  bool is_scene_file() const;
+  // The scene file, or the input files joined by spaces: for messages.
+  std::string label() const;
+};
+
+// The positional inputs, --view and --save-scene.
+void add_scene_inputs(CLI::App& app, SceneInputs& in);
+
+// `overrides` with --width, --height (when > 0) and, for a scene file, --view's camera; refuses
+// --save-scene with a scene file.
+std::vector<std::string> input_overrides(const SceneInputs& in, std::vector<std::string> overrides,
+                                         int width, int height);
+
+// The scene file loaded, or the scene built from the input files.
+SceneDocument load_scene_inputs(const SceneInputs& in, const std::vector<std::string>& overrides);
+
+// With --save-scene (a scene built from files): writes `document`, which renders the same again.
+void save_built_scene(const SceneInputs& in, const SceneDocument& document);
+
+}  // namespace imx::cli

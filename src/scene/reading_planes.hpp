@@ -1,0 +1,16 @@
+// The three reading planes the viewer adds to a scene built from files: axial, coronal and
+// sagittal through the centre of its first volume, hidden until the user shows them.
+#pragma once
+#include <nlohmann/json.hpp>
+
+#include "intermix/scene.hpp"
+
+namespace imx {
+
+// Plane objects for the document's "objects" (none when the scene has no volume): normals along
+// the patient axes (LPS), radiological "up" (anterior for axial, superior otherwise), sized to
+// the volume's box, windowed to its own window (DICOM WindowCenter/Width) or else its robust
+// range (2nd to 98th percentile). Names avoid the scene's own ("axial", else "axial-2", ...).
+nlohmann::json reading_planes(const Scene& scene);
+
+}  // namespace imx
