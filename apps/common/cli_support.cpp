@@ -8,6 +8,7 @@
 #include <new>
 
 #include "core/library_output.hpp"
+#include "core/parallel.hpp"
 #include "core/progress_bar.hpp"
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
@@ -125,6 +126,35 @@ int run_program(const char* name, const char* description, std::span<const Subco
     for (const std::string& line : detail::take_library_output())
       std::fprintf(stderr, "%s: library: %s\n", program, line.c_str());
   return status;
+}
+
+std::vector<std::string> SceneOptions::with_size() const {
+  std::vector<std::string> out = overrides;
+  if (width > 0) out.push_back(fmt::format("image.width={}", width));
+  if (height > 0) out.push_back(fmt::format("image.height={}", height));
+  return out;
+}
+
+void add_scene_options(CLI::App& app, SceneOptions& o, unsigned which, const std::string& scope) {
+  const std::string tail = scope.empty() ? "" : " " + scope;
+  if (which & kSizeOption) {
+    app.add_option("--width", o.width, "image width in pixels (overrides the scene)" + tail)
+        ->check(in_range(1, kMaxImageSide));
+    app.add_option("--height", o.height, "image height in pixels (overrides the scene)" + tail)
+        ->check(in_range(1, kMaxImageSide));
+  }
+  if (which & kSppOption)
+    app.add_option("--spp", o.spp,
+                   "samples per pixel, a perfect square (1, 4, 16, 64, ...; default: the "
+                   "scene's)" +
+                       tail)
+        ->check(in_range(1, kMaxSpp));
+  if (which & kThreadsOption)
+    app.add_option("--threads", o.threads, "worker threads (default: all cores)" + tail)
+        ->check(in_range(0, kMaxThreads));
+  if (which & kSetOption)
+    app.add_option("--set", o.overrides,
+                   "override a scene value: key.path=value (repeatable)" + tail);
 }
 
 }  // namespace imx::cli

@@ -49,6 +49,20 @@ CLI::Validator byte_size();
 inline constexpr int kMaxImageSide = 16384;
 inline constexpr int kMaxSpp = 1024;
 
+// The scene options commands share, with one wording and one range each.
+struct SceneOptions {
+  int width = 0, height = 0, spp = 0, threads = 0;  // 0: the scene's (threads: all cores)
+  std::vector<std::string> overrides;               // --set key.path=value, in order
+  // `overrides` with --width and --height (when given) as image.width and image.height.
+  std::vector<std::string> with_size() const;
+};
+enum SceneOption : unsigned { kSizeOption = 1, kSppOption = 2, kThreadsOption = 4, kSetOption = 8 };
+inline constexpr unsigned kAllSceneOptions = kSizeOption | kSppOption | kThreadsOption | kSetOption;
+// Adds --width and --height, --spp, --threads and --set as `which` asks; `scope` ends their
+// help ("for --intervals"), and --set's says whether it applies to every scene.
+void add_scene_options(CLI::App& app, SceneOptions& o, unsigned which = kAllSceneOptions,
+                       const std::string& scope = "");
+
 // Whether to show progress bars (stderr is a terminal and not --quiet).
 bool show_progress();
 bool quiet();

@@ -6,12 +6,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "lab_commands.hpp"
 #include "intermix/band_metrics.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/metrics.hpp"
 #include "intermix/scene.hpp"
+#include "lab_commands.hpp"
 #include "probes/first_hit_depth.hpp"
 
 namespace imx::cli {

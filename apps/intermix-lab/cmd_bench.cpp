@@ -11,13 +11,13 @@
 #include <nlohmann/json.hpp>
 
 #include "bench_change.hpp"
-#include "lab_commands.hpp"
 #include "core/parallel.hpp"
 #include "core/process_usage.hpp"
 #include "core/progress_bar.hpp"
 #include "intermix/error.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "lab_commands.hpp"
 #include "vtk_peer_runner.hpp"
 
 namespace imx::cli {
@@ -121,10 +121,10 @@ void time_rounds(std::vector<BenchRow>& rows, int frames) {
 }  // namespace
 
 Command add_bench(CLI::App& app) {
-  struct Options {
+  struct Options : SceneOptions {
     std::string scene, peer, vtk_mode = "cpu", change;
-    std::vector<std::string> methods, overrides, variants;
-    int frames = 5, width = 0, height = 0, spp = 0, threads = 0;
+    std::vector<std::string> methods, variants;
+    int frames = 5;
     bool json = false, vtk = false;
   };
   auto o = std::make_shared<Options>();
@@ -135,12 +135,7 @@ Command add_bench(CLI::App& app) {
                  "every method (repeatable; 'LABEL:' alone is the scene as it is)");
   app.add_option("--frames", o->frames, "timed frames after one warm-up frame")
       ->check(in_range(1, 100000));
-  app.add_option("--width", o->width, "image width")->check(in_range(1, kMaxImageSide));
-  app.add_option("--height", o->height, "image height")->check(in_range(1, kMaxImageSide));
-  app.add_option("--spp", o->spp, "samples per pixel")->check(in_range(1, kMaxSpp));
-  app.add_option("--threads", o->threads, "worker threads (default: all cores)")
-      ->check(in_range(0, kMaxThreads));
-  app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");
+  add_scene_options(app, *o);
   app.add_flag("--vtk", o->vtk,
                "also time the VTK peer (vtk_peer.py) on the same scene, image size and sample "
                "distance (needs scripts/install-deps --with-peers)");
@@ -153,9 +148,7 @@ Command add_bench(CLI::App& app) {
   app.add_option("--change", o->change,
                  "time re-renders after OBJECT.key=value, keeping stage outputs (zslab methods)");
   return [o]() {
-    std::vector<std::string> overrides = o->overrides;
-    if (o->width > 0) overrides.push_back(fmt::format("image.width={}", o->width));
-    if (o->height > 0) overrides.push_back(fmt::format("image.height={}", o->height));
+    const std::vector<std::string> overrides = o->with_size();
     std::vector<Variant> variants;
     for (const std::string& text : o->variants) {
       variants.push_back(parse_variant(text));

@@ -6,7 +6,6 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "lab_commands.hpp"
 #include "core/parallel.hpp"
 #include "csg/clip_state.hpp"
 #include "csg/csg_expr.hpp"
@@ -15,6 +14,7 @@
 #include "frame/frame_setup.hpp"
 #include "intermix/error.hpp"
 #include "intermix/scene.hpp"
+#include "lab_commands.hpp"
 #include "probes/csg_statistics.hpp"
 
 namespace imx::cli {
@@ -159,10 +159,8 @@ nlohmann::json to_json(const std::string& file, const CsgSummary& s, const CsgRa
 }  // namespace
 
 Command add_csg(CLI::App& app) {
-  struct Options {
+  struct Options : SceneOptions {
     std::string scene;
-    std::vector<std::string> overrides;
-    int width = 0, height = 0, threads = 0;
     bool json = false, intervals = false;
   };
   auto o = std::make_shared<Options>();
@@ -171,17 +169,10 @@ Command add_csg(CLI::App& app) {
   app.add_flag("--intervals", o->intervals,
                "also classify one ray per pixel as the csg method does: intervals per ray (PSI), "
                "accepted ranges, per-step tests, inconsistent rays");
-  app.add_option("--width", o->width, "image width for --intervals (overrides the scene)")
-      ->check(in_range(1, kMaxImageSide));
-  app.add_option("--height", o->height, "image height for --intervals (overrides the scene)")
-      ->check(in_range(1, kMaxImageSide));
-  app.add_option("--threads", o->threads, "worker threads for --intervals (default: all cores)")
-      ->check(in_range(0, kMaxThreads));
-  app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");
+  add_scene_options(app, *o, kSizeOption | kThreadsOption, "for --intervals");
+  add_scene_options(app, *o, kSetOption);
   return [o]() {
-    std::vector<std::string> overrides = o->overrides;
-    if (o->width > 0) overrides.push_back(fmt::format("image.width={}", o->width));
-    if (o->height > 0) overrides.push_back(fmt::format("image.height={}", o->height));
+    const std::vector<std::string> overrides = o->with_size();
     const Scene scene = load_scene(o->scene, overrides);
     if (!scene.csg) throw Error(fmt::format("{}: has no csg block", o->scene));
     CsgSummary summary;

@@ -17,7 +17,6 @@
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "lab_commands.hpp"
 #include "core/parallel.hpp"
 #include "eval_report.hpp"
 #include "intermix/band_metrics.hpp"
@@ -28,6 +27,7 @@
 #include "intermix/renderer.hpp"
 #include "intermix/scene.hpp"
 #include "io/atomic_file.hpp"
+#include "lab_commands.hpp"
 #include "probes/first_hit_depth.hpp"
 
 namespace fs = std::filesystem;
@@ -164,10 +164,10 @@ void progress(const std::string& line) {
   if (!quiet()) std::fprintf(stderr, "intermix-lab: eval %s\n", line.c_str());
 }
 
-struct Options {
-  std::vector<std::string> scenes, methods, overrides, bands;
+struct Options : SceneOptions {
+  std::vector<std::string> scenes, methods, bands;
   std::string out = "out/eval", markdown;
-  int width = 0, height = 0, size = 0, spp = 0, ref_spp = 0, frames = 3, threads = 0, radius = 2;
+  int size = 0, ref_spp = 0, frames = 3, radius = 2;
   float band_opacity = 0.5f;
   double heat_scale = 8.0;
 };
@@ -297,17 +297,11 @@ Command add_eval(CLI::App& app) {
       ->check(in_range(1, kMaxSpp));
   app.add_option("--spp", o->spp, "the methods' samples per pixel (default: the scene's, else 1)")
       ->check(in_range(1, kMaxSpp));
-  app.add_option("--width", o->width, "image width (overrides the scenes)")
-      ->check(in_range(1, kMaxImageSide));
-  app.add_option("--height", o->height, "image height (overrides the scenes)")
-      ->check(in_range(1, kMaxImageSide));
+  add_scene_options(app, *o, kSizeOption | kThreadsOption | kSetOption, "(every scene)");
   app.add_option("--size", o->size, "longest image side, the scene's aspect kept")
       ->check(in_range(1, kMaxImageSide));
   app.add_option("--frames", o->frames, "timed frames per method after the warm-up frame")
       ->check(in_range(1, 1000));
-  app.add_option("--threads", o->threads, "worker threads (default: all cores)")
-      ->check(in_range(0, kMaxThreads));
-  app.add_option("--set", o->overrides, "override a value in every scene: key.path=value");
   app.add_option("--band", o->bands,
                  "A,B: measure the band PSNR around objects A and B in scenes that have both "
                  "(repeatable; a scene of exactly two objects uses them anyway)");
@@ -352,10 +346,7 @@ Command add_eval(CLI::App& app) {
     // Every scene is loaded (and so validated) before anything is rendered or written.
     std::vector<Scene> scenes;
     for (const std::string& file : files) {
-      std::vector<std::string> overrides = o->overrides;
-      if (o->width > 0) overrides.push_back(fmt::format("image.width={}", o->width));
-      if (o->height > 0) overrides.push_back(fmt::format("image.height={}", o->height));
-      scenes.push_back(load_scene(file, overrides));
+      scenes.push_back(load_scene(file, o->with_size()));
       if (o->size > 0) {
         Scene& sc = scenes.back();
         double scale = static_cast<double>(o->size) / std::max(sc.image.width, sc.image.height);

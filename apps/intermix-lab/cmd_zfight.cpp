@@ -4,38 +4,31 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "lab_commands.hpp"
 #include "core/parallel.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "lab_commands.hpp"
 #include "probes/z_fighting_probe.hpp"
 
 namespace imx::cli {
 
 Command add_zfight(CLI::App& app) {
-  struct Options {
+  struct Options : SceneOptions {
     std::string scene;
-    std::vector<std::string> methods, overrides;
-    int width = 0, height = 0, spp = 0, threads = 0;
+    std::vector<std::string> methods;
     std::vector<double> jitter{0.37, 0.21};
     bool json = false;
   };
   auto o = std::make_shared<Options>();
   app.add_option("scene", o->scene, "scene file (JSON) with coplanar surfaces")->required();
   app.add_option("--method", o->methods, "method to measure (repeatable; default: the scene's)");
-  app.add_option("--width", o->width, "image width")->check(in_range(1, kMaxImageSide));
-  app.add_option("--height", o->height, "image height")->check(in_range(1, kMaxImageSide));
-  app.add_option("--spp", o->spp, "samples per pixel")->check(in_range(1, kMaxSpp));
-  app.add_option("--threads", o->threads, "worker threads (default: all cores)")
-      ->check(in_range(0, kMaxThreads));
+  add_scene_options(app, *o, kSizeOption | kSppOption | kThreadsOption);
   app.add_option("--jitter", o->jitter, "camera shift in pixels, x y (default 0.37 0.21)")
       ->expected(2);
-  app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");
+  add_scene_options(app, *o, kSetOption);
   app.add_flag("--json", o->json, "print one JSON object on stdout");
   return [o]() {
-    std::vector<std::string> overrides = o->overrides;
-    if (o->width > 0) overrides.push_back(fmt::format("image.width={}", o->width));
-    if (o->height > 0) overrides.push_back(fmt::format("image.height={}", o->height));
+    const std::vector<std::string> overrides = o->with_size();
     Scene scene = load_scene(o->scene, overrides);
     std::vector<std::string> methods = o->methods;
     if (methods.empty()) methods.push_back(scene.render.method);

@@ -24,11 +24,9 @@ namespace imx::cli {
 
 namespace {
 
-struct Options {
+struct Options : SceneOptions {
   SceneInputs in;
   std::string scene, output, method;  // scene: the inputs, for messages
-  int width = 0, height = 0, spp = 0, threads = 0;
-  std::vector<std::string> overrides;
   std::string frame_range, frame_object;
   bool linear = false;
   bool distributed = false;
@@ -115,15 +113,7 @@ Command add_render(CLI::App& app) {
   app.add_option("--method", o->method,
                  "rendering method (default: the scene's, else auto: the fastest within reach of "
                  "the best image for the scene's content)");
-  app.add_option("--width", o->width, "image width in pixels (overrides the scene)")
-      ->check(in_range(1, kMaxImageSide));
-  app.add_option("--height", o->height, "image height in pixels (overrides the scene)")
-      ->check(in_range(1, kMaxImageSide));
-  app.add_option("--spp", o->spp, "samples per pixel, a perfect square (1, 4, 16, 64, ...)")
-      ->check(in_range(1, kMaxSpp));
-  app.add_option("--threads", o->threads, "worker threads (default: all cores)")
-      ->check(in_range(0, kMaxThreads));
-  app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");
+  add_scene_options(app, *o);
   app.add_flag("--linear", o->linear, "write linear instead of sRGB-encoded colour");
   std::string no_mpi;
   const bool mpi = distributed_available(&no_mpi);
@@ -144,8 +134,7 @@ Command add_render(CLI::App& app) {
                  "with --distributed: write timings, bytes exchanged and memory per rank (JSON)");
   return [o]() {
     o->scene = o->in.label();
-    const std::vector<std::string> overrides =
-        input_overrides(o->in, o->overrides, o->width, o->height);
+    const std::vector<std::string> overrides = input_overrides(o->in, o->with_size());
     if (!o->distributed && (o->report.size() || o->partition != "auto"))
       throw Error("--partition and --report apply only with --distributed");
     if (o->distributed && !o->frame_range.empty())

@@ -38,12 +38,11 @@ std::string default_web_dir() {
 }  // namespace
 
 Command add_serve(CLI::App& app) {
-  struct Options {
+  struct Options : SceneOptions {
     SceneInputs in;
     std::string method, bind = "127.0.0.1", web;
-    int port = 8080, spp = 0, threads = 0, width = 0, height = 0;
+    int port = 8080;
     double budget_ms = 45.0;
-    std::vector<std::string> overrides;
   };
   auto o = std::make_shared<Options>();
   add_scene_inputs(app, o->in);
@@ -56,22 +55,15 @@ Command add_serve(CLI::App& app) {
   app.add_option("--spp", o->spp,
                  "samples per pixel still frames converge to (default: the scene's, else 4)")
       ->check(in_range(1, 64));
-  app.add_option("--width", o->width, "image width in pixels (overrides the scene)")
-      ->check(in_range(1, kMaxImageSide));
-  app.add_option("--height", o->height, "image height in pixels (overrides the scene)")
-      ->check(in_range(1, kMaxImageSide));
-  app.add_option("--threads", o->threads, "rendering threads (default: all cores)")
-      ->check(in_range(0, kMaxThreads));
   app.add_option("--frame-budget-ms", o->budget_ms,
                  "time a frame may take while the user moves (resolution adapts; default 45)")
       ->check(in_range(1, 10000));
   app.add_option("--web", o->web,
                  "folder of the page (index.html, viewer.css, js/*.js; default: "
                  "PREFIX/share/intermix/web when installed, else the source tree's web/)");
-  app.add_option("--set", o->overrides, "override a scene value: key.path=value (repeatable)");
+  add_scene_options(app, *o, kSizeOption | kThreadsOption | kSetOption);
   return [o]() {
-    const std::vector<std::string> overrides =
-        input_overrides(o->in, o->overrides, o->width, o->height);
+    const std::vector<std::string> overrides = input_overrides(o->in, o->with_size());
     SceneDocument document = load_scene_inputs(o->in, overrides);
     print_notes(document.scene().notes);  // what loading chose; later parses read no file again
     // A scene from files: saved in the current folder as scene.viewer-N.json.

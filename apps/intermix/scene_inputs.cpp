@@ -34,14 +34,12 @@ void add_scene_inputs(CLI::App& app, SceneInputs& in) {
                  "again");
 }
 
-std::vector<std::string> input_overrides(const SceneInputs& in, std::vector<std::string> overrides,
-                                         int width, int height) {
+std::vector<std::string> input_overrides(const SceneInputs& in,
+                                         std::vector<std::string> overrides) {
   if (in.is_scene_file() && !in.save_scene.empty())
     throw Error("--save-scene applies to a scene built from files; this is a scene file");
   if (in.is_scene_file() && !in.view.empty())
     overrides.push_back("camera={\"view\": \"" + in.view + "\"}");
-  if (width > 0) overrides.push_back(fmt::format("image.width={}", width));
-  if (height > 0) overrides.push_back(fmt::format("image.height={}", height));
   return overrides;
 }
 

@@ -21,10 +21,8 @@ struct SceneInputs {
 // The positional inputs, --view and --save-scene.
 void add_scene_inputs(CLI::App& app, SceneInputs& in);
 
-// `overrides` with --width, --height (when > 0) and, for a scene file, --view's camera; refuses
-// --save-scene with a scene file.
-std::vector<std::string> input_overrides(const SceneInputs& in, std::vector<std::string> overrides,
-                                         int width, int height);
+// `overrides` with, for a scene file, --view's camera; refuses --save-scene with a scene file.
+std::vector<std::string> input_overrides(const SceneInputs& in, std::vector<std::string> overrides);
 
 // The scene file loaded, or the scene built from the input files.
 SceneDocument load_scene_inputs(const SceneInputs& in, const std::vector<std::string>& overrides);
