@@ -41,6 +41,7 @@ Command add_serve(CLI::App& app) {
   struct Options : SceneOptions {
     SceneInputs in;
     std::string method, bind = "127.0.0.1", web;
+    std::vector<std::string> allowed_origins;
     int port = 8080;
     double budget_ms = 45.0;
   };
@@ -61,6 +62,10 @@ Command add_serve(CLI::App& app) {
   app.add_option("--web", o->web,
                  "folder of the page (index.html, viewer.css, js/*.js; default: "
                  "PREFIX/share/intermix/web when installed, else the source tree's web/)");
+  app.add_option("--allow-origin", o->allowed_origins,
+                 "an origin (http://name:port) a page may come from besides the viewer's own "
+                 "address, and whose name the browser may use as Host (repeatable; default: IP "
+                 "addresses and localhost only)");
   add_scene_options(app, *o, kSizeOption | kThreadsOption | kSetOption);
   return [o]() {
     const std::vector<std::string> overrides = input_overrides(o->in, o->with_size());
@@ -89,6 +94,7 @@ Command add_serve(CLI::App& app) {
     server_options.bind = o->bind;
     server_options.port = static_cast<uint16_t>(o->port);
     server_options.web_dir = o->web.empty() ? default_web_dir() : o->web;
+    server_options.allowed_origins = o->allowed_origins;
     {
       server::HttpServer server(session, server_options);
       std::printf("intermix serve: %s\n", server.url().c_str());

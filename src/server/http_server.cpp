@@ -27,6 +27,7 @@
 #include <boost/beast/websocket.hpp>
 
 #include "intermix/error.hpp"
+#include "server/request_guard.hpp"
 
 namespace imx::server {
 
@@ -57,6 +58,12 @@ struct PageFile {
   std::string content_type;
 };
 
+// What a request must show to be answered, the same for every connection of a server.
+struct Access {
+  RequestGuard guard;
+  std::string cookie;  // the name of the cookie that carries the token
+};
+
 // Compares in time that does not depend on where the strings differ.
 bool same_token(std::string_view a, std::string_view b) {
   if (a.size() != b.size()) return false;
@@ -65,21 +72,10 @@ bool same_token(std::string_view a, std::string_view b) {
   return diff == 0;
 }
 
-// The value of `key` in a target's query ("/ws?token=abc&x=1"); empty when absent. Tokens are
-// hex, so no percent-decoding is needed: an encoded one simply does not match.
-std::string_view query_value(std::string_view target, std::string_view key) {
-  const size_t q = target.find('?');
-  if (q == std::string_view::npos) return {};
-  std::string_view query = target.substr(q + 1);
-  while (!query.empty()) {
-    const size_t amp = query.find('&');
-    const std::string_view pair = query.substr(0, amp);
-    const size_t eq = pair.find('=');
-    if (eq != std::string_view::npos && pair.substr(0, eq) == key) return pair.substr(eq + 1);
-    if (amp == std::string_view::npos) break;
-    query.remove_prefix(amp + 1);
-  }
-  return {};
+std::string_view header(const http::request<http::string_body>& request, http::field field) {
+  const auto it = request.find(field);
+  return it == request.end() ? std::string_view{}
+                             : std::string_view(it->value().data(), it->value().size());
 }
 
 std::string_view path_of(std::string_view target) {
@@ -288,11 +284,12 @@ class HttpConnection : public std::enable_shared_from_this<HttpConnection> {
  public:
   HttpConnection(tcp::socket socket, ViewerSession& session,
                  const std::map<std::string, PageFile>& page, const ServerOptions& options,
-                 Totals& totals)
+                 const Access& access, Totals& totals)
       : stream_(std::move(socket)),
         session_(session),
         page_(page),
         options_(options),
+        access_(access),
         totals_(totals) {}
 
   void read() {
@@ -320,7 +317,19 @@ class HttpConnection : public std::enable_shared_from_this<HttpConnection> {
     const std::string_view target(request.target().data(), request.target().size());
     const bool keep_alive = request.keep_alive();
     const unsigned version = request.version();
-    if (!same_token(query_value(target, "token"), options_.token))
+    const std::string_view host = header(request, http::field::host);
+    // Who asks before what they carry: a page from another site must not learn even that the
+    // token is wrong.
+    std::string refused = access_.guard.check_host(host);
+    if (refused.empty())
+      refused = access_.guard.check_origin(header(request, http::field::origin), host);
+    if (!refused.empty())
+      return respond(http::status::forbidden, "forbidden: " + refused + "\n", "text/plain", version,
+                     false);
+    csp_ = content_security_policy(host, "");
+    const std::string_view token =
+        request_token(target, header(request, http::field::cookie), access_.cookie);
+    if (!same_token(token, options_.token))
       return respond(http::status::forbidden, "forbidden: this address needs the session token\n",
                      "text/plain", version, false);
     const std::string path(path_of(target));
@@ -342,7 +351,19 @@ class HttpConnection : public std::enable_shared_from_this<HttpConnection> {
     const auto file = page_.find(path);
     if (file == page_.end())
       return respond(http::status::not_found, "not found\n", "text/plain", version, keep_alive);
-    respond(http::status::ok, file->second.body, file->second.content_type, version, keep_alive,
+    std::string body = file->second.body;
+    if (file->second.content_type.rfind("text/html", 0) == 0) {
+      // The page's inline scripts run by this response's nonce; the token goes into a cookie, so
+      // that the page may take it out of the address bar and still be reloaded.
+      const std::string nonce = random_token();
+      for (size_t at = body.find("<script"); at != std::string::npos;
+           at = body.find("<script", at + 1))
+        body.insert(at + 7, " nonce=\"" + nonce + "\"");
+      csp_ = content_security_policy(host, nonce);
+      set_cookie_ =
+          fmt::format("{}={}; Path=/; HttpOnly; SameSite=Strict", access_.cookie, options_.token);
+    }
+    respond(http::status::ok, std::move(body), file->second.content_type, version, keep_alive,
             request.method() == http::verb::head);
   }
 
@@ -356,6 +377,10 @@ class HttpConnection : public std::enable_shared_from_this<HttpConnection> {
     response->set("Referrer-Policy", "no-referrer");
     response->set("X-Content-Type-Options", "nosniff");
     response->set("X-Frame-Options", "DENY");
+    if (!csp_.empty()) response->set("Content-Security-Policy", csp_);
+    if (!set_cookie_.empty()) response->set(http::field::set_cookie, set_cookie_);
+    csp_.clear();
+    set_cookie_.clear();
     response->keep_alive(keep_alive);
     response->body() = std::move(body);
     response->prepare_payload();
@@ -375,7 +400,9 @@ class HttpConnection : public std::enable_shared_from_this<HttpConnection> {
   ViewerSession& session_;
   const std::map<std::string, PageFile>& page_;
   const ServerOptions& options_;
+  const Access& access_;
   Totals& totals_;
+  std::string csp_, set_cookie_;  // of the response being made
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;
 };
@@ -414,7 +441,8 @@ struct HttpServer::Impl {
         });
         return;
       }
-      std::make_shared<HttpConnection>(std::move(socket), session, page, options, totals)->read();
+      std::make_shared<HttpConnection>(std::move(socket), session, page, options, access, totals)
+          ->read();
       accept();
     });
   }
@@ -434,6 +462,7 @@ struct HttpServer::Impl {
   ViewerSession& session;
   ServerOptions options;
   std::map<std::string, PageFile> page;
+  Access access;
   Totals totals;  // before io: the handlers io destroys last still count down
   asio::io_context io{1};
   tcp::acceptor acceptor;
@@ -459,6 +488,8 @@ HttpServer::HttpServer(ViewerSession& session, ServerOptions options)
   if (ec)
     throw Error(
         fmt::format("cannot listen on {}:{}: {}", s.options.bind, s.options.port, ec.message()));
+  s.access.guard.allowed_origins = s.options.allowed_origins;
+  s.access.cookie = token_cookie_name(port());
 }
 
 HttpServer::~HttpServer() = default;

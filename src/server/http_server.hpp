@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "server/viewer_session.hpp"
 
@@ -17,8 +18,10 @@ struct ServerOptions {
   std::string bind = "127.0.0.1";  // loopback: remote use goes through an SSH tunnel
   uint16_t port = 8080;            // 0: any free port (port() says which)
   std::filesystem::path web_dir;   // index.html, viewer.css, js/*.js
-  std::string token;               // every request must carry ?token=<this>
-  int max_clients = 32;            // WebSocket clients at once; more are refused (503)
+  std::string token;               // every request must carry ?token=<this> (or its cookie)
+  // Origins a page may come from besides the viewer's own address (request_guard.hpp).
+  std::vector<std::string> allowed_origins;
+  int max_clients = 32;  // WebSocket clients at once; more are refused (503)
   // A client whose socket has not taken one whole message (or a page response) within this
   // long has stopped reading: it is dropped instead of holding its queue (docs/viewer.md).
   std::chrono::milliseconds write_timeout{10000};

@@ -26,6 +26,7 @@
 #include <thread>
 #include <vector>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <boost/asio/connect.hpp>
 #include <boost/asio/ip/tcp.hpp>
@@ -103,13 +104,15 @@ class Served {
   std::thread thread_;
 };
 
-http::response<http::string_body> get(uint16_t port, const std::string& target,
-                                      size_t extra_header_bytes = 0) {
+http::response<http::string_body> get(
+    uint16_t port, const std::string& target, size_t extra_header_bytes = 0,
+    const std::vector<std::pair<http::field, std::string>>& headers = {
+        {http::field::host, "127.0.0.1"}}) {
   asio::io_context io;
   beast::tcp_stream stream(io);
   stream.connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
   http::request<http::empty_body> request(http::verb::get, target, 11);
-  request.set(http::field::host, "127.0.0.1");
+  for (const auto& [field, value] : headers) request.set(field, value);
   if (extra_header_bytes) request.set("X-Padding", std::string(extra_header_bytes, 'x'));
   http::write(stream, request);
   beast::flat_buffer buffer;
@@ -141,6 +144,75 @@ TEST(HttpServer, ServesThePageOnlyWithTheToken) {
   EXPECT_EQ(get(s.port(), "/js/" + t).result(), http::status::not_found);
   EXPECT_EQ(get(s.port(), "/viewer.js" + t).result(), http::status::not_found);
   EXPECT_EQ(get(s.port(), "/" + t, 20000).result(), http::status::payload_too_large);
+}
+
+// A page from another site, or a name resolving to this machine (DNS rebinding), is refused
+// before the token is looked at; the page's own origin, by IP or localhost, is answered.
+TEST(HttpServer, OriginAndHostMustBeTheViewersOwn) {
+  Served s;
+  const std::string t = "?token=" + Served::token();
+  const std::string own = fmt::format("127.0.0.1:{}", s.port());
+  using Headers = std::vector<std::pair<http::field, std::string>>;
+  auto status = [&](const Headers& h) { return get(s.port(), "/" + t, 0, h).result(); };
+  EXPECT_EQ(status({{http::field::host, own}, {http::field::origin, "http://" + own}}),
+            http::status::ok);
+  EXPECT_EQ(status({{http::field::host, fmt::format("localhost:{}", s.port())}}), http::status::ok);
+  const auto evil_origin =
+      get(s.port(), "/" + t, 0,
+          {{http::field::host, own}, {http::field::origin, "http://evil.example"}});
+  EXPECT_EQ(evil_origin.result(), http::status::forbidden);
+  EXPECT_NE(evil_origin.body().find("Origin 'http://evil.example'"), std::string::npos);
+  EXPECT_EQ(status({{http::field::host, "evil.example"}}), http::status::forbidden);
+  EXPECT_EQ(status({{http::field::host, fmt::format("evil.example:{}", s.port())}}),
+            http::status::forbidden);
+  EXPECT_EQ(status({{http::field::host, own}, {http::field::origin, "null"}}),
+            http::status::forbidden);
+  // Another local page (another port) is another origin.
+  EXPECT_EQ(status({{http::field::host, own}, {http::field::origin, "http://127.0.0.1:1"}}),
+            http::status::forbidden);
+  // The WebSocket upgrade is held to the same rule.
+  asio::io_context io;
+  websocket::stream<beast::tcp_stream> ws(io);
+  beast::get_lowest_layer(ws).connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), s.port()));
+  ws.set_option(websocket::stream_base::decorator(
+      [](websocket::request_type& r) { r.set(http::field::origin, "http://evil.example"); }));
+  beast::error_code ec;
+  ws.handshake(own, "/ws" + t, ec);
+  EXPECT_TRUE(ec) << "an upgrade from another site was accepted";
+}
+
+// The page runs under a Content-Security-Policy whose nonce its inline scripts carry, and sets
+// the token's cookie, which then stands for the token in the address.
+TEST(HttpServer, ThePageHasAPolicyAndATokenCookie) {
+  Served s;
+  const auto page = get(s.port(), "/?token=" + Served::token());
+  ASSERT_EQ(page.result(), http::status::ok);
+  const std::string policy(page["Content-Security-Policy"]);
+  const size_t n = policy.find("'nonce-");
+  ASSERT_NE(n, std::string::npos) << policy;
+  const std::string nonce = policy.substr(n + 7, policy.find('\'', n + 7) - n - 7);
+  EXPECT_EQ(nonce.size(), 32u);
+  EXPECT_NE(policy.find("frame-ancestors 'none'"), std::string::npos);
+  size_t scripts = 0;
+  for (size_t at = page.body().find("<script"); at != std::string::npos;
+       at = page.body().find("<script", at + 1), ++scripts)
+    EXPECT_EQ(page.body().compare(at, 16 + nonce.size(), "<script nonce=\"" + nonce + "\""), 0);
+  EXPECT_GE(scripts, 2u);
+  EXPECT_NE(get(s.port(), "/?token=" + Served::token())["Content-Security-Policy"], policy)
+      << "the nonce must change with every page";
+  const std::string cookie(page[http::field::set_cookie]);
+  const std::string pair = fmt::format("imx_token_{}={}", s.port(), Served::token());
+  EXPECT_EQ(cookie.rfind(pair + ";", 0), 0u) << cookie;
+  EXPECT_NE(cookie.find("HttpOnly"), std::string::npos);
+  EXPECT_NE(cookie.find("SameSite=Strict"), std::string::npos);
+  const auto with_cookie = [&](const std::string& value) {
+    return get(s.port(), "/js/main.js", 0,
+               {{http::field::host, "127.0.0.1"}, {http::field::cookie, "a=1; " + value}})
+        .result();
+  };
+  EXPECT_EQ(with_cookie(pair), http::status::ok);
+  EXPECT_EQ(with_cookie(fmt::format("imx_token_{}=0123", s.port())), http::status::forbidden);
+  EXPECT_EQ(with_cookie(fmt::format("imx_token_1={}", Served::token())), http::status::forbidden);
 }
 
 // The module paths of index.html's import map: its list `const modules = ['main', ...]` gives

@@ -469,6 +469,9 @@ def run_test(args, out, checks, cleanup):
                  modules['listed'] > 0 and not modules['missing'],
                  f"{modules['listed'] - len(modules['missing'])} of {modules['listed']}",
                  f"not loaded: {modules['missing']}" if modules['missing'] else '')
+    href = browser.evaluate('location.href')
+    checks.check('a. the token leaves the address bar once the page has loaded',
+                 'token' not in href, href.replace(token, '<token>'))
     browser.screenshot(os.path.join(out, 'viewer-loaded.png'))
     objects = objects_on_page(browser)
     log(f'      objects on the page: {objects}')
@@ -649,6 +652,17 @@ def run_test(args, out, checks, cleanup):
                  '; '.join((errs or []) + browser.page_errors)[:500])
     log(f'      screenshots: {out}/viewer-loaded.png, {out}/viewer-tf-edit.png, '
         f'{out}/viewer-edited.png')
+
+    # the address without the token still works after a reload: the page's cookie carries it
+    browser.evaluate('location.reload()')
+    reloaded = True
+    try:
+        browser.wait_for('Boolean(window.viewerStats && viewerStats.connected)', timeout=10,
+                         what='the reloaded page to connect')
+    except Failure:
+        reloaded = False
+    checks.check('a. a reload without the token in the address connects (cookie)', reloaded,
+                 browser.evaluate('location.href').replace(token, '<token>'))
 
     # clean shutdown
     watcher.close()

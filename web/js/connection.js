@@ -91,7 +91,9 @@ export function setConnection(text, cls) {
 export function connect(el, handlers) {
   connEl = el;
   const proto = location.protocol === 'https:' ? 'wss:' : 'ws:';
-  ws = new WebSocket(`${proto}//${location.host}/ws?token=${encodeURIComponent(token)}`);
+  // Without a token in the address (a reload) the upgrade carries the session's cookie.
+  const query = token ? `?token=${encodeURIComponent(token)}` : '';
+  ws = new WebSocket(`${proto}//${location.host}/ws${query}`);
   ws.binaryType = 'blob';
   ws.onopen = () => {
     open = true;

@@ -1,10 +1,10 @@
 // The viewer page's entry module (docs/viewer.md), imported by index.html: wires the modules
 // together once the page's elements exist and connects. It also publishes window.viewerStats
 // (stats.js) and window.viewer, the hooks the browser test (tests/viewer/) drives the page with.
-import {connect, setConnection} from './connection.js';
+import {connect} from './connection.js';
 import {setupInput} from './input.js';
 import {buildPanel, redrawEditors, tfEditor} from './panel.js';
-import {S, takeHello, takeState, token} from './state.js';
+import {S, takeHello, takeState} from './state.js';
 import {bindStatus, finishRecording, startRecording, stats, updateStatus} from './stats.js';
 import {buildSelectors, onSaved, onScreenshot, setupToolbar} from './toolbar.js';
 import {copyCamera} from './vec.js';
@@ -68,7 +68,6 @@ function start() {
   layoutCanvas();
   connect(connEl, {hello: onHello, state: onState, saved: onSaved, frame: drawFrame,
                    screenshot: onScreenshot});
-  if (!token) setConnection('no token in the address', 'bad');
 }
 
 if (document.readyState === 'loading') document.addEventListener('DOMContentLoaded', start);

@@ -3,8 +3,15 @@
 // Modules share it only by importing S; this module changes it for the server's messages.
 import {copyCamera, dot, len, norm, sub, add, mul} from './vec.js';
 
-// The session token of the page's address (every request and the WebSocket carry it).
+// The session token of the page's address (every request and the WebSocket carry it). The page
+// then takes it out of the address bar (history, screen shares, copied links); a reload carries
+// it in the cookie the server set with the page.
 export const token = new URLSearchParams(location.search).get('token') || '';
+if (token && window.history && history.replaceState) {
+  const url = new URL(location.href);
+  url.searchParams.delete('token');
+  history.replaceState(history.state, '', url.pathname + url.search + url.hash);
+}
 
 export const S = {
   image: {width: 512, height: 512},
