@@ -9,6 +9,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <variant>
 
@@ -58,6 +59,10 @@ double tidy(float f) {
 
 Json vec_json(const glm::dvec3& v) {
   return Json::array({v.x, v.y, v.z});
+}
+
+glm::dvec3 vec3_of(const Json& j) {
+  return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
 }
 
 Json camera_json(const Camera& c) {
@@ -157,19 +162,72 @@ std::vector<ClipPlane> parse_edit_clip_planes(const JsonReader& at) {
   return scene_json::parse_clip_planes(at);
 }
 
+// A camera's pose as a frame at its target: the columns right, up and backward (eye - target,
+// normalized), and the eye's distance.
+struct CameraPose {
+  glm::dmat3 axes;
+  glm::dvec3 target;
+  double distance;
+};
+
+CameraPose pose_of(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up) {
+  const glm::dvec3 back = glm::normalize(eye - target);
+  const glm::dvec3 right = glm::normalize(glm::cross(up, back));
+  return {glm::dmat3(right, glm::cross(back, right), back), target, glm::length(eye - target)};
+}
+
+// A camera move sent as `from` -> (eye, target, up) applied to `current` instead: the same
+// rotation, shift and zoom in the camera's own frame. When another client moved the camera
+// since the sender last saw it, both moves then count, and neither undoes the other. Equal to
+// the sent camera when `current` is `from`.
+void compose_move(Json& current, const CameraPose& from, const CameraPose& to) {
+  const CameraPose now = pose_of(vec3_of(current["eye"]), vec3_of(current["target"]),
+                                 vec3_of(current["up"]));
+  const glm::dmat3 turn = glm::transpose(from.axes) * to.axes;        // in the sender's frame
+  const glm::dvec3 shift = glm::transpose(from.axes) * (to.target - from.target);
+  const glm::dmat3 axes = now.axes * turn;
+  const glm::dvec3 target = now.target + now.axes * shift;
+  const double distance = now.distance * (to.distance / from.distance);
+  current["eye"] = vec_json(target + axes[2] * distance);
+  current["target"] = vec_json(target);
+  current["up"] = vec_json(axes[1]);
+}
+
 bool apply_camera(ViewerState& state, const Json& message) {
   const JsonReader r(message, "camera");
-  r.check_keys({"type", "seq", "moving", "eye", "target", "up", "fov_deg"});
+  r.check_keys({"type", "seq", "moving", "eye", "target", "up", "fov_deg", "from"});
   // Each field alone first, for a message that names it; then the whole as the loader reads it.
   if (auto v = r.find("eye")) v->vec3(Range::coordinate());
   if (auto v = r.find("target")) v->vec3(Range::coordinate());
   if (auto v = r.find("up")) v->direction();
   if (auto v = r.find("fov_deg")) v->number(Range::open(0.0, 180.0));
+  std::optional<std::pair<CameraPose, CameraPose>> move;
+  bool keep_fov = false;  // a move that left the fov as it found it leaves another's change
+  if (auto from = r.find("from")) {
+    // A move: `from` is the camera the sender moved, eye, target and up where it went.
+    from->check_keys({"eye", "target", "up", "fov_deg"});
+    for (const char* key : {"eye", "target", "up"})
+      if (!r.has(key)) r.fail(fmt::format("a move (\"from\") needs \"{}\"", key));
+    const Camera a = scene_json::parse_camera(*from);
+    const Camera b = scene_json::parse_camera(JsonReader(
+        {{"eye", message["eye"]}, {"target", message["target"]}, {"up", message["up"]}},
+        "camera"));
+    const Camera& now = state.scene().camera;
+    // Moved from the camera the session has: the sent camera as it is, without rounding.
+    if (a.eye != now.eye || a.target != now.target || a.up != now.up)
+      move.emplace(pose_of(a.eye, a.target, a.up), pose_of(b.eye, b.target, b.up));
+    keep_fov = from->has("fov_deg") && message.contains("fov_deg") &&
+               from->json()["fov_deg"] == message["fov_deg"];
+  }
   const Camera before = state.scene().camera;
   state.document.edit([&](Json& document) {
     Json& camera = document["camera"];  // load_viewer_state wrote one out
-    for (const char* key : {"eye", "target", "up", "fov_deg"})
-      if (message.contains(key)) camera[key] = message[key];
+    if (move)
+      compose_move(camera, move->first, move->second);
+    else
+      for (const char* key : {"eye", "target", "up"})
+        if (message.contains(key)) camera[key] = message[key];
+    if (message.contains("fov_deg") && !keep_fov) camera["fov_deg"] = message["fov_deg"];
   });
   return !same_camera(before, state.scene().camera);
 }

@@ -26,6 +26,7 @@ Needs only Debian's python3-websocket and chromium besides the standard library.
 
 import argparse
 import base64
+import copy
 import glob
 import http.client
 import json
@@ -208,6 +209,9 @@ class Watcher:
         except Exception as e:  # noqa: BLE001 - reported by the check that reads it
             if not self.stop_flag.is_set():
                 self.error = f'{type(e).__name__}: {e}'
+
+    def send(self, message):
+        self.ws.send(json.dumps(message))
 
     def of_type(self, kind, since=0.0):
         with self.lock:
@@ -507,6 +511,32 @@ def run_test(args, out, checks, cleanup):
                  all(f['format'] == 'jpeg' for f in during if not f['final']) and
                  browser.evaluate('viewerStats.lastFrame.format') == 'png',
                  f"{sum(f['format'] == 'jpeg' for f in during)} jpeg of {len(during)}")
+
+    # c2. a second window that has not seen the orbit zooms from the camera it last saw: the
+    # server adds its move to the orbit, and the page takes the result once it is idle
+    stale = copy.deepcopy(cam0)
+    zoomed = copy.deepcopy(cam0)
+    zoomed['eye'] = [t + (e - t) * 0.8 for e, t in zip(cam0['eye'], cam0['target'])]
+    watcher.send(dict(zoomed, type='camera', seq=1, moving=False, **{'from': stale}))
+    deadline = time.monotonic() + 10
+    cam2 = cam1
+    while time.monotonic() < deadline:
+        browser.pump_events(0.1)
+        cam2 = browser.evaluate('viewer.camera()')
+        if abs(math.dist(cam2['eye'], cam2['target']) -
+               0.8 * math.dist(cam1['eye'], cam1['target'])) < 1e-3:
+            break
+
+    def direction(c):
+        d = [e - t for e, t in zip(c['eye'], c['target'])]
+        n = math.sqrt(sum(x * x for x in d))
+        return [x / n for x in d]
+    turn_kept = math.dist(direction(cam2), direction(cam1))
+    zoom_kept = math.dist(cam2['eye'], cam2['target']) / math.dist(cam1['eye'], cam1['target'])
+    checks.check("c2. a stale window's move adds to this window's orbit (neither is lost)",
+                 turn_kept < 1e-6 and abs(zoom_kept - 0.8) < 1e-6,
+                 f'direction off by {turn_kept:.2g}, distance x{zoom_kept:.4f} (want 0.8)')
+    wait_converged(browser, 20, 'after the second window\'s move')
 
     # d. transfer-function edit
     tfs = {o['name']: browser.evaluate(f"viewer.tfPoints({json.dumps(o['name'])})")

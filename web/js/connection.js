@@ -8,6 +8,7 @@ import {copyCamera} from './vec.js';
 let ws = null;
 let open = false;
 let connEl = null;
+let resync = null;  // handlers.resync: applies the latest state once the page is idle
 
 // Sends one message now; false when the socket is not open.
 export function send(obj) {
@@ -50,12 +51,22 @@ function acknowledge(seq) {
     clearTimeout(S.inFlight.timer);
     S.inFlight = null;
     pump();
+    // All of this page's input answered: take what the others did meanwhile.
+    if (!S.inFlight && resync) resync();
   }
 }
 
-// Queues the page's camera (S.camera).
-export function cameraInput(moving) {
-  queueInput('camera', Object.assign({type: 'camera'}, copyCamera(S.camera)), moving);
+// Queues the page's camera move: from the camera the page last sent (or took from the server)
+// to S.camera. The server applies the move to the camera it has, so a move made while another
+// window moved the camera adds to that window's move instead of undoing it (docs/viewer.md).
+// `set`: the camera as it is, not a move (reset view, snap to a standard view).
+export function cameraInput(moving, set = false) {
+  const p = S.pending.get('camera');
+  const fields = Object.assign({type: 'camera'}, copyCamera(S.camera));
+  if (!set) fields.from = p && p.msg.from ? p.msg.from : copyCamera(S.cameraSent || S.camera);
+  else if (p) delete p.msg.from;
+  S.cameraSent = copyCamera(S.camera);
+  queueInput('camera', fields, moving);
 }
 
 // Queues an edit of one object; edits of different objects are separate messages.
@@ -89,6 +100,7 @@ export function setConnection(text, cls) {
 // Opens the WebSocket; el shows its state. handlers: hello(m), state(m), saved(m),
 // frame(meta, blob, id) for a frame to draw (id grows with each), screenshot(blob).
 export function connect(el, handlers) {
+  resync = handlers.resync || null;
   connEl = el;
   const proto = location.protocol === 'https:' ? 'wss:' : 'ws:';
   // Without a token in the address (a reload) the upgrade carries the session's cookie.

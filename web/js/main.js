@@ -60,14 +60,17 @@ function start() {
   setupInput(canvas);
   // A panel control being dragged is not rebuilt under the pointer by another client's state.
   document.getElementById('panel').addEventListener('pointerdown', () => { S.panelBusy = true; });
-  window.addEventListener('pointerup', () => { S.panelBusy = false; }, true);
+  window.addEventListener('pointerup', () => {
+    S.panelBusy = false;
+    setTimeout(() => onState(null), 0);  // after the drag ends: a state kept meanwhile
+  }, true);
   window.addEventListener('resize', () => {
     layoutCanvas();
     redrawEditors();
   });
   layoutCanvas();
   connect(connEl, {hello: onHello, state: onState, saved: onSaved, frame: drawFrame,
-                   screenshot: onScreenshot});
+                   screenshot: onScreenshot, resync: () => onState(null)});
 }
 
 if (document.readyState === 'loading') document.addEventListener('DOMContentLoaded', start);

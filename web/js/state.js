@@ -30,6 +30,8 @@ export const S = {
   inFlight: null,       // {seq, moving, timer}
   pending: new Map(),   // key -> {msg, t0}
   sentT0: new Map(),    // seq -> time of the oldest input event merged into that message
+  cameraSent: null,     // the camera as this page last sent it: the `from` of its next move
+  latestState: null,    // a state that came while the page was busy, taken once it is idle
   // frames
   expect: null,         // what the next binary message is: {kind: 'frame'|'screenshot', ...}
   frameId: 0,
@@ -82,6 +84,7 @@ export function takeHello(m) {
   S.spp = m.spp;
   S.image = m.image;
   S.camera = copyCamera(m.camera);
+  S.cameraSent = copyCamera(m.camera);
   S.initialCamera = copyCamera(m.initial_camera || m.camera);
   S.histograms = m.histograms || {};
   S.tfPresets = m.tf_presets || {};
@@ -93,11 +96,19 @@ export function takeHello(m) {
 }
 
 // Takes another client's edits (or ours, echoed) from a `state`, only while this page has no
-// input of its own. True when something changed (the toolbar and panel then need a rebuild).
+// input of its own; a state that comes meanwhile is kept, and taken once the page's input is
+// all answered (connection.js calls resync). True when something changed (the toolbar and panel
+// then need a rebuild).
 export function takeState(m) {
-  if (S.inFlight || S.pending.size || S.drag || S.pointers.size || S.panelBusy) return false;
+  if (m) S.latestState = m;
+  m = S.latestState;
+  if (!m || S.inFlight || S.pending.size || S.drag || S.pointers.size || S.panelBusy) return false;
+  S.latestState = null;
   const before = JSON.stringify([S.camera, S.method, S.spp, S.objects]);
-  if (m.camera) S.camera = copyCamera(m.camera);
+  if (m.camera) {
+    S.camera = copyCamera(m.camera);
+    S.cameraSent = copyCamera(m.camera);
+  }
   if (m.method) S.method = m.method;
   if (m.spp) S.spp = m.spp;
   for (const o of m.objects || []) {

@@ -31,7 +31,7 @@ export function setupToolbar() {
   document.getElementById('reset-view').addEventListener('click', () => {
     if (!S.initialCamera) return;
     S.camera = copyCamera(S.initialCamera);
-    cameraInput(false);
+    cameraInput(false, true);
   });
   const wl = document.getElementById('wl-mode');
   wl.addEventListener('click', () => {
