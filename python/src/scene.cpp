@@ -6,12 +6,15 @@
 #include <system_error>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <pybind11/stl.h>
 
 #include "arguments.hpp"
 #include "intermix/error.hpp"
 #include "render.hpp"
+#include "scene/camera_framing.hpp"
 #include "scene/overrides.hpp"
+#include "scene/scene_from_files.hpp"
 
 namespace imx::python {
 namespace {
@@ -38,6 +41,24 @@ std::shared_ptr<PyScene> from_file(const PathParameter& path) {
   if (base_dir.empty()) base_dir = ".";
   return std::make_shared<PyScene>(scene_json::parse_scene_json(text, file.string()),
                                    GivenSources{}, file.string(), base_dir, file);
+}
+
+std::shared_ptr<PyScene> from_files(const py::handle& paths, const TextParameter& view_argument) {
+  const Argument argument{"Scene.from_files", "paths"};
+  std::vector<std::filesystem::path> files;
+  if (is_path_like(paths)) {
+    files.push_back(python::path(paths, argument));
+  } else if (py::isinstance<py::sequence>(paths) && !py::isinstance<py::str>(paths)) {
+    for (const py::handle& p : py::reinterpret_borrow<py::sequence>(paths))
+      files.push_back(python::path(p, argument));
+  } else {
+    throw_wrong_type(argument, "a path or a list of paths", paths);
+  }
+  const std::string view = text(view_argument, {"Scene.from_files", "view"});
+  if (!find_patient_view(view))
+    throw py::value_error(fmt::format("Scene.from_files: view '{}' is not one of {}", view,
+                                      fmt::join(patient_view_names(), ", ")));
+  return std::make_shared<PyScene>(scene_from_files(files, view));
 }
 
 std::shared_ptr<PyScene> from_dict(const SceneDictParameter& dict,
@@ -117,6 +138,11 @@ PyScene::PyScene(nlohmann::json document, GivenSources sources, std::string orig
   keep_notes();
 }
 
+PyScene::PyScene(SceneDocument document)
+    : origin_(document.origin()), document_(std::move(document)) {
+  keep_notes();
+}
+
 // With the GIL held: another thread may not change this scene meanwhile.
 void PyScene::rebuild(nlohmann::json document, GivenSources sources) {
   document_.edit([&](nlohmann::json& json) { json = document; }, given_data(sources));
@@ -172,6 +198,8 @@ phantoms and primitives, or numpy (intermix.Volume, intermix.Mesh).
 
   Scene()                        an empty scene: {"objects": []}
   Scene.from_file(path)          a scene file; relative paths resolve against its folder
+  Scene.from_files(paths, view="anterior")
+                                 a scene built from volume, DICOM and mesh files alone
   Scene.from_dict(d, base_dir=None)
                                  the same schema as a dict; relative paths resolve against
                                  base_dir (default: the current folder). A volume's or mesh's
@@ -197,6 +225,20 @@ was. Sources are read once per scene and shared by its changes.
           R"doc(Loads a JSON scene file, with the same checks and messages as `intermix render`.
 Raises OSError when the file (or a file it names) cannot be read, ValueError for what is wrong
 in it.
+)doc")
+      .def_static(
+          "from_files",
+          [](const py::object& paths, const TextParameter& view) {
+            return from_files(paths, view);
+          },
+          py::arg("paths"), py::arg("view") = "anterior",
+          R"doc(A scene built from data files alone, as `intermix render FILE...` builds it: each volume file
+(NIfTI, NRRD, MetaImage, MGH, Analyze) or DICOM folder a volume with the transfer function of
+what it is (CT preset, PET hot ramp, signed map, mask, else a grey ramp over the robust range),
+each mesh file (PLY, STL, OBJ, GIfTI, ...) a mesh in a palette colour, and a camera framing them
+all from `view` (anterior, posterior, left, right, superior, inferior). `paths` is one path or a
+list. scene.to_dict() is the scene file it built, every choice written out; scene.notes says
+what was chosen.
 )doc")
       .def_static(
           "from_dict", &from_dict, py::arg("scene"), py::arg("base_dir") = py::none(),

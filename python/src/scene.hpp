@@ -22,6 +22,8 @@ class PyScene {
   // against `base_dir`.
   PyScene(nlohmann::json document, GivenSources sources, std::string origin,
           std::filesystem::path base_dir, std::filesystem::path file = {});
+  // A document already parsed (a scene built from files), with no Python sources.
+  explicit PyScene(SceneDocument document);
 
   const Scene& scene() const { return document_.scene(); }
   const nlohmann::json& document() const { return document_.json(); }

@@ -132,3 +132,37 @@ def test_repr_png_and_help():
     assert "from_file" in intermix.Scene.__doc__
     assert "GIL" in intermix.Scene.render.__doc__
     assert "<intermix.Scene scene dict: ct (volume)" in repr(scene)
+
+
+def test_from_files_builds_what_render_builds(cli, tmp_path):
+    """Scene.from_files is `intermix render FILE...`: the same document, the same image."""
+    volume = tmp_path / "head.nrrd"
+    subprocess.run([cli, "phantom", "ct-head", "--size", "40", "-o", str(volume)], check=True)
+    saved = tmp_path / "built.json"
+    png = tmp_path / "cli.png"
+    subprocess.run([cli, "--quiet", "render", str(volume), "-o", str(png), "--width", "48",
+                    "--height", "48", "--save-scene", str(saved)], check=True)
+    scene = intermix.Scene.from_files([volume])
+    built = json.loads(saved.read_text())
+    doc = scene.to_dict()
+    assert doc["objects"] == built["objects"]
+    assert doc["camera"] == intermix.Scene.from_files(volume).to_dict()["camera"]
+    assert any("no transfer_function" in n for n in scene.notes)
+    scene.set("image.width", 48)
+    scene.set("image.height", 48)
+    intermix.write_png(scene.render(), tmp_path / "py.png")
+    assert (tmp_path / "py.png").read_bytes() == png.read_bytes()
+    left = intermix.Scene.from_files(volume, view="left").to_dict()["camera"]
+    assert left["eye"] != doc["camera"]["eye"]
+
+
+def test_from_files_errors_name_the_argument_or_file(tmp_path):
+    with pytest.raises(TypeError, match="Scene.from_files: paths must be a path or a list"):
+        intermix.Scene.from_files(3)
+    with pytest.raises(OSError, match="nope.nii: no such file"):
+        intermix.Scene.from_files(tmp_path / "nope.nii")
+    with pytest.raises(ValueError, match="view 'up' is not one of anterior"):
+        intermix.Scene.from_files(tmp_path, view="up")
+    (tmp_path / "notes.txt").write_text("x")
+    with pytest.raises(ValueError, match="notes.txt: not a file intermix reads"):
+        intermix.Scene.from_files([tmp_path / "notes.txt"])
