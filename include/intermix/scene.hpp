@@ -98,6 +98,7 @@ struct VolumeObject {
   std::vector<ClipPlane> clip_planes;
   std::vector<ClipMesh> clip_meshes;         // a sample shows only where every one of them keeps it
   std::optional<glm::dvec2> display_window;  // the source's own centre and width (DICOM tags)
+  std::string units;  // of the values, as the source says ("HU", "BQML", "g/ml"); "" if unknown
   // Where `data` lies in its source: all of it, unless the scene was loaded by region
   // (SceneLoadOptions::region), when data holds only `region` of a grid of `source_dims`.
   glm::ivec3 source_dims{0};

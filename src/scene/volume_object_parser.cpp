@@ -249,6 +249,7 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   SourceFacts facts;
   v.data = load_volume_source(r.get("source"), context, facts, v.name, v);
   v.display_window = facts.window;
+  v.units = facts.units;
   if (automatic) {
     // Chosen from the voxels, and parsed as the file would spell it (automatic_look.hpp).
     const AutomaticLook look = automatic_look(*v.data, facts.modality, facts.units);

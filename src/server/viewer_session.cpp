@@ -266,8 +266,8 @@ void ViewerSession::handle(const std::shared_ptr<ClientSink>& client, const Json
   if (!message.is_object())
     throw Error(fmt::format("message: expected a JSON object, got {}", message.type_name()));
   const JsonReader r(message, "message");
-  const std::string type =
-      r.get("type").choice({"camera", "edit", "settings", "save", "screenshot", "stats"});
+  const std::string type = r.get("type").choice(
+      {"camera", "edit", "settings", "save", "screenshot", "stats", "slice", "probe"});
   // seq and moving are checked before anything changes, so a refused message changes nothing.
   if (auto v = r.find("seq")) v->number(Range::closed(0.0, 9e15));
   if (auto v = r.find("moving")) v->boolean();
@@ -276,6 +276,21 @@ void ViewerSession::handle(const std::shared_ptr<ClientSink>& client, const Json
     std::lock_guard lock(mutex_);
     apply_edit(state_, message);
     input_applied(client.get(), message);
+  } else if (type == "slice") {
+    // Rendered here, on the network thread: a 2-D view takes milliseconds, not a frame's time.
+    SliceAnswer answer;
+    {
+      std::lock_guard lock(mutex_);
+      answer = answer_slice(state_, reading_windows_, message);
+    }
+    client->send_frame(std::move(answer.text), std::move(answer.png), false);
+  } else if (type == "probe") {
+    Json answer;
+    {
+      std::lock_guard lock(mutex_);
+      answer = answer_probe(state_, message);
+    }
+    client->send_text(text_of(answer));
   } else if (type == "settings") {
     r.check_keys({"type", "seq", "moving", "method", "spp"});
     std::lock_guard lock(mutex_);

@@ -18,6 +18,7 @@
 
 #include "intermix/renderer.hpp"
 #include "server/accumulator.hpp"
+#include "server/reading_views.hpp"
 #include "server/resolution_control.hpp"
 #include "server/viewer_state.hpp"
 
@@ -122,6 +123,7 @@ class ViewerSession {
   std::string last_good_method_;
   int spp_ = 1;
   nlohmann::json histograms_, tf_presets_;  // sent in every hello
+  ReadingWindows reading_windows_;          // the 2-D views' windows, per voxel array
   std::vector<Client> clients_;
   uint64_t version_ = 1;  // grows with every change of what the image shows
   uint64_t rendered_version_ = 0;

@@ -84,6 +84,7 @@ TEST(StageFields, EveryHashedVolumeFieldMovesTheKeyAndNoOtherDoes) {
   expect_moves(volume_hash,
                {{"name", [&](Scene& s) { v(s).name = "other"; }},
                 {"display_window", [&](Scene& s) { v(s).display_window = glm::dvec2(40, 400); }},
+                {"units", [&](Scene& s) { v(s).units = "HU"; }},
                 {"source_dims", [&](Scene& s) { v(s).source_dims = glm::ivec3(4); }},
                 {"frame", [&](Scene& s) { v(s).frame = 2; }},
                 {"frames", [&](Scene& s) { v(s).frames = 3; }}},

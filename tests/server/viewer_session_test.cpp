@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "core/math.hpp"
 #include "intermix/io.hpp"
 #include "intermix/metrics.hpp"
 #include "intermix/render.hpp"
@@ -333,6 +334,58 @@ TEST(ViewerSession, AMethodThatRefusesTheSceneFallsBack) {
   EXPECT_EQ(state["method"], "csg");
   EXPECT_EQ(client->wait_final().json["format"], "png");
   EXPECT_EQ(session.method(), "csg");
+}
+
+}  // namespace
+}  // namespace imx::server
+
+namespace imx::server {
+namespace {
+
+// The reading views' messages: a slice is an image of the asked size through the asked point,
+// with the volumes' values where the slice view says; a probe reads each volume's voxel there.
+TEST(ViewerSession, SlicesAndProbesAnswerTheReadingViews) {
+  TempDir dir;
+  ViewerSession session(load_viewer_state(small_fusion(dir)), quiet_options(1));
+  auto client = std::make_shared<Recorder>();
+  session.add_client(client);
+  client->wait_type("hello");
+  const Scene scene = load_scene(small_fusion(dir));
+  const VolumeObject& ct = scene.volumes[0];
+  const glm::ivec3 voxel = ct.data->dims / 2;
+  const glm::dvec3 point = transform_point(ct.index_to_world, glm::dvec3(voxel));
+  session.on_message(client,
+                     Json{{"type", "probe"}, {"point", {point.x, point.y, point.z}}}.dump());
+  const Json probe = client->wait_type("probe").json;
+  ASSERT_EQ(probe["values"].size(), scene.volumes.size());
+  EXPECT_EQ(probe["values"][0]["name"], ct.name);
+  EXPECT_EQ(probe["values"][0]["index"], Json::array({voxel.x, voxel.y, voxel.z}));
+  EXPECT_EQ(probe["values"][0]["value"].get<double>(),
+            ct.data->value_at(voxel.x, voxel.y, voxel.z));
+
+  session.on_message(client, Json{{"type", "slice"},
+                                  {"seq", 4},
+                                  {"view", "coronal"},
+                                  {"point", {point.x, point.y, point.z}},
+                                  {"width", 40},
+                                  {"height", 30},
+                                  {"mm_per_pixel", 2.0}}
+                                 .dump());
+  const auto slice = client->wait_type("slice");
+  EXPECT_EQ(slice.json["view"], "coronal");
+  EXPECT_EQ(slice.json["seq"], 4);
+  const Image image = decode(slice.image, dir);
+  EXPECT_EQ(image.width(), 40);
+  EXPECT_EQ(image.height(), 30);
+  double lit = 0.0;
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) lit += image.at(x, y).r;
+  EXPECT_GT(lit, 0.0) << "the slice through the CT's centre is black";
+  // A bad slice gets one error naming the field.
+  session.on_message(client, R"({"type": "slice", "view": "oblique", "point": [0, 0, 0],
+                                  "width": 8, "height": 8, "mm_per_pixel": 1})");
+  EXPECT_NE(client->wait_type("error").json["message"].get<std::string>().find("slice: view"),
+            std::string::npos);
 }
 
 }  // namespace

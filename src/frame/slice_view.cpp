@@ -1,0 +1,164 @@
+#include "frame/slice_view.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+
+#include "core/math.hpp"
+#include "intermix/error.hpp"
+#include "raster/shade_fragment.hpp"
+#include "volume/prepared_volume.hpp"
+#include "volume/value_sample.hpp"
+
+namespace imx {
+namespace {
+
+constexpr int kMaxSliceSide = 4096;
+constexpr float kMaxOverlayWeight = 0.7f;
+
+// One volume as a view samples it: its grid in index space, and how its value becomes colour.
+struct SliceLayer {
+  const PreparedVolume* volume;
+  bool base;            // grey through the window, else the TF's colour over what is below
+  float centre, width;  // the window
+  float alpha_scale;    // 1 / the TF's largest alpha
+};
+
+// The colour of one pixel: pure, no allocation.
+glm::vec4 slice_pixel(const std::vector<SliceLayer>& layers, const glm::vec3& world) {
+  glm::vec3 rgb(0.0f);
+  float covered = 0.0f;
+  for (const SliceLayer& l : layers) {
+    const glm::vec3 p = l.volume->to_index(world);
+    const glm::ivec3 dims = l.volume->object->data->dims;
+    if (!(p.x >= -0.5f && p.y >= -0.5f && p.z >= -0.5f && p.x <= dims.x - 0.5f &&
+          p.y <= dims.y - 0.5f && p.z <= dims.z - 0.5f))
+      continue;
+    const glm::vec3 inside = glm::clamp(p, glm::vec3(0.0f), glm::vec3(dims - 1));
+    const float value = l.volume->grid.sample(inside);
+    if (!std::isfinite(value)) continue;
+    if (l.base) {
+      rgb = glm::vec3(window_level(value, l.centre, l.width));
+      covered = 1.0f;
+    } else {
+      const glm::vec4 c = l.volume->lut.lookup(value);
+      const float w = std::min(kMaxOverlayWeight, c.a * l.alpha_scale * kMaxOverlayWeight);
+      rgb = rgb * (1.0f - w) + glm::vec3(c) * w;
+      covered = std::max(covered, w);
+    }
+  }
+  return {rgb, covered > 0.0f ? 1.0f : 0.0f};
+}
+
+}  // namespace
+
+std::optional<SliceAxis> find_slice_axis(std::string_view name) {
+  if (name == "axial") return SliceAxis::axial;
+  if (name == "coronal") return SliceAxis::coronal;
+  if (name == "sagittal") return SliceAxis::sagittal;
+  return std::nullopt;
+}
+
+const char* slice_axis_name(SliceAxis axis) {
+  return axis == SliceAxis::axial ? "axial" : axis == SliceAxis::coronal ? "coronal" : "sagittal";
+}
+
+glm::dvec2 SliceView::pixel(const glm::dvec3& p) const {
+  const glm::dvec3 d = p - origin;
+  return {glm::dot(d, right) / glm::dot(right, right), glm::dot(d, down) / glm::dot(down, down)};
+}
+
+SliceView slice_view(SliceAxis axis, const glm::dvec3& point, int width, int height,
+                     double mm_per_pixel) {
+  SliceView v;
+  v.axis = axis;
+  v.width = width;
+  v.height = height;
+  // LPS: +x patient left, +y posterior, +z superior.
+  glm::dvec3 right, down;
+  if (axis == SliceAxis::axial) {
+    right = {1, 0, 0}, down = {0, 1, 0}, v.normal = {0, 0, 1};
+  } else if (axis == SliceAxis::coronal) {
+    right = {1, 0, 0}, down = {0, 0, -1}, v.normal = {0, 1, 0};
+  } else {
+    right = {0, 1, 0}, down = {0, 0, -1}, v.normal = {1, 0, 0};
+  }
+  v.right = right * mm_per_pixel;
+  v.down = down * mm_per_pixel;
+  v.origin = point - v.right * (0.5 * width) - v.down * (0.5 * height);
+  return v;
+}
+
+glm::dvec2 reading_window(const VolumeObject& volume) {
+  if (volume.display_window && volume.display_window->y > 0.0) return *volume.display_window;
+  constexpr std::array<double, 2> kRobust = {0.02, 0.98};
+  const std::vector<double> q = value_percentiles(*volume.data, kRobust);
+  if (q.size() == 2 && q[1] > q[0]) return {0.5 * (q[0] + q[1]), q[1] - q[0]};
+  const double v = q.empty() ? 0.0 : q[0];
+  return {v, 1.0};
+}
+
+Image render_slice(const Scene& scene, const SliceView& view, const std::vector<int>& shown,
+                   const std::vector<glm::dvec2>& windows) {
+  if (view.width < 1 || view.height < 1 || view.width > kMaxSliceSide ||
+      view.height > kMaxSliceSide)
+    throw Error(fmt::format("slice: {} x {} pixels; a view takes 1 to {} a side", view.width,
+                            view.height, kMaxSliceSide));
+  std::vector<PreparedVolume> prepared;
+  prepared.reserve(shown.size());
+  for (int i : shown) prepared.emplace_back(scene.volumes.at(static_cast<size_t>(i)));
+  std::vector<SliceLayer> layers;
+  for (size_t k = 0; k < prepared.size(); ++k) {
+    const glm::dvec2 w = windows.at(static_cast<size_t>(shown[k]));
+    const float top = prepared[k].lut.max_opacity();
+    layers.push_back({&prepared[k], k == 0, static_cast<float>(w.x), static_cast<float>(w.y),
+                      top > 0.0f ? 1.0f / top : 0.0f});
+  }
+  Image image(view.width, view.height);
+  tbb::parallel_for(0, view.height, [&](int y) {
+    for (int x = 0; x < view.width; ++x)
+      image.at(x, y) = slice_pixel(layers, glm::vec3(view.world(x + 0.5, y + 0.5)));
+  });
+  return image;
+}
+
+std::vector<glm::dvec4> mesh_outline(const Mesh& mesh, const SliceView& view, size_t max_segments) {
+  const glm::dvec3 centre = view.world(0.5 * view.width, 0.5 * view.height);
+  const double offset = glm::dot(view.normal, centre);
+  std::vector<glm::dvec4> out;
+  for (const glm::uvec3& t : mesh.triangles) {
+    if (out.size() >= max_segments) break;
+    const glm::dvec3 p[3] = {mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z]};
+    double d[3];
+    for (int k = 0; k < 3; ++k) d[k] = glm::dot(view.normal, p[k]) - offset;
+    glm::dvec3 hits[2];
+    int n = 0;
+    for (int k = 0; k < 3 && n < 2; ++k) {
+      const int j = (k + 1) % 3;
+      // An edge that crosses the plane (a vertex on it counts for the edge leaving it).
+      if ((d[k] < 0.0) != (d[j] < 0.0)) hits[n++] = p[k] + (p[j] - p[k]) * (d[k] / (d[k] - d[j]));
+    }
+    if (n < 2) continue;
+    const glm::dvec2 a = view.pixel(hits[0]), b = view.pixel(hits[1]);
+    const auto off = [&](const glm::dvec2& q) {
+      return q.x < 0 || q.y < 0 || q.x > view.width || q.y > view.height;
+    };
+    if (off(a) && off(b)) continue;
+    out.push_back({a.x, a.y, b.x, b.y});
+  }
+  return out;
+}
+
+std::optional<VoxelValue> voxel_at(const VolumeObject& volume, const glm::dvec3& point) {
+  const glm::dvec3 p = transform_point(glm::inverse(volume.index_to_world), point);
+  const glm::ivec3 i(glm::round(p));
+  const glm::ivec3 dims = volume.data->dims;
+  if (glm::any(glm::lessThan(i, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(i, dims)))
+    return std::nullopt;
+  return VoxelValue{i, volume.data->value_at(i.x, i.y, i.z)};
+}
+
+}  // namespace imx

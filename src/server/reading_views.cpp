@@ -1,0 +1,107 @@
+#include "server/reading_views.hpp"
+
+#include <cmath>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "frame/slice_view.hpp"
+#include "intermix/io.hpp"
+#include "scene/json_reader.hpp"
+
+namespace imx::server {
+namespace {
+
+using Json = nlohmann::json;
+using scene_json::JsonReader;
+using scene_json::Range;
+
+constexpr int kMaxViewSide = 2048;  // a quadrant of a 4K screen at devicePixelRatio 1
+
+Json vec_json(const glm::dvec3& v) {
+  return Json::array({v.x, v.y, v.z});
+}
+
+// The volumes and meshes the session shows (visible), in scene order.
+std::vector<int> shown_volumes(const ViewerState& state) {
+  std::vector<int> shown;
+  const Scene& scene = state.scene();
+  for (size_t k = 0; k < scene.order.size(); ++k)
+    if (scene.order[k].kind == ObjectKind::volume &&
+        (k >= state.visible.size() || state.visible[k]))
+      shown.push_back(scene.order[k].index);
+  return shown;
+}
+
+}  // namespace
+
+glm::dvec2 ReadingWindows::of(const VolumeObject& volume) {
+  const VolumeData* key = volume.data.get();
+  auto it = windows_.find(key);
+  if (it != windows_.end()) return it->second;
+  held_[key] = volume.data;
+  return windows_[key] = reading_window(volume);
+}
+
+SliceAnswer answer_slice(const ViewerState& state, ReadingWindows& windows, const Json& message) {
+  const JsonReader r(message, "slice");
+  r.check_keys({"type", "seq", "view", "point", "width", "height", "mm_per_pixel"});
+  const JsonReader axis_reader = r.get("view");
+  const SliceAxis axis = *find_slice_axis(axis_reader.choice({"axial", "coronal", "sagittal"}));
+  const glm::dvec3 point = r.get("point").vec3(Range::coordinate());
+  const int width = r.get("width").integer(1, kMaxViewSide);
+  const int height = r.get("height").integer(1, kMaxViewSide);
+  const double mm = r.get("mm_per_pixel").number(Range::length());
+  const SliceView view = slice_view(axis, point, width, height, mm);
+  const Scene& scene = state.scene();
+  const std::vector<int> shown = shown_volumes(state);
+  std::vector<glm::dvec2> window_of(scene.volumes.size(), glm::dvec2(0.0, 1.0));
+  for (int i : shown) window_of[static_cast<size_t>(i)] = windows.of(scene.volumes[i]);
+  const Image image = render_slice(scene, view, shown, window_of);
+
+  Json outlines = Json::array();
+  for (size_t k = 0; k < scene.order.size(); ++k) {
+    if (scene.order[k].kind != ObjectKind::mesh || (k < state.visible.size() && !state.visible[k]))
+      continue;
+    const MeshObject& m = scene.meshes[static_cast<size_t>(scene.order[k].index)];
+    Json segments = Json::array();
+    for (const glm::dvec4& s : mesh_outline(*m.mesh, view))
+      segments.push_back(Json::array({std::round(s.x * 100) / 100, std::round(s.y * 100) / 100,
+                                      std::round(s.z * 100) / 100, std::round(s.w * 100) / 100}));
+    if (segments.empty()) continue;
+    const glm::vec3 c = m.material.color;
+    outlines.push_back({{"name", m.name},
+                        {"color", Json::array({c.r, c.g, c.b})},
+                        {"segments", std::move(segments)}});
+  }
+  Json text = {{"type", "slice"},
+               {"view", slice_axis_name(axis)},
+               {"point", vec_json(point)},
+               {"mm_per_pixel", mm},
+               {"width", width},
+               {"height", height},
+               {"outlines", std::move(outlines)}};
+  if (message.contains("seq")) text["seq"] = message["seq"];
+  // Display values already: no sRGB encoding on top.
+  return {text.dump(), encode_png(image, "slice", true, 1)};
+}
+
+Json answer_probe(const ViewerState& state, const Json& message) {
+  const JsonReader r(message, "probe");
+  r.check_keys({"type", "seq", "point"});
+  const glm::dvec3 point = r.get("point").vec3(Range::coordinate());
+  Json values = Json::array();
+  for (const VolumeObject& v : state.scene().volumes) {
+    Json entry = {{"name", v.name}, {"units", v.units}, {"value", nullptr}};
+    if (const std::optional<VoxelValue> at = voxel_at(v, point)) {
+      entry["index"] = Json::array({at->index.x, at->index.y, at->index.z});
+      if (std::isfinite(at->value)) entry["value"] = at->value;
+    }
+    values.push_back(std::move(entry));
+  }
+  Json out = {{"type", "probe"}, {"point", vec_json(point)}, {"values", std::move(values)}};
+  if (message.contains("seq")) out["seq"] = message["seq"];
+  return out;
+}
+
+}  // namespace imx::server

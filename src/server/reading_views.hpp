@@ -1,0 +1,39 @@
+// The viewer's 2-D reading views (docs/viewer.md, "Reading views"): the answers to `slice`
+// (one axial, coronal or sagittal image of every shown volume through a point, with the shown
+// meshes' outlines) and `probe` (each volume's value at a point, in its units) messages.
+#pragma once
+#include <map>
+#include <string>
+
+#include <glm/vec2.hpp>
+#include <nlohmann/json.hpp>
+
+#include "server/viewer_state.hpp"
+
+namespace imx::server {
+
+// Each volume's reading window (frame/slice_view.hpp), worked out once per voxel array.
+class ReadingWindows {
+ public:
+  glm::dvec2 of(const VolumeObject& volume);
+
+ private:
+  std::map<const VolumeData*, glm::dvec2> windows_;
+  std::map<const VolumeData*, std::shared_ptr<const VolumeData>> held_;  // keeps the keys valid
+};
+
+struct SliceAnswer {
+  std::string text;  // {"type": "slice", "view", "seq", "point", "mm_per_pixel", "outlines"}
+  std::string png;   // the image
+};
+
+// A `slice` message: {"view": "axial"|"coronal"|"sagittal", "point": [3], "width", "height",
+// "mm_per_pixel", "seq"}. Throws imx::Error naming the field at fault.
+SliceAnswer answer_slice(const ViewerState& state, ReadingWindows& windows,
+                         const nlohmann::json& message);
+
+// A `probe` message: {"point": [3]} -> {"type": "probe", "point", "values": [{"name", "value"
+// (null outside the grid), "units", "index" [i, j, k]}, ...]} for every volume.
+nlohmann::json answer_probe(const ViewerState& state, const nlohmann::json& message);
+
+}  // namespace imx::server
