@@ -429,6 +429,21 @@ nlohmann::json describe_state(const ViewerState& state) {
       for (const ClipPlane& c : v.clip_planes)
         planes.push_back({{"point", vec_json(c.point)}, {"normal", vec_json(c.normal)}});
       o["clip_planes"] = std::move(planes);
+      // For the reading views: the grid's world box (voxel centres), the voxel pitch along each
+      // world axis (a slice step), and the values' units.
+      glm::dvec3 lo(1e300), hi(-1e300);
+      for (int c = 0; c < 8; ++c) {
+        const glm::dvec3 corner((c & 1) ? v.data->dims.x - 1 : 0, (c & 2) ? v.data->dims.y - 1 : 0,
+                                (c & 4) ? v.data->dims.z - 1 : 0);
+        const glm::dvec3 w = glm::dvec3(v.index_to_world * glm::dvec4(corner, 1.0));
+        lo = glm::min(lo, w);
+        hi = glm::max(hi, w);
+      }
+      const glm::dmat3 to_index = glm::inverse(glm::dmat3(v.index_to_world));
+      o["bounds"] = Json::array({vec_json(lo), vec_json(hi)});
+      o["pitch"] = vec_json({1.0 / glm::length(to_index[0]), 1.0 / glm::length(to_index[1]),
+                             1.0 / glm::length(to_index[2])});
+      o["units"] = v.units;
       if (v.frames > 1) {
         o["frame"] = v.frame;
         o["frames"] = v.frames;

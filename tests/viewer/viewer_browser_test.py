@@ -538,6 +538,10 @@ def run_test(args, out, checks, cleanup):
                  f'direction off by {turn_kept:.2g}, distance x{zoom_kept:.4f} (want 0.8)')
     wait_converged(browser, 20, 'after the second window\'s move')
 
+    # m. the reading views: 2x2 layout, a click in the axial view moves the other crosshairs,
+    # the readout reads the voxel there, the wheel steps one slice
+    run_reading_views(args, checks, browser)
+
     # d. transfer-function edit
     tfs = {o['name']: browser.evaluate(f"viewer.tfPoints({json.dumps(o['name'])})")
            for o in objects if o['kind'] == 'volume'}
@@ -708,6 +712,55 @@ def run_test(args, out, checks, cleanup):
     else:
         log(f'l. skipped: no {ASL_SERIES}')
     browser.close()
+
+
+def run_reading_views(args, checks, browser):
+    browser.evaluate("viewer.setLayout('2x2')")
+    browser.wait_for('viewer.slicesDrawn() >= 3 && viewer.readout() !== null', timeout=15,
+                     what='the three 2-D views and the readout')
+    drawn = browser.evaluate('viewer.slicesDrawn()')
+    r = browser.evaluate("viewer.center('.slice-cell[data-axis=axial] .slice')")
+    browser.click(r['x'] - 0.2 * r['w'], r['y'] - 0.15 * r['h'])
+    browser.wait_for(f'viewer.slicesDrawn() >= {drawn + 2} && viewer.readout() && '
+                     'JSON.stringify(viewer.readout().point) === '
+                     'JSON.stringify(viewer.slicePoint()) && '
+                     'Object.keys(viewer.crosshairs()).length === 3', timeout=15,
+                     what='the coronal and sagittal views and the readout after the click')
+    point = browser.evaluate('viewer.slicePoint()')
+    marks = browser.evaluate('viewer.crosshairs()')
+    readout = browser.evaluate('viewer.readout()')
+    ct = readout['values'][0]
+    # The CT as Python reads it (the same phantom the scene names): its voxel pitch and the
+    # voxel holding the point.
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(args.intermix)), 'python'))
+    import intermix  # noqa: E402 - the build's own module
+    import numpy as np  # noqa: E402
+    volume = intermix.phantom('ct-head', 256)
+    affine = np.array(volume.lps_affine)
+    pitch = [affine[a][a] for a in range(3)]
+    gaps = {axis: max(abs(m[a] - point[a]) / pitch[a] for a in range(3))
+            for axis, m in marks.items()}
+    checks.check('m. a click in the axial view moves the coronal and sagittal crosshairs to the '
+                 'same point (within half a voxel)',
+                 set(marks) == {'axial', 'coronal', 'sagittal'} and
+                 max(gaps.values()) <= 0.5,
+                 ', '.join(f'{a} {g:.3f} voxel' for a, g in gaps.items()),
+                 f'point {[round(x, 2) for x in point]}')
+    index = np.rint(np.linalg.solve(affine, np.array(point + [1.0]))[:3]).astype(int).tolist()
+    want = float(volume.array[index[2], index[1], index[0]])
+    checks.check("m. the readout's CT value is the voxel's value there",
+                 ct.get('index') == index and ct.get('value') == want,
+                 f"{ct.get('value')} {ct.get('units')} at {ct.get('index')}",
+                 f'Python reads {want} at {index}')
+    z0 = point[2]
+    browser.evaluate("document.querySelector('.slice-cell[data-axis=axial] .slice')"
+                     ".dispatchEvent(new WheelEvent('wheel', {deltaY: -100, bubbles: true, "
+                     "cancelable: true}))")
+    browser.wait_for(f'viewer.slicePoint()[2] !== {z0}', timeout=5, what='a slice step')
+    z1 = browser.evaluate('viewer.slicePoint()')[2]
+    checks.check('m. a wheel step in the axial view moves one slice', abs(z1 - z0 - pitch[2]) < 1e-9,
+                 f'{z1 - z0:.4f} mm (the slice pitch is {pitch[2]} mm)')
+    browser.evaluate("viewer.setLayout('1x1')")
 
 
 # ---------------------------------------------------------------- test mode: MPR planes and clips

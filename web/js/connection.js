@@ -145,12 +145,15 @@ function onText(m, handlers) {
       break;
     }
     case 'screenshot': S.expect = {kind: 'screenshot', meta: m}; break;
+    case 'slice': S.expect = {kind: 'slice', meta: m}; break;
+    case 'probe': if (handlers.probe) handlers.probe(m); break;
     case 'saved': handlers.saved(m); break;
     case 'error': {
       stats.errors.push(m.message);
       showMessage('server: ' + m.message);
       // The state is unchanged and the message that failed gets no frame.
       if (S.inFlight) acknowledge(S.inFlight.seq);
+      if (handlers.error) handlers.error(m);
       break;
     }
     default: break;
@@ -161,6 +164,10 @@ function onBinary(blob, handlers) {
   const e = S.expect;
   S.expect = null;
   if (!e) return;
+  if (e.kind === 'slice') {
+    if (handlers.slice) handlers.slice(e.meta, blob);
+    return;
+  }
   if (e.kind === 'frame') {
     if (!e.drop) handlers.frame(e.meta, blob, e.id);
   } else if (e.kind === 'screenshot') {

@@ -7,6 +7,8 @@ import {buildPanel, redrawEditors, tfEditor} from './panel.js';
 import {S, takeHello, takeState} from './state.js';
 import {bindStatus, finishRecording, startRecording, stats, updateStatus} from './stats.js';
 import {buildSelectors, onSaved, onScreenshot, setupToolbar} from './toolbar.js';
+import {crosshairs, onProbe, onSlice, onSliceError, refreshSlices, setLayout,
+        setupSlices} from './slices.js';
 import {copyCamera} from './vec.js';
 import {drawFrame, initView, layoutCanvas, resetView} from './view.js';
 
@@ -35,6 +37,12 @@ window.viewer = {
   // PSNR (8-bit RGB) of each recorded frame against the last one, and when it was drawn.
   finishRecording,
   now() { return performance.now(); },
+  // the reading views: layout, crosshair point, each view's crosshair as drawn, the readout
+  setLayout,
+  slicePoint() { return S.point ? S.point.slice() : null; },
+  crosshairs,
+  readout() { return S.readout || null; },
+  slicesDrawn() { return S.slicesDrawn || 0; },
 };
 
 function onHello(m) {
@@ -43,12 +51,14 @@ function onHello(m) {
   buildSelectors();
   buildPanel();
   updateStatus();
+  refreshSlices();
 }
 
 function onState(m) {
   if (!takeState(m)) return;
   buildSelectors();
   buildPanel();
+  refreshSlices();  // visibility and transfer functions show in the 2-D views too
 }
 
 function start() {
@@ -58,6 +68,7 @@ function start() {
   const connEl = document.getElementById('connection');
   setupToolbar();
   setupInput(canvas);
+  setupSlices();
   // A panel control being dragged is not rebuilt under the pointer by another client's state.
   document.getElementById('panel').addEventListener('pointerdown', () => { S.panelBusy = true; });
   window.addEventListener('pointerup', () => {
@@ -70,7 +81,8 @@ function start() {
   });
   layoutCanvas();
   connect(connEl, {hello: onHello, state: onState, saved: onSaved, frame: drawFrame,
-                   screenshot: onScreenshot, resync: () => onState(null)});
+                   screenshot: onScreenshot, resync: () => onState(null), slice: onSlice,
+                   probe: onProbe, error: onSliceError});
 }
 
 if (document.readyState === 'loading') document.addEventListener('DOMContentLoaded', start);

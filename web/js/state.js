@@ -66,6 +66,9 @@ function localObject(o) {
     l.frames = o.frames || 1;
     l.clips = (o.clip_planes || []).map((c) => ({base: [...c.point], normal: norm(c.normal),
                                                  offset: 0}));
+    if (o.bounds) l.bounds = o.bounds.map((b) => [...b]);  // the reading views' box and step
+    if (o.pitch) l.pitch = [...o.pitch];
+    l.units = o.units || '';
   } else if (o.kind === 'plane') {
     l.center = [...o.center];
     l.initialCenter = [...o.center];

@@ -25,7 +25,7 @@ export function resetView() {
 // Fits the canvas into its area, keeping the image's aspect ratio (the backing store stays the
 // image size, so a converged frame is drawn 1:1).
 export function layoutCanvas() {
-  const area = document.getElementById('view-area');
+  const area = document.getElementById('cell-3d');
   const aw = area.clientWidth, ah = area.clientHeight;
   const s = Math.min(aw / S.image.width, ah / S.image.height);
   if (!(s > 0)) return;
