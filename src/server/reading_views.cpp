@@ -45,7 +45,7 @@ glm::dvec2 ReadingWindows::of(const VolumeObject& volume) {
 
 SliceAnswer answer_slice(const ViewerState& state, ReadingWindows& windows, const Json& message) {
   const JsonReader r(message, "slice");
-  r.check_keys({"type", "seq", "view", "point", "width", "height", "mm_per_pixel"});
+  r.check_keys({"type", "seq", "view", "point", "width", "height", "mm_per_pixel", "window"});
   const JsonReader axis_reader = r.get("view");
   const SliceAxis axis = *find_slice_axis(axis_reader.choice({"axial", "coronal", "sagittal"}));
   const glm::dvec3 point = r.get("point").vec3(Range::coordinate());
@@ -57,6 +57,12 @@ SliceAnswer answer_slice(const ViewerState& state, ReadingWindows& windows, cons
   const std::vector<int> shown = shown_volumes(state);
   std::vector<glm::dvec2> window_of(scene.volumes.size(), glm::dvec2(0.0, 1.0));
   for (int i : shown) window_of[static_cast<size_t>(i)] = windows.of(scene.volumes[i]);
+  if (auto w = r.find("window"); w && !shown.empty()) {
+    // A W/L preset for the base volume: [centre, width].
+    const glm::dvec2 cw = w->vec2();
+    if (!(cw.y > 0.0)) w->at(1).fail(fmt::format("window width {} must be > 0", cw.y));
+    window_of[static_cast<size_t>(shown.front())] = cw;
+  }
   const Image image = render_slice(scene, view, shown, window_of);
 
   Json outlines = Json::array();

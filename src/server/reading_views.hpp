@@ -28,7 +28,8 @@ struct SliceAnswer {
 };
 
 // A `slice` message: {"view": "axial"|"coronal"|"sagittal", "point": [3], "width", "height",
-// "mm_per_pixel", "seq"}. Throws imx::Error naming the field at fault.
+// "mm_per_pixel", "seq", "window" (optional [centre, width] of the first shown volume, a W/L
+// preset)}. Throws imx::Error naming the field at fault.
 SliceAnswer answer_slice(const ViewerState& state, ReadingWindows& windows,
                          const nlohmann::json& message);
 

@@ -381,6 +381,23 @@ TEST(ViewerSession, SlicesAndProbesAnswerTheReadingViews) {
   for (int y = 0; y < 30; ++y)
     for (int x = 0; x < 40; ++x) lit += image.at(x, y).r;
   EXPECT_GT(lit, 0.0) << "the slice through the CT's centre is black";
+  // A W/L preset's window for the base volume: everything below a level of 1e5 is black.
+  session.on_message(client, Json{{"type", "slice"},
+                                  {"seq", 5},
+                                  {"view", "coronal"},
+                                  {"point", {point.x, point.y, point.z}},
+                                  {"width", 40},
+                                  {"height", 30},
+                                  {"mm_per_pixel", 2.0},
+                                  {"window", {1e5, 10}}}
+                                 .dump());
+  const Image black = decode(
+      client->wait_for([](const Json& j) { return j["type"] == "slice" && j["seq"] == 5; }).image,
+      dir);
+  double lit_black = 0.0;
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) lit_black += black.at(x, y).r;
+  EXPECT_LT(lit_black, 0.1 * lit);
   // A bad slice gets one error naming the field.
   session.on_message(client, R"({"type": "slice", "view": "oblique", "point": [0, 0, 0],
                                   "width": 8, "height": 8, "mm_per_pixel": 1})");

@@ -762,6 +762,24 @@ def run_reading_views(args, checks, browser):
                  f'{z1 - z0:.4f} mm (the slice pitch is {pitch[2]} mm)')
     browser.evaluate("viewer.setLayout('1x1')")
 
+    # the snap buttons: each turns the 3-D camera to look from that side of the patient (LPS)
+    wanted = {'A': [0, -1, 0], 'P': [0, 1, 0], 'L': [1, 0, 0], 'R': [-1, 0, 0], 'S': [0, 0, 1],
+              'I': [0, 0, -1]}
+    got = {}
+    for name, d in wanted.items():
+        b = browser.evaluate(f"viewer.center('#snap button[data-view={name}]')")
+        browser.click(b['x'], b['y'])
+        browser.wait_for(f"(() => {{ const c = viewer.camera(); const v = c.eye.map((e, i) => "
+                         f"e - c.target[i]); const n = Math.hypot(...v); return "
+                         f"v.every((x, i) => Math.abs(x / n - {d}[i]) < 1e-6); }})()",
+                         timeout=5, what=f'the {name} view')
+        c = browser.evaluate('viewer.camera()')
+        n = math.dist(c['eye'], c['target'])
+        got[name] = [round((e - t) / n, 6) for e, t in zip(c['eye'], c['target'])]
+    checks.check('m. the six snap buttons look from A, P, L, R, S and I',
+                 all(got[k] == [float(x) for x in v] for k, v in wanted.items()), str(got))
+    wait_converged(browser, 20, 'after the snap views')
+
 
 # ---------------------------------------------------------------- test mode: MPR planes and clips
 def settled_state(watcher, since, timeout=10.0):

@@ -23,7 +23,7 @@ export function showWindow(name, w) {
   if (label) label.textContent = windowText(w);
 }
 
-const windowText = (w) => `W/L target · window ${fmt(w[0], 0)} / ${fmt(w[1], 0)}`;
+const windowText = (w) => `W/L target · W ${fmt(w[1], 0)} / L ${fmt(w[0], 0)}`;
 
 function slider(label, min, max, step, value, onInput, onChange, digits = 2) {
   const row = document.createElement('div');

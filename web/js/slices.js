@@ -67,8 +67,16 @@ function request(axis) {
   view.pending = true;
   view.again = false;
   view.seq = seq++;
-  send({type: 'slice', seq: view.seq, view: axis, point: viewPoint(axis), width: w, height: h,
-        mm_per_pixel: mmPerPixel(w, h)});
+  const message = {type: 'slice', seq: view.seq, view: axis, point: viewPoint(axis), width: w,
+                   height: h, mm_per_pixel: mmPerPixel(w, h)};
+  if (S.sliceWindow) message.window = S.sliceWindow;
+  send(message);
+}
+
+// The window [centre, width] the 2-D views show their base volume through (a W/L preset).
+export function setSliceWindow(w) {
+  S.sliceWindow = w.slice();
+  refreshSlices();
 }
 
 // Every shown view asks for its image again (the scene or the layout changed).

@@ -1,6 +1,7 @@
 // The toolbar: method and quality selectors, reset view, W/L mode, save scene and screenshot,
 // and what the server answers to the last two (downloads).
-import {cameraInput, queueInput, send} from './connection.js';
+import {cameraInput, editInput, queueInput, send} from './connection.js';
+import {setSliceWindow} from './slices.js';
 import {S} from './state.js';
 import {stats} from './stats.js';
 import {copyCamera} from './vec.js';
@@ -11,11 +12,39 @@ export function buildSelectors() {
   method.replaceChildren(...S.methods.map((name) => new Option(name, name, false,
                                                                 name === S.method)));
   const quality = document.getElementById('quality');
-  const spps = [1, 4, 9, 16];
+  const spps = Object.keys(QUALITY).map(Number);
   if (!spps.includes(S.spp)) spps.push(S.spp);
   spps.sort((a, b) => a - b);
-  quality.replaceChildren(...spps.map((n) => new Option(`${n} spp`, String(n), false,
-                                                         n === S.spp)));
+  quality.replaceChildren(...spps.map((n) => new Option(
+      QUALITY[n] ? `${QUALITY[n]} (${n} spp)` : `${n} spp`, String(n), false, n === S.spp)));
+}
+
+// Still-frame quality by name: the samples per pixel frames converge to.
+const QUALITY = {1: 'draft', 4: 'normal', 16: 'best'};
+
+// Radiology's window/level presets [level, width] (HU), for MPR planes and the 2-D views.
+export const WL_PRESETS = {
+  brain: [40, 80], subdural: [75, 215], stroke: [40, 40], bone: [400, 1800],
+  lung: [-600, 1500], abdomen: [50, 400], liver: [30, 150], mediastinum: [50, 350],
+};
+
+// The six standard views: where the eye is from the target (LPS: +x left, +y posterior, +z
+// superior) and which way is up (superior, or anterior looking along the body's axis).
+const SNAPS = {
+  A: {dir: [0, -1, 0], up: [0, 0, 1]}, P: {dir: [0, 1, 0], up: [0, 0, 1]},
+  L: {dir: [1, 0, 0], up: [0, 0, 1]}, R: {dir: [-1, 0, 0], up: [0, 0, 1]},
+  S: {dir: [0, 0, 1], up: [0, -1, 0]}, I: {dir: [0, 0, -1], up: [0, -1, 0]},
+};
+
+// Turns the camera to a standard view about its target, at its distance.
+export function snapView(name) {
+  const s = SNAPS[name];
+  if (!s || !S.camera) return;
+  const c = S.camera;
+  const d = Math.hypot(...c.eye.map((e, i) => e - c.target[i]));
+  c.eye = c.target.map((t, i) => t + s.dir[i] * d);
+  c.up = s.up.slice();
+  cameraInput(false, true);
 }
 
 // Binds the toolbar's controls; call once.
@@ -32,6 +61,25 @@ export function setupToolbar() {
     if (!S.initialCamera) return;
     S.camera = copyCamera(S.initialCamera);
     cameraInput(false, true);
+  });
+  for (const b of document.querySelectorAll('#snap button'))
+    b.addEventListener('click', () => snapView(b.dataset.view));
+  const preset = document.getElementById('wl-preset');
+  preset.replaceChildren(new Option('W/L preset…', ''),
+                         ...Object.keys(WL_PRESETS).map((n) => new Option(n, n)));
+  preset.addEventListener('change', () => {
+    const w = WL_PRESETS[preset.value];
+    if (!w) return;
+    S.wlPreset = preset.value;
+    // The 2-D views' base volume, and the selected MPR plane: [centre, width].
+    setSliceWindow([w[0], w[1]]);
+    if (S.selectedPlane) {
+      const o = S.byName.get(S.selectedPlane);
+      if (o) {
+        o.window = [w[0], w[1]];
+        editInput(o.name, {window: o.window}, false);
+      }
+    }
   });
   const wl = document.getElementById('wl-mode');
   wl.addEventListener('click', () => {
