@@ -688,11 +688,11 @@ def run_test(args, out, checks, cleanup):
         f'{out}/viewer-edited.png')
 
     # the address without the token still works after a reload: the page's cookie carries it
-    browser.evaluate('location.reload()')
+    browser.evaluate('window.imxOldPage = true, location.reload()')
     reloaded = True
     try:
-        browser.wait_for('Boolean(window.viewerStats && viewerStats.connected)', timeout=10,
-                         what='the reloaded page to connect')
+        browser.wait_for('!window.imxOldPage && Boolean(window.viewerStats && '
+                         'viewerStats.connected)', timeout=10, what='the reloaded page to connect')
     except Failure:
         reloaded = False
     checks.check('a. a reload without the token in the address connects (cookie)', reloaded,
@@ -760,6 +760,20 @@ def run_reading_views(args, checks, browser):
     z1 = browser.evaluate('viewer.slicePoint()')[2]
     checks.check('m. a wheel step in the axial view moves one slice', abs(z1 - z0 - pitch[2]) < 1e-9,
                  f'{z1 - z0:.4f} mm (the slice pitch is {pitch[2]} mm)')
+    # latency of 2-D interactions (input to the last view showing it): 10 clicks, 10 steps
+    browser.wait_for('viewer.slicesSettled()', timeout=10, what='the views to show the step')
+    lat0 = len(browser.evaluate('viewer.sliceLatencies()'))
+    for i in range(10):
+        browser.click(r['x'] + (0.03 * i - 0.15) * r['w'], r['y'] + (0.02 * i - 0.1) * r['h'])
+        browser.wait_for('viewer.slicesSettled()', timeout=10, what='a crosshair move')
+        browser.evaluate("document.querySelector('.slice-cell[data-axis=coronal] .slice')"
+                         ".dispatchEvent(new WheelEvent('wheel', {deltaY: 100, bubbles: true, "
+                         "cancelable: true}))")
+        browser.wait_for('viewer.slicesSettled()', timeout=10, what='a slice step')
+    lats = browser.evaluate('viewer.sliceLatencies()')[lat0:]
+    checks.check('m. 2-D view interactions (crosshair, slice step): median latency measured',
+                 len(lats) == 20, f'median {rnd(percentile(lats, 0.5))} ms, p95 '
+                 f'{rnd(percentile(lats, 0.95))} ms over {len(lats)}')
     browser.evaluate("viewer.setLayout('1x1')")
 
     # the snap buttons: each turns the 3-D camera to look from that side of the patient (LPS)

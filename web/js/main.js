@@ -43,6 +43,9 @@ window.viewer = {
   crosshairs,
   readout() { return S.readout || null; },
   slicesDrawn() { return S.slicesDrawn || 0; },
+  sliceLatencies() { return (S.sliceLatencies || []).slice(); },
+  // every view shows the crosshair's latest point
+  slicesSettled() { return S.pointSetAt === null || S.pointSetAt === undefined; },
 };
 
 function onHello(m) {

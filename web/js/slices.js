@@ -159,6 +159,13 @@ export async function onSlice(meta, blob) {
   view.answer = meta;
   S.slicesDrawn = (S.slicesDrawn || 0) + 1;
   drawOverlay(meta.view);
+  // Latency of a crosshair move or slice step: from the input to the last view showing it.
+  if (S.pointSetAt !== null && S.pointSetAt !== undefined &&
+      Object.keys(crosshairs()).length === shownAxes().length) {
+    S.sliceLatencies = S.sliceLatencies || [];
+    S.sliceLatencies.push(performance.now() - S.pointSetAt);
+    S.pointSetAt = null;
+  }
   if (view.again) request(meta.view);
 }
 
@@ -182,6 +189,7 @@ export function onProbe(m) {
 // Moves the crosshair to world point p: the other views' images and every crosshair follow.
 export function setPoint(p, except) {
   S.point = p.slice();
+  S.pointSetAt = performance.now();
   for (const axis of shownAxes()) {
     if (axis !== except) request(axis);
     else drawOverlay(axis);
