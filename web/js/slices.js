@@ -148,7 +148,9 @@ export async function onSlice(meta, blob) {
   if (meta.seq === view.seq) view.pending = false;
   let bmp;
   try {
-    bmp = await createImageBitmap(new Blob([blob], {type: 'image/png'}));
+    // The values are display values already (the PNG says gamma 1): no conversion.
+    bmp = await createImageBitmap(new Blob([blob], {type: 'image/png'}),
+                                  {colorSpaceConversion: 'none', premultiplyAlpha: 'none'});
   } catch (e) {
     return;
   }
