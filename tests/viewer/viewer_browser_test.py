@@ -794,6 +794,24 @@ def run_reading_views(args, checks, browser):
                  all(got[k] == [float(x) for x in v] for k, v in wanted.items()), str(got))
     wait_converged(browser, 20, 'after the snap views')
 
+    # copy link: the address of this view without the token; opened, it shows the same view
+    browser.evaluate("viewer.setLayout('2x2')")
+    link = browser.evaluate('viewer.viewLink()')
+    cam = browser.evaluate('viewer.camera()')
+    # (the link differs from the address only by its fragment: load it anew)
+    browser.evaluate(f'window.imxOldPage = true, location.href = {json.dumps(link)}, '
+                     'location.reload()')
+    browser.wait_for("!window.imxOldPage && window.viewerStats && viewerStats.connected && "
+                     "document.getElementById('layout').value === '2x2'", timeout=10,
+                     what='the linked view')
+    browser.wait_for('viewer.camera() !== null', timeout=5, what='the camera')
+    cam2 = browser.evaluate('viewer.camera()')
+    checks.check('m. copy link: no token in it, and opened it shows the same camera and layout',
+                 'token' not in link and math.dist(cam['eye'], cam2['eye']) < 1e-6,
+                 f"eye moved {math.dist(cam['eye'], cam2['eye']):.2g} mm", link[:80] + '...')
+    browser.evaluate("viewer.setLayout('1x1')")
+    wait_converged(browser, 20, 'after the linked view')
+
 
 # ---------------------------------------------------------------- test mode: MPR planes and clips
 def settled_state(watcher, since, timeout=10.0):

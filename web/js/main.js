@@ -7,6 +7,7 @@ import {buildPanel, redrawEditors, tfEditor} from './panel.js';
 import {S, takeHello, takeState} from './state.js';
 import {bindStatus, finishRecording, startRecording, stats, updateStatus} from './stats.js';
 import {buildSelectors, onSaved, onScreenshot, setupToolbar} from './toolbar.js';
+import {applyViewLink, setupShortcuts, viewLink} from './shortcuts.js';
 import {crosshairs, onProbe, onSlice, onSliceError, refreshSlices, setLayout,
         setupSlices} from './slices.js';
 import {copyCamera} from './vec.js';
@@ -43,6 +44,7 @@ window.viewer = {
   crosshairs,
   readout() { return S.readout || null; },
   slicesDrawn() { return S.slicesDrawn || 0; },
+  viewLink,
   sliceLatencies() { return (S.sliceLatencies || []).slice(); },
   // every view shows the crosshair's latest point
   slicesSettled() { return S.pointSetAt === null || S.pointSetAt === undefined; },
@@ -55,6 +57,7 @@ function onHello(m) {
   buildPanel();
   updateStatus();
   refreshSlices();
+  applyViewLink();
 }
 
 function onState(m) {
@@ -72,6 +75,11 @@ function start() {
   setupToolbar();
   setupInput(canvas);
   setupSlices();
+  setupShortcuts();
+  document.getElementById('help-button').addEventListener('click', (ev) => {
+    ev.stopPropagation();
+    document.getElementById('shortcuts').hidden = false;
+  });
   // A panel control being dragged is not rebuilt under the pointer by another client's state.
   document.getElementById('panel').addEventListener('pointerdown', () => { S.panelBusy = true; });
   window.addEventListener('pointerup', () => {
