@@ -476,6 +476,11 @@ def run_test(args, out, checks, cleanup):
     href = browser.evaluate('location.href')
     checks.check('a. the token leaves the address bar once the page has loaded',
                  'token' not in href, href.replace(token, '<token>'))
+    bars = browser.evaluate('viewer.colorBars()')
+    shown = [o['name'] for o in (hello or {}).get('objects', [])
+             if o.get('kind') == 'volume' and o.get('visible', True)]
+    checks.check('a. a colour bar for every visible volume', bars == shown, str(bars),
+                 f'visible volumes {shown}')
     browser.screenshot(os.path.join(out, 'viewer-loaded.png'))
     objects = objects_on_page(browser)
     log(f'      objects on the page: {objects}')

@@ -7,6 +7,7 @@ import {buildPanel, redrawEditors, tfEditor} from './panel.js';
 import {S, takeHello, takeState} from './state.js';
 import {bindStatus, finishRecording, startRecording, stats, updateStatus} from './stats.js';
 import {buildSelectors, onSaved, onScreenshot, setupToolbar} from './toolbar.js';
+import {drawColorBars} from './colorbar.js';
 import {applyViewLink, setupShortcuts, viewLink} from './shortcuts.js';
 import {crosshairs, onProbe, onSlice, onSliceError, refreshSlices, setLayout,
         setupSlices} from './slices.js';
@@ -44,6 +45,7 @@ window.viewer = {
   crosshairs,
   readout() { return S.readout || null; },
   slicesDrawn() { return S.slicesDrawn || 0; },
+  colorBars() { return (S.colorBars || []).slice(); },
   viewLink,
   sliceLatencies() { return (S.sliceLatencies || []).slice(); },
   // every view shows the crosshair's latest point
@@ -88,6 +90,7 @@ function start() {
   }, true);
   window.addEventListener('resize', () => {
     layoutCanvas();
+    drawColorBars();
     redrawEditors();
   });
   layoutCanvas();

@@ -1,6 +1,7 @@
 // The view canvas: sized to the session's image at hello, fitted into its area keeping the
 // aspect ratio, and drawn with each decoded frame (the newest wins). While a recording runs it
 // also keeps a snapshot of each drawn frame.
+import {drawColorBars} from './colorbar.js';
 import {reportLatencies, updateConverged} from './connection.js';
 import {S} from './state.js';
 import {frameDrawn, showMessage, updateStatus} from './stats.js';
@@ -58,6 +59,7 @@ export async function drawFrame(meta, blob, id) {
   bmp.close();
   const now = performance.now();
   frameDrawn(meta, now);
+  drawColorBars();  // an edit ends in a frame: the bars follow the transfer functions
   if (S.recording) record(now, meta);
   updateConverged();
   reportLatencies(false);

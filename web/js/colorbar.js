@@ -1,0 +1,57 @@
+// Colour bars over the 3-D view: one per visible volume, its transfer function's colours from its
+// first point's value (bottom) to its last (top), each colour weighted by its opacity relative to
+// the function's largest (black where the function shows nothing), labelled with the values.
+import {S} from './state.js';
+
+const BAR_W = 12, BAR_H = 140, GAP = 64;
+
+// The TF's colour and opacity at `v` (linear between its points).
+function tfAt(tf, v) {
+  if (v <= tf[0][0]) return tf[0].slice(1);
+  for (let i = 1; i < tf.length; ++i) {
+    if (v <= tf[i][0]) {
+      const a = tf[i - 1], b = tf[i];
+      const t = b[0] > a[0] ? (v - a[0]) / (b[0] - a[0]) : 1;
+      return [1, 2, 3, 4].map((k) => a[k] + (b[k] - a[k]) * t);
+    }
+  }
+  return tf[tf.length - 1].slice(1);
+}
+
+const label = (v) => Math.abs(v) >= 100 || v === 0 ? v.toFixed(0) : Number(v.toPrecision(3));
+
+// Redraws the bars (after hello, a state, or a frame: edits end in one).
+export function drawColorBars() {
+  const c = document.getElementById('colorbars');
+  if (!c) return;
+  const r = window.devicePixelRatio || 1;
+  c.width = Math.max(1, Math.round(c.clientWidth * r));
+  c.height = Math.max(1, Math.round(c.clientHeight * r));
+  const g = c.getContext('2d');
+  g.clearRect(0, 0, c.width, c.height);
+  const volumes = S.objects.filter((o) => o.kind === 'volume' && o.visible && o.tf &&
+                                          o.tf.length > 1 && o.tf[o.tf.length - 1][0] > o.tf[0][0]);
+  S.colorBars = volumes.map((o) => o.name);
+  g.scale(r, r);
+  g.font = '11px sans-serif';
+  volumes.forEach((o, k) => {
+    const x = c.clientWidth - 40 - k * GAP, y = 24;
+    const lo = o.tf[0][0], hi = o.tf[o.tf.length - 1][0];
+    const top = Math.max(...o.tf.map((p) => p[4])) || 1;
+    for (let t = 0; t < BAR_H; ++t) {
+      const [cr, cg, cb, ca] = tfAt(o.tf, hi - (hi - lo) * t / (BAR_H - 1));
+      const w = Math.min(1, ca / top);
+      const s = (x) => Math.round(255 * Math.pow(Math.max(0, Math.min(1, x * w)), 1 / 2.2));
+      g.fillStyle = `rgb(${s(cr)},${s(cg)},${s(cb)})`;
+      g.fillRect(x, y + t, BAR_W, 1);
+    }
+    g.strokeStyle = '#666';
+    g.strokeRect(x - 0.5, y - 0.5, BAR_W + 1, BAR_H + 1);
+    g.fillStyle = '#ddd';
+    g.textAlign = 'right';
+    g.fillText(label(hi), x - 3, y + 9);
+    g.fillText(label(lo), x - 3, y + BAR_H);
+    g.textAlign = 'center';
+    g.fillText(o.name + (o.units ? ` (${o.units})` : ''), x + BAR_W / 2, y + BAR_H + 14);
+  });
+}
