@@ -561,6 +561,12 @@ def run_test(args, out, checks, cleanup):
     if not ed:
         raise Failure(f'no TF editor canvas for {vol} ({sel})')
     pt = browser.evaluate(f'viewer.tfPoint({json.dumps(vol)}, {idx})')
+    # hovering a point shows its value
+    browser.mouse('mouseMoved', pt['x'], pt['y'])
+    browser.pump_events(0.2)
+    hovered = browser.evaluate(f'viewer.tfHoverValue({json.dumps(vol)})')
+    checks.check('d. hovering a TF point shows its value', hovered == tfs[vol][idx][0],
+                 f'{hovered} (the point: {tfs[vol][idx][0]})')
     snap(browser, 'before_tf')
     p_tf = page_now(browser)
     t_tf = time.monotonic()

@@ -26,6 +26,11 @@ window.viewer = {
     const o = S.byName.get(volume);
     return o && o.tf ? o.tf.map((p) => [...p]) : null;
   },
+  // the value the TF editor shows for its hovered or dragged point (null when none)
+  tfHoverValue(volume) {
+    const ed = tfEditor(volume);
+    return ed ? ed.shownLabel : null;
+  },
   camera() { return S.camera ? copyCamera(S.camera) : null; },
   // centre of an element of the page, by CSS selector
   center(selector) {

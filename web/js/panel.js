@@ -167,12 +167,14 @@ function buildVolume(box, o) {
     const select = document.createElement('select');
     select.className = 'tf-preset';
     select.append(new Option('preset…', ''), ...names.map((n) => new Option(n, n)));
+    select.value = o.presetName || '';  // the active preset, until the points are edited
     select.addEventListener('change', () => {
       const pts = S.tfPresets[select.value];
       if (!pts) return;
       o.tf = pts.map((p) => [...p]);
       o.maxAlpha = 0;
-      ed.sendTf(false);
+      o.presetName = select.value;
+      ed.sendTf(false, true);
       buildPanel();
     });
     row.append(select);

@@ -37,6 +37,7 @@ export class TfEditor {
     row.append(l, input);
     this.root.append(this.canvas, row);
     this.dragIndex = -1;
+    this.hover = -1;
     this.computeDomain();
     this.bind();
     this.resize = new ResizeObserver(() => this.draw());
@@ -100,8 +101,10 @@ export class TfEditor {
     return {x: r.left + this.toX(p[0]), y: r.top + this.toY(p[4])};
   }
 
-  // Sends the volume's points as an edit (moving while a drag goes on).
-  sendTf(moving) {
+  // Sends the volume's points as an edit (moving while a drag goes on). An edit of the points
+  // makes them the user's own: no preset is active any more, unless `preset` says it is one.
+  sendTf(moving, preset = false) {
+    if (!preset) this.obj.presetName = '';
     editInput(this.obj.name, {transfer_function: this.obj.tf.map((p) => [...p])}, moving);
   }
 
@@ -117,7 +120,16 @@ export class TfEditor {
       this.draw();
     });
     c.addEventListener('pointermove', (ev) => {
-      if (this.dragIndex < 0) return;
+      if (this.dragIndex < 0) {
+        // Hovering: the point under the pointer shows its value and opacity.
+        const [x, y] = this.local(ev);
+        const hover = this.hit(x, y);
+        if (hover !== this.hover) {
+          this.hover = hover;
+          this.draw();
+        }
+        return;
+      }
       const [x, y] = this.local(ev);
       this.movePoint(this.dragIndex, this.fromX(x), this.fromY(y));
       this.sendTf(true);
@@ -131,6 +143,12 @@ export class TfEditor {
       this.draw();
     };
     c.addEventListener('pointerup', end);
+    c.addEventListener('pointerleave', () => {
+      if (this.hover >= 0) {
+        this.hover = -1;
+        this.draw();
+      }
+    });
     c.addEventListener('pointercancel', end);
     c.addEventListener('dblclick', (ev) => {
       const [x, y] = this.local(ev);
@@ -208,7 +226,33 @@ export class TfEditor {
       g.strokeStyle = '#fff';
       g.stroke();
     });
+    // The value axis: its ends and middle, in the volume's units.
+    g.fillStyle = '#9aa0ad';
+    g.font = '10px sans-serif';
+    g.textBaseline = 'bottom';
+    const mid = 0.5 * (this.lo + this.hi);
+    [[this.lo, 'left', p], [mid, 'center', this.toX(mid)], [this.hi, 'right', w - p]].forEach(
+        ([v, align, x]) => {
+          g.textAlign = align;
+          g.fillText(axisLabel(v) + (align === 'right' && this.obj.units ? ' ' + this.obj.units : ''),
+                     x, h - 1);
+        });
+    // The point being dragged or hovered: its value and opacity.
+    const shown = this.dragIndex >= 0 ? this.dragIndex : this.hover;
+    if (shown >= 0 && shown < pts.length) {
+      g.textAlign = 'left';
+      g.textBaseline = 'top';
+      g.fillStyle = '#e8eaf0';
+      g.fillText(`value ${axisLabel(pts[shown][0])}, α ${Number(pts[shown][4].toPrecision(3))}`,
+                 p, p);
+    }
+    this.shownLabel = shown >= 0 && shown < pts.length ? pts[shown][0] : null;
   }
+}
+
+// A value as the axis shows it: whole above 100, else three significant digits.
+function axisLabel(v) {
+  return Math.abs(v) >= 100 ? v.toFixed(0) : String(Number(v.toPrecision(3)));
 }
 
 // The smallest of 1, 2, 2.5, 5 times a power of ten at or above x (at most max(1, x)).
