@@ -763,6 +763,13 @@ def run_reading_views(args, checks, browser):
                  ct.get('index') == index and ct.get('value') == want,
                  f"{ct.get('value')} {ct.get('units')} at {ct.get('index')}",
                  f'Python reads {want} at {index}')
+    bars = browser.evaluate('viewer.scaleBars()')
+    widths = browser.evaluate("[...document.querySelectorAll('.slice-cell')].map((c) => "
+                              "c.clientWidth * (window.devicePixelRatio || 1))")
+    checks.check('m. each 2-D view has a scale bar of 1, 2 or 5 x 10^k mm',
+                 set(bars) == {'axial', 'coronal', 'sagittal'} and
+                 all(str(int(v)).strip('0') in ('1', '2', '5') for v in bars.values()),
+                 str(bars), f'view widths {widths}')
     z0 = point[2]
     browser.evaluate("document.querySelector('.slice-cell[data-axis=axial] .slice')"
                      ".dispatchEvent(new WheelEvent('wheel', {deltaY: -100, bubbles: true, "

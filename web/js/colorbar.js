@@ -20,6 +20,45 @@ function tfAt(tf, v) {
 
 const label = (v) => Math.abs(v) >= 100 || v === 0 ? v.toFixed(0) : Number(v.toPrecision(3));
 
+// The orientation marker at the bottom left: the patient's axes as the camera sees them, each
+// labelled with the side it points to (L, P, S; the opposite ends R, A, I).
+function drawOrientation(g, height) {
+  const c = S.camera;
+  if (!c) return;
+  const f = c.eye.map((e, i) => c.target[i] - e);
+  const n = Math.hypot(...f);
+  const fwd = f.map((x) => x / n);
+  const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                           a[0] * b[1] - a[1] * b[0]];
+  let right = cross(fwd, c.up);
+  const rn = Math.hypot(...right);
+  right = right.map((x) => x / rn);
+  const up = cross(right, fwd);
+  const ox = 44, oy = height - 44, len = 30;
+  const axes = [[[1, 0, 0], 'L', 'R', '#e66'], [[0, 1, 0], 'P', 'A', '#6c6'],
+                [[0, 0, 1], 'S', 'I', '#69f']];
+  // Far ends first, so the nearer axes are drawn over them.
+  axes.sort((a, b) => (a[0][0] * fwd[0] + a[0][1] * fwd[1] + a[0][2] * fwd[2]) -
+                      (b[0][0] * fwd[0] + b[0][1] * fwd[1] + b[0][2] * fwd[2]));
+  g.font = 'bold 11px sans-serif';
+  g.textAlign = 'center';
+  g.textBaseline = 'middle';
+  for (const [d, plus, minus, colour] of axes) {
+    const sx = d[0] * right[0] + d[1] * right[1] + d[2] * right[2];
+    const sy = -(d[0] * up[0] + d[1] * up[1] + d[2] * up[2]);
+    g.strokeStyle = colour;
+    g.lineWidth = 2;
+    g.beginPath();
+    g.moveTo(ox - sx * len * 0.6, oy - sy * len * 0.6);
+    g.lineTo(ox + sx * len, oy + sy * len);
+    g.stroke();
+    g.fillStyle = colour;
+    g.fillText(plus, ox + sx * (len + 9), oy + sy * (len + 9));
+    g.fillText(minus, ox - sx * (len * 0.6 + 8), oy - sy * (len * 0.6 + 8));
+  }
+  g.textBaseline = 'alphabetic';
+}
+
 // Redraws the bars (after hello, a state, or a frame: edits end in one).
 export function drawColorBars() {
   const c = document.getElementById('colorbars');
@@ -33,6 +72,7 @@ export function drawColorBars() {
                                           o.tf.length > 1 && o.tf[o.tf.length - 1][0] > o.tf[0][0]);
   S.colorBars = volumes.map((o) => o.name);
   g.scale(r, r);
+  drawOrientation(g, c.clientHeight);
   g.font = '11px sans-serif';
   volumes.forEach((o, k) => {
     const x = c.clientWidth - 40 - k * GAP, y = 24;

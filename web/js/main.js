@@ -9,7 +9,7 @@ import {bindStatus, finishRecording, startRecording, stats, updateStatus} from '
 import {buildSelectors, onSaved, onScreenshot, setupToolbar} from './toolbar.js';
 import {drawColorBars} from './colorbar.js';
 import {applyViewLink, setupShortcuts, viewLink} from './shortcuts.js';
-import {crosshairs, onProbe, onSlice, onSliceError, refreshSlices, setLayout,
+import {crosshairs, onProbe, onSlice, onSliceError, refreshSlices, scaleBars, setLayout,
         setupSlices} from './slices.js';
 import {copyCamera} from './vec.js';
 import {drawFrame, initView, layoutCanvas, resetView} from './view.js';
@@ -50,6 +50,7 @@ window.viewer = {
   crosshairs,
   readout() { return S.readout || null; },
   slicesDrawn() { return S.slicesDrawn || 0; },
+  scaleBars,
   colorBars() { return (S.colorBars || []).slice(); },
   viewLink,
   sliceLatencies() { return (S.sliceLatencies || []).slice(); },

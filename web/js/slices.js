@@ -129,6 +129,7 @@ function drawOverlay(axis) {
   g.moveTo(cx, 0);
   g.lineTo(cx, o.height);
   g.stroke();
+  drawScaleBar(g, a, r);
   g.fillStyle = '#fc6';
   g.font = `${Math.round(13 * r)}px sans-serif`;
   const [top, bottom, left, right] = LETTERS[axis];
@@ -139,6 +140,27 @@ function drawOverlay(axis) {
   g.fillText(left, 5 * r, o.height / 2);
   g.textAlign = 'right';
   g.fillText(right, o.width - 5 * r, o.height / 2);
+}
+
+// A scale bar at the bottom right: the longest of 1, 2, 5 x 10^k mm within a fifth of the view.
+function drawScaleBar(g, a, r) {
+  const most = 0.2 * a.width * a.mm_per_pixel;
+  const e = Math.pow(10, Math.floor(Math.log10(most)));
+  const mm = [5, 2, 1].map((m) => m * e).find((v) => v <= most) || e;
+  const px = mm / a.mm_per_pixel, x1 = a.width - 12 * r, y = a.height - 12 * r;
+  g.strokeStyle = '#ddd';
+  g.lineWidth = 2 * r;
+  g.beginPath();
+  g.moveTo(x1 - px, y - 4 * r);
+  g.lineTo(x1 - px, y);
+  g.lineTo(x1, y);
+  g.lineTo(x1, y - 4 * r);
+  g.stroke();
+  g.fillStyle = '#ddd';
+  g.font = `${Math.round(11 * r)}px sans-serif`;
+  g.textAlign = 'center';
+  g.fillText(`${mm} mm`, x1 - px / 2, y - 6 * r);
+  views[a.view].scaleMm = mm;
 }
 
 // A `slice` answer and its PNG.
@@ -250,6 +272,13 @@ export function setLayout(name) {
   window.dispatchEvent(new Event('resize'));
   if (!S.point && baseVolume()) setPoint(centreOf(baseVolume()));
   refreshSlices();
+}
+
+// For tests: the scale bar's length in mm of each view.
+export function scaleBars() {
+  const out = {};
+  for (const axis of AXES) if (views[axis] && views[axis].scaleMm) out[axis] = views[axis].scaleMm;
+  return out;
 }
 
 // For tests: where each view's crosshair is, in world coordinates, as drawn; only the views whose
