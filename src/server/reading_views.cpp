@@ -36,11 +36,14 @@ std::vector<int> shown_volumes(const ViewerState& state) {
 }  // namespace
 
 glm::dvec2 ReadingWindows::of(const VolumeObject& volume) {
+  for (auto it = windows_.begin(); it != windows_.end();)
+    it = it->second.data.expired() ? windows_.erase(it) : std::next(it);
   const VolumeData* key = volume.data.get();
   auto it = windows_.find(key);
-  if (it != windows_.end()) return it->second;
-  held_[key] = volume.data;
-  return windows_[key] = reading_window(volume);
+  if (it != windows_.end() && it->second.data.lock() == volume.data) return it->second.window;
+  const glm::dvec2 window = reading_window(volume);
+  windows_[key] = {volume.data, window};
+  return window;
 }
 
 SliceAnswer answer_slice(const ViewerState& state, ReadingWindows& windows, const Json& message) {

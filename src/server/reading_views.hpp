@@ -3,6 +3,7 @@
 // meshes' outlines) and `probe` (each volume's value at a point, in its units) messages.
 #pragma once
 #include <map>
+#include <memory>
 #include <string>
 
 #include <glm/vec2.hpp>
@@ -12,14 +13,18 @@
 
 namespace imx::server {
 
-// Each volume's reading window (frame/slice_view.hpp), worked out once per voxel array.
+// Each volume's reading window (frame/slice_view.hpp), worked out once per voxel array while
+// the array lives (a 4-D source's frames come and go: none is kept alive here).
 class ReadingWindows {
  public:
   glm::dvec2 of(const VolumeObject& volume);
 
  private:
-  std::map<const VolumeData*, glm::dvec2> windows_;
-  std::map<const VolumeData*, std::shared_ptr<const VolumeData>> held_;  // keeps the keys valid
+  struct Entry {
+    std::weak_ptr<const VolumeData> data;
+    glm::dvec2 window;
+  };
+  std::map<const VolumeData*, Entry> windows_;
 };
 
 struct SliceAnswer {

@@ -32,16 +32,19 @@ uint64_t plane_hash(const Scene& s) {
   return h.value();
 }
 
+// The same scene each call: its data and meshes are the same objects (hashed by identity).
 Scene base() {
+  static const auto data = std::make_shared<const VolumeData>();
+  static const auto mesh = std::make_shared<const Mesh>();
   Scene s;
   VolumeObject v;
   v.name = "ct";
-  v.data = std::make_shared<const VolumeData>();
+  v.data = data;
   v.transfer_function.points = {{0.0, glm::vec4(0.0f)}, {1.0, glm::vec4(1.0f)}};
   s.volumes.push_back(v);
   MeshObject m;
   m.name = "ball";
-  m.mesh = std::make_shared<const Mesh>();
+  m.mesh = mesh;
   s.meshes.push_back(m);
   PlaneObject p;
   p.name = "axial";
