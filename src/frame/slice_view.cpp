@@ -1,7 +1,6 @@
 #include "frame/slice_view.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -11,7 +10,6 @@
 #include "intermix/error.hpp"
 #include "raster/shade_fragment.hpp"
 #include "volume/prepared_volume.hpp"
-#include "volume/value_sample.hpp"
 
 namespace imx {
 namespace {
@@ -90,15 +88,6 @@ SliceView slice_view(SliceAxis axis, const glm::dvec3& point, int width, int hei
   v.down = down * mm_per_pixel;
   v.origin = point - v.right * (0.5 * width) - v.down * (0.5 * height);
   return v;
-}
-
-glm::dvec2 reading_window(const VolumeObject& volume) {
-  if (volume.display_window && volume.display_window->y > 0.0) return *volume.display_window;
-  constexpr std::array<double, 2> kRobust = {0.02, 0.98};
-  const std::vector<double> q = value_percentiles(*volume.data, kRobust);
-  if (q.size() == 2 && q[1] > q[0]) return {0.5 * (q[0] + q[1]), q[1] - q[0]};
-  const double v = q.empty() ? 0.0 : q[0];
-  return {v, 1.0};
 }
 
 Image render_slice(const Scene& scene, const SliceView& view, const std::vector<int>& shown,

@@ -40,10 +40,6 @@ struct SliceView {
 SliceView slice_view(SliceAxis axis, const glm::dvec3& point, int width, int height,
                      double mm_per_pixel);
 
-// The window a reading view shows a volume through: the source's own (DICOM), else its robust
-// range (2nd to 98th percentile of the finite values).
-glm::dvec2 reading_window(const VolumeObject& volume);
-
 // The view's image (premultiplied RGBA, display values: no colour encoding to apply): black where
 // no volume is; the first volume in `shown` (indices into scene.volumes) in grey through
 // windows[i]; each further one blended over it in its transfer function's colour, with the

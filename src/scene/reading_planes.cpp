@@ -31,6 +31,14 @@ std::string free_name(const std::string& base, const std::set<std::string>& take
 
 }  // namespace
 
+glm::dvec2 reading_window(const VolumeObject& volume) {
+  if (volume.display_window && volume.display_window->y > 0.0) return *volume.display_window;
+  constexpr std::array<double, 2> kRobust = {0.02, 0.98};
+  const std::vector<double> q = value_percentiles(*volume.data, kRobust);
+  if (q.size() == 2 && q[1] > q[0]) return {0.5 * (q[0] + q[1]), q[1] - q[0]};
+  return {q.empty() ? 0.0 : q[0], 1.0};  // one value, or none: any width shows it
+}
+
 nlohmann::json reading_planes(const Scene& scene) {
   Json planes = Json::array();
   if (scene.volumes.empty() || !scene.volumes.front().data) return planes;
@@ -45,14 +53,7 @@ nlohmann::json reading_planes(const Scene& scene) {
     hi = glm::max(hi, w);
   }
   const glm::dvec3 centre = 0.5 * (lo + hi), extent = glm::max(hi - lo, glm::dvec3(1.0));
-  glm::dvec2 window{40.0, 400.0};
-  if (v.display_window && v.display_window->y > 0.0) {
-    window = *v.display_window;
-  } else {
-    constexpr std::array<double, 2> kRobust = {0.02, 0.98};
-    const std::vector<double> q = value_percentiles(*v.data, kRobust);
-    if (q.size() == 2 && q[1] > q[0]) window = {0.5 * (q[0] + q[1]), q[1] - q[0]};
-  }
+  const glm::dvec2 window = reading_window(v);
   std::set<std::string> taken;
   for (const VolumeObject& o : scene.volumes) taken.insert(o.name);
   for (const MeshObject& o : scene.meshes) taken.insert(o.name);

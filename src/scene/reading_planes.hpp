@@ -1,11 +1,16 @@
 // The three reading planes the viewer adds to a scene built from files: axial, coronal and
 // sagittal through the centre of its first volume, hidden until the user shows them.
 #pragma once
+#include <glm/vec2.hpp>
 #include <nlohmann/json.hpp>
 
 #include "intermix/scene.hpp"
 
 namespace imx {
+
+// The window a reading view or plane shows a volume through: the source's own (DICOM), else its
+// robust range (2nd to 98th percentile of the finite values).
+glm::dvec2 reading_window(const VolumeObject& volume);
 
 // Plane objects for the document's "objects" (none when the scene has no volume): normals along
 // the patient axes (LPS), radiological "up" (anterior for axial, superior otherwise), sized to

@@ -8,6 +8,7 @@
 #include "frame/slice_view.hpp"
 #include "intermix/io.hpp"
 #include "scene/json_reader.hpp"
+#include "scene/reading_planes.hpp"
 
 namespace imx::server {
 namespace {

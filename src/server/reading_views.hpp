@@ -13,7 +13,7 @@
 
 namespace imx::server {
 
-// Each volume's reading window (frame/slice_view.hpp), worked out once per voxel array while
+// Each volume's reading window (scene/reading_planes.hpp), worked out once per voxel array while
 // the array lives (a 4-D source's frames come and go: none is kept alive here).
 class ReadingWindows {
  public:
