@@ -44,6 +44,7 @@ Command add_serve(CLI::App& app) {
     std::vector<std::string> allowed_origins;
     int port = 8080;
     double budget_ms = 45.0;
+    int max_image_side = 2048;
   };
   auto o = std::make_shared<Options>();
   add_scene_inputs(app, o->in);
@@ -59,6 +60,10 @@ Command add_serve(CLI::App& app) {
   app.add_option("--frame-budget-ms", o->budget_ms,
                  "time a frame may take while the user moves (resolution adapts; default 45)")
       ->check(in_range(1, 10000));
+  app.add_option("--max-image-side", o->max_image_side,
+                 "largest side of a still frame: the page asks for its canvas's size times the "
+                 "screen's pixel ratio, scaled down to this (default 2048)")
+      ->check(in_range(16, 16384));
   app.add_option("--web", o->web,
                  "folder of the page (index.html, viewer.css, js/*.js; default: "
                  "PREFIX/share/intermix/web when installed, else the source tree's web/)");
@@ -88,6 +93,7 @@ Command add_serve(CLI::App& app) {
     session_options.spp = o->spp;
     session_options.threads = o->threads;
     session_options.moving_budget_ms = o->budget_ms;
+    session_options.max_image_side = o->max_image_side;
     session_options.log = !quiet();
     server::ViewerSession session(std::move(state), session_options);
     server::ServerOptions server_options;

@@ -14,6 +14,10 @@ class ResolutionControl {
   // stretch of moving frames keeps one size (and one scale's kept stage arrays stay valid).
   static constexpr std::array<double, 7> kScales{1.0, 0.75, 0.5, 0.375, 0.25, 0.1875, 0.125};
 
+  // No moving frame is smaller than this on its short side while a frame of it fits the budget:
+  // below it thin structures (a vessel, a cortical bone) break into dashes.
+  static constexpr double kMinShortSide = 128.0;
+
   explicit ResolutionControl(double budget_ms = 45.0) : budget_ms_(budget_ms) {}
 
   // Records that a frame at `scale` of a `full_pixels` image took `ms` (a running mean per
@@ -29,14 +33,17 @@ class ResolutionControl {
     age_[i] = 0;
   }
 
-  // The scale of the next moving frame: down at once to the largest that fits the budget when
-  // the present one does not; up to the largest that fits with a margin (no flicker between two
-  // sizes around the budget).
-  double pick(double full_pixels) {
+  // The scale of the next moving frame of a `full_pixels` image whose short side is
+  // `short_side`: down at once to the largest that fits the budget when the present one does not;
+  // up to the largest that fits with a margin (no flicker between two sizes around the budget);
+  // never below the floor (kMinShortSide) while the floor's scale fits the budget.
+  double pick(double full_pixels, double short_side) {
     if (full_pixels != full_pixels_) ms_.fill(0.0);  // another image: nothing measured applies
     full_pixels_ = full_pixels;
+    size_t floor = 0;  // the smallest scale at or above the floor
+    while (floor + 1 < kScales.size() && kScales[floor + 1] * short_side >= kMinShortSide) ++floor;
     if (std::none_of(ms_.begin(), ms_.end(), [](double m) { return m > 0.0; }))
-      return scale_ = 0.5;  // nothing measured yet: a safe guess
+      return scale_ = kScales[std::min(floor, index_of(0.5))];  // nothing measured: a safe guess
     const auto largest_within = [&](double ms) {
       size_t at = 0;
       while (at + 1 < kScales.size() && predicted(at) > ms) ++at;
@@ -45,6 +52,7 @@ class ResolutionControl {
     const size_t now = index_of(scale_);
     size_t at = predicted(now) > budget_ms_ ? largest_within(budget_ms_) : now;
     at = std::min(at, largest_within(0.9 * budget_ms_));
+    if (at > floor && predicted(floor) <= budget_ms_) at = floor;
     return scale_ = kScales[at];
   }
 

@@ -35,6 +35,15 @@ constexpr int kMaxSaves = 9999;
 // frames are sent once each.
 constexpr int kStillPngLevel = 1;
 
+// A page's `viewport` [width, height] (its canvas's device pixels), scaled down to at most
+// `max_side` a side keeping its aspect: the size still frames are rendered at.
+std::pair<int, int> fitted_viewport(const JsonReader& v, int max_side) {
+  const std::vector<double> size = v.numbers(2, Range::closed(16.0, 16384.0));
+  const double shrink = std::min(1.0, max_side / std::max(size[0], size[1]));
+  return {std::max(16, static_cast<int>(std::lround(size[0] * shrink))),
+          std::max(16, static_cast<int>(std::lround(size[1] * shrink)))};
+}
+
 // JSON text for a client. Error messages quote what a client sent, shortened, possibly inside a
 // UTF-8 sequence: such bytes become U+FFFD instead of making dump() throw.
 std::string text_of(const Json& message, int indent = -1) {
@@ -292,10 +301,12 @@ void ViewerSession::handle(const std::shared_ptr<ClientSink>& client, const Json
     }
     client->send_text(text_of(answer));
   } else if (type == "settings") {
-    r.check_keys({"type", "seq", "moving", "method", "spp"});
+    r.check_keys({"type", "seq", "moving", "method", "spp", "viewport"});
     std::lock_guard lock(mutex_);
     std::string method = method_;
     int spp = spp_;
+    std::optional<std::pair<int, int>> viewport = viewport_;
+    if (auto v = r.find("viewport")) viewport = fitted_viewport(*v, options_.max_image_side);
     if (auto v = r.find("method")) {
       method = v->string();
       const std::vector<std::string> methods = available_methods();
@@ -309,6 +320,7 @@ void ViewerSession::handle(const std::shared_ptr<ClientSink>& client, const Json
     }
     method_ = method;
     spp_ = spp;
+    viewport_ = viewport;
     input_applied(client.get(), message);
   } else if (type == "save") {
     r.check_keys({"type"});
@@ -403,6 +415,7 @@ bool ViewerSession::take_work(std::unique_lock<std::mutex>& lock, Snapshot& out)
                             (accumulated_version_ != version_ || accumulator_.samples() < spp_);
     if (shot || need_moving || need_still) {
       out.scene = state_.scene();  // shares voxels and meshes: the Renderer knows them by identity
+      if (viewport_) std::tie(out.scene.image.width, out.scene.image.height) = *viewport_;
       out.method = method_;
       out.spp = spp_;
       out.moving = moving_;
@@ -450,7 +463,7 @@ void ViewerSession::render_and_send(Snapshot& s) {
   if (s.moving) {
     // Moving frames are not cancelled: they are short, and one client's stream of them must not
     // starve another's.
-    scale = resolution_.pick(static_cast<double>(full_w) * full_h);
+    scale = resolution_.pick(static_cast<double>(full_w) * full_h, std::min(full_w, full_h));
     scene.image.width = std::max(1, static_cast<int>(std::lround(full_w * scale)));
     scene.image.height = std::max(1, static_cast<int>(std::lround(full_h * scale)));
     o.spp = 1;

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <thread>
@@ -44,6 +45,9 @@ struct SessionOptions {
   double moving_budget_ms = 45.0;  // what a frame may take while the user moves
   int jpeg_quality = 85;
   int threads = 0;  // rendering threads, 0: all cores
+  // The largest side of a frame a page may ask for (`settings` `viewport`: its canvas's CSS size
+  // times devicePixelRatio); larger viewports are scaled down, keeping their aspect.
+  int max_image_side = 2048;
   // A "moving" input followed by silence this long counts as released (a client gone mid-drag).
   double release_after_ms = 400.0;
   bool log = true;  // one line per client and per latency report on stderr
@@ -122,8 +126,9 @@ class ViewerSession {
   std::string method_;
   std::string last_good_method_;
   int spp_ = 1;
-  nlohmann::json histograms_, tf_presets_;  // sent in every hello
-  ReadingWindows reading_windows_;          // the 2-D views' windows, per voxel array
+  std::optional<std::pair<int, int>> viewport_;  // the latest page's canvas size, else the scene's
+  nlohmann::json histograms_, tf_presets_;       // sent in every hello
+  ReadingWindows reading_windows_;               // the 2-D views' windows, per voxel array
   std::vector<Client> clients_;
   uint64_t version_ = 1;  // grows with every change of what the image shows
   uint64_t rendered_version_ = 0;

@@ -69,7 +69,10 @@ Json camera_json(const Camera& c) {
   return {{"eye", vec_json(c.eye)},
           {"target", vec_json(c.target)},
           {"up", vec_json(c.up)},
-          {"fov_deg", c.fov_deg}};
+          {"fov_deg", c.fov_deg},
+          // Read only: the page needs them to project (clip-plane outlines), never sends them.
+          {"projection", c.projection == Projection::orthographic ? "orthographic" : "perspective"},
+          {"ortho_height", c.ortho_height}};
 }
 
 Json points_json(const TransferFunction& tf) {
@@ -181,9 +184,9 @@ CameraPose pose_of(const glm::dvec3& eye, const glm::dvec3& target, const glm::d
 // since the sender last saw it, both moves then count, and neither undoes the other. Equal to
 // the sent camera when `current` is `from`.
 void compose_move(Json& current, const CameraPose& from, const CameraPose& to) {
-  const CameraPose now = pose_of(vec3_of(current["eye"]), vec3_of(current["target"]),
-                                 vec3_of(current["up"]));
-  const glm::dmat3 turn = glm::transpose(from.axes) * to.axes;        // in the sender's frame
+  const CameraPose now =
+      pose_of(vec3_of(current["eye"]), vec3_of(current["target"]), vec3_of(current["up"]));
+  const glm::dmat3 turn = glm::transpose(from.axes) * to.axes;  // in the sender's frame
   const glm::dvec3 shift = glm::transpose(from.axes) * (to.target - from.target);
   const glm::dmat3 axes = now.axes * turn;
   const glm::dvec3 target = now.target + now.axes * shift;
@@ -210,8 +213,7 @@ bool apply_camera(ViewerState& state, const Json& message) {
       if (!r.has(key)) r.fail(fmt::format("a move (\"from\") needs \"{}\"", key));
     const Camera a = scene_json::parse_camera(*from);
     const Camera b = scene_json::parse_camera(JsonReader(
-        {{"eye", message["eye"]}, {"target", message["target"]}, {"up", message["up"]}},
-        "camera"));
+        {{"eye", message["eye"]}, {"target", message["target"]}, {"up", message["up"]}}, "camera"));
     const Camera& now = state.scene().camera;
     // Moved from the camera the session has: the sent camera as it is, without rounding.
     if (a.eye != now.eye || a.target != now.target || a.up != now.up)

@@ -153,18 +153,23 @@ TEST(ViewerSession, MovingFramesAreReducedJpegsThenStillFramesRefine) {
   auto client = std::make_shared<Recorder>();
   session.add_client(client);
   client->wait_final();
+  // A frame of 48 px stays whole while moving: it is below the floor (128 px) already.
   session.on_message(client, camera_message(1, true, -300).dump());
-  const auto moving = client->wait_type("frame");
-  EXPECT_EQ(moving.json["seq"], 1);
-  EXPECT_EQ(moving.json["format"], "jpeg");
+  EXPECT_EQ(client->wait_type("frame").json["width"], kSize);
+  // A page of 300 px: nothing measured yet at that size, so half of it (150 px, above the floor).
+  session.on_message(client, R"({"type": "settings", "viewport": [300, 300]})");
+  session.on_message(client, camera_message(1, true, -300).dump());
+  const auto moving = client->wait_for([](const Json& j) {
+    return j["type"] == "frame" && j["seq"] == 1 && j["format"] == "jpeg" && j["width"] != kSize;
+  });
   EXPECT_EQ(moving.json["final"], false);
-  EXPECT_LT(moving.json["scale"].get<double>(), 1.0);  // nothing measured yet: half size
-  EXPECT_LT(moving.json["width"].get<int>(), kSize);
+  EXPECT_EQ(moving.json["scale"].get<double>(), 0.5);
+  EXPECT_EQ(moving.json["width"].get<int>(), 150);
   session.on_message(client, camera_message(2, false, -300).dump());
   const auto still = client->wait_type("frame");
   EXPECT_EQ(still.json["seq"], 2);
   EXPECT_EQ(still.json["format"], "png");
-  EXPECT_EQ(still.json["width"], kSize);
+  EXPECT_EQ(still.json["width"], 300);
   EXPECT_EQ(still.json["samples"], 1);
   const auto last = client->wait_final();
   EXPECT_EQ(last.json["seq"], 2);
@@ -234,6 +239,7 @@ TEST(ViewerSession, BadMessagesGetOneErrorAndChangeNothing) {
       {R"({"type": "camera", "moving": "yes"})", "moving"},
       {R"({"type": "settings", "method": "fastest"})", "fastest"},
       {R"({"type": "settings", "spp": 3})", "perfect square"},
+      {R"({"type": "settings", "viewport": [1e6, 10]})", "viewport"},
       {R"({"type": "stats", "latency_ms": "fast"})", "latency_ms"},
       {std::string(kMaxMessageBytes + 1, ' '), "bytes"},
       // Numbers beyond a double: nlohmann refuses them while parsing, and the error names where.
@@ -269,6 +275,31 @@ TEST(ViewerSession, SettingsChangeMethodAndSpp) {
   const auto frame = client->wait_final();
   EXPECT_EQ(frame.json["samples"], 4);
   EXPECT_EQ(frame.json["seq"], 3);
+}
+
+TEST(ViewerSession, StillFramesTakeThePagesViewportWithinTheLargestSide) {
+  TempDir dir;
+  SessionOptions options = quiet_options(1);
+  options.max_image_side = 60;
+  ViewerSession session(load_viewer_state(small_fusion(dir)), options);
+  auto client = std::make_shared<Recorder>();
+  session.add_client(client);
+  EXPECT_EQ(client->wait_final().json["width"], kSize);  // the scene's size until a page says
+  session.on_message(client, R"({"type": "settings", "seq": 1, "viewport": [40, 30]})");
+  Json frame =
+      client->wait_for([](const Json& j) { return j["type"] == "frame" && j["seq"] == 1; }).json;
+  EXPECT_EQ(frame["width"], 40);
+  EXPECT_EQ(frame["height"], 30);
+  // A larger canvas is scaled down to the largest side, keeping its aspect.
+  session.on_message(client, R"({"type": "settings", "seq": 2, "viewport": [120, 90]})");
+  frame =
+      client->wait_for([](const Json& j) { return j["type"] == "frame" && j["seq"] == 2; }).json;
+  EXPECT_EQ(frame["width"], 60);
+  EXPECT_EQ(frame["height"], 45);
+  // Saving keeps the scene's own image size: the viewport is the page's, not the scene's.
+  session.on_message(client, R"({"type": "save"})");
+  const Json saved = Json::parse(client->wait_type("saved").json["text"].get<std::string>());
+  EXPECT_EQ(saved["image"]["width"], kSize);
 }
 
 TEST(ViewerSession, SaveWritesASceneThatRendersTheConvergedFrame) {

@@ -417,7 +417,8 @@ def run_test(args, out, checks, cleanup):
     cleanup.append(move_saves)
 
     sargs = ['--port', '0', '--bind', '127.0.0.1', '--method', args.method or 'zslab',
-             '--set', f'image.width={TEST_SIZE}', '--set', f'image.height={TEST_SIZE}']
+             '--set', f'image.width={TEST_SIZE}', '--set', f'image.height={TEST_SIZE}',
+             '--max-image-side', str(TEST_SIZE)]
     if args.spp:
         sargs += ['--spp', str(args.spp)]
     for s in args.set:
@@ -463,11 +464,15 @@ def run_test(args, out, checks, cleanup):
                  f"{last.get('width')}x{last.get('height')} {last.get('format')} "
                  f"{last.get('samples')}/{last.get('spp')} spp, "
                  f"{browser.evaluate('viewerStats.framesDrawn')} frames drawn")
-    checks.check('a. converged frame is PNG at the canvas size',
-                 last.get('format') == 'png' and last.get('width') == TEST_SIZE and
-                 last.get('height') == TEST_SIZE and last.get('scale') == 1,
+    # Still frames come at the view's device pixels, scaled down to --max-image-side.
+    vp = browser.evaluate('viewer.viewport()') or [0, 0]
+    shrink = min(1.0, TEST_SIZE / max(vp[0], vp[1], 1))
+    want = [max(16, math.floor(x * shrink + 0.5)) for x in vp]
+    checks.check('a. converged frame is PNG at the view\'s size (CSS x devicePixelRatio, bounded)',
+                 last.get('format') == 'png' and [last.get('width'), last.get('height')] == want
+                 and last.get('scale') == 1 and min(vp) > 0,
                  f"{last.get('format')} {last.get('width')}x{last.get('height')} "
-                 f"scale {last.get('scale')}")
+                 f"scale {last.get('scale')}", f'viewport {vp}, expected {want}')
     modules = browser.evaluate(JS_MODULES)
     checks.check('a. every ES module of the import map was fetched with the token (200)',
                  modules['listed'] > 0 and not modules['missing'],
@@ -668,8 +673,10 @@ def run_test(args, out, checks, cleanup):
         canvas_file = os.path.join(out, 'canvas.png')
         canvas_png(browser, canvas_file)
         t0 = time.monotonic()
-        r = subprocess.run([args.intermix, 'render', path, '-o', ref], capture_output=True,
-                           text=True, timeout=120)
+        size = browser.evaluate('[viewerStats.lastFrame.width, viewerStats.lastFrame.height]')
+        r = subprocess.run([args.intermix, 'render', path, '-o', ref, '--width', str(size[0]),
+                            '--height', str(size[1])], capture_output=True, text=True,
+                           timeout=120)
         render_s = time.monotonic() - t0
         if r.returncode != 0:
             checks.check('g. intermix render of the saved scene', False, f'exit {r.returncode}',
@@ -875,7 +882,8 @@ def run_frames(args, out, checks, cleanup, browser):
                                 'source': {'phantom': 'ct-head', 'size': 48},
                                 'transfer_function': {'preset': 'ct-bone'}}]}, f)
     server = Server(args.intermix, scene, ['--port', '0', '--bind', '127.0.0.1', '--method',
-                                           'zslab', '--spp', '1'],
+                                           'zslab', '--spp', '1', '--max-image-side',
+                                           str(TEST_SIZE)],
                     os.path.join(out, 'server-frames.log'), os.getcwd())
     server.start()
     cleanup.append(server.kill)
@@ -934,7 +942,8 @@ def run_mpr(args, out, checks, cleanup, browser):
     plane's position slider, a clip plane added and moved by alt+drag, reset view."""
     scene = os.path.abspath(args.mpr_scene)
     sargs = ['--port', '0', '--bind', '127.0.0.1', '--method', 'zslab',
-             '--set', f'image.width={TEST_SIZE}', '--set', f'image.height={TEST_SIZE}']
+             '--set', f'image.width={TEST_SIZE}', '--set', f'image.height={TEST_SIZE}',
+             '--max-image-side', str(TEST_SIZE)]
     if args.spp:
         sargs += ['--spp', str(args.spp)]
     t_start = time.monotonic()
@@ -1200,7 +1209,7 @@ def _tf_alpha(o, idx):
 # ---------------------------------------------------------------- measure mode
 def run_measure(args, out, cleanup):
     scene = os.path.abspath(args.scene)
-    sargs = ['--port', '0', '--bind', '127.0.0.1']
+    sargs = ['--port', '0', '--bind', '127.0.0.1', '--max-image-side', str(args.max_image_side)]
     if args.method:
         sargs += ['--method', args.method]
     if args.spp:
@@ -1356,6 +1365,9 @@ def main():
                     help='measure mode: N short drags on the scene at its own size')
     ap.add_argument('--method', help='rendering method (test mode default: zslab)')
     ap.add_argument('--spp', type=int, help='samples per pixel the viewer converges to')
+    ap.add_argument('--max-image-side', type=int, default=512,
+                    help='measure mode: the largest side of a frame (the page asks for its '
+                         'view\'s size)')
     ap.add_argument('--set', action='append', default=[], metavar='KEY=VALUE',
                     help='scene override passed to intermix serve (repeatable)')
     ap.add_argument('--mpr-scene', default=os.path.join(REPO, 'examples', 'mpr.json'),

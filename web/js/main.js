@@ -12,7 +12,7 @@ import {applyViewLink, setupShortcuts, viewLink} from './shortcuts.js';
 import {crosshairs, onProbe, onSlice, onSliceError, refreshSlices, scaleBars, setLayout,
         setupSlices} from './slices.js';
 import {copyCamera} from './vec.js';
-import {drawFrame, initView, layoutCanvas, resetView} from './view.js';
+import {drawFrame, initView, layoutCanvas, resetView, sendViewport} from './view.js';
 
 window.viewerStats = stats;
 
@@ -56,6 +56,8 @@ window.viewer = {
   sliceLatencies() { return (S.sliceLatencies || []).slice(); },
   // every view shows the crosshair's latest point
   slicesSettled() { return S.pointSetAt === null || S.pointSetAt === undefined; },
+  // the size the page asked still frames to have (its view's device pixels)
+  viewport() { return S.viewport ? S.viewport.slice() : null; },
 };
 
 function onHello(m) {
@@ -95,6 +97,7 @@ function start() {
     setTimeout(() => onState(null), 0);  // after the drag ends: a state kept meanwhile
   }, true);
   window.addEventListener('resize', () => {
+    sendViewport(150);
     layoutCanvas();
     drawColorBars();
     redrawEditors();
