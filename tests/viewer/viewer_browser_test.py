@@ -1121,6 +1121,7 @@ def run_mpr(args, out, checks, cleanup, browser):
                  f"PSNR before/after {d['psnr_db']:.1f} dB; (run, stages) of its frames: "
                  f"{sorted(set((f['stages_run'], f['stages']) for f in fr))}")
     browser.screenshot(os.path.join(out, 'viewer-mpr-edited.png'))
+    run_clip_handles(browser, watcher, checks, vol)
 
     # k. orbit, then "reset view"
     init = hello.get('initial_camera') or hello.get('camera')
@@ -1204,6 +1205,77 @@ def _tf_alpha(o, idx):
         return float(pts[idx][4])
     except (TypeError, IndexError, ValueError):
         return None
+
+
+def clip_offset_change(before, after):
+    """How far the one clip plane that moved went along its normal, mm (None unless one did)."""
+    moved = [(a, b) for a, b in zip(before, after) if math.dist(a['point'], b['point']) > 1e-6]
+    if len(moved) != 1 or len(before) != len(after):
+        return None
+    a, b = moved[0]
+    return sum((q - p) * n for p, q, n in zip(a['point'], b['point'], a['normal']))
+
+
+def run_clip_handles(browser, watcher, checks, vol):
+    """j2/j3. The clip plane's outline has a handle in the 3-D view and in each 2-D view it
+    crosses; dragging a handle moves the plane along its normal by the drag's distance."""
+    handles = browser.evaluate('viewer.clipHandles()')
+    h3 = [h for h in handles['view3d'] if h['volume'] == vol]
+    st = settled_state(watcher, time.monotonic() - 60)
+    clips0 = list((state_object(st, vol) or {}).get('clip_planes') or [])
+    if not h3:
+        checks.check('j2. the clip plane has a handle in the 3-D view', False, 'none drawn')
+        return
+    h = h3[-1]
+    cam = browser.evaluate('viewer.camera()')
+    view = browser.evaluate("viewer.center('#view')")
+    # The plane faces the camera (added so), so the handle takes the vertical drag: down moves
+    # it toward the viewer by the mm a pixel spans at the handle's depth.
+    fwd = [t - e for t, e in zip(cam['target'], cam['eye'])]
+    fn = math.sqrt(sum(v * v for v in fwd))
+    depth = sum((p - e) * f / fn for p, e, f in zip(h['point'], cam['eye'], fwd))
+    mm_px = 2 * depth * math.tan(math.radians(cam['fov_deg']) / 2) / view['h']
+    dy = 25
+    t0 = time.monotonic()
+    browser.drag(h['x'], h['y'], h['x'], h['y'] + dy, steps=8, duration=0.4)
+    wait_converged(browser, 20, 'after the 3-D handle drag')
+    clips1 = list((state_object(settled_state(watcher, t0), vol) or {}).get('clip_planes') or [])
+    along = clip_offset_change(clips0, clips1)
+    want = -dy * mm_px
+    checks.check('j2. dragging the clip plane\'s 3-D handle moves it along its normal',
+                 along is not None and abs(along - want) < 0.03 * abs(want) + 0.05,
+                 f'{rnd(along, 2)} mm', f'expected {want:.2f} mm for {dy} px at depth '
+                 f'{depth:.0f} mm; handles {len(h3)}')
+
+    browser.evaluate("viewer.setLayout('2x2')")
+    browser.wait_for("Object.keys(viewer.clipHandles().slices).length === 3 && "
+                     "Object.values(viewer.clipHandles().slices).some((v) => v.handles.length)",
+                     timeout=10, what='the 2-D views with the clip plane\'s lines')
+    slices = browser.evaluate('viewer.clipHandles().slices')
+    crossing = {a: v for a, v in slices.items() if v['handles']}
+    axis, v = next(iter(crossing.items()))
+    hh = v['handles'][0]
+    frame = {'axial': ([1, 0, 0], [0, 1, 0]), 'coronal': ([1, 0, 0], [0, 0, -1]),
+             'sagittal': ([0, 1, 0], [0, 0, -1])}[axis]
+    normal = clips1[hh['index']]['normal']
+    dx, dy = 12, 18
+    want = sum((dx * r + dy * d) * n for r, d, n in zip(frame[0], frame[1], normal)) * v['mm_per_px']
+    t0 = time.monotonic()
+    browser.drag(hh['x'], hh['y'], hh['x'] + dx, hh['y'] + dy, steps=8, duration=0.4)
+    wait_converged(browser, 20, 'after the 2-D handle drag')
+    clips2 = list((state_object(settled_state(watcher, t0), vol) or {}).get('clip_planes') or [])
+    along = clip_offset_change(clips1, clips2)
+    # The plane facing the camera's view is parallel to one 2-D view (no line there) and crosses
+    # the other two.
+    checks.check('j3. each 2-D view the clip plane crosses draws its line with a handle; '
+                 'dragging it moves the plane by the drag\'s part along its normal',
+                 len(crossing) >= 1 and along is not None and abs(along - want) < 0.03 * abs(want) + 0.05
+                 and abs(want) > 0.5,
+                 f'{rnd(along, 2)} mm in the {axis} view',
+                 f'expected {want:.2f} mm; views with a line: {sorted(crossing)}; handle {hh}, '
+                 f'{v["mm_per_px"]:.3f} mm/px, normal {[rnd(x, 3) for x in normal]}')
+    browser.evaluate("viewer.setLayout('1x1')")
+    wait_converged(browser, 20, 'back to the 3-D layout')
 
 
 # ---------------------------------------------------------------- measure mode

@@ -1,6 +1,8 @@
-// Colour bars over the 3-D view: one per visible volume, its transfer function's colours from its
+// The 3-D view's overlay: clip-plane outlines (clip_outlines.js), the orientation marker, and
+// colour bars: one per visible volume, its transfer function's colours from its
 // first point's value (bottom) to its last (top), each colour weighted by its opacity relative to
 // the function's largest (black where the function shows nothing), labelled with the values.
+import {drawClipOutlines3d} from './clip_outlines.js';
 import {S} from './state.js';
 
 const BAR_W = 12, BAR_H = 140, GAP = 64;
@@ -72,6 +74,10 @@ export function drawColorBars() {
                                           o.tf.length > 1 && o.tf[o.tf.length - 1][0] > o.tf[0][0]);
   S.colorBars = volumes.map((o) => o.name);
   g.scale(r, r);
+  // The image's place in the cell (it keeps its aspect), for the clip planes' outlines.
+  const view = document.getElementById('view').getBoundingClientRect();
+  const cell = c.getBoundingClientRect();
+  drawClipOutlines3d(g, view.left - cell.left, view.top - cell.top, view.width, view.height);
   drawOrientation(g, c.clientHeight);
   g.font = '11px sans-serif';
   volumes.forEach((o, k) => {

@@ -1,12 +1,14 @@
 // Pointer, wheel and touch input on the view canvas. Left drag orbits; right, middle or shift
 // drag pans; the wheel and a pinch zoom; ctrl (or W/L mode) drag sets the selected plane's
-// window and level; alt drag moves the selected clip plane along its normal. Each becomes a
+// window and level; alt drag moves the selected clip plane along its normal, and so does a drag
+// of a clip plane's handle (clip_outlines.js), following the pointer. Each becomes a
 // camera or edit input (connection.js), moving while it goes on and final on release.
 import {mmPerPixel, orbit, pan, zoom} from './camera.js';
+import {HANDLE_RADIUS, handleAt, moveClip, projector, startClipDrag} from './clip_outlines.js';
 import {cameraInput, editInput} from './connection.js';
 import {buildPanel, showWindow} from './panel.js';
 import {S, clipsMessage} from './state.js';
-import {clamp} from './vec.js';
+import {clamp, dot, mul} from './vec.js';
 
 let canvas = null;
 
@@ -26,7 +28,13 @@ export function setupInput(el) {
       if (ev.button === 2 || ev.button === 1 || ev.shiftKey) mode = 'pan';
       if (ev.button === 0 && (ev.ctrlKey || ev.metaKey || S.wlMode)) mode = 'wl';
       if (ev.button === 0 && ev.altKey) mode = 'clip';
+      const handle = ev.button === 0 && mode === 'orbit' ? handle3dAt(ev) : null;
       S.drag = {mode, x0: ev.clientX, y0: ev.clientY};
+      if (handle) {
+        S.drag.handle = startClipDrag(handle);
+        S.drag.mode = S.drag.handle ? 'handle' : 'orbit';
+        S.drag.point = handle.point;
+      }
       if (mode === 'wl') {
         S.drag.wl = startWindowLevel();
         if (!S.drag.wl) S.drag.mode = 'none';
@@ -55,6 +63,7 @@ export function setupInput(el) {
     else if (d.mode === 'pan') { pan(S.camera, dx, dy, canvas.clientHeight); cameraInput(true); }
     else if (d.mode === 'wl') applyWindowLevel(d, ev.clientX - d.x0, ev.clientY - d.y0, true);
     else if (d.mode === 'clip') moveClipByDrag(d, ev.clientY - d.y0, true);
+    else if (d.mode === 'handle') dragHandle(d, ev, true);
   });
   const end = (ev) => {
     if (!S.pointers.has(ev.pointerId)) return;
@@ -71,6 +80,10 @@ export function setupInput(el) {
     if (d.mode === 'orbit' || d.mode === 'pan' || d.mode === 'touch') cameraInput(false);
     else if (d.mode === 'wl') applyWindowLevel(d, ev.clientX - d.x0, ev.clientY - d.y0, false);
     else if (d.mode === 'clip') moveClipByDrag(d, ev.clientY - d.y0, false);
+    else if (d.mode === 'handle') {
+      dragHandle(d, ev, false);
+      buildPanel();
+    }
   };
   canvas.addEventListener('pointerup', end);
   canvas.addEventListener('pointercancel', end);
@@ -138,6 +151,27 @@ function selectedClip() {
   for (const o of S.objects)
     if (o.kind === 'volume' && o.clips.length) return {o, c: o.clips[o.clips.length - 1]};
   return null;
+}
+
+// The clip-plane handle under the pointer (colorbar.js draws them in the cell's pixels).
+function handle3dAt(ev) {
+  const cell = document.getElementById('cell-3d').getBoundingClientRect();
+  return handleAt(S.clipHandles3d, ev.clientX - cell.left, ev.clientY - cell.top,
+                  1.5 * HANDLE_RADIUS);
+}
+
+// A handle follows the pointer: the drag as a displacement in the view's plane at the handle's
+// depth, of which the part along the plane's normal moves the plane.
+// A plane facing the camera (normal within 60 degrees of the view direction) takes the vertical
+// drag instead, as alt+drag does: down moves it towards the viewer.
+function dragHandle(d, ev, moving) {
+  const proj = projector(canvas.clientWidth, canvas.clientHeight);
+  const mm = proj.mmPerPixel(d.point);
+  const dx = (ev.clientX - d.x0) * mm, dy = (ev.clientY - d.y0) * mm;
+  const n = d.handle.c.normal;
+  const facing = dot(n, proj.right) ** 2 + dot(n, proj.up) ** 2 < 0.25;
+  const delta = facing ? mul(n, -dy) : proj.right.map((x, i) => x * dx - proj.up[i] * dy);
+  moveClip(d.handle, delta, moving);
 }
 
 // Dragging down moves the plane against its normal by the scene's mm per pixel at the target.

@@ -10,7 +10,7 @@ import {buildSelectors, onSaved, onScreenshot, setupToolbar} from './toolbar.js'
 import {drawColorBars} from './colorbar.js';
 import {applyViewLink, setupShortcuts, viewLink} from './shortcuts.js';
 import {crosshairs, onProbe, onSlice, onSliceError, refreshSlices, scaleBars, setLayout,
-        setupSlices} from './slices.js';
+        setupSlices, sliceClipHandles} from './slices.js';
 import {copyCamera} from './vec.js';
 import {drawFrame, initView, layoutCanvas, resetView, sendViewport} from './view.js';
 
@@ -56,6 +56,15 @@ window.viewer = {
   sliceLatencies() { return (S.sliceLatencies || []).slice(); },
   // every view shows the crosshair's latest point
   slicesSettled() { return S.pointSetAt === null || S.pointSetAt === undefined; },
+  // clip-plane handles: the 3-D view's (page pixels, with the world point each stands on) and
+  // each 2-D view's
+  clipHandles() {
+    const cell = document.getElementById('cell-3d').getBoundingClientRect();
+    return {view3d: (S.clipHandles3d || []).map((h) => ({volume: h.volume, index: h.index,
+                                                         x: cell.left + h.x, y: cell.top + h.y,
+                                                         point: h.point})),
+            slices: sliceClipHandles()};
+  },
   // the size the page asked still frames to have (its view's device pixels)
   viewport() { return S.viewport ? S.viewport.slice() : null; },
 };

@@ -2,6 +2,7 @@
 // crosshair point, rendered by the server (`slice` messages, docs/viewer.md), with the crosshair,
 // mesh outlines and orientation letters drawn over them; a click moves the crosshair in all
 // three, the wheel and arrow keys step slices, and the readout shows each volume's value there.
+import {HANDLE_RADIUS, drawClipLines2d, handleAt, moveClip, startClipDrag} from './clip_outlines.js';
 import {send} from './connection.js';
 import {S} from './state.js';
 
@@ -120,6 +121,9 @@ function drawOverlay(axis) {
     }
     g.stroke();
   }
+  view.handles = drawClipLines2d(g, {point: a.point, right: FRAME[axis].right,
+                                     down: FRAME[axis].down, mm: a.mm_per_pixel, width: a.width,
+                                     height: a.height}, r);
   const [cx, cy] = pixelOf(axis, S.point);
   g.strokeStyle = 'rgba(80, 220, 120, 0.8)';
   g.lineWidth = r;
@@ -239,13 +243,39 @@ export function setupSlices() {
     const view = {cell, image: cell.querySelector('.slice'), overlay: cell.querySelector('.overlay'),
                   answer: null, pending: false, again: false, seq: 0};
     views[axis] = view;
+    const backing = (ev) => {
+      const r = view.image.getBoundingClientRect();
+      return [(ev.clientX - r.left) * view.answer.width / r.width,
+              (ev.clientY - r.top) * view.answer.height / r.height];
+    };
     view.image.addEventListener('pointerdown', (ev) => {
       if (!view.answer) return;
-      const r = view.image.getBoundingClientRect();
-      const x = (ev.clientX - r.left) * view.answer.width / r.width;
-      const y = (ev.clientY - r.top) * view.answer.height / r.height;
+      const [x, y] = backing(ev);
+      const r = window.devicePixelRatio || 1;
+      const handle = handleAt(view.handles, x, y, 1.5 * HANDLE_RADIUS * r);
+      const drag = handle && startClipDrag(handle);
+      if (drag) {  // a clip plane's handle: the plane follows the pointer along its normal
+        view.image.setPointerCapture(ev.pointerId);
+        view.clipDrag = Object.assign(drag, {x0: x, y0: y});
+        S.drag = {mode: 'slice-clip'};  // no other window's state is taken mid-drag
+        return;
+      }
       setPoint(worldOf(axis, x, y), axis);
     });
+    const dragClip = (ev, moving) => {
+      const d = view.clipDrag;
+      if (!d) return;
+      const [x, y] = backing(ev);
+      const f = FRAME[axis], mm = view.answer.mm_per_pixel;
+      moveClip(d, f.right.map((v, i) => ((x - d.x0) * v + (y - d.y0) * f.down[i]) * mm), moving);
+      for (const other of shownAxes()) if (views[other].answer) drawOverlay(other);
+      if (moving) return;
+      view.clipDrag = null;
+      S.drag = null;
+    };
+    view.image.addEventListener('pointermove', (ev) => dragClip(ev, true));
+    view.image.addEventListener('pointerup', (ev) => dragClip(ev, false));
+    view.image.addEventListener('pointercancel', (ev) => dragClip(ev, false));
     view.image.addEventListener('wheel', (ev) => {
       ev.preventDefault();
       step(axis, ev.deltaY > 0 ? -1 : 1);
@@ -278,6 +308,21 @@ export function setLayout(name) {
 export function scaleBars() {
   const out = {};
   for (const axis of AXES) if (views[axis] && views[axis].scaleMm) out[axis] = views[axis].scaleMm;
+  return out;
+}
+
+// For tests: each shown 2-D view's clip-plane handles in page (client) pixels, with the view's
+// millimetres per CSS pixel.
+export function sliceClipHandles() {
+  const out = {};
+  for (const axis of shownAxes()) {
+    const v = views[axis];
+    if (!v.answer) continue;
+    const r = v.image.getBoundingClientRect(), k = r.width / v.answer.width;
+    out[axis] = {mm_per_px: v.answer.mm_per_pixel / k,
+                 handles: (v.handles || []).map((h) => ({volume: h.volume, index: h.index,
+                                                        x: r.left + h.x * k, y: r.top + h.y * k}))};
+  }
   return out;
 }
 

@@ -80,6 +80,12 @@ function localObject(o) {
   return l;
 }
 
+// The camera's projection, which the page never changes but needs for its overlays.
+function takeProjection(c) {
+  S.projection = c.projection || 'perspective';
+  S.orthoHeight = c.ortho_height || 200;
+}
+
 // Takes a `hello`: the session's settings, camera and objects, replacing everything before.
 export function takeHello(m) {
   S.methods = m.methods || [];
@@ -88,6 +94,7 @@ export function takeHello(m) {
   S.image = m.image;
   S.camera = copyCamera(m.camera);
   S.cameraSent = copyCamera(m.camera);
+  takeProjection(m.camera);
   S.initialCamera = copyCamera(m.initial_camera || m.camera);
   S.histograms = m.histograms || {};
   S.tfPresets = m.tf_presets || {};
@@ -111,6 +118,7 @@ export function takeState(m) {
   if (m.camera) {
     S.camera = copyCamera(m.camera);
     S.cameraSent = copyCamera(m.camera);
+    takeProjection(m.camera);
   }
   if (m.method) S.method = m.method;
   if (m.spp) S.spp = m.spp;
