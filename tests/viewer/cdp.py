@@ -334,6 +334,16 @@ class Browser:
     # modifiers (CDP's bit mask, as on the DOM events): ALT 1, CTRL 2, META 4, SHIFT 8.
     ALT, CTRL, META, SHIFT = 1, 2, 4, 8
 
+    def key(self, key, modifiers=0):
+        """Presses and releases one key (`key` as KeyboardEvent.key names it, a letter or
+        'Home', ...) with `modifiers` held."""
+        code = ('Key' + key.upper()) if len(key) == 1 and key.isalpha() else key
+        vk = ord(key.upper()) if len(key) == 1 else 0
+        for kind in ('keyDown', 'keyUp'):
+            self.send('Input.dispatchKeyEvent',
+                      {'type': kind, 'key': key, 'code': code, 'modifiers': modifiers,
+                       'windowsVirtualKeyCode': vk}, timeout=15)
+
     def press(self, x, y, button='left', modifiers=0):
         self.mouse('mouseMoved', x, y, modifiers=modifiers)
         self.mouse('mousePressed', x, y, button=button, buttons=_BUTTONS[button], click_count=1,

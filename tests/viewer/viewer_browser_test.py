@@ -1277,6 +1277,28 @@ def run_clip_handles(browser, watcher, checks, vol):
     browser.evaluate("viewer.setLayout('1x1')")
     wait_converged(browser, 20, 'back to the 3-D layout')
 
+    # j4. undo and redo (Ctrl+Z, Ctrl+Shift+Z): the 2-D drag is one step, back and forth, and
+    # the server ends where the page is.
+    def clips_after(keys, modifiers):
+        t0 = time.monotonic()
+        browser.key(keys, modifiers)
+        wait_converged(browser, 20, f'after {keys}')
+        return list((state_object(settled_state(watcher, t0), vol) or {}).get('clip_planes')
+                    or [])
+    depth = browser.evaluate('viewer.historyDepth()')
+    undone = clips_after('z', browser.CTRL)
+    redone = clips_after('z', browser.CTRL | browser.SHIFT)
+    same = lambda a, b: len(a) == len(b) and all(
+        math.dist(x['point'], y['point']) < 1e-6 for x, y in zip(a, b))
+    checks.check('j4. Ctrl+Z undoes the last edit (the 2-D handle drag) in one step and '
+                 'Ctrl+Shift+Z redoes it; the server agrees',
+                 depth['undo'] >= 3 and same(undone, clips1) and same(redone, clips2),
+                 f"history {depth['undo']} steps",
+                 f'undo gave {[rnd(c["point"][0], 2) for c in undone]}, expected '
+                 f'{[rnd(c["point"][0], 2) for c in clips1]}; redo gave '
+                 f'{[rnd(c["point"][0], 2) for c in redone]}, expected '
+                 f'{[rnd(c["point"][0], 2) for c in clips2]}')
+
 
 # ---------------------------------------------------------------- measure mode
 def run_measure(args, out, cleanup):

@@ -1,6 +1,7 @@
 // The WebSocket of docs/viewer.md's protocol: connecting, sending, and flow control (one input
 // message in flight, further input merged per key until a frame answers it). The server's
 // messages go to the handlers given to connect(); frames, errors and flow control are kept here.
+import {editCommitted} from './history.js';
 import {S, token} from './state.js';
 import {showMessage, stats} from './stats.js';
 import {copyCamera} from './vec.js';
@@ -69,9 +70,11 @@ export function cameraInput(moving, set = false) {
   queueInput('camera', fields, moving);
 }
 
-// Queues an edit of one object; edits of different objects are separate messages.
+// Queues an edit of one object; edits of different objects are separate messages. A final one
+// is a step of the page's undo history.
 export function editInput(name, fields, moving) {
   queueInput('edit:' + name, Object.assign({type: 'edit', object: name}, fields), moving);
+  if (!moving) editCommitted(name, fields);
 }
 
 // stats.converged: the last drawn frame is final and shows every input sent.

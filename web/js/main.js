@@ -1,13 +1,14 @@
 // The viewer page's entry module (docs/viewer.md), imported by index.html: wires the modules
 // together once the page's elements exist and connects. It also publishes window.viewerStats
 // (stats.js) and window.viewer, the hooks the browser test (tests/viewer/) drives the page with.
-import {connect} from './connection.js';
+import {connect, editInput} from './connection.js';
 import {setupInput} from './input.js';
 import {buildPanel, redrawEditors, tfEditor} from './panel.js';
 import {S, takeHello, takeState} from './state.js';
 import {bindStatus, finishRecording, startRecording, stats, updateStatus} from './stats.js';
 import {buildSelectors, onSaved, onScreenshot, setupToolbar} from './toolbar.js';
 import {drawColorBars} from './colorbar.js';
+import {historyDepth, resetCommitted, setupHistory} from './history.js';
 import {applyViewLink, setupShortcuts, viewLink} from './shortcuts.js';
 import {crosshairs, onProbe, onSlice, onSliceError, refreshSlices, scaleBars, setLayout,
         setupSlices, sliceClipHandles} from './slices.js';
@@ -53,6 +54,7 @@ window.viewer = {
   scaleBars,
   colorBars() { return (S.colorBars || []).slice(); },
   viewLink,
+  historyDepth,
   sliceLatencies() { return (S.sliceLatencies || []).slice(); },
   // every view shows the crosshair's latest point
   slicesSettled() { return S.pointSetAt === null || S.pointSetAt === undefined; },
@@ -71,6 +73,7 @@ window.viewer = {
 
 function onHello(m) {
   takeHello(m);
+  resetCommitted();
   resetView();
   buildSelectors();
   buildPanel();
@@ -81,6 +84,7 @@ function onHello(m) {
 
 function onState(m) {
   if (!takeState(m)) return;
+  resetCommitted();  // another window's edits are where this one's undo starts from
   buildSelectors();
   buildPanel();
   refreshSlices();  // visibility and transfer functions show in the 2-D views too
@@ -95,6 +99,12 @@ function start() {
   setupInput(canvas);
   setupSlices();
   setupShortcuts();
+  setupHistory(editInput, () => {
+    buildPanel();
+    redrawEditors();
+    drawColorBars();
+    refreshSlices();
+  });
   document.getElementById('help-button').addEventListener('click', (ev) => {
     ev.stopPropagation();
     document.getElementById('shortcuts').hidden = false;

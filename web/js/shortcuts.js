@@ -1,6 +1,7 @@
 // Keyboard shortcuts (listed in the help overlay, "?"), the "advanced" switch that shows the
 // method menu and the status line, and "copy link": the view as an address without the token.
 import {cameraInput, editInput} from './connection.js';
+import {applyFields, editFields, redo, undo} from './history.js';
 import {setLayout} from './slices.js';
 import {S} from './state.js';
 import {snapView} from './toolbar.js';
@@ -12,6 +13,7 @@ const KEYS = [
   ['Home', 'reset the view'],
   ['w', 'window/level mode on or off'],
   ['↑ ↓, Page Up / Down', 'over a 2-D view: one slice, ten slices'],
+  ['Ctrl+Z, Ctrl+Shift+Z / Ctrl+Y', 'undo, redo this window\'s last object edit'],
   ['?', 'this list'],
 ];
 
@@ -21,10 +23,16 @@ function toggleHelp(show) {
 }
 
 function onKey(ev) {
-  if (ev.ctrlKey || ev.metaKey || ev.altKey) return;
   const t = ev.target;
   if (t && (t.tagName === 'INPUT' || t.tagName === 'SELECT' || t.tagName === 'TEXTAREA')) return;
   const k = ev.key;
+  if ((ev.ctrlKey || ev.metaKey) && !ev.altKey && (k === 'z' || k === 'Z' || k === 'y')) {
+    if (k === 'y' || ev.shiftKey) redo();
+    else undo();
+    ev.preventDefault();
+    return;
+  }
+  if (ev.ctrlKey || ev.metaKey || ev.altKey) return;
   if (k === '?') toggleHelp();
   else if (k === 'Escape') toggleHelp(false);
   else if (k === '1' || k === '2' || k === '3') setLayout({1: '1x1', 2: '2x2', 3: '1x3'}[k]);
@@ -35,20 +43,21 @@ function onKey(ev) {
   ev.preventDefault();
 }
 
-// The page's address for this view: camera, layout, crosshair and each object's visibility and
-// opacity in the fragment (never the token; the one who opens it needs their own).
+// The page's address for this view: camera, layout, crosshair and each object's edits
+// (visibility, opacity, transfer function, window, position, clip planes, frame) in the fragment
+// (never the token; the one who opens it needs their own).
 export function viewLink() {
   const view = {
     camera: S.camera,
     layout: document.getElementById('layout').value,
     point: S.point || null,
-    objects: S.objects.map((o) => [o.name, o.visible, o.opacity]),
+    objects: S.objects.map((o) => [o.name, editFields(o)]),
   };
   return location.origin + location.pathname + '#view=' + encodeURIComponent(JSON.stringify(view));
 }
 
 // Applies a link's view (after hello): the camera as it was, the layout, the crosshair, and the
-// objects' visibility and opacity where they differ.
+// objects' edits where they differ (each an edit of this window, so it can be undone).
 export function applyViewLink() {
   const m = /#view=(.*)$/.exec(location.hash);
   if (!m) return;
@@ -64,12 +73,16 @@ export function applyViewLink() {
     S.camera = copyCamera(view.camera);
     cameraInput(false, true);
   }
-  for (const [name, visible, opacity] of view.objects || []) {
+  for (const [name, fields] of view.objects || []) {
     const o = S.byName.get(name);
-    if (!o || (o.visible === visible && o.opacity === opacity)) continue;
-    o.visible = Boolean(visible);
-    o.opacity = Number(opacity);
-    editInput(name, {visible: o.visible, opacity: o.opacity}, false);
+    if (!o || !fields || typeof fields !== 'object') continue;
+    const now = editFields(o), changed = {};
+    for (const key of Object.keys(now))
+      if (key in fields && JSON.stringify(fields[key]) !== JSON.stringify(now[key]))
+        changed[key] = fields[key];
+    if (!Object.keys(changed).length) continue;
+    applyFields(o, changed);
+    editInput(name, changed, false);
   }
   if (Array.isArray(view.point) && view.point.length === 3) S.point = view.point.map(Number);
   if (['1x1', '2x2', '1x3'].includes(view.layout)) setLayout(view.layout);
