@@ -1452,7 +1452,8 @@ def diagnose(cleanup, out):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     ap.add_argument('--intermix', default='build/intermix', help='the intermix program')
-    ap.add_argument('--scene', default='examples/fusion.json')
+    ap.add_argument('--scene', default='examples/fusion.json',
+                    help='a scene file, or a data file or DICOM folder (intermix serve DATA)')
     ap.add_argument('--out', help='folder for screenshots, logs and measure.json '
                                   '(default: a new temporary folder, kept)')
     ap.add_argument('--measure', type=int, default=0, metavar='N',
@@ -1486,8 +1487,8 @@ def main():
         print(f'error: {args.intermix} is not an executable program', file=sys.stderr)
         return 2
     args.intermix = os.path.abspath(args.intermix)
-    if not os.path.isfile(args.scene):
-        print(f'error: no scene file {args.scene}', file=sys.stderr)
+    if not os.path.exists(args.scene):  # a scene file, or data intermix serve opens (a folder)
+        print(f'error: no scene file or data {args.scene}', file=sys.stderr)
         return 2
     if args.mpr_scene and not args.measure and not os.path.isfile(args.mpr_scene):
         print(f'error: no scene file {args.mpr_scene}', file=sys.stderr)
