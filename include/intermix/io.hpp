@@ -86,17 +86,33 @@ struct MeshFileInfo {
   bool file_normals = false;  // per-vertex normals from the file, else computed (angle-weighted)
   bool file_colors = false;   // per-vertex colours from the file
   size_t file_vertices = 0;   // vertices as read, before computed normals weld and split them
+  // What reading chose that the user should know (a FreeSurfer surface's c_ras offset).
+  std::vector<std::string> notes;
+};
+
+// Values a mesh file gives its vertices (VTK point data): `components` values per file vertex.
+struct MeshPointData {
+  std::string name;
+  int components = 1;
+  std::vector<double> values;  // file_vertices * components, vertex after vertex
 };
 
 struct MeshFile {
   Mesh mesh;
   MeshFileInfo info;
+  // The file's vertex each vertex of `mesh` came from (computed normals weld and split
+  // vertices): what maps per-vertex values of the file, or of an overlay file, onto the mesh.
+  std::vector<uint32_t> file_vertex;
+  std::vector<MeshPointData> point_data;  // scalars other than normals, by the file's names
 };
 
-// Reads a triangle mesh (.obj, .stl, .off, .gltf, .glb through assimp; .ply and GIfTI .gii by
-// hand and through libgiftiio), triangulated, in LPS mm. The space is options.space, else a
-// 3D Slicer header comment (SPACE=RAS / SPACE=LPS in an STL header, the leading comments of
-// an OBJ, a PLY comment), else the format's own (GIfTI: RAS), else LPS. Normals come from the
+// Reads a triangle mesh (.obj, .stl, .off, .gltf, .glb through assimp; .ply, GIfTI .gii,
+// FreeSurfer surfaces (lh.pial, ..., known by their magic number), VTK legacy .vtk and XML .vtp
+// polydata by hand), triangulated, in LPS mm. The space is options.space, else a 3D Slicer
+// header comment (SPACE=RAS / SPACE=LPS in an STL header, the leading comments of an OBJ, a PLY
+// comment, a VTK file's title line, a VTP's SPACE field), else the format's own (GIfTI and
+// FreeSurfer: RAS; a FreeSurfer surface's tkr-RAS is moved to scanner RAS by its volume
+// geometry's c_ras), else LPS. Normals come from the
 // file where it stores them per vertex (not STL's per-facet ones), else are computed
 // angle-weighted with vertices split at edges sharper than the crease angle.
 // Throws imx::Error naming the file and the fault.

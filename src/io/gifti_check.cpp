@@ -301,7 +301,13 @@ struct Parser {
   bool has_data = false;             // the checked array had a <Data> element
   int pointset = -1, triangle = -1;  // the arrays kept, by their order in the file
   GiftiSurface surface;
-  uint64_t kept_bytes = 0;  // the kept arrays and the mesh made of them
+  // Overlay mode: the data array of values kept (wanted, or the first that fits with -1).
+  bool overlay_mode = false;
+  int wanted = -1;
+  GiftiOverlay overlay;
+  bool sparse = false;              // a NIFTI_INTENT_NODE_INDEX array
+  std::optional<GiftiLabel> label;  // the <Label> being read
+  uint64_t kept_bytes = 0;          // the kept arrays and the mesh made of them
   // The checked array's claim, until its <Data>.
   Encoding encoding = Encoding::ascii;
   TypeInfo type{};
@@ -327,8 +333,13 @@ struct Parser {
       return it == a.end() ? std::string() : it->second;
     };
     const std::string intent = get("Intent");
-    const bool is_pointset = intent == "NIFTI_INTENT_POINTSET" && pointset < 0;
-    const bool is_triangle = intent == "NIFTI_INTENT_TRIANGLE" && triangle < 0;
+    const bool is_pointset = !overlay_mode && intent == "NIFTI_INTENT_POINTSET" && pointset < 0;
+    const bool is_triangle = !overlay_mode && intent == "NIFTI_INTENT_TRIANGLE" && triangle < 0;
+    if (intent == "NIFTI_INTENT_NODE_INDEX") sparse = true;
+    const bool values_intent = intent != "NIFTI_INTENT_POINTSET" &&
+                               intent != "NIFTI_INTENT_TRIANGLE" && intent != "NIFTI_INTENT_VECTOR";
+    const bool is_overlay =
+        overlay_mode && overlay.index < 0 && (wanted >= 0 ? index == wanted : values_intent);
     checked = index;
     has_data = false;
     kept = nullptr;
@@ -413,6 +424,48 @@ struct Parser {
       kept->swapped = encoding != Encoding::ascii &&
                       (endian == "BigEndian") != (std::endian::native == std::endian::big);
     }
+    if (is_overlay) {
+      if (n_dims > 2 || (n_dims == 2 && dims[1] != 1))
+        return fail(fmt::format("{}: Dimensionality {} (Dim1 {}) is not one value per vertex", what,
+                                n_dims, n_dims == 2 ? dims[1] : 0));
+      kept_bytes += bytes + 8 * static_cast<uint64_t>(dims[0]);
+      check_memory(kept_bytes, fmt::format("{}: {} {} values", what, dims[0], t.name));
+      overlay.index = index;
+      overlay.intent = intent;
+      kept = &overlay.values;
+      kept->type = t.type;
+      kept->rows = static_cast<uint64_t>(dims[0]);
+      kept->swapped = encoding != Encoding::ascii &&
+                      (endian == "BigEndian") != (std::endian::native == std::endian::big);
+    }
+  }
+
+  // <Label Key="" Red="" Green="" Blue="" Alpha="">name</Label>: colours in [0, 1].
+  void start_label(const char** attrs) {
+    GiftiLabel l;
+    bool has_key = false;
+    for (const char** p = attrs; p[0] && p[1]; p += 2) {
+      const std::string_view name = p[0], value = p[1];
+      const int channel = name == "Red"     ? 0
+                          : name == "Green" ? 1
+                          : name == "Blue"  ? 2
+                          : name == "Alpha" ? 3
+                                            : -1;
+      if (name == "Key") {
+        auto r = std::from_chars(value.data(), value.data() + value.size(), l.key);
+        if (r.ec != std::errc() || r.ptr != value.data() + value.size())
+          return fail(fmt::format("label table: Key '{}' is not an integer", shown(value)));
+        has_key = true;
+      } else if (channel >= 0) {
+        std::optional<double> v = parse_header_number<double>(value);
+        if (!v || !(*v >= 0.0 && *v <= 1.0))
+          return fail(
+              fmt::format("label table: {} '{}' is not a number in [0, 1]", name, shown(value)));
+        l.rgba[channel] = static_cast<float>(*v);
+      }
+    }
+    if (!has_key) return fail("label table: a <Label> has no Key");
+    label = std::move(l);
   }
 
   // At <Data>: the claim must be one that the rest of the file can hold, before anything is
@@ -451,6 +504,7 @@ struct Parser {
                         rule->second == "GIFTI|DataArray" ? "GIFTI> or <DataArray" : rule->second));
     }
     stack.emplace_back(name);
+    if (std::strcmp(name, "Label") == 0) start_label(attrs);
     if (depth == 2 && std::strcmp(name, "DataArray") == 0) {
       checked = -1;
       decoder.reset();
@@ -465,6 +519,12 @@ struct Parser {
 
   void end() {
     if (!fault.empty()) return;
+    if (stack.back() == "Label" && label) {
+      if (label->name.size() > 4096) return fail("label table: a label's name is over 4096 bytes");
+      overlay.labels.push_back(std::move(*label));
+      label.reset();
+      if (overlay.labels.size() > (1u << 20)) return fail("label table: over 2^20 labels");
+    }
     stack.pop_back();
     if (data_depth != 0 && depth == data_depth) {
       data_depth = 0;
@@ -480,6 +540,10 @@ struct Parser {
   }
 
   void text(std::string_view s) {
+    if (fault.empty() && label && !stack.empty() && stack.back() == "Label") {
+      if (label->name.size() <= 4096) label->name += s;
+      return;
+    }
     if (!fault.empty() || data_depth == 0 || depth != data_depth || !decoder) return;
     if (std::string why = decoder->add(s); !why.empty()) fail(fmt::format("{}: {}", where(), why));
   }
@@ -494,8 +558,9 @@ bool claimed_arrays_ok(const std::string& claimed, int arrays) {
 
 }  // namespace
 
-GiftiSurface read_gifti_arrays(const std::filesystem::path& file) {
-  Parser p;
+namespace {
+
+void parse_gifti(Parser& p, const std::filesystem::path& file) {
   p.file = file;
   auto fail = [&](const std::string& why) {
     throw Error(fmt::format("{}: {}", file.string(), why));
@@ -564,9 +629,38 @@ GiftiSurface read_gifti_arrays(const std::filesystem::path& file) {
   if (claimed_arrays_ok(p.claimed_arrays, p.arrays) == false)
     fail(fmt::format("NumberOfDataArrays is '{}', but the file holds {} data arrays",
                      shown(p.claimed_arrays), p.arrays));
+}
+
+}  // namespace
+
+GiftiSurface read_gifti_arrays(const std::filesystem::path& file) {
+  Parser p;
+  parse_gifti(p, file);
+  auto fail = [&](const std::string& why) {
+    throw Error(fmt::format("{}: {}", file.string(), why));
+  };
   if (p.pointset < 0) fail("no NIFTI_INTENT_POINTSET data array (the vertices)");
   if (p.triangle < 0) fail("no NIFTI_INTENT_TRIANGLE data array (the triangles)");
   return std::move(p.surface);
+}
+
+GiftiOverlay read_gifti_overlay(const std::filesystem::path& file, int array) {
+  Parser p;
+  p.overlay_mode = true;
+  p.wanted = array;
+  parse_gifti(p, file);
+  auto fail = [&](const std::string& why) {
+    throw Error(fmt::format("{}: {}", file.string(), why));
+  };
+  if (p.sparse)
+    fail(
+        "holds NIFTI_INTENT_NODE_INDEX (sparse data on some vertices), which intermix does not "
+        "read");
+  if (array >= p.arrays)
+    fail(fmt::format("has {} data arrays: there is no array {}", p.arrays, array));
+  if (p.overlay.index < 0)
+    fail("holds no data array of per-vertex values (all are POINTSET, TRIANGLE or VECTOR)");
+  return std::move(p.overlay);
 }
 
 }  // namespace imx::detail

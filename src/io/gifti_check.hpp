@@ -5,6 +5,7 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 namespace imx::detail {
@@ -53,6 +54,21 @@ struct GiftiSurface {
   GiftiArray points, triangles;
 };
 
+// One entry of a GIfTI LabelTable: Key, Red, Green, Blue, Alpha (0..1) and the label's name.
+struct GiftiLabel {
+  int64_t key = 0;
+  float rgba[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+  std::string name;
+};
+
+// A data array of per-vertex values (func, shape or label files) and the file's label table.
+struct GiftiOverlay {
+  GiftiArray values;  // rows values (Dim0), one column; `column_major` is irrelevant
+  int index = -1;     // which data array of the file
+  std::string intent;
+  std::vector<GiftiLabel> labels;  // the LabelTable, in the file's order
+};
+
 // Parses the XML (expat) and checks it all: the elements nest as GIfTI's do, no entities, and
 // every data array has a numeric type, 1 to 6 dimensions of at most 1 GiB, and ASCII,
 // Base64Binary or GZipBase64Binary data in the file itself holding exactly the values its
@@ -64,5 +80,10 @@ struct GiftiSurface {
 // work for each MB of a file), only its size held to the claim. Throws imx::Error naming the
 // file, the array and the fault.
 GiftiSurface read_gifti_arrays(const std::filesystem::path& file);
+
+// The same checks, keeping data array `array` (an index into the file's arrays), or with -1 the
+// first whose intent is not POINTSET, TRIANGLE or VECTOR: it must have one dimension, or two
+// with Dim1 1. Files of sparse data (NIFTI_INTENT_NODE_INDEX) are refused.
+GiftiOverlay read_gifti_overlay(const std::filesystem::path& file, int array);
 
 }  // namespace imx::detail

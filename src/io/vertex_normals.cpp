@@ -68,7 +68,7 @@ std::vector<uint32_t> weld(const Mesh& mesh, std::vector<uint32_t>& first_of) {
 
 }  // namespace
 
-void compute_vertex_normals(Mesh& mesh, double crease_deg) {
+void compute_vertex_normals(Mesh& mesh, double crease_deg, std::vector<uint32_t>* origin) {
   const size_t n_tri = mesh.triangles.size();
   check_memory(uint64_t{n_tri} * 3 * 64 + uint64_t{mesh.positions.size()} * 48,
                "computing the vertex normals of a mesh");
@@ -146,6 +146,7 @@ void compute_vertex_normals(Mesh& mesh, double crease_deg) {
   std::unordered_map<uint64_t, uint32_t> vertex_of;
   vertex_of.reserve(mesh.positions.size());
   std::vector<uint32_t> any_vertex(source.size(), UINT32_MAX);
+  if (origin) origin->clear();
   out.triangles.resize(n_tri);
   for (int degenerate = 0; degenerate < 2; ++degenerate)
     for (uint32_t c = 0; c < 3 * n_tri; ++c) {
@@ -160,6 +161,7 @@ void compute_vertex_normals(Mesh& mesh, double crease_deg) {
       auto [it, fresh] = vertex_of.emplace(key, static_cast<uint32_t>(out.positions.size()));
       if (fresh) {
         out.positions.push_back(mesh.positions[source[w]]);
+        if (origin) origin->push_back(source[w]);
         if (colored) out.colors.push_back(mesh.colors[source[w]]);
         const double len = glm::length(sum[root]);
         out.normals.emplace_back(len > 0.0 && std::isfinite(len) ? sum[root] / len
