@@ -129,6 +129,17 @@ std::string read_text(const std::filesystem::path& file) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+// A transfer function's points with alphas per 1 mm of material (VTK's unit distance).
+nlohmann::json peer_points(const TransferFunction& tf) {
+  nlohmann::json points = nlohmann::json::array();
+  for (const TfPoint& p : tf.points) {
+    const double alpha =
+        1.0 - std::pow(1.0 - std::clamp<double>(p.rgba.a, 0.0, 1.0), 1.0 / tf.unit_distance);
+    points.push_back({p.value, p.rgba.r, p.rgba.g, p.rgba.b, alpha});
+  }
+  return points;
+}
+
 }  // namespace
 
 std::filesystem::path find_vtk_peer(const std::filesystem::path& scene_file) {
@@ -161,6 +172,15 @@ std::filesystem::path write_peer_scene(const PeerRun& run, const std::filesystem
 
   if (!root.contains("objects") || !root["objects"].is_array())
     throw Error(fmt::format("{}: the scene has no \"objects\" list for the VTK peer", origin));
+  // The camera intermix renders with (a scene without one is framed automatically).
+  const Camera& c = run.scene->camera;
+  root["camera"] = {
+      {"eye", {c.eye.x, c.eye.y, c.eye.z}},
+      {"target", {c.target.x, c.target.y, c.target.z}},
+      {"up", {c.up.x, c.up.y, c.up.z}},
+      {"fov_deg", c.fov_deg},
+      {"projection", c.projection == Projection::orthographic ? "orthographic" : "perspective"},
+      {"ortho_height", c.ortho_height}};
   int written = 0;
   for (nlohmann::json& object : root["objects"]) {
     const std::string name = object.value("name", "");
@@ -174,6 +194,9 @@ std::filesystem::path write_peer_scene(const PeerRun& run, const std::filesystem
       data.index_to_world = it->index_to_world;  // the object's transform, baked in
       file = dir / fmt::format("volume-{}.mha", written++);
       write_metaimage(data, file, false);  // uncompressed: quicker to write and to read back
+      // The peer reads explicit points only: give it the function intermix resolved (a preset,
+      // a colour map, the automatic one, the object's opacity), per millimetre as VTK takes it.
+      object["transfer_function"] = {{"points", peer_points(it->transfer_function)}};
     } else if (type == "mesh") {
       auto it = std::find_if(run.scene->meshes.begin(), run.scene->meshes.end(),
                              [&](const MeshObject& m) { return m.name == name; });
