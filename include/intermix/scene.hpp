@@ -13,6 +13,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "intermix/labels.hpp"
 #include "intermix/mesh.hpp"
 #include "intermix/volume.hpp"
 
@@ -105,6 +106,9 @@ struct VolumeObject {
   VoxelBox region;
   // Of a multi-frame (4-D) source (fMRI, DWI, ...): which frame `data` holds, of how many.
   int frame = 0, frames = 1;
+  // Style "labels" (a dvr volume whose voxels are labels): the colour table and classification
+  // (volume/label_classifier.hpp); null for every other volume. The TF is then unused.
+  std::shared_ptr<const LabelMap> labels;
 };
 
 struct Material {

@@ -9,6 +9,7 @@
 #include "core/math.hpp"
 #include "intermix/error.hpp"
 #include "raster/shade_fragment.hpp"
+#include "volume/classify.hpp"
 #include "volume/prepared_volume.hpp"
 
 namespace imx {
@@ -36,6 +37,13 @@ glm::vec4 slice_pixel(const std::vector<SliceLayer>& layers, const glm::vec3& wo
           p.y <= dims.y - 0.5f && p.z <= dims.z - 0.5f))
       continue;
     const glm::vec3 inside = glm::clamp(p, glm::vec3(0.0f), glm::vec3(dims - 1));
+    if (l.volume->labels.active()) {  // a label map: its labels' colours, hidden ones nothing
+      const glm::vec4 c = table_look(*l.volume, inside);
+      const float w = c.a > 0.0f ? (l.base ? 1.0f : kMaxOverlayWeight) : 0.0f;
+      rgb = rgb * (1.0f - w) + glm::vec3(c) * w;
+      covered = std::max(covered, w);
+      continue;
+    }
     const float value = l.volume->grid.sample(inside);
     if (!std::isfinite(value)) continue;
     if (l.base) {

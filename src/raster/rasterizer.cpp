@@ -124,6 +124,12 @@ struct Rasterizer::Impl {
     }
     if (obj.is_plane) {
       float grey = 1.0f;
+      if (obj.volume && obj.volume->labels.active()) {  // a label plane: the table's colours
+        glm::vec3 rgb;
+        if (!sample_plane_labels(*obj.volume, glm::vec3(camera.to_world(hit)), rgb)) return false;
+        f.color = shade_plane_fragment(obj.plane_color, obj.plane_opacity, rgb);
+        return true;
+      }
       if (obj.volume) {
         float value = 0.0f;
         if (!sample_plane_volume(*obj.volume, glm::vec3(camera.to_world(hit)), value)) return false;

@@ -7,6 +7,7 @@
 
 #include "core/blinn_phong.hpp"
 #include "intermix/scene.hpp"
+#include "volume/classify.hpp"
 #include "volume/prepared_volume.hpp"
 
 namespace imx {
@@ -50,6 +51,18 @@ inline bool sample_plane_volume(const PreparedVolume& volume, const glm::vec3& w
   if (!volume.grid.inside(index)) return false;
   value = volume.grid.sample(index);
   return !(volume.has_no_data && no_data(value));
+}
+
+// The colour a plane shows at a world point of a label volume: its winning label's (the
+// classification volumes use, so a plane and a volume agree on every boundary); false outside the
+// grid and where the label is hidden or background, where the plane is transparent.
+inline bool sample_plane_labels(const PreparedVolume& volume, const glm::vec3& world,
+                                glm::vec3& rgb) {
+  glm::vec3 index = volume.to_index(world);
+  if (!volume.grid.inside(index)) return false;
+  const glm::vec4 look = table_look(volume, index);
+  rgb = glm::vec3(look);
+  return look.a > 0.0f;
 }
 
 }  // namespace imx

@@ -17,12 +17,23 @@ inline void hash_stage_optional(Fnv1a& h, const std::optional<double>& v) {
   h.add(v.has_value()).add(v.value_or(0.0));
 }
 
+// A label volume's table by content (an edit of one label's colour makes a new map).
+inline void hash_stage_labels(Fnv1a& h, const LabelMap* labels) {
+  h.add(labels != nullptr);
+  if (!labels) return;
+  h.add(labels->palette_unlisted).add(labels->interpolation).add(labels->unit_distance);
+  h.add(labels->shown);
+  h.add(labels->entries.size());
+  for (const LabelEntry& e : labels->entries)
+    h.add(e.value).add(e.color).add(e.opacity).add(e.visible);  // the name is a label
+}
+
 // Data are hashed by identity: the stage cache holds the scene's data alive while it keeps a key
 // (a clipped volume's stage keeps its clip meshes too).
 inline void hash_stage_fields(Fnv1a& h, const Scene& scene, const VolumeObject& v) {
   const auto& [name, data, index_to_world, transfer_function, style, iso_value, xray_mode, shading,
                clip_planes, clip_meshes, display_window, units, source_dims, region, frame,
-               frames] = v;
+               frames, labels] = v;
   // Not read by a render: the name and units are labels, the display window a default for
   // planes; the region and frame chose what `data` holds, and data is hashed.
   (void)name, (void)display_window, (void)units, (void)source_dims, (void)region, (void)frame,
@@ -36,6 +47,7 @@ inline void hash_stage_fields(Fnv1a& h, const Scene& scene, const VolumeObject& 
   h.add(clip_meshes.size());
   for (const ClipMesh& c : clip_meshes)
     h.add(scene.meshes.at(static_cast<size_t>(c.mesh)).mesh.get()).add(c.keep_inside);
+  hash_stage_labels(h, labels.get());
 }
 
 inline void hash_stage_fields(Fnv1a& h, const MeshObject& m) {
@@ -58,6 +70,7 @@ inline void hash_stage_fields(Fnv1a& h, const Scene& scene, const PlaneObject& p
   if (volume >= 0 && static_cast<size_t>(volume) < scene.volumes.size()) {
     const VolumeObject& v = scene.volumes[static_cast<size_t>(volume)];
     h.add(v.data.get()).add(v.index_to_world);  // a plane reads the voxels, not the TF
+    hash_stage_labels(h, v.labels.get());          // but a label volume's plane its table
   }
 }
 

@@ -16,6 +16,7 @@
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
 #include "scene/automatic_look.hpp"
+#include "scene/label_map_parser.hpp"
 #include "scene/scene_parsers.hpp"
 
 namespace imx::scene_json {
@@ -207,13 +208,24 @@ std::vector<ClipPlane> parse_clip_planes(const JsonReader& r) {
 
 VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   r.check_keys({"name", "type", "source", "transform", "style", "iso_value", "xray_mode",
-                "transfer_function", "shading", "clip_planes", "clip", "visible"});
+                "transfer_function", "shading", "clip_planes", "clip", "visible", "labels",
+                "interpolation"});
   VolumeObject v;
   v.name = r.get("name").string();
   glm::dmat4 transform(1.0);
   if (auto t = r.find("transform")) transform = parse_transform(*t);
-  if (auto s = r.find("style")) {
-    std::string style = s->choice({"dvr", "iso", "mip", "minip", "xray"});
+  // Style "labels" is dvr through a label map (label_map_parser.hpp): the TF is not used.
+  const bool labels = r.has("style") && r.get("style").json() == "labels";
+  if (labels) {
+    if (auto tf = r.find("transfer_function"))
+      tf->fail("style 'labels' draws the colour table (\"labels\"), not a transfer function");
+    v.transfer_function.points = {TfPoint{0.0, glm::vec4(1.0f)}};
+  } else {
+    for (const char* key : {"labels", "interpolation"})
+      if (auto k = r.find(key)) k->fail(fmt::format("\"{}\" applies only to style 'labels'", key));
+  }
+  if (auto s = r.find("style"); s && !labels) {
+    std::string style = s->choice({"dvr", "iso", "mip", "minip", "xray", "labels"});
     v.style = style == "dvr"     ? VolumeStyle::dvr
               : style == "iso"   ? VolumeStyle::iso
               : style == "mip"   ? VolumeStyle::mip
@@ -230,7 +242,7 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   else if (v.style == VolumeStyle::iso)
     r.fail("missing required key 'iso_value' (the style is iso)");
   std::optional<Shading> preset_shading;  // a preset's own, when the volume gives none
-  const bool automatic = !r.has("transfer_function") && v.style != VolumeStyle::iso;
+  const bool automatic = !r.has("transfer_function") && v.style != VolumeStyle::iso && !labels;
   if (automatic && context.region)
     r.fail(
         "missing required key 'transfer_function': a render by region (distributed) needs it "
@@ -265,6 +277,10 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
     context.automatic_looks[r.path()] = {look.transfer_function, look.shading};
   }
   if (!r.has("shading") && preset_shading) v.shading = *preset_shading;
+  if (labels) {
+    r.get("source").reading(v.name, [&] { check_label_voxels(*v.data, "volume '" + v.name + "'"); });
+    v.labels = parse_label_map(r, context, v.frame, parse_visible(r));
+  }
   // Hidden: every alpha 0, so it adds nothing anywhere, while planes still sample its data.
   if (!parse_visible(r))
     for (TfPoint& p : v.transfer_function.points) p.rgba.a = 0.0f;

@@ -6,6 +6,10 @@
 namespace imx {
 
 BrickOccupancy::BrickOccupancy(const BrickMinMax& ranges, const TfEmptiness& tf)
+    : BrickOccupancy(ranges, [&tf](float lo, float hi) { return tf.is_empty(lo, hi); }) {}
+
+BrickOccupancy::BrickOccupancy(const BrickMinMax& ranges,
+                               const std::function<bool(float, float)>& is_empty)
     : grid_(ranges.grid()), distance_(kOctants * grid_.count() + kSpareBytes) {
   std::vector<uint8_t> occupied(grid_.count());
   std::span<const glm::vec2> r = ranges.ranges();
@@ -13,7 +17,7 @@ BrickOccupancy::BrickOccupancy(const BrickMinMax& ranges, const TfEmptiness& tf)
     // Trilinear blends round by a few ulps, so a sample may sit just outside the voxel range.
     float slack = 1e-5f * std::max(std::abs(r[n].x), std::abs(r[n].y));
     const bool empty =
-        !BrickMinMax::holds_data(r[n]) || tf.is_empty(r[n].x - slack, r[n].y + slack);
+        !BrickMinMax::holds_data(r[n]) || is_empty(r[n].x - slack, r[n].y + slack);
     occupied[n] = empty ? 0 : 1;
     occupied_count_ += occupied[n];
   }

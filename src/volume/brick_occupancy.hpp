@@ -2,6 +2,7 @@
 // one in each direction.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -16,6 +17,8 @@ namespace imx {
 class BrickOccupancy {
  public:
   BrickOccupancy(const BrickMinMax& ranges, const TfEmptiness& tf);
+  // The same with any test of a brick's value range [lo, hi] (a label volume's visible labels).
+  BrickOccupancy(const BrickMinMax& ranges, const std::function<bool(float, float)>& is_empty);
 
   const BrickGrid& grid() const { return grid_; }
   bool occupied(glm::ivec3 b) const { return distance_[kOctants * grid_.index(b)] == 0; }

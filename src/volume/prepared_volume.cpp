@@ -9,8 +9,25 @@
 
 namespace imx {
 
+namespace {
+
+// What a label volume's LUT stands for: the opacity of its most opaque label, so that the
+// questions every method asks of a LUT (is anything visible, how opaque can a step be) hold.
+TransferFunction label_presence(const LabelLooks& looks) {
+  TransferFunction tf;
+  tf.points = {TfPoint{0.0, glm::vec4(1.0f, 1.0f, 1.0f, looks.max_opacity())}};
+  tf.unit_distance = looks.unit_distance();
+  return tf;
+}
+
+}  // namespace
+
 PreparedVolume::PreparedVolume(const VolumeObject& v)
-    : object(&v), grid(*v.data), lut(v.transfer_function), specular(v.shading.shininess) {
+    : object(&v),
+      grid(*v.data),
+      labels(v.labels ? LabelLooks(*v.labels) : LabelLooks()),
+      specular(v.shading.shininess) {
+  lut = TfLut(v.labels ? label_presence(labels) : v.transfer_function);
   if (!all_finite(v.index_to_world))
     throw Error(fmt::format("volume '{}': transform has a non-finite entry", v.name));
   glm::dmat3 linear(v.index_to_world);

@@ -6,6 +6,7 @@
 #include "core/specular_table.hpp"
 #include "intermix/scene.hpp"
 #include "volume/any_grid.hpp"
+#include "volume/label_classifier.hpp"
 #include "volume/projection_tables.hpp"
 #include "volume/tf_lut.hpp"
 #include "volume/volume_acceleration.hpp"
@@ -25,7 +26,8 @@ struct PreparedVolume {
   glm::mat3 index_to_world_linear{1.0f};
   glm::mat3 gradient_to_world{1.0f};  // inverse-transpose: index-space gradient -> world space
   float min_pitch = 1.0f;             // smallest voxel spacing in mm
-  TfLut lut;
+  TfLut lut;  // of a label volume: one entry, its most opaque label (max_opacity, unit_distance)
+  LabelLooks labels;  // active for a label volume (VolumeObject::labels)
   ProjectionLimits limits;       // the LUT's bounds for MIP and MinIP
   AttenuationTable attenuation;  // X-ray's line integral (empty for the other styles)
   SpecularTable specular;        // x^shininess of the volume's shading

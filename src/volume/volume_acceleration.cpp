@@ -6,7 +6,9 @@
 #include <mutex>
 
 #include "intermix/scene.hpp"
+#include "core/fnv1a.hpp"
 #include "volume/brick_min_max.hpp"
+#include "volume/label_classifier.hpp"
 #include "volume/preintegration_cache.hpp"
 #include "volume/tf_emptiness.hpp"
 
@@ -60,6 +62,14 @@ struct OccupancyKey {
   bool operator==(const OccupancyKey&) const = default;
 };
 
+// A label map's occupancy key: which labels show (the salt keeps it apart from TF keys).
+uint64_t label_fingerprint(const LabelMap& m) {
+  Fnv1a h;
+  h.add(uint64_t{0x6c6162656c73}).add(m.palette_unlisted).add(m.entries.size());
+  for (const LabelEntry& e : m.entries) h.add(e.value).add(e.visible && e.opacity > 0.0f);
+  return h.value();
+}
+
 }  // namespace
 
 MarchSettings MarchSettings::from(const RenderSettings& render) {
@@ -94,6 +104,16 @@ VolumeAcceleration accelerate(const VolumeObject& v, const TfLut& lut, float ste
   // Built once per voxel array: skipping reads it, and it gives the data range without a scan.
   std::shared_ptr<const BrickMinMax> r = ranges.get(
       v.data, settings.brick_size, [&] { return BrickMinMax(grid, settings.brick_size); });
+  if (v.labels) {  // no TF tables: occupancy by the visible labels only (label_classifier.hpp)
+    if (settings.skip == SkipMode::none) return a;
+    a.ranges = r;
+    const LabelLooks looks(*v.labels);
+    a.occupancy = occupancies.get(
+        v.data, OccupancyKey{settings.brick_size, label_fingerprint(*v.labels)}, [&] {
+          return BrickOccupancy(*r, [&](float lo, float hi) { return !looks.any_shown_in(lo, hi); });
+        });
+    return a;
+  }
   if (settings.skip != SkipMode::none) {
     a.ranges = r;
     a.emptiness = std::make_shared<const TfEmptiness>(lut);

@@ -14,6 +14,7 @@
 #include "slab/slab.hpp"
 #include "volume/brick_dda.hpp"
 #include "volume/kept_span.hpp"
+#include "volume/label_classifier.hpp"
 #include "volume/prepared_volume.hpp"
 #include "volume/ray_shading.hpp"
 
@@ -116,9 +117,42 @@ class VolumeMarcher {
   // volume has NaN or inf voxels (float only), and pieces reading them are skipped.
   template <bool NoData, class Grid>
   [[gnu::always_inline]] bool next_in(const Grid& grid, Slab& out) {
+    if (v_->labels.active()) {
+      do {
+        if (next_label_in_piece(grid, out)) return true;
+      } while (next_piece());
+      return false;
+    }
     do {
       if (next_in_piece<NoData>(grid, out)) return true;
     } while (next_piece());
+    return false;
+  }
+
+  // A label volume's pieces: each post-classified at its midpoint by the winning label
+  // (label_classifier.hpp), with that label's opacity per unit distance and shaded with the
+  // gradient of its indicator. Pre-integration does not apply: the winner is not a linear
+  // function of the depth, and no table over value pairs describes a boundary between labels.
+  template <class Grid>
+  bool next_label_in_piece(const Grid& grid, Slab& out) {
+    const LabelLooks& looks = v_->labels;
+    while (t_ < t1_) {
+      const double back = std::min<double>(t1_, (cell_ + 1.0) * step_);
+      if (v_->accel.occupancy && t_ >= occupied_until_ && skip_empty(back)) continue;
+      const double front = t_;
+      t_ = back;
+      cell_ += 1.0;
+      const glm::vec3 p = index_at(0.5 * (front + back));
+      const int32_t label = winning_label(grid, p, looks.nearest());
+      const glm::vec4 look = looks.look(label);
+      if (look.a <= 0.0f) continue;
+      const float a = correct_opacity(look.a, static_cast<float>(back - front), looks.unit_distance());
+      glm::vec4 c(glm::vec3(look) * a, a);
+      if (v_->object->shading.enabled)
+        c = shading_.apply(c, v_->gradient_to_world * label_gradient(grid, p, label));
+      out = Slab::between(static_cast<float>(front), static_cast<float>(back), c);
+      return true;
+    }
     return false;
   }
 

@@ -127,5 +127,34 @@ TEST(StageFields, EveryHashedMeshAndPlaneFieldMovesTheKey) {
                false);
 }
 
+// A label map is hashed by content: every field a render reads moves both keys (the volume's, and
+// a plane's that shows it), a label's name does not.
+TEST(StageFields, ALabelMapMovesTheVolumeAndPlaneKeysButNotItsNames) {
+  auto labelled = [](const std::function<void(LabelMap&)>& edit) {
+    Scene s = base();
+    auto m = std::make_shared<LabelMap>();
+    m->entries = {{1, "csf", glm::vec3(0, 0, 1), 1.0f, true}};
+    edit(*m);
+    s.volumes[0].labels = m;
+    return s;
+  };
+  const std::vector<std::pair<std::string, std::function<void(LabelMap&)>>> edits = {
+      {"value", [](LabelMap& m) { m.entries[0].value = 2; }},
+      {"color", [](LabelMap& m) { m.entries[0].color.r = 1.0f; }},
+      {"opacity", [](LabelMap& m) { m.entries[0].opacity = 0.5f; }},
+      {"visible", [](LabelMap& m) { m.entries[0].visible = false; }},
+      {"entries", [](LabelMap& m) { m.entries.push_back({3, "gm", glm::vec3(1), 1.0f, true}); }},
+      {"palette_unlisted", [](LabelMap& m) { m.palette_unlisted = false; }},
+      {"interpolation", [](LabelMap& m) { m.interpolation = LabelInterpolation::nearest; }},
+      {"unit_distance", [](LabelMap& m) { m.unit_distance = 2.0; }},
+      {"shown", [](LabelMap& m) { m.shown = false; }}};
+  for (auto hash : {volume_hash, plane_hash}) {
+    const uint64_t before = hash(labelled([](LabelMap&) {}));
+    EXPECT_NE(before, hash(base())) << "a label map";
+    for (const auto& [field, edit] : edits) EXPECT_NE(hash(labelled(edit)), before) << field;
+    EXPECT_EQ(hash(labelled([](LabelMap& m) { m.entries[0].name = "other"; })), before);
+  }
+}
+
 }  // namespace
 }  // namespace imx

@@ -19,6 +19,7 @@
 #include "raster/fragment.hpp"
 #include "slab/mix.hpp"
 #include "slab/over.hpp"
+#include "volume/classify.hpp"
 #include "volume/prepared_volume.hpp"
 #include "volume/ray_volumes.hpp"
 #include "volume/volume_marcher.hpp"
@@ -144,9 +145,8 @@ inline CsgIntervals classify_csg_sample(const Ray& ray, std::span<const Fragment
     if (int k = csg.primitive_of_volume[v]; k >= 0) spans[k] = {rv.span[v].t0, rv.span[v].t1};
   auto opacity_present = [&](int k, float t) {
     const PreparedVolume& v = volumes[csg.volume_of_primitive[k]];
-    const float s = v.grid.sample(v.to_index(ray.at(t)));
-    if (v.has_no_data && no_data(s)) return false;  // no data is not present
-    return v.lut.lookup(s).a > csg.presence_threshold;
+    // No data is not present (opacity 0); a label volume's winning label decides.
+    return volume_look(v, v.to_index(ray.at(t))).a > csg.presence_threshold;
   };
   return classify_csg_ray(row, csg, std::span<const CsgVolumeSpan>(spans, csg.primitive_count),
                           opacity_present, surfaces, ranges);

@@ -117,8 +117,7 @@ struct ReferenceCsg {
   }
 
   float opacity_at(const PreparedVolume& v, double t) const {
-    const float s = v.grid.sample(v.to_index(ray.at(static_cast<float>(t))));
-    return v.has_no_data && no_data(s) ? 0.0f : v.lut.lookup(s).a;  // no data: not present
+    return volume_look(v, v.to_index(ray.at(static_cast<float>(t)))).a;  // no data: 0
   }
 
   bool value(PrimitiveMask present) const { return evaluate(view.program, present); }

@@ -1,0 +1,145 @@
+// 3D Slicer's segmentation fields (.seg.nrrd): SegmentN_Name, _Color, _LabelValue, _Layer.
+#include <algorithm>
+#include <map>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "intermix/error.hpp"
+#include "labels/colour_table_readers.hpp"
+#include "labels/label_text.hpp"
+
+namespace imx::labels_detail {
+namespace {
+
+// The most segments a file may declare (Slicer's own segmentations hold tens to hundreds).
+constexpr int64_t kMaxSegments = 1 << 16;
+
+struct SegmentFields {
+  std::optional<std::string> name, color, label_value, layer;
+  int line = 0;  // where the segment was first named
+};
+
+// NRRD key/value escapes: "\n" is a newline, "\\" a backslash.
+std::string unescape(std::string_view v) {
+  std::string out;
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (v[i] == '\\' && i + 1 < v.size() && (v[i + 1] == 'n' || v[i + 1] == '\\')) {
+      out += v[i + 1] == 'n' ? '\n' : '\\';
+      ++i;
+    } else {
+      out += v[i];
+    }
+  }
+  return out;
+}
+
+int64_t whole_number(const std::string& text, const std::string& field, const std::string& what) {
+  int64_t v = 0;
+  const auto t = tokens(text);
+  if (t.size() != 1 || !parse_int(t[0], v))
+    throw Error(fmt::format("{}: field '{}' = '{}' is not an integer", what, field, text));
+  return v;
+}
+
+}  // namespace
+
+std::vector<NrrdKeyValue> nrrd_key_values(std::string_view header, const std::string& what) {
+  std::vector<NrrdKeyValue> out;
+  const std::vector<std::string_view> rows = lines(header);
+  for (size_t n = 1; n < rows.size(); ++n) {  // line 1 is the magic
+    if (rows[n].empty()) break;               // the end of an attached header
+    const size_t sep = rows[n].find(":=");
+    if (rows[n].front() == '#' || sep == std::string_view::npos) continue;
+    NrrdKeyValue kv{std::string(rows[n].substr(0, sep)), unescape(rows[n].substr(sep + 2)),
+                    static_cast<int>(n + 1)};
+    if (std::any_of(out.begin(), out.end(), [&](const NrrdKeyValue& o) { return o.key == kv.key; }))
+      throw Error(fmt::format("{}: line {}: field '{}' is given twice", what, kv.line, kv.key));
+    out.push_back(std::move(kv));
+  }
+  return out;
+}
+
+std::vector<LabelEntry> parse_slicer_segments(const std::vector<NrrdKeyValue>& fields, int layers,
+                                              int layer, const std::string& what) {
+  std::map<int64_t, SegmentFields> segments;
+  for (const NrrdKeyValue& kv : fields) {
+    if (kv.key.rfind("Segment", 0) != 0 || kv.key.rfind("Segmentation", 0) == 0) continue;
+    const size_t underscore = kv.key.find('_');
+    int64_t n = 0;
+    if (underscore == std::string::npos ||
+        !parse_int(std::string_view(kv.key).substr(7, underscore - 7), n) || n < 0 ||
+        n >= kMaxSegments)
+      throw Error(fmt::format("{}: line {}: field '{}' is not SegmentN_<property> with N in 0-{}",
+                              what, kv.line, kv.key, kMaxSegments - 1));
+    SegmentFields& s = segments[n];
+    if (s.line == 0) s.line = kv.line;
+    const std::string property = kv.key.substr(underscore + 1);
+    if (property == "Name") s.name = kv.value;
+    if (property == "Color") s.color = kv.value;
+    if (property == "LabelValue") s.label_value = kv.value;
+    if (property == "Layer") s.layer = kv.value;
+  }
+  if (segments.empty())
+    throw Error(what + ": no SegmentN_ fields; not a 3D Slicer segmentation (.seg.nrrd)");
+  // Files before Slicer 4.11 keep one segment per layer, as label 1: no LabelValue, no Layer.
+  const bool legacy = !segments.begin()->second.label_value && !segments.begin()->second.layer;
+  std::vector<int> per_layer(static_cast<size_t>(layers), 0);
+  std::vector<LabelEntry> out;
+  int64_t expected = 0;
+  for (const auto& [n, s] : segments) {
+    const std::string seg = fmt::format("Segment{}", n);
+    if (n != expected)
+      throw Error(
+          fmt::format("{}: Segment{} has fields but Segment{} has none: the segments must "
+                      "be numbered from 0 without gaps",
+                      what, n, expected));
+    ++expected;
+    if (!s.name) throw Error(fmt::format("{}: {}_Name is missing", what, seg));
+    if (legacy != (!s.label_value && !s.layer) || !s.label_value != !s.layer)
+      throw Error(
+          fmt::format("{}: {} {} _LabelValue and _Layer while Segment0 {}; the segment "
+                      "fields disagree",
+                      what, seg, s.label_value && s.layer ? "has" : "lacks",
+                      legacy ? "lacks them" : "has them"));
+    const int64_t value = legacy ? 1 : whole_number(*s.label_value, seg + "_LabelValue", what);
+    const int64_t in_layer = legacy ? n : whole_number(*s.layer, seg + "_Layer", what);
+    if (in_layer < 0 || in_layer >= layers)
+      throw Error(fmt::format("{}: {}_Layer is {}, but the file has {} layer{} (0-{})", what, seg,
+                              in_layer, layers, layers == 1 ? "" : "s", layers - 1));
+    if (value <= 0 || value > kMaxLabelMagnitude)
+      throw Error(fmt::format("{}: {}_LabelValue is {}; a segment's label is 1-{} (0 is empty)",
+                              what, seg, value, kMaxLabelMagnitude));
+    ++per_layer[static_cast<size_t>(in_layer)];
+    if (in_layer != layer) continue;
+    LabelEntry e;
+    e.value = static_cast<int32_t>(value);
+    e.name = *s.name;
+    if (s.color) {
+      const auto t = tokens(*s.color);
+      double c[3];
+      if (t.size() != 3 || !parse_double(t[0], c[0]) || !parse_double(t[1], c[1]) ||
+          !parse_double(t[2], c[2]) || std::min({c[0], c[1], c[2]}) < 0.0 ||
+          std::max({c[0], c[1], c[2]}) > 1.0)
+        throw Error(
+            fmt::format("{}: {}_Color = '{}' is not three numbers in [0, 1]", what, seg, *s.color));
+      e.color = glm::vec3(c[0], c[1], c[2]);
+    } else {
+      e.color = default_label_color(e.value);  // Slicer generates one too
+    }
+    for (const LabelEntry& o : out)
+      if (o.value == e.value)
+        throw Error(fmt::format("{}: {} and '{}' both have label {} in layer {}", what, seg, o.name,
+                                e.value, layer));
+    out.push_back(std::move(e));
+  }
+  for (int k = 0; k < layers; ++k)
+    if (per_layer[static_cast<size_t>(k)] == 0)
+      throw Error(
+          fmt::format("{}: layer {} of {} has no segment; the segment fields disagree "
+                      "with the layers",
+                      what, k, layers));
+  return out;
+}
+
+}  // namespace imx::labels_detail
