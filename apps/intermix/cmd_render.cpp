@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "annotate/scene_colour_bars.hpp"
 #include "commands.hpp"
 #include "core/parallel.hpp"
 #include "core/progress_bar.hpp"
@@ -29,6 +30,7 @@ struct Options : SceneOptions {
   std::string scene, output, method;  // scene: the inputs, for messages
   std::string frame_range, frame_object;
   bool linear = false;
+  bool colorbar = false;
   bool distributed = false;
   std::string partition = "auto", report;
 };
@@ -60,6 +62,16 @@ void render_one(const Options& o, const std::vector<std::string>& overrides,
   }
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   bar.finish();
+  if (o.colorbar) {
+    const std::vector<ColourBar> bars = scene_colour_bars(scene);
+    const size_t drawn = draw_colour_bars(image, bars).size();
+    const size_t wanted = distinct_colour_bars(bars).size();
+    if (drawn < wanted && !quiet())
+      std::fprintf(stderr,
+                   "intermix: note: %zu of %zu colour bars drawn: no room for more in the "
+                   "image's right half\n",
+                   drawn, wanted);
+  }
   write_png(image, output, o.linear);
   const ResolvedMethod resolved = resolve_method(scene, o.method);
   const std::string method = resolved.reason.empty()
@@ -115,6 +127,9 @@ Command add_render(CLI::App& app) {
                  "the best image for the scene's content)");
   add_scene_options(app, *o);
   app.add_flag("--linear", o->linear, "write linear instead of sRGB-encoded colour");
+  app.add_flag("--colorbar", o->colorbar,
+               "draw a colour bar (name, units, ticks) for each visible colour-mapped object: "
+               "volumes' transfer functions, planes with a colour map or threshold");
   std::string no_mpi;
   const bool mpi = distributed_available(&no_mpi);
   app.add_flag("--distributed", o->distributed,
@@ -137,6 +152,7 @@ Command add_render(CLI::App& app) {
     const std::vector<std::string> overrides = input_overrides(o->in, o->with_size());
     if (!o->distributed && (o->report.size() || o->partition != "auto"))
       throw Error("--partition and --report apply only with --distributed");
+    if (o->distributed && o->colorbar) throw Error("--colorbar does not apply with --distributed");
     if (o->distributed && !o->frame_range.empty())
       throw Error("--frame-range does not apply with --distributed");
     if (o->distributed && !o->in.is_scene_file())

@@ -132,8 +132,19 @@ struct MeshObject {
   std::optional<MeshInterior> interior;  // only on CSG primitives
 };
 
-// How a plane maps its windowed value in [0, 1] to colour (src/presets/colormap.hpp).
-enum class Colormap : uint8_t { grey, hot, inferno, viridis };
+// A colour map: a value in [0, 1] to colour (src/presets/colormap.hpp names them and says where
+// each comes from). cold_hot is signed: its lower half is the cold side, its upper the hot one.
+enum class Colormap : uint8_t {
+  grey,
+  hot,
+  inferno,
+  viridis,
+  plasma,
+  jet,
+  cold_hot,
+  red_yellow,
+  blue_lightblue
+};
 
 // A rectangle in world space; with a volume it shows that volume's values through window/level.
 struct PlaneObject {
@@ -146,6 +157,9 @@ struct PlaneObject {
   glm::dvec2 window{40.0, 400.0};  // centre, width (data values)
   glm::vec3 color{1.0f};           // multiplies the grey value; the colour when there is no volume
   Colormap colormap = Colormap::grey;  // the windowed value's colour, before `color`
+  // Values below it (|value| below it when symmetric) show nothing: what lies behind shows.
+  std::optional<double> threshold;
+  bool symmetric = false;
   float opacity = 1.0f;
   std::optional<double> thickness;
 };

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -50,6 +51,8 @@ struct ObjectInfo {
   const PreparedVolume* volume = nullptr;
   float window_centre = 0.0f, window_width = 1.0f;
   Colormap colormap = Colormap::grey;
+  float threshold = -std::numeric_limits<float>::infinity();  // plane_value_shown
+  bool symmetric = false;
 };
 
 // One input triangle before clipping: its plane in camera space and its shading attributes.
@@ -133,6 +136,7 @@ struct Rasterizer::Impl {
       if (obj.volume) {
         float value = 0.0f;
         if (!sample_plane_volume(*obj.volume, glm::vec3(camera.to_world(hit)), value)) return false;
+        if (!plane_value_shown(value, obj.threshold, obj.symmetric)) return false;
         grey = window_level(value, obj.window_centre, obj.window_width);
         // Grey keeps its original arithmetic, so grey planes render the same bytes as before.
         if (obj.colormap != Colormap::grey) {
@@ -455,6 +459,12 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
         info.window_centre = static_cast<float>(pl.window.x);
         info.window_width = static_cast<float>(pl.window.y);
         info.colormap = pl.colormap;
+        if (pl.threshold) {
+          if (std::isnan(*pl.threshold))
+            throw Error(fmt::format("plane '{}': threshold is not a number", pl.name));
+          info.threshold = static_cast<float>(*pl.threshold);
+        }
+        info.symmetric = pl.symmetric;
       }
       info.is_plane = true;
       info.plane_color = pl.color;

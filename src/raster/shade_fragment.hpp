@@ -1,6 +1,7 @@
 // Shading of surface fragments: lit mesh surfaces and window/levelled planes (pure, premultiplied).
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <span>
 
 #include <glm/glm.hpp>
@@ -41,6 +42,12 @@ inline glm::vec4 shade_plane_fragment(const glm::vec3& color, float opacity, flo
 // A plane fragment through a colour map (unlit): `rgb` times the plane colour, premultiplied.
 inline glm::vec4 shade_plane_fragment(const glm::vec3& color, float opacity, const glm::vec3& rgb) {
   return {rgb * color * opacity, opacity};
+}
+
+// Whether a plane shows `value` at all: at or above its threshold (|value| when symmetric), so
+// a thresholded overlay plane lets what lies behind it show elsewhere.
+inline bool plane_value_shown(float value, float threshold, bool symmetric) {
+  return (symmetric ? std::abs(value) : value) >= threshold;
 }
 
 // The value a plane shows at a world point of `volume`; false where the point lies outside the

@@ -52,20 +52,12 @@ glm::dvec2 parse_window(const JsonReader& v) {
   return w;
 }
 
-Colormap parse_colormap(const JsonReader& v) {
-  const std::string name =
-      v.choice({kColormapNames[0], kColormapNames[1], kColormapNames[2], kColormapNames[3]});
-  for (size_t i = 0; i < kColormapNames.size(); ++i)
-    if (name == kColormapNames[i]) return static_cast<Colormap>(i);
-  return Colormap::grey;
-}
-
 }  // namespace
 
 PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
                                const std::map<std::string, std::string>& object_types) {
   r.check_keys({"name", "type", "center", "normal", "up", "size", "volume", "window", "colormap",
-                "color", "opacity", "thickness", "visible"});
+                "threshold", "symmetric", "color", "opacity", "thickness", "visible"});
   PlaneObject p;
   p.name = r.get("name").string();
   const VolumeObject* volume = nullptr;
@@ -108,6 +100,12 @@ PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
   else if (volume != nullptr && volume->display_window && volume->display_window->y > 0.0)
     p.window = *volume->display_window;  // the source's own window (DICOM WindowCenter/Width)
   if (auto v = r.find("colormap")) p.colormap = parse_colormap(*v);
+  for (const char* key : {"threshold", "symmetric"})
+    if (r.has(key) && volume == nullptr)
+      r.get(key).fail("applies only to a plane showing a \"volume\"");
+  if (auto v = r.find("symmetric")) p.symmetric = v->boolean();
+  if (auto v = r.find("threshold"))
+    p.threshold = v->number(p.symmetric ? Range::non_negative() : Range::any());
   if (auto v = r.find("color")) p.color = v->color();
   if (auto v = r.find("opacity"))
     p.opacity = static_cast<float>(v->number(Range::closed(0.0, 1.0)));

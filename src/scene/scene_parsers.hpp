@@ -114,6 +114,8 @@ struct ParsedTransferFunction {
 // names work too) or {"file": "x.vp" | "x.json", "name": map in a ParaView file}; "shift" and
 // "scale" move the points (presets/tf_adjust.hpp), "unit_distance" sets the alphas' mm.
 ParsedTransferFunction parse_transfer_function(const JsonReader& r, SceneContext& context);
+// A colour map's name (presets/colormap.hpp); the error lists them all.
+Colormap parse_colormap(const JsonReader& v);
 
 // A volume's "clip_planes": [{"point": [3], "normal": [3]}, ...], normals normalized.
 std::vector<ClipPlane> parse_clip_planes(const JsonReader& r);

@@ -61,11 +61,12 @@ inline void hash_stage_fields(Fnv1a& h, const MeshObject& m) {
 }
 
 inline void hash_stage_fields(Fnv1a& h, const Scene& scene, const PlaneObject& p) {
-  const auto& [name, center, normal, up, size, volume, window, color, colormap, opacity,
-               thickness] = p;
+  const auto& [name, center, normal, up, size, volume, window, color, colormap, threshold,
+               symmetric, opacity, thickness] = p;
   (void)name;  // a label
   h.add(center).add(normal).add(up).add(size).add(volume).add(window).add(color);
-  h.add(opacity).add(colormap);
+  h.add(opacity).add(colormap).add(symmetric);
+  hash_stage_optional(h, threshold);
   hash_stage_optional(h, thickness);
   if (volume >= 0 && static_cast<size_t>(volume) < scene.volumes.size()) {
     const VolumeObject& v = scene.volumes[static_cast<size_t>(volume)];

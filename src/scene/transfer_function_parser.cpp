@@ -1,17 +1,20 @@
-// Parser for a volume's "transfer_function": RGBA points, a named Slicer preset or a preset file
-// (Slicer .vp, ParaView colour-map JSON), optionally shifted and scaled along the value axis.
+// Parser for a volume's "transfer_function": RGBA points, a named Slicer preset, a preset file
+// (Slicer .vp, ParaView colour-map JSON) or a colour map over a range with a threshold, optionally
+// shifted and scaled along the value axis.
 #include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "core/edit_distance.hpp"
 #include "intermix/error.hpp"
+#include "presets/colormap.hpp"
+#include "presets/colormap_tf.hpp"
 #include "presets/paraview_colormap.hpp"
 #include "presets/tf_adjust.hpp"
 #include "presets/volume_presets.hpp"
 #include "presets/vp_file.hpp"
-#include "core/edit_distance.hpp"
 #include "scene/scene_parsers.hpp"
 
 namespace imx::scene_json {
@@ -45,19 +48,70 @@ std::string lower_extension(const std::filesystem::path& path) {
   return ext;
 }
 
+// {"colormap": name, "range": [lo, hi], "threshold", "symmetric", "opacity"}
+// (presets/colormap_tf.hpp says what each means).
+TransferFunction parse_colormap_form(const JsonReader& r) {
+  ColormapTransferFunction c;
+  c.map = parse_colormap(r.get("colormap"));
+  const JsonReader range = r.get("range");
+  const glm::dvec2 lo_hi = range.vec2();
+  c.lo = lo_hi.x;
+  c.hi = lo_hi.y;
+  if (!(c.lo < c.hi))
+    range.fail(fmt::format("[{}, {}]: the first value must be below the second", c.lo, c.hi));
+  if (auto v = r.find("symmetric")) c.symmetric = v->boolean();
+  if (c.symmetric && c.lo < 0.0)
+    range.fail(
+        fmt::format("[{}, {}]: with \"symmetric\" the range is of magnitudes |value|, so "
+                    "it starts at 0 or above",
+                    c.lo, c.hi));
+  if (auto v = r.find("threshold")) {
+    c.threshold = v->number(c.symmetric ? Range::non_negative() : Range::any());
+    if (*c.threshold > c.hi)
+      v->fail(
+          fmt::format("{} is above the range's end {}: nothing would show", *c.threshold, c.hi));
+  }
+  if (auto v = r.find("opacity"))
+    c.opacity = static_cast<float>(v->number(Range::closed(0.0, 1.0)));
+  try {
+    return colormap_transfer_function(c);
+  } catch (const Error& e) {
+    r.fail(e.what());
+  }
+}
+
 }  // namespace
 
+Colormap parse_colormap(const JsonReader& v) {
+  const std::string name = v.string();
+  if (std::optional<Colormap> map = find_colormap(name)) return *map;
+  const std::vector<std::string> names(kColormapNames.begin(), kColormapNames.end());
+  v.fail(fmt::format("{} is not a colour map{}; they are: {}", v.text(), did_you_mean(name, names),
+                     fmt::join(names, ", ")));
+}
+
 ParsedTransferFunction parse_transfer_function(const JsonReader& r, SceneContext& context) {
-  r.check_keys({"points", "preset", "file", "name", "shift", "scale", "unit_distance"});
-  const int sources = int{r.has("points")} + int{r.has("preset")} + int{r.has("file")};
+  r.check_keys({"points", "preset", "file", "colormap", "name", "range", "threshold", "symmetric",
+                "opacity", "shift", "scale", "unit_distance"});
+  const int sources =
+      int{r.has("points")} + int{r.has("preset")} + int{r.has("file")} + int{r.has("colormap")};
   if (sources != 1)
-    r.fail(sources == 0
-               ? "missing required key 'points' (or a \"preset\" name, or a preset \"file\")"
-               : "give one of \"points\", \"preset\" and \"file\", not several");
+    r.fail(sources == 0 ? "missing required key 'points' (or a \"preset\" name, a preset "
+                          "\"file\" or a \"colormap\" with a \"range\")"
+                        : "give one of \"points\", \"preset\", \"file\" and \"colormap\", not "
+                          "several");
+  if (!r.has("colormap"))
+    for (const char* key : {"range", "threshold", "symmetric", "opacity"})
+      if (r.has(key)) r.get(key).fail("applies only with a \"colormap\"");
   ParsedTransferFunction out;
   double centre = 0.0;  // what "scale" stretches about
   JsonReader source = r;
-  if (auto points = r.find("points")) {
+  if (auto map = r.find("colormap")) {
+    source = *map;
+    out.transfer_function = parse_colormap_form(r);
+    centre = 0.5 * (out.transfer_function.points.front().value +
+                    out.transfer_function.points.back().value);
+  } else if (auto points = r.find("points")) {
     source = *points;
     out.transfer_function = parse_points(*points);
     centre = 0.5 * (out.transfer_function.points.front().value +

@@ -209,7 +209,7 @@ std::vector<ClipPlane> parse_clip_planes(const JsonReader& r) {
 VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   r.check_keys({"name", "type", "source", "transform", "style", "iso_value", "xray_mode",
                 "transfer_function", "shading", "clip_planes", "clip", "visible", "labels",
-                "interpolation"});
+                "interpolation", "units"});
   VolumeObject v;
   v.name = r.get("name").string();
   glm::dmat4 transform(1.0);
@@ -262,6 +262,10 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   v.data = load_volume_source(r.get("source"), context, facts, v.name, v);
   v.display_window = facts.window;
   v.units = facts.units;
+  if (auto u = r.find("units")) {  // a label for colour bars and readouts ("t", "z", "%")
+    v.units = u->string();
+    if (v.units.size() > 16) u->fail("a units label has at most 16 characters");
+  }
   if (automatic) {
     // Chosen from the voxels, and parsed as the file would spell it (automatic_look.hpp).
     const AutomaticLook look = automatic_look(*v.data, facts.modality, facts.units);

@@ -66,5 +66,44 @@ TEST(Colormap, ViridisAndInfernoLuminanceRisesMonotonically) {
   }
 }
 
+// The overlay maps from their defining formulas (display values): red-yellow (1, t, 0),
+// blue-lightblue (0, t, 1), cold-hot the second reversed below t = 0.5 and the first above.
+TEST(Colormap, OverlayMapsFollowTheirFormulas) {
+  for (int i = 0; i < 256; ++i) {
+    const float t = static_cast<float>(i) / 255.0f;
+    const glm::vec3 ry = colormap_rgb(Colormap::red_yellow, t);
+    EXPECT_NEAR(ry.r, 1.0f, 1e-6);
+    EXPECT_NEAR(ry.g, linear(t), 1e-5) << i;
+    EXPECT_EQ(ry.b, 0.0f);
+    const glm::vec3 bl = colormap_rgb(Colormap::blue_lightblue, t);
+    EXPECT_EQ(bl.r, 0.0f);
+    EXPECT_NEAR(bl.g, linear(t), 1e-5) << i;
+    EXPECT_NEAR(bl.b, 1.0f, 1e-6);
+    const glm::vec3 ch = colormap_rgb(Colormap::cold_hot, t);
+    if (i < 128)
+      EXPECT_NEAR(ch.g, linear(static_cast<float>(127 - i) / 127.0f), 1e-5) << i;
+    else
+      EXPECT_NEAR(ch.g, linear(static_cast<float>(i - 128) / 127.0f), 1e-5) << i;
+    EXPECT_EQ(ch.r, i < 128 ? 0.0f : 1.0f) << i;
+  }
+}
+
+// matplotlib's plasma and jet ends (display values), and every name finds its map.
+TEST(Colormap, PlasmaAndJetEndsAndNames) {
+  const glm::vec3 plasma0 = colormap_rgb(Colormap::plasma, 0.0f);
+  EXPECT_NEAR(plasma0.r, linear(0.050383f), 1e-6);
+  EXPECT_NEAR(plasma0.b, linear(0.527975f), 1e-6);
+  const glm::vec3 plasma1 = colormap_rgb(Colormap::plasma, 1.0f);
+  EXPECT_NEAR(plasma1.g, linear(0.975158f), 1e-6);
+  EXPECT_NEAR(colormap_rgb(Colormap::jet, 0.0f).b, linear(0.5f), 1e-6);  // dark blue
+  EXPECT_NEAR(colormap_rgb(Colormap::jet, 1.0f).r, linear(0.5f), 1e-6);  // dark red
+  EXPECT_EQ(colormap_rgb(Colormap::jet, 0.0f).r, 0.0f);
+  for (size_t i = 0; i < kColormapNames.size(); ++i)
+    EXPECT_EQ(find_colormap(kColormapNames[i]), static_cast<Colormap>(i));
+  EXPECT_EQ(find_colormap("gray"), std::nullopt);
+  EXPECT_TRUE(colormap_is_diverging(Colormap::cold_hot));
+  EXPECT_FALSE(colormap_is_diverging(Colormap::hot));
+}
+
 }  // namespace
 }  // namespace imx

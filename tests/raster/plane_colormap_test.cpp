@@ -2,6 +2,8 @@
 // plane fragments.
 #include <gtest/gtest.h>
 
+#include <optional>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "presets/colormap.hpp"
@@ -12,7 +14,9 @@ namespace imx {
 namespace {
 
 // An orthographic 16x16 view of a plane facing the camera through a volume of one value.
-Fragment centre_fragment(float value, Colormap map, glm::dvec2 window) {
+std::vector<Fragment> centre_fragments(float value, Colormap map, glm::dvec2 window,
+                                       std::optional<double> threshold = std::nullopt,
+                                       bool symmetric = false) {
   auto data = std::make_shared<VolumeData>();
   data->dims = {4, 4, 4};
   data->voxels = std::vector<float>(64, value);
@@ -37,14 +41,21 @@ Fragment centre_fragment(float value, Colormap map, glm::dvec2 window) {
   plane.colormap = map;
   plane.color = {1.0f, 0.5f, 0.25f};
   plane.opacity = 0.8f;
+  plane.threshold = threshold;
+  plane.symmetric = symmetric;
   test::add_plane(scene, plane);
   std::vector<PreparedVolume> volumes;
   volumes.emplace_back(scene.volumes[0]);
   CameraModel camera(scene.camera, 16, 16);
   Rasterizer r(scene, camera, volumes, 16);
   test::FrameFragments f = test::rasterize_frame(r, camera, test::grid_offsets(1));
-  EXPECT_EQ(f.at(8, 8, 0).size(), 1u);
-  return f.at(8, 8, 0).empty() ? Fragment{} : f.at(8, 8, 0)[0];
+  return f.at(8, 8, 0);
+}
+
+Fragment centre_fragment(float value, Colormap map, glm::dvec2 window) {
+  std::vector<Fragment> f = centre_fragments(value, map, window);
+  EXPECT_EQ(f.size(), 1u);
+  return f.empty() ? Fragment{} : f[0];
 }
 
 TEST(PlaneColormap, PixelIsTheMapsEntryTimesColourAndOpacity) {
@@ -71,6 +82,22 @@ TEST(PlaneColormap, GreyIsTheWindowedValueTimesColourBitForBit) {
   Fragment f = centre_fragment(70.0f, Colormap::grey, {40.0, 100.0});
   const float grey = std::clamp((70.0f - (40.0f - 0.5f * 100.0f)) / 100.0f, 0.0f, 1.0f);
   EXPECT_EQ(f.color, glm::vec4(grey * 0.8f * glm::vec3(1.0f, 0.5f, 0.25f), 0.8f));
+}
+
+// A threshold leaves no fragment below it (|value| below it when symmetric), so what lies behind
+// the plane shows; at and above it the plane is drawn as without one.
+TEST(PlaneColormap, ThresholdLeavesNoFragmentBelowIt) {
+  const glm::dvec2 window{0.0, 16.0};
+  EXPECT_TRUE(centre_fragments(2.9f, Colormap::hot, window, 3.0).empty());
+  EXPECT_TRUE(centre_fragments(-5.0f, Colormap::hot, window, 3.0).empty());
+  ASSERT_EQ(centre_fragments(3.0f, Colormap::hot, window, 3.0).size(), 1u);
+  EXPECT_EQ(centre_fragments(5.0f, Colormap::hot, window, 3.0)[0].color,
+            centre_fragment(5.0f, Colormap::hot, window).color);
+  EXPECT_TRUE(centre_fragments(2.9f, Colormap::cold_hot, window, 3.0, true).empty());
+  EXPECT_TRUE(centre_fragments(-2.9f, Colormap::cold_hot, window, 3.0, true).empty());
+  ASSERT_EQ(centre_fragments(-3.0f, Colormap::cold_hot, window, 3.0, true).size(), 1u);
+  EXPECT_EQ(centre_fragments(-6.0f, Colormap::cold_hot, window, 3.0, true)[0].color,
+            centre_fragment(-6.0f, Colormap::cold_hot, window).color);
 }
 
 }  // namespace

@@ -115,6 +115,8 @@ TEST(StageFields, EveryHashedMeshAndPlaneFieldMovesTheKey) {
                 {"window", [&](Scene& s) { p(s).window.y = 10.0; }},
                 {"color", [&](Scene& s) { p(s).color.g = 0.0f; }},
                 {"colormap", [&](Scene& s) { p(s).colormap = Colormap::hot; }},
+                {"threshold", [&](Scene& s) { p(s).threshold = 3.0; }},
+                {"symmetric", [&](Scene& s) { p(s).symmetric = true; }},
                 {"opacity", [&](Scene& s) { p(s).opacity = 0.5f; }},
                 {"thickness", [&](Scene& s) { p(s).thickness = 1.0; }},
                 {"the volume's data",

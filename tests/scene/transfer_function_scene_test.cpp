@@ -6,6 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "intermix/scene.hpp"
+#include "presets/colormap.hpp"
+#include "presets/colormap_tf.hpp"
 #include "presets/slicer_volume_property.hpp"
 #include "presets/tf_adjust.hpp"
 #include "presets/volume_presets.hpp"
@@ -139,6 +141,67 @@ TEST(TransferFunctionScene, VpAndParaviewFilesResolveAgainstTheSceneFolder) {
   EXPECT_CONTAINS(e, "no such file");
 }
 
+// ---- colour-map form ------------------------------------------------------------------------
+
+TEST(TransferFunctionScene, ColormapFormResolvesToTheRulesPoints) {
+  Scene s = parse(volume_scene(
+      R"({"colormap": "cold-hot", "range": [3, 8], "threshold": 4, "symmetric": true,
+          "opacity": 0.5, "unit_distance": 2})"));
+  ColormapTransferFunction c;
+  c.map = Colormap::cold_hot;
+  c.lo = 3.0;
+  c.hi = 8.0;
+  c.threshold = 4.0;
+  c.symmetric = true;
+  c.opacity = 0.5f;
+  expect_same_points(s.volumes[0].transfer_function, colormap_transfer_function(c));
+  EXPECT_EQ(s.volumes[0].transfer_function.unit_distance, 2.0);
+  // Every name of presets/colormap.hpp is a scene-file name.
+  for (std::string_view name : kColormapNames)
+    EXPECT_NO_THROW(
+        parse(volume_scene(fmt::format(R"({{"colormap": "{}", "range": [0, 1]}})", name))))
+        << name;
+}
+
+// A statistical map's units label (its colour bar says "t"), which the file cannot say.
+TEST(TransferFunctionScene, VolumeUnitsLabel) {
+  EXPECT_EQ(parse(volume_scene(R"({"colormap": "hot", "range": [3, 8]})", R"(, "units": "t")"))
+                .volumes[0]
+                .units,
+            "t");
+  EXPECT_EQ(parse(volume_scene(R"({"colormap": "hot", "range": [3, 8]})")).volumes[0].units, "");
+  EXPECT_CONTAINS(parse_error(volume_scene(R"({"colormap": "hot", "range": [3, 8]})",
+                                           R"(, "units": "a very long units label")")),
+                  "objects[0].units: a units label has at most 16 characters");
+}
+
+TEST(TransferFunctionScene, ColormapFormRefusesWithOneLineNamingTheField) {
+  std::string e = parse_error(volume_scene(R"({"colormap": "hott", "range": [3, 8]})"));
+  EXPECT_CONTAINS(e,
+                  "objects[0].transfer_function.colormap: \"hott\" is not a colour map (did "
+                  "you mean 'hot'?); they are: grey, hot, inferno, viridis, plasma, jet, "
+                  "cold-hot, red-yellow, blue-lightblue");
+  e = parse_error(volume_scene(R"({"colormap": "hot"})"));
+  EXPECT_CONTAINS(e, "objects[0].transfer_function: missing required key 'range'");
+  e = parse_error(volume_scene(R"({"colormap": "hot", "range": [8, 3]})"));
+  EXPECT_CONTAINS(e, "objects[0].transfer_function.range: [8, 3]: the first value must be below");
+  e = parse_error(volume_scene(R"({"colormap": "hot", "range": [-1, 3], "symmetric": true})"));
+  EXPECT_CONTAINS(e,
+                  "transfer_function.range: [-1, 3]: with \"symmetric\" the range is of "
+                  "magnitudes");
+  e = parse_error(volume_scene(R"({"colormap": "hot", "range": [3, 8], "threshold": 9})"));
+  EXPECT_CONTAINS(e, "transfer_function.threshold: 9 is above the range's end 8");
+  e = parse_error(
+      volume_scene(R"({"colormap": "hot", "range": [3, 8], "threshold": -2, "symmetric": true})"));
+  EXPECT_CONTAINS(e, "transfer_function.threshold");
+  e = parse_error(volume_scene(R"({"colormap": "hot", "range": [3, 8], "opacity": 2})"));
+  EXPECT_CONTAINS(e, "transfer_function.opacity");
+  e = parse_error(volume_scene(R"({"points": [[0, 1, 1, 1, 1]], "threshold": 3})"));
+  EXPECT_CONTAINS(e, "transfer_function.threshold: applies only with a \"colormap\"");
+  e = parse_error(volume_scene(R"({"preset": "ct-bone", "colormap": "hot", "range": [3, 8]})"));
+  EXPECT_CONTAINS(e, "not several");
+}
+
 // ---- planes --------------------------------------------------------------------------------
 
 std::string plane_scene(const std::string& plane_keys) {
@@ -190,6 +253,19 @@ TEST(PlanePresets, ColormapByName) {
   std::string e = parse_error(plane_scene(R"(, "colormap": "gray")"));
   EXPECT_CONTAINS(e, "objects[1].colormap");
   EXPECT_CONTAINS(e, "grey");
+}
+
+TEST(PlanePresets, ThresholdAndSymmetric) {
+  const PlaneObject p = parse(plane_scene(R"(, "threshold": 3, "symmetric": true)")).planes[0];
+  EXPECT_EQ(p.threshold, 3.0);
+  EXPECT_TRUE(p.symmetric);
+  EXPECT_EQ(parse(plane_scene("")).planes[0].threshold, std::nullopt);
+  EXPECT_CONTAINS(parse_error(plane_scene(R"(, "threshold": -3, "symmetric": true)")),
+                  "objects[1].threshold");
+  EXPECT_CONTAINS(
+      parse_error(R"({"camera": {"eye": [0, -100, 0]}, "objects": [{"name": "p", "type": "plane",
+          "center": [0, 0, 0], "normal": [0, 0, 1], "size": 10, "threshold": 2}]})"),
+      "objects[0].threshold: applies only to a plane showing a \"volume\"");
 }
 
 }  // namespace

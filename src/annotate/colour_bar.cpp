@@ -1,0 +1,143 @@
+#include "annotate/colour_bar.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace imx {
+
+std::vector<double> colour_bar_ticks(double lo, double hi) {
+  const double span = hi - lo;
+  if (!(span > 0.0) || !std::isfinite(span)) return {lo, hi};
+  const double raw = span / 5.0;
+  const double magnitude = std::pow(10.0, std::floor(std::log10(raw)));
+  double step = 10.0 * magnitude;
+  for (double m : {1.0, 2.0, 5.0})
+    if (m * magnitude >= raw) {
+      step = m * magnitude;
+      break;
+    }
+  std::vector<double> ticks;
+  const double first = std::ceil(lo / step - 1e-9), last = std::floor(hi / step + 1e-9);
+  for (double k = first; k <= last && ticks.size() < 16; k += 1.0)
+    ticks.push_back(k * step + 0.0);  // + 0.0: no -0
+  if (ticks.size() < 2) return {lo, hi};
+  return ticks;
+}
+
+std::string tick_label(double value, double step) {
+  if (std::abs(value) < std::abs(step) * 1e-6) value = 0.0;
+  if (std::abs(value) >= 1e6 || !(step > 0.0)) return fmt::format("{:g}", value);
+  const int decimals =
+      step >= 1.0 ? 0 : std::clamp(static_cast<int>(std::ceil(-std::log10(step) - 1e-9)), 0, 9);
+  return fmt::format("{:.{}f}", value, decimals);
+}
+
+int colour_bar_text_size(int height) {
+  return std::clamp(static_cast<int>(std::lround(height / 36.0)), 10, 28);
+}
+
+namespace {
+
+// Premultiplied "over" of an opaque or translucent colour onto one pixel.
+void blend(Image& image, int x, int y, const glm::vec4& premultiplied) {
+  if (x < 0 || y < 0 || x >= image.width() || y >= image.height()) return;
+  glm::vec4& dst = image.at(x, y);
+  dst = premultiplied + (1.0f - premultiplied.a) * dst;
+}
+
+// The same bar twice (three planes through one map): same text, range and colours.
+bool same_bar(const ColourBar& a, const ColourBar& b) {
+  if (a.name != b.name || a.units != b.units || a.lo != b.lo || a.hi != b.hi) return false;
+  for (int i = 0; i <= 64; ++i) {
+    const double v = a.lo + (a.hi - a.lo) * i / 64.0;
+    if (a.colour(v) != b.colour(v)) return false;
+  }
+  return true;
+}
+
+constexpr glm::vec3 kTextColour{1.0f};
+constexpr float kPanelOpacity = 0.6f;
+
+}  // namespace
+
+std::vector<const ColourBar*> distinct_colour_bars(std::span<const ColourBar> bars) {
+  std::vector<const ColourBar*> unique;
+  for (const ColourBar& bar : bars) {
+    if (!bar.colour || !(bar.lo < bar.hi) || !std::isfinite(bar.hi - bar.lo)) continue;
+    if (std::none_of(unique.begin(), unique.end(),
+                     [&](const ColourBar* u) { return same_bar(*u, bar); }))
+      unique.push_back(&bar);
+  }
+  return unique;
+}
+
+std::vector<ColourBarPlacement> draw_colour_bars(Image& image, std::span<const ColourBar> bars,
+                                                 const TextRaster& text) {
+  const std::vector<const ColourBar*> unique = distinct_colour_bars(bars);
+  const int f = text.pixel_height();
+  const int pad = std::max(3, f / 2), strip_w = f, tick_len = std::max(3, f / 3);
+  const int line = text.line_height();
+  std::vector<ColourBarPlacement> placed;
+  int right = image.width() - pad;  // the next column's right edge
+  for (const ColourBar* bar : unique) {
+    const TextBitmap title =
+        text.render(bar->units.empty() ? bar->name : fmt::format("{} ({})", bar->name, bar->units));
+    const std::vector<double> ticks = colour_bar_ticks(bar->lo, bar->hi);
+    const double step = ticks.size() > 2 ? ticks[1] - ticks[0] : bar->hi - bar->lo;
+    std::vector<TextBitmap> labels;
+    int label_w = 0;
+    for (double v : ticks) {
+      labels.push_back(text.render(tick_label(v, step)));
+      label_w = std::max(label_w, labels.back().width);
+    }
+    const int strip_h = std::max(3 * f, static_cast<int>(0.4 * image.height()));
+    const int width = 2 * pad + std::max(title.width, strip_w + tick_len + 2 + label_w);
+    const int height = 3 * pad + title.height + line + strip_h;
+    const int left = right - width;
+    if (left < image.width() / 2 || pad + height > image.height()) break;
+    const int top = pad;
+    for (int y = top; y < top + height; ++y)
+      for (int x = left; x < right; ++x) blend(image, x, y, {0.0f, 0.0f, 0.0f, kPanelOpacity});
+    draw_text(image, title, left + pad, top + pad, kTextColour);
+
+    ColourBarPlacement p;
+    p.x0 = left + pad;
+    p.x1 = p.x0 + strip_w;
+    p.y0 = top + 2 * pad + title.height + line / 2;
+    p.y1 = p.y0 + strip_h;
+    p.lo = bar->lo;
+    p.hi = bar->hi;
+    for (int y = p.y0; y < p.y1; ++y) {
+      const glm::vec4 c = bar->colour(p.value_at_row(y));
+      for (int x = p.x0; x < p.x1; ++x) {
+        // Where the object shows nothing: a checkerboard, as image editors draw transparency.
+        const float grey = ((x - p.x0) / 4 + (y - p.y0) / 4) % 2 == 0 ? 0.05f : 0.2f;
+        image.at(x, y) =
+            c.a > 0.0f ? glm::vec4(glm::vec3(c), 1.0f) : glm::vec4(glm::vec3(grey), 1.0f);
+      }
+    }
+    for (size_t i = 0; i < ticks.size(); ++i) {
+      const double fraction = (bar->hi - ticks[i]) / (bar->hi - bar->lo);
+      const int ty = std::clamp(p.y0 + static_cast<int>(fraction * strip_h), p.y0, p.y1 - 1);
+      for (int x = p.x1; x < p.x1 + tick_len; ++x)
+        blend(image, x, ty, glm::vec4(kTextColour, 1.0f));
+      const TextBitmap& label = labels[i];
+      const int lx = p.x1 + tick_len + 2, ly = ty - label.height / 2;
+      draw_text(image, label, lx, ly, kTextColour);
+      p.ticks.push_back({ticks[i], lx, ly, lx + label.width, ly + label.height});
+    }
+    placed.push_back(std::move(p));
+    right = left - pad;
+  }
+  return placed;
+}
+
+std::vector<ColourBarPlacement> draw_colour_bars(Image& image, std::span<const ColourBar> bars) {
+  if (bars.empty()) return {};
+  const TextRaster text(find_font(), colour_bar_text_size(image.height()));
+  return draw_colour_bars(image, bars, text);
+}
+
+}  // namespace imx

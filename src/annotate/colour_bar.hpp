@@ -1,0 +1,68 @@
+// Colour bars drawn into a rendered image (intermix render --colorbar): one per colour-mapped
+// object, with its name, units and ticks. Composited after the render, never in its kernels.
+#pragma once
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec4.hpp>
+
+#include "annotate/text_raster.hpp"
+#include "intermix/image.hpp"
+
+namespace imx {
+
+// What a colour-mapped object says about itself to get a bar: any kind of object (a volume's
+// transfer function, a plane's colour map, a mesh's value overlay) makes one of these
+// (scene_colour_bars.hpp) and the drawing needs nothing else.
+struct ColourBar {
+  std::string name;           // the object's (or the volume's it shows)
+  std::string units;          // "" when unknown; drawn as "name (units)"
+  double lo = 0.0, hi = 1.0;  // the values at the bar's bottom and top, lo < hi
+  // The straight linear RGBA an object shows for a value; alpha 0 where it shows nothing, which
+  // the bar draws as a grey checkerboard. Called per bar row, only while drawing.
+  std::function<glm::vec4(double)> colour;
+};
+
+// Where one bar was drawn, for tests and callers that place more: the colour strip's pixels
+// [x0, x1) x [y0, y1) (row y0 shows hi, row y1 - 1 shows lo), and each tick's value and its
+// label's box.
+struct ColourBarPlacement {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  double lo = 0.0, hi = 1.0;
+  struct Tick {
+    double value;
+    int label_x0, label_y0, label_x1, label_y1;
+  };
+  std::vector<Tick> ticks;
+  // The value a strip row shows: its centre's, linearly from hi (top) to lo (bottom).
+  double value_at_row(int y) const {
+    return hi - (static_cast<double>(y - y0) + 0.5) / static_cast<double>(y1 - y0) * (hi - lo);
+  }
+};
+
+// Tick values for [lo, hi]: the multiples of 1, 2 or 5 x 10^k in it, about five of them (at
+// least two: lo and hi themselves when no multiple fits twice).
+std::vector<double> colour_bar_ticks(double lo, double hi);
+// A tick's label: as many decimals as the tick step needs, no "-0".
+std::string tick_label(double value, double step);
+
+// Draws `bars` side by side from the image's right edge inwards, in a translucent dark panel with
+// white text, sized for the image (text about height / 36 px, 10 to 28). Bars equal in name,
+// units, range and colours are drawn once. Returns where each drawn bar lies. Bars that would
+// cover more than the image's right half are left out.
+std::vector<ColourBarPlacement> draw_colour_bars(Image& image, std::span<const ColourBar> bars,
+                                                 const TextRaster& text);
+
+// The bars draw_colour_bars draws at most: `bars` less repeats (equal name, units, range and
+// colours, as three planes through one map give).
+std::vector<const ColourBar*> distinct_colour_bars(std::span<const ColourBar> bars);
+
+// The same with the annotation font (find_font) at the size for the image.
+std::vector<ColourBarPlacement> draw_colour_bars(Image& image, std::span<const ColourBar> bars);
+
+// The text size draw_colour_bars uses for an image `height` pixels high.
+int colour_bar_text_size(int height);
+
+}  // namespace imx
