@@ -297,9 +297,10 @@ std::optional<std::string_view> read_attributes(LegacyReader& in, uint64_t n, bo
       const uint64_t count = key == "COLOR_SCALARS" ? n * *k : 4 * *k;
       in.values(in.binary ? "unsigned_char" : "float", count, std::string(key) + " " + name, false);
     } else if (key == "FIELD") {
-      const std::vector<uint64_t> c = counts(in, w, 2, *line);
-      if (c[1] > 4096) in.fail(fmt::format("'{}': too many arrays", shown(*line)));
-      for (uint64_t a = 0; a < c[1]; ++a) {
+      const std::optional<uint64_t> arrays = w.size() == 3 ? count_word(w[2]) : std::nullopt;
+      if (!arrays || *arrays > 4096)
+        in.fail(fmt::format("'{}' is not 'FIELD name arrays' (at most 4096)", shown(*line)));
+      for (uint64_t a = 0; a < *arrays; ++a) {
         const std::optional<std::string_view> l = in.line();
         if (!l) in.fail(fmt::format("FIELD {}: the file ends before array {}", name, a));
         const auto aw = split_words(*l);

@@ -473,8 +473,11 @@ PolyDataFile read_vtp(const std::filesystem::path& file) {
     else if (tag.find("encoding=\"raw\"") == std::string_view::npos)
       throw Error(fmt::format("{}: <AppendedData> encoding is not raw or base64", what));
     const size_t underscore = bytes.find('_', close);
-    if (underscore == std::string::npos ||
-        trim(std::string_view(bytes).substr(close + 1, underscore - close - 1)).size() != 0)
+    const std::string_view before = std::string_view(bytes).substr(
+        close + 1, underscore == std::string::npos ? 0 : underscore - close - 1);
+    if (underscore == std::string::npos || !std::all_of(before.begin(), before.end(), [](char c) {
+          return std::isspace(static_cast<unsigned char>(c)) != 0;
+        }))
       throw Error(fmt::format("{}: <AppendedData> does not start with '_'", what));
     appended = std::string_view(bytes).substr(underscore + 1);
   }
