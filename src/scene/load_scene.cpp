@@ -14,6 +14,7 @@
 #include "scene/scene_document.hpp"
 #include "scene/scene_parsers.hpp"
 #include "scene/strict_json.hpp"
+#include "scene/world_space.hpp"
 
 namespace imx {
 namespace {
@@ -43,17 +44,21 @@ void check_name(const JsonReader& r, const std::string& name) {
 Scene scene_json::parse_scene_document(const nlohmann::json& root, const std::string& origin,
                                    scene_json::SceneContext& context) {
   JsonReader r(root, origin);
-  r.check_keys({"description", "camera", "image", "lights", "objects", "csg", "render"});
+  r.check_keys({"description", "space", "camera", "image", "lights", "objects", "csg", "render"});
   Scene scene;
   if (auto v = r.find("description")) v->string();
+  // The scene's world: what its points, directions and inline transforms are given in.
+  context.world_space = MeshSpace::lps;
+  if (auto v = r.find("space"))
+    context.world_space = v->choice({"LPS", "RAS"}) == "RAS" ? MeshSpace::ras : MeshSpace::lps;
   // No camera, or a camera with a "view": framed around the objects once they are read.
   std::optional<PatientView> view;
   if (auto v = r.find("camera"))
-    scene.camera = scene_json::parse_camera(*v, &view);
+    scene.camera = scene_json::parse_camera(*v, &view, context.world_space);
   else
     view = PatientView::anterior;
   if (auto v = r.find("image")) scene.image = scene_json::parse_image(*v);
-  if (auto v = r.find("lights")) scene.lights = scene_json::parse_lights(*v);
+  if (auto v = r.find("lights")) scene.lights = scene_json::parse_lights(*v, context.world_space);
   if (auto v = r.find("render")) scene.render = scene_json::parse_render(*v);
 
   // First every name and type, so that planes may name volumes listed after them.
@@ -89,7 +94,8 @@ Scene scene_json::parse_scene_document(const nlohmann::json& root, const std::st
       scene.meshes.push_back(scene_json::parse_mesh_object(objects[i], context));
     } else {
       order.push_back({ObjectKind::plane, static_cast<int>(scene.planes.size())});
-      scene.planes.push_back(scene_json::parse_plane_object(objects[i], scene, types));
+      scene.planes.push_back(
+          scene_json::parse_plane_object(objects[i], scene, types, context.world_space));
     }
   }
   scene.order = std::move(order);
@@ -106,12 +112,13 @@ Scene scene_json::parse_scene_document(const nlohmann::json& root, const std::st
   if (view) {
     scene.camera = framed_camera(scene.camera, visible_bounds(scene, bool(context.region)), *view,
                                  static_cast<double>(scene.image.width) / scene.image.height);
+    // In the scene's own space (to_lps undoes itself).
+    const glm::dvec3 centre = scene_json::to_lps(scene.camera.target, context.world_space);
     if (!r.has("camera"))
       context.notes.push_back(fmt::format(
           "no camera: looking from the anterior at the objects' centre [{:.1f}, {:.1f}, {:.1f}] "
           "from {:.0f} mm",
-          scene.camera.target.x, scene.camera.target.y, scene.camera.target.z,
-          glm::length(scene.camera.eye - scene.camera.target)));
+          centre.x, centre.y, centre.z, glm::length(scene.camera.eye - scene.camera.target)));
   }
   // A CSG scene is meant for the csg method unless it asks for another (CSG.md §4.2).
   if (scene.csg && !(render && render->has("method"))) scene.render.method = "csg";

@@ -9,6 +9,7 @@
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
 #include "io/mesh_primitives.hpp"
+#include "io/mesh_space.hpp"
 #include "scene/scene_parsers.hpp"
 
 namespace imx::scene_json {
@@ -82,11 +83,16 @@ Mesh make_primitive(const JsonReader& src) {
   return make_quad({s[0], s[1]});
 }
 
-// The note for a space that the file chose, not the scene: empty when the scene chose it or
-// nothing said anything (LPS).
+// The note for a space that the file chose, or that nothing chose (the scene's space, LPS
+// unless it says "space": "RAS"): empty when the mesh's "space" chose it.
 std::string space_note(const std::string& name, const std::filesystem::path& file,
-                       const MeshFileInfo& info) {
+                       const MeshFileInfo& info, MeshSpace world) {
   const std::string shown = file.filename().string();
+  if (info.space_source == MeshSpaceSource::assumed)
+    return fmt::format(
+        "mesh '{}': {} names no space (no SPACE= header) and its source no \"space\": {} assumed "
+        "(the scene's){}",
+        name, shown, mesh_space_name(world), world == MeshSpace::ras ? "; converted to LPS" : "");
   const std::string to = info.space == MeshSpace::ras ? "converted to LPS" : "used as it is";
   if (info.space_source == MeshSpaceSource::header)
     return fmt::format("mesh '{}': {} says SPACE={}; {}", name, shown, mesh_space_name(info.space),
@@ -124,6 +130,8 @@ std::shared_ptr<const Mesh> load_mesh_source(const JsonReader& src, const std::s
             fmt::format("\"{}\" applies to mesh files; primitives are made in LPS with "
                         "their own normals",
                         key));
+    // Made in LPS whatever the scene's space: every primitive is centred at the origin and
+    // symmetric about z, so the RAS-LPS turn (180 degrees about z) would give the same shape.
     const std::string key = "primitive:" + src.json().dump();
     context.used.insert(key);
     if (auto it = context.meshes.find(key); it != context.meshes.end()) return it->second;
@@ -142,13 +150,18 @@ std::shared_ptr<const Mesh> load_mesh_source(const JsonReader& src, const std::s
   std::error_code ec;
   std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
   std::string key = fmt::format("{}\n{}\n{}", (ec ? path : canonical).string(),
-                                options.space ? mesh_space_name(*options.space) : "file",
+                                options.space ? mesh_space_name(*options.space)
+                                : context.world_space == MeshSpace::ras ? "file, else RAS"
+                                                                        : "file",
                                 options.crease_angle_deg);
   context.used.insert(key);
   if (auto it = context.meshes.find(key); it != context.meshes.end()) return it->second;
   auto mesh = file_reader.reading(path.string(), [&] {
     MeshFile read = read_mesh_file(path, options);
-    if (std::string note = space_note(name, path, read.info); !note.empty())
+    if (read.info.space_source == MeshSpaceSource::assumed &&
+        context.world_space == MeshSpace::ras)
+      detail::flip_ras_lps(read.mesh);
+    if (std::string note = space_note(name, path, read.info, context.world_space); !note.empty())
       context.notes.push_back(std::move(note));
     return std::make_shared<const Mesh>(std::move(read.mesh));
   });
@@ -185,7 +198,7 @@ MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context) {
   MeshObject m;
   m.name = r.get("name").string();
   glm::dmat4 transform(1.0);
-  if (auto t = r.find("transform")) transform = parse_transform(*t);
+  if (auto t = r.find("transform")) transform = parse_transform(*t, context);
   if (auto v = r.find("material")) m.material = parse_material(*v);
   if (auto v = r.find("thickness")) m.thickness = parse_thickness(*v);
   if (auto v = r.find("interior")) m.interior = parse_interior(*v);

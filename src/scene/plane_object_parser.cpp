@@ -11,6 +11,7 @@
 #include "presets/window_presets.hpp"
 #include "core/edit_distance.hpp"
 #include "scene/scene_parsers.hpp"
+#include "scene/world_space.hpp"
 
 namespace imx::scene_json {
 namespace {
@@ -55,7 +56,8 @@ glm::dvec2 parse_window(const JsonReader& v) {
 }  // namespace
 
 PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
-                               const std::map<std::string, std::string>& object_types) {
+                               const std::map<std::string, std::string>& object_types,
+                               MeshSpace space) {
   r.check_keys({"name", "type", "center", "normal", "up", "size", "volume", "window", "colormap",
                 "threshold", "symmetric", "color", "opacity", "thickness", "visible"});
   PlaneObject p;
@@ -69,14 +71,14 @@ PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
   if (volume != nullptr) world_bounds(*volume, lo, hi);
 
   if (auto v = r.find("center"))
-    p.center = v->vec3(Range::coordinate());
+    p.center = to_lps(v->vec3(Range::coordinate()), space);
   else if (volume != nullptr)
     p.center = 0.5 * (lo + hi);
   else
     r.fail("missing required key 'center' (only a plane with a \"volume\" defaults to its centre)");
-  p.normal = r.get("normal").direction();
+  p.normal = to_lps(r.get("normal").direction(), space);
   if (auto v = r.find("up")) {
-    glm::dvec3 up = v->direction();
+    glm::dvec3 up = to_lps(v->direction(), space);
     glm::dvec3 in_plane = up - glm::dot(up, p.normal) * p.normal;
     if (glm::length(in_plane) < 1e-6) v->fail(v->text() + " is parallel to the normal");
     p.up = glm::normalize(in_plane);

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "scene/overrides.hpp"
+#include "scene/world_space.hpp"
 
 namespace imx {
 
@@ -107,9 +108,14 @@ void SceneDocument::write_out_choices() {
     const Camera& c = scene_.camera;
     if (!camera.is_object()) camera = nlohmann::json::object();
     camera.erase("view");
-    camera["eye"] = {c.eye.x, c.eye.y, c.eye.z};
-    camera["target"] = {c.target.x, c.target.y, c.target.z};
-    camera["up"] = {c.up.x, c.up.y, c.up.z};
+    // In the document's own space ("space": "RAS" flips x and y; to_lps undoes itself).
+    auto written = [&](const glm::dvec3& v) {
+      const glm::dvec3 w = scene_json::to_lps(v, context_.world_space);
+      return nlohmann::json{w.x, w.y, w.z};
+    };
+    camera["eye"] = written(c.eye);
+    camera["target"] = written(c.target);
+    camera["up"] = written(c.up);
     camera["fov_deg"] = c.fov_deg;
     if (c.projection == Projection::orthographic) camera["ortho_height"] = c.ortho_height;
   }

@@ -11,6 +11,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 
+#include "intermix/io.hpp"
 #include "intermix/scene.hpp"
 #include "scene/camera_framing.hpp"
 #include "scene/json_reader.hpp"
@@ -45,6 +46,9 @@ struct SceneContext {
   std::set<std::string> used = {};
   // Set: each volume object's data is only the box this chooses (load_scene by region).
   VolumeRegionChooser region = {};
+  // The scene's "space": points, directions and inline transforms it gives are RAS when ras
+  // (world_space.hpp turns them into LPS); also the space of mesh files that say none.
+  MeshSpace world_space = MeshSpace::lps;
 
   // A "file" value resolved against base_dir; throws naming the resolved path when missing.
   std::filesystem::path resolve_file(const JsonReader& file) const;
@@ -62,9 +66,11 @@ Scene parse_scene_document(const nlohmann::json& root, const std::string& origin
 
 // A "view" (anterior, left, ...) sets *framed_view and leaves eye, target and up to framing: the caller
 // frames the objects (camera_framing.hpp); without `framed_view`, "view" is an error.
-Camera parse_camera(const JsonReader& r, std::optional<PatientView>* framed_view = nullptr);
+// `space`: the scene's; eye, target and up given in RAS are read into LPS.
+Camera parse_camera(const JsonReader& r, std::optional<PatientView>* framed_view = nullptr,
+                    MeshSpace space = MeshSpace::lps);
 ImageSettings parse_image(const JsonReader& r);
-std::vector<Light> parse_lights(const JsonReader& r);
+std::vector<Light> parse_lights(const JsonReader& r, MeshSpace space = MeshSpace::lps);
 RenderSettings parse_render(const JsonReader& r);
 // The index in `scene.volumes` of the volume called `name`, else one error at `at` saying what
 // `name` is instead (a mesh, a plane: `object_types` maps names to types) or the nearest name.
@@ -92,9 +98,11 @@ void parse_clip_meshes(const std::vector<JsonReader>& objects, Scene& scene);
 // scene.csg; `objects` are the readers of the scene's objects, in scene.order's order.
 void check_interiors(const std::vector<JsonReader>& objects, const Scene& scene);
 
-// {"matrix": 4x4 row-major} or {"translate", "rotate_deg", "scale"} as T * Rz * Ry * Rx * S.
+// {"matrix": 4x4 row-major} or {"translate", "rotate_deg", "scale"} as T * Rz * Ry * Rx * S
+// (in context.world_space), or {"file", "invert", "moving", "reference"}: a registration file's
+// placement of its moving image (registration/transform_file.hpp), inverted by "invert".
 // Throws when an entry is not finite or the transform is singular or not affine.
-glm::dmat4 parse_transform(const JsonReader& r);
+glm::dmat4 parse_transform(const JsonReader& r, SceneContext& context);
 
 // {"enabled", "ambient", "diffuse", "specular", "shininess"}; `enabled` defaults to true.
 Shading parse_shading(const JsonReader& r);
@@ -118,12 +126,13 @@ ParsedTransferFunction parse_transfer_function(const JsonReader& r, SceneContext
 Colormap parse_colormap(const JsonReader& v);
 
 // A volume's "clip_planes": [{"point": [3], "normal": [3]}, ...], normals normalized.
-std::vector<ClipPlane> parse_clip_planes(const JsonReader& r);
+std::vector<ClipPlane> parse_clip_planes(const JsonReader& r, MeshSpace space = MeshSpace::lps);
 VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context);
 MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context);
 // `scene` holds the volumes, which "volume" may name; `object_types` maps every object's name
 // to its type, for a clear message when "volume" names a mesh or a plane.
 PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
-                               const std::map<std::string, std::string>& object_types);
+                               const std::map<std::string, std::string>& object_types,
+                               MeshSpace space = MeshSpace::lps);
 
 }  // namespace imx::scene_json

@@ -5,6 +5,7 @@
 #include <glm/glm.hpp>
 
 #include "scene/scene_parsers.hpp"
+#include "scene/world_space.hpp"
 
 namespace imx::scene_json {
 namespace {
@@ -39,7 +40,8 @@ std::vector<std::vector<std::string>> parse_mixing_priority(const JsonReader& r)
 
 }  // namespace
 
-Camera parse_camera(const JsonReader& r, std::optional<PatientView>* framed_view) {
+Camera parse_camera(const JsonReader& r, std::optional<PatientView>* framed_view,
+                    MeshSpace space) {
   r.check_keys({"eye", "target", "up", "fov_deg", "projection", "ortho_height", "view"});
   Camera cam;
   if (auto v = r.find("view")) {
@@ -52,9 +54,9 @@ Camera parse_camera(const JsonReader& r, std::optional<PatientView>* framed_view
     *framed_view = find_patient_view(
         v->choice({"anterior", "posterior", "left", "right", "superior", "inferior"}));
   }
-  if (auto v = r.find("eye")) cam.eye = v->vec3(Range::coordinate());
-  if (auto v = r.find("target")) cam.target = v->vec3(Range::coordinate());
-  if (auto v = r.find("up")) cam.up = v->direction();
+  if (auto v = r.find("eye")) cam.eye = to_lps(v->vec3(Range::coordinate()), space);
+  if (auto v = r.find("target")) cam.target = to_lps(v->vec3(Range::coordinate()), space);
+  if (auto v = r.find("up")) cam.up = to_lps(v->direction(), space);
   if (auto v = r.find("fov_deg")) cam.fov_deg = v->number(Range::open(0.0, 180.0));
   if (auto v = r.find("projection"))
     cam.projection = v->choice({"perspective", "orthographic"}) == "perspective"
@@ -62,12 +64,13 @@ Camera parse_camera(const JsonReader& r, std::optional<PatientView>* framed_view
                          : Projection::orthographic;
   if (auto v = r.find("ortho_height")) cam.ortho_height = v->number(Range::length());
   glm::dvec3 view = cam.target - cam.eye;
+  // Messages give the numbers as the scene wrote them (to_lps undoes itself).
+  const glm::dvec3 eye = to_lps(cam.eye, space), up = to_lps(cam.up, space);
   if (glm::length(view) < 1e-9)
-    r.fail(fmt::format("eye and target are the same point [{}, {}, {}]", cam.eye.x, cam.eye.y,
-                       cam.eye.z));
+    r.fail(fmt::format("eye and target are the same point [{}, {}, {}]", eye.x, eye.y, eye.z));
   if (glm::length(glm::cross(glm::normalize(view), cam.up)) < 1e-6)
-    r.fail(fmt::format("up [{}, {}, {}] is parallel to the view direction (target - eye)", cam.up.x,
-                       cam.up.y, cam.up.z));
+    r.fail(fmt::format("up [{}, {}, {}] is parallel to the view direction (target - eye)", up.x,
+                       up.y, up.z));
   return cam;
 }
 
@@ -87,7 +90,7 @@ ImageSettings parse_image(const JsonReader& r) {
   return image;
 }
 
-std::vector<Light> parse_lights(const JsonReader& r) {
+std::vector<Light> parse_lights(const JsonReader& r, MeshSpace space) {
   std::vector<Light> lights;
   for (const JsonReader& e : r.elements()) {
     e.check_keys({"type", "direction", "intensity", "color"});
@@ -96,7 +99,7 @@ std::vector<Light> parse_lights(const JsonReader& r) {
       light.type = v->choice({"headlight", "directional"}) == "headlight" ? LightType::headlight
                                                                           : LightType::directional;
     if (light.type == LightType::directional)
-      light.direction = e.get("direction").direction();
+      light.direction = to_lps(e.get("direction").direction(), space);
     else if (auto v = e.find("direction"))
       v->fail("only directional lights have a direction (a headlight shines along the view)");
     if (auto v = e.find("intensity"))

@@ -1,4 +1,5 @@
-// Parser for an object's "transform": a 4x4 matrix, or translate / rotate / scale.
+// Parser for an object's "transform": a 4x4 matrix, translate / rotate / scale, or a file a
+// registration tool wrote (registration/transform_file.hpp).
 #include <cmath>
 
 #include <fmt/format.h>
@@ -6,7 +7,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/math.hpp"
+#include "registration/transform_file.hpp"
 #include "scene/scene_parsers.hpp"
+#include "scene/world_space.hpp"
 
 namespace imx::scene_json {
 namespace {
@@ -25,34 +28,58 @@ glm::dmat4 parse_matrix(const JsonReader& r) {
   return m;
 }
 
-}  // namespace
-
-glm::dmat4 parse_transform(const JsonReader& r) {
-  r.check_keys({"matrix", "translate", "rotate_deg", "scale"});
-  glm::dmat4 m(1.0);
+glm::dmat4 parse_inline(const JsonReader& r) {
   if (auto v = r.find("matrix")) {
     if (r.has("translate") || r.has("rotate_deg") || r.has("scale"))
       r.fail("give either \"matrix\" or translate / rotate_deg / scale, not both");
-    m = parse_matrix(*v);
-  } else {
-    glm::dvec3 translate(0.0), rotate(0.0), scale(1.0);
-    if (auto v = r.find("translate")) translate = v->vec3(Range::coordinate());
-    if (auto v = r.find("rotate_deg")) rotate = v->vec3();
-    if (auto v = r.find("scale")) {
-      if (v->json().is_number())
-        scale = glm::dvec3(v->number());
-      else if (v->json().is_array())
-        scale = v->vec3();
-      else
-        v->fail("expected a number or an array of 3 numbers, got " + v->describe());
-    }
-    const glm::dvec3 x(1.0, 0.0, 0.0), y(0.0, 1.0, 0.0), z(0.0, 0.0, 1.0);
-    m = glm::translate(glm::dmat4(1.0), translate) *
-        glm::rotate(glm::dmat4(1.0), glm::radians(rotate.z), z) *
-        glm::rotate(glm::dmat4(1.0), glm::radians(rotate.y), y) *
-        glm::rotate(glm::dmat4(1.0), glm::radians(rotate.x), x) *
-        glm::scale(glm::dmat4(1.0), scale);
+    return parse_matrix(*v);
   }
+  glm::dvec3 translate(0.0), rotate(0.0), scale(1.0);
+  if (auto v = r.find("translate")) translate = v->vec3(Range::coordinate());
+  if (auto v = r.find("rotate_deg")) rotate = v->vec3();
+  if (auto v = r.find("scale")) {
+    if (v->json().is_number())
+      scale = glm::dvec3(v->number());
+    else if (v->json().is_array())
+      scale = v->vec3();
+    else
+      v->fail("expected a number or an array of 3 numbers, got " + v->describe());
+  }
+  const glm::dvec3 x(1.0, 0.0, 0.0), y(0.0, 1.0, 0.0), z(0.0, 0.0, 1.0);
+  return glm::translate(glm::dmat4(1.0), translate) *
+         glm::rotate(glm::dmat4(1.0), glm::radians(rotate.z), z) *
+         glm::rotate(glm::dmat4(1.0), glm::radians(rotate.y), y) *
+         glm::rotate(glm::dmat4(1.0), glm::radians(rotate.x), x) *
+         glm::scale(glm::dmat4(1.0), scale);
+}
+
+// {"file", "invert", "moving", "reference"}: the file's placement of its moving image.
+glm::dmat4 parse_file(const JsonReader& r, SceneContext& context) {
+  for (const char* inline_key : {"matrix", "translate", "rotate_deg", "scale"})
+    if (r.has(inline_key))
+      r.get(inline_key).fail("give either \"file\" or an inline transform, not both");
+  const JsonReader file = r.get("file");
+  TransformFileImages images;
+  if (auto v = r.find("moving")) images.moving = context.resolve_file(*v);
+  if (auto v = r.find("reference")) images.reference = context.resolve_file(*v);
+  const bool invert = r.has("invert") && r.get("invert").boolean();
+  const std::filesystem::path path = context.resolve_file(file);
+  const FileTransform read =
+      file.reading(path.string(), [&] { return read_transform_file(path, images); });
+  const bool stored_inverse = read.format == TransformFormat::itk_text ||
+                              read.format == TransformFormat::itk_matlab ||
+                              read.format == TransformFormat::afni_aff12;
+  context.notes.push_back(fmt::format(
+      "{}: {} is an {}, stored {}; {}", r.path(), path.filename().string(),
+      transform_format_name(read.format),
+      stored_inverse ? "fixed to moving (its inverse places the moving image)" : "moving to fixed",
+      invert ? "\"invert\": the object is placed as the registration's fixed image"
+             : "the object is placed as the registration's moving image"));
+  return invert ? glm::inverse(read.moving_to_fixed) : read.moving_to_fixed;
+}
+
+// Throws unless `m` is finite, invertible, and within the scene's limits of stretch and shift.
+void check_transform(const JsonReader& r, const glm::dmat4& m) {
   if (!all_finite(m)) r.fail("transform has a non-finite entry");
   // Relative to the matrix's own scale, so that micrometre and metre units both pass.
   const glm::dmat3 a(m);
@@ -69,6 +96,25 @@ glm::dmat4 parse_transform(const JsonReader& r) {
       r.fail(fmt::format("transform moves {} by {:g} mm; allowed: within {:g} mm of the origin",
                          "xyz"[axis], m[3][axis], kMaxCoordinateMm));
   }
+}
+
+}  // namespace
+
+glm::dmat4 parse_transform(const JsonReader& r, SceneContext& context) {
+  r.check_keys(
+      {"matrix", "translate", "rotate_deg", "scale", "file", "invert", "moving", "reference"});
+  glm::dmat4 m(1.0);
+  if (r.has("file")) {
+    m = parse_file(r, context);
+  } else {
+    for (const char* file_key : {"invert", "moving", "reference"})
+      if (auto v = r.find(file_key))
+        v->fail(fmt::format("\"{}\" applies to a transform read from a \"file\"", file_key));
+    m = parse_inline(r);
+    // A scene written in RAS: x and y flip on both sides (a rotation by 180 degrees about z).
+    if (context.world_space == MeshSpace::ras) m = ras_lps_flip() * m * ras_lps_flip();
+  }
+  check_transform(r, m);
   return m;
 }
 

@@ -18,6 +18,7 @@
 #include "scene/automatic_look.hpp"
 #include "scene/label_map_parser.hpp"
 #include "scene/scene_parsers.hpp"
+#include "scene/world_space.hpp"
 
 namespace imx::scene_json {
 namespace {
@@ -194,13 +195,13 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
 
 }  // namespace
 
-std::vector<ClipPlane> parse_clip_planes(const JsonReader& r) {
+std::vector<ClipPlane> parse_clip_planes(const JsonReader& r, MeshSpace space) {
   std::vector<ClipPlane> planes;
   for (const JsonReader& e : r.elements()) {
     e.check_keys({"point", "normal"});
     ClipPlane plane;
-    plane.point = e.get("point").vec3(Range::coordinate());
-    plane.normal = e.get("normal").direction();
+    plane.point = to_lps(e.get("point").vec3(Range::coordinate()), space);
+    plane.normal = to_lps(e.get("normal").direction(), space);
     planes.push_back(plane);
   }
   return planes;
@@ -213,7 +214,7 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   VolumeObject v;
   v.name = r.get("name").string();
   glm::dmat4 transform(1.0);
-  if (auto t = r.find("transform")) transform = parse_transform(*t);
+  if (auto t = r.find("transform")) transform = parse_transform(*t, context);
   // Style "labels" is dvr through a label map (label_map_parser.hpp): the TF is not used.
   const bool labels = r.has("style") && r.get("style").json() == "labels";
   if (labels) {
@@ -255,7 +256,7 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
     v.transfer_function.points = {TfPoint{v.iso_value, glm::vec4(1.0f)}};  // white, opaque
   }
   if (auto s = r.find("shading")) v.shading = parse_shading(*s);
-  if (auto c = r.find("clip_planes")) v.clip_planes = parse_clip_planes(*c);
+  if (auto c = r.find("clip_planes")) v.clip_planes = parse_clip_planes(*c, context.world_space);
   // "clip" names meshes, which come later in the file: parse_clip_meshes reads it.
   // The source last: reading a large file is the slowest step, so cheap errors come first.
   SourceFacts facts;
