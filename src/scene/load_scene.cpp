@@ -11,6 +11,7 @@
 #include "intermix/error.hpp"
 #include "intermix/scene.hpp"
 #include "io/regular_file.hpp"
+#include "scene/mesh_overlay.hpp"
 #include "scene/scene_document.hpp"
 #include "scene/scene_parsers.hpp"
 #include "scene/strict_json.hpp"
@@ -42,7 +43,7 @@ void check_name(const JsonReader& r, const std::string& name) {
 }  // namespace
 
 Scene scene_json::parse_scene_document(const nlohmann::json& root, const std::string& origin,
-                                   scene_json::SceneContext& context) {
+                                       scene_json::SceneContext& context) {
   JsonReader r(root, origin);
   r.check_keys({"description", "space", "camera", "image", "lights", "objects", "csg", "render"});
   Scene scene;
@@ -99,6 +100,7 @@ Scene scene_json::parse_scene_document(const nlohmann::json& root, const std::st
     }
   }
   scene.order = std::move(order);
+  scene_json::apply_color_by(objects, scene, context, types);
   scene_json::parse_clip_meshes(objects, scene);
   std::optional<JsonReader> csg = r.find("csg");
   if (csg) scene.csg = scene_json::parse_csg(*csg, scene);
@@ -127,7 +129,8 @@ Scene scene_json::parse_scene_document(const nlohmann::json& root, const std::st
   return scene;
 }
 
-nlohmann::json scene_json::parse_scene_json(const std::string& json_text, const std::string& origin) {
+nlohmann::json scene_json::parse_scene_json(const std::string& json_text,
+                                            const std::string& origin) {
   nlohmann::json root;
   try {
     root = scene_json::parse_strict_json(json_text, origin);

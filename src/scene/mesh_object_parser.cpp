@@ -10,6 +10,7 @@
 #include "intermix/limits.hpp"
 #include "io/mesh_primitives.hpp"
 #include "io/mesh_space.hpp"
+#include "scene/mesh_overlay.hpp"
 #include "scene/scene_parsers.hpp"
 
 namespace imx::scene_json {
@@ -98,7 +99,8 @@ std::string space_note(const std::string& name, const std::filesystem::path& fil
     return fmt::format("mesh '{}': {} says SPACE={}; {}", name, shown, mesh_space_name(info.space),
                        to);
   if (info.space_source == MeshSpaceSource::format)
-    return fmt::format("mesh '{}': {} is GIfTI, whose coordinates are RAS; {}", name, shown, to);
+    return fmt::format("mesh '{}': {} is {}, whose coordinates are RAS; {}", name, shown,
+                       file.extension() == ".gii" ? "GIfTI" : "a FreeSurfer surface", to);
   return {};
 }
 
@@ -158,12 +160,14 @@ std::shared_ptr<const Mesh> load_mesh_source(const JsonReader& src, const std::s
   if (auto it = context.meshes.find(key); it != context.meshes.end()) return it->second;
   auto mesh = file_reader.reading(path.string(), [&] {
     MeshFile read = read_mesh_file(path, options);
-    if (read.info.space_source == MeshSpaceSource::assumed &&
-        context.world_space == MeshSpace::ras)
+    if (read.info.space_source == MeshSpaceSource::assumed && context.world_space == MeshSpace::ras)
       detail::flip_ras_lps(read.mesh);
     if (std::string note = space_note(name, path, read.info, context.world_space); !note.empty())
       context.notes.push_back(std::move(note));
-    return std::make_shared<const Mesh>(std::move(read.mesh));
+    for (const std::string& note : read.info.notes)
+      context.notes.push_back(fmt::format("mesh '{}': {}", name, note));
+    // The file's vertex map and point data stay with the mesh, for "overlay".
+    return share_mesh_file(std::move(read));
   });
   context.meshes.emplace(key, mesh);
   return mesh;
@@ -193,8 +197,8 @@ MeshInterior parse_interior(const JsonReader& r) {
 }  // namespace
 
 MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context) {
-  r.check_keys(
-      {"name", "type", "source", "transform", "material", "thickness", "interior", "visible"});
+  r.check_keys({"name", "type", "source", "transform", "material", "thickness", "interior",
+                "visible", "overlay", "color_by"});
   MeshObject m;
   m.name = r.get("name").string();
   glm::dmat4 transform(1.0);
@@ -208,6 +212,9 @@ MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context) {
     if (m.interior) m.interior->opacity = 0.0f;
   }
   std::shared_ptr<const Mesh> mesh = load_mesh_source(r.get("source"), m.name, context);
+  // Values on the mesh colour its vertices before it is placed ("color_by" comes after every
+  // object is read: apply_color_by).
+  if (auto v = r.find("overlay")) mesh = apply_overlay(*v, mesh, context);
   // One placed copy per source and transform, so that a scene parsed again keeps its meshes.
   std::string key = fmt::format("{}", static_cast<const void*>(mesh.get()));
   for (int c = 0; c < 4; ++c)
