@@ -69,7 +69,7 @@ void render_one(const Options& o, const std::vector<std::string>& overrides,
     if (drawn < wanted && !quiet())
       std::fprintf(stderr,
                    "intermix: note: %zu of %zu colour bars drawn: no room for more in the "
-                   "image's right half\n",
+                   "image\n",
                    drawn, wanted);
   }
   write_png(image, output, o.linear);

@@ -62,28 +62,38 @@ constexpr float kPanelOpacity = 0.6f;
 
 }  // namespace
 
-std::vector<const ColourBar*> distinct_colour_bars(std::span<const ColourBar> bars) {
-  std::vector<const ColourBar*> unique;
+std::vector<ColourBar> distinct_colour_bars(std::span<const ColourBar> bars) {
+  std::vector<ColourBar> unique;
   for (const ColourBar& bar : bars) {
     if (!bar.colour || !(bar.lo < bar.hi) || !std::isfinite(bar.hi - bar.lo)) continue;
-    if (std::none_of(unique.begin(), unique.end(),
-                     [&](const ColourBar* u) { return same_bar(*u, bar); }))
-      unique.push_back(&bar);
+    auto same = std::find_if(unique.begin(), unique.end(),
+                             [&](const ColourBar& u) { return same_bar(u, bar); });
+    if (same == unique.end())
+      unique.push_back(bar);
+    else if (!bar.shown_by.empty())
+      same->shown_by += (same->shown_by.empty() ? "" : ", ") + bar.shown_by;
   }
   return unique;
 }
 
+std::string colour_bar_title(const ColourBar& bar) {
+  std::string title = bar.name;
+  if (!bar.units.empty()) title += fmt::format(" ({})", bar.units);
+  if (!bar.shown_by.empty()) title += " on " + bar.shown_by;
+  return title;
+}
+
 std::vector<ColourBarPlacement> draw_colour_bars(Image& image, std::span<const ColourBar> bars,
                                                  const TextRaster& text) {
-  const std::vector<const ColourBar*> unique = distinct_colour_bars(bars);
+  const std::vector<ColourBar> unique = distinct_colour_bars(bars);
   const int f = text.pixel_height();
   const int pad = std::max(3, f / 2), strip_w = f, tick_len = std::max(3, f / 3);
   const int line = text.line_height();
   std::vector<ColourBarPlacement> placed;
   int right = image.width() - pad;  // the next column's right edge
-  for (const ColourBar* bar : unique) {
-    const TextBitmap title =
-        text.render(bar->units.empty() ? bar->name : fmt::format("{} ({})", bar->name, bar->units));
+  for (const ColourBar& b : unique) {
+    const ColourBar* bar = &b;
+    const TextBitmap title = text.render(colour_bar_title(b));
     const std::vector<double> ticks = colour_bar_ticks(bar->lo, bar->hi);
     const double step = ticks.size() > 2 ? ticks[1] - ticks[0] : bar->hi - bar->lo;
     std::vector<TextBitmap> labels;
@@ -96,7 +106,7 @@ std::vector<ColourBarPlacement> draw_colour_bars(Image& image, std::span<const C
     const int width = 2 * pad + std::max(title.width, strip_w + tick_len + 2 + label_w);
     const int height = 3 * pad + title.height + line + strip_h;
     const int left = right - width;
-    if (left < image.width() / 2 || pad + height > image.height()) break;
+    if (left < 0 || pad + height > image.height()) break;
     const int top = pad;
     for (int y = top; y < top + height; ++y)
       for (int x = left; x < right; ++x) blend(image, x, y, {0.0f, 0.0f, 0.0f, kPanelOpacity});

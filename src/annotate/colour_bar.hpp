@@ -17,8 +17,11 @@ namespace imx {
 // transfer function, a plane's colour map, a mesh's value overlay) makes one of these
 // (scene_colour_bars.hpp) and the drawing needs nothing else.
 struct ColourBar {
-  std::string name;           // the object's (or the volume's it shows)
-  std::string units;          // "" when unknown; drawn as "name (units)"
+  std::string name;   // of the values: the volume's
+  std::string units;  // "" when unknown
+  // The objects that show the values, when not the volume itself (planes: "axial"); several
+  // equal bars join theirs ("axial, sagittal"). The title reads "name (units) on shown_by".
+  std::string shown_by;
   double lo = 0.0, hi = 1.0;  // the values at the bar's bottom and top, lo < hi
   // The straight linear RGBA an object shows for a value; alpha 0 where it shows nothing, which
   // the bar draws as a grey checkerboard. Called per bar row, only while drawing.
@@ -49,15 +52,19 @@ std::vector<double> colour_bar_ticks(double lo, double hi);
 std::string tick_label(double value, double step);
 
 // Draws `bars` side by side from the image's right edge inwards, in a translucent dark panel with
-// white text, sized for the image (text about height / 36 px, 10 to 28). Bars equal in name,
-// units, range and colours are drawn once. Returns where each drawn bar lies. Bars that would
-// cover more than the image's right half are left out.
+// white text, sized for the image (text about height / 36 px, 10 to 28). Bars equal but for
+// shown_by are drawn once (distinct_colour_bars). Returns where each drawn bar lies. Bars that
+// do not fit in the image are left out.
 std::vector<ColourBarPlacement> draw_colour_bars(Image& image, std::span<const ColourBar> bars,
                                                  const TextRaster& text);
 
-// The bars draw_colour_bars draws at most: `bars` less repeats (equal name, units, range and
-// colours, as three planes through one map give).
-std::vector<const ColourBar*> distinct_colour_bars(std::span<const ColourBar> bars);
+// The bars draw_colour_bars draws at most: `bars` with repeats (equal name, units, range and
+// colours, as three planes through one map give) joined into one, their shown_by listed, and
+// bars without a colour or a finite range lo < hi left out.
+std::vector<ColourBar> distinct_colour_bars(std::span<const ColourBar> bars);
+
+// A bar's title: "name", "name (units)", "name (units) on shown_by".
+std::string colour_bar_title(const ColourBar& bar);
 
 // The same with the annotation font (find_font) at the size for the image.
 std::vector<ColourBarPlacement> draw_colour_bars(Image& image, std::span<const ColourBar> bars);

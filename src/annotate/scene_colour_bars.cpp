@@ -36,11 +36,12 @@ std::optional<ColourBar> plane_colour_bar(const Scene& scene, const PlaneObject&
   if (plane.volume < 0 || static_cast<size_t>(plane.volume) >= scene.volumes.size() ||
       !(plane.opacity > 0.0f) || !(plane.window.y > 0.0))
     return std::nullopt;
-  if (plane.colormap == Colormap::grey && !plane.threshold) return std::nullopt;
+  if (plane.colormap == Colormap::grey) return std::nullopt;
   const VolumeObject& volume = scene.volumes[static_cast<size_t>(plane.volume)];
   ColourBar bar;
   bar.name = volume.name;
   bar.units = volume.units;
+  bar.shown_by = plane.name;
   bar.lo = plane.window.x - 0.5 * plane.window.y;
   bar.hi = plane.window.x + 0.5 * plane.window.y;
   // The rasterizer's own arithmetic (shade_fragment.hpp), so the bar shows what the plane does.

@@ -15,9 +15,9 @@ namespace imx {
 std::optional<ColourBar> volume_colour_bar(const VolumeObject& volume);
 
 // A plane's bar: the colour map over its window [centre - width/2, centre + width/2], times the
-// plane's colour, and nothing below its threshold; named by the volume it shows. None for a
-// hidden plane, one without a volume, and a grey plane without a threshold (the anatomy under
-// the overlays, whose bar would be a plain grey ramp).
+// plane's colour, and nothing below its threshold; named by the volume it shows, shown by the
+// plane. None for a hidden plane, one without a volume, and a grey plane (the anatomy under the
+// overlays, thresholded or not, whose bar would be a plain grey ramp).
 std::optional<ColourBar> plane_colour_bar(const Scene& scene, const PlaneObject& plane);
 
 // Every bar of the scene, in scene order. An object kind that colours by

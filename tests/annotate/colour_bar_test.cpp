@@ -165,11 +165,15 @@ TEST(ColourBar, EqualBarsAreDrawnOnce) {
   Scene scene = overlay_scene();
   for (int i = 1; i <= 2; ++i) {  // coronal and sagittal planes through the same map
     scene.planes.push_back(scene.planes[0]);
+    scene.planes.back().name = i == 1 ? "coronal" : "sagittal";
     scene.order.push_back({ObjectKind::plane, i});
   }
   const std::vector<ColourBar> bars = scene_colour_bars(scene);
   EXPECT_EQ(bars.size(), 4u);
-  EXPECT_EQ(distinct_colour_bars(bars).size(), 2u);
+  const std::vector<ColourBar> distinct = distinct_colour_bars(bars);
+  ASSERT_EQ(distinct.size(), 2u);
+  EXPECT_EQ(colour_bar_title(distinct[0]), "tmap (t)");
+  EXPECT_EQ(colour_bar_title(distinct[1]), "tmap (t) on axial, coronal, sagittal");
   Image image(512, 512, kBackground);
   EXPECT_EQ(draw_colour_bars(image, bars).size(), 2u);
   scene.planes[2].threshold = 4.0;  // now a different bar
@@ -198,7 +202,9 @@ TEST(ColourBar, WhichObjectsAskForOne) {
   grey.colormap = Colormap::grey;
   grey.threshold.reset();
   EXPECT_FALSE(plane_colour_bar(scene, grey));  // the anatomy underneath
-  grey.threshold = 1.0;
+  grey.threshold = 1.0;  // thresholded anatomy (the head without the air around it)
+  EXPECT_FALSE(plane_colour_bar(scene, grey));
+  grey.colormap = Colormap::red_yellow;
   EXPECT_TRUE(plane_colour_bar(scene, grey));
   PlaneObject hidden = scene.planes[0];
   hidden.opacity = 0.0f;
