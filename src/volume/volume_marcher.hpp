@@ -129,31 +129,71 @@ class VolumeMarcher {
     return false;
   }
 
-  // A label volume's pieces: each post-classified at its midpoint by the winning label
-  // (label_classifier.hpp), with that label's opacity per unit distance and shaded with the
-  // gradient of its indicator. Pre-integration does not apply: the winner is not a linear
-  // function of the depth, and no table over value pairs describes a boundary between labels.
+  // A label volume's pieces, classified by the winning label (label_classifier.hpp) at the grid
+  // points, each read once as in the scalar march. Where the two ends of a piece differ, the
+  // boundary is found by bisection and the piece splits there into a slab of each end's label
+  // (the second kept for the next call), so that a boundary lies where the indicators cross, not
+  // at a grid point: no staircase of steps on an opaque label's surface. Each slab has its label's
+  // opacity per unit distance (post-classification: pre-integration does not apply, as the winner
+  // is not a function of one interpolated value) and is shaded at its midpoint with the gradient
+  // of its label's indicator.
   template <class Grid>
   bool next_label_in_piece(const Grid& grid, Slab& out) {
-    const LabelLooks& looks = v_->labels;
+    if (pending_.a > 0.0f) {
+      out = Slab::between(pending_front_, pending_back_, pending_);
+      pending_ = glm::vec4(0.0f);
+      return true;
+    }
+    const bool nearest = v_->labels.nearest();
     while (t_ < t1_) {
       const double back = std::min<double>(t1_, (cell_ + 1.0) * step_);
       if (v_->accel.occupancy && t_ >= occupied_until_ && skip_empty(back)) continue;
       const double front = t_;
+      const int32_t l_f =
+          have_front_ ? label_front_ : winning_label(grid, index_at(front), nearest);
+      const int32_t l_b = winning_label(grid, index_at(back), nearest);
       t_ = back;
       cell_ += 1.0;
-      const glm::vec3 p = index_at(0.5 * (front + back));
-      const int32_t label = winning_label(grid, p, looks.nearest());
-      const glm::vec4 look = looks.look(label);
-      if (look.a <= 0.0f) continue;
-      const float a = correct_opacity(look.a, static_cast<float>(back - front), looks.unit_distance());
-      glm::vec4 c(glm::vec3(look) * a, a);
-      if (v_->object->shading.enabled)
-        c = shading_.apply(c, v_->gradient_to_world * label_gradient(grid, p, label));
-      out = Slab::between(static_cast<float>(front), static_cast<float>(back), c);
-      return true;
+      label_front_ = l_b;
+      have_front_ = true;
+      double cut = back;
+      if (l_f != l_b) {
+        double lo = front, hi = back;
+        for (int i = 0; i < kLabelBisections; ++i) {
+          const double m = 0.5 * (lo + hi);
+          (winning_label(grid, index_at(m), nearest) == l_f ? lo : hi) = m;
+        }
+        cut = 0.5 * (lo + hi);
+      }
+      glm::vec4 first = label_slab(grid, l_f, front, cut);
+      glm::vec4 second = cut < back ? label_slab(grid, l_b, cut, back) : glm::vec4(0.0f);
+      if (first.a > 0.0f) {
+        out = Slab::between(static_cast<float>(front), static_cast<float>(cut), first);
+        pending_ = second;
+        pending_front_ = static_cast<float>(cut);
+        pending_back_ = static_cast<float>(back);
+        return true;
+      }
+      if (second.a > 0.0f) {
+        out = Slab::between(static_cast<float>(cut), static_cast<float>(back), second);
+        return true;
+      }
     }
     return false;
+  }
+  static constexpr int kLabelBisections = 6;  // the boundary to 1/64 of a step
+
+  // Premultiplied (C, A) of label `label` over [front, back]; zero when hidden.
+  template <class Grid>
+  glm::vec4 label_slab(const Grid& grid, int32_t label, double front, double back) const {
+    const glm::vec4 look = v_->labels.look(label);
+    if (look.a <= 0.0f || !(back > front)) return glm::vec4(0.0f);
+    const float a =
+        correct_opacity(look.a, static_cast<float>(back - front), v_->labels.unit_distance());
+    const glm::vec4 c(glm::vec3(look) * a, a);
+    if (!v_->object->shading.enabled) return c;
+    const glm::vec3 g = label_gradient(grid, index_at(0.5 * (front + back)), label);
+    return shading_.apply(c, v_->gradient_to_world * g);
   }
 
   // Moves to the next kept piece, where a marcher of its own would start, or further in when a
@@ -303,6 +343,9 @@ class VolumeMarcher {
   bool trim_ = false;         // trim them to the visible ramp (needs the emptiness table too)
   bool has_no_data_ = false;  // the volume has NaN or inf voxels: pieces reading them are skipped
   KeptSpan kept_;             // with two or more pieces: the pieces, t1_ ends piece_
+  int32_t label_front_ = 0;   // label volumes: the winner at t_ (when have_front_)
+  glm::vec4 pending_{0.0f};   // label volumes: the second slab of a split piece, when a > 0
+  float pending_front_ = 0.0f, pending_back_ = 0.0f;
   int piece_ = 0;
 };
 
