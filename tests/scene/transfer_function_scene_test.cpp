@@ -78,9 +78,11 @@ TEST(TransferFunctionScene, BadPresetKeysGetOneClearError) {
                   "preset (did you mean 'ct-bone'?); they are: ct-aaa, ct-aaa2");
   EXPECT_CONTAINS(e, "mr-t2-brain");
   e = parse_error(volume_scene(R"({"preset": "ct-bone", "points": [[0, 1, 1, 1, 1]]})"));
-  EXPECT_CONTAINS(e, "give one of \"points\", \"preset\" and \"file\", not several");
+  EXPECT_CONTAINS(e, "give one of \"points\", \"preset\", \"file\" and \"colormap\", not several");
   e = parse_error(volume_scene(R"({"unit_distance": 1})"));
-  EXPECT_CONTAINS(e, "missing required key 'points' (or a \"preset\" name, or a preset \"file\")");
+  EXPECT_CONTAINS(e,
+                  "missing required key 'points' (or a \"preset\" name, a preset \"file\" or a "
+                  "\"colormap\" with a \"range\")");
   e = parse_error(volume_scene(R"({"preset": "ct-bone", "scale": 0})"));
   EXPECT_CONTAINS(e, "objects[0].transfer_function.scale");
   e = parse_error(volume_scene(R"({"preset": "ct-bone", "name": "x"})"));
