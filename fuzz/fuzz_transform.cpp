@@ -22,12 +22,11 @@ imx::VolumeData small_image(glm::dvec3 diagonal) {
   return v;
 }
 
-// The two images, in a folder of their own that ScratchDir::clear does not empty.
+// The two images, written once in the harness's scratch folder (removed at exit; this harness
+// writes nothing else there, so it never clears it).
 const imx::TransformFileImages& images() {
   static const imx::TransformFileImages written = [] {
-    const std::filesystem::path dir = imx::fuzz::scratch().path().parent_path() /
-                                      ("imx-fuzz-images-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir);
+    const std::filesystem::path& dir = imx::fuzz::scratch().path();
     imx::TransformFileImages i{dir / "moving.nii", dir / "reference.nii"};
     imx::write_volume(small_image({-1.5, -1.0, 2.0}), i.moving, false);
     imx::write_volume(small_image({1.0, -1.2, 1.0}), i.reference, false);
