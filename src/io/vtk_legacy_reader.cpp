@@ -220,8 +220,12 @@ std::vector<std::vector<int64_t>> read_cells(LegacyReader& in, std::string_view 
     in.fail(fmt::format("{}: the offsets run from {} to {}, not 0 to {}", field, offsets.front(),
                         offsets.back(), connectivity.size()));
   for (size_t k = 0; k + 1 < offsets.size(); ++k) {
-    if (!(offsets[k + 1] >= offsets[k]))
-      in.fail(fmt::format("{}: offset {} is below offset {}", field, k + 1, k));
+    if (!(offsets[k + 1] >= offsets[k] &&
+          offsets[k + 1] <= static_cast<double>(connectivity.size())))
+      in.fail(
+          fmt::format("{}: offset {} ({}) is not between offset {} and the connectivity's "
+                      "size {}",
+                      field, k + 1, offsets[k + 1], k, connectivity.size()));
     cells.emplace_back(connectivity.begin() + static_cast<ptrdiff_t>(offsets[k]),
                        connectivity.begin() + static_cast<ptrdiff_t>(offsets[k + 1]));
   }
