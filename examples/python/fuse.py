@@ -1,19 +1,27 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Fuses a CT-like and a PET-like volume made in numpy with a mesh, renders and saves a PNG.
 
 The CT is a 1 x 1 x 1.5 mm grid of 160 x 160 x 100 voxels (int16, Hounsfield-like); the PET is
 a coarser 4 mm grid, rotated 10 degrees about z and shifted, with two hot spots (float32). Each
-has its own 4x4 index-to-world affine (LPS, mm); the arrays are C-ordered [k, j, i] and used
-without a copy. A sphere mesh marks one hot spot.
+has its own 4x4 index-to-world affine (LPS, mm); the arrays are C-ordered [k, j, i] (axes="kji")
+and used without a copy. A sphere mesh marks one hot spot.
 
-    PYTHONPATH=build/python python3 examples/python/fuse.py -o fuse.png
+    PYTHONPATH=build/python /usr/bin/python3 examples/python/fuse.py -o fuse.png
+
+Debian's /usr/bin/python3 is named: the package is built for it, and it has numpy (python3-numpy);
+another python3 first on PATH (pyenv, a venv without system packages) may have neither.
 """
 
 import argparse
 import sys
 import time
 
-import numpy as np
+try:
+    import numpy as np
+except ImportError as e:
+    print(f"fuse.py: {e}: run it with Debian's /usr/bin/python3 (apt-get install python3-numpy), "
+          f"not {sys.executable}", file=sys.stderr)
+    sys.exit(77)
 
 try:
     import intermix
@@ -88,12 +96,14 @@ def main():
         "camera": {"eye": [-200, -290, 100], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 30},
         "image": {"width": args.size, "height": args.size, "background": [0.05, 0.05, 0.08]},
         "objects": [
-            {"name": "ct", "type": "volume", "source": intermix.Volume(ct, ct_affine),
+            {"name": "ct", "type": "volume",
+             "source": intermix.Volume(ct, ct_affine, axes="kji"),
              "transfer_function": {"points": [[-1000, 0, 0, 0, 0], [-100, 0.9, 0.7, 0.6, 0],
                                               [40, 0.9, 0.7, 0.6, 0.003], [300, 1, 1, 0.9, 0.003],
                                               [700, 1, 1, 0.95, 0.05], [900, 1, 1, 0.95, 0.02]]},
              "shading": {"ambient": 0.3, "diffuse": 0.7, "specular": 0.2, "shininess": 24}},
-            {"name": "pet", "type": "volume", "source": intermix.Volume(pet, pet_affine),
+            {"name": "pet", "type": "volume",
+             "source": intermix.Volume(pet, pet_affine, axes="kji"),
              "transfer_function": {"points": [[0, 0, 0, 0, 0], [2, 1, 0.2, 0, 0],
                                               [5, 1, 0.5, 0, 0.2], [10, 1, 1, 0.3, 0.8]]}},
         ],

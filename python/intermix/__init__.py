@@ -1,17 +1,20 @@
 """intermix: render scenes that fuse volumes, meshes and MPR planes, from numpy.
 
     import numpy as np, intermix
-    ct = intermix.Volume(array, affine)                 # numpy voxels, 4x4 index-to-world (LPS)
+    ct = intermix.Volume(array, affine, axes="kji")     # numpy voxels [k, j, i], 4x4 LPS affine
+    t1 = intermix.Volume(nibabel.load("t1.nii.gz"))     # a nibabel image, as the file reads
     scene = intermix.Scene.from_dict({
         "camera": {"eye": [0, -600, 0], "target": [0, 0, 0], "up": [0, 0, 1]},
         "objects": [{"name": "ct", "type": "volume", "source": ct,
                      "transfer_function": {"preset": "ct-bone"}}]})
-    image = scene.render(method="mdvr", width=256, height=256)   # (H, W, 4) float32
-    intermix.write_png(image, "ct.png")                          # or image.to_uint8()
+    image = scene.render(method="mdvr", width=256, height=256, view="left")
+    plt.imshow(image.to_uint8())                                 # the sRGB display image
+    intermix.write_png(image, "ct.png")
 
-Scene (from_file, from_dict, set, add_volume, add_mesh, add_plane, to_dict, render), Volume,
-Mesh, Renderer (stage reuse), read_volume, read_mesh, write_volume, phantom, compare,
-to_uint8, write_png, read_png, available_methods, set_max_memory. Errors: ValueError (a scene
+Scene (from_file, from_files, from_dict, set, set_view, add_volume, add_mesh, add_plane,
+to_dict, render), Volume, Mesh, Renderer (stage reuse), read_volume, read_mesh, write_volume,
+phantom, compare, to_uint8, write_png, read_png, available_methods, set_max_memory; one-line
+figures: orbit, stat_map, glass_brain (and their *_scene). Errors: ValueError (a scene
 or value at fault), OSError (a file that cannot be read or written), MemoryError (an input over
 the memory budget, or more than the machine gives), RuntimeError (a render that failed), each
 with the library's one-line message. docs/python.md has the details.
@@ -19,6 +22,7 @@ with the library's one-line message. docs/python.md has the details.
 
 import numpy as _np
 
+from ._intermix import __version__  # CMake's project version
 from ._intermix import (
     Mesh,
     Renderer,
@@ -43,6 +47,15 @@ from ._intermix import (
     write_png,
     write_volume,
 )
+from ._figures import (
+    glass_brain,
+    glass_brain_scene,
+    orbit,
+    orbit_cameras,
+    stat_map,
+    stat_map_scene,
+    threshold_tf,
+)
 
 __all__ = [
     "Image",
@@ -56,7 +69,11 @@ __all__ = [
     "default_spp",
     "encode_png",
     "error_heat_map",
+    "glass_brain",
+    "glass_brain_scene",
     "max_memory",
+    "orbit",
+    "orbit_cameras",
     "phantom",
     "phantom_names",
     "read_mesh",
@@ -64,21 +81,31 @@ __all__ = [
     "read_volume",
     "read_volume_info",
     "set_max_memory",
+    "stat_map",
+    "stat_map_scene",
+    "threshold_tf",
     "to_uint8",
     "write_png",
     "write_volume",
 ]
 
-__version__ = "0.1.0"
-
 
 class Image(_np.ndarray):
     """A rendered image: an (H, W, 4) float32 numpy array of premultiplied linear RGBA.
 
-    It is a plain ndarray in every respect (slicing, arithmetic and numpy functions work as
-    usual); it adds to_uint8(), save() and a PNG representation, so a notebook shows it as a
-    picture. np.asarray(image) gives the base ndarray.
+    Its values are linear light, not display values: show it with plt.imshow(image.to_uint8()),
+    the sRGB image a PNG holds (imshow of the floats shows it too dark). It is an ndarray in
+    every respect (slicing, arithmetic and numpy functions work as usual); it adds to_uint8(),
+    save() and a PNG representation, so a notebook shows it as a picture. Whatever is no longer
+    an (H, W, 4) image (image[..., 0], a mean, a row of pixels) is a plain ndarray;
+    np.asarray(image) gives the base ndarray.
     """
+
+    def __getitem__(self, key):
+        item = super().__getitem__(key)
+        if isinstance(item, _np.ndarray) and (item.ndim != 3 or item.shape[2] != 4):
+            return item.view(_np.ndarray)
+        return item
 
     def to_uint8(self, linear: bool = False) -> _np.ndarray:
         """The sRGB display image as an (H, W, 4) uint8 array (straight alpha), as PNG stores it."""

@@ -14,6 +14,9 @@ namespace {
 
 constexpr const char* kVolumeKey = "$volume";
 constexpr const char* kMeshKey = "$mesh";
+// The most values a numpy array in a scene document may hold (transfer-function points, colour
+// tables): voxels and vertices go through Volume and Mesh, not through JSON.
+constexpr py::ssize_t kMaxArrayValues = py::ssize_t{1} << 18;
 
 [[noreturn]] void fail(const std::string& origin, const std::string& path,
                        const std::string& message) {
@@ -70,6 +73,14 @@ nlohmann::json convert(const py::handle& value, GivenSources& sources, const std
              fmt::format("key {} is a {}; keys must be strings",
                          py::repr(kv[0]).cast<std::string>(), type_name(kv[0])));
       const std::string key = kv[0].cast<std::string>();
+      // Checked before anything converts the array: turning a volume into JSON to print an
+      // error took seconds and hundreds of MiB.
+      if (key == "source" && py::isinstance<py::array>(kv[1]))
+        fail(origin, path.empty() ? key : path + "." + key,
+             fmt::format("a numpy array of shape {} is not a source: wrap it as "
+                         "intermix.Volume(array, affine, axes=...), or add it with "
+                         "scene.add_volume(name, array, affine)",
+                         py::str(kv[1].attr("shape")).cast<std::string>()));
       object[key] =
           convert(kv[1], sources, origin, path.empty() ? key : path + "." + key, depth + 1);
     }
@@ -84,6 +95,14 @@ nlohmann::json convert(const py::handle& value, GivenSources& sources, const std
     return array;
   }
   py::module_ np = py::module_::import("numpy");
+  if (py::isinstance<py::array>(value) &&
+      py::reinterpret_borrow<py::array>(value).size() > kMaxArrayValues)
+    fail(origin, path,
+         fmt::format("a numpy array of shape {} ({} values) is too large for a scene value (at "
+                     "most {}); volumes are intermix.Volume objects (scene.add_volume), meshes "
+                     "intermix.Mesh",
+                     py::str(value.attr("shape")).cast<std::string>(),
+                     py::reinterpret_borrow<py::array>(value).size(), kMaxArrayValues));
   if (py::isinstance(value, np.attr("ndarray")) || py::isinstance(value, np.attr("generic")))
     return convert(value.attr("tolist")(), sources, origin, path, depth);
   if (py::isinstance(value, py::module_::import("os").attr("PathLike")))

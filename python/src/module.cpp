@@ -6,6 +6,7 @@ PYBIND11_MODULE(_intermix, m) {
   m.doc() =
       "intermix's engine: scenes of volumes, meshes and planes rendered into numpy images "
       "(use the intermix package, which re-exports this module)";
+  m.attr("__version__") = IMX_VERSION;  // CMake's project version
   imx::python::bind_errors(m);
   imx::python::bind_volume(m);
   imx::python::bind_mesh(m);

@@ -89,13 +89,20 @@ py::dict file_source(const py::handle& source, const Argument& argument) {
 // A volume source from Python: a Volume, an array (with `affine` and `space`), a source dict or
 // a file path.
 py::object volume_source(const py::handle& source, const py::handle& affine,
-                         const py::handle& space) {
+                         const py::handle& space, const py::handle& axes, const py::handle& frame) {
   const Argument argument{"Scene.add_volume", "source"};
-  if (py::isinstance<py::array>(source))
-    return py::type::of<PyVolume>()(source, affine, py::arg("space") = space);
-  text(space, {"Scene.add_volume", "space"});
+  py::module_ images = py::module_::import("intermix._images");
+  if (py::isinstance<py::array>(source) || images.attr("is_image")(source).cast<bool>() ||
+      images.attr("is_array_proxy")(source).cast<bool>())
+    return py::type::of<PyVolume>()(source, affine, py::arg("space") = space,
+                                    py::arg("axes") = axes, py::arg("frame") = frame);
+  optional_text(space, {"Scene.add_volume", "space"});
   if (!affine.is_none())
     throw py::value_error("Scene.add_volume: affine goes with an array source only");
+  if (text(axes, {"Scene.add_volume", "axes"}) != "auto" || !frame.is_none())
+    throw py::value_error(
+        "Scene.add_volume: axes and frame go with an array or image source only (a file's "
+        "frame is its source dict's \"frame\")");
   if (is_path_like(source) || PyBytes_Check(source.ptr())) return file_source(source, argument);
   if (py::isinstance<PyVolume>(source) || is_mapping(source))
     return py::reinterpret_borrow<py::object>(source);
@@ -157,14 +164,36 @@ void PyScene::keep_notes() {
 }
 
 void PyScene::set(const std::string& path, const py::handle& value) {
-  if (path.find('=') != std::string::npos)
-    throw py::value_error(fmt::format("{}: scene.set('{}'): a key path has no '='", origin_, path));
+  set({{path, py::reinterpret_borrow<py::object>(value)}});
+}
+
+void PyScene::set(const std::vector<std::pair<std::string, py::object>>& assignments) {
   GivenSources sources = sources_;
-  const nlohmann::json json_value = to_document(value, sources, origin_, path);
   nlohmann::json document = document_.json();
-  scene_json::apply_override(document, path + "=" + json_value.dump(), origin_,
-                             fmt::format("scene.set('{}')", path));
+  for (const auto& [path, value] : assignments) {
+    if (path.find('=') != std::string::npos)
+      throw py::value_error(
+          fmt::format("{}: scene.set('{}'): a key path has no '='", origin_, path));
+    const nlohmann::json json_value = to_document(value, sources, origin_, path);
+    scene_json::apply_override(document, path + "=" + json_value.dump(), origin_,
+                               fmt::format("scene.set('{}')", path));
+  }
   rebuild(std::move(document), std::move(sources));
+}
+
+void PyScene::look_from(const std::string& view) {
+  if (!find_patient_view(view))
+    throw py::value_error(fmt::format("{}: view '{}' is not one of {}", origin_, view,
+                                      fmt::join(patient_view_names(), ", ")));
+  nlohmann::json document = document_.json();
+  nlohmann::json camera = nlohmann::json::object();
+  const auto old = document.find("camera");
+  if (old != document.end() && old->is_object())
+    for (const char* kept : {"fov_deg", "projection"})
+      if (old->contains(kept)) camera[kept] = (*old)[kept];
+  camera["view"] = view;
+  document["camera"] = std::move(camera);
+  rebuild(std::move(document), sources_);
 }
 
 void PyScene::add(const std::string& name, const std::string& type, const py::object& source,
@@ -258,28 +287,60 @@ object's an intermix.Mesh. Errors name the JSON path as for files ("scene dict: 
           "A scene from JSON text (a scene file's content).")
       .def(
           "set",
-          [](PyScene& s, const TextParameter& path, const SceneValueParameter& value) {
-            s.set(text(path, {"Scene.set", "path"}), value);
+          [](PyScene& s, const py::object& path, const SceneValueParameter& value) {
+            const Argument argument{"Scene.set", "path"};
+            if (value.is(py::ellipsis())) {
+              if (!is_mapping(path))
+                throw py::type_error(
+                    "Scene.set: give a path and a value, or one dict of paths and values");
+              std::vector<std::pair<std::string, py::object>> assignments;
+              for (const py::handle item : path.attr("items")()) {
+                const py::tuple kv = py::reinterpret_borrow<py::tuple>(item);
+                assignments.emplace_back(text(kv[0], argument), kv[1]);
+              }
+              s.set(assignments);
+              return;
+            }
+            s.set(text(path, argument), value);
           },
-          py::arg("path"), py::arg("value"),
+          py::arg("path"), py::arg("value") = py::ellipsis(),
           R"doc(Sets one value by its dotted path, as `intermix render --set path=value` does:
 "image.width", "render.spp", "objects.0.material.opacity", or an object by name:
 "objects.ct.transfer_function.points". `value` is any scene value (a number, list, dict,
-str, numpy array, Volume, Mesh, ...). Missing object keys are created. The scene is checked
-again; on an error it stays as it was.
+str, numpy array, Volume, Mesh, ...); a dict replaces the whole block
+(scene.set("camera", {"eye": ..., "target": ..., "up": ...}): keys it does not give take their
+defaults). Missing object keys are created.
+
+scene.set({"camera.eye": [...], "camera.up": [...]}) applies several paths as one edit, checked
+once they are all applied (one at a time, the first could leave the camera invalid).
+
+The scene is checked again; on an error it stays as it was.
+)doc")
+      .def(
+          "set_view",
+          [](PyScene& s, const TextParameter& view) {
+            s.look_from(text(view, {"Scene.set_view", "view"}));
+          },
+          py::arg("view"),
+          R"doc(Points the camera at the objects from a patient direction: "anterior", "posterior", "left",
+"right", "superior" or "inferior" (the scene file's camera "view", the CLI's --view), framing
+them all; fov_deg and projection are kept. The document's camera is then {"view": ...}, so it
+frames again after each edit.
 )doc")
       .def(
           "add_volume",
           [](PyScene& s, const TextParameter& name, const VolumeSourceParameter& source,
-             const OptionalArrayParameter& affine, const TextParameter& space,
+             const OptionalArrayParameter& affine, const OptionalTextParameter& space,
+             const TextParameter& axes, const OptionalIntParameter& frame,
              const py::kwargs& fields) {
             const std::string added_name = text(name, {"Scene.add_volume", "name"});
-            s.add(added_name, "volume", volume_source(source, affine, space), fields);
+            s.add(added_name, "volume", volume_source(source, affine, space, axes, frame), fields);
           },
           py::arg("name"), py::arg("source"), py::arg("affine") = py::none(),
-          py::arg("space") = "LPS",
-          R"doc(Adds a volume object. `source` is an intermix.Volume, a numpy array (made a Volume with `affine`
-and `space`), a file path, or a source dict ({"phantom": "ct-head", "size": 128}). Keyword
+          py::arg("space") = py::none(), py::arg("axes") = "auto", py::arg("frame") = py::none(),
+          R"doc(Adds a volume object. `source` is an intermix.Volume, a numpy array or a nibabel image (made a
+Volume with `affine`, `space`, `axes` and `frame`, as intermix.Volume takes them), a file path,
+or a source dict ({"phantom": "ct-head", "size": 128}). Keyword
 arguments are the object's other keys: transfer_function={"preset": "ct-bone"} or
 {"points": [[value, r, g, b, a], ...]}, style, shading, transform, clip_planes, clip, visible.
 )doc")
@@ -326,6 +387,22 @@ center, normal, up, size, volume, window, colormap, color, opacity.
           "What loading chose for the user (a DICOM series, a mesh file's space), one sentence "
           "each.")
       .def_property_readonly(
+          "camera",
+          [](const PyScene& s) {
+            const Camera& c = s.scene().camera;
+            py::dict d;
+            d["eye"] = py::make_tuple(c.eye.x, c.eye.y, c.eye.z);
+            d["target"] = py::make_tuple(c.target.x, c.target.y, c.target.z);
+            d["up"] = py::make_tuple(c.up.x, c.up.y, c.up.z);
+            d["fov_deg"] = c.fov_deg;
+            d["projection"] =
+                c.projection == Projection::orthographic ? "orthographic" : "perspective";
+            d["ortho_height"] = c.ortho_height;
+            return d;
+          },
+          "The camera the scene renders with, as a camera block (a \"view\" resolved into eye, "
+          "target and up): scene.set(\"camera\", d) gives it back.")
+      .def_property_readonly(
           "file",
           [](const PyScene& s) -> py::object {
             if (s.file().empty()) return py::none();
@@ -339,19 +416,32 @@ center, normal, up, size, volume, window, colormap, color, opacity.
           "render",
           [](const PyScene& s, const OptionalTextParameter& method,
              const OptionalIntParameter& width, const OptionalIntParameter& height,
-             const OptionalIntParameter& spp, const OptionalIntParameter& threads) {
-            return render_scene(s.scene(),
-                                render_request("Scene.render", method, width, height, spp, threads),
-                                nullptr);
+             const OptionalIntParameter& spp, const OptionalIntParameter& threads,
+             const OptionalTextParameter& view_argument) {
+            const RenderRequest request =
+                render_request("Scene.render", method, width, height, spp, threads);
+            const std::optional<std::string> view =
+                optional_text(view_argument, {"Scene.render", "view"});
+            if (!view) return render_scene(s.scene(), request, nullptr);
+            // Framed for the image size rendered: the copy's own image size is set first.
+            PyScene viewed = s;
+            std::vector<std::pair<std::string, py::object>> size;
+            if (request.width) size.emplace_back("image.width", py::int_(*request.width));
+            if (request.height) size.emplace_back("image.height", py::int_(*request.height));
+            if (!size.empty()) viewed.set(size);
+            viewed.look_from(*view);
+            return render_scene(viewed.scene(), request, nullptr);
           },
           py::arg("method") = py::none(), py::arg("width") = py::none(),
           py::arg("height") = py::none(), py::arg("spp") = py::none(),
-          py::arg("threads") = py::none(),
+          py::arg("threads") = py::none(), py::arg("view") = py::none(),
           R"doc(Renders one frame and returns it as an intermix.Image: an (H, W, 4) float32 numpy array of
 premultiplied linear RGBA over the scene's background (image.to_uint8() gives the sRGB display
 image, as `intermix render` writes it). `method` defaults to the scene's render.method, else "auto" (the fastest method
 within reach of the best image for the scene's content; intermix.available_methods()), `width`/`height` to the scene's image size, `spp` (a perfect
 square) to the scene's render.spp, else the method's default, and `threads` to all cores.
+`view` ("left", "anterior", ...: see set_view) renders with a camera framing the objects from
+that direction, leaving the scene's own camera as it is.
 
 The GIL is released while rendering (other Python threads run, and may render too), and Ctrl-C
 cancels the render with KeyboardInterrupt. Raises ValueError for bad arguments and RuntimeError

@@ -35,6 +35,11 @@ class PyScene {
 
   // `path` as --set takes it; `value` any scene value (document.hpp).
   void set(const std::string& path, const py::handle& value);
+  // Several assignments applied in order and checked once, as one edit.
+  void set(const std::vector<std::pair<std::string, py::object>>& assignments);
+  // The camera framing the objects from a patient direction ("left": scene files' camera
+  // "view"), keeping its fov_deg and projection.
+  void look_from(const std::string& view);
   // Appends an object {"name", "type", "source"?, **fields} to the document's objects.
   void add(const std::string& name, const std::string& type, const py::object& source,
            const py::dict& fields);

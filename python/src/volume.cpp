@@ -13,13 +13,14 @@
 
 #include "arguments.hpp"
 #include "bindings.hpp"
+#include "core/edit_distance.hpp"
+#include "dicom_folder.hpp"
 #include "intermix/dicom.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
 #include "io/frame_voxels.hpp"
 #include "io/raw_voxels.hpp"
-#include "core/edit_distance.hpp"
 
 namespace imx::python {
 namespace {
@@ -147,65 +148,161 @@ bool parse_space(const std::string& space, const char* what) {
       fmt::format("{}: space '{}' is not LPS or RAS (the affine's world axes)", what, space));
 }
 
+std::string shape_text(const py::array& a) {
+  return py::str(a.attr("shape")).cast<std::string>();
+}
+
+// The order of `a`'s first three axes: "kji" or "ijk", as given, or for "auto" what the layout
+// says. Only nibabel's layout says it: F order (and not C order) is (i, j, k), and so is any
+// array given in RAS (nibabel's world). A C-contiguous array may be either (a copy of nibabel's
+// data is C-ordered (i, j, k)), so is a slice with steps: auto refuses them instead of guessing.
+std::string axis_order(const py::array& a, const std::string& axes, bool lps) {
+  if (axes != "auto") return axes;
+  if (!lps) return "ijk";
+  const bool c_order = a.flags() & py::array::c_style;
+  const bool f_order = a.flags() & py::array::f_style;
+  if (f_order && !c_order) return "ijk";
+  const std::string layout = c_order && f_order ? "an array contiguous in both C and F order"
+                             : c_order          ? "a C-contiguous array"
+                                                : "a non-contiguous array (a slice with steps, "
+                                                  "a frame of a stack)";
+  throw py::value_error(fmt::format(
+      "Volume: axes='auto' cannot tell the axis order of {} of shape {}: name it, axes='kji' "
+      "(array[k, j, i]: read_volume, SimpleITK) or axes='ijk' (array[i, j, k]: nibabel, whose "
+      "affines are RAS: space='RAS' implies axes='ijk')",
+      layout, shape_text(a)));
+}
+
+// One frame of an (i, j, k, ...) array as the file readers take frames: the axes beyond the
+// third that hold one voxel are dropped, frames lie along the one that holds more (two such
+// are refused), `frame` picks one (0-based); without it a 4-D array gives frame 0 with a
+// warning. A view, no copy.
+py::array frame_of(const py::array& ijk, const py::handle& frame_argument) {
+  const std::optional<long long> frame =
+      optional_int_in(frame_argument, {"Volume", "frame"}, 0, detail::kMaxFrames - 1);
+  int along = -1;
+  for (int d = 3; d < ijk.ndim(); ++d) {
+    if (ijk.shape(d) <= 1) continue;
+    if (along >= 0)
+      throw py::value_error(fmt::format(
+          "Volume: shape {} (as array[i, j, k, ...]) has frames along axes {} and {}; frames are "
+          "read along one axis beyond the third, as from files",
+          shape_text(ijk), along, d));
+    along = d;
+  }
+  const long long frames = along < 0 ? 1 : ijk.shape(along);
+  if (frame && *frame >= frames)
+    throw py::value_error(
+        frames == 1
+            ? fmt::format("Volume: frame {} asked for, but the array holds one frame (0)", *frame)
+            : fmt::format("Volume: frame {} asked for, but the array holds {} frames (0 "
+                          "to {})",
+                          *frame, frames, frames - 1));
+  if (!frame && frames > 1) {
+    const std::string message = fmt::format(
+        "Volume: frame 0 of {} (shape {} as array[i, j, k, ...]); name another with frame=K",
+        frames, shape_text(ijk));
+    if (PyErr_WarnEx(PyExc_UserWarning, message.c_str(), 1) < 0) throw py::error_already_set();
+  }
+  if (ijk.ndim() == 3) return ijk;
+  const py::object all = py::module_::import("builtins").attr("slice")(py::none());
+  py::tuple index(ijk.ndim());
+  for (int d = 0; d < ijk.ndim(); ++d)
+    index[d] = d < 3 ? all : py::object(py::int_(d == along ? frame.value_or(0) : 0));
+  return ijk.attr("__getitem__")(index);
+}
+
 std::shared_ptr<PyVolume> make_volume(const ArrayParameter& given,
-                                      const OptionalArrayParameter& affine,
-                                      const TextParameter& space_argument,
-                                      const TextParameter& axes_argument) {
+                                      const OptionalArrayParameter& affine_argument,
+                                      const OptionalTextParameter& space_argument,
+                                      const TextParameter& axes_argument,
+                                      const OptionalIntParameter& frame_argument) {
   py::module_ np = py::module_::import("numpy");
-  const std::string space = text(space_argument, {"Volume", "space"});
-  const std::string axes = text(axes_argument, {"Volume", "axes"});
+  const std::optional<std::string> space_given = optional_text(space_argument, {"Volume", "space"});
+  std::string axes = text(axes_argument, {"Volume", "axes"});
   if (axes != "auto" && axes != "kji" && axes != "ijk")
     throw py::value_error(fmt::format(
         "Volume: axes '{}' is not auto, kji (array[k, j, i], C order) or ijk (array[i, j, k], "
         "nibabel's order)",
         axes));
+  bool lps = parse_space(space_given.value_or("LPS"), "Volume");
+  py::object affine = affine_argument;
+  py::object source = given;
+  // A nibabel image (or an object like one), or its dataobj: its voxels as the file readers
+  // read the file, in nibabel's (i, j, k) order, with the image's RAS affine.
+  py::module_ images = py::module_::import("intermix._images");
+  const bool is_array = py::isinstance<py::array>(given);
+  const bool image = !is_array && images.attr("is_image")(given).cast<bool>();
+  if (image || (!is_array && images.attr("is_array_proxy")(given).cast<bool>())) {
+    const py::tuple read = images.attr("image_voxels")(given);
+    source = read[0];
+    if (image) {
+      if (!affine.is_none())
+        throw py::value_error(
+            "Volume: the image carries its own affine (img.affine); give no affine with it");
+      if (space_given && lps)
+        throw py::value_error(fmt::format(
+            "Volume: space '{}' given for a nibabel image, whose affine is RAS", *space_given));
+      affine = read[1];
+      lps = false;
+    }
+    if (axes == "kji")
+      throw py::value_error(
+          "Volume: axes 'kji' given for a nibabel image or dataobj, whose arrays are (i, j, k)");
+    axes = "ijk";
+  }
   // An ndarray subclass (a memmap) stays one; anything else becomes an array.
-  py::array a = py::isinstance<py::array>(given)
-                    ? py::reinterpret_borrow<py::array>(given)
-                    : array_argument(given, {"Volume", "array"}, "an array of voxels");
-  // nibabel's 4-D (X, Y, Z, T) with one frame: that frame (a view, no copy).
-  if (a.ndim() == 4 && a.shape(3) == 1)
-    a = a.attr("__getitem__")(py::make_tuple(py::ellipsis(), 0));
-  if (a.ndim() == 4)
+  py::array a = py::isinstance<py::array>(source)
+                    ? py::reinterpret_borrow<py::array>(source)
+                    : array_argument(source, {"Volume", "array"}, "an array of voxels");
+  if (a.ndim() < 3)
     throw py::value_error(fmt::format(
-        "Volume: a 4-D array of shape {} holds {} frames; pass one, such as array[..., k]",
-        py::str(a.attr("shape")).cast<std::string>(), a.shape(3)));
-  if (a.ndim() != 3)
+        "Volume: expected a 3-D array, got {} dimensions with shape {}", a.ndim(), shape_text(a)));
+  if (a.ndim() > 7)
     throw py::value_error(
-        fmt::format("Volume: expected a 3-D array, got {} dimensions with shape {}", a.ndim(),
-                    py::str(a.attr("shape")).cast<std::string>()));
+        fmt::format("Volume: shape {} has {} dimensions; a volume has 3, and frames one more",
+                    shape_text(a), a.ndim()));
+  const std::string order = axis_order(a, axes, lps);
+  // Frames follow the three spatial axes in (i, j, k) order: a (k, j, i) array's precede them.
+  const py::array ijk_all = order == "ijk" ? a : py::array(a.attr("transpose")());
+  const py::array ijk = frame_of(ijk_all, frame_argument);
   // Sizes before anything reads or copies the array: a view with zero strides (broadcast_to,
   // as_strided) claims far more voxels than its memory holds.
-  const std::string shape = py::str(a.attr("shape")).cast<std::string>();
+  const std::string shape = shape_text(a);  // as the caller knows it
   double voxels = 1.0;
   for (int d = 0; d < 3; ++d) {
-    if (a.shape(d) < 1 || a.shape(d) > std::numeric_limits<int>::max())
+    if (ijk.shape(d) < 1 || ijk.shape(d) > std::numeric_limits<int>::max())
       throw py::value_error(fmt::format("Volume: shape {}: each axis needs 1 to {} voxels", shape,
                                         std::numeric_limits<int>::max()));
-    voxels *= static_cast<double>(a.shape(d));
+    voxels *= static_cast<double>(ijk.shape(d));
   }
   if (voxels > static_cast<double>(detail::kMaxVoxels))
     throw py::value_error(fmt::format("Volume: shape {} holds {:.0f} voxels, more than {}", shape,
                                       voxels, detail::kMaxVoxels));
-  const bool c_order = a.flags() & py::array::c_style;
-  const bool f_order = a.flags() & py::array::f_style;
-  // F order without C order is nibabel's (X, Y, Z): the same memory as its (Z, Y, X) transpose.
-  const bool ijk = axes == "ijk" || (axes == "auto" && f_order && !c_order);
-  py::array kji = ijk ? py::array(a.attr("transpose")()) : a;
+  py::array kji = ijk.attr("transpose")();
   const std::string type = engine_dtype(kji.dtype());
   const bool in_place = !type.empty() && (kji.flags() & py::array::c_style);
   if (!in_place) {
     const char* target = type.empty() ? converted_dtype(kji) : type.c_str();
-    check_memory(static_cast<uint64_t>(voxels) * py::dtype(target).itemsize(),
-                 fmt::format("Volume: a {} copy of the {} array of shape {}", target,
-                             py::str(kji.dtype()).cast<std::string>(), shape));
+    const uint64_t copy_bytes = static_cast<uint64_t>(voxels) * py::dtype(target).itemsize();
+    check_memory(copy_bytes, fmt::format("Volume: a {} copy of the {} array of shape {}", target,
+                                         py::str(kji.dtype()).cast<std::string>(), shape));
+    // float64 is nibabel's get_fdata() default: the copy is avoidable, so say how.
+    if (kji.dtype().kind() == 'f' && kji.dtype().itemsize() >= 8) {
+      const std::string message = fmt::format(
+          "Volume: float64 voxels are copied to float32 ({:.1f} MiB); nibabel's "
+          "img.get_fdata(dtype=np.float32), or img.dataobj (the file's own type, viewed without "
+          "a copy), or intermix.Volume(img) avoids the copy",
+          static_cast<double>(copy_bytes) / (1 << 20));
+      if (PyErr_WarnEx(PyExc_UserWarning, message.c_str(), 1) < 0) throw py::error_already_set();
+    }
     kji = np.attr("ascontiguousarray")(kji, py::arg("dtype") = target);
   }
   auto v = std::make_shared<PyVolume>();
   v->id = next_source_id("volume");
-  v->given = given;
+  v->given = source;
   v->array = kji;
-  v->lps = parse_space(space, "Volume");
+  v->lps = lps;
   VolumeData data;
   data.dims = {static_cast<int>(kji.shape(2)), static_cast<int>(kji.shape(1)),
                static_cast<int>(kji.shape(0))};
@@ -238,8 +335,10 @@ py::tuple read_volume_file(const PathParameter& path, const TextParameter& space
                            const SeriesParameter& series_argument,
                            const TextParameter& units_argument,
                            const OptionalRealParameter& slice_spacing_argument,
-                           const IntParameter& frame_argument) {
+                           const IntParameter& frame_argument,
+                           const FlagParameter& recursive_argument) {
   const std::filesystem::path file = python::path(path, {"read_volume", "path"});
+  const bool recursive = flag(recursive_argument, {"read_volume", "recursive"});
   const bool lps = parse_space(text(space_argument, {"read_volume", "space"}), "read_volume");
   const std::optional<std::string> series = series_of(series_argument, {"read_volume", "series"});
   const std::string units = text(units_argument, {"read_volume", "units"});
@@ -260,7 +359,9 @@ py::tuple read_volume_file(const PathParameter& path, const TextParameter& space
   {
     py::gil_scoped_release release;  // large files take seconds
     if (is_dicom_source(file)) {
-      data = std::make_shared<VolumeData>(read_dicom(file, options).volume);
+      read_dicom_source(file, recursive, "read_volume", [&](const std::filesystem::path& source) {
+        data = std::make_shared<VolumeData>(read_dicom(source, options).volume);
+      });
     } else {
       if (dicom_options)
         throw Error(fmt::format(
@@ -276,8 +377,10 @@ py::tuple read_volume_file(const PathParameter& path, const TextParameter& space
 }
 
 // What a file holds without its voxels: dims, type, frames and their labels.
-py::dict read_volume_info(const PathParameter& path, const SeriesParameter& series_argument) {
+py::dict read_volume_info(const PathParameter& path, const SeriesParameter& series_argument,
+                          const FlagParameter& recursive_argument) {
   const std::filesystem::path file = python::path(path, {"read_volume_info", "path"});
+  const bool recursive = flag(recursive_argument, {"read_volume_info", "recursive"});
   const std::optional<std::string> series =
       series_of(series_argument, {"read_volume_info", "series"});
   VolumeHeader h;
@@ -286,7 +389,9 @@ py::dict read_volume_info(const PathParameter& path, const SeriesParameter& seri
     if (is_dicom_source(file)) {
       DicomReadOptions options;
       if (series) options.series = *series;
-      h = read_dicom_header(file, options);
+      read_dicom_source(
+          file, recursive, "read_volume_info",
+          [&](const std::filesystem::path& source) { h = read_dicom_header(source, options); });
     } else {
       h = read_volume_header(file);
     }
@@ -331,32 +436,39 @@ void bind_volume(py::module_& m) {
   m.attr("_zero_copy") = py::bool_(true);
   py::class_<PyVolume, std::shared_ptr<PyVolume>>(
       m, "Volume",
-      R"doc(A volume from numpy: voxels with a 4x4 index-to-world affine (millimetres), usable as a volume
-object's "source" in a scene (Scene.from_dict, Scene.add_volume, Scene.set).
+      R"doc(A volume from numpy or nibabel: voxels with a 4x4 index-to-world affine (millimetres), usable
+as a volume object's "source" in a scene (Scene.from_dict, Scene.add_volume, Scene.set).
 
-Volume(array, affine=None, *, space="LPS", axes="auto")
+Volume(array, affine=None, *, space=None, axes="auto", frame=None)
+Volume(img, *, frame=None)      a nibabel image (or an object with .dataobj or .get_fdata, and
+                                .affine): read as intermix reads its file (dataobj's own type and
+                                the header's scaling, the RAS affine, nibabel's (i, j, k) axes)
 
-array: 3-D array of voxel values. The affine maps voxel indices (i, j, k, 1) to world (x, y, z, 1),
-  where i is the axis that is fastest in memory:
-  - a C-contiguous array is indexed array[k, j, i], shape (nk, nj, ni) (SimpleITK's
-    GetArrayFromImage order, and the engine's own);
-  - an F-contiguous array is indexed array[i, j, k], shape (ni, nj, nk) (nibabel's get_fdata()
-    order). Both are the same memory, so both are used without a copy.
-  axes="kji" or "ijk" says which explicitly; a non-contiguous array is read as "kji" unless told.
-  uint8, int16, uint16 and float32 arrays in native byte order, laid out as above, are used
-  without a copy (the engine reads the array's memory, and the Volume keeps the array alive; do
-  not modify it afterwards). Anything else is converted and copied once: bool -> uint8,
-  int8 -> int16, wider integers -> int16 or uint16 when every value fits, else float32, other
-  floats -> float32, and non-contiguous or reordered arrays into C order.
+array: the voxels. The affine maps voxel indices (i, j, k, 1) to world (x, y, z, 1). The array's
+  axis order must be known, never guessed:
+  - axes="kji": array[k, j, i], shape (nk, nj, ni) (read_volume, SimpleITK's GetArrayFromImage);
+  - axes="ijk": array[i, j, k], shape (ni, nj, nk) (nibabel's get_fdata() and dataobj);
+  - axes="auto" (the default) is "ijk" for space="RAS" (nibabel's world) and for an F-ordered
+    array (nibabel's layout), and refuses any other array (C-contiguous or non-contiguous),
+    naming axes: a C-ordered copy of nibabel data would otherwise be read transposed.
+  Axes beyond the third are frames, as in files: those of one voxel are dropped, `frame` picks
+  one along the other (without it a 4-D array gives frame 0 and a warning). Frames follow the
+  spatial axes in (i, j, k) order and precede them in (k, j, i) order.
+  uint8, int16, uint16 and float32 arrays in native byte order whose memory is C-ordered
+  (k, j, i) are used without a copy (the engine reads the array's memory, and the Volume keeps
+  the array alive; do not modify it afterwards). Anything else is converted and copied once:
+  bool -> uint8, int8 -> int16, wider integers -> int16 or uint16 when every value fits, else
+  float32, other floats -> float32 (float64 with a warning: it doubles the memory, and
+  get_fdata(dtype=np.float32) or dataobj avoid it).
 affine: 4x4 array-like, last row [0, 0, 0, 1]; None is the identity (1 mm voxels at the origin).
-space: the affine's world axes: "LPS" (DICOM, ITK, intermix) or "RAS" (NIfTI, nibabel, Slicer).
-  RAS is turned into LPS by negating x and y.
+space: the affine's world axes: "LPS" (DICOM, ITK, intermix; the default) or "RAS" (NIfTI,
+  nibabel, Slicer). RAS is turned into LPS by negating x and y.
 
 Raises ValueError (with the library's message) for bad shapes or affines. NaN and inf voxels
 are no data: they render as nothing.
 )doc")
       .def(py::init(&make_volume), py::arg("array"), py::arg("affine") = py::none(), py::kw_only(),
-           py::arg("space") = "LPS", py::arg("axes") = "auto")
+           py::arg("space") = py::none(), py::arg("axes") = "auto", py::arg("frame") = py::none())
       .def_property_readonly(
           "array", [](const PyVolume& v) { return v.given; },
           "The array as it was given (kept alive as long as the volume).")
@@ -417,7 +529,7 @@ are no data: they render as nothing.
   m.def(
       "read_volume", &read_volume_file, py::arg("path"), py::kw_only(), py::arg("space") = "LPS",
       py::arg("series") = py::none(), py::arg("units") = "",
-      py::arg("slice_spacing_mm") = py::none(), py::arg("frame") = 0,
+      py::arg("slice_spacing_mm") = py::none(), py::arg("frame") = 0, py::arg("recursive") = false,
       R"doc(Reads a volume file: NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz, .hdr/.img), MGH (.mgh, .mgz),
 MetaImage (.mha, .mhd), or a DICOM folder, DICOMDIR or file: its largest series, or `series` (a
 number, id or UID), in `units="suv"` for PET, resampled to `slice_spacing_mm` when its slices are
@@ -426,12 +538,13 @@ echoes), `frame` picks one (0-based); read_volume_info says how many there are.
 
 Returns (array, affine): the voxels as a C-order (nk, nj, ni) array of uint8, int16, uint16 or
 float32 (indexed array[k, j, i]) and the 4x4 index-to-world affine in `space` ("LPS", the default,
-or "RAS"). Volume(array, affine, space=space) gives the same volume back without a copy.
+or "RAS"). Volume(array, affine, space=space, axes="kji") gives the same volume back without a
+copy. A folder is searched for DICOM files in itself only, unless `recursive`.
 Raises OSError when the file cannot be read, ValueError when its content is wrong.
 )doc");
   m.def(
       "read_volume_info", &read_volume_info, py::arg("path"), py::kw_only(),
-      py::arg("series") = py::none(),
+      py::arg("series") = py::none(), py::arg("recursive") = false,
       R"doc(What a volume file or DICOM series holds without reading its voxels: a dict with "shape"
 (nk, nj, ni), "frames" (1 for a 3-D volume) and "frame_labels" (one dict per frame, with "label"
 and, where the file says, "time_s", "b_value", "b_vector" (along i, j, k), "echo_time_ms",

@@ -253,7 +253,7 @@ def test_exact_messages_for_calls_that_fit_no_signature():
     assert message_of(lambda: s.render(widht=8)) == (
         TypeError, "Scene.render: got an unexpected keyword argument 'widht' (did you mean "
                    "'width'?); it takes (method=None, width=None, height=None, spp=None, "
-                   "threads=None)")
+                   "threads=None, view=None)")
     assert message_of(lambda: intermix.Scene.set(1, 1)) == (
         TypeError, "Scene.set: self must be an intermix.Scene, got int")
     assert message_of(lambda: intermix.phantom("cube", 8, 9)) == (
@@ -261,7 +261,7 @@ def test_exact_messages_for_calls_that_fit_no_signature():
                    "(name, size=128)")
     assert message_of(lambda: intermix.read_volume(MISSING, "RAS")) == (
         TypeError, "read_volume: takes at most 1 positional argument (path), got 2; it takes "
-                   "(path, *, space='LPS', series=None, units='', slice_spacing_mm=None, frame=0)")
+                   "(path, *, space='LPS', series=None, units='', slice_spacing_mm=None, frame=0, recursive=False)")
     assert message_of(lambda: intermix.Mesh(VERTICES)) == (
         TypeError, "Mesh: missing the argument 'triangles'; it takes (vertices, triangles, "
                    "normals=None, colors=None, *, space='LPS', crease_angle_deg=60.0)")

@@ -85,7 +85,7 @@ def test_file_content_that_is_wrong(tmp_path):
 
 
 def test_render_arguments_and_failures():
-    scene = intermix.Scene.from_dict(volume_scene(intermix.Volume(blob_volume())))
+    scene = intermix.Scene.from_dict(volume_scene(intermix.Volume(blob_volume(), axes="kji")))
     with pytest.raises(ValueError, match="method 'nope' is not available; this build has: reference"):
         scene.render(method="nope")
     with pytest.raises(ValueError, match="spp 3 is not a perfect square"):
@@ -128,7 +128,7 @@ def test_mesh_errors():
 
 
 def test_a_volume_is_no_mesh_source():
-    v = intermix.Volume(blob_volume())
+    v = intermix.Volume(blob_volume(), axes="kji")
     with pytest.raises(ValueError, match=r"^scene dict: objects\[0\]\.source: is a volume the program gave, not a mesh$"):
         intermix.Scene.from_dict({"objects": [{"name": "m", "type": "mesh", "source": v}]})
     m = intermix.Mesh(np.eye(3), [[0, 1, 2]])
@@ -158,7 +158,7 @@ def _rss_kib_after(code):
 def test_a_zero_stride_view_is_refused_before_it_is_copied():
     # One byte viewed as 1 x 1 x 2**31 voxels: refused by its shape, never copied (2 GiB).
     code = ("intermix.Volume(np.lib.stride_tricks.as_strided(np.zeros(1, np.uint8), "
-            "shape=(1, 1, 2**31), strides=(0, 0, 0)))")
+            "shape=(1, 1, 2**31), strides=(0, 0, 0)), axes=\"kji\")")
     message, peak = _rss_kib_after(code)
     assert message.startswith("ValueError Volume: shape (1, 1, 2147483648)"), message
     assert "more than 2147483648" in message or "each axis needs 1 to 2147483647" in message
@@ -171,7 +171,7 @@ def test_a_view_larger_than_the_budget_is_a_memory_error_naming_it():
     intermix.set_max_memory(1 << 30)
     try:
         with pytest.raises(MemoryError) as e:
-            intermix.Volume(big)
+            intermix.Volume(big, axes="kji")
     finally:
         intermix.set_max_memory(0)
     assert intermix.max_memory() == before

@@ -133,7 +133,7 @@ def test_renderer_reuses_unchanged_objects():
 
 
 def test_image_conversions(tmp_path):
-    scene = intermix.Scene.from_dict(volume_scene(intermix.Volume(blob_volume(), oblique_affine())))
+    scene = intermix.Scene.from_dict(volume_scene(intermix.Volume(blob_volume(), oblique_affine(), axes="kji")))
     image = scene.render(method="mdvr")
     assert isinstance(image, intermix.Image) and image.flags.writeable
     display = image.to_uint8()
@@ -157,10 +157,10 @@ def test_methods():
 
 
 def test_a_renderer_lets_go_of_replaced_numpy_volumes():
-    scene = intermix.Scene.from_dict(volume_scene(intermix.Volume(blob_volume(), oblique_affine())))
+    scene = intermix.Scene.from_dict(volume_scene(intermix.Volume(blob_volume(), oblique_affine(), axes="kji")))
     renderer = intermix.Renderer()
     renderer.render(scene, method="zslab")
     for n in range(3):  # each replaced volume's last user may be the renderer's worker thread
-        scene.set("objects.ct.source", intermix.Volume(blob_volume() + n, oblique_affine()))
+        scene.set("objects.ct.source", intermix.Volume(blob_volume() + n, oblique_affine(), axes="kji"))
         image = renderer.render(scene, method="zslab")
     assert np.array_equal(image, scene.render(method="zslab"))

@@ -27,7 +27,7 @@ def test_numpy_volume_renders_as_nrrd_file(tmp_path, dtype):
     write_raw_nrrd(path, voxels, affine)
     tf = {"points": [[float(voxels.min()), 0, 0, 0, 0], [float(voxels.max()), 1, 0.9, 0.8, 0.8]]}
     from_file = volume_scene({"file": str(path)})
-    from_numpy = volume_scene(intermix.Volume(voxels, affine))
+    from_numpy = volume_scene(intermix.Volume(voxels, affine, axes="kji"))
     for s in (from_file, from_numpy):
         s["objects"][0]["transfer_function"] = tf
     a = render(from_file)
@@ -39,7 +39,7 @@ def test_numpy_volume_renders_as_nrrd_file(tmp_path, dtype):
 
 def test_numpy_volume_renders_as_written_nrrd_with_reference(tmp_path):
     voxels = blob_volume()
-    volume = intermix.Volume(voxels, oblique_affine())
+    volume = intermix.Volume(voxels, oblique_affine(), axes="kji")
     intermix.write_volume(volume, tmp_path / "v.nrrd")
     a = intermix.Scene.from_dict(volume_scene({"file": str(tmp_path / "v.nrrd")})).render(
         method="reference", spp=1, width=24, height=20)
@@ -53,7 +53,7 @@ def test_nibabel_order_f_contiguous_is_the_same_volume(tmp_path):
     ijk = kji.T  # (ni, nj, nk), F-contiguous: nibabel's get_fdata() order
     assert ijk.flags.f_contiguous and not ijk.flags.c_contiguous
     affine = oblique_affine()
-    c = intermix.Volume(kji, affine)
+    c = intermix.Volume(kji, affine, axes="kji")
     f = intermix.Volume(ijk, affine)
     assert c.shape == f.shape == (kji.shape[2], kji.shape[1], kji.shape[0])
     assert np.array_equal(render(volume_scene(c)), render(volume_scene(f)))
@@ -67,8 +67,8 @@ def test_ras_affine_is_lps_with_x_and_y_negated():
     voxels = blob_volume()
     lps = oblique_affine()
     ras = np.diag([-1.0, -1.0, 1.0, 1.0]) @ lps
-    a = intermix.Volume(voxels, lps)
-    b = intermix.Volume(voxels, ras, space="RAS")
+    a = intermix.Volume(voxels, lps, axes="kji")
+    b = intermix.Volume(voxels, ras, space="RAS", axes="kji")
     assert np.allclose(b.lps_affine, lps) and np.allclose(b.affine, ras)
     assert np.array_equal(render(volume_scene(a)), render(volume_scene(b)))
 
@@ -76,7 +76,7 @@ def test_ras_affine_is_lps_with_x_and_y_negated():
 def test_read_volume_round_trip(tmp_path):
     voxels = blob_volume()
     affine = oblique_affine()
-    intermix.write_volume(intermix.Volume(voxels, affine), tmp_path / "v.nii.gz")
+    intermix.write_volume(intermix.Volume(voxels, affine, axes="kji"), tmp_path / "v.nii.gz")
     array, read_affine = intermix.read_volume(tmp_path / "v.nii.gz")
     assert array.shape == voxels.shape and array.dtype == np.int16
     assert np.array_equal(array, voxels)
@@ -84,7 +84,7 @@ def test_read_volume_round_trip(tmp_path):
     array_ras, affine_ras = intermix.read_volume(tmp_path / "v.nii.gz", space="RAS")
     assert np.allclose(affine_ras, np.diag([-1.0, -1.0, 1.0, 1.0]) @ read_affine)
     # The array read is used again without a copy.
-    again = intermix.Volume(array, read_affine)
+    again = intermix.Volume(array, read_affine, axes="kji")
     assert again.shares_memory == ZERO_COPY
 
 
@@ -103,26 +103,26 @@ def test_read_volume_round_trip(tmp_path):
 def test_other_dtypes_are_converted_once(dtype, stored):
     values = (blob_volume() > 0) if dtype == np.bool_ else blob_volume() // 10 + 200
     given = values.astype(dtype)
-    v = intermix.Volume(given, np.eye(4))
+    v = intermix.Volume(given, np.eye(4), axes="kji")
     assert v.dtype == np.dtype(stored)
     assert not v.shares_memory
     assert np.array_equal(v.voxels, given.astype(stored))
 
 
 def test_wide_integers_keep_their_values():
-    assert intermix.Volume(np.full((2, 2, 2), 40000, np.int32)).dtype == np.uint16
-    assert intermix.Volume(np.full((2, 2, 2), 70000, np.int32)).dtype == np.float32
-    assert intermix.Volume(np.full((2, 2, 2), -5, np.int64)).dtype == np.int16
+    assert intermix.Volume(np.full((2, 2, 2), 40000, np.int32), axes="kji").dtype == np.uint16
+    assert intermix.Volume(np.full((2, 2, 2), 70000, np.int32), axes="kji").dtype == np.float32
+    assert intermix.Volume(np.full((2, 2, 2), -5, np.int64), axes="kji").dtype == np.int16
 
 
 def test_non_contiguous_arrays_are_copied_once():
     base = blob_volume()
     sliced = base[:, ::2, :]
-    v = intermix.Volume(sliced, np.eye(4))
+    v = intermix.Volume(sliced, np.eye(4), axes="kji")
     assert not v.shares_memory and v.voxels.flags.c_contiguous
     assert np.array_equal(v.voxels, sliced)
     big_endian = base.astype(">i2")
-    v = intermix.Volume(big_endian, np.eye(4))
+    v = intermix.Volume(big_endian, np.eye(4), axes="kji")
     assert v.dtype == np.int16 and np.array_equal(v.voxels, base)
 
 
@@ -130,7 +130,7 @@ def test_non_contiguous_arrays_are_copied_once():
 @pytest.mark.parametrize("dtype", [np.uint8, np.int16, np.uint16, np.float32])
 def test_engine_reads_the_arrays_own_memory(dtype):
     array = blob_volume().astype(dtype)
-    v = intermix.Volume(array, np.eye(4))
+    v = intermix.Volume(array, np.eye(4), axes="kji")
     assert v.shares_memory
     assert v._data_address == array.ctypes.data
     ijk = array.T
@@ -145,7 +145,7 @@ def test_zero_copy_adds_no_second_copy_of_a_256_cubed_volume():
     size = array.nbytes  # 32 MiB
     gc.collect()
     before = rss_bytes()
-    volume = intermix.Volume(array, np.eye(4))
+    volume = intermix.Volume(array, np.eye(4), axes="kji")
     scene = intermix.Scene.from_dict(volume_scene(volume))
     grown = rss_bytes() - before
     assert volume._data_address == array.ctypes.data
@@ -156,11 +156,11 @@ def test_zero_copy_adds_no_second_copy_of_a_256_cubed_volume():
 def test_the_volume_keeps_its_array_alive():
     array = blob_volume()
     expected = array.copy()
-    v = intermix.Volume(array, np.eye(4))
+    v = intermix.Volume(array, np.eye(4), axes="kji")
     scene = intermix.Scene.from_dict(volume_scene(v))
     del array, v
     gc.collect()
-    again = intermix.Scene.from_dict(volume_scene(intermix.Volume(expected, np.eye(4))))
+    again = intermix.Scene.from_dict(volume_scene(intermix.Volume(expected, np.eye(4), axes="kji")))
     assert np.array_equal(scene.render(method="mdvr"), again.render(method="mdvr"))
 
 
@@ -176,20 +176,20 @@ def test_phantom_and_volume_properties():
 
 def test_volume_errors():
     with pytest.raises(ValueError, match="expected a 3-D array"):
-        intermix.Volume(np.zeros((4, 4)))
+        intermix.Volume(np.zeros((4, 4)), axes="kji")
     with pytest.raises(ValueError, match="4x4"):
-        intermix.Volume(np.zeros((4, 4, 4)), np.eye(3))
+        intermix.Volume(np.zeros((4, 4, 4)), np.eye(3), axes="kji")
     with pytest.raises(ValueError, match="last row"):
-        intermix.Volume(np.zeros((4, 4, 4)), np.ones((4, 4)))
+        intermix.Volume(np.zeros((4, 4, 4)), np.ones((4, 4)), axes="kji")
     # NaN and inf voxels are no data (a statistical map's outside), not an error.
     masked = np.ones((4, 4, 4), np.float32)
     masked[1, 2, 3] = np.nan
     masked[0, 0, 0] = -np.inf
-    assert intermix.Volume(masked).range == (1.0, 1.0)
+    assert intermix.Volume(masked, axes="kji").range == (1.0, 1.0)
     with pytest.raises(ValueError, match="singular"):
-        intermix.Volume(np.zeros((4, 4, 4)), np.diag([1.0, 0.0, 1.0, 1.0]))
+        intermix.Volume(np.zeros((4, 4, 4)), np.diag([1.0, 0.0, 1.0, 1.0]), axes="kji")
     with pytest.raises(TypeError, match="not supported"):
-        intermix.Volume(np.zeros((4, 4, 4), np.complex64))
+        intermix.Volume(np.zeros((4, 4, 4), np.complex64), axes="kji")
     with pytest.raises(ValueError, match="space 'XYZ'"):
         intermix.Volume(np.zeros((4, 4, 4)), space="XYZ")
 
@@ -205,7 +205,7 @@ def test_dicom_and_mesh_files_as_the_scene_reads_them():
     array, affine = intermix.read_volume(folder)
     assert array.dtype == np.int16 and array.ndim == 3
     scene_file = intermix.Scene.from_dict(volume_scene({"file": folder}))
-    scene_numpy = intermix.Scene.from_dict(volume_scene(intermix.Volume(array, affine)))
+    scene_numpy = intermix.Scene.from_dict(volume_scene(intermix.Volume(array, affine, axes="kji")))
     assert np.array_equal(scene_file.render(method="mdvr"), scene_numpy.render(method="mdvr"))
     assert any("series" in note for note in scene_file.notes) or scene_file.notes == []
     with pytest.raises(ValueError, match="only DICOM sources"):
@@ -237,5 +237,10 @@ def test_frames_of_a_4d_file_and_a_4d_array(tmp_path):
     one = intermix.Volume(np.asfortranarray(data[..., 1:2]), np.diag([2.0, 2.0, 3.0, 1.0]),
                           space="RAS")
     assert "4x5x6" in repr(one)
-    with pytest.raises(ValueError, match="3 frames"):
-        intermix.Volume(data)
+    with pytest.warns(UserWarning, match=r"frame 0 of 3 .*frame=K"):
+        first = intermix.Volume(np.asfortranarray(data), space="RAS")
+    assert np.array_equal(first.voxels, data[..., 0].T)
+    third = intermix.Volume(data, space="RAS", frame=2)
+    assert np.array_equal(third.voxels, data[..., 2].T)
+    with pytest.raises(ValueError, match="frame 3 asked for, but the array holds 3 frames"):
+        intermix.Volume(data, space="RAS", frame=3)

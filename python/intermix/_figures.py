@@ -1,0 +1,242 @@
+"""One-line figures: orbit, stat_map, glass_brain. Each builds a scene in the scene-file schema
+(the *_scene functions return it, so it can be inspected, saved and changed) and renders it; no
+drawing happens here that the engine does not do.
+"""
+
+import os
+import sys
+
+import numpy as _np
+
+from ._intermix import Renderer, Scene, Volume, read_volume, write_png
+
+
+# ---- sources ----
+
+def _volume(source, name):
+    """A Volume from a Volume, a nibabel image (or dataobj), a file path, or an array whose axes
+    its layout says (see Volume); ValueError naming `name` otherwise."""
+    if isinstance(source, Volume):
+        return source
+    if isinstance(source, (str, os.PathLike)):
+        array, affine = read_volume(source)
+        return Volume(array, affine, axes="kji")
+    try:
+        return Volume(source)
+    except (ValueError, TypeError) as e:
+        raise type(e)(f"{name}: {e}") from None
+
+
+def _peak_magnitude(volume):
+    lo, hi = volume.range
+    return max(abs(lo), abs(hi))
+
+
+# ---- transfer functions ----
+
+# nilearn's "cold_hot" halves, as (fraction of the range above the threshold, r, g, b):
+# dark red to yellow for positive values, dark blue to cyan for negative ones.
+_HOT = [(0.0, 0.55, 0.0, 0.0), (0.35, 1.0, 0.15, 0.0), (0.7, 1.0, 0.75, 0.0), (1.0, 1.0, 1.0, 0.55)]
+_COLD = [(0.0, 0.0, 0.0, 0.55), (0.35, 0.0, 0.25, 1.0), (0.7, 0.0, 0.8, 1.0), (1.0, 0.55, 1.0, 1.0)]
+
+
+def threshold_tf(threshold, vmax, symmetric=True, opacity=0.8):
+    """Transfer-function points that hide |value| < threshold and colour the rest from the
+    threshold to vmax, hot above and (symmetric) cold below zero: each colour ramp starts
+    exactly at the threshold (a step: a point just below it is transparent)."""
+    threshold = float(threshold)
+    vmax = float(vmax)
+    if not vmax > threshold:
+        raise ValueError(f"threshold {threshold:g} is not below the map's largest value {vmax:g}")
+    step = (vmax - threshold) * 1e-4
+    span = vmax - threshold
+    positive = [[threshold - step, 0.0, 0.0, 0.0, 0.0]]
+    positive += [[threshold + f * span, r, g, b, opacity] for f, r, g, b in _HOT]
+    if not symmetric:
+        return {"points": positive}
+    negative = [[-(threshold + f * span), r, g, b, opacity] for f, r, g, b in reversed(_COLD)]
+    negative += [[-threshold + step, 0.0, 0.0, 0.0, 0.0]]
+    return {"points": negative + positive}
+
+
+# ---- stat_map ----
+
+def stat_map_scene(anatomy, stat, threshold=3.0, *, vmax=None, symmetric=True, view="left",
+                   width=512, height=512):
+    """The scene intermix.stat_map renders, as a Scene: the anatomy cut by three orthogonal
+    planes (axial, coronal, sagittal: grey, each windowed to the anatomy's own or robust range)
+    through the map's peak, and the map as a volume showing only |value| >= threshold, coloured
+    from the threshold to vmax (default: the map's largest magnitude), hot for positive values
+    and cold for negative ones (symmetric), seen from `view`."""
+    anatomy = _volume(anatomy, "stat_map: anatomy")
+    stat = _volume(stat, "stat_map: stat")
+    peak = _peak_world(stat)
+    top = float(vmax) if vmax is not None else _peak_magnitude(stat)
+    planes = [("axial", [0, 0, 1]), ("coronal", [0, 1, 0]), ("sagittal", [1, 0, 0])]
+    objects = [{"name": "anatomy", "type": "volume", "source": anatomy, "visible": False}]
+    objects += [{"name": name, "type": "plane", "volume": "anatomy", "center": peak,
+                 "normal": normal} for name, normal in planes]
+    objects.append({"name": "stat", "type": "volume", "source": stat,
+                    "transfer_function": threshold_tf(threshold, top, symmetric)})
+    return Scene.from_dict({
+        "camera": {"view": view},
+        "image": {"width": width, "height": height, "background": [0, 0, 0]},
+        "objects": objects,
+    })
+
+
+def _peak_world(volume):
+    """The LPS world position of the voxel of largest magnitude (NaN ignored)."""
+    voxels = volume.voxels  # (k, j, i)
+    magnitude = _np.abs(voxels.astype(_np.float32, copy=False))
+    k, j, i = _np.unravel_index(_np.nanargmax(magnitude), voxels.shape)
+    return [float(v) for v in (volume.lps_affine @ [i, j, k, 1.0])[:3]]
+
+
+def stat_map(anatomy, stat, threshold=3.0, *, vmax=None, symmetric=True, view="left",
+             width=512, height=512, method=None, spp=None):
+    """A statistical map over an anatomical image in one call, as nilearn's plot_stat_map shows
+    it, in 3-D: stat_map_scene(...) rendered. `anatomy` and `stat` are Volumes, nibabel images
+    or file paths. Returns an intermix.Image (image.to_uint8() for display)."""
+    scene = stat_map_scene(anatomy, stat, threshold, vmax=vmax, symmetric=symmetric, view=view,
+                           width=width, height=height)
+    return scene.render(method=method, spp=spp)
+
+
+# ---- glass_brain ----
+
+def glass_brain_scene(stat, threshold=None, *, vmax=None, plot_abs=True, view="left",
+                      width=512, height=512):
+    """The scene intermix.glass_brain renders: a maximum intensity projection (style "mip") of
+    the map on a white background. With plot_abs (the default, as nilearn's) the projection is
+    of |value| (a float32 copy of the map), else of the values themselves (the largest, so
+    negative values do not show). Values below `threshold` (default: none) are transparent,
+    values from the threshold to vmax are coloured hot. No brain outline is drawn: intermix
+    has none."""
+    stat = _volume(stat, "glass_brain: stat")
+    if plot_abs:
+        magnitude = _np.abs(stat.voxels.astype(_np.float32))
+        stat = Volume(magnitude, stat.lps_affine, axes="kji")
+    top = float(vmax) if vmax is not None else _peak_magnitude(stat)
+    low = 0.0 if threshold is None else float(threshold)
+    tf = threshold_tf(low, top, symmetric=False, opacity=1.0)
+    return Scene.from_dict({
+        "camera": {"view": view},
+        "image": {"width": width, "height": height, "background": [1, 1, 1]},
+        "objects": [{"name": "stat", "type": "volume", "source": stat, "style": "mip",
+                     "transfer_function": tf}],
+    })
+
+
+def glass_brain(stat, threshold=None, *, vmax=None, plot_abs=True, view="left", width=512,
+                height=512, method=None, spp=None):
+    """A glass-brain view of a statistical map in one call: glass_brain_scene(...) rendered (a
+    maximum intensity projection, hot colours on white; nilearn's plot_glass_brain without
+    the brain outline). Returns an intermix.Image."""
+    scene = glass_brain_scene(stat, threshold, vmax=vmax, plot_abs=plot_abs, view=view,
+                              width=width, height=height)
+    return scene.render(method=method, spp=spp)
+
+
+# ---- orbit ----
+
+def orbit_cameras(camera, frames=36, degrees=360.0):
+    """`frames` camera blocks turning `camera` (a dict with eye, target, up) about the axis
+    through its target along its up vector, evenly over `degrees` (the last frame stops one
+    step short of a full turn, so a looping GIF does not repeat a frame)."""
+    eye = _np.asarray(camera["eye"], float)
+    target = _np.asarray(camera["target"], float)
+    axis = _np.asarray(camera["up"], float)
+    axis = axis / _np.linalg.norm(axis)
+    offset = eye - target
+    cameras = []
+    for n in range(frames):
+        a = _np.radians(degrees) * n / frames
+        # Rodrigues: the offset turned by a about the axis.
+        turned = (offset * _np.cos(a) + _np.cross(axis, offset) * _np.sin(a)
+                  + axis * _np.dot(axis, offset) * (1 - _np.cos(a)))
+        block = dict(camera)
+        block["eye"] = [float(v) for v in target + turned]
+        block["target"] = [float(v) for v in target]
+        block["up"] = [float(v) for v in axis]
+        cameras.append(block)
+    return cameras
+
+
+class _Progress:
+    """A one-line progress bar on stderr: 'orbit [#####.....] 12/36 3.1 s'."""
+
+    def __init__(self, total, label, enabled):
+        self.total, self.label, self.enabled = total, label, enabled
+        import time
+        self._time = time.monotonic
+        self._start = self._time()
+
+    def update(self, done):
+        if not self.enabled:
+            return
+        width = 30
+        filled = width * done // self.total
+        sys.stderr.write(f"\r{self.label} [{'#' * filled}{'.' * (width - filled)}] "
+                         f"{done}/{self.total} {self._time() - self._start:.1f} s")
+        if done == self.total:
+            sys.stderr.write("\n")
+        sys.stderr.flush()
+
+
+def orbit(scene, frames=36, path=None, *, degrees=360.0, method=None, width=None, height=None,
+          spp=None, frame_ms=80, progress=True):
+    """Renders `frames` images with the camera turning about the scene's up axis through its
+    target (a turntable), with a progress bar on stderr (progress=False for none), and returns
+    them as a list of intermix.Image. The scene is not changed.
+
+    `path`: None (only return them), NAME.gif (an animated GIF, `frame_ms` per frame, looping;
+    needs Pillow, Debian's python3-pil), or a PNG name: NAME.png writes NAME-000.png,
+    NAME-001.png, ... and a name holding {} (frame-{:03d}.png) is formatted with the index."""
+    if not isinstance(scene, Scene):
+        raise TypeError(f"orbit: scene must be an intermix.Scene, got {type(scene).__name__}")
+    if isinstance(frames, bool) or not isinstance(frames, (int, _np.integer)) or frames < 1:
+        raise ValueError(f"orbit: frames must be an int of 1 or more, got {frames!r}")
+    writer = _frame_writer(path, frame_ms) if path is not None else None
+    turning = scene.copy()
+    renderer = Renderer()
+    bar = _Progress(frames, "orbit", progress)
+    images = []
+    for n, camera in enumerate(orbit_cameras(turning.camera, frames, degrees)):
+        turning.set("camera", camera)
+        images.append(renderer.render(turning, method=method, width=width, height=height,
+                                      spp=spp))
+        bar.update(n + 1)
+    if writer is not None:
+        writer(images)
+    return images
+
+
+def _frame_writer(path, frame_ms):
+    """A function writing the frames to `path`; errors (no Pillow, a bad name) come before any
+    frame is rendered."""
+    path = os.fspath(path)
+    lower = path.lower()
+    if lower.endswith(".gif"):
+        try:
+            from PIL import Image as PilImage
+        except ImportError:
+            raise ImportError(
+                "orbit: writing a GIF needs Pillow (Debian: apt-get install python3-pil); or "
+                "write PNG frames with path='frame-{:03d}.png'") from None
+
+        def write_gif(images):
+            pictures = [PilImage.fromarray(image.to_uint8()[..., :3]) for image in images]
+            pictures[0].save(path, save_all=True, append_images=pictures[1:],
+                             duration=frame_ms, loop=0)
+
+        return write_gif
+    if lower.endswith(".png"):
+        pattern = path if "{" in path else path[:-4] + "-{:03d}.png"
+
+        def write_pngs(images):
+            for n, image in enumerate(images):
+                write_png(image, pattern.format(n))
+
+        return write_pngs
+    raise ValueError(f"orbit: path '{path}' is not a .gif or .png name")
