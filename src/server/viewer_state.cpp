@@ -22,6 +22,7 @@
 #include "scene/overrides.hpp"
 #include "scene/scene_parsers.hpp"
 #include "scene/strict_json.hpp"
+#include "server/label_list.hpp"
 #include "volume/value_sample.hpp"
 
 namespace imx::server {
@@ -234,6 +235,45 @@ bool apply_camera(ViewerState& state, const Json& message) {
   return !same_camera(before, state.scene().camera);
 }
 
+// Counts the labels of every label volume whose voxels are new since the last count.
+void count_labels(ViewerState& state) {
+  const Scene& scene = state.scene();
+  state.label_values.resize(scene.volumes.size());
+  state.label_data.resize(scene.volumes.size());
+  for (size_t i = 0; i < scene.volumes.size(); ++i) {
+    const VolumeObject& v = scene.volumes[i];
+    if (!v.labels || state.label_data[i] == v.data) continue;
+    state.label_values[i] = present_labels(*v.data);
+    state.label_data[i] = v.data;
+  }
+}
+
+// A label edit's rows [{value, visible, opacity, color}] written into the object's
+// labels.overrides, each replacing the row of its value (the loader checks them).
+void edit_label_overrides(const JsonReader& rows, Json& object) {
+  rows.expect_array();
+  if (rows.size() > kMaxListedLabels)
+    rows.fail(fmt::format("{} labels; an edit holds at most {}", rows.size(), kMaxListedLabels));
+  if (!object.contains("labels") || !object["labels"].is_object())
+    object["labels"] = Json::object();
+  Json& overrides = object["labels"]["overrides"];
+  if (!overrides.is_array()) overrides = Json::array();
+  for (const JsonReader& row : rows.elements()) {
+    row.check_keys({"value", "visible", "opacity", "color"});
+    const Json value = row.get("value").json();
+    auto same = [&](const Json& o) {
+      return o.is_object() && o.contains("value") && o["value"] == value;
+    };
+    auto it = std::find_if(overrides.begin(), overrides.end(), same);
+    Json merged = it != overrides.end() ? *it : Json::object();
+    for (const auto& [key, field] : row.json().items()) merged[key] = field;
+    if (it != overrides.end())
+      *it = std::move(merged);
+    else
+      overrides.push_back(std::move(merged));
+  }
+}
+
 // The edited object as the document holds it: every field checked as the loader checks it (the
 // whole document is parsed again after), nothing of the state changed yet.
 Json edited_object(const ViewerState& state, const JsonReader& r, size_t k, bool visible,
@@ -253,6 +293,10 @@ Json edited_object(const ViewerState& state, const JsonReader& r, size_t k, bool
     if (auto v = r.find("clip_planes")) {
       parse_edit_clip_planes(*v);
       object["clip_planes"] = v->json();
+    }
+    if (auto v = r.find("labels")) {
+      if (!volume.labels) v->fail(fmt::format("'{}' is not a label volume", volume.name));
+      edit_label_overrides(*v, object);
     }
     if (auto v = r.find("frame"); v && v->integer(0, volume.frames - 1) != volume.frame) {
       if (!object.contains("source") || !object["source"].is_object() ||
@@ -295,7 +339,7 @@ Json edited_object(const ViewerState& state, const JsonReader& r, size_t k, bool
 bool apply_object_edit(ViewerState& state, const Json& message) {
   const JsonReader m(message, "edit");
   m.check_keys({"type", "seq", "moving", "object", "visible", "opacity", "transfer_function",
-                "window", "center", "clip_planes", "frame"});
+                "window", "center", "clip_planes", "frame", "labels"});
   const size_t k = find_object(state.scene(), m.get("object"));
   const Json& objects = state.document.json()["objects"];
   if (k >= objects.size() || k >= state.visible.size() || k >= state.opacity.size())
@@ -306,6 +350,7 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
   const std::pair<const char*, ObjectKind> only[] = {{"transfer_function", ObjectKind::volume},
                                                      {"clip_planes", ObjectKind::volume},
                                                      {"frame", ObjectKind::volume},
+                                                     {"labels", ObjectKind::volume},
                                                      {"window", ObjectKind::plane},
                                                      {"center", ObjectKind::plane}};
   for (const auto& [key, kind] : only)
@@ -333,6 +378,7 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
   if (volume) state.transfer_functions[static_cast<size_t>(ref.index)] = std::move(tf);
   state.visible[k] = visible;
   state.opacity[k] = opacity;
+  if (changed) count_labels(state);
   return changed;
 }
 
@@ -360,7 +406,7 @@ ViewerState load_viewer_state(const std::filesystem::path& file,
 }
 
 ViewerState viewer_state(SceneDocument document, std::filesystem::path file) {
-  ViewerState state{std::move(document), std::move(file), {}, {}, {}, {}};
+  ViewerState state{std::move(document), std::move(file), {}, {}, {}, {}, {}, {}};
   // Edits parse the document again: the framed camera and automatic looks must stay put.
   state.document.write_out_choices();
   const Scene& scene = state.scene();
@@ -397,6 +443,7 @@ ViewerState viewer_state(SceneDocument document, std::filesystem::path file) {
       tf.points = {TfPoint{volume.iso_value, glm::vec4(1.0f)}};  // the loader's iso default
     }
   }
+  count_labels(state);
   return state;
 }
 
@@ -446,6 +493,10 @@ nlohmann::json describe_state(const ViewerState& state) {
       o["pitch"] = vec_json({1.0 / glm::length(to_index[0]), 1.0 / glm::length(to_index[1]),
                              1.0 / glm::length(to_index[2])});
       o["units"] = v.units;
+      if (v.labels)
+        o["labels"] =
+            label_list_json(*v.labels, i < state.label_values.size() ? state.label_values[i]
+                                                                     : std::vector<int32_t>{});
       if (v.frames > 1) {
         o["frame"] = v.frame;
         o["frames"] = v.frames;

@@ -26,6 +26,10 @@ struct ViewerState {
   // Per volume (scene.volumes order): the user's transfer function, before opacity and
   // visibility scale its alphas into scene.volumes[i].transfer_function.
   std::vector<TransferFunction> transfer_functions;
+  // Per volume: the label values its voxels hold (label volumes only; empty for the others), and
+  // the voxels they were counted in (a frame edit loads other ones).
+  std::vector<std::vector<int32_t>> label_values;
+  std::vector<std::shared_ptr<const VolumeData>> label_data;
 
   const Scene& scene() const { return document.scene(); }
 };

@@ -729,6 +729,7 @@ def run_test(args, out, checks, cleanup):
         run_frames(args, out, checks, cleanup, browser)
     else:
         log(f'l. skipped: no {ASL_SERIES}')
+    run_labels(args, out, checks, cleanup, browser)
     browser.close()
 
 
@@ -935,6 +936,84 @@ def run_frames(args, out, checks, cleanup, browser):
     watcher.close()
     status, secs = server.stop(10)
     checks.check('frames server exits 0 on SIGINT', status == 0, f'status {status}')
+
+
+def write_label_nrrd(path):
+    """A 24^3 label volume (4 mm voxels): background 0, a block of label 2 beside one of 7."""
+    n = 24
+    data = bytearray(n * n * n)
+    for z in range(6, 18):
+        for y in range(6, 18):
+            for x in range(4, 20):
+                data[(z * n + y) * n + x] = 2 if x < 12 else 7
+    with open(path, 'wb') as f:
+        f.write(f'NRRD0004\ntype: uint8\ndimension: 3\nspace: left-posterior-superior\n'
+                f'sizes: {n} {n} {n}\nspace directions: (4,0,0) (0,4,0) (0,0,4)\n'
+                f'space origin: (-46,-46,-46)\nencoding: raw\n\n'.encode())
+        f.write(bytes(data))
+
+
+def run_labels(args, out, checks, cleanup, browser):
+    """m2. A label volume beside a phantom: the panel lists the labels its voxels hold with the
+    table's names; unticking one hides it in the state and the image, re-running only that
+    volume's stage."""
+    write_label_nrrd(os.path.join(out, 'seg.nrrd'))
+    scene = os.path.join(out, 'labels.json')
+    with open(scene, 'w') as f:
+        json.dump({'camera': {'eye': [0, -400, 0], 'target': [0, 0, 0], 'up': [0, 0, 1]},
+                   'image': {'width': 128, 'height': 128},
+                   'objects': [{'name': 'seg', 'type': 'volume', 'source': {'file': 'seg.nrrd'},
+                                'style': 'labels',
+                                'labels': {'table': [{'value': 2, 'name': 'liver',
+                                                      'color': [0.8, 0.3, 0.2]},
+                                                     {'value': 7, 'name': 'spleen',
+                                                      'color': [0.2, 0.4, 0.9]}]}},
+                               {'name': 'head', 'type': 'volume',
+                                'source': {'phantom': 'ct-head', 'size': 32},
+                                'transfer_function': {'preset': 'ct-bone'},
+                                'transform': {'translate': [0, 150, 0]}}]}, f)
+    server = Server(args.intermix, scene, ['--port', '0', '--bind', '127.0.0.1', '--method',
+                                           'zslab', '--spp', '1', '--max-image-side',
+                                           str(TEST_SIZE)],
+                    os.path.join(out, 'server-labels.log'), os.getcwd())
+    server.start()
+    cleanup.append(server.kill)
+    url = server.wait_url(60)
+    u = urllib.parse.urlsplit(url)
+    token = urllib.parse.parse_qs(u.query).get('token', [''])[0]
+    watcher = Watcher(f'ws://{u.netloc}/ws?token={token}')
+    cleanup.append(watcher.close)
+    hello = watcher.wait(lambda t, m: m.get('type') == 'hello', 10)
+    listed = [(x['value'], x['name'], x['visible'])
+              for x in (state_object(hello or {}, 'seg') or {}).get('labels') or []]
+    checks.check('m2. hello lists the labels the voxels hold, named by the table',
+                 listed == [(0, 'label 0', False), (2, 'liver', True), (7, 'spleen', True)],
+                 str(listed))
+    browser.navigate(url, timeout=20)
+    browser.wait_for('Boolean(window.viewerStats && viewerStats.connected)', timeout=10,
+                     what='the labels page to connect its WebSocket')
+    wait_converged(browser, 30, 'labels scene after load')
+    snap(browser, 'labels_before')
+    box = json.dumps('.object[data-name="seg"] .row.label[data-value="7"] input[type=checkbox]')
+    at = browser.evaluate(f'viewer.center({box})')
+    if not at:
+        raise Failure('no checkbox for label 7 in the panel')
+    p0 = page_now(browser)
+    t0 = time.monotonic()
+    browser.click(at['x'], at['y'])
+    wait_converged(browser, 20, 'after hiding a label')
+    snap(browser, 'labels_after')
+    st = settled_state(watcher, t0)
+    shown = {x['value']: x['visible'] for x in (state_object(st, 'seg') or {}).get('labels') or []}
+    fr = frames_between(browser, p0)
+    d = diff(browser, 'labels_before', 'labels_after')
+    checks.check('m2. unticking a label hides it (state), changes the image and re-runs only the '
+                 'label volume\'s stage',
+                 shown.get(7) is False and shown.get(2) is True and d['changed'] > 0.001 and
+                 any(f['stages_run'] < f['stages'] for f in fr),
+                 f"{100 * d['changed']:.2f} % of pixels changed",
+                 f"labels {shown}; (run, stages): {[(f['stages_run'], f['stages']) for f in fr]}")
+    watcher.close()
 
 
 def run_mpr(args, out, checks, cleanup, browser):

@@ -70,7 +70,7 @@ export function drawColorBars() {
   c.height = Math.max(1, Math.round(c.clientHeight * r));
   const g = c.getContext('2d');
   g.clearRect(0, 0, c.width, c.height);
-  const volumes = S.objects.filter((o) => o.kind === 'volume' && o.visible && o.tf &&
+  const volumes = S.objects.filter((o) => o.kind === 'volume' && o.visible && o.tf && !o.labels &&
                                           o.tf.length > 1 && o.tf[o.tf.length - 1][0] > o.tf[0][0]);
   S.colorBars = volumes.map((o) => o.name);
   g.scale(r, r);

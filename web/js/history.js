@@ -1,5 +1,5 @@
 // Undo and redo of this page's object edits (visibility, opacity, transfer function, window,
-// plane position, clip planes, frame). A gesture counts once: connection.js reports each final
+// plane position, clip planes, frame, labels). A gesture counts once: connection.js reports each final
 // (not moving) edit here with the fields it sent, and the values before are those of the last
 // commit of that object, so a drag of many moving edits undoes in one step. Other windows' edits
 // (a `state`) become the new "before" without entering this page's history.
@@ -20,6 +20,9 @@ export function editFields(o) {
     f.transfer_function = o.tf.map((p) => [...p]);
     f.clip_planes = clipsMessage(o);
     if (o.frames > 1) f.frame = o.frame;
+    if (o.labels)
+      f.labels = o.labels.map((l) => ({value: l.value, visible: l.visible, opacity: l.opacity,
+                                       color: [...l.color]}));
   } else if (o.kind === 'plane') {
     f.window = [...o.window];
     f.center = [...o.center];
@@ -36,6 +39,11 @@ export function applyFields(o, f) {
     if (f.clip_planes)
       o.clips = f.clip_planes.map((c) => ({base: [...c.point], normal: norm(c.normal), offset: 0}));
     if ('frame' in f) o.frame = f.frame;
+    if (f.labels && o.labels)
+      for (const row of f.labels) {
+        const l = o.labels.find((x) => x.value === row.value);
+        if (l) Object.assign(l, row, row.color ? {color: [...row.color]} : {});
+      }
   } else if (o.kind === 'plane') {
     if (f.window) o.window = [...f.window];
     if (f.center) o.center = [...f.center];

@@ -154,8 +154,51 @@ function buildFrames(box, o) {
   box.append(frames.row);
 }
 
+// A label volume's labels (those its voxels hold): visibility, colour, opacity, each an edit of
+// that label alone (only this volume's stage re-runs).
+function buildLabels(box, o) {
+  const list = document.createElement('div');
+  list.className = 'labels';
+  const hex = (c) => '#' + c.map((x) => Math.round(255 * Math.min(1, Math.max(0, x)))
+      .toString(16).padStart(2, '0')).join('');
+  for (const l of o.labels) {
+    const row = document.createElement('div');
+    row.className = 'row label';
+    row.dataset.value = String(l.value);
+    const cb = document.createElement('input');
+    cb.type = 'checkbox';
+    cb.checked = l.visible;
+    cb.title = 'visible';
+    const colour = document.createElement('input');
+    colour.type = 'color';
+    colour.value = hex(l.color);
+    colour.title = 'colour';
+    const name = document.createElement('span');
+    name.className = 'label-name';
+    name.textContent = `${l.value} ${l.name}`;
+    const send = (fields, moving) => {
+      Object.assign(l, fields);
+      editInput(o.name, {labels: [Object.assign({value: l.value}, fields)]}, moving);
+    };
+    cb.addEventListener('change', () => send({visible: cb.checked}, false));
+    colour.addEventListener('input', () => {
+      const v = colour.value;
+      send({color: [1, 3, 5].map((i) => parseInt(v.slice(i, i + 2), 16) / 255)}, false);
+    });
+    const s = slider('', 0, 1, 0.01, l.opacity, (v) => send({opacity: v}, true),
+                     (v) => send({opacity: v}, false));
+    row.append(cb, colour, name, s.input);
+    list.append(row);
+  }
+  box.append(list);
+}
+
 function buildVolume(box, o) {
   if (o.frames > 1) buildFrames(box, o);
+  if (o.labels) {  // drawn through its colour table: no transfer function to edit
+    buildLabels(box, o);
+    return;
+  }
   const ed = new TfEditor(o, S.histograms[o.name]);
   editors.set(o.name, ed);
   box.append(ed.root);

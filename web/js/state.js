@@ -69,6 +69,7 @@ function localObject(o) {
     if (o.bounds) l.bounds = o.bounds.map((b) => [...b]);  // the reading views' box and step
     if (o.pitch) l.pitch = [...o.pitch];
     l.units = o.units || '';
+    if (o.labels) l.labels = o.labels.map((x) => ({...x, color: [...x.color]}));
   } else if (o.kind === 'plane') {
     l.center = [...o.center];
     l.initialCenter = [...o.center];
@@ -130,6 +131,7 @@ export function takeState(m) {
     if (l.kind === 'volume') {
       if (o.transfer_function) l.tf = tfPoints(o.transfer_function);
       if (o.frame !== undefined) l.frame = o.frame;
+      if (o.labels) l.labels = o.labels.map((x) => ({...x, color: [...x.color]}));
       if (o.clip_planes) {
         const same = o.clip_planes.length === l.clips.length;
         l.clips = o.clip_planes.map((c, i) => {
