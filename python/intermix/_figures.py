@@ -34,29 +34,18 @@ def _peak_magnitude(volume):
 
 # ---- transfer functions ----
 
-# nilearn's "cold_hot" halves, as (fraction of the range above the threshold, r, g, b):
-# dark red to yellow for positive values, dark blue to cyan for negative ones.
-_HOT = [(0.0, 0.55, 0.0, 0.0), (0.35, 1.0, 0.15, 0.0), (0.7, 1.0, 0.75, 0.0), (1.0, 1.0, 1.0, 0.55)]
-_COLD = [(0.0, 0.0, 0.0, 0.55), (0.35, 0.0, 0.25, 1.0), (0.7, 0.0, 0.8, 1.0), (1.0, 0.55, 1.0, 1.0)]
-
-
-def threshold_tf(threshold, vmax, symmetric=True, opacity=0.8):
-    """Transfer-function points that hide |value| < threshold and colour the rest from the
-    threshold to vmax, hot above and (symmetric) cold below zero: each colour ramp starts
-    exactly at the threshold (a step: a point just below it is transparent)."""
+def threshold_tf(threshold, vmax, symmetric=True, opacity=0.8, colormap=None):
+    """The scene format's colour-map transfer function (docs/segmentations_overlays.md): nothing
+    where |value| (or value, unless symmetric) is below `threshold`, the map's colours from the
+    threshold to vmax; "cold-hot" for a symmetric map (negative values in its cold half),
+    else "hot"."""
     threshold = float(threshold)
     vmax = float(vmax)
     if not vmax > threshold:
         raise ValueError(f"threshold {threshold:g} is not below the map's largest value {vmax:g}")
-    step = (vmax - threshold) * 1e-4
-    span = vmax - threshold
-    positive = [[threshold - step, 0.0, 0.0, 0.0, 0.0]]
-    positive += [[threshold + f * span, r, g, b, opacity] for f, r, g, b in _HOT]
-    if not symmetric:
-        return {"points": positive}
-    negative = [[-(threshold + f * span), r, g, b, opacity] for f, r, g, b in reversed(_COLD)]
-    negative += [[-threshold + step, 0.0, 0.0, 0.0, 0.0]]
-    return {"points": negative + positive}
+    return {"colormap": colormap or ("cold-hot" if symmetric else "hot"),
+            "range": [threshold, vmax], "threshold": threshold, "symmetric": bool(symmetric),
+            "opacity": float(opacity)}
 
 
 # ---- stat_map ----
@@ -65,7 +54,7 @@ def stat_map_scene(anatomy, stat, threshold=3.0, *, vmax=None, symmetric=True, v
                    width=512, height=512):
     """The scene intermix.stat_map renders, as a Scene: the anatomy cut by three orthogonal
     planes (axial, coronal, sagittal: grey, each windowed to the anatomy's own or robust range)
-    through the map's peak, and the map as a volume showing only |value| >= threshold, coloured
+    through the map's peak (squares the size of the anatomy's longest side), and the map as a volume showing only |value| >= threshold, coloured
     from the threshold to vmax (default: the map's largest magnitude), hot for positive values
     and cold for negative ones (symmetric), seen from `view`."""
     anatomy = _volume(anatomy, "stat_map: anatomy")
@@ -74,8 +63,9 @@ def stat_map_scene(anatomy, stat, threshold=3.0, *, vmax=None, symmetric=True, v
     top = float(vmax) if vmax is not None else _peak_magnitude(stat)
     planes = [("axial", [0, 0, 1]), ("coronal", [0, 1, 0]), ("sagittal", [1, 0, 0])]
     objects = [{"name": "anatomy", "type": "volume", "source": anatomy, "visible": False}]
+    side = _largest_side(anatomy)
     objects += [{"name": name, "type": "plane", "volume": "anatomy", "center": peak,
-                 "normal": normal} for name, normal in planes]
+                 "normal": normal, "size": side} for name, normal in planes]
     objects.append({"name": "stat", "type": "volume", "source": stat,
                     "transfer_function": threshold_tf(threshold, top, symmetric)})
     return Scene.from_dict({
@@ -83,6 +73,15 @@ def stat_map_scene(anatomy, stat, threshold=3.0, *, vmax=None, symmetric=True, v
         "image": {"width": width, "height": height, "background": [0, 0, 0]},
         "objects": objects,
     })
+
+
+def _largest_side(volume):
+    """The longest side of the volume's world bounding box (mm): the planes' size."""
+    ni, nj, nk = volume.shape
+    corners = _np.array([[i, j, k, 1.0] for i in (-0.5, ni - 0.5) for j in (-0.5, nj - 0.5)
+                         for k in (-0.5, nk - 0.5)])
+    world = corners @ volume.lps_affine.T
+    return float((world.max(axis=0) - world.min(axis=0))[:3].max())
 
 
 def _peak_world(volume):
