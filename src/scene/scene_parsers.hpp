@@ -103,6 +103,16 @@ void check_interiors(const std::vector<JsonReader>& objects, const Scene& scene)
 // placement of its moving image (registration/transform_file.hpp), inverted by "invert".
 // Throws when an entry is not finite or the transform is singular or not affine.
 glm::dmat4 parse_transform(const JsonReader& r, SceneContext& context);
+// The displacement field (registration/displacement_field.hpp) a volume's "transform": {"file"}
+// names, resolved; nullopt for any other transform.
+std::optional<std::filesystem::path> displacement_field_of(const JsonReader& r,
+                                                           SceneContext& context);
+// `moving` resampled through `field` once (cached per source and field), with a note giving the
+// time; `file` is the transform's "file" value, for errors.
+std::shared_ptr<const VolumeData> warped_volume(const JsonReader& file,
+                                                std::shared_ptr<const VolumeData> moving,
+                                                const std::filesystem::path& field,
+                                                SceneContext& context);
 
 // {"enabled", "ambient", "diffuse", "specular", "shininess"}; `enabled` defaults to true.
 Shading parse_shading(const JsonReader& r);

@@ -1,12 +1,16 @@
 // Parser for an object's "transform": a 4x4 matrix, translate / rotate / scale, or a file a
 // registration tool wrote (registration/transform_file.hpp).
 #include <cmath>
+#include <memory>
+#include <optional>
+#include <system_error>
 
 #include <fmt/format.h>
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/math.hpp"
+#include "registration/displacement_field.hpp"
 #include "registration/transform_file.hpp"
 #include "scene/scene_parsers.hpp"
 #include "scene/world_space.hpp"
@@ -64,6 +68,11 @@ glm::dmat4 parse_file(const JsonReader& r, SceneContext& context) {
   if (auto v = r.find("reference")) images.reference = context.resolve_file(*v);
   const bool invert = r.has("invert") && r.get("invert").boolean();
   const std::filesystem::path path = context.resolve_file(file);
+  if (is_displacement_field(path))
+    file.fail(
+        fmt::format("{} is a displacement field: it warps volumes only (a mesh or an inline "
+                    "transform cannot take it)",
+                    path.filename().string()));
   const FileTransform read =
       file.reading(path.string(), [&] { return read_transform_file(path, images); });
   const bool stored_inverse = read.format == TransformFormat::itk_text ||
@@ -99,6 +108,40 @@ void check_transform(const JsonReader& r, const glm::dmat4& m) {
 }
 
 }  // namespace
+
+std::optional<std::filesystem::path> displacement_field_of(const JsonReader& r,
+                                                           SceneContext& context) {
+  if (!r.json().is_object() || !r.has("file")) return std::nullopt;
+  const std::filesystem::path path = context.resolve_file(r.get("file"));
+  if (!is_displacement_field(path)) return std::nullopt;
+  r.check_keys({"file"});  // no inverse of a field is computed; no images are needed
+  return path;
+}
+
+std::shared_ptr<const VolumeData> warped_volume(const JsonReader& file,
+                                                std::shared_ptr<const VolumeData> moving,
+                                                const std::filesystem::path& field,
+                                                SceneContext& context) {
+  if (context.region)
+    file.fail("a displacement field warps the whole volume: it cannot be rendered by region");
+  std::error_code ec;
+  const std::filesystem::path canonical = std::filesystem::weakly_canonical(field, ec);
+  const std::string key = fmt::format("warp:{}:{}", (ec ? field : canonical).string(),
+                                      static_cast<const void*>(moving.get()));
+  context.used.insert(key);
+  if (auto it = context.volumes.find(key); it != context.volumes.end()) return it->second;
+  double seconds = 0.0;
+  auto warped = file.reading(field.string(), [&] {
+    return std::make_shared<const VolumeData>(warp_volume(*moving, field, &seconds));
+  });
+  context.notes.push_back(fmt::format(
+      "{}: {} is a displacement field (fixed to moving, LPS mm): the volume was resampled "
+      "through it once onto its own grid, {}x{}x{} voxels in {:.2f} s",
+      file.path(), field.filename().string(), warped->dims.x, warped->dims.y, warped->dims.z,
+      seconds));
+  context.volumes.emplace(key, warped);
+  return warped;
+}
 
 glm::dmat4 parse_transform(const JsonReader& r, SceneContext& context) {
   r.check_keys(

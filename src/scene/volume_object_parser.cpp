@@ -214,7 +214,9 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   VolumeObject v;
   v.name = r.get("name").string();
   glm::dmat4 transform(1.0);
-  if (auto t = r.find("transform")) transform = parse_transform(*t, context);
+  std::optional<std::filesystem::path> field;  // a displacement field warps the data instead
+  if (auto t = r.find("transform"))
+    if (field = displacement_field_of(*t, context); !field) transform = parse_transform(*t, context);
   // Style "labels" is dvr through a label map (label_map_parser.hpp): the TF is not used.
   const bool labels = r.has("style") && r.get("style").json() == "labels";
   if (labels) {
@@ -261,6 +263,7 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   // The source last: reading a large file is the slowest step, so cheap errors come first.
   SourceFacts facts;
   v.data = load_volume_source(r.get("source"), context, facts, v.name, v);
+  if (field) v.data = warped_volume(r.get("transform").get("file"), v.data, *field, context);
   v.display_window = facts.window;
   v.units = facts.units;
   if (auto u = r.find("units")) {  // a label for colour bars and readouts ("t", "z", "%")

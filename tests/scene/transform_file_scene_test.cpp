@@ -166,5 +166,38 @@ TEST_F(TransformFiles, ErrorsNameTheTransformEntry) {
   EXPECT_CONTAINS(e, "singular");
 }
 
+TEST_F(TransformFiles, ADisplacementFieldResamplesTheVolumeOnceOnItsOwnGrid) {
+  // A constant field of (4, 0, 0) mm: each voxel takes the moving value 4 mm further along x.
+  glm::dmat4 grid(3.0);
+  grid[3] = glm::dvec4(-60, -60, -60, 1);
+  dir_.write("reg/warp.nii", test::displacement_field_nifti({50, 50, 50}, grid, [](int, int, int) {
+               return glm::dvec3(4, 0, 0);
+             }));
+  const Scene scene = scene_with(R"({"file": "reg/warp.nii"})");
+  const VolumeData& v = *scene.volumes.at(0).data;
+  EXPECT_EQ(v.type(), VoxelType::f32);
+  EXPECT_EQ(v.dims, moving_.dims);
+  EXPECT_EQ(scene.volumes[0].index_to_world, moving_.index_to_world);
+  // The moving image is 9 everywhere: 9 where x + 4 mm stays inside it, no data beyond.
+  EXPECT_FLOAT_EQ(static_cast<float>(v.value_at(10, 10, 8)), 9.0f);
+  int nan = 0;
+  for (int i = 0; i < v.dims.x; ++i) nan += std::isnan(v.value_at(i, 10, 8)) ? 1 : 0;
+  EXPECT_EQ(nan, 3);  // x grows to the left as i falls (-1.5 mm a voxel): 4 mm is 2.7 voxels
+  bool noted = false;
+  for (const std::string& note : scene.notes)
+    noted = noted || note.find("warp.nii is a displacement field") != std::string::npos;
+  EXPECT_TRUE(noted);
+  EXPECT_CONTAINS(
+      test::error_of([&] { scene_with(R"({"file": "reg/warp.nii", "invert": true})"); }),
+      "unknown key");
+  EXPECT_CONTAINS(
+      test::error_of([&] {
+        test::parse(test::with_objects(test::mesh_json("m", R"("primitive": "sphere", "radius": 5)",
+                                                       R"("transform": {"file": "reg/warp.nii"})")),
+                    {}, dir_.path());
+      }),
+      "warps volumes only");
+}
+
 }  // namespace
 }  // namespace imx

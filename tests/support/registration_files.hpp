@@ -143,4 +143,47 @@ inline std::string lta_volume_block(const glm::dvec3& dims, const glm::dvec3& si
       directions[2].y, directions[2].z, centre.x, centre.y, centre.z);
 }
 
+// A displacement field as ITK writes one: a NIfTI-1 of dims x, y, z, 1, 3, intent 1007
+// (vector), float32, the sform `index_to_world_lps` (stored RAS), and the vector of each voxel
+// (LPS mm) from `vector(i, j, k)`. Written byte by byte from the NIfTI-1 header layout.
+template <class Vector>
+std::string displacement_field_nifti(const glm::ivec3& dims, const glm::dmat4& index_to_world_lps,
+                                     Vector vector, int intent = 1007) {
+  std::string h(352, '\0');
+  auto put = [&](size_t at, auto value) { std::memcpy(h.data() + at, &value, sizeof(value)); };
+  put(0, int32_t{348});
+  const int16_t dim[8] = {5,
+                          static_cast<int16_t>(dims.x),
+                          static_cast<int16_t>(dims.y),
+                          static_cast<int16_t>(dims.z),
+                          1,
+                          3,
+                          1,
+                          1};
+  for (int k = 0; k < 8; ++k) put(40 + 2 * static_cast<size_t>(k), dim[k]);
+  put(68, static_cast<int16_t>(intent));
+  put(70, int16_t{16});  // float32
+  put(72, int16_t{32});
+  const glm::dmat4 ras = flip_xy() * index_to_world_lps;
+  for (int a = 0; a < 3; ++a)
+    put(76 + 4 * static_cast<size_t>(a + 1), static_cast<float>(glm::length(glm::dvec3(ras[a]))));
+  put(76, 1.0f);         // qfac
+  put(108, 352.0f);      // vox_offset
+  put(123, uint8_t{2});  // mm
+  put(254, int16_t{2});  // sform_code: aligned
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c)
+      put(280 + 16 * static_cast<size_t>(r) + 4 * static_cast<size_t>(c),
+          static_cast<float>(ras[c][r]));
+  std::memcpy(h.data() + 344, "n+1\0", 4);
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < dims.z; ++k)
+      for (int j = 0; j < dims.y; ++j)
+        for (int i = 0; i < dims.x; ++i) {
+          const float v = static_cast<float>(vector(i, j, k)[c]);
+          h.append(reinterpret_cast<const char*>(&v), 4);
+        }
+  return h;
+}
+
 }  // namespace imx::test
