@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <set>
+#include <variant>
 
 #include <fmt/format.h>
 
@@ -27,6 +29,26 @@ Json lit_shading() {
 }
 
 }  // namespace
+
+bool looks_like_label_map(const VolumeData& data) {
+  constexpr size_t kMostLabels = 256;
+  std::set<int64_t> values;
+  const bool integers = std::visit(
+      [&](const auto& voxels) {
+        const auto* v = voxels.data();
+        for (size_t i = 0; i < voxels.size(); ++i) {
+          const double x = static_cast<double>(v[i]);
+          if (!(std::abs(x) < 1e9) || x != std::floor(x)) return false;
+          if (values.insert(static_cast<int64_t>(x)).second && values.size() > kMostLabels)
+            return false;
+        }
+        return true;
+      },
+      data.voxels);
+  if (!integers || values.size() < 3) return false;
+  const double span = static_cast<double>(*values.rbegin() - *values.begin() + 1);
+  return values.size() <= 16 || static_cast<double>(values.size()) <= 0.5 * span;
+}
 
 AutomaticLook automatic_look(const VolumeData& data, std::string_view modality,
                              std::string_view units) {

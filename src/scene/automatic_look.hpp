@@ -24,6 +24,12 @@ struct AutomaticLook {
   std::string reason;                // "CT (HU): preset ct-bone", for a note
 };
 
+// Whether a volume of a scene built from files is a label map (a segmentation: style "labels"
+// with the default palette): integer voxels of 3 to 256 distinct values, either at most 16 or
+// filling at most half the span between the smallest and largest (an 8-bit MR fills it all; a
+// FreeSurfer aseg holds about 45 values of 0 to 255). Two values stay a mask surface.
+bool looks_like_label_map(const VolumeData& data);
+
 // `modality` and `units` are the DICOM series' (empty for other files).
 AutomaticLook automatic_look(const VolumeData& data, std::string_view modality,
                              std::string_view units);

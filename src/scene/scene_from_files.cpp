@@ -1,5 +1,7 @@
 #include "scene/scene_from_files.hpp"
 
+#include "scene/automatic_look.hpp"
+
 #include <set>
 #include <system_error>
 
@@ -42,6 +44,32 @@ Json color_json(const glm::vec3& c) {
   return Json::array({c.r, c.g, c.b});
 }
 
+// Volumes that are segmentations become label volumes: a 3D Slicer .seg.nrrd through its own
+// segment fields, any other label map (looks_like_label_map) in the default palette (a saved
+// scene shows the choice). A volume the user's overrides gave a transfer function or a style
+// stays as it is.
+void mark_label_maps(SceneDocument& read) {
+  const Json& objects = read.json()["objects"];
+  std::vector<size_t> labels;
+  for (size_t k = 0; k < objects.size(); ++k) {
+    const Json& o = objects[k];
+    if (o["type"] != "volume" || o.contains("transfer_function") || o.contains("style")) continue;
+    const ObjectRef ref = read.scene().order[k];
+    if (looks_like_label_map(*read.scene().volumes[static_cast<size_t>(ref.index)].data))
+      labels.push_back(k);
+  }
+  if (labels.empty()) return;
+  read.edit([&](Json& document) {
+    for (size_t k : labels) {
+      Json& o = document["objects"][k];
+      o["style"] = "labels";
+      const std::string file = o["source"]["file"].get<std::string>();
+      if (file.size() > 9 && file.compare(file.size() - 9, 9, ".seg.nrrd") == 0)
+        o["labels"] = {{"file", file}};
+    }
+  });
+}
+
 }  // namespace
 
 const std::vector<glm::vec3>& mesh_palette() {
@@ -53,7 +81,7 @@ const std::vector<glm::vec3>& mesh_palette() {
 }
 
 SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
-                            const std::string& view, const std::vector<std::string>& overrides) {
+                               const std::string& view, const std::vector<std::string>& overrides) {
   if (files.empty()) throw Error(fmt::format("{}: no files given", kOrigin));
   Json objects = Json::array();
   std::set<std::string> taken;
@@ -86,6 +114,7 @@ SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
   for (const std::string& assignment : overrides)
     scene_json::apply_override(document, assignment, kOrigin);
   SceneDocument read(std::move(document), kOrigin, ".");
+  mark_label_maps(read);
   read.write_out_choices();  // the framed camera, each automatic transfer function
   return read;
 }

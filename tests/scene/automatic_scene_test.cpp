@@ -17,6 +17,8 @@
 #include "intermix/scene.hpp"
 #include "scene/automatic_look.hpp"
 #include "scene/camera_framing.hpp"
+#include "scene/scene_from_files.hpp"
+#include "temp_dir.hpp"
 
 namespace imx {
 namespace {
@@ -184,9 +186,8 @@ TEST(AutomaticLook, RulesByModalityUnitsAndValues) {
   EXPECT_EQ(tp[3][4].get<double>(), 0.0);
   EXPECT_GT(tp[4][0].get<double>(), 0.0);
   // A mask: one value above a background of zeros (here 1 voxel in 8), shown as a surface.
-  const VolumeData mask = filled(VoxelType::f32, [](int i, int j, int k) {
-    return i < 10 && j < 10 && k < 10 ? 9.0 : 0.0;
-  });
+  const VolumeData mask = filled(
+      VoxelType::f32, [](int i, int j, int k) { return i < 10 && j < 10 && k < 10 ? 9.0 : 0.0; });
   const AutomaticLook surface = automatic_look(mask, "", "");
   EXPECT_NE(surface.reason.find("a mask"), std::string::npos) << surface.reason;
   EXPECT_EQ(surface.transfer_function["points"][0][0].get<double>(), 4.5);
@@ -194,6 +195,39 @@ TEST(AutomaticLook, RulesByModalityUnitsAndValues) {
   // One value everywhere still gives a valid function.
   const VolumeData flat = filled(VoxelType::f32, [](int, int, int) { return 5.0; });
   EXPECT_TRUE(automatic_look(flat, "", "").transfer_function.contains("points"));
+}
+
+TEST(AutomaticLook, LabelMapsAreToldFromImagesByTheirValues) {
+  // Tissue classes 0-3; an aseg-like map of 40 values spread over 0-255; and what is not one:
+  // an 8-bit ramp filling its span, a mask of two values, non-integer floats.
+  EXPECT_TRUE(looks_like_label_map(
+      filled(VoxelType::u16, [](int i, int, int) { return i / 5.0 - std::fmod(i / 5.0, 1.0); })));
+  EXPECT_TRUE(looks_like_label_map(
+      filled(VoxelType::u16, [](int i, int j, int) { return 6.0 * ((i + 20 * j) % 40); })));
+  EXPECT_FALSE(looks_like_label_map(
+      filled(VoxelType::u16, [](int i, int j, int) { return double((i + 20 * j) % 256); })));
+  EXPECT_FALSE(looks_like_label_map(
+      filled(VoxelType::f32, [](int i, int, int) { return i < 10 ? 0.0 : 9.0; })));
+  EXPECT_FALSE(
+      looks_like_label_map(filled(VoxelType::f32, [](int i, int, int) { return i * 0.5; })));
+}
+
+TEST(AutomaticLook, AFileSceneDrawsALabelMapInThePalette) {
+  test::TempDir dir;
+  VolumeData seg = filled(VoxelType::u16, [](int i, int, int) {
+    return i < 5 ? 0.0 : i < 10 ? 1.0 : i < 15 ? 2.0 : 3.0;
+  });
+  write_nifti(seg, dir.path() / "tissues.nii.gz");
+  write_nifti(filled(VoxelType::u16, [](int i, int j, int) { return double((i + 20 * j) % 256); }),
+              dir.path() / "t1.nii.gz");
+  const SceneDocument doc =
+      scene_from_files({dir.path() / "t1.nii.gz", dir.path() / "tissues.nii.gz"}, "anterior", {});
+  const auto& objects = doc.json()["objects"];
+  EXPECT_FALSE(objects[0].contains("style"));
+  EXPECT_EQ(objects[1]["style"], "labels");
+  EXPECT_FALSE(objects[1].contains("transfer_function"));
+  ASSERT_TRUE(doc.scene().volumes[1].labels);
+  EXPECT_TRUE(doc.scene().volumes[1].labels->palette_unlisted);
 }
 
 TEST(AutomaticLook, ARenderByRegionNeedsTheTransferFunctionGiven) {
