@@ -10,6 +10,7 @@ __version__: str
 
 PathLike = Union[str, os.PathLike[str]]
 Space = Literal["LPS", "RAS"]
+View = Literal["anterior", "posterior", "left", "right", "superior", "inferior"]
 ArrayLike = npt.ArrayLike
 # A scene document value: what JSON holds, numpy arrays and scalars, paths, Volume and Mesh.
 SceneValue = Any
@@ -22,15 +23,17 @@ class Image(np.ndarray):
     def _repr_png_(self) -> Optional[bytes]: ...
 
 class Volume:
-    """Numpy voxels with a 4x4 index-to-world affine; zero-copy for uint8/int16/uint16/float32."""
+    """Numpy voxels or a nibabel image with a 4x4 index-to-world affine; zero-copy for
+    uint8/int16/uint16/float32."""
 
     def __init__(
         self,
-        array: ArrayLike,
+        array: Any,
         affine: Optional[ArrayLike] = None,
         *,
-        space: Space = "LPS",
+        space: Optional[Space] = None,
         axes: Literal["auto", "kji", "ijk"] = "auto",
+        frame: Optional[int] = None,
     ) -> None: ...
     @property
     def array(self) -> Any: ...
@@ -85,13 +88,20 @@ class Scene:
     def from_dict(scene: Mapping[str, SceneValue], base_dir: Optional[PathLike] = None) -> "Scene": ...
     @staticmethod
     def from_json(text: str, base_dir: Optional[PathLike] = None) -> "Scene": ...
-    def set(self, path: str, value: SceneValue) -> None: ...
+    @staticmethod
+    def from_files(
+        paths: Union[PathLike, Sequence[PathLike]], view: View = "anterior"
+    ) -> "Scene": ...
+    def set(self, path: Union[str, Mapping[str, SceneValue]], value: SceneValue = ...) -> None: ...
+    def set_view(self, view: View) -> None: ...
     def add_volume(
         self,
         name: str,
-        source: Union[Volume, ArrayLike, PathLike, Mapping[str, SceneValue]],
+        source: Any,
         affine: Optional[ArrayLike] = None,
-        space: Space = "LPS",
+        space: Optional[Space] = None,
+        axes: Literal["auto", "kji", "ijk"] = "auto",
+        frame: Optional[int] = None,
         **fields: SceneValue,
     ) -> None: ...
     def add_mesh(
@@ -109,6 +119,8 @@ class Scene:
     def file(self) -> Optional[str]: ...
     @property
     def base_dir(self) -> str: ...
+    @property
+    def camera(self) -> dict[str, Any]: ...
     def render(
         self,
         method: Optional[str] = None,
@@ -116,6 +128,7 @@ class Scene:
         height: Optional[int] = None,
         spp: Optional[int] = None,
         threads: Optional[int] = None,
+        view: Optional[View] = None,
     ) -> Image: ...
     def _repr_png_(self) -> bytes: ...
 
@@ -165,9 +178,10 @@ def read_volume(
     units: Literal["", "suv"] = "",
     slice_spacing_mm: Optional[float] = None,
     frame: int = 0,
+    recursive: bool = False,
 ) -> Tuple[np.ndarray, npt.NDArray[np.float64]]: ...
 def read_volume_info(
-    path: PathLike, *, series: Union[str, int, None] = None
+    path: PathLike, *, series: Union[str, int, None] = None, recursive: bool = False
 ) -> dict[str, Any]: ...
 def write_volume(volume: Volume, path: PathLike, *, compress: bool = True) -> None: ...
 def read_mesh(
@@ -185,3 +199,33 @@ def compare(a: Union[ArrayLike, PathLike], b: Union[ArrayLike, PathLike]) -> dic
 def error_heat_map(
     a: Union[ArrayLike, PathLike], b: Union[ArrayLike, PathLike], scale: float = 16.0
 ) -> Image: ...
+def threshold_tf(
+    threshold: float, vmax: float, symmetric: bool = True, opacity: float = 0.8,
+    colormap: Optional[str] = None,
+) -> dict[str, Any]: ...
+def stat_map_scene(
+    anatomy: Any, stat: Any, threshold: float = 3.0, *, vmax: Optional[float] = None,
+    symmetric: bool = True, view: View = "left", width: int = 512, height: int = 512,
+) -> Scene: ...
+def stat_map(
+    anatomy: Any, stat: Any, threshold: float = 3.0, *, vmax: Optional[float] = None,
+    symmetric: bool = True, view: View = "left", width: int = 512, height: int = 512,
+    method: Optional[str] = None, spp: Optional[int] = None,
+) -> Image: ...
+def glass_brain_scene(
+    stat: Any, threshold: Optional[float] = None, *, vmax: Optional[float] = None,
+    plot_abs: bool = True, view: View = "left", width: int = 512, height: int = 512,
+) -> Scene: ...
+def glass_brain(
+    stat: Any, threshold: Optional[float] = None, *, vmax: Optional[float] = None,
+    plot_abs: bool = True, view: View = "left", width: int = 512, height: int = 512,
+    method: Optional[str] = None, spp: Optional[int] = None,
+) -> Image: ...
+def orbit_cameras(
+    camera: Mapping[str, Any], frames: int = 36, degrees: float = 360.0
+) -> list[dict[str, Any]]: ...
+def orbit(
+    scene: Scene, frames: int = 36, path: Optional[PathLike] = None, *, degrees: float = 360.0,
+    method: Optional[str] = None, width: Optional[int] = None, height: Optional[int] = None,
+    spp: Optional[int] = None, frame_ms: int = 80, progress: bool = True,
+) -> list[Image]: ...
