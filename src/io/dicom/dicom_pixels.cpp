@@ -6,6 +6,13 @@
 #include <fstream>
 #include <span>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <limits>
+
 #include <fmt/format.h>
 #include <gdcmImageReader.h>
 
@@ -23,6 +30,8 @@ namespace {
 
 using Stored = StoredType;
 
+}  // namespace
+
 size_t stored_size(Stored t) {
   switch (t) {
     case Stored::u8:
@@ -39,6 +48,8 @@ size_t stored_size(Stored t) {
       return 8;
   }
 }
+
+namespace {
 
 // Undecoded or decoded pixel values in host order, as stored (before rescale).
 struct RawPixels {
@@ -481,6 +492,170 @@ DecodedFrames decode_dicom_frames(const DicomFileHeader& header, const CodecPixe
             f.begin() + static_cast<std::ptrdiff_t>(y + 1) * header.columns,
             f.begin() + static_cast<std::ptrdiff_t>(header.rows - 1 - y) * header.columns);
   return out;
+}
+
+namespace {
+
+// Reduces stored values to their BitsStored in place, as rescale_integers reads them (the bits
+// outside give way to the value's sign), and returns their range.
+template <class T>
+StoredRange reduce_to_bits_stored(std::byte* bytes, size_t count, int bits_stored, int high_bit) {
+  constexpr int allocated = static_cast<int>(sizeof(T) * 8);
+  int shift = 0, used = allocated;
+  if (bits_stored > 0 && bits_stored < allocated && high_bit >= bits_stored - 1 &&
+      high_bit < allocated) {
+    shift = high_bit + 1 - bits_stored;
+    used = bits_stored;
+  }
+  T* values = reinterpret_cast<T*>(bytes);
+  T lo = std::numeric_limits<T>::max(), hi = std::numeric_limits<T>::lowest();
+  if (used == allocated) {
+    for (size_t i = 0; i < count; ++i) {
+      lo = std::min(lo, values[i]);
+      hi = std::max(hi, values[i]);
+    }
+    return {lo, hi};
+  }
+  using Unsigned = std::conditional_t<(sizeof(T) <= 2), uint32_t, uint64_t>;
+  using Signed = std::make_signed_t<Unsigned>;
+  constexpr int wide = static_cast<int>(sizeof(Unsigned) * 8);
+  const int up = wide - used;
+  for (size_t i = 0; i < count; ++i) {
+    const Unsigned u =
+        static_cast<Unsigned>(static_cast<std::make_unsigned_t<T>>(values[i]) >> shift) << up;
+    const T v = std::is_signed_v<T> ? static_cast<T>(static_cast<Signed>(u) >> up)
+                                    : static_cast<T>(u >> up);
+    values[i] = v;
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
+  return {lo, hi};
+}
+
+StoredRange reduce_to_bits_stored(Stored type, std::byte* bytes, size_t count, int bits_stored,
+                                  int high_bit) {
+  switch (type) {
+    case Stored::u8:
+      return reduce_to_bits_stored<uint8_t>(bytes, count, bits_stored, high_bit);
+    case Stored::i8:
+      return reduce_to_bits_stored<int8_t>(bytes, count, bits_stored, high_bit);
+    case Stored::u16:
+      return reduce_to_bits_stored<uint16_t>(bytes, count, bits_stored, high_bit);
+    case Stored::i16:
+      return reduce_to_bits_stored<int16_t>(bytes, count, bits_stored, high_bit);
+    case Stored::u32:
+      return reduce_to_bits_stored<uint32_t>(bytes, count, bits_stored, high_bit);
+    case Stored::i32:
+      return reduce_to_bits_stored<int32_t>(bytes, count, bits_stored, high_bit);
+    default:
+      return {};  // native_stored_type gives integers only
+  }
+}
+
+// The first `bytes` bytes of the pixel data (where read_native finds it: pixel_bytes before the
+// end of the file as it is now), in pieces of `piece` bytes, each handed to `on_piece` (offset,
+// length) while it is still in the cache.
+template <class F>
+bool read_pixel_bytes(const DicomFileHeader& h, std::byte* dst, size_t bytes, size_t piece,
+                      F&& on_piece) {
+  const int fd = ::open(h.file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  struct stat st {};
+  bool ok = ::fstat(fd, &st) == 0 && st.st_size >= 0 &&
+            static_cast<uint64_t>(st.st_size) >= h.pixel_bytes;
+  const off_t at = ok ? static_cast<off_t>(static_cast<uint64_t>(st.st_size) - h.pixel_bytes) : 0;
+  for (size_t begin = 0; ok && begin < bytes; begin += piece) {
+    const size_t end = std::min(bytes, begin + piece);
+    for (size_t done = begin; ok && done < end;) {
+      const ssize_t n = ::pread(fd, dst + done, end - done, at + static_cast<off_t>(done));
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0)
+        ok = false;
+      else
+        done += static_cast<size_t>(n);
+    }
+    if (ok) on_piece(begin, end - begin);
+  }
+  ::close(fd);
+  return ok;
+}
+
+// GE's reversed-polarity rows put back, as decode_dicom_frames does.
+void mirror_rows(const DicomFileHeader& h, std::byte* image, size_t row_bytes) {
+  if (!h.mirror_rows) return;
+  for (int y = 0; y < h.rows / 2; ++y)
+    std::swap_ranges(image + static_cast<size_t>(y) * row_bytes,
+                     image + static_cast<size_t>(y + 1) * row_bytes,
+                     image + static_cast<size_t>(h.rows - 1 - y) * row_bytes);
+}
+
+}  // namespace
+
+std::optional<StoredType> native_stored_type(const DicomFileHeader& header) {
+  if (needs_codec(header)) return std::nullopt;
+  try {
+    check_decodable(header);
+  } catch (const std::exception&) {
+    return std::nullopt;  // decode_dicom_frames refuses it in its own words
+  }
+  return integer_type(header.bits_allocated, header.pixel_representation == 1);
+}
+
+bool read_stored_images(const DicomFileHeader& h, std::span<std::byte* const> images,
+                        std::span<StoredRange> ranges) {
+  const std::optional<Stored> type = native_stored_type(h);
+  if (!type || images.size() != static_cast<size_t>(h.frame_count) ||
+      ranges.size() != images.size())
+    return false;
+  const size_t size = stored_size(*type);
+  const size_t bytes = pixel_count(h) * size;
+  if (h.pixel_bytes < bytes) return false;
+  const size_t image = static_cast<size_t>(h.rows) * h.columns;
+  const size_t row_bytes = static_cast<size_t>(h.columns) * size;
+  // A single-frame file goes straight to its place; the others through this thread's buffer.
+  const bool in_place = h.mosaic_tiles == 0 && h.stored_frames == 1 && images.size() == 1;
+  if (in_place && images[0] == nullptr) return true;
+  std::byte* data = in_place ? images[0] : nullptr;
+  if (!in_place) {
+    std::vector<char>& buffer = scratch_buffer();
+    buffer.resize(bytes);
+    data = reinterpret_cast<std::byte*>(buffer.data());
+  }
+  if (in_place) {
+    // Each piece's range while the piece is in the cache: a second pass over the slice would
+    // fetch it from memory again.
+    constexpr size_t kPiece = size_t{64} << 10;
+    StoredRange range{std::numeric_limits<int64_t>::max(), std::numeric_limits<int64_t>::min()};
+    if (!read_pixel_bytes(h, data, bytes, kPiece, [&](size_t at, size_t length) {
+          const StoredRange r =
+              reduce_to_bits_stored(*type, data + at, length / size, h.bits_stored, h.high_bit);
+          range = {std::min(range.lo, r.lo), std::max(range.hi, r.hi)};
+        }))
+      return false;
+    ranges[0] = range;
+    mirror_rows(h, data, row_bytes);
+    return true;
+  }
+  if (!read_pixel_bytes(h, data, bytes, bytes, [](size_t, size_t) {})) return false;
+  const int per_row = h.mosaic_tiles > 0 ? h.stored_columns / h.columns : 1;
+  for (size_t i = 0; i < images.size(); ++i) {
+    std::byte* dst = images[i];
+    if (dst == nullptr) continue;
+    if (h.mosaic_tiles > 0) {
+      const size_t x0 = static_cast<size_t>(static_cast<int>(i) % per_row) * h.columns;
+      const size_t y0 = static_cast<size_t>(static_cast<int>(i) / per_row) * h.rows;
+      for (int y = 0; y < h.rows; ++y)
+        std::memcpy(dst + static_cast<size_t>(y) * row_bytes,
+                    data + ((y0 + y) * h.stored_columns + x0) * size, row_bytes);
+    } else {
+      std::memcpy(dst, data + i * image * size, image * size);
+    }
+    ranges[i] = reduce_to_bits_stored(*type, dst, image, h.bits_stored, h.high_bit);
+    mirror_rows(h, dst, row_bytes);
+  }
+  std::vector<char>& buffer = scratch_buffer();
+  if (buffer.capacity() > (size_t{64} << 20)) std::vector<char>().swap(buffer);
+  return true;
 }
 
 }  // namespace imx::detail

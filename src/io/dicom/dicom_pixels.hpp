@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <memory>
 #include <new>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -67,6 +68,27 @@ std::vector<CodecPixels> decode_with_codecs(std::span<const DicomFileHeader* con
 // order given; empty when every file decodes. What `info` checks so that it lists each file
 // `convert` would refuse.
 std::vector<std::string> codec_failures(std::span<const DicomFileHeader* const> headers);
+
+// Bytes per value of a stored type.
+size_t stored_size(StoredType type);
+
+// Smallest and largest stored value of one image (after BitsStored, before rescale).
+struct StoredRange {
+  int64_t lo = 0, hi = 0;
+};
+
+// The stored type of a file whose images read_stored_images can read: native little endian, one
+// sample of 8, 16 or 32-bit integers, and every check decode_dicom_frames makes passed; nullopt
+// for any other file (decode_dicom_frames decodes it, or says why it cannot).
+std::optional<StoredType> native_stored_type(const DicomFileHeader& header);
+
+// Reads the images (frames, or a mosaic's tiles) of a file of native_stored_type straight from
+// the file: image i into images[i] (nullptr: not wanted), rows * columns stored values reduced to
+// BitsStored (sign-extended when signed) and mirrored as decode_dicom_frames does, and its
+// range into ranges[i]. False when the file cannot be read so (cut short since its header was
+// read): decode_dicom_frames then says what is wrong with it.
+bool read_stored_images(const DicomFileHeader& header, std::span<std::byte* const> images,
+                        std::span<StoredRange> ranges);
 
 // Decodes every frame of `header.file` (from `codec`, that file's decode_with_codecs result, when
 // given) and applies each frame's RescaleSlope and RescaleIntercept. Throws imx::Error naming the

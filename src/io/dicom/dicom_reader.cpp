@@ -1,6 +1,7 @@
 #include "io/dicom/dicom_reader.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <cstring>
@@ -109,7 +110,8 @@ AcquiredSeries acquired_layout(const SeriesLayout& l, int frame) {
   return out;
 }
 
-std::vector<AcquiredSeries> decode_volumes(const SeriesLayout& l, std::vector<int> which);
+std::vector<AcquiredSeries> decode_volumes(const SeriesLayout& l, std::vector<int> which,
+                                           bool stored_values);
 
 }  // namespace
 
@@ -125,11 +127,11 @@ AcquiredSeries read_series_layout(const std::filesystem::path& source, const std
 }
 
 std::vector<AcquiredSeries> read_acquired_volumes(const std::filesystem::path& source,
-                                                  const std::string& series,
-                                                  std::vector<int> which) {
+                                                  const std::string& series, std::vector<int> which,
+                                                  bool stored_values) {
   SeriesLayout l = layout_of(source, series);
   try {
-    return decode_volumes(l, std::move(which));
+    return decode_volumes(l, std::move(which), stored_values);
   } catch (const Error& e) {
     throw Error(original_names(l.group, e.what()));
   }
@@ -137,34 +139,60 @@ std::vector<AcquiredSeries> read_acquired_volumes(const std::filesystem::path& s
 
 namespace {
 
-std::vector<AcquiredSeries> decode_volumes(const SeriesLayout& l, std::vector<int> which) {
-  const int frames = static_cast<int>(l.volumes.volumes.size());
-  if (which.empty())
-    for (int f = 0; f < frames; ++f) which.push_back(f);
-  for (int f : which) require_frame(f, frames, l.what);
-  const DicomFileHeader& first = l.group.headers.front();
-  const size_t plane = static_cast<size_t>(first.rows) * first.columns;
-  check_memory(
-      plane * l.volumes.volumes.front().size() * which.size() * sizeof(float),
-      fmt::format("{} ({}x{}x{} voxels, {} frame{})", l.what, first.columns, first.rows,
-                  l.volumes.volumes.front().size(), which.size(), which.size() == 1 ? "" : "s"));
-  std::vector<AcquiredSeries> out;
-  for (int f : which) out.push_back(acquired_layout(l, f));
+// Where an image of a file goes: (image index in file, volume, slice).
+struct Slot {
+  int image;
+  size_t volume, slice;
+};
+using SlotsByFile = std::map<std::filesystem::path, std::vector<Slot>>;
 
-  // Where each image goes: file -> (image index in file, volume, slice).
-  struct Slot {
-    int image;
-    size_t volume, slice;
-  };
-  std::map<std::filesystem::path, std::vector<Slot>> slots;
-  for (size_t v = 0; v < out.size(); ++v) {
-    out[v].values.resize(out[v].stack.frames.size());
-    for (size_t s = 0; s < out[v].stack.frames.size(); ++s)
-      slots[out[v].stack.frames[s].file].push_back({out[v].stack.frames[s].frame, v, s});
+// Reads every needed file's stored values straight into its volume's slices, when all are native
+// integers of one type and size (read_stored_images); false, with nothing kept, for any other
+// series or a file that could not be read so: the caller then decodes them all into float planes,
+// and says what is wrong with any of them in its own words.
+bool read_stored_volumes(const std::vector<const DicomFileHeader*>& needed,
+                         const SlotsByFile& slots, std::vector<AcquiredSeries>& out) {
+  if (needed.empty()) return false;
+  const DicomFileHeader& first = *needed.front();
+  const std::optional<StoredType> type = native_stored_type(first);
+  if (!type) return false;
+  for (const DicomFileHeader* h : needed)
+    if (native_stored_type(*h) != type || h->rows != first.rows || h->columns != first.columns)
+      return false;
+  const size_t plane = static_cast<size_t>(first.rows) * first.columns;
+  const size_t bytes = plane * stored_size(*type);
+  for (AcquiredSeries& a : out) {
+    a.stored.type = *type;
+    a.stored.ranges.assign(a.stack.frames.size(), StoredRange{});
+    // Not zeroed: every slice is read over whole.
+    a.stored.bytes = std::shared_ptr<std::byte[]>(new std::byte[bytes * a.stack.frames.size()]);
   }
-  std::vector<const DicomFileHeader*> needed;
-  for (const DicomFileHeader& h : l.group.headers)
-    if (slots.count(h.file)) needed.push_back(&h);
+  std::atomic<bool> all_read{true};
+  tbb::parallel_for(size_t{0}, needed.size(), [&](size_t i) {
+    const DicomFileHeader& h = *needed[i];
+    std::vector<std::byte*> images(static_cast<size_t>(std::max(h.frame_count, 0)), nullptr);
+    std::vector<StoredRange> ranges(images.size());
+    for (const Slot& s : slots.at(h.file))
+      if (static_cast<size_t>(s.image) < images.size())
+        images[static_cast<size_t>(s.image)] = out[s.volume].stored.bytes.get() + s.slice * bytes;
+    if (!read_stored_images(h, images, ranges)) {
+      all_read = false;
+      return;
+    }
+    for (const Slot& s : slots.at(h.file))
+      if (static_cast<size_t>(s.image) < images.size())
+        out[s.volume].stored.ranges[s.slice] = ranges[static_cast<size_t>(s.image)];
+  });
+  if (!all_read)
+    for (AcquiredSeries& a : out) a.stored = StoredSlices{};
+  return all_read;
+}
+
+// Decodes every needed file (through the codecs where it needs them) into float planes; true
+// when every file's stored values are integers.
+bool decode_float_planes(const std::vector<const DicomFileHeader*>& needed,
+                         const SlotsByFile& slots, std::vector<AcquiredSeries>& out) {
+  for (AcquiredSeries& a : out) a.values.resize(a.stack.frames.size());
   // Files decode independently (one GDCM reader each), into distinct slices.
   // Compressed files first, in a few decoder processes (dicom_pixels.hpp).
   std::vector<const DicomFileHeader*> compressed;
@@ -186,8 +214,36 @@ std::vector<AcquiredSeries> decode_volumes(const SeriesLayout& l, std::vector<in
     for (const Slot& s : slots.at(h.file))
       out[s.volume].values[s.slice] = std::move(decoded.frames[static_cast<size_t>(s.image)]);
   });
-  const bool integers =
-      std::all_of(integer_pixels.begin(), integer_pixels.end(), [](char c) { return c != 0; });
+  return std::all_of(integer_pixels.begin(), integer_pixels.end(), [](char c) { return c != 0; });
+}
+
+std::vector<AcquiredSeries> decode_volumes(const SeriesLayout& l, std::vector<int> which,
+                                           bool stored_values) {
+  const int frames = static_cast<int>(l.volumes.volumes.size());
+  if (which.empty())
+    for (int f = 0; f < frames; ++f) which.push_back(f);
+  for (int f : which) require_frame(f, frames, l.what);
+  const DicomFileHeader& first = l.group.headers.front();
+  const size_t plane = static_cast<size_t>(first.rows) * first.columns;
+  check_memory(
+      plane * l.volumes.volumes.front().size() * which.size() * sizeof(float),
+      fmt::format("{} ({}x{}x{} voxels, {} frame{})", l.what, first.columns, first.rows,
+                  l.volumes.volumes.front().size(), which.size(), which.size() == 1 ? "" : "s"));
+  std::vector<AcquiredSeries> out;
+  for (int f : which) out.push_back(acquired_layout(l, f));
+
+  // Where each image goes.
+  SlotsByFile slots;
+  for (size_t v = 0; v < out.size(); ++v) {
+    for (size_t s = 0; s < out[v].stack.frames.size(); ++s)
+      slots[out[v].stack.frames[s].file].push_back({out[v].stack.frames[s].frame, v, s});
+  }
+  std::vector<const DicomFileHeader*> needed;
+  for (const DicomFileHeader& h : l.group.headers)
+    if (slots.count(h.file)) needed.push_back(&h);
+  // Stored values are integers; decoded ones are when every file's are.
+  const bool integers = (stored_values && read_stored_volumes(needed, slots, out)) ||
+                        decode_float_planes(needed, slots, out);
   for (AcquiredSeries& a : out) {
     a.integer_valued = integers;
     const double slope = a.stack.frames.front().slope;
@@ -223,6 +279,86 @@ VoxelStorage fill(const detail::AcquiredSeries& a, const detail::SliceGrid& grid
       for (size_t i = 0; i < plane; ++i)
         dst[i] = static_cast<T>(((1.0 - w) * lo[i] + w * hi[i]) * scale);
     }
+  });
+  return out;
+}
+
+// The rescaled value of a stored one, computed as decode_dicom_frames computes it (double, then
+// float), so that a volume read from stored values equals one read through float planes.
+template <class S>
+float rescaled(S stored, double slope, double intercept) {
+  return static_cast<float>(static_cast<double>(stored) * slope + intercept);
+}
+
+// The rescaled values of sorted frame `s`, as decode_dicom_frames would have given them.
+template <class S>
+void stored_to_floats(const detail::AcquiredSeries& a, size_t s, size_t plane, float* dst) {
+  const S* src = reinterpret_cast<const S*>(a.stored.bytes.get()) + s * plane;
+  const detail::DicomFrame& f = a.stack.frames[s];
+  for (size_t i = 0; i < plane; ++i) dst[i] = rescaled(src[i], f.slope, f.intercept);
+}
+
+template <class F>
+void with_stored_type(detail::StoredType type, F&& f) {
+  switch (type) {
+    case detail::StoredType::u8:
+      return f(uint8_t{});
+    case detail::StoredType::i8:
+      return f(int8_t{});
+    case detail::StoredType::u16:
+      return f(uint16_t{});
+    case detail::StoredType::i16:
+      return f(int16_t{});
+    case detail::StoredType::u32:
+      return f(uint32_t{});
+    case detail::StoredType::i32:
+      return f(int32_t{});
+    default:
+      throw Error("stored values of a floating-point type");  // read_stored_images reads none
+  }
+}
+
+// Float planes of the stored values, for a volume that blends slices or scales values (fill).
+void stored_to_float_planes(detail::AcquiredSeries& a, size_t plane) {
+  a.values.resize(a.stack.frames.size());
+  with_stored_type(a.stored.type, [&](auto stored) {
+    using S = decltype(stored);
+    tbb::parallel_for(size_t{0}, a.values.size(), [&](size_t s) {
+      a.values[s].resize(plane);
+      stored_to_floats<S>(a, s, plane, a.values[s].data());
+    });
+  });
+  a.stored = detail::StoredSlices{};
+}
+
+// The voxels of a volume on the acquired slices (no blend, no scale) in type T, straight from the
+// stored values: rescaled in place where T is an integer type of the stored size, else into a new
+// buffer; either way not a float plane between, nor a zeroed buffer.
+template <class T>
+VoxelStorage stored_voxels(const detail::AcquiredSeries& a, size_t plane) {
+  const size_t slices = a.stack.frames.size(), count = plane * slices;
+  VoxelStorage out;
+  with_stored_type(a.stored.type, [&](auto stored) {
+    using S = decltype(stored);
+    std::shared_ptr<std::byte[]> owner = a.stored.bytes;
+    if (sizeof(S) != sizeof(T) || !std::is_integral_v<T>)
+      owner = std::shared_ptr<std::byte[]>(new std::byte[count * sizeof(T)]);
+    const std::byte* src_bytes = a.stored.bytes.get();
+    std::byte* dst_bytes = owner.get();
+    tbb::parallel_for(size_t{0}, slices, [&](size_t s) {
+      const detail::DicomFrame& f = a.stack.frames[s];
+      const std::byte* src = src_bytes + s * plane * sizeof(S);
+      std::byte* dst = dst_bytes + s * plane * sizeof(T);
+      // memcpy loads and stores: the source and destination may be the same bytes.
+      for (size_t i = 0; i < plane; ++i) {
+        S v;
+        std::memcpy(&v, src + i * sizeof(S), sizeof(S));
+        const T t = static_cast<T>(rescaled(v, f.slope, f.intercept));
+        std::memcpy(dst + i * sizeof(T), &t, sizeof(T));
+      }
+    });
+    out = VoxelBuffer<T>::view(reinterpret_cast<const T*>(dst_bytes), count,
+                               std::shared_ptr<const void>(owner, owner.get()));
   });
   return out;
 }
@@ -301,9 +437,22 @@ DicomVolume to_volume(detail::AcquiredSeries& a, const DicomReadOptions& options
   }
   if (const auto& w = a.stack.frames.front().window) out.window = *w * scale;
   const size_t plane = static_cast<size_t>(a.stack.rows) * a.stack.columns;
-  std::vector<std::pair<float, float>> ranges(a.values.size());
-  tbb::parallel_for(size_t{0}, a.values.size(),
-                    [&](size_t s) { ranges[s] = plane_range(a.values[s]); });
+  // Stored values go straight into the volume's type only where slices keep their values.
+  if (a.stored.bytes && (grid.resampled || scale != 1.0)) stored_to_float_planes(a, plane);
+  const bool from_stored = a.stored.bytes != nullptr;
+  std::vector<std::pair<float, float>> ranges(a.stack.frames.size());
+  if (from_stored) {
+    // Rescaling is monotonic, as is rounding to float: the stored range's ends give the range.
+    for (size_t s = 0; s < ranges.size(); ++s) {
+      const detail::DicomFrame& f = a.stack.frames[s];
+      const float x = rescaled(a.stored.ranges[s].lo, f.slope, f.intercept),
+                  y = rescaled(a.stored.ranges[s].hi, f.slope, f.intercept);
+      ranges[s] = {std::min(x, y), std::max(x, y)};
+    }
+  } else {
+    tbb::parallel_for(size_t{0}, a.values.size(),
+                      [&](size_t s) { ranges[s] = plane_range(a.values[s]); });
+  }
   float lo = std::numeric_limits<float>::infinity(), hi = -lo;
   for (auto [l, h] : ranges) {
     lo = std::min(lo, l);
@@ -325,19 +474,36 @@ DicomVolume to_volume(detail::AcquiredSeries& a, const DicomReadOptions& options
   VolumeData& v = out.volume;
   v.dims = {a.stack.columns, a.stack.rows, static_cast<int>(grid.blends.size())};
   v.index_to_world = grid.index_to_world;
-  switch (type) {
-    case VoxelType::u8:
-      v.voxels = fill<uint8_t>(a, grid, scale);
-      break;
-    case VoxelType::i16:
-      v.voxels = fill<int16_t>(a, grid, scale);
-      break;
-    case VoxelType::u16:
-      v.voxels = fill<uint16_t>(a, grid, scale);
-      break;
-    case VoxelType::f32:
-      v.voxels = fill<float>(a, grid, scale);
-      break;
+  if (from_stored) {
+    switch (type) {
+      case VoxelType::u8:
+        v.voxels = stored_voxels<uint8_t>(a, plane);
+        break;
+      case VoxelType::i16:
+        v.voxels = stored_voxels<int16_t>(a, plane);
+        break;
+      case VoxelType::u16:
+        v.voxels = stored_voxels<uint16_t>(a, plane);
+        break;
+      case VoxelType::f32:
+        v.voxels = stored_voxels<float>(a, plane);
+        break;
+    }
+  } else {
+    switch (type) {
+      case VoxelType::u8:
+        v.voxels = fill<uint8_t>(a, grid, scale);
+        break;
+      case VoxelType::i16:
+        v.voxels = fill<int16_t>(a, grid, scale);
+        break;
+      case VoxelType::u16:
+        v.voxels = fill<uint16_t>(a, grid, scale);
+        break;
+      case VoxelType::f32:
+        v.voxels = fill<float>(a, grid, scale);
+        break;
+    }
   }
   out.series.slices = static_cast<int>(a.stack.frames.size());
   v.validate(series_what);
@@ -356,7 +522,7 @@ DicomVolume read_dicom(const std::filesystem::path& source, const DicomReadOptio
   const std::string what = source.string();
   check_units(options, what);
   std::vector<detail::AcquiredSeries> a =
-      detail::read_acquired_volumes(source, options.series, {options.frame});
+      detail::read_acquired_volumes(source, options.series, {options.frame}, true);
   DicomVolume out = to_volume(a.front(), options, what);
   if (out.frames > 1) {
     const std::string& label = out.frame_labels[static_cast<size_t>(options.frame)].text;
@@ -371,12 +537,13 @@ std::vector<DicomVolume> read_dicom_frames(const std::filesystem::path& source,
   const std::string what = source.string();
   check_units(options, what);
   std::vector<detail::AcquiredSeries> all =
-      detail::read_acquired_volumes(source, options.series, {});
+      detail::read_acquired_volumes(source, options.series, {}, true);
   std::vector<DicomVolume> out;
   for (detail::AcquiredSeries& a : all) {
     out.push_back(to_volume(a, options, what));
     a.values.clear();  // its voxels now live in out's volume
     a.values.shrink_to_fit();
+    a.stored = detail::StoredSlices{};
   }
   return out;
 }
