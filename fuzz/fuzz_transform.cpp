@@ -2,12 +2,14 @@
 // bytes, read under each name the dispatcher knows (.tfm, .txt, .mat, .lta, .aff12.1D), so that
 // every reader sees every input. FSL matrices are read with two small NIfTI images written once
 // (a neurological and a radiological one, so that both scaled-voxel rules run), and once without
-// them (the refusal). A transform that is read must be finite and invertible.
+// them (the refusal). A transform that is read must be finite and invertible. An input that
+// starts like a NIfTI-1 header (348) is also tried as a displacement field on a small volume.
 #include <cmath>
 #include <exception>
 #include <string>
 
 #include "harness.hpp"
+#include "registration/displacement_field.hpp"
 #include "registration/transform_file.hpp"
 
 namespace {
@@ -61,6 +63,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     accepted("flirt.mat with images");
   } catch (const std::exception& e) {
     refused(e);
+  }
+  if (size >= 4 && data[0] == 92 && data[1] == 1 && data[2] == 0 && data[3] == 0) {
+    try {
+      const std::filesystem::path field = scratch().write("field.nii", data, size);
+      if (imx::is_displacement_field(field)) {
+        const imx::VolumeData warped = imx::warp_volume(small_image({1.0, 1.0, 1.0}), field);
+        check_volume(warped);
+        accepted("displacement field");
+      }
+    } catch (const std::exception& e) {
+      refused(e);
+    }
   }
   return 0;
 }
