@@ -9,6 +9,7 @@
 
 #include "expect_error.hpp"
 #include "intermix/scene.hpp"
+#include "scene/scene_document.hpp"
 #include "scene_fixture.hpp"
 #include "temp_dir.hpp"
 
@@ -124,6 +125,23 @@ TEST(SceneSpace, AFramedCameraIsWrittenOutInTheScenesSpace) {
   expect_same(ras.camera.target, {-10, -20, 30}, 1e-6);
   EXPECT_CONTAINS(test::error_of([] { test::parse(test::with_objects("", R"("space": "ras")")); }),
                   "space");
+}
+
+TEST(SceneSpace, TheFramedCameraIsWrittenOutInTheDocumentsSpace) {
+  SceneDocument doc = SceneDocument::from_text(
+      test::with_objects(test::mesh_json("ball", R"("primitive": "sphere", "radius": 5)",
+                                         R"("transform": {"translate": [10, 20, 30]})"),
+                         R"("space": "RAS")"),
+      "scene.json", {}, {});
+  const Camera framed = doc.scene().camera;
+  doc.write_out_choices();
+  const nlohmann::json& target = doc.json()["camera"]["target"];
+  EXPECT_NEAR(target[0].get<double>(), 10.0, 1e-6);  // RAS, as the document gives its points
+  EXPECT_NEAR(target[1].get<double>(), 20.0, 1e-6);
+  // Parsed again from the written document: the same camera.
+  expect_same(doc.scene().camera.eye, framed.eye);
+  expect_same(doc.scene().camera.target, framed.target);
+  expect_same(doc.scene().camera.up, framed.up);
 }
 
 }  // namespace
