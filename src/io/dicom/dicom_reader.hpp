@@ -23,6 +23,9 @@ struct StoredSlices {
   std::vector<StoredRange> ranges;  // per sorted frame
 };
 
+// An uninitialised buffer for voxels.
+std::shared_ptr<std::byte[]> voxel_memory(size_t bytes);
+
 // One volume (frame) of a series as acquired.
 struct AcquiredSeries {
   DicomSeriesInfo info;
