@@ -18,10 +18,11 @@ namespace {
 
 // The reference: one VolumeMarcher per ray.
 void composite_each(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
-                    std::span<const ShadingLight> lights, float ert, std::span<glm::vec4> out) {
+                    std::span<const ShadingLight> lights, float ert, std::span<glm::vec4> out,
+                    SlabExtent extent) {
   for (size_t i = 0; i < rays.size(); ++i) {
     glm::vec4 acc(0.0f);
-    VolumeMarcher m(v, rays[i].ray, rays[i].t0, rays[i].t1, step, lights, SlabExtent::grid);
+    VolumeMarcher m(v, rays[i].ray, rays[i].t0, rays[i].t1, step, lights, extent);
     m.composite(acc, ert);
     out[i] = acc;
   }
@@ -119,7 +120,7 @@ class PacketKernel {
  public:
   PacketKernel(const PreparedVolume& v, const VoxelGrid<T>& grid, std::span<const PacketRay> rays,
                float step, std::span<const ShadingLight> lights, float ert,
-               std::span<glm::vec4> out)
+               std::span<glm::vec4> out, SlabExtent extent)
       : v_(v),
         grid_(grid),
         rays_(rays),
@@ -131,6 +132,7 @@ class PacketKernel {
     if (v.accel.gradients) gradients_.emplace(*v.accel.gradients);
     const Shading& s = v.object->shading;
     shaded_ = s.enabled;
+    centre_ = extent == SlabExtent::visible && preint_.moments;
     light_count_ = static_cast<int>(lights.size());
     if (v.accel.emptiness) use_runs_ = v.accel.emptiness->value_runs(run_lo_, run_hi_);
     if (v.accel.occupancy) bricks_.emplace(*v.accel.occupancy, v.accel.skip);
@@ -328,13 +330,34 @@ class PacketKernel {
     lookup(s_f, s_b, cr, cg, cb, ca);
     vis = _mm256_and_ps(vis, _mm256_cmp_ps(ca, _mm256_setzero_ps(), _CMP_GT_OQ));
     if (!_mm256_movemask_ps(vis)) return 0;
+    // Where the light comes from, from the table's moments before the short-piece correction,
+    // as PreintegrationView::lookup(s_f, s_b, light) in VolumeMarcher::classify.
+    __m256 centre = splat(0.5f), spread = _mm256_setzero_ps();
+    if (shaded_ && centre_) light_of(s_f, s_b, ca, centre, spread);
     const __m256 short_piece =
         _mm256_and_ps(vis, _mm256_cmp_ps(len, splat(0.9999f * step_), _CMP_NGE_UQ));
     if (_mm256_movemask_ps(short_piece)) correct_short(short_piece, len, cr, cg, cb, ca);
     if (shaded_) {
-      const __m256 t_mid = _mm256_fmadd_ps(splat(0.5f), len, front);
-      shade(vis, _mm256_fmadd_ps(t_mid, dx, ox), _mm256_fmadd_ps(t_mid, dy, oy),
-            _mm256_fmadd_ps(t_mid, dz, oz), cr, cg, cb, ca);
+      // VolumeMarcher::shade: one point (the midpoint, or the light's centre) or, where the
+      // light is spread, the mean of two points a standard deviation either side of it.
+      const __m256 two = _mm256_and_ps(vis, _mm256_cmp_ps(spread, splat(kMinSpread), _CMP_GE_OQ));
+      const bool any_two = _mm256_movemask_ps(two) != 0;
+      const __m256 u_a = _mm256_blendv_ps(
+          centre, _mm256_max_ps(_mm256_setzero_ps(), _mm256_sub_ps(centre, spread)), two);
+      const __m256 t_a = _mm256_fmadd_ps(u_a, len, front);
+      __m256 r2 = cr, g2 = cg, b2 = cb;
+      shade(vis, _mm256_fmadd_ps(t_a, dx, ox), _mm256_fmadd_ps(t_a, dy, oy),
+            _mm256_fmadd_ps(t_a, dz, oz), cr, cg, cb, ca);
+      if (any_two) {
+        const __m256 u_b = _mm256_min_ps(splat(1.0f), _mm256_add_ps(centre, spread));
+        const __m256 t_b = _mm256_fmadd_ps(u_b, len, front);
+        shade(two, _mm256_fmadd_ps(t_b, dx, ox), _mm256_fmadd_ps(t_b, dy, oy),
+              _mm256_fmadd_ps(t_b, dz, oz), r2, g2, b2, ca);
+        const __m256 half = splat(0.5f);
+        cr = _mm256_blendv_ps(cr, _mm256_mul_ps(half, _mm256_add_ps(cr, r2)), two);
+        cg = _mm256_blendv_ps(cg, _mm256_mul_ps(half, _mm256_add_ps(cg, g2)), two);
+        cb = _mm256_blendv_ps(cb, _mm256_mul_ps(half, _mm256_add_ps(cb, b2)), two);
+      }
     }
     // over(acc, c) where the piece is visible.
     const __m256 ar = _mm256_load_ps(L_.r), ag = _mm256_load_ps(L_.g), ab = _mm256_load_ps(L_.b),
@@ -396,6 +419,48 @@ class PacketKernel {
     r = _mm256_shuffle_ps(t0, t2, 0x44), g = _mm256_shuffle_ps(t0, t2, 0xee);
     b = _mm256_shuffle_ps(t1, t3, 0x44), a = _mm256_shuffle_ps(t1, t3, 0xee);
   }
+
+  // PreintegrationView::light_of(a, the moments at (s_f, s_b)) in lanes: the centre and the
+  // spread of where a piece's light comes from (0.5 and 0 where a is not positive).
+  void light_of(__m256 s_f, __m256 s_b, __m256 a, __m256& centre, __m256& spread) const {
+    const __m256 lo = splat(preint_.lo), inv = splat(preint_.inv_step);
+    const __m256 last = splat(static_cast<float>(preint_.size - 1));
+    const __m256i last_cell = splat(preint_.size - 2);
+    const __m256 x = _mm256_min_ps(
+        _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(s_f, lo), inv), _mm256_setzero_ps()), last);
+    const __m256 y = _mm256_min_ps(
+        _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(s_b, lo), inv), _mm256_setzero_ps()), last);
+    const __m256i i = _mm256_min_epi32(_mm256_cvttps_epi32(x), last_cell);
+    const __m256i j = _mm256_min_epi32(_mm256_cvttps_epi32(y), last_cell);
+    alignas(32) int32_t entry[kLanes];
+    alignas(32) float wx[kLanes], wy[kLanes], m1[kLanes], m2[kLanes];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(entry),
+                       _mm256_add_epi32(_mm256_mullo_epi32(i, splat(preint_.size)), j));
+    _mm256_store_ps(wx, _mm256_sub_ps(x, _mm256_cvtepi32_ps(i)));
+    _mm256_store_ps(wy, _mm256_sub_ps(y, _mm256_cvtepi32_ps(j)));
+    const float* table = reinterpret_cast<const float*>(preint_.moments);
+    const size_t row = 2 * static_cast<size_t>(preint_.size);
+    for (int l = 0; l < kLanes; ++l) {
+      // Entries j and j + 1 of rows i and i + 1: one 16-byte load per row.
+      const float* r0 = table + 2 * static_cast<size_t>(entry[l]);
+      const __m128 r =
+          _mm_fmadd_ps(_mm_set1_ps(wx[l]), _mm_sub_ps(_mm_loadu_ps(r0 + row), _mm_loadu_ps(r0)),
+                       _mm_loadu_ps(r0));
+      const __m128 m = _mm_fmadd_ps(_mm_set1_ps(wy[l]), _mm_sub_ps(_mm_movehl_ps(r, r), r), r);
+      m1[l] = _mm_cvtss_f32(m);
+      m2[l] = _mm_cvtss_f32(_mm_shuffle_ps(m, m, 1));
+    }
+    const __m256 lit = _mm256_cmp_ps(a, _mm256_setzero_ps(), _CMP_GT_OQ);
+    const __m256 inv_a = _mm256_div_ps(splat(1.0f), a);
+    const __m256 mean = _mm256_min_ps(
+        _mm256_max_ps(_mm256_mul_ps(_mm256_load_ps(m1), inv_a), _mm256_setzero_ps()), splat(1.0f));
+    const __m256 variance = _mm256_fnmadd_ps(mean, mean, _mm256_mul_ps(_mm256_load_ps(m2), inv_a));
+    const __m256 sd = _mm256_and_ps(_mm256_sqrt_ps(_mm256_max_ps(variance, _mm256_setzero_ps())),
+                                    _mm256_cmp_ps(variance, _mm256_setzero_ps(), _CMP_GT_OQ));
+    centre = _mm256_blendv_ps(splat(0.5f), mean, lit);
+    spread = _mm256_and_ps(sd, lit);
+  }
+  static constexpr float kMinSpread = 1.0f / 64.0f;  // VolumeMarcher::kMinSpread
 
   // The opacity correction of pieces shorter than the table's step (span ends only: rare).
   void correct_short(__m256 mask, __m256 len, __m256& r, __m256& g, __m256& b, __m256& a) const {
@@ -522,6 +587,7 @@ class PacketKernel {
   float step_, ert_;
   PreintegrationView preint_;
   bool shaded_ = false;
+  bool centre_ = false;  // SlabExtent::visible: shade where each piece's light comes from
   int light_count_ = 0;
   bool use_runs_ = false;
   float run_lo_[TfEmptiness::kMaxRuns] = {}, run_hi_[TfEmptiness::kMaxRuns] = {};
@@ -654,14 +720,15 @@ void intersect_packets(const PreparedVolume& v, std::span<PacketRay> rays) {
 }
 
 void composite_packets(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
-                       std::span<const ShadingLight> lights, float ert, std::span<glm::vec4> out) {
+                       std::span<const ShadingLight> lights, float ert, std::span<glm::vec4> out,
+                       SlabExtent extent) {
 #if IMX_PACKET_LANES
   if (packet_marching_supported(v, lights)) {
-    run_lane_kernel<PacketKernel>(v, rays, step, lights, ert, out);
+    run_lane_kernel<PacketKernel>(v, rays, step, lights, ert, out, extent);
     return;
   }
 #endif
-  composite_each(v, rays, step, lights, ert, out);
+  composite_each(v, rays, step, lights, ert, out, extent);
 }
 
 }  // namespace imx

@@ -9,6 +9,7 @@
 #include "core/camera_model.hpp"
 #include "core/ray.hpp"
 #include "volume/prepared_volume.hpp"
+#include "volume/volume_marcher.hpp"
 
 namespace imx {
 
@@ -46,10 +47,14 @@ bool packet_marching_supported(const PreparedVolume& v, std::span<const ShadingL
 void intersect_packets(const PreparedVolume& v, std::span<PacketRay> rays);
 
 // out[i] = the premultiplied colour that VolumeMarcher(v, rays[i].ray, rays[i].t0, rays[i].t1,
-// step, lights, SlabExtent::grid).composite() makes from (0, 0, 0, 0) with termination at
-// `ert`, up to float reassociation. Rays go in packets of eight in batch order, so neighbouring
-// rays should be consecutive (a tile in blocks of 4 x 2 pixels). `out` holds rays.size() colours.
+// step, lights, extent).composite() makes from (0, 0, 0, 0) with termination at `ert`, up to
+// float reassociation. Rays go in packets of eight in batch order, so neighbouring rays should be
+// consecutive (a tile in blocks of 4 x 2 pixels). `out` holds rays.size() colours.
+// SlabExtent::visible shades each piece where its light comes from (one point, or two a standard
+// deviation either side of its centre), as the slab methods' marcher does; the extents
+// themselves do not change a composite.
 void composite_packets(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
-                       std::span<const ShadingLight> lights, float ert, std::span<glm::vec4> out);
+                       std::span<const ShadingLight> lights, float ert, std::span<glm::vec4> out,
+                       SlabExtent extent = SlabExtent::grid);
 
 }  // namespace imx

@@ -13,10 +13,10 @@
 namespace imx {
 namespace {
 
-Image render_mdvr(Scene scene, bool packets) {
+Image render_mdvr(Scene scene, bool packets, const std::string& method = "mdvr") {
   scene.render.packets = packets;
   RenderOptions o;
-  o.method = "mdvr";
+  o.method = method;
   return render(scene, o);
 }
 
@@ -28,6 +28,24 @@ TEST(MdvrPackets, SameImageAsOneRayAtATime) {
     Scene s = load_scene(std::filesystem::path(IMX_EXAMPLES_DIR) / "ct-head.json",
                          {"image.width=61", "image.height=47", "objects.ct.source.size=64", extra});
     EXPECT_GE(psnr(render_mdvr(s, false), render_mdvr(s, true)), 70.0) << extra;
+  }
+}
+
+// zslab and zslab-hybrid on one volume alone march it in mdvr's lanes, shaded where each
+// piece's light comes from: the same image as their per-sample pipeline (two-point shading,
+// greedy merges, the kernel against an empty stored array), and not mdvr's midpoint shading.
+TEST(MdvrPackets, SlabMethodsOnOneVolumeSameImageAsTheirPipeline) {
+  for (const std::string& extra :
+       {std::string("render.skipping=distance"), std::string("render.ert_threshold=0.6"),
+        std::string("render.ert_threshold=1")}) {
+    Scene s = load_scene(std::filesystem::path(IMX_EXAMPLES_DIR) / "ct-head.json",
+                         {"image.width=61", "image.height=47", "objects.ct.source.size=64", extra});
+    const Image grid = render_mdvr(s, true);
+    for (const char* method : {"zslab", "zslab-hybrid"}) {
+      const Image lanes = render_mdvr(s, true, method);
+      EXPECT_GE(psnr(render_mdvr(s, false, method), lanes), 70.0) << extra << " " << method;
+      EXPECT_LT(psnr(grid, lanes), 70.0) << extra << " " << method;  // the light's centre
+    }
   }
 }
 

@@ -12,12 +12,8 @@
 #include "volume/packet_projection.hpp"
 
 namespace imx {
-namespace {
 
-// One volume and nothing else (nothing clipping it either) at one sample per pixel: trace_mdvr
-// is then exactly VolumeMarcher::composite (dvr) or the one projection or iso hit per ray,
-// which the rays of a tile can share in vector lanes.
-bool packets_apply(const Scene& scene, const FrameSetup& frame, int spp) {
+bool volume_packets_apply(const Scene& scene, const FrameSetup& frame, int spp) {
   if (!scene.render.packets || spp != 1 || !scene.meshes.empty() || !scene.planes.empty() ||
       !frame.clip.empty() || frame.volumes.size() != 1)
     return false;
@@ -26,11 +22,8 @@ bool packets_apply(const Scene& scene, const FrameSetup& frame, int spp) {
                                              : packet_projection_supported(v);
 }
 
-// render_per_sample with trace_mdvr for that case: per tile, the rays that meet the volume go
-// through composite_packets() or project_packets() together (pixel centres, as
-// stratified_offsets(1)).
-Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const MdvrParams& params,
-                          const RenderOptions& options) {
+Image render_volume_packets(const Scene& scene, const FrameSetup& frame, const MdvrParams& params,
+                            SlabExtent extent, const RenderOptions& options) {
   constexpr int kTileSize = 16;
   const PreparedVolume& v = frame.volumes[0];
   const bool visible = v.lut.max_opacity() > 0.0f;  // else RayVolumes marches nothing
@@ -79,7 +72,7 @@ Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const Mdv
         n = kept;
         if (v.object->style == VolumeStyle::dvr)
           composite_packets(v, std::span<const PacketRay>(rays, n), params.step, frame.lights,
-                            params.ert, std::span<glm::vec4>(colour, n));
+                            params.ert, std::span<glm::vec4>(colour, n), extent);
         else
           project_packets(v, std::span<const PacketRay>(rays, n), params.step,
                           params.iso_bisections, frame.lights, std::span<glm::vec4>(colour, n));
@@ -91,8 +84,6 @@ Image render_mdvr_packets(const Scene& scene, const FrameSetup& frame, const Mdv
       });
   return image;
 }
-
-}  // namespace
 
 MdvrParams prepare_mdvr(const Scene& scene, FrameSetup& frame) {
   MdvrParams params;
@@ -106,7 +97,8 @@ Image render_mdvr(const Scene& scene, int spp, const RenderOptions& options) {
   FrameSetup frame(scene);
   frame.require_per_sample_support("mdvr");
   const MdvrParams params = prepare_mdvr(scene, frame);
-  if (packets_apply(scene, frame, spp)) return render_mdvr_packets(scene, frame, params, options);
+  if (volume_packets_apply(scene, frame, spp))
+    return render_volume_packets(scene, frame, params, SlabExtent::grid, options);
   return render_per_sample(
       scene, frame, spp, options,
       [&](const Ray& ray, std::span<const Fragment> fragments, const VolumeFilter& filter) {

@@ -14,4 +14,15 @@ MdvrParams prepare_mdvr(const Scene& scene, FrameSetup& frame);
 
 Image render_mdvr(const Scene& scene, int spp, const RenderOptions& options);
 
+// One volume and nothing else (nothing clipping it but its clip planes) at one sample per pixel,
+// with render.packets: every method's trace is then VolumeMarcher::composite (dvr) or the one
+// projection or iso hit per ray, which the rays of a tile can share in vector lanes.
+bool volume_packets_apply(const Scene& scene, const FrameSetup& frame, int spp);
+
+// That case: per tile, the rays that meet the volume go through composite_packets() (dvr, its
+// pieces shaded as `extent` says) or project_packets() together (pixel centres, as
+// stratified_offsets(1)); `frame` accelerated for params.step.
+Image render_volume_packets(const Scene& scene, const FrameSetup& frame, const MdvrParams& params,
+                            SlabExtent extent, const RenderOptions& options);
+
 }  // namespace imx

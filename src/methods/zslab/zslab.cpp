@@ -4,6 +4,7 @@
 
 #include "core/colour.hpp"
 #include "core/parallel.hpp"
+#include "methods/mdvr/mdvr.hpp"
 #include "methods/zslab/zslab_frame.hpp"
 #include "methods/zslab/zslab_tile_loop.hpp"
 #include "slab/zt_buffer.hpp"
@@ -25,6 +26,7 @@ using zslab_tiles::report;
 Image render_streamed(const Scene& scene, int spp, const RenderOptions& options, bool hybrid,
                       ZtBuffer* arrays = nullptr) {
   ZslabFrame z(scene, spp, hybrid, options.sample_index);
+  if (!arrays && zslab_in_packets(z, spp)) return render_zslab_packets(z, options);
   z.prepare();
   const size_t end = deferred_end(z);
   const int n = z.params.layers;
@@ -84,6 +86,18 @@ Image render_streamed(const Scene& scene, int spp, const RenderOptions& options,
 }
 
 }  // namespace
+
+bool zslab_in_packets(const ZslabFrame& z, int spp) {
+  return z.format == SlabFormat::rgba32f && volume_packets_apply(z.scene, z.frame, spp);
+}
+
+Image render_zslab_packets(const ZslabFrame& z, const RenderOptions& options) {
+  MdvrParams p;
+  p.step = z.steps[0];
+  p.ert = z.params.mix.a_ert;
+  p.iso_bisections = kZslabIsoBisections;
+  return render_volume_packets(z.scene, z.frame, p, SlabExtent::visible, options);
+}
 
 Image render_zslab(const Scene& scene, int spp, const RenderOptions& options) {
   return render_streamed(scene, spp, options, false);

@@ -291,6 +291,16 @@ Image render_zslab_cached(const Scene& scene, int spp, const RenderOptions& opti
     finish_stats();
     return *cache.image;
   }
+  if (zslab_in_packets(z, spp)) {  // one stage, nothing to keep but the image
+    auto image = std::make_shared<Image>(render_zslab_packets(z, options));
+    st.stages_run = 1;
+    st.recast_unchanged = cache.last_key == keys.own[0];
+    cache.last_key = keys.own[0];
+    cache.image = image;
+    cache.image_key = keys.image;
+    finish_stats();
+    return *image;
+  }
 
   const ZslabReuseInput input =
       reuse_input(z, keys, end, static_cast<size_t>(w) * h * spx, cache);

@@ -19,7 +19,7 @@ namespace imx {
 
 namespace {
 
-constexpr int kIsoBisections = 10;
+constexpr int kIsoBisections = kZslabIsoBisections;
 
 // How much transparent structure a volume shows: the share of its bricks the TF keeps, times
 // the transparency of its most opaque step. The volume scoring highest is cast last.

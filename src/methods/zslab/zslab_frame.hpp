@@ -19,6 +19,9 @@
 
 namespace imx {
 
+// Bisections that refine an iso crossing in the volume stages.
+inline constexpr int kZslabIsoBisections = 10;
+
 struct ZslabStage {
   enum class Kind : uint8_t { surfaces, volume };
   Kind kind = Kind::surfaces;
