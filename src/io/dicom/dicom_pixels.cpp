@@ -552,33 +552,47 @@ StoredRange reduce_to_bits_stored(Stored type, std::byte* bytes, size_t count, i
   }
 }
 
-// The first `bytes` bytes of the pixel data (where read_native finds it: pixel_bytes before the
-// end of the file as it is now), in pieces of `piece` bytes, each handed to `on_piece` (offset,
-// length) while it is still in the cache.
-template <class F>
-bool read_pixel_bytes(const DicomFileHeader& h, std::byte* dst, size_t bytes, size_t piece,
-                      F&& on_piece) {
-  const int fd = ::open(h.file.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return false;
-  struct stat st {};
-  bool ok = ::fstat(fd, &st) == 0 && st.st_size >= 0 &&
-            static_cast<uint64_t>(st.st_size) >= h.pixel_bytes;
-  const off_t at = ok ? static_cast<off_t>(static_cast<uint64_t>(st.st_size) - h.pixel_bytes) : 0;
-  for (size_t begin = 0; ok && begin < bytes; begin += piece) {
-    const size_t end = std::min(bytes, begin + piece);
-    for (size_t done = begin; ok && done < end;) {
-      const ssize_t n = ::pread(fd, dst + done, end - done, at + static_cast<off_t>(done));
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0)
-        ok = false;
-      else
-        done += static_cast<size_t>(n);
-    }
-    if (ok) on_piece(begin, end - begin);
+// A file's pixel data, where read_native finds it: pixel_bytes before the end of the file as it
+// is now.
+class PixelFile {
+ public:
+  explicit PixelFile(const DicomFileHeader& h) : fd_(::open(h.file.c_str(), O_RDONLY | O_CLOEXEC)) {
+    struct stat st {};
+    ok_ = fd_ >= 0 && ::fstat(fd_, &st) == 0 && st.st_size >= 0 &&
+          static_cast<uint64_t>(st.st_size) >= h.pixel_bytes;
+    if (ok_) at_ = static_cast<off_t>(static_cast<uint64_t>(st.st_size) - h.pixel_bytes);
   }
-  ::close(fd);
-  return ok;
-}
+  ~PixelFile() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  PixelFile(const PixelFile&) = delete;
+  PixelFile& operator=(const PixelFile&) = delete;
+
+  // Bytes [from, from + bytes) of the pixel data into dst, in pieces of `piece` bytes, each
+  // handed to `on_piece` (offset in dst, length) while it is still in the cache.
+  template <class F>
+  bool read(size_t from, std::byte* dst, size_t bytes, size_t piece, F&& on_piece) {
+    for (size_t begin = 0; ok_ && begin < bytes; begin += piece) {
+      const size_t end = std::min(bytes, begin + piece);
+      for (size_t done = begin; ok_ && done < end;) {
+        const ssize_t n =
+            ::pread(fd_, dst + done, end - done, at_ + static_cast<off_t>(from + done));
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0)
+          ok_ = false;
+        else
+          done += static_cast<size_t>(n);
+      }
+      if (ok_) on_piece(begin, end - begin);
+    }
+    return ok_;
+  }
+
+ private:
+  int fd_;
+  bool ok_ = false;
+  off_t at_ = 0;
+};
 
 // GE's reversed-polarity rows put back, as decode_dicom_frames does.
 void mirror_rows(const DicomFileHeader& h, std::byte* image, size_t row_bytes) {
@@ -612,49 +626,44 @@ bool read_stored_images(const DicomFileHeader& h, std::span<std::byte* const> im
   if (h.pixel_bytes < bytes) return false;
   const size_t image = static_cast<size_t>(h.rows) * h.columns;
   const size_t row_bytes = static_cast<size_t>(h.columns) * size;
-  // A single-frame file goes straight to its place; the others through this thread's buffer.
-  const bool in_place = h.mosaic_tiles == 0 && h.stored_frames == 1 && images.size() == 1;
-  if (in_place && images[0] == nullptr) return true;
-  std::byte* data = in_place ? images[0] : nullptr;
-  if (!in_place) {
-    std::vector<char>& buffer = scratch_buffer();
-    buffer.resize(bytes);
-    data = reinterpret_cast<std::byte*>(buffer.data());
-  }
-  if (in_place) {
-    // Each piece's range while the piece is in the cache: a second pass over the slice would
-    // fetch it from memory again.
+  PixelFile file(h);
+  if (h.mosaic_tiles == 0) {
+    // Each frame straight to its place, and its range taken piece by piece while the piece is
+    // in the cache (a second pass over the frame would fetch it from memory again).
     constexpr size_t kPiece = size_t{64} << 10;
-    StoredRange range{std::numeric_limits<int64_t>::max(), std::numeric_limits<int64_t>::min()};
-    if (!read_pixel_bytes(h, data, bytes, kPiece, [&](size_t at, size_t length) {
-          const StoredRange r =
-              reduce_to_bits_stored(*type, data + at, length / size, h.bits_stored, h.high_bit);
-          range = {std::min(range.lo, r.lo), std::max(range.hi, r.hi)};
-        }))
-      return false;
-    ranges[0] = range;
-    mirror_rows(h, data, row_bytes);
+    for (size_t i = 0; i < images.size(); ++i) {
+      std::byte* dst = images[i];
+      if (dst == nullptr) continue;
+      StoredRange range{std::numeric_limits<int64_t>::max(), std::numeric_limits<int64_t>::min()};
+      if (!file.read(i * image * size, dst, image * size, kPiece, [&](size_t at, size_t length) {
+            const StoredRange r =
+                reduce_to_bits_stored(*type, dst + at, length / size, h.bits_stored, h.high_bit);
+            range = {std::min(range.lo, r.lo), std::max(range.hi, r.hi)};
+          }))
+        return false;
+      ranges[i] = range;
+      mirror_rows(h, dst, row_bytes);
+    }
     return true;
   }
-  if (!read_pixel_bytes(h, data, bytes, bytes, [](size_t, size_t) {})) return false;
-  const int per_row = h.mosaic_tiles > 0 ? h.stored_columns / h.columns : 1;
+  // A mosaic through this thread's buffer, tile by tile.
+  std::vector<char>& buffer = scratch_buffer();
+  buffer.resize(bytes);
+  std::byte* data = reinterpret_cast<std::byte*>(buffer.data());
+  if (!file.read(0, data, bytes, bytes, [](size_t, size_t) {})) return false;
+  const int per_row = h.stored_columns / h.columns;
   for (size_t i = 0; i < images.size(); ++i) {
     std::byte* dst = images[i];
     if (dst == nullptr) continue;
-    if (h.mosaic_tiles > 0) {
-      const size_t x0 = static_cast<size_t>(static_cast<int>(i) % per_row) * h.columns;
-      const size_t y0 = static_cast<size_t>(static_cast<int>(i) / per_row) * h.rows;
-      for (int y = 0; y < h.rows; ++y)
-        std::memcpy(dst + static_cast<size_t>(y) * row_bytes,
-                    data + ((y0 + y) * h.stored_columns + x0) * size, row_bytes);
-    } else {
-      std::memcpy(dst, data + i * image * size, image * size);
-    }
+    const size_t x0 = static_cast<size_t>(static_cast<int>(i) % per_row) * h.columns;
+    const size_t y0 = static_cast<size_t>(static_cast<int>(i) / per_row) * h.rows;
+    for (int y = 0; y < h.rows; ++y)
+      std::memcpy(dst + static_cast<size_t>(y) * row_bytes,
+                  data + ((y0 + y) * h.stored_columns + x0) * size, row_bytes);
     ranges[i] = reduce_to_bits_stored(*type, dst, image, h.bits_stored, h.high_bit);
     mirror_rows(h, dst, row_bytes);
   }
-  std::vector<char>& buffer = scratch_buffer();
-  if (buffer.capacity() > (size_t{64} << 20)) std::vector<char>().swap(buffer);
+  if (buffer.capacity() > (size_t{64} << 20)) std::vector<char>().swap(buffer);  // keep small ones
   return true;
 }
 

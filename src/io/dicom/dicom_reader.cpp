@@ -181,11 +181,17 @@ bool read_stored_volumes(const std::vector<const DicomFileHeader*>& needed,
       return false;
   const size_t plane = static_cast<size_t>(first.rows) * first.columns;
   const size_t bytes = plane * stored_size(*type);
+  // One buffer for every volume (a 4-D series of small volumes in huge pages too), not zeroed:
+  // every slice is read over whole.
+  size_t slices = 0;
+  for (const AcquiredSeries& a : out) slices += a.stack.frames.size();
+  const std::shared_ptr<std::byte[]> all = voxel_memory(bytes * slices);
+  size_t at = 0;
   for (AcquiredSeries& a : out) {
     a.stored.type = *type;
     a.stored.ranges.assign(a.stack.frames.size(), StoredRange{});
-    // Not zeroed: every slice is read over whole.
-    a.stored.bytes = voxel_memory(bytes * a.stack.frames.size());
+    a.stored.bytes = std::shared_ptr<std::byte[]>(all, all.get() + at);
+    at += bytes * a.stack.frames.size();
   }
   std::atomic<bool> all_read{true};
   tbb::parallel_for(size_t{0}, needed.size(), [&](size_t i) {
