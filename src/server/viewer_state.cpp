@@ -22,6 +22,7 @@
 #include "scene/overrides.hpp"
 #include "scene/scene_parsers.hpp"
 #include "scene/strict_json.hpp"
+#include "scene/world_space.hpp"
 #include "server/label_list.hpp"
 #include "volume/value_sample.hpp"
 
@@ -197,6 +198,19 @@ void compose_move(Json& current, const CameraPose& from, const CameraPose& to) {
   current["up"] = vec_json(axes[1]);
 }
 
+// Whether the document gives its points in RAS ("space": "RAS"): edits, which come in LPS as
+// the page sees the scene, are written back in the document's own space.
+bool document_in_ras(const ViewerState& state) {
+  const Json& d = state.document.json();
+  return d.contains("space") && d["space"] == "RAS";
+}
+
+// Negates x and y of a [x, y, z] in place (RAS <-> LPS), when `ras`.
+void flip_if_ras(Json& v, bool ras) {
+  if (ras && v.is_array() && v.size() == 3)
+    v = vec_json(scene_json::to_lps(vec3_of(v), MeshSpace::ras));
+}
+
 bool apply_camera(ViewerState& state, const Json& message) {
   const JsonReader r(message, "camera");
   r.check_keys({"type", "seq", "moving", "eye", "target", "up", "fov_deg", "from"});
@@ -223,13 +237,16 @@ bool apply_camera(ViewerState& state, const Json& message) {
                from->json()["fov_deg"] == message["fov_deg"];
   }
   const Camera before = state.scene().camera;
+  const bool ras = document_in_ras(state);
   state.document.edit([&](Json& document) {
     Json& camera = document["camera"];  // load_viewer_state wrote one out
+    for (const char* key : {"eye", "target", "up"}) flip_if_ras(camera[key], ras);  // to LPS
     if (move)
       compose_move(camera, move->first, move->second);
     else
       for (const char* key : {"eye", "target", "up"})
         if (message.contains(key)) camera[key] = message[key];
+    for (const char* key : {"eye", "target", "up"}) flip_if_ras(camera[key], ras);  // back
     if (message.contains("fov_deg") && !keep_fov) camera["fov_deg"] = message["fov_deg"];
   });
   return !same_camera(before, state.scene().camera);
@@ -293,6 +310,8 @@ Json edited_object(const ViewerState& state, const JsonReader& r, size_t k, bool
     if (auto v = r.find("clip_planes")) {
       parse_edit_clip_planes(*v);
       object["clip_planes"] = v->json();
+      for (Json& plane : object["clip_planes"])
+        for (const char* key : {"point", "normal"}) flip_if_ras(plane[key], document_in_ras(state));
     }
     if (auto v = r.find("labels")) {
       if (!volume.labels) v->fail(fmt::format("'{}' is not a label volume", volume.name));
@@ -326,6 +345,7 @@ Json edited_object(const ViewerState& state, const JsonReader& r, size_t k, bool
     if (auto v = r.find("center")) {
       v->vec3(Range::coordinate());
       object["center"] = v->json();
+      flip_if_ras(object["center"], document_in_ras(state));
     }
     if (auto v = r.find("window")) {
       const glm::dvec2 w = v->vec2();
