@@ -15,6 +15,9 @@
 #include <fmt/ranges.h>
 #include <pybind11/stl.h>
 
+#include "annotate/colour_bar.hpp"
+#include "annotate/scene_colour_bars.hpp"
+
 #include "arguments.hpp"
 #include "core/parallel.hpp"
 #include "intermix/error.hpp"
@@ -118,6 +121,8 @@ Image render_image(const Scene& scene, const RenderRequest& request, PyRenderer*
         ++renderer->frames;
       },
       cancel);
+  // As `intermix render --colorbar`: one bar per visible colour-mapped object, after the render.
+  if (request.colorbar) draw_colour_bars(image, scene_colour_bars(frame));
   return image;
 }
 

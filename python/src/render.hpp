@@ -16,6 +16,7 @@ struct RenderRequest {
   std::optional<std::string> method;
   std::optional<int> width, height, spp, threads;
   std::string function = "render";  // names the call in errors: "Scene.render"
+  bool colorbar = false;            // draw the scene's colour bars into the image
 };
 
 // A render call's arguments, checked (TypeError, ValueError naming `function` and the

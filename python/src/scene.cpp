@@ -417,9 +417,10 @@ center, normal, up, size, volume, window, colormap, color, opacity.
           [](const PyScene& s, const OptionalTextParameter& method,
              const OptionalIntParameter& width, const OptionalIntParameter& height,
              const OptionalIntParameter& spp, const OptionalIntParameter& threads,
-             const OptionalTextParameter& view_argument) {
-            const RenderRequest request =
+             const OptionalTextParameter& view_argument, const FlagParameter& colorbar) {
+            RenderRequest request =
                 render_request("Scene.render", method, width, height, spp, threads);
+            request.colorbar = flag(colorbar, {"Scene.render", "colorbar"});
             const std::optional<std::string> view =
                 optional_text(view_argument, {"Scene.render", "view"});
             if (!view) return render_scene(s.scene(), request, nullptr);
@@ -435,13 +436,16 @@ center, normal, up, size, volume, window, colormap, color, opacity.
           py::arg("method") = py::none(), py::arg("width") = py::none(),
           py::arg("height") = py::none(), py::arg("spp") = py::none(),
           py::arg("threads") = py::none(), py::arg("view") = py::none(),
+          py::arg("colorbar") = false,
           R"doc(Renders one frame and returns it as an intermix.Image: an (H, W, 4) float32 numpy array of
 premultiplied linear RGBA over the scene's background (image.to_uint8() gives the sRGB display
 image, as `intermix render` writes it). `method` defaults to the scene's render.method, else "auto" (the fastest method
 within reach of the best image for the scene's content; intermix.available_methods()), `width`/`height` to the scene's image size, `spp` (a perfect
 square) to the scene's render.spp, else the method's default, and `threads` to all cores.
 `view` ("left", "anterior", ...: see set_view) renders with a camera framing the objects from
-that direction, leaving the scene's own camera as it is.
+that direction, leaving the scene's own camera as it is. `colorbar=True` draws a colour bar
+for each visible colour-mapped object into the image, as `intermix render --colorbar` does
+(FreeType and a DejaVu font; $IMX_FONT names another).
 
 The GIL is released while rendering (other Python threads run, and may render too), and Ctrl-C
 cancels the render with KeyboardInterrupt. Raises ValueError for bad arguments and RuntimeError

@@ -132,3 +132,26 @@ def test_glass_brain_is_a_mip_of_the_magnitude_on_white(tmp_path):
     assert np.abs(image - by_hand).max() < 1e-5
     assert image[0, 0, :3].min() > 0.99, "white where the map is below the threshold"
     assert (image[..., 2] < 0.5).sum() > 5, "hot colours where it is above"
+
+
+def test_colorbar_draws_what_the_cli_draws(tmp_path, cli):
+    # A colour-mapped phantom: the image with colorbar=True is the one `render --colorbar` writes,
+    # and without it the bars' side is the plain render.
+    doc = {"camera": {"eye": [0, -500, 0], "target": [0, 0, 0], "up": [0, 0, 1]},
+           "image": {"width": 160, "height": 96},
+           "objects": [{"name": "pet", "type": "volume", "units": "SUV",
+                        "source": {"phantom": "pet", "size": 32},
+                        "transfer_function": {"colormap": "hot", "range": [0.5, 4]}}]}
+    path = tmp_path / "pet.json"
+    path.write_text(__import__("json").dumps(doc))
+    scene = intermix.Scene.from_file(str(path))
+    with_bars = scene.render(method="mdvr", colorbar=True)
+    plain = scene.render(method="mdvr")
+    out = tmp_path / "cli.png"
+    import subprocess
+    subprocess.run([cli, "-q", "render", str(path), "-o", str(out), "--method", "mdvr",
+                    "--colorbar"], check=True)
+    assert np.array_equal(intermix.read_png(str(out)).to_uint8(), with_bars.to_uint8())
+    assert not np.array_equal(with_bars, plain)
+    with pytest.raises(TypeError, match="colorbar"):
+        scene.render(colorbar="yes")
