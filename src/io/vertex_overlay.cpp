@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <limits>
 
 #include <fmt/format.h>
@@ -47,6 +49,21 @@ VertexOverlay gifti_overlay(const std::filesystem::path& file, int array) {
 }
 
 }  // namespace
+
+bool is_overlay_file(const std::filesystem::path& file) {
+  const std::string ext = lower(file.extension().string());
+  if (ext == ".annot" || ext == ".label") return true;
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return false;
+  if (ext == ".gii") {
+    // GIfTI is XML: a surface names NIFTI_INTENT_POINTSET; func, shape and label files do not.
+    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    return text.find("NIFTI_INTENT_POINTSET") == std::string::npos;
+  }
+  std::string head(3, '\0');
+  in.read(head.data(), 3);
+  return in.gcount() == 3 && is_freesurfer_curv(head);
+}
 
 VertexOverlay read_vertex_overlay(const std::filesystem::path& file, int array) {
   const std::string ext = lower(file.extension().string());

@@ -35,6 +35,11 @@ struct VertexOverlay {
 // thickness, sulc, area, ...), .annot, .label. Throws imx::Error naming the file and the fault.
 VertexOverlay read_vertex_overlay(const std::filesystem::path& file, int array = -1);
 
+// Whether `file` holds per-vertex values rather than a surface: .annot or .label, FreeSurfer
+// curvature (its magic), or a GIfTI file without a NIFTI_INTENT_POINTSET array. Reads at most
+// the file's first bytes for the magic and scans a GIfTI file's text once.
+bool is_overlay_file(const std::filesystem::path& file);
+
 // The overlay's value at each of `vertex_count` vertices (a .label's members expanded): throws
 // imx::Error "WHAT: the overlay has N values, the mesh M vertices" when the counts differ, or a
 // .label names a vertex the mesh lacks.

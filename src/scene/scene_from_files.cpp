@@ -2,6 +2,12 @@
 
 #include "scene/automatic_look.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "io/vertex_overlay.hpp"
+
 #include <set>
 #include <system_error>
 
@@ -70,6 +76,38 @@ void mark_label_maps(SceneDocument& read) {
   });
 }
 
+// An overlay file's colouring: a label overlay its own table; signed values (curvature, sulcal
+// depth, a statistic) cold-hot both ways over the 98th percentile of their magnitude; others
+// (thickness) viridis over their 2nd to 98th percentile.
+Json automatic_overlay(const std::filesystem::path& file) {
+  Json overlay = {{"file", file.string()}};
+  const detail::VertexOverlay read = detail::read_vertex_overlay(file);
+  if (read.labels) return overlay;
+  std::vector<double> values;
+  for (double v : read.values)
+    if (std::isfinite(v)) values.push_back(v);
+  if (values.empty()) return overlay;  // the loader names what is missing
+  auto quantile = [](std::vector<double> v, double q) {
+    const auto at = v.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
+    std::nth_element(v.begin(), at, v.end());
+    return *at;
+  };
+  const double lo = quantile(values, 0.02), hi = quantile(values, 0.98);
+  if (lo < 0.0 && hi > 0.0) {
+    std::vector<double> magnitude(values.size());
+    std::transform(values.begin(), values.end(), magnitude.begin(),
+                   [](double v) { return std::abs(v); });
+    const double top = std::max(quantile(magnitude, 0.98), 1e-12);
+    overlay["colormap"] = "cold-hot";
+    overlay["range"] = {0.0, top};
+    overlay["symmetric"] = true;
+  } else {
+    overlay["colormap"] = "viridis";
+    overlay["range"] = {lo, hi > lo ? hi : lo + 1.0};
+  }
+  return overlay;
+}
+
 }  // namespace
 
 const std::vector<glm::vec3>& mesh_palette() {
@@ -86,16 +124,32 @@ SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
   Json objects = Json::array();
   std::set<std::string> taken;
   size_t meshes = 0;
+  std::optional<size_t> last_mesh;  // an overlay file colours the mesh before it
   for (const std::filesystem::path& file : files) {
     std::error_code ec;
     if (!std::filesystem::exists(file, ec))
       throw FileError(fmt::format("{}: no such file or folder", file.string()), ENOENT);
     const std::filesystem::path absolute = std::filesystem::absolute(file, ec).lexically_normal();
+    if (!is_dicom_source(file) && !is_volume_file(file) && detail::is_overlay_file(file)) {
+      if (!last_mesh)
+        throw Error(
+            fmt::format("{}: an overlay file colours the mesh given before it; name the "
+                        "surface (lh.pial, a .gii surface, ...) first",
+                        file.string()));
+      Json& mesh = objects[*last_mesh];
+      if (mesh.contains("overlay"))
+        throw Error(fmt::format("{}: the mesh '{}' has an overlay already ({}); one per mesh",
+                                file.string(), mesh["name"].get<std::string>(),
+                                mesh["overlay"]["file"].get<std::string>()));
+      mesh["overlay"] = automatic_overlay(absolute);
+      continue;
+    }
     Json object = {{"name", object_name(file, taken)}};
     if (is_dicom_source(file) || is_volume_file(file)) {
       object["type"] = "volume";
       object["source"] = {{"file", absolute.string()}};
     } else if (is_mesh_file(file)) {
+      last_mesh = objects.size();
       object["type"] = "mesh";
       object["source"] = {{"file", absolute.string()}};
       object["material"] = {

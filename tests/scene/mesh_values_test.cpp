@@ -19,6 +19,7 @@
 #include "expect_error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/scene.hpp"
+#include "scene/scene_from_files.hpp"
 #include "temp_dir.hpp"
 
 namespace imx {
@@ -273,6 +274,40 @@ TEST(MeshValues, CurvatureOverlayThroughATransferFunctionWithThreshold) {
   }
   EXPECT_GT(below, 0);
   EXPECT_EQ(scene.meshes[0].material.color, glm::vec3(0.5f));
+}
+
+TEST(MeshValues, AnOverlayFileAfterItsSurfaceColoursItInASceneFromFiles) {
+  test::TempDir dir;
+  write_surface(dir / "lh.pial", 12, 16);
+  const size_t n = read_mesh_file(dir / "lh.pial").info.file_vertices;
+  std::vector<float> curv(n), thickness(n);
+  for (size_t i = 0; i < n; ++i) {
+    curv[i] = static_cast<float>(i % 2 ? 0.3 : -0.2) * static_cast<float>(i % 7);
+    thickness[i] = 1.0f + static_cast<float>(i % 50) / 20.0f;
+  }
+  write_curv(dir / "lh.curv", curv);
+  write_curv(dir / "lh.thickness", thickness);
+  // Signed values: cold-hot both ways; positive ones: viridis over the robust range.
+  SceneDocument doc = scene_from_files({dir / "lh.pial", dir / "lh.curv"}, "left", {});
+  const json& overlay = doc.json()["objects"][0]["overlay"];
+  EXPECT_EQ(overlay["colormap"], "cold-hot");
+  EXPECT_EQ(overlay["symmetric"], true);
+  EXPECT_EQ(doc.json()["objects"].size(), 1u);  // the overlay is no object of its own
+  EXPECT_FALSE(doc.scene().meshes[0].mesh->colors.empty());
+  doc = scene_from_files({dir / "lh.pial", dir / "lh.thickness"}, "left", {});
+  EXPECT_EQ(doc.json()["objects"][0]["overlay"]["colormap"], "viridis");
+  const double lo = doc.json()["objects"][0]["overlay"]["range"][0];
+  EXPECT_GE(lo, 1.0);
+  // An overlay needs its surface before it; a second one for the same surface is refused.
+  EXPECT_NE(test::error_of([&] {
+              scene_from_files({dir / "lh.curv"}, "left", {});
+            }).find("colours the mesh given before it"),
+            std::string::npos);
+  EXPECT_NE(
+      test::error_of([&] {
+        scene_from_files({dir / "lh.pial", dir / "lh.curv", dir / "lh.thickness"}, "left", {});
+      }).find("has an overlay already"),
+      std::string::npos);
 }
 
 TEST(MeshValues, OverlayWithAnotherVertexCountIsRefusedInOneLine) {
