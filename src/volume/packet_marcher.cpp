@@ -6,6 +6,7 @@
 #include <optional>
 #include <type_traits>
 
+#include "volume/label_classifier.hpp"
 #include "volume/lane_bricks.hpp"
 #include "volume/lane_grid.hpp"
 #include "volume/lane_kernel.hpp"
@@ -96,6 +97,138 @@ class LaneGradients {
   __m256 scale_;
 };
 
+// The labels of the eight voxels around points in lanes (c000, c100, c010, c110, c001, c101,
+// c011, c111, as label_of() reads them), with LaneGrid's clamp and gathers: 8- and 16-bit
+// voxels as 32-bit words holding the x-neighbours together.
+template <class T>
+class LaneLabelCells {
+ public:
+  explicit LaneLabelCells(const VoxelGrid<T>& g)
+      : data_(g.data),
+        lattice_(g.dims),
+        last_word_(splat(g.dims.x * g.dims.y * g.dims.z - 4)),
+        hi2_x_(splat(static_cast<float>(g.dims.x - 2))),
+        hi2_y_(splat(static_cast<float>(g.dims.y - 2))),
+        hi2_z_(splat(static_cast<float>(g.dims.z - 2))),
+        safe_(splat(1 + g.dims.x + g.dims.x * g.dims.y)) {}
+
+  void cell(__m256 px, __m256 py, __m256 pz, __m256i c[8], __m256& fx, __m256& fy,
+            __m256& fz) const {
+    const __m256i base = lattice_.locate(px, py, pz, fx, fy, fz);
+    const __m256i sy = lattice_.sy(), sz = lattice_.sz();
+    const __m256i o01 = _mm256_add_epi32(base, sy), o10 = _mm256_add_epi32(base, sz);
+    const __m256i offs[4] = {base, o01, o10, _mm256_add_epi32(o01, sz)};
+    if constexpr (std::is_same_v<T, float>) {
+      for (int k = 0; k < 4; ++k) {
+        c[2 * k] = _mm256_cvttps_epi32(_mm256_i32gather_ps(data_, offs[k], 4));
+        c[2 * k + 1] =
+            _mm256_cvttps_epi32(_mm256_i32gather_ps(data_, _mm256_add_epi32(offs[k], splat(1)), 4));
+      }
+    } else if constexpr (sizeof(T) == 1) {
+      const int* words = reinterpret_cast<const int*>(data_);
+      for (int k = 0; k < 4; ++k) {
+        // Only the last pair can lie within the last 3 bytes (as LaneGrid).
+        const __m256i at = k == 3 ? _mm256_min_epi32(offs[k], last_word_) : offs[k];
+        const __m256i shift = _mm256_slli_epi32(_mm256_sub_epi32(offs[k], at), 3);
+        const __m256i w = _mm256_srlv_epi32(_mm256_i32gather_epi32(words, at, 1), shift);
+        c[2 * k] = _mm256_and_si256(w, splat(0xff));
+        c[2 * k + 1] = _mm256_and_si256(_mm256_srli_epi32(w, 8), splat(0xff));
+      }
+    } else {
+      const int* words = reinterpret_cast<const int*>(data_);
+      for (int k = 0; k < 4; ++k) {
+        const __m256i w = _mm256_i32gather_epi32(words, offs[k], 2);
+        if constexpr (std::is_signed_v<T>) {
+          c[2 * k] = _mm256_srai_epi32(_mm256_slli_epi32(w, 16), 16);
+          c[2 * k + 1] = _mm256_srai_epi32(w, 16);
+        } else {
+          c[2 * k] = _mm256_and_si256(w, splat(0xffff));
+          c[2 * k + 1] = _mm256_srli_epi32(w, 16);
+        }
+      }
+    }
+  }
+
+  // label_gradient in lanes for 8-bit labels where every lane of `vis` lies at least a voxel
+  // inside the grid (p in [1, dims - 2) on every axis), so that no fetch is clamped: the six
+  // indicator cells around p read 12 rows of four x-neighbours (x0 - 1 .. x0 + 2), one 32-bit
+  // gather each, instead of 24 gathers. False (nothing computed) elsewhere or for other types.
+  bool interior_gradient(__m256 vis, __m256 px, __m256 py, __m256 pz, __m256i label, __m256& gx,
+                         __m256& gy, __m256& gz) const {
+    if constexpr (sizeof(T) != 1) {
+      (void)vis, (void)px, (void)py, (void)pz, (void)label, (void)gx, (void)gy, (void)gz;
+      return false;
+    } else {
+      const __m256 one = splat(1.0f);
+      const __m256 inside = _mm256_and_ps(
+          _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(px, one, _CMP_GE_OQ),
+                                      _mm256_cmp_ps(px, hi2_x_, _CMP_LT_OQ)),
+                        _mm256_and_ps(_mm256_cmp_ps(py, one, _CMP_GE_OQ),
+                                      _mm256_cmp_ps(py, hi2_y_, _CMP_LT_OQ))),
+          _mm256_and_ps(_mm256_cmp_ps(pz, one, _CMP_GE_OQ), _mm256_cmp_ps(pz, hi2_z_, _CMP_LT_OQ)));
+      const int v = _mm256_movemask_ps(vis);
+      if ((_mm256_movemask_ps(inside) & v) != v) return false;
+      __m256 fx, fy, fz;
+      __m256i base = lattice_.locate(px, py, pz, fx, fy, fz);
+      // Lanes not shaded read a safe interior row instead.
+      base = _mm256_blendv_epi8(safe_, base, _mm256_castps_si256(inside));
+      const __m256i at = _mm256_sub_epi32(base, splat(1));
+      const __m256i sy = lattice_.sy(), sz = lattice_.sz();
+      const int* words = reinterpret_cast<const int*>(data_);
+      // The label in every byte: a byte compare then flags the voxels that hold it.
+      const __m256i pattern = _mm256_mullo_epi32(label, splat(0x01010101));
+      auto row = [&](int dy, int dz) {
+        const __m256i o = _mm256_add_epi32(at, _mm256_add_epi32(_mm256_mullo_epi32(sy, splat(dy)),
+                                                                _mm256_mullo_epi32(sz, splat(dz))));
+        return _mm256_cmpeq_epi8(_mm256_i32gather_epi32(words, o, 1), pattern);
+      };
+      // Voxel x0 - 1 + k of a row as 0 or 1.
+      auto is = [](__m256i eq, int k) {
+        return _mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(eq, 8 * k), splat(1)));
+      };
+      // The indicator of a cell from its four rows (y, z order) and its first x byte.
+      auto cell = [&](__m256i r00, __m256i r10, __m256i r01, __m256i r11, int k) {
+        const __m256 c00 = lerp(is(r00, k), is(r00, k + 1), fx);
+        const __m256 c10 = lerp(is(r10, k), is(r10, k + 1), fx);
+        const __m256 c01 = lerp(is(r01, k), is(r01, k + 1), fx);
+        const __m256 c11 = lerp(is(r11, k), is(r11, k + 1), fx);
+        return lerp(lerp(c00, c10, fy), lerp(c01, c11, fy), fz);
+      };
+      const __m256i r00 = row(0, 0), r10 = row(1, 0), r01 = row(0, 1), r11 = row(1, 1);
+      const __m256i ym0 = row(-1, 0), ym1 = row(-1, 1), yp0 = row(2, 0), yp1 = row(2, 1);
+      const __m256i zm0 = row(0, -1), zm1 = row(1, -1), zp0 = row(0, 2), zp1 = row(1, 2);
+      const __m256 half = splat(0.5f);
+      gx = _mm256_mul_ps(half,
+                         _mm256_sub_ps(cell(r00, r10, r01, r11, 2), cell(r00, r10, r01, r11, 0)));
+      gy = _mm256_mul_ps(half,
+                         _mm256_sub_ps(cell(r10, yp0, r11, yp1, 1), cell(ym0, r00, ym1, r01, 1)));
+      gz = _mm256_mul_ps(half,
+                         _mm256_sub_ps(cell(r01, r11, zp0, zp1, 1), cell(zm0, zm1, r00, r10, 1)));
+      return true;
+    }
+  }
+
+  // label_indicator in lanes: the trilinear interpolation of (voxel == label).
+  __m256 indicator(__m256 px, __m256 py, __m256 pz, __m256i label) const {
+    __m256i c[8];
+    __m256 fx, fy, fz;
+    cell(px, py, pz, c, fx, fy, fz);
+    __m256 is[8];
+    for (int k = 0; k < 8; ++k)
+      is[k] = _mm256_and_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(c[k], label)), splat(1.0f));
+    const __m256 c00 = lerp(is[0], is[1], fx), c10 = lerp(is[2], is[3], fx);
+    const __m256 c01 = lerp(is[4], is[5], fx), c11 = lerp(is[6], is[7], fx);
+    return lerp(lerp(c00, c10, fy), lerp(c01, c11, fy), fz);
+  }
+
+ private:
+  const T* data_;
+  LaneLattice lattice_;
+  __m256i last_word_;             // the last voxel a 32-bit word may start at (8-bit voxels)
+  __m256 hi2_x_, hi2_y_, hi2_z_;  // dims - 2: interior_gradient's bound
+  __m256i safe_;                  // voxel (1, 1, 1)
+};
+
 // The per-lane state, structure of arrays so that a step loads whole vectors.
 struct alignas(32) Lanes {
   float ox[kLanes], oy[kLanes], oz[kLanes];  // the ray in index space, same parameter t
@@ -105,6 +238,7 @@ struct alignas(32) Lanes {
   float next_cell[kLanes];  // k + 1 for the grid cell [k, k + 1) * step holding `front`
   float s_front[kLanes];    // the scalar at `front`, valid where have_front is set
   int32_t have_front[kLanes];
+  int32_t label_front[kLanes];   // label volumes: the winning label at `front`
   float occupied_until[kLanes];  // the lane is in an occupied brick up to here
   float r[kLanes], g[kLanes], b[kLanes], a[kLanes];
   float ex[kLanes], ey[kLanes], ez[kLanes];  // toward the eye, world space
@@ -123,16 +257,21 @@ class PacketKernel {
                std::span<glm::vec4> out, SlabExtent extent)
       : v_(v),
         grid_(grid),
+        voxels_(grid),
+        cells_(grid),
         rays_(rays),
         out_(out),
         lights_(lights),
         step_(step),
         ert_(ert),
-        preint_(v.accel.preint->view()) {
+        preint_(v.accel.preint ? v.accel.preint->view() : PreintegrationView()) {
     if (v.accel.gradients) gradients_.emplace(*v.accel.gradients);
     const Shading& s = v.object->shading;
     shaded_ = s.enabled;
     centre_ = extent == SlabExtent::visible && preint_.moments;
+    labels_ = v.labels.active();
+    nearest_ = v.labels.nearest();
+    for (int k = 0; k < kAlphaCache; ++k) cached_label_[k] = k + 1;  // no label maps to slot k
     light_count_ = static_cast<int>(lights.size());
     if (v.accel.emptiness) use_runs_ = v.accel.emptiness->value_runs(run_lo_, run_hi_);
     if (v.accel.occupancy) bricks_.emplace(*v.accel.occupancy, v.accel.skip);
@@ -147,7 +286,7 @@ class PacketKernel {
       look_delay_ = 0;
       if (!live) return;
       while (live) {
-        const unsigned lit = step(live);
+        const unsigned lit = labels_ ? step_labels(live) : step(live);
         const __m256 active = lane_mask(live);
         __m256 ended = _mm256_or_ps(
             _mm256_cmp_ps(_mm256_load_ps(L_.front), _mm256_load_ps(L_.t1), _CMP_NLT_UQ),
@@ -370,6 +509,174 @@ class PacketKernel {
     return static_cast<unsigned>(_mm256_movemask_ps(vis));
   }
 
+  // One piece of a label volume in every live lane, as VolumeMarcher::next_label_in_piece:
+  // the winners at the grid points; a piece whose ends agree is one slab of that label, shaded
+  // in lanes at its midpoint by the label's indicator gradient; one whose ends differ splits at
+  // the bisected boundary, per lane (rare: boundaries only). Returns the lanes with a visible
+  // slab.
+  unsigned step_labels(unsigned live) {
+    const __m256 active = lane_mask(live);
+    const __m256 ox = _mm256_load_ps(L_.ox), oy = _mm256_load_ps(L_.oy), oz = _mm256_load_ps(L_.oz);
+    const __m256 dx = _mm256_load_ps(L_.dx), dy = _mm256_load_ps(L_.dy), dz = _mm256_load_ps(L_.dz);
+    const __m256 front = _mm256_load_ps(L_.front), next_cell = _mm256_load_ps(L_.next_cell);
+    const __m256 back =
+        _mm256_min_ps(_mm256_load_ps(L_.t1), _mm256_mul_ps(next_cell, splat(step_)));
+    const __m256i l_b = winners(_mm256_fmadd_ps(back, dx, ox), _mm256_fmadd_ps(back, dy, oy),
+                                _mm256_fmadd_ps(back, dz, oz), live);
+    __m256i l_f = _mm256_load_si256(reinterpret_cast<const __m256i*>(L_.label_front));
+    const __m256 need_front = _mm256_andnot_ps(
+        _mm256_castsi256_ps(_mm256_load_si256(reinterpret_cast<const __m256i*>(L_.have_front))),
+        active);
+    if (const unsigned need = static_cast<unsigned>(_mm256_movemask_ps(need_front)))
+      l_f =
+          _mm256_blendv_epi8(l_f,
+                             winners(_mm256_fmadd_ps(front, dx, ox), _mm256_fmadd_ps(front, dy, oy),
+                                     _mm256_fmadd_ps(front, dz, oz), need),
+                             _mm256_castps_si256(need_front));
+    const __m256 len = _mm256_sub_ps(back, front);
+    _mm256_store_ps(L_.front, back);
+    _mm256_store_ps(L_.next_cell, _mm256_add_ps(next_cell, splat(1.0f)));
+    _mm256_store_si256(reinterpret_cast<__m256i*>(L_.label_front), l_b);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(L_.have_front), splat(-1));
+
+    alignas(32) int32_t lf[kLanes], lb[kLanes];
+    alignas(32) float fr[kLanes], bk[kLanes], ln[kLanes];
+    alignas(32) float cr[kLanes] = {}, cg[kLanes] = {}, cb[kLanes] = {}, ca[kLanes] = {};
+    _mm256_store_si256(reinterpret_cast<__m256i*>(lf), l_f);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(lb), l_b);
+    _mm256_store_ps(fr, front), _mm256_store_ps(bk, back), _mm256_store_ps(ln, len);
+    unsigned lit = 0, whole = 0;
+    const float unit = v_.labels.unit_distance();
+    for (unsigned m = live; m; m &= m - 1) {
+      const int l = __builtin_ctz(m);
+      if (lf[l] != lb[l]) {
+        if (split(l, lf[l], lb[l], fr[l], bk[l])) lit |= 1u << l;
+        continue;
+      }
+      const int k = cached(lb[l]);
+      const glm::vec4& look = cached_look_[k];
+      if (look.a <= 0.0f || !(ln[l] > 0.0f)) continue;
+      const float a =
+          ln[l] >= 0.9999f * step_ ? cached_alpha_[k] : correct_opacity(look.a, ln[l], unit);
+      if (!(a > 0.0f)) continue;
+      cr[l] = look.r * a, cg[l] = look.g * a, cb[l] = look.b * a, ca[l] = a;
+      whole |= 1u << l;
+    }
+    if (!whole) return lit;
+    const __m256 vis = lane_mask(whole);
+    __m256 r = _mm256_load_ps(cr), g = _mm256_load_ps(cg), b = _mm256_load_ps(cb),
+           a = _mm256_load_ps(ca);
+    if (shaded_) {
+      const __m256 t_mid = _mm256_fmadd_ps(splat(0.5f), len, front);
+      const __m256 px = _mm256_fmadd_ps(t_mid, dx, ox), py = _mm256_fmadd_ps(t_mid, dy, oy),
+                   pz = _mm256_fmadd_ps(t_mid, dz, oz);
+      // label_gradient in lanes: central differences of the label's indicator.
+      __m256 gx, gy, gz;
+      if (!cells_.interior_gradient(vis, px, py, pz, l_b, gx, gy, gz)) {
+        const __m256 one = splat(1.0f), half = splat(0.5f);
+        gx = _mm256_mul_ps(half,
+                           _mm256_sub_ps(cells_.indicator(_mm256_add_ps(px, one), py, pz, l_b),
+                                         cells_.indicator(_mm256_sub_ps(px, one), py, pz, l_b)));
+        gy = _mm256_mul_ps(half,
+                           _mm256_sub_ps(cells_.indicator(px, _mm256_add_ps(py, one), pz, l_b),
+                                         cells_.indicator(px, _mm256_sub_ps(py, one), pz, l_b)));
+        gz = _mm256_mul_ps(half,
+                           _mm256_sub_ps(cells_.indicator(px, py, _mm256_add_ps(pz, one), l_b),
+                                         cells_.indicator(px, py, _mm256_sub_ps(pz, one), l_b)));
+      }
+      shade_gradient(vis, gx, gy, gz, r, g, b, a);
+    }
+    composite(vis, r, g, b, a);
+    return lit | whole;
+  }
+
+  // winning_label at the lanes' points, for the lanes in m: the common label where all eight
+  // voxels around a point agree (most points), else the scalar classifier.
+  __m256i winners(__m256 px, __m256 py, __m256 pz, unsigned m) const {
+    alignas(32) int32_t out[kLanes] = {};
+    unsigned mixed = m;
+    if (!nearest_) {
+      __m256i c[8];
+      __m256 fx, fy, fz;
+      cells_.cell(px, py, pz, c, fx, fy, fz);
+      __m256i same = _mm256_cmpeq_epi32(c[1], c[0]);
+      for (int k = 2; k < 8; ++k) same = _mm256_and_si256(same, _mm256_cmpeq_epi32(c[k], c[0]));
+      mixed &= ~static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(same)));
+      if (!mixed) return c[0];
+      _mm256_store_si256(reinterpret_cast<__m256i*>(out), c[0]);
+    }
+    alignas(32) float x[kLanes], y[kLanes], z[kLanes];
+    _mm256_store_ps(x, px), _mm256_store_ps(y, py), _mm256_store_ps(z, pz);
+    for (; mixed; mixed &= mixed - 1) {
+      const int l = __builtin_ctz(mixed);
+      out[l] = winning_label(voxels_, glm::vec3(x[l], y[l], z[l]), nearest_);
+    }
+    return _mm256_load_si256(reinterpret_cast<const __m256i*>(out));
+  }
+
+  // The slot of a small cache that holds the label's look and the opacity of a whole step of
+  // it (a segmentation shows a few labels, each costing one look-up and one pow per batch).
+  int cached(int32_t label) {
+    const int k = label & (kAlphaCache - 1);
+    if (cached_label_[k] != label) {
+      cached_label_[k] = label;
+      cached_look_[k] = v_.labels.look(label);
+      cached_alpha_[k] = correct_opacity(cached_look_[k].a, step_, v_.labels.unit_distance());
+    }
+    return k;
+  }
+  static constexpr int kAlphaCache = 64;
+
+  // A piece of lane l whose ends' labels differ: split at the bisected boundary into a slab of
+  // each label, composited in order while the lane is below ERT (VolumeMarcher's pending
+  // slab). Returns whether either showed.
+  bool split(int l, int32_t l_f, int32_t l_b, float front, float back) {
+    const glm::vec3 o(L_.ox[l], L_.oy[l], L_.oz[l]), d(L_.dx[l], L_.dy[l], L_.dz[l]);
+    double lo = front, hi = back;
+    for (int i = 0; i < VolumeMarcher::kLabelBisections; ++i) {
+      const double m = 0.5 * (lo + hi);
+      (winning_label(voxels_, o + static_cast<float>(m) * d, nearest_) == l_f ? lo : hi) = m;
+    }
+    const double cut = 0.5 * (lo + hi);
+    glm::vec4 acc(L_.r[l], L_.g[l], L_.b[l], L_.a[l]);
+    const glm::vec4 first = label_slab(l, l_f, front, cut);
+    bool shown = false;
+    if (first.a > 0.0f) acc = over(acc, first), shown = true;
+    if (acc.a < ert_ && cut < back) {
+      const glm::vec4 second = label_slab(l, l_b, cut, back);
+      if (second.a > 0.0f) acc = over(acc, second), shown = true;
+    }
+    L_.r[l] = acc.r, L_.g[l] = acc.g, L_.b[l] = acc.b, L_.a[l] = acc.a;
+    return shown;
+  }
+
+  // VolumeMarcher::label_slab for lane l.
+  glm::vec4 label_slab(int l, int32_t label, double front, double back) const {
+    const glm::vec4 look = v_.labels.look(label);
+    if (look.a <= 0.0f || !(back > front)) return glm::vec4(0.0f);
+    const float a =
+        correct_opacity(look.a, static_cast<float>(back - front), v_.labels.unit_distance());
+    const glm::vec4 c(glm::vec3(look) * a, a);
+    if (!shaded_) return c;
+    const glm::vec3 o(L_.ox[l], L_.oy[l], L_.oz[l]), d(L_.dx[l], L_.dy[l], L_.dz[l]);
+    const glm::vec3 g =
+        label_gradient(voxels_, o + static_cast<float>(0.5 * (front + back)) * d, label);
+    const RayShading shading(v_.object->shading, v_.specular, lights_,
+                             -rays_[static_cast<size_t>(L_.ray[l])].ray.dir);
+    return shading.apply(c, v_.gradient_to_world * g);
+  }
+
+  // over(acc, c) in the lanes of vis.
+  void composite(__m256 vis, __m256 cr, __m256 cg, __m256 cb, __m256 ca) {
+    const __m256 ar = _mm256_load_ps(L_.r), ag = _mm256_load_ps(L_.g), ab = _mm256_load_ps(L_.b),
+                 aa = _mm256_load_ps(L_.a);
+    const __m256 w = _mm256_sub_ps(splat(1.0f), aa);
+    _mm256_store_ps(L_.r, _mm256_blendv_ps(ar, _mm256_fmadd_ps(w, cr, ar), vis));
+    _mm256_store_ps(L_.g, _mm256_blendv_ps(ag, _mm256_fmadd_ps(w, cg, ag), vis));
+    _mm256_store_ps(L_.b, _mm256_blendv_ps(ab, _mm256_fmadd_ps(w, cb, ab), vis));
+    _mm256_store_ps(L_.a, _mm256_blendv_ps(aa, _mm256_fmadd_ps(w, ca, aa), vis));
+  }
+
   // TfEmptiness::is_empty_between in lanes (NaN ends as there: a NaN front is never empty, a
   // NaN back counts as the front).
   __m256 empty_between(__m256 a, __m256 b) const {
@@ -493,6 +800,12 @@ class PacketKernel {
       gz = _mm256_mul_ps(half, _mm256_sub_ps(grid_.sample(px, py, _mm256_add_ps(pz, one)),
                                              grid_.sample(px, py, _mm256_sub_ps(pz, one))));
     }
+    shade_gradient(vis, gx, gy, gz, r, g, b, a);
+  }
+
+  // RayShading::apply with the index-space gradient g, in lanes.
+  void shade_gradient(__m256 vis, __m256 gx, __m256 gy, __m256 gz, __m256& r, __m256& g, __m256& b,
+                      __m256 a) const {
     const glm::mat3& m = v_.gradient_to_world;
     __m256 nx = dot3(splat(m[0][0]), splat(m[1][0]), splat(m[2][0]), gx, gy, gz);
     __m256 ny = dot3(splat(m[0][1]), splat(m[1][1]), splat(m[2][1]), gx, gy, gz);
@@ -576,6 +889,8 @@ class PacketKernel {
 
   const PreparedVolume& v_;
   LaneGrid<T> grid_;
+  VoxelGrid<T> voxels_;                     // the same voxels, for the scalar label classifier
+  LaneLabelCells<T> cells_;                 // label volumes
   std::optional<LaneGradients> gradients_;  // empty: gradients on the fly
   std::optional<LaneBricks> bricks_;        // empty: no skipping
   LaneBricks::Rays brick_rays_{};
@@ -588,6 +903,10 @@ class PacketKernel {
   PreintegrationView preint_;
   bool shaded_ = false;
   bool centre_ = false;  // SlabExtent::visible: shade where each piece's light comes from
+  bool labels_ = false, nearest_ = false;  // a label volume (label_classifier.hpp)
+  int32_t cached_label_[kAlphaCache];
+  float cached_alpha_[kAlphaCache] = {};
+  glm::vec4 cached_look_[kAlphaCache];
   int light_count_ = 0;
   bool use_runs_ = false;
   float run_lo_[TfEmptiness::kMaxRuns] = {}, run_hi_[TfEmptiness::kMaxRuns] = {};
@@ -601,7 +920,9 @@ class PacketKernel {
 bool packet_marching_supported(const PreparedVolume& v, std::span<const ShadingLight> lights) {
 #if IMX_PACKET_LANES
   const glm::ivec3 d = v.grid.dims;
-  if (!v.accel.preint || d.x < 2 || d.y < 2 || d.z < 2) return false;
+  const bool labels = v.labels.active();  // classified by label, not by a table
+  if ((!labels && !v.accel.preint) || d.x < 2 || d.y < 2 || d.z < 2) return false;
+  if (labels && v.has_no_data) return false;
   // Gathers take int32 indices: voxels, and the byte offsets of int16 gradients.
   const double voxels = static_cast<double>(d.x) * d.y * d.z;
   const bool int16_gradients = v.accel.gradients && !v.accel.gradients->packed();

@@ -35,11 +35,11 @@ class PacketCamera {
 };
 
 // Whether composite_packets() marches volume `v` with `lights` in vector lanes: it needs an
-// AVX2 build, a pre-integration table, when shading is on at most RayShading::kMaxLights lights
-// and a tabulated specular power (shininess of at least 1), and a grid of at least 2 voxels a side
-// whose gathers fit int32 offsets (fewer than 2^31 voxels, 2^31 / 6 with int16 gradients) and, with
-// skipping, fewer than 2^24 bricks. Otherwise it marches each ray with VolumeMarcher, with the
-// same results.
+// AVX2 build, a pre-integration table or a label map (without no-data voxels), when shading is on
+// at most RayShading::kMaxLights lights and a tabulated specular power (shininess of at least 1),
+// and a grid of at least 2 voxels a side whose gathers fit int32 offsets (fewer than 2^31 voxels,
+// 2^31 / 6 with int16 gradients) and, with skipping, fewer than 2^24 bricks. Otherwise it marches
+// each ray with VolumeMarcher, with the same results.
 bool packet_marching_supported(const PreparedVolume& v, std::span<const ShadingLight> lights);
 
 // Sets each ray's [t0, t1] to PreparedVolume::intersect(ray), eight rays at a time in lanes

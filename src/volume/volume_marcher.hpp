@@ -112,6 +112,9 @@ class VolumeMarcher {
   // Where the next slab will start at the earliest.
   double position() const { return t_; }
 
+  // Label volumes: bisections that place a boundary inside a piece, to 1/64 of a step.
+  static constexpr int kLabelBisections = 6;
+
  private:
   // The loop with the voxel type resolved once per slab, so sampling inlines. NoData: the
   // volume has NaN or inf voxels (float only), and pieces reading them are skipped.
@@ -181,7 +184,6 @@ class VolumeMarcher {
     }
     return false;
   }
-  static constexpr int kLabelBisections = 6;  // the boundary to 1/64 of a step
 
   // Premultiplied (C, A) of label `label` over [front, back]; zero when hidden.
   template <class Grid>

@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "intermix/labels.hpp"
 #include "random_volumes.hpp"
 #include "volume/volume_marcher.hpp"
 
@@ -120,6 +121,66 @@ TEST(PacketMarcher, MatchesVolumeMarcherFloat) {
 }
 TEST(PacketMarcher, MatchesVolumeMarcherWithNoData) {
   check_voxel_type<float>(0.01f, -0.5f, 15, true);
+}
+
+// Label maps (style "labels") in lanes: the blobs cut into labels, a table with opaque,
+// faint and hidden labels and unlisted ones in the default palette, smooth and nearest
+// classification, each voxel type (float labels as whole numbers, int16 ones negative too).
+template <class T>
+void check_label_type(float scale, float offset, uint32_t seed) {
+  std::mt19937 rng(seed);
+  int terminated = 0, marched = 0;
+  for (int trial = 0; trial < 4; ++trial) {
+    VolumeObject obj;
+    obj.name = "labels";
+    const glm::ivec3 dims = trial == 3 ? glm::ivec3(3, 4, 2) : glm::ivec3(27, 22, 25);
+    VolumeData blobs = test::blob_volume<T>(dims, rng);
+    T* v = std::get<VoxelBuffer<T>>(blobs.voxels).mutable_data();
+    for (size_t n = 0; n < blobs.voxel_count(); ++n)  // labels 0 .. 5, then scaled and moved
+      v[n] = static_cast<T>(std::floor(static_cast<float>(v[n]) / 45.0f) * scale + offset);
+    obj.data = std::make_shared<VolumeData>(std::move(blobs));
+    auto map = std::make_shared<LabelMap>();
+    auto label = [&](int k) {
+      return static_cast<int32_t>(static_cast<float>(k) * scale + offset);
+    };
+    map->entries = {{label(1), "faint", {0.2f, 0.4f, 0.9f}, 0.05f, true},
+                    {label(2), "opaque", {0.9f, 0.3f, 0.3f}, 1.0f, true},
+                    {label(3), "hidden", {0.1f, 0.9f, 0.1f}, 0.7f, false},
+                    {label(4), "half", {0.9f, 0.9f, 0.8f}, 0.5f, true}};
+    map->interpolation = trial == 1 ? LabelInterpolation::nearest : LabelInterpolation::smooth;
+    map->unit_distance = 0.7;
+    obj.labels = map;
+    obj.shading = {trial != 2, 0.2f, 0.7f, 0.3f, 24.0f};
+    MarchSettings settings{trial == 0 ? SkipMode::bricks : SkipMode::distance,
+                           Classification::preintegrated, GradientSource::precomputed, 4};
+    const float step = trial == 2 ? 0.43f : 0.8f;
+    PreparedVolume pv = prepared(obj, step, settings);
+    ASSERT_TRUE(pv.labels.active());
+    std::span<const ShadingLight> lights(kLights, 2);
+#if defined(__AVX2__) && defined(__FMA__)
+    EXPECT_TRUE(packet_marching_supported(pv, lights));
+#endif
+    std::vector<PacketRay> rays =
+        random_rays(rng, pv, 203, glm::vec3(dims) * 0.5f, 1.5f * static_cast<float>(dims.x));
+    for (float ert : {0.3f, 0.99f, 1.0f}) {
+      terminated += expect_same_as_marcher(pv, rays, step, lights, ert);
+      marched += static_cast<int>(rays.size());
+    }
+  }
+  EXPECT_GT(terminated, marched / 40);
+}
+
+TEST(PacketMarcher, MatchesVolumeMarcherOnLabelsU8) {
+  check_label_type<uint8_t>(1.0f, 0.0f, 21);
+}
+TEST(PacketMarcher, MatchesVolumeMarcherOnLabelsI16) {
+  check_label_type<int16_t>(300.0f, -700.0f, 22);
+}
+TEST(PacketMarcher, MatchesVolumeMarcherOnLabelsU16) {
+  check_label_type<uint16_t>(1000.0f, 7.0f, 23);
+}
+TEST(PacketMarcher, MatchesVolumeMarcherOnLabelsFloat) {
+  check_label_type<float>(1.0f, 2.0f, 24);
 }
 
 // A TF with no opacity anywhere: every brick is empty and every ray stays transparent.
