@@ -41,7 +41,8 @@ using namespace lanes;
 
 enum class Mode : uint8_t { max, min, integral, iso };
 
-constexpr int kMaxLookDelay = 4;  // points a lane that entered a new brick may walk unjudged
+constexpr int kMaxLookDelay = 4;     // points a lane that entered a new brick may walk unjudged
+constexpr int kMaxLookBackoff = 64;  // the most points between looks after fruitless ones
 
 // The per-lane state, structure of arrays so that a step loads whole vectors.
 struct alignas(32) ProjectionLanes {
@@ -140,6 +141,7 @@ class ProjectionKernel {
     const __m256 t = _mm256_load_ps(L_.t);
     live &= ~update(live, sample_at(t), t, true);
     look_delay_ = kMaxLookDelay;  // every lane looks at its first brick at once
+    look_limit_ = kMaxLookDelay;
     return look(live);
   }
 
@@ -261,8 +263,12 @@ class ProjectionKernel {
     // or the first has waited kMaxLookDelay points (skipping is never required for the result).
     const unsigned waiting = static_cast<unsigned>(_mm256_movemask_ps(need));
     if (!waiting) return live;
-    if (2 * __builtin_popcount(waiting) < __builtin_popcount(live) &&
-        ++look_delay_ <= kMaxLookDelay)
+    // After looks that skipped nothing (a MIP through tissue whose bricks all beat the running
+    // maximum), wait longer, up to kMaxLookBackoff points: on the real CT with a ramp from air,
+    // walking every point without looks was faster than looking at every brick.
+    if ((look_limit_ > kMaxLookDelay ||
+         2 * __builtin_popcount(waiting) < __builtin_popcount(live)) &&
+        ++look_delay_ <= look_limit_)
       return live;
     look_delay_ = 0;
     const __m256 t1 = _mm256_load_ps(L_.t1);
@@ -318,7 +324,11 @@ class ProjectionKernel {
     _mm256_store_ps(L_.checked_until,
                     _mm256_blendv_ps(_mm256_load_ps(L_.checked_until), exit, judge));
     skip = _mm256_or_ps(_mm256_and_ps(skip, judge), ahead);
-    if (!_mm256_movemask_ps(_mm256_or_ps(skip, ends))) return live;
+    if (!_mm256_movemask_ps(_mm256_or_ps(skip, ends))) {
+      look_limit_ = std::min(2 * look_limit_, kMaxLookBackoff);
+      return live;
+    }
+    look_limit_ = kMaxLookDelay;
     target = _mm256_blendv_ps(exit, target, ahead);
     const __m256 step = splat(step_), inv_step = splat(1.0f / step_);
     const __m256 last = _mm256_mul_ps(_mm256_floor_ps(_mm256_mul_ps(target, inv_step)), step);
@@ -382,6 +392,7 @@ class ProjectionKernel {
   float iso_;
   Mode mode_ = Mode::max;
   int look_delay_ = 0;                // points walked with a look put off
+  int look_limit_ = kMaxLookDelay;    // how many, before the next look
   std::optional<LaneBricks> bricks_;  // the TF's empty bricks, where they may be walked past
   LaneBricks::Rays brick_rays_{};
   const float* ranges_ = nullptr;  // (min, max) per brick; null: no skipping
