@@ -16,6 +16,7 @@ namespace {
 using zslab_tiles::clip_row;
 using zslab_tiles::deferred_end;
 using zslab_tiles::for_each_sample;
+using zslab_tiles::for_each_sample_index;
 using zslab_tiles::kTileSize;
 using zslab_tiles::report;
 
@@ -47,7 +48,7 @@ Image render_streamed(const Scene& scene, int spp, const RenderOptions& options,
         for (size_t k = 0; k < end; ++k) {
           const bool surfaces = z.stages[k].kind == ZslabStage::Kind::surfaces;
           if (surfaces) z.rasterize(k, tile, fragments);
-          for_each_sample(z, tile, [&](int x, int y, const Ray& ray, size_t i) {
+          auto run = [&](int x, int y, const Ray& ray, size_t i) {
             std::span<const Fragment> f = surfaces ? fragments.of(i) : std::span<const Fragment>();
             if (surfaces && f.empty()) return;
             uint32_t c = current(i);
@@ -58,7 +59,13 @@ Image render_streamed(const Scene& scene, int spp, const RenderOptions& options,
               return;
             zt[1 - c].store(i, out.items());
             flags[i / 32] ^= 1u << (i % 32);
-          });
+          };
+          if (surfaces) {
+            const Ray unused{};  // a surface stage reads its fragments, not the ray
+            for_each_sample_index(z, tile, [&](int x, int y, size_t i) { run(x, y, unused, i); });
+          } else {
+            for_each_sample(z, tile, run);
+          }
         }
         if (arrays) {
           const size_t per_pixel = z.offsets.size();

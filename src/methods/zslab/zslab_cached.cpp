@@ -177,7 +177,7 @@ void render_objects(const CachedRun& r, const TileRect& tile, TileInputs& in) {
     if (!writing) in.local[k] = std::make_unique<KeptSlabArrays>(tile_samples, r.capacity[k]);
     const bool surfaces = r.z.stages[k].kind == ZslabStage::Kind::surfaces;
     std::span<Slab> mine(own, static_cast<size_t>(r.capacity[k]));
-    for_each_sample(r.z, tile, [&](int x, int y, const Ray& ray, size_t i) {
+    auto run = [&](int x, int y, const Ray& ray, size_t i) {
       std::span<const Fragment> f = surfaces ? in.fragments[k].of(i) : std::span<const Fragment>();
       int m = 0;
       if (!surfaces || !f.empty())
@@ -186,7 +186,14 @@ void render_objects(const CachedRun& r, const TileRect& tile, TileInputs& in) {
         writing->store(r.global(x, y, i), mine.first(static_cast<size_t>(m)));
       else
         in.local[k]->store(i, mine.first(static_cast<size_t>(m)));
-    });
+    };
+    if (surfaces) {
+      const Ray unused{};  // a surface stage reads its fragments, not the ray
+      zslab_tiles::for_each_sample_index(r.z, tile,
+                                         [&](int x, int y, size_t i) { run(x, y, unused, i); });
+    } else {
+      for_each_sample(r.z, tile, run);
+    }
   }
 }
 
