@@ -26,6 +26,7 @@
 #include "intermix/limits.hpp"
 #include "io/gzip.hpp"
 #include "io/header_text.hpp"
+#include "io/base64.hpp"
 
 namespace imx::detail {
 namespace {
@@ -59,15 +60,6 @@ const std::map<std::string, TypeInfo, std::less<>>& types() {
       {"NIFTI_TYPE_UINT64", {"uint64", 8, Kind::integer, GiftiType::uint64}},
   };
   return table;
-}
-
-int base64_value(unsigned char c) {
-  if (c >= 'A' && c <= 'Z') return c - 'A';
-  if (c >= 'a' && c <= 'z') return c - 'a' + 26;
-  if (c >= '0' && c <= '9') return c - '0' + 52;
-  if (c == '+') return 62;
-  if (c == '/') return 63;
-  return -1;
 }
 
 // Decodes the <Data> text of one checked array chunk by chunk, counting what it holds and

@@ -21,6 +21,7 @@
 #include "io/header_text.hpp"
 #include "io/mesh_space.hpp"
 #include "io/polydata.hpp"
+#include "io/base64.hpp"
 
 namespace imx::detail {
 namespace {
@@ -57,15 +58,6 @@ struct PieceInfo {
   uint64_t points = 0, polys = 0, strips = 0;
   std::string normals;  // PointData's Normals attribute: the array that is the normals
 };
-
-int base64_value(unsigned char c) {
-  if (c >= 'A' && c <= 'Z') return c - 'A';
-  if (c >= 'a' && c <= 'z') return c - 'a' + 26;
-  if (c >= '0' && c <= '9') return c - '0' + 52;
-  if (c == '+') return 62;
-  if (c == '/') return 63;
-  return -1;
-}
 
 // Bytes from raw data or from base64 text, read on demand. Base64 is decoded group by group of
 // four characters, a padded group giving fewer bytes and decoding going on after it: VTK

@@ -868,6 +868,22 @@ def camera_gap(a, b):
 ASL_SERIES = os.path.join(os.path.dirname(REPO), 'shared', 'data', 'dicom4d', 'xa30-asl-25')
 
 
+def serve_small(args, scene, log_path, cleanup):
+    """Starts intermix serve on a small scene (zslab, 1 spp, frames of at most TEST_SIZE) and a
+    watching WebSocket; returns the server, the page's address, the watcher and its hello."""
+    server = Server(args.intermix, scene, ['--port', '0', '--bind', '127.0.0.1', '--method',
+                                           'zslab', '--spp', '1', '--max-image-side',
+                                           str(TEST_SIZE)], log_path, os.getcwd())
+    server.start()
+    cleanup.append(server.kill)
+    url = server.wait_url(60)
+    u = urllib.parse.urlsplit(url)
+    token = urllib.parse.parse_qs(u.query).get('token', [''])[0]
+    watcher = Watcher(f'ws://{u.netloc}/ws?token={token}')
+    cleanup.append(watcher.close)
+    return server, url, watcher, watcher.wait(lambda t, m: m.get('type') == 'hello', 10)
+
+
 def run_frames(args, out, checks, cleanup, browser):
     """A 7-frame ASL series (MIP) beside a phantom: play steps through the frames, each change
     re-runs only the ASL volume's stage, pause stops it."""
@@ -882,18 +898,8 @@ def run_frames(args, out, checks, cleanup, browser):
                                {'name': 'head', 'type': 'volume',
                                 'source': {'phantom': 'ct-head', 'size': 48},
                                 'transfer_function': {'preset': 'ct-bone'}}]}, f)
-    server = Server(args.intermix, scene, ['--port', '0', '--bind', '127.0.0.1', '--method',
-                                           'zslab', '--spp', '1', '--max-image-side',
-                                           str(TEST_SIZE)],
-                    os.path.join(out, 'server-frames.log'), os.getcwd())
-    server.start()
-    cleanup.append(server.kill)
-    url = server.wait_url(60)
-    u = urllib.parse.urlsplit(url)
-    token = urllib.parse.parse_qs(u.query).get('token', [''])[0]
-    watcher = Watcher(f'ws://{u.netloc}/ws?token={token}')
-    cleanup.append(watcher.close)
-    hello = watcher.wait(lambda t, m: m.get('type') == 'hello', 10)
+    server, url, watcher, hello = serve_small(args, scene, os.path.join(out, 'server-frames.log'),
+                                              cleanup)
     asl = state_object(hello or {}, 'asl') or {}
     checks.check('l. hello gives the ASL volume its 7 frames', asl.get('frames') == 7,
                  f"frames {asl.get('frames')}, frame {asl.get('frame')}")
@@ -972,18 +978,8 @@ def run_labels(args, out, checks, cleanup, browser):
                                 'source': {'phantom': 'ct-head', 'size': 32},
                                 'transfer_function': {'preset': 'ct-bone'},
                                 'transform': {'translate': [0, 150, 0]}}]}, f)
-    server = Server(args.intermix, scene, ['--port', '0', '--bind', '127.0.0.1', '--method',
-                                           'zslab', '--spp', '1', '--max-image-side',
-                                           str(TEST_SIZE)],
-                    os.path.join(out, 'server-labels.log'), os.getcwd())
-    server.start()
-    cleanup.append(server.kill)
-    url = server.wait_url(60)
-    u = urllib.parse.urlsplit(url)
-    token = urllib.parse.parse_qs(u.query).get('token', [''])[0]
-    watcher = Watcher(f'ws://{u.netloc}/ws?token={token}')
-    cleanup.append(watcher.close)
-    hello = watcher.wait(lambda t, m: m.get('type') == 'hello', 10)
+    _, url, watcher, hello = serve_small(args, scene, os.path.join(out, 'server-labels.log'),
+                                         cleanup)
     listed = [(x['value'], x['name'], x['visible'])
               for x in (state_object(hello or {}, 'seg') or {}).get('labels') or []]
     checks.check('m2. hello lists the labels the voxels hold, named by the table',
