@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -309,6 +310,47 @@ TEST(ZslabRender, MemoryPerPixelWithinBound) {
       EXPECT_GT(r.last_stats().kept_bytes_per_pixel, 0.0);
       EXPECT_LE(zslab_stream_bytes_per_sample(s.render), bound + 1.0);
     }
+}
+
+}  // namespace
+}  // namespace imx
+
+namespace imx {
+namespace {
+
+// A surface stage skips the tiles outside its objects' screen rectangle: every pixel holding one
+// of its fragments must lie inside it (a rectangle a pixel too small, or a box corner behind the
+// eye taken as bounded, fails this). Seen from afar, and with the eye among the objects.
+TEST(ZslabStages, ScreenRectanglesHoldEveryFragment) {
+  constexpr int kW = 96, kH = 72;
+  for (const std::string& camera :
+       {std::string("camera.target=[0,0,0]"), std::string("camera.eye=[5,-8,3]")}) {
+    Scene s = load_scene(std::filesystem::path(IMX_EXAMPLES_DIR) / "torus-planes.json",
+                         {"image.width=96", "image.height=72", camera});
+    ZslabFrame z(s, 1, true);
+    z.prepare();
+    int bounded = 0;
+    for (size_t k = 0; k < z.stages.size(); ++k) {
+      const ZslabStage& st = z.stages[k];
+      if (st.kind != ZslabStage::Kind::surfaces) continue;
+      bounded += st.x1 - st.x0 < kW || st.y1 - st.y0 < kH;
+      for (int y0 = 0; y0 < kH; y0 += 16)  // the rasterizer's 16-pixel tiles
+        for (int x0 = 0; x0 < kW; x0 += 16) {
+          const TileRect tile{x0, y0, std::min(x0 + 16, kW), std::min(y0 + 16, kH)};
+          SampleFragments f;
+          z.rasterize(k, tile, f);
+          for (size_t i = 0; i < f.sample_count(); ++i) {
+            if (f.of(i).empty()) continue;
+            const int x = tile.x0 + static_cast<int>(i) % tile.width();
+            const int y = tile.y0 + static_cast<int>(i) / tile.width();
+            ASSERT_TRUE(x >= st.x0 && x < st.x1 && y >= st.y0 && y < st.y1)
+                << camera << ": stage " << st.name << " pixel " << x << "," << y;
+            EXPECT_TRUE(z.stage_reaches(k, tile));
+          }
+        }
+    }
+    EXPECT_GT(bounded, 10) << camera;  // the rectangles do leave pixels out
+  }
 }
 
 }  // namespace

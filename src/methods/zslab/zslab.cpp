@@ -47,6 +47,7 @@ Image render_streamed(const Scene& scene, int spp, const RenderOptions& options,
         Slab in_slots[kMaxZslabLayers], out_slots[kMaxZslabLayers];
         for (size_t k = 0; k < end; ++k) {
           const bool surfaces = z.stages[k].kind == ZslabStage::Kind::surfaces;
+          if (surfaces && !z.stage_reaches(k, tile)) continue;  // no fragment here: untouched
           if (surfaces) z.rasterize(k, tile, fragments);
           auto run = [&](int x, int y, const Ray& ray, size_t i) {
             std::span<const Fragment> f = surfaces ? fragments.of(i) : std::span<const Fragment>();

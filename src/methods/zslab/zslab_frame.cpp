@@ -21,6 +21,36 @@ namespace {
 
 constexpr int kIsoBisections = kZslabIsoBisections;
 
+// The pixels outside which a mesh leaves no fragment: the projection of its world box's corners,
+// two pixels wider for rounding; false (unsure: the whole image) when a corner lies at or before
+// the near plane, where a projection does not bound the image of the box.
+bool mesh_screen_rect(const Mesh& mesh, const CameraModel& camera, int& x0, int& y0, int& x1,
+                      int& y1) {
+  if (mesh.positions.empty()) return false;
+  glm::dvec3 lo(INFINITY), hi(-INFINITY);
+  for (const glm::vec3& p : mesh.positions) {
+    lo = glm::min(lo, glm::dvec3(p));
+    hi = glm::max(hi, glm::dvec3(p));
+  }
+  if (!std::isfinite(lo.x + lo.y + lo.z + hi.x + hi.y + hi.z)) return false;
+  glm::dvec2 a(INFINITY), b(-INFINITY);
+  for (int c = 0; c < 8; ++c) {
+    const glm::dvec3 w(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
+    const glm::dvec3 cam = camera.to_camera(w);
+    if (camera.perspective() && !(cam.z > camera.near_plane())) return false;
+    const glm::dvec2 px = camera.project_camera(cam);
+    a = glm::min(a, px);
+    b = glm::max(b, px);
+  }
+  if (!std::isfinite(a.x + a.y + b.x + b.y)) return false;
+  const double w = camera.width(), h = camera.height();
+  x0 = static_cast<int>(std::clamp(std::floor(a.x) - 2.0, 0.0, w));
+  y0 = static_cast<int>(std::clamp(std::floor(a.y) - 2.0, 0.0, h));
+  x1 = static_cast<int>(std::clamp(std::ceil(b.x) + 3.0, 0.0, w));
+  y1 = static_cast<int>(std::clamp(std::ceil(b.y) + 3.0, 0.0, h));
+  return true;
+}
+
 // How much transparent structure a volume shows: the share of its bricks the TF keeps, times
 // the transparency of its most opaque step. The volume scoring highest is cast last.
 double transparent_complexity(const PreparedVolume& v, float step) {
@@ -97,7 +127,24 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast, int sample_ind
       static_cast<size_t>(std::max(1, r.rt_layers / std::max(1, r.peel_layers)));
   ZslabStage group;
   auto close_group = [&]() {
-    if (!group.objects.empty()) stages.push_back(std::move(group));
+    if (!group.objects.empty()) {
+      // The union of its meshes' screen rectangles; a plane (or a mesh not bounded) reaches
+      // anywhere.
+      int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
+      bool bounded = true;
+      for (uint32_t o : group.objects) {
+        const ObjectRef& ref = scene.order[o];
+        int a0, b0, a1, b1;
+        if (ref.kind != ObjectKind::mesh || !scene.meshes[ref.index].mesh ||
+            !mesh_screen_rect(*scene.meshes[ref.index].mesh, frame.camera, a0, b0, a1, b1)) {
+          bounded = false;
+          break;
+        }
+        x0 = std::min(x0, a0), y0 = std::min(y0, b0), x1 = std::max(x1, a1), y1 = std::max(y1, b1);
+      }
+      if (bounded) group.x0 = x0, group.y0 = y0, group.x1 = x1, group.y1 = y1;
+      stages.push_back(std::move(group));
+    }
     group = ZslabStage{};
   };
   for (size_t k = 0; k < scene.order.size(); ++k) {

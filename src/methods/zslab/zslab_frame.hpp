@@ -32,6 +32,9 @@ struct ZslabStage {
   float step = 1.0f;              // volumes: ray step, mm
   uint64_t content = 0;           // hash of what this stage reads of its own objects
   std::string name;               // the objects' names, for messages
+  // surfaces: pixels [x0, x1) x [y0, y1) outside which the stage's objects leave no fragment
+  // (their world boxes' projection, a few pixels wider; the whole image when unsure)
+  int x0 = 0, y0 = 0, x1 = 1 << 30, y1 = 1 << 30;
 };
 
 // render.sampling: every volume at the common step, or each at a step for its own pitch.
@@ -71,6 +74,12 @@ class ZslabFrame {
   // is empty.
   bool merge_own(size_t k, std::span<const Slab> stored, std::span<const Slab> own,
                  SlabList& out) const;
+
+  // Whether surface stage `k` may leave a fragment in `tile` (always true for volume stages).
+  bool stage_reaches(size_t k, const TileRect& tile) const {
+    const ZslabStage& st = stages[k];
+    return tile.x0 < st.x1 && st.x0 < tile.x1 && tile.y0 < st.y1 && st.y0 < tile.y1;
+  }
 
   // Fragments of surface stage `k` for every sample of `tile`; empty for other stages.
   void rasterize(size_t k, const TileRect& tile, SampleFragments& out) const;
