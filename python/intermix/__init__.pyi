@@ -129,6 +129,7 @@ class Scene:
         spp: Optional[int] = None,
         threads: Optional[int] = None,
         view: Optional[View] = None,
+        colorbar: bool = False,
     ) -> Image: ...
     def _repr_png_(self) -> bytes: ...
 
