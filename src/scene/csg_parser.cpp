@@ -1,5 +1,6 @@
 // Parser for the scene's "csg" block: an expression over dvr volumes and closed meshes.
 #include <algorithm>
+#include <charconv>
 #include <map>
 #include <optional>
 #include <string>
@@ -8,8 +9,9 @@
 
 #include <fmt/format.h>
 
-#include "io/mesh_topology.hpp"
 #include "core/edit_distance.hpp"
+#include "io/mesh_topology.hpp"
+#include "scene/label_map_parser.hpp"
 #include "scene/scene_parsers.hpp"
 
 namespace imx::scene_json {
@@ -61,8 +63,39 @@ class CsgBuilder {
  private:
   struct Seen {
     CsgPresence presence;
-    std::string path;  // where the object first appears
+    std::string path;                  // where the object first appears
+    std::optional<std::string> label;  // "seg:liver": the label it stands for
+    std::string as;                    // how the expression names it there
   };
+
+  // A label volume standing for one of its labels ("seg:liver", by name or value): its map
+  // shows that label alone, so that it is present (and drawn) only where that label wins.
+  void keep_only_label(const ObjectRef& ref, const std::string& name, const std::string& label,
+                       const JsonReader& at) {
+    if (ref.kind != ObjectKind::volume || !scene_.volumes[ref.index].labels)
+      at.fail(fmt::format("'{}' is not a label volume: \"{}:{}\" names a label of one", name, name,
+                          label));
+    VolumeObject& volume = scene_.volumes[ref.index];
+    if (primitives_.count({ref.kind, ref.index})) return;  // done at its first appearance
+    auto map = std::make_shared<LabelMap>(*volume.labels);
+    std::vector<std::string> names;
+    std::optional<int32_t> value;
+    for (const LabelEntry& e : map->entries) {
+      names.push_back(e.name);
+      if (e.name == label || std::to_string(e.value) == label) value = e.value;
+    }
+    int32_t number = 0;
+    const auto [end, error] = std::from_chars(label.data(), label.data() + label.size(), number);
+    if (!value && error == std::errc() && end == label.data() + label.size())
+      value = number;  // a palette label the table does not list
+    if (!value)
+      at.fail(fmt::format("'{}' has no label '{}'{}", name, label, did_you_mean(label, names)));
+    LabelEntry kept = label_entry(*map, *value);
+    kept.visible = true;
+    map->entries = {kept};
+    map->palette_unlisted = false;
+    volume.labels = std::move(map);
+  }
 
   std::string name_of(const ObjectRef& ref) const {
     switch (ref.kind) {
@@ -148,11 +181,19 @@ class CsgBuilder {
 
   // A primitive named at `name_at`, in the node at `node_at` (the same reader for a bare name).
   int leaf(const JsonReader& name_at, const JsonReader* presence_at, const JsonReader& node_at) {
-    const std::string name = name_at.string();
+    std::string name = name_at.string();
+    // "seg:liver" (or "seg:3"): one label of label volume seg, present only where it wins.
+    std::optional<std::string> label;
+    if (const size_t colon = name.rfind(':'); !by_name_.count(name) && colon != std::string::npos &&
+                                              by_name_.count(name.substr(0, colon))) {
+      label = name.substr(colon + 1);
+      name.resize(colon);
+    }
     auto found = by_name_.find(name);
     if (found == by_name_.end())
       name_at.fail(fmt::format("no object named '{}'{}", name, did_you_mean(name, names_)));
     const ObjectRef ref = found->second;
+    if (label) keep_only_label(ref, name, *label, name_at);
     if (ref.kind == ObjectKind::plane)
       name_at.fail(
           fmt::format("'{}' is a plane; CSG primitives are volumes and closed meshes", name));
@@ -176,6 +217,11 @@ class CsgBuilder {
 
     const std::pair<ObjectKind, int> key{ref.kind, ref.index};
     if (auto seen = primitives_.find(key); seen != primitives_.end()) {
+      if (seen->second.label != label)
+        name_at.fail(
+            fmt::format("'{}' is at {} as '{}'; one volume object is one primitive: for "
+                        "another of its labels add another object of the same file",
+                        name, seen->second.path, seen->second.as));
       if (seen->second.presence != presence)
         (presence_at ? *presence_at : name_at)
             .fail(fmt::format("'{}' has presence {} at {}; an object has one presence in the "
@@ -183,7 +229,7 @@ class CsgBuilder {
                               name, presence_name(seen->second.presence), seen->second.path));
     } else {
       admit(ref, name, node_at);
-      primitives_.emplace(key, Seen{presence, node_at.path()});
+      primitives_.emplace(key, Seen{presence, node_at.path(), label, name_at.string()});
     }
 
     CsgNode n;
