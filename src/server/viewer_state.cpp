@@ -16,6 +16,8 @@
 #include <fmt/format.h>
 #include <glm/glm.hpp>
 
+#include "annotate/colour_bar.hpp"
+#include "annotate/scene_colour_bars.hpp"
 #include "core/edit_distance.hpp"
 #include "intermix/error.hpp"
 #include "presets/volume_presets.hpp"
@@ -537,7 +539,24 @@ nlohmann::json describe_state(const ViewerState& state) {
     }
     objects.push_back(std::move(o));
   }
+  // The planes' colour bars, as `render --colorbar` draws them (the page draws the volumes' own
+  // from their transfer functions as they are edited): 64 straight RGBA samples from lo to hi.
+  Json bars = Json::array();
+  for (const ColourBar& bar : distinct_colour_bars(scene_colour_bars(scene))) {
+    if (bar.shown_by.empty()) continue;
+    Json colours = Json::array();
+    for (int i = 0; i < 64; ++i) {
+      const glm::vec4 c = bar.colour(bar.lo + (bar.hi - bar.lo) * i / 63.0);
+      colours.push_back({tidy(c.r), tidy(c.g), tidy(c.b), tidy(c.a)});
+    }
+    bars.push_back({{"name", bar.name},
+                    {"units", bar.units},
+                    {"shown_by", bar.shown_by},
+                    {"range", {bar.lo, bar.hi}},
+                    {"colors", std::move(colours)}});
+  }
   return {{"camera", camera_json(scene.camera)},
+          {"colour_bars", std::move(bars)},
           {"initial_camera", camera_json(state.initial_camera)},
           {"objects", std::move(objects)}};
 }

@@ -1,7 +1,6 @@
 // The 3-D view's overlay: clip-plane outlines (clip_outlines.js), the orientation marker, and
-// colour bars: one per visible volume, its transfer function's colours from its
-// first point's value (bottom) to its last (top), each colour weighted by its opacity relative to
-// the function's largest (black where the function shows nothing), labelled with the values.
+// colour bars, labelled with their values: one per visible volume (its transfer function from its
+// first point's value, bottom, to its last, top) and one per colour map the planes show.
 import {drawClipOutlines3d} from './clip_outlines.js';
 import {S} from './state.js';
 
@@ -70,9 +69,26 @@ export function drawColorBars() {
   c.height = Math.max(1, Math.round(c.clientHeight * r));
   const g = c.getContext('2d');
   g.clearRect(0, 0, c.width, c.height);
-  const volumes = S.objects.filter((o) => o.kind === 'volume' && o.visible && o.tf && !o.labels &&
-                                          o.tf.length > 1 && o.tf[o.tf.length - 1][0] > o.tf[0][0]);
-  S.colorBars = volumes.map((o) => o.name);
+  // One bar per visible volume from its transfer function (each colour weighted by its opacity
+  // relative to the function's largest), then one per colour map the planes show, from the
+  // server (as render --colorbar draws them: nothing where the plane shows nothing).
+  const bars = S.objects.filter((o) => o.kind === 'volume' && o.visible && o.tf && !o.labels &&
+                                       o.tf.length > 1 && o.tf[o.tf.length - 1][0] > o.tf[0][0])
+      .map((o) => {
+        const top = Math.max(...o.tf.map((p) => p[4])) || 1;
+        const lo = o.tf[0][0], hi = o.tf[o.tf.length - 1][0];
+        return {name: o.name, units: o.units, lo, hi, colour: (t) => {
+          const [cr, cg, cb, ca] = tfAt(o.tf, lo + (hi - lo) * t);
+          return [cr, cg, cb, Math.min(1, ca / top)];
+        }};
+      })
+      .concat((S.planeBars || []).map((b) => ({
+        name: `${b.name} on ${b.shown_by}`, units: b.units, lo: b.range[0], hi: b.range[1],
+        colour: (t) => {
+          const [cr, cg, cb, ca] = b.colors[Math.min(63, Math.max(0, Math.round(t * 63)))];
+          return [cr, cg, cb, ca > 0 ? 1 : 0];
+        }})));
+  S.colorBars = bars.map((b) => b.name);
   g.scale(r, r);
   // The image's place in the cell (it keeps its aspect), for the clip planes' outlines.
   const view = document.getElementById('view').getBoundingClientRect();
@@ -80,14 +96,11 @@ export function drawColorBars() {
   drawClipOutlines3d(g, view.left - cell.left, view.top - cell.top, view.width, view.height);
   drawOrientation(g, c.clientHeight);
   g.font = '11px sans-serif';
-  volumes.forEach((o, k) => {
+  bars.forEach((b, k) => {
     const x = c.clientWidth - 40 - k * GAP, y = 24;
-    const lo = o.tf[0][0], hi = o.tf[o.tf.length - 1][0];
-    const top = Math.max(...o.tf.map((p) => p[4])) || 1;
     for (let t = 0; t < BAR_H; ++t) {
-      const [cr, cg, cb, ca] = tfAt(o.tf, hi - (hi - lo) * t / (BAR_H - 1));
-      const w = Math.min(1, ca / top);
-      const s = (x) => Math.round(255 * Math.pow(Math.max(0, Math.min(1, x * w)), 1 / 2.2));
+      const [cr, cg, cb, w] = b.colour(1 - t / (BAR_H - 1));
+      const s = (v) => Math.round(255 * Math.pow(Math.max(0, Math.min(1, v * w)), 1 / 2.2));
       g.fillStyle = `rgb(${s(cr)},${s(cg)},${s(cb)})`;
       g.fillRect(x, y + t, BAR_W, 1);
     }
@@ -95,9 +108,9 @@ export function drawColorBars() {
     g.strokeRect(x - 0.5, y - 0.5, BAR_W + 1, BAR_H + 1);
     g.fillStyle = '#ddd';
     g.textAlign = 'right';
-    g.fillText(label(hi), x - 3, y + 9);
-    g.fillText(label(lo), x - 3, y + BAR_H);
+    g.fillText(label(b.hi), x - 3, y + 9);
+    g.fillText(label(b.lo), x - 3, y + BAR_H);
     g.textAlign = 'center';
-    g.fillText(o.name + (o.units ? ` (${o.units})` : ''), x + BAR_W / 2, y + BAR_H + 14);
+    g.fillText(b.name + (b.units ? ` (${b.units})` : ''), x + BAR_W / 2, y + BAR_H + 14);
   });
 }

@@ -98,6 +98,7 @@ export function takeHello(m) {
   takeProjection(m.camera);
   S.initialCamera = copyCamera(m.initial_camera || m.camera);
   S.histograms = m.histograms || {};
+  S.planeBars = m.colour_bars || [];
   S.tfPresets = m.tf_presets || {};
   S.objects = (m.objects || []).map(localObject);
   S.byName = new Map(S.objects.map((o) => [o.name, o]));
@@ -123,6 +124,7 @@ export function takeState(m) {
   }
   if (m.method) S.method = m.method;
   if (m.spp) S.spp = m.spp;
+  if (m.colour_bars) S.planeBars = m.colour_bars;
   for (const o of m.objects || []) {
     const l = S.byName.get(o.name);
     if (!l) continue;
