@@ -94,7 +94,7 @@ int check_strip(const Rgba8& png, const ColourBarPlacement& p,
 }
 
 TEST(ColourBar, StripColoursAreTheObjectsColoursAtEachRowsValue) {
-  if (!have_font()) GTEST_SKIP() << "no font for colour bars (fonts-dejavu-core)";
+  ASSERT_TRUE(have_font()) << "no font for colour bars: scripts/install-deps installs fonts-dejavu-core";
   const Scene scene = overlay_scene();
   const std::vector<ColourBar> bars = scene_colour_bars(scene);
   ASSERT_EQ(bars.size(), 2u);
@@ -131,7 +131,7 @@ TEST(ColourBar, StripColoursAreTheObjectsColoursAtEachRowsValue) {
 }
 
 TEST(ColourBar, TickLabelsAreDrawnInTheirBoxes) {
-  if (!have_font()) GTEST_SKIP() << "no font for colour bars (fonts-dejavu-core)";
+  ASSERT_TRUE(have_font()) << "no font for colour bars: scripts/install-deps installs fonts-dejavu-core";
   const Scene scene = overlay_scene();
   const std::vector<ColourBar> bars = scene_colour_bars(scene);
   Image image(512, 512, kBackground);
@@ -161,7 +161,7 @@ TEST(ColourBar, TickLabelsAreDrawnInTheirBoxes) {
 }
 
 TEST(ColourBar, EqualBarsAreDrawnOnce) {
-  if (!have_font()) GTEST_SKIP() << "no font for colour bars (fonts-dejavu-core)";
+  ASSERT_TRUE(have_font()) << "no font for colour bars: scripts/install-deps installs fonts-dejavu-core";
   Scene scene = overlay_scene();
   for (int i = 1; i <= 2; ++i) {  // coronal and sagittal planes through the same map
     scene.planes.push_back(scene.planes[0]);
@@ -253,7 +253,7 @@ TEST(TextRaster, FontSearchAndBadFontsFailWithOneLine) {
 }
 
 TEST(TextRaster, TextHasInkAndWidthGrowsWithIt) {
-  if (!have_font()) GTEST_SKIP() << "no font for colour bars (fonts-dejavu-core)";
+  ASSERT_TRUE(have_font()) << "no font for colour bars: scripts/install-deps installs fonts-dejavu-core";
   const TextRaster text(find_font(), 14);
   const TextBitmap one = text.render("8"), three = text.render("888");
   EXPECT_GT(three.width, 2 * one.width);
