@@ -56,6 +56,9 @@ imx::server::ViewerSession& live_session() {
     imx::server::SessionOptions options;
     options.log = false;
     options.release_after_ms = 1;  // a "moving" input is released at once: frames stay quick
+    // A "viewport" setting resizes every frame up to this bound; the default (2048) lets one
+    // input ask for frames that take longer than the 5 s wait below under ASan.
+    options.max_image_side = 64;
     return imx::server::ViewerSession(session(), options);
   }();
   return live;
