@@ -1,8 +1,11 @@
 # The libraries intermix links that ship no CMake package of their own, as imported targets:
 #   PkgConfig::IMX_SPNG    spng, through pkg-config
 #   intermix_dep::nifti    niftiio and znz (libnifti2-dev)
-#   intermix_dep::gdcm     GDCM's libraries (libgdcm-dev; its CMake package on Debian 12 names
-#                          tools that are not installed, so the libraries are found one by one)
+#   intermix_dep::gdcm     GDCM's parser (libgdcm-dev; its CMake package on Debian 12 names
+#                          tools that are not installed, so the libraries are found one by one):
+#                          DSED and Common only, which do not load GDCM's tag dictionary
+#   intermix_dep::gdcm_codecs  GDCM's image reader and codecs (MSFF, which loads DICT, IOD and the
+#                          JPEG libraries): only the DICOM codec plugin links them
 # CMakeLists.txt includes this file for the build, and the installed intermixConfig.cmake
 # includes the same file, so a consumer of the package finds them the way the build did (the
 # exported static libraries name these targets). It fails nothing itself: what it could not
@@ -44,4 +47,5 @@ function(_imx_import_libraries target package)
 endfunction()
 
 _imx_import_libraries(intermix_dep::nifti libnifti2-dev niftiio znz)
-_imx_import_libraries(intermix_dep::gdcm libgdcm-dev gdcmMSFF gdcmDSED gdcmIOD gdcmDICT gdcmCommon)
+_imx_import_libraries(intermix_dep::gdcm libgdcm-dev gdcmDSED gdcmCommon)
+_imx_import_libraries(intermix_dep::gdcm_codecs libgdcm-dev gdcmMSFF gdcmDSED gdcmIOD gdcmDICT gdcmCommon)

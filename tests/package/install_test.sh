@@ -54,7 +54,8 @@ logged install.log cmake --install "$build" --prefix "$prefix"
 for f in include/intermix/renderer.hpp include/intermix/io.hpp \
          lib/cmake/intermix/intermixConfig.cmake lib/cmake/intermix/intermixConfigVersion.cmake \
          lib/cmake/intermix/intermixTargets.cmake lib/pkgconfig/intermix.pc \
-         bin/intermix share/intermix/web/index.html share/intermix/web/js/main.js; do
+         bin/intermix share/intermix/web/index.html share/intermix/web/js/main.js \
+         lib/intermix/libimx_dicom_codec.so; do
   [ -f "$prefix/$f" ] || fail "not installed: $f"
 done
 for m in methods frame csg scene presets io metrics raster volume core; do
@@ -149,4 +150,13 @@ logged pkgconfig-run.log "$work/pkgconfig/app" "$work/pkgconfig/app.png"
 
 step "the installed program"
 logged cli.log "$prefix/bin/intermix" info --phantom ct-head --size 16
+# A compressed DICOM file (JPEG lossless) is decoded by the installed codec plugin, found beside
+# the installed program (LD_DEBUG=files: the dynamic loader names what it maps).
+jpeg=$source/../shared/data/dicom/ts/5.dcm
+if [ -f "$jpeg" ]; then
+  step "the installed program decodes $jpeg with the installed codec plugin"
+  LD_DEBUG=files logged codec.log "$prefix/bin/intermix" -q convert "$jpeg" -o "$work/ts5.nii"
+  grep -qF "file=$prefix/lib/intermix/libimx_dicom_codec.so [0];  generating link map" \
+    "$work/codec.log" || fail "the installed program did not load $prefix/lib/intermix/libimx_dicom_codec.so (log: $work/codec.log)"
+fi
 step "PASS"

@@ -14,7 +14,6 @@
 #include <limits>
 
 #include <fmt/format.h>
-#include <gdcmImageReader.h>
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -22,6 +21,7 @@
 #include "core/library_output.hpp"
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
+#include "io/dicom/dicom_codec_plugin.hpp"
 #include "io/dicom/dicom_tags.hpp"
 
 namespace imx::detail {
@@ -159,84 +159,54 @@ size_t decoded_room(const DicomFileHeader& h) {
          pixel_count(h) * static_cast<size_t>(std::max(h.bits_allocated, 8) / 8);
 }
 
-// Decodes one file with GDCM into `out` (a DecodedFormat, then the pixels); throws imx::Error.
-void decode_with_gdcm(const DicomFileHeader& header, std::span<std::byte> out) {
-  const size_t count = pixel_count(header);
-  const std::string what = header.file.string();
-  gdcm::ImageReader reader;
-  reader.SetFileName(header.file.c_str());
-  bool read = false;
-  try {
-    read = reader.Read();
-  } catch (...) {
-    read = false;
-  }
-  if (!read)
-    throw Error(
-        fmt::format("{}: GDCM cannot read the image (truncated or corrupt file, or an "
-                    "unsupported encoding)",
-                    what));
-  const gdcm::Image& image = reader.GetImage();
-  const gdcm::PixelFormat& pf = image.GetPixelFormat();
-  if (pf.GetSamplesPerPixel() != 1)
-    throw Error(
-        fmt::format("{}: unsupported photometric interpretation: {} samples per pixel "
-                    "(colour); only greyscale images are read",
-                    what, pf.GetSamplesPerPixel()));
-  const unsigned frames = image.GetNumberOfDimensions() >= 3 ? image.GetDimension(2) : 1;
-  if (image.GetColumns() != static_cast<unsigned>(header.stored_columns) ||
-      image.GetRows() != static_cast<unsigned>(header.stored_rows) ||
-      frames != static_cast<unsigned>(header.stored_frames))
-    throw Error(fmt::format("{}: the image is {}x{}x{}, the header says {}x{}x{}", what,
-                            image.GetColumns(), image.GetRows(), frames, header.stored_columns,
-                            header.stored_rows, header.stored_frames));
-  DecodedFormat format;
-  switch (pf.GetScalarType()) {
-    case gdcm::PixelFormat::UINT8:
-      format.type = Stored::u8;
-      break;
-    case gdcm::PixelFormat::INT8:
-      format.type = Stored::i8;
-      break;
-    case gdcm::PixelFormat::UINT16:
-      format.type = Stored::u16;
-      break;
-    case gdcm::PixelFormat::INT16:
-      format.type = Stored::i16;
-      break;
-    case gdcm::PixelFormat::UINT32:
-      format.type = Stored::u32;
-      break;
-    case gdcm::PixelFormat::INT32:
-      format.type = Stored::i32;
-      break;
-    case gdcm::PixelFormat::FLOAT32:
-      format.type = Stored::f32;
-      break;
-    case gdcm::PixelFormat::FLOAT64:
-      format.type = Stored::f64;
-      break;
+std::optional<Stored> stored_type_of(int32_t scalar) {
+  switch (scalar) {
+    case IMX_DICOM_CODEC_U8:
+      return Stored::u8;
+    case IMX_DICOM_CODEC_I8:
+      return Stored::i8;
+    case IMX_DICOM_CODEC_U16:
+      return Stored::u16;
+    case IMX_DICOM_CODEC_I16:
+      return Stored::i16;
+    case IMX_DICOM_CODEC_U32:
+      return Stored::u32;
+    case IMX_DICOM_CODEC_I32:
+      return Stored::i32;
+    case IMX_DICOM_CODEC_F32:
+      return Stored::f32;
+    case IMX_DICOM_CODEC_F64:
+      return Stored::f64;
     default:
-      throw Error(
-          fmt::format("{}: unsupported pixel format (BitsAllocated {}, "
-                      "PixelRepresentation {})",
-                      what, pf.GetBitsAllocated(), pf.GetPixelRepresentation()));
+      return std::nullopt;
   }
-  const unsigned long length = image.GetBufferLength();
-  if (length != count * stored_size(format.type) || sizeof(DecodedFormat) + length > out.size())
-    throw Error(fmt::format("{}: GDCM reports {} bytes of pixels, expected {}", what, length,
-                            count * stored_size(format.type)));
-  bool decoded = false;
-  try {
-    decoded = image.GetBuffer(reinterpret_cast<char*>(out.data() + sizeof(DecodedFormat)));
-  } catch (...) {
-    decoded = false;
-  }
-  if (!decoded)
+}
+
+// Decodes one file with the codec plugin into `out` (a DecodedFormat, then the pixels); throws
+// imx::Error.
+void decode_with_plugin(imx_dicom_codec_decode_fn decode, const DicomFileHeader& header,
+                        std::span<std::byte> out) {
+  const std::string what = header.file.string();
+  imx_dicom_codec_format decoded{};
+  char message[512];
+  const int32_t status =
+      decode(header.file.c_str(), static_cast<uint32_t>(header.stored_columns),
+             static_cast<uint32_t>(header.stored_rows), static_cast<uint32_t>(header.stored_frames),
+             out.data() + sizeof(DecodedFormat), out.size() - sizeof(DecodedFormat), &decoded,
+             message, sizeof message);
+  message[sizeof message - 1] = '\0';
+  if (status == IMX_DICOM_CODEC_CORRUPT)
     throw Error(fmt::format("{}: cannot decode the pixel data (transfer syntax {}): corrupt", what,
                             transfer_syntax_label(header.transfer_syntax)));
-  format.bits_stored = pf.GetBitsStored();
-  format.high_bit = pf.GetHighBit();
+  if (status != IMX_DICOM_CODEC_OK) throw Error(fmt::format("{}: {}", what, message));
+  const std::optional<Stored> type = stored_type_of(decoded.scalar);
+  if (!type)
+    throw Error(fmt::format("{}: the DICOM codec plugin gave an unknown pixel type {}", what,
+                            decoded.scalar));
+  DecodedFormat format;
+  format.type = *type;
+  format.bits_stored = decoded.bits_stored;
+  format.high_bit = decoded.high_bit;
   std::memcpy(out.data(), &format, sizeof format);
 }
 
@@ -264,7 +234,8 @@ CodecPixels take_decoded(std::span<const std::byte> room) {
   return out;
 }
 
-void decode_batch(std::span<const DicomFileHeader* const> files, std::span<CodecPixels> out) {
+void decode_batch(imx_dicom_codec_decode_fn decode, std::span<const DicomFileHeader* const> files,
+                  std::span<CodecPixels> out) {
   // The first bytes say which file the child is decoding, so that a crash can name it.
   constexpr size_t kIndexBytes = 64;
   std::vector<size_t> offsets{kIndexBytes};
@@ -278,7 +249,8 @@ void decode_batch(std::span<const DicomFileHeader* const> files, std::span<Codec
       [&](std::span<std::byte> shared) {
         for (size_t i = 0; i < files.size(); ++i) {
           std::memcpy(shared.data(), &i, sizeof i);
-          decode_with_gdcm(*files[i], shared.subspan(offsets[i], offsets[i + 1] - offsets[i]));
+          decode_with_plugin(decode, *files[i],
+                             shared.subspan(offsets[i], offsets[i + 1] - offsets[i]));
         }
       },
       seconds,
@@ -315,7 +287,7 @@ void decode_batch(std::span<const DicomFileHeader* const> files, std::span<Codec
     // Which file the codec complained of is not known in a batch of several: decode those alone.
     if (files.size() > 1) {
       for (size_t i = 0; i < files.size(); ++i)
-        decode_batch(files.subspan(i, 1), out.subspan(i, 1));
+        decode_batch(decode, files.subspan(i, 1), out.subspan(i, 1));
       return;
     }
     const std::string first = r.output.substr(0, r.output.find('\n'));
@@ -383,13 +355,15 @@ std::vector<CodecPixels> decode_with_codecs(std::span<const DicomFileHeader* con
   for (const DicomFileHeader* h : headers) check_decodable(*h);
   std::vector<CodecPixels> out(headers.size());
   if (headers.empty()) return out;
+  // Loaded here, before the decoder processes fork, so that each inherits it.
+  const imx_dicom_codec_decode_fn decode = dicom_codec(headers.front()->file.string());
   // One child process per worker thread, each decoding its share in turn: a fork costs more the
   // more memory this process holds (40 ms at 1 GiB), so not one per file.
   const size_t children = std::min(
       headers.size(), static_cast<size_t>(std::max(1, tbb::this_task_arena::max_concurrency())));
   tbb::parallel_for(size_t{0}, children, [&](size_t c) {
     const size_t begin = headers.size() * c / children, end = headers.size() * (c + 1) / children;
-    decode_batch(headers.subspan(begin, end - begin),
+    decode_batch(decode, headers.subspan(begin, end - begin),
                  std::span<CodecPixels>(out).subspan(begin, end - begin));
   });
   return out;
