@@ -946,12 +946,12 @@ PacketCamera::PacketCamera(const CameraModel& camera)
       forward_(camera.forward()),
       perspective_(camera.perspective()) {}
 
-void PacketCamera::block(int x, int y, PacketRay* out) const {
+void PacketCamera::block(int x, int y, PacketRay* out, glm::vec2 at) const {
 #if IMX_PACKET_LANES
-  const __m256 px = _mm256_add_ps(splat(static_cast<float>(x)),
-                                  _mm256_setr_ps(0.5f, 1.5f, 2.5f, 3.5f, 0.5f, 1.5f, 2.5f, 3.5f));
-  const __m256 py = _mm256_add_ps(splat(static_cast<float>(y)),
-                                  _mm256_setr_ps(0.5f, 0.5f, 0.5f, 0.5f, 1.5f, 1.5f, 1.5f, 1.5f));
+  const __m256 px = _mm256_add_ps(splat(static_cast<float>(x) + at.x),
+                                  _mm256_setr_ps(0.0f, 1.0f, 2.0f, 3.0f, 0.0f, 1.0f, 2.0f, 3.0f));
+  const __m256 py = _mm256_add_ps(splat(static_cast<float>(y) + at.y),
+                                  _mm256_setr_ps(0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 1.0f, 1.0f, 1.0f));
   __m256 v[3];
   for (int a = 0; a < 3; ++a)
     v[a] =
@@ -970,8 +970,8 @@ void PacketCamera::block(int x, int y, PacketRay* out) const {
   }
 #else
   for (int l = 0; l < 8; ++l) {
-    const float px = static_cast<float>(x + l % 4) + 0.5f,
-                py = static_cast<float>(y + l / 4) + 0.5f;
+    const float px = static_cast<float>(x) + at.x + static_cast<float>(l % 4),
+                py = static_cast<float>(y) + at.y + static_cast<float>(l / 4);
     const glm::vec3 p = at_ + px * per_x_ + py * per_y_;
     out[l].ray = perspective_ ? Ray{eye_, glm::normalize(p)} : Ray{p, forward_};
   }

@@ -20,13 +20,13 @@ struct PacketRay {
   float t1 = -1.0f;
 };
 
-// The camera rays through the centres of a block of 4 x 2 pixels (x + i, y + j), i < 4, j < 2,
-// as out[j * 4 + i]: eight at a time in lanes where the build has AVX2 (CameraModel::ray up to
-// float rounding). Leaves t0 and t1 alone.
+// The camera rays through points `at` of a block of 4 x 2 pixels (x + i, y + j), i < 4, j < 2,
+// (the centres by default, or one sample's offset in each) as out[j * 4 + i]: eight at a time in
+// lanes where the build has AVX2 (CameraModel::ray up to float rounding). Leaves t0 and t1 alone.
 class PacketCamera {
  public:
   explicit PacketCamera(const CameraModel& camera);
-  void block(int x, int y, PacketRay* out) const;
+  void block(int x, int y, PacketRay* out, glm::vec2 at = glm::vec2(0.5f)) const;
 
  private:
   glm::vec3 at_, per_x_, per_y_;  // CameraModel::pixel_basis in floats

@@ -1399,7 +1399,7 @@ def run_measure(args, out, cleanup):
     view = browser.evaluate("viewer.center('#view')")
     per = []
     all_lat, moving_frames, moving_s, moving_meta = [], 0, 0.0, []
-    moving_lat, release_lat = [], []
+    moving_lat, release_lat, release_meta = [], [], []
     for i in range(args.measure):
         sign = 1 if i % 2 == 0 else -1
         cx, cy = view['x'], view['y'] + (i % 5 - 2) * 0.05 * view['h']
@@ -1427,6 +1427,10 @@ def run_measure(args, out, cleanup):
             {psnr_db: Number.isFinite(r.psnr_db) ? r.psnr_db : 999}))""")
         lats = browser.evaluate(f'viewerStats.latencies.slice({lat0})')
         mf = frames_between(browser, p0, p1)
+        still = [f for f in frames_between(browser, p1) if f.get('format') == 'png']
+        if still:  # the release's frame: where its latency goes
+            release_meta.append((still[0]['render_ms'], still[0]['encode_ms'],
+                                 still[0]['drawn_at'] - p1))
         n_moving = len(mf)
         moving_meta += [(f['scale'], f['render_ms'], f['encode_ms']) for f in mf]
         # The psnr of a recorded frame is against the last one recorded: the converged frame
@@ -1463,6 +1467,10 @@ def run_measure(args, out, cleanup):
         'release_latency_ms': {'median': rnd(percentile(release_lat, 0.5)),
                                'p95': rnd(percentile(release_lat, 0.95)),
                                'n': len(release_lat)},
+        'release_frame': {
+            'render_ms_median': rnd(percentile([m[0] for m in release_meta], 0.5)),
+            'encode_ms_median': rnd(percentile([m[1] for m in release_meta], 0.5)),
+            'drawn_after_release_ms_median': rnd(percentile([m[2] for m in release_meta], 0.5))},
         'moving_fps': {'overall': rnd(moving_frames / moving_s if moving_s else None),
                        'median_per_drag': rnd(percentile(fps_each, 0.5))},
         'moving_frame': {'scale_median': rnd(percentile([m[0] for m in moving_meta], 0.5), 3),

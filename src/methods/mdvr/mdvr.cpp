@@ -7,15 +7,17 @@
 #include "core/parallel.hpp"
 #include "frame/frame_setup.hpp"
 #include "frame/ray_base.hpp"
+#include "frame/sample_pattern.hpp"
 #include "methods/mdvr/mdvr_kernel.hpp"
 #include "volume/packet_marcher.hpp"
 #include "volume/packet_projection.hpp"
 
 namespace imx {
 
-bool volume_packets_apply(const Scene& scene, const FrameSetup& frame, int spp) {
-  if (!scene.render.packets || spp != 1 || !scene.meshes.empty() || !scene.planes.empty() ||
-      !frame.clip.empty() || frame.volumes.size() != 1)
+bool volume_packets_apply(const Scene& scene, const FrameSetup& frame,
+                          std::span<const glm::vec2> offsets) {
+  if (!scene.render.packets || offsets.size() != 1 || !scene.meshes.empty() ||
+      !scene.planes.empty() || !frame.clip.empty() || frame.volumes.size() != 1)
     return false;
   const PreparedVolume& v = frame.volumes[0];
   return v.object->style == VolumeStyle::dvr ? packet_marching_supported(v, frame.lights)
@@ -23,7 +25,7 @@ bool volume_packets_apply(const Scene& scene, const FrameSetup& frame, int spp) 
 }
 
 Image render_volume_packets(const Scene& scene, const FrameSetup& frame, const MdvrParams& params,
-                            SlabExtent extent, const RenderOptions& options) {
+                            SlabExtent extent, const RenderOptions& options, glm::vec2 offset) {
   constexpr int kTileSize = 16;
   const PreparedVolume& v = frame.volumes[0];
   const bool visible = v.lut.max_opacity() > 0.0f;  // else RayVolumes marches nothing
@@ -45,14 +47,14 @@ Image render_volume_packets(const Scene& scene, const FrameSetup& frame, const M
         auto add = [&](int x, int y) {
           image.at(x, y) = empty;
           if (!visible || !frame.may_show(0, x, y)) return;
-          rays[n] = {frame.camera.ray(x + 0.5, y + 0.5)};
+          rays[n] = {frame.camera.ray(x + offset.x, y + offset.y)};
           pixel[n++] = {x, y};
         };
         for (int y = tile.y0; y < tile.y1; y += 2) {
           for (int x = tile.x0; x < tile.x1; x += 4) {
             const bool whole = x + 4 <= tile.x1 && y + 2 <= tile.y1;
             if (whole && visible && frame.may_show(0, x, y)) {
-              camera.block(x, y, rays + n);
+              camera.block(x, y, rays + n, offset);
               for (int k = 0; k < 8; ++k) {
                 image.at(x + k % 4, y + k / 4) = empty;
                 pixel[n++] = {x + k % 4, y + k / 4};
@@ -97,8 +99,9 @@ Image render_mdvr(const Scene& scene, int spp, const RenderOptions& options) {
   FrameSetup frame(scene);
   frame.require_per_sample_support("mdvr");
   const MdvrParams params = prepare_mdvr(scene, frame);
-  if (volume_packets_apply(scene, frame, spp))
-    return render_volume_packets(scene, frame, params, SlabExtent::grid, options);
+  const std::vector<glm::vec2> offsets = frame_offsets(spp, options.sample_index);
+  if (volume_packets_apply(scene, frame, offsets))
+    return render_volume_packets(scene, frame, params, SlabExtent::grid, options, offsets[0]);
   return render_per_sample(
       scene, frame, spp, options,
       [&](const Ray& ray, std::span<const Fragment> fragments, const VolumeFilter& filter) {

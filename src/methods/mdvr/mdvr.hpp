@@ -1,5 +1,9 @@
 // The mdvr method (SPEC §3): conventional multi-volume ray casting with binary surfaces.
 #pragma once
+#include <span>
+
+#include <glm/vec2.hpp>
+
 #include "frame/frame_setup.hpp"
 #include "intermix/image.hpp"
 #include "intermix/render.hpp"
@@ -14,15 +18,17 @@ MdvrParams prepare_mdvr(const Scene& scene, FrameSetup& frame);
 
 Image render_mdvr(const Scene& scene, int spp, const RenderOptions& options);
 
-// One volume and nothing else (nothing clipping it but its clip planes) at one sample per pixel,
-// with render.packets: every method's trace is then VolumeMarcher::composite (dvr) or the one
-// projection or iso hit per ray, which the rays of a tile can share in vector lanes.
-bool volume_packets_apply(const Scene& scene, const FrameSetup& frame, int spp);
+// One volume and nothing else (nothing clipping it but its clip planes) at one sample per pixel
+// (`offsets`: spp 1, or one sample of a larger pattern, as a viewer's progressive still frames
+// take them), with render.packets: every method's trace is then VolumeMarcher::composite (dvr) or
+// the one projection or iso hit per ray, which the rays of a tile can share in vector lanes.
+bool volume_packets_apply(const Scene& scene, const FrameSetup& frame,
+                          std::span<const glm::vec2> offsets);
 
 // That case: per tile, the rays that meet the volume go through composite_packets() (dvr, its
-// pieces shaded as `extent` says) or project_packets() together (pixel centres, as
-// stratified_offsets(1)); `frame` accelerated for params.step.
+// pieces shaded as `extent` says) or project_packets() together, each through its pixel at
+// `offset` (the sample's place in the pixel); `frame` accelerated for params.step.
 Image render_volume_packets(const Scene& scene, const FrameSetup& frame, const MdvrParams& params,
-                            SlabExtent extent, const RenderOptions& options);
+                            SlabExtent extent, const RenderOptions& options, glm::vec2 offset);
 
 }  // namespace imx

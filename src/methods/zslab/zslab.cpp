@@ -27,7 +27,7 @@ using zslab_tiles::report;
 Image render_streamed(const Scene& scene, int spp, const RenderOptions& options, bool hybrid,
                       ZtBuffer* arrays = nullptr) {
   ZslabFrame z(scene, spp, hybrid, options.sample_index);
-  if (!arrays && zslab_in_packets(z, spp)) return render_zslab_packets(z, options);
+  if (!arrays && zslab_in_packets(z)) return render_zslab_packets(z, options);
   z.prepare();
   const size_t end = deferred_end(z);
   const int n = z.params.layers;
@@ -95,8 +95,8 @@ Image render_streamed(const Scene& scene, int spp, const RenderOptions& options,
 
 }  // namespace
 
-bool zslab_in_packets(const ZslabFrame& z, int spp) {
-  return z.format == SlabFormat::rgba32f && volume_packets_apply(z.scene, z.frame, spp);
+bool zslab_in_packets(const ZslabFrame& z) {
+  return z.format == SlabFormat::rgba32f && volume_packets_apply(z.scene, z.frame, z.offsets);
 }
 
 Image render_zslab_packets(const ZslabFrame& z, const RenderOptions& options) {
@@ -104,7 +104,7 @@ Image render_zslab_packets(const ZslabFrame& z, const RenderOptions& options) {
   p.step = z.steps[0];
   p.ert = z.params.mix.a_ert;
   p.iso_bisections = kZslabIsoBisections;
-  return render_volume_packets(z.scene, z.frame, p, SlabExtent::visible, options);
+  return render_volume_packets(z.scene, z.frame, p, SlabExtent::visible, options, z.offsets[0]);
 }
 
 Image render_zslab(const Scene& scene, int spp, const RenderOptions& options) {

@@ -63,7 +63,7 @@ class ZslabFrame;
 // exact) and the rays can share mdvr's vector lanes, each piece shaded where its light comes
 // from as the slab methods' marcher does. The image equals the per-sample pipeline's up to float
 // rounding (MdvrPackets.SlabMethodsOnOneVolumeSameImageAsTheirPipeline); real CT 3-4x faster.
-bool zslab_in_packets(const ZslabFrame& z, int spp);
+bool zslab_in_packets(const ZslabFrame& z);
 Image render_zslab_packets(const ZslabFrame& z, const RenderOptions& options);
 
 // The same pipeline with object-level reuse: recomputes the own arrays of the stages whose

@@ -87,8 +87,8 @@ FrameKeys frame_keys(const ZslabFrame& z) {
 }
 
 // What the plan needs of the frame's first `end` (deferred) stages and of the cache.
-ZslabReuseInput reuse_input(const ZslabFrame& z, const FrameKeys& keys, size_t end,
-                            size_t samples, const ZslabStageCache& cache) {
+ZslabReuseInput reuse_input(const ZslabFrame& z, const FrameKeys& keys, size_t end, size_t samples,
+                            const ZslabStageCache& cache) {
   ZslabReuseInput in;
   in.own_key.assign(keys.own.begin(), keys.own.begin() + static_cast<std::ptrdiff_t>(end));
   in.chain.assign(keys.chain.begin(), keys.chain.begin() + static_cast<std::ptrdiff_t>(end + 1));
@@ -98,7 +98,8 @@ ZslabReuseInput reuse_input(const ZslabFrame& z, const FrameKeys& keys, size_t e
   in.budget = cache.budget_bytes;
   for (const ZslabStageCache::Kept& e : cache.own) {
     in.kept_own.emplace_back();
-    if (e.slabs) in.kept_own.back() = KeptArrayShape{e.key, e.slabs->samples(), e.slabs->capacity()};
+    if (e.slabs)
+      in.kept_own.back() = KeptArrayShape{e.key, e.slabs->samples(), e.slabs->capacity()};
   }
   if (cache.prefix.slabs)
     in.prefix = KeptArrayShape{cache.prefix.key, cache.prefix.slabs->samples(),
@@ -225,8 +226,7 @@ glm::vec4 merge_sample(const CachedRun& r, const TileInputs& in, int x, int y, c
       touched = r.z.merge_own(k, stored, mine.first(static_cast<size_t>(m)), out);
     }
     if (touched) {
-      count = as_stored(std::span<Slab>(run[1 - cur], static_cast<size_t>(out.size())),
-                        r.z.format);
+      count = as_stored(std::span<Slab>(run[1 - cur], static_cast<size_t>(out.size())), r.z.format);
       cur = 1 - cur;
     }
     if (plan.write_prefix && k + 1 == plan.first)
@@ -298,7 +298,7 @@ Image render_zslab_cached(const Scene& scene, int spp, const RenderOptions& opti
     finish_stats();
     return *cache.image;
   }
-  if (zslab_in_packets(z, spp)) {  // one stage, nothing to keep but the image
+  if (zslab_in_packets(z)) {  // one stage, nothing to keep but the image
     auto image = std::make_shared<Image>(render_zslab_packets(z, options));
     st.stages_run = 1;
     st.recast_unchanged = cache.last_key == keys.own[0];
@@ -309,8 +309,7 @@ Image render_zslab_cached(const Scene& scene, int spp, const RenderOptions& opti
     return *image;
   }
 
-  const ZslabReuseInput input =
-      reuse_input(z, keys, end, static_cast<size_t>(w) * h * spx, cache);
+  const ZslabReuseInput input = reuse_input(z, keys, end, static_cast<size_t>(w) * h * spx, cache);
   const ZslabReusePlan plan = plan_zslab_reuse(input);
   const FrameArrays arrays = take_arrays(plan, input, cache);
   st.stages_run = plan.stages_run();
