@@ -50,18 +50,19 @@ TEST(MdvrPackets, SlabMethodsOnOneVolumeSameImageAsTheirPipeline) {
   }
 }
 
-// A viewer's progressive still frames render one sample of the spp pattern at a time: those
-// march in lanes too, each ray through its pixel at that sample's offset (not the centre).
-TEST(MdvrPackets, OneSampleOfAPatternInLanes) {
+// Several samples per pixel march in lanes too, a sample position at a time, and so does one
+// sample of the pattern (a viewer's progressive still frames): each ray through its pixel at its
+// sample's offset, the pixel the mean of its samples as the one-ray path sums them.
+TEST(MdvrPackets, SamplesOfAPatternInLanes) {
   Scene s = load_scene(std::filesystem::path(IMX_EXAMPLES_DIR) / "ct-head.json",
                        {"image.width=61", "image.height=47", "objects.ct.source.size=64"});
   for (const char* method : {"mdvr", "zslab"}) {
     const Image centre = render_mdvr(s, true, method);
-    for (int k = 0; k < 4; ++k) {
+    for (int k = -1; k < 4; ++k) {
       RenderOptions o;
       o.method = method;
       o.spp = 4;
-      o.sample_index = k;
+      o.sample_index = k;  // -1: all four
       Scene lanes = s, one_by_one = s;
       lanes.render.packets = true;
       one_by_one.render.packets = false;

@@ -18,17 +18,17 @@ MdvrParams prepare_mdvr(const Scene& scene, FrameSetup& frame);
 
 Image render_mdvr(const Scene& scene, int spp, const RenderOptions& options);
 
-// One volume and nothing else (nothing clipping it but its clip planes) at one sample per pixel
-// (`offsets`: spp 1, or one sample of a larger pattern, as a viewer's progressive still frames
-// take them), with render.packets: every method's trace is then VolumeMarcher::composite (dvr) or
-// the one projection or iso hit per ray, which the rays of a tile can share in vector lanes.
-bool volume_packets_apply(const Scene& scene, const FrameSetup& frame,
-                          std::span<const glm::vec2> offsets);
+// One volume and nothing else (nothing clipping it but its clip planes), with render.packets:
+// every method's trace is then VolumeMarcher::composite (dvr) or the one projection or iso hit
+// per ray, which the rays of a tile can share in vector lanes.
+bool volume_packets_apply(const Scene& scene, const FrameSetup& frame);
 
-// That case: per tile, the rays that meet the volume go through composite_packets() (dvr, its
-// pieces shaded as `extent` says) or project_packets() together, each through its pixel at
-// `offset` (the sample's place in the pixel); `frame` accelerated for params.step.
+// That case: per tile and sample position, the rays that meet the volume go through
+// composite_packets() (dvr, its pieces shaded as `extent` says) or project_packets() together,
+// each through its pixel at the position's `offsets` entry; a pixel is the mean of its samples,
+// summed in order as render_per_sample sums them. `frame` accelerated for params.step.
 Image render_volume_packets(const Scene& scene, const FrameSetup& frame, const MdvrParams& params,
-                            SlabExtent extent, const RenderOptions& options, glm::vec2 offset);
+                            SlabExtent extent, const RenderOptions& options,
+                            std::span<const glm::vec2> offsets);
 
 }  // namespace imx

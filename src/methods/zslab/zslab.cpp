@@ -96,7 +96,7 @@ Image render_streamed(const Scene& scene, int spp, const RenderOptions& options,
 }  // namespace
 
 bool zslab_in_packets(const ZslabFrame& z) {
-  return z.format == SlabFormat::rgba32f && volume_packets_apply(z.scene, z.frame, z.offsets);
+  return z.format == SlabFormat::rgba32f && volume_packets_apply(z.scene, z.frame);
 }
 
 Image render_zslab_packets(const ZslabFrame& z, const RenderOptions& options) {
@@ -104,7 +104,7 @@ Image render_zslab_packets(const ZslabFrame& z, const RenderOptions& options) {
   p.step = z.steps[0];
   p.ert = z.params.mix.a_ert;
   p.iso_bisections = kZslabIsoBisections;
-  return render_volume_packets(z.scene, z.frame, p, SlabExtent::visible, options, z.offsets[0]);
+  return render_volume_packets(z.scene, z.frame, p, SlabExtent::visible, options, z.offsets);
 }
 
 Image render_zslab(const Scene& scene, int spp, const RenderOptions& options) {
