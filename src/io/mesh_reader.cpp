@@ -6,24 +6,18 @@
 #include <fstream>
 #include <system_error>
 
-#include <assimp/config.h>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
-#include <assimp/Importer.hpp>
 #include <glm/glm.hpp>
 
-#include "core/colour.hpp"
 #include "core/limits.hpp"
-#include "core/math.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
-#include "io/assimp_guard.hpp"
 #include "io/freesurfer_surface.hpp"
 #include "io/gifti_reader.hpp"
 #include "io/gltf_check.hpp"
 #include "io/header_text.hpp"
+#include "io/mesh_assimp_plugin.hpp"
 #include "io/mesh_space.hpp"
 #include "io/ply_reader.hpp"
 #include "io/polydata.hpp"
@@ -33,63 +27,6 @@
 
 namespace imx {
 namespace {
-
-glm::dmat4 to_glm(const aiMatrix4x4& m) {
-  glm::dmat4 out(1.0);
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) out[c][r] = m[r][c];
-  return out;
-}
-
-// Appends the triangles of every mesh in the node tree, in world (file) units. An explicit
-// stack: a file's tree may be deep.
-void collect(const aiScene& scene, Mesh& out, bool& all_have_normals, bool& all_have_colors,
-             bool srgb_colors) {
-  std::vector<std::pair<const aiNode*, glm::dmat4>> stack{{scene.mRootNode, glm::dmat4(1.0)}};
-  while (!stack.empty()) {
-    auto [node, parent] = stack.back();
-    stack.pop_back();
-    const glm::dmat4 m = parent * to_glm(node->mTransformation);
-    const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(m)));
-    const bool mirrored = glm::determinant(glm::dmat3(m)) < 0.0;
-    for (unsigned k = 0; k < node->mNumMeshes; ++k) {
-      if (node->mMeshes[k] >= scene.mNumMeshes) continue;
-      const aiMesh& mesh = *scene.mMeshes[node->mMeshes[k]];
-      const auto base = static_cast<uint32_t>(out.positions.size());
-      all_have_normals = all_have_normals && mesh.HasNormals();
-      all_have_colors = all_have_colors && mesh.HasVertexColors(0);
-      for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
-        const aiVector3D& p = mesh.mVertices[v];
-        out.positions.emplace_back(transform_point(m, {p.x, p.y, p.z}));
-        glm::dvec3 n(0.0);
-        if (mesh.HasNormals()) {
-          const aiVector3D& a = mesh.mNormals[v];
-          n = normal_matrix * glm::dvec3(a.x, a.y, a.z);
-          double len = glm::length(n);
-          // assimp leaves NaN normals on degenerate faces: a zero normal means "none" to shading.
-          n = (std::isfinite(len) && len > 0.0) ? n / len : glm::dvec3(0.0);
-        }
-        out.normals.emplace_back(n);
-        glm::vec3 color(1.0f);
-        if (mesh.HasVertexColors(0)) {
-          const aiColor4D& c = mesh.mColors[0][v];
-          color = srgb_colors ? glm::vec3(srgb_decode(c.r), srgb_decode(c.g), srgb_decode(c.b))
-                              : glm::clamp(glm::vec3(c.r, c.g, c.b), 0.0f, 1.0f);
-          if (!all_finite(color)) color = glm::vec3(1.0f);
-        }
-        out.colors.push_back(color);
-      }
-      for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
-        const aiFace& face = mesh.mFaces[f];
-        if (face.mNumIndices != 3) continue;  // points and lines left by the importer
-        glm::uvec3 t(base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]);
-        if (mirrored) std::swap(t.y, t.z);
-        out.triangles.push_back(t);
-      }
-    }
-    for (unsigned c = node->mNumChildren; c-- > 0;) stack.emplace_back(node->mChildren[c], m);
-  }
-}
 
 // PLY by extension or by its first line, whatever the extension says.
 bool is_ply(const std::filesystem::path& file) {
@@ -126,29 +63,11 @@ Mesh read_with_assimp(const std::filesystem::path& file, const std::string& ext)
   if (ext == ".gltf" || ext == ".glb") detail::check_gltf(file);
   if (ext == ".obj") detail::check_obj_polygons(file);
   if (ext == ".off") detail::check_off(file);
-  Assimp::Importer importer;
-  importer.SetIOHandler(new detail::GuardedIOSystem(file));
-  detail::AssimpErrorLog errors;
-  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
-                              aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  // No GenSmoothNormals: read_mesh_file computes missing normals the same way for every format.
-  const unsigned flags =
-      aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType;
-  const aiScene* scene = importer.ReadFile(file.string(), flags);
-  if (scene == nullptr || scene->mRootNode == nullptr ||
-      (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || !errors.first_error().empty()) {
-    std::string why = scene == nullptr ? importer.GetErrorString() : errors.first_error();
-    throw Error(fmt::format("{}: cannot read the mesh: {}", file.string(),
-                            why.empty() ? "assimp returned no scene" : why));
-  }
-
-  Mesh mesh;
-  bool all_have_normals = true, all_have_colors = true;
+  // assimp is a plugin, loaded by the first such file (io/mesh_assimp_plugin.hpp).
   // glTF stores linear colours; OBJ (and STL) colours are display values, sRGB-encoded.
-  collect(*scene, mesh, all_have_normals, all_have_colors, ext != ".gltf" && ext != ".glb");
+  Mesh mesh = detail::import_mesh_with_plugin(file, ext != ".gltf" && ext != ".glb");
   // STL's normals are per facet: as vertex normals they would keep every STL faceted.
-  if (!all_have_normals || ext == ".stl") mesh.normals.clear();
-  if (!all_have_colors) mesh.colors.clear();
+  if (ext == ".stl") mesh.normals.clear();
   return mesh;
 }
 

@@ -1,11 +1,10 @@
-#include "io/assimp_guard.hpp"
+#include "mesh_assimp/assimp_guard.hpp"
 
 #include <mutex>
+#include <stdexcept>
 
 #include <assimp/DefaultLogger.hpp>
 #include <assimp/Logger.hpp>
-
-#include "io/regular_file.hpp"
 
 namespace imx::detail {
 namespace {
@@ -44,7 +43,9 @@ bool GuardedIOSystem::Exists(const char* file) const {
 Assimp::IOStream* GuardedIOSystem::Open(const char* file, const char* mode) {
   if (!same_file(file, mesh_)) {
     // assimp joins names in the mesh with the mesh's folder, relative to the working directory.
-    resolve_data_file(mesh_, std::filesystem::absolute(file).string(), "a file it refers to");
+    char why[4096] = "";
+    if (allow_(context_, std::filesystem::absolute(file).string().c_str(), why, sizeof why) != 0)
+      throw std::runtime_error(why);
   }
   return DefaultIOSystem::Open(file, mode);
 }

@@ -55,7 +55,7 @@ for f in include/intermix/renderer.hpp include/intermix/io.hpp \
          lib/cmake/intermix/intermixConfig.cmake lib/cmake/intermix/intermixConfigVersion.cmake \
          lib/cmake/intermix/intermixTargets.cmake lib/pkgconfig/intermix.pc \
          bin/intermix share/intermix/web/index.html share/intermix/web/js/main.js \
-         lib/intermix/libimx_dicom_codec.so; do
+         lib/intermix/libimx_dicom_codec.so lib/intermix/libimx_mesh_assimp.so; do
   [ -f "$prefix/$f" ] || fail "not installed: $f"
 done
 for m in methods frame csg scene presets io metrics raster volume core; do
@@ -159,4 +159,11 @@ if [ -f "$jpeg" ]; then
   grep -qF "file=$prefix/lib/intermix/libimx_dicom_codec.so [0];  generating link map" \
     "$work/codec.log" || fail "the installed program did not load $prefix/lib/intermix/libimx_dicom_codec.so (log: $work/codec.log)"
 fi
+# An OBJ mesh is read by the installed mesh plugin (assimp), found the same way.
+step "the installed program reads an OBJ mesh with the installed mesh plugin"
+printf 'v 0 0 0\nv 10 0 0\nv 10 10 0\nv 0 10 0\nf 1 2 3 4\n' >"$work/square.obj"
+LD_DEBUG=files logged mesh.log "$prefix/bin/intermix" info "$work/square.obj"
+grep -qF "file=$prefix/lib/intermix/libimx_mesh_assimp.so [0];  generating link map" \
+  "$work/mesh.log" || fail "the installed program did not load $prefix/lib/intermix/libimx_mesh_assimp.so (log: $work/mesh.log)"
+grep -qE '^triangles +2$' "$work/mesh.log" || fail "the installed program read no 2 triangles from square.obj (log: $work/mesh.log)"
 step "PASS"

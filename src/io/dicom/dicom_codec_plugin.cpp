@@ -1,15 +1,11 @@
 #include "io/dicom/dicom_codec_plugin.hpp"
 
-#include <dlfcn.h>
-
-#include <algorithm>
-#include <cstdlib>
-#include <filesystem>
 #include <mutex>
 
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
+#include "io/plugin_loader.hpp"
 
 // CMake defines these on this file's command line only (CMakeLists.txt), so that no other
 // compile names the build or install folder.
@@ -27,58 +23,15 @@ namespace imx::detail {
 
 namespace {
 
-// The folder of the program or shared module this code was linked into (the static imx_io is in
-// the intermix program, a test, or the Python module).
-std::filesystem::path own_folder() {
-  Dl_info info{};
-  if (::dladdr(reinterpret_cast<void*>(&own_folder), &info) == 0 || info.dli_fname == nullptr ||
-      info.dli_fname[0] == '\0')
-    return {};
-  std::error_code ec;
-  std::filesystem::path self = std::filesystem::canonical(info.dli_fname, ec);
-  return ec ? std::filesystem::path() : self.parent_path();
-}
-
-// One path's plugin, or why not.
-imx_dicom_codec_decode_fn open_plugin(const std::string& path, std::string& why) {
-  ::dlerror();
-  void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (handle == nullptr) {
-    const char* e = ::dlerror();
-    why = e != nullptr ? e : "dlopen failed";
-    if (why.starts_with(path + ": ")) why.erase(0, path.size() + 2);  // named once is enough
-    return nullptr;
-  }
-  auto abi = reinterpret_cast<imx_dicom_codec_abi_fn>(::dlsym(handle, IMX_DICOM_CODEC_ABI_SYMBOL));
-  auto decode =
-      reinterpret_cast<imx_dicom_codec_decode_fn>(::dlsym(handle, IMX_DICOM_CODEC_DECODE_SYMBOL));
-  if (abi == nullptr || decode == nullptr) {
-    why = "not an intermix DICOM codec plugin (no " IMX_DICOM_CODEC_DECODE_SYMBOL ")";
-  } else if (abi() != IMX_DICOM_CODEC_ABI_VERSION) {
-    why = fmt::format("interface version {}, this build needs {}", abi(),
-                      IMX_DICOM_CODEC_ABI_VERSION);
-  } else {
-    return decode;  // never closed: decoders run until the process ends
-  }
-  ::dlclose(handle);
-  return nullptr;
-}
+constexpr PluginPlace kPlace{
+    "an intermix DICOM codec plugin", "IMX_DICOM_CODEC",     IMX_DICOM_CODEC_FROM_BINDIR,
+    IMX_DICOM_CODEC_INSTALLED,        IMX_DICOM_CODEC_BUILT, IMX_DICOM_CODEC_ABI_SYMBOL,
+    IMX_DICOM_CODEC_ABI_VERSION};
 
 }  // namespace
 
 std::vector<std::string> dicom_codec_paths() {
-  const char* env = std::getenv("IMX_DICOM_CODEC");
-  if (env != nullptr && env[0] != '\0') return {env};
-  std::vector<std::string> paths;
-  auto add = [&](const std::string& p) {
-    if (!p.empty() && std::find(paths.begin(), paths.end(), p) == paths.end()) paths.push_back(p);
-  };
-  const std::filesystem::path folder = own_folder();
-  if (!folder.empty() && IMX_DICOM_CODEC_FROM_BINDIR[0] != '\0')
-    add((folder / IMX_DICOM_CODEC_FROM_BINDIR).lexically_normal().string());
-  add(IMX_DICOM_CODEC_INSTALLED);
-  add(IMX_DICOM_CODEC_BUILT);
-  return paths;
+  return plugin_paths(kPlace);
 }
 
 imx_dicom_codec_decode_fn dicom_codec(const std::string& file) {
@@ -88,16 +41,16 @@ imx_dicom_codec_decode_fn dicom_codec(const std::string& file) {
   std::lock_guard lock(mutex);
   if (loaded != nullptr) return loaded;
   std::string tried;
-  for (const std::string& path : dicom_codec_paths()) {
-    std::string why;
-    loaded = open_plugin(path, why);
+  if (void* handle = open_plugin(kPlace, tried)) {
+    loaded = reinterpret_cast<imx_dicom_codec_decode_fn>(
+        plugin_symbol(handle, IMX_DICOM_CODEC_DECODE_SYMBOL));
     if (loaded != nullptr) return loaded;
-    tried += fmt::format("{}{} ({})", tried.empty() ? "" : "; ", path, why);
+    tried = "a plugin without " IMX_DICOM_CODEC_DECODE_SYMBOL;
   }
   throw Error(fmt::format(
       "{}: its pixel data needs the DICOM codec plugin, which cannot be loaded (tried: {}); set "
       "IMX_DICOM_CODEC to the path of libimx_dicom_codec.so",
-      file, tried.empty() ? "no path" : tried));
+      file, tried));
 }
 
 }  // namespace imx::detail

@@ -1,0 +1,135 @@
+// The libraries only some inputs need are plugins opened on first use (src/io/plugin_loader.hpp):
+// assimp (with draco and minizip) for OBJ, STL, OFF and glTF meshes, Open MPI for --distributed.
+// Start-up, a NIfTI or DICOM conversion and a volume render map neither (the dynamic loader's own
+// report, LD_DEBUG=files, says what was mapped); a mesh of an assimp format maps the mesh plugin
+// and reads as before; a mesh plugin that cannot be loaded is one error naming the mesh file and
+// the paths tried. The DICOM test uses ../shared/data/dicom/ts (skipped without it).
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "cli_runner.hpp"
+#include "shared_data.hpp"
+#include "temp_dir.hpp"
+
+namespace imx {
+namespace {
+
+namespace fs = std::filesystem;
+using test::run_cli;
+using test::TempDir;
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// The loader's report names the C library (so it is there), and none of the plugin libraries.
+void expect_no_plugin_libraries(const test::CliResult& r) {
+  ASSERT_TRUE(contains(r.output, "libc.so.6")) << r.output.substr(0, 2000);
+  for (const char* library : {"libassimp", "libdraco", "libminizip", "libimx_mesh_assimp"})
+    EXPECT_FALSE(contains(r.output, library)) << library;
+}
+
+// A unit square in the z = 0 plane as two triangles: an OBJ face that assimp triangulates.
+void write_square_obj(const fs::path& file) {
+  std::ofstream(file) << "v 0 0 0\nv 10 0 0\nv 10 10 0\nv 0 10 0\nf 1 2 3 4\n";
+}
+
+// A binary STL of one triangle.
+void write_triangle_stl(const fs::path& file) {
+  std::ofstream out(file, std::ios::binary);
+  out << std::string(80, ' ');
+  const uint32_t count = 1;
+  out.write(reinterpret_cast<const char*>(&count), 4);
+  const float values[12] = {0, 0, 1, 0, 0, 0, 20, 0, 0, 0, 30, 0};
+  out.write(reinterpret_cast<const char*>(values), sizeof values);
+  out.write("\0\0", 2);
+}
+
+TEST(StartUpLibraries, HelpMapsNeitherAssimpNorMpi) {
+  expect_no_plugin_libraries(run_cli("--help", "LD_DEBUG=files "));
+}
+
+TEST(StartUpLibraries, NiftiConvertAndVolumeRenderMapNeitherAssimpNorMpi) {
+  TempDir dir;
+  ASSERT_EQ(
+      run_cli(fmt::format("phantom sphere --size 16 -o {}", (dir / "s.nii").string())).exit_code,
+      0);
+  const test::CliResult convert =
+      run_cli(fmt::format("convert {} -o {}", (dir / "s.nii").string(), (dir / "s.nrrd").string()),
+              "LD_DEBUG=files ");
+  ASSERT_EQ(convert.exit_code, 0) << convert.output;
+  ASSERT_TRUE(fs::exists(dir / "s.nrrd"));
+  expect_no_plugin_libraries(convert);
+  const test::CliResult render =
+      run_cli(fmt::format("render {} --width 16 --height 16 -o {}", (dir / "s.nii").string(),
+                          (dir / "s.png").string()),
+              "LD_DEBUG=files ");
+  ASSERT_EQ(render.exit_code, 0) << render.output;
+  ASSERT_TRUE(fs::exists(dir / "s.png"));
+  expect_no_plugin_libraries(render);
+}
+
+TEST(StartUpLibraries, DicomConvertMapsNeitherAssimpNorMpi) {
+  SKIP_WITHOUT_SHARED_DATA("dicom/ts");
+  TempDir dir;
+  const test::CliResult r =
+      run_cli(fmt::format("convert {} -o {}", (test::shared_data("dicom/ts") / "1.dcm").string(),
+                          (dir / "1.nii").string()),
+              "LD_DEBUG=files ");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  expect_no_plugin_libraries(r);
+}
+
+TEST(StartUpLibraries, ObjAndStlMeshesLoadTheMeshPlugin) {
+  TempDir dir;
+  write_square_obj(dir / "square.obj");
+  write_triangle_stl(dir / "triangle.stl");
+  // The counts and bounds follow from the files written above.
+  const std::pair<const char*, std::vector<std::string>> cases[] = {
+      {"square.obj",
+       {"triangles        2", "vertices         4", "[[0.0,0.0,0.0],[10.0,10.0,0.0]]"}},
+      {"triangle.stl",
+       {"triangles        1", "vertices         3", "[[0.0,0.0,0.0],[20.0,30.0,0.0]]"}}};
+  for (const auto& [name, expected] : cases) {
+    SCOPED_TRACE(name);
+    const test::CliResult r =
+        run_cli(fmt::format("info {}", (dir / name).string()), "LD_DEBUG=files ");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_TRUE(contains(r.output, "libimx_mesh_assimp.so"));
+    EXPECT_TRUE(contains(r.output, "libassimp"));
+    for (const std::string& line : expected) EXPECT_TRUE(contains(r.output, line)) << r.output;
+  }
+}
+
+TEST(StartUpLibraries, AMeshPluginThatCannotBeLoadedIsOneErrorNamingTheFileAndThePath) {
+  TempDir dir;
+  write_square_obj(dir / "square.obj");
+  const fs::path missing = dir / "missing" / "libimx_mesh_assimp.so";
+  const fs::path not_a_library = dir / "square.obj";
+  for (const fs::path& plugin : {missing, not_a_library}) {
+    SCOPED_TRACE(plugin.string());
+    const test::CliResult r = run_cli(fmt::format("info {}", (dir / "square.obj").string()),
+                                      fmt::format("IMX_MESH_PLUGIN={} ", plugin.string()));
+    EXPECT_NE(r.exit_code, 0) << r.output;
+    // One line names the mesh file, the plugin and the path tried; the path appears once more
+    // only as the file named first when the plugin is the mesh itself.
+    size_t lines = 0;
+    for (size_t at = 0; (at = r.output.find("mesh plugin", at)) != std::string::npos; ++at) {
+      const size_t begin = r.output.rfind('\n', at) + 1;
+      const std::string line = r.output.substr(begin, r.output.find('\n', at) - begin);
+      EXPECT_TRUE(contains(line, (dir / "square.obj").string() + ":")) << line;
+      EXPECT_TRUE(contains(line, "tried: " + plugin.string() + " (")) << line;
+      ++lines;
+      at = r.output.find('\n', at);
+      if (at == std::string::npos) break;
+    }
+    EXPECT_EQ(lines, 1u) << r.output;
+  }
+}
+
+}  // namespace
+}  // namespace imx
