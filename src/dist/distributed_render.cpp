@@ -2,8 +2,6 @@
 
 #if IMX_HAVE_MPI
 
-#include <mpi.h>
-
 #include <algorithm>
 #include <chrono>
 #include <climits>
@@ -15,17 +13,33 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <mutex>
+
 #include "core/process_usage.hpp"
 #include "core/progress_bar.hpp"
 #include "dist/rank_scene.hpp"
 #include "dist/slab_message.hpp"
 #include "dist/swap_schedule.hpp"
+#include "dist_mpi/mpi_plugin_abi.h"
 #include "intermix/error.hpp"
 #include "intermix/image.hpp"
 #include "intermix/io.hpp"
 #include "io/atomic_file.hpp"
+#include "io/plugin_loader.hpp"
 #include "methods/method_table.hpp"
 #include "methods/zslab/zslab.hpp"
+
+// CMake defines these on this file's command line only (CMakeLists.txt), so that no other
+// compile names the build or install folder.
+#ifndef IMX_MPI_PLUGIN_BUILT
+#define IMX_MPI_PLUGIN_BUILT ""
+#endif
+#ifndef IMX_MPI_PLUGIN_INSTALLED
+#define IMX_MPI_PLUGIN_INSTALLED ""
+#endif
+#ifndef IMX_MPI_PLUGIN_FROM_BINDIR
+#define IMX_MPI_PLUGIN_FROM_BINDIR ""
+#endif
 
 namespace imx {
 
@@ -37,27 +51,50 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// Open MPI is a plugin (src/dist_mpi/, libimx_mpi.so) opened when a distributed frame starts:
+// start-up loads none of its libraries. RTLD_GLOBAL: Open MPI opens components of its own that
+// look for its symbols in the global scope.
+constexpr detail::PluginPlace kMpiPlugin{"an intermix MPI plugin",   "IMX_MPI_PLUGIN",
+                                         IMX_MPI_PLUGIN_FROM_BINDIR, IMX_MPI_PLUGIN_INSTALLED,
+                                         IMX_MPI_PLUGIN_BUILT,       IMX_MPI_PLUGIN_ABI_SYMBOL,
+                                         IMX_MPI_PLUGIN_ABI_VERSION, true};
+
+const imx_mpi_calls* loaded_mpi = nullptr;  // set once, by the first MpiSession
+
+// The plugin's calls, loaded once per process; throws imx::Error naming the paths tried.
+const imx_mpi_calls& load_mpi() {
+  static std::mutex mutex;
+  std::lock_guard lock(mutex);
+  if (loaded_mpi != nullptr) return *loaded_mpi;
+  std::string tried;
+  if (void* handle = detail::open_plugin(kMpiPlugin, tried)) {
+    auto calls = reinterpret_cast<imx_mpi_plugin_calls_fn>(
+        detail::plugin_symbol(handle, IMX_MPI_PLUGIN_CALLS_SYMBOL));
+    if (calls != nullptr && (loaded_mpi = calls()) != nullptr) return *loaded_mpi;
+    tried = "a plugin without " IMX_MPI_PLUGIN_CALLS_SYMBOL;
+  }
+  throw Error(
+      fmt::format("--distributed needs the MPI plugin, which cannot be loaded (tried: {}); set "
+                  "IMX_MPI_PLUGIN to the path of libimx_mpi.so",
+                  tried));
+}
+
+// The calls, once an MpiSession has loaded them (every call below is made within one).
+const imx_mpi_calls& mpi_calls() {
+  return *loaded_mpi;
+}
+
 // MPI for the lifetime of one distributed frame. MPI calls come from the main thread only; the
 // renderer's TBB workers never make any.
 class MpiSession {
  public:
   MpiSession() {
-    int ready = 0;
-    MPI_Initialized(&ready);
-    if (!ready) {
-      int provided = 0;
-      MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
-      owner_ = true;
-    }
-    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-    MPI_Comm_size(MPI_COMM_WORLD, &size);
-    MPI_Comm node;  // the ranks sharing this machine, which share its cores
-    MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &node);
-    MPI_Comm_size(node, &node_ranks);
-    MPI_Comm_free(&node);
+    int32_t owner = 0;
+    load_mpi().init(&rank, &size, &node_ranks, &owner);
+    owner_ = owner != 0;
   }
   ~MpiSession() {
-    if (owner_) MPI_Finalize();
+    if (owner_) mpi_calls().finalize();
   }
   MpiSession(const MpiSession&) = delete;
   MpiSession& operator=(const MpiSession&) = delete;
@@ -98,12 +135,12 @@ void agreed(const MpiSession& mpi, Fn&& fn) {
     failed = mpi.rank;
   }
   int first = mpi.size;
-  MPI_Allreduce(&failed, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  mpi_calls().allreduce_min_int(&failed, &first);
   if (first == mpi.size) return;
   int length = static_cast<int>(std::min<size_t>(failure.size(), 4096));
-  MPI_Bcast(&length, 1, MPI_INT, first, MPI_COMM_WORLD);
+  mpi_calls().bcast(&length, 1, IMX_MPI_INT, first);
   failure.resize(static_cast<size_t>(length));
-  MPI_Bcast(failure.data(), length, MPI_CHAR, first, MPI_COMM_WORLD);
+  mpi_calls().bcast(failure.data(), length, IMX_MPI_CHAR, first);
   throw AgreedFailure(fmt::format("rank {} of {}: {}", first, mpi.size, failure));
 }
 
@@ -112,10 +149,10 @@ constexpr size_t kPiece = size_t{1} << 30;
 
 void send_bytes(const std::vector<std::byte>& data, int to) {
   uint64_t size = data.size();
-  MPI_Send(&size, 1, MPI_UINT64_T, to, 0, MPI_COMM_WORLD);
+  mpi_calls().send(&size, 1, IMX_MPI_UINT64, to, 0);
   for (size_t at = 0; at < data.size(); at += kPiece)
-    MPI_Send(data.data() + at, static_cast<int>(std::min(kPiece, data.size() - at)), MPI_BYTE, to,
-             1, MPI_COMM_WORLD);
+    mpi_calls().send(data.data() + at, static_cast<int>(std::min(kPiece, data.size() - at)),
+                     IMX_MPI_BYTE, to, 1);
 }
 
 // Refuses an announced size above `limit` before allocating it.
@@ -127,12 +164,12 @@ void check_announced(uint64_t size, size_t limit, int from) {
 
 std::vector<std::byte> receive_bytes(int from, size_t limit) {
   uint64_t size = 0;
-  MPI_Recv(&size, 1, MPI_UINT64_T, from, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  mpi_calls().recv(&size, 1, IMX_MPI_UINT64, from, 0);
   check_announced(size, limit, from);
   std::vector<std::byte> data(size);
   for (size_t at = 0; at < data.size(); at += kPiece)
-    MPI_Recv(data.data() + at, static_cast<int>(std::min(kPiece, data.size() - at)), MPI_BYTE, from,
-             1, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    mpi_calls().recv(data.data() + at, static_cast<int>(std::min(kPiece, data.size() - at)),
+                     IMX_MPI_BYTE, from, 1);
   return data;
 }
 
@@ -140,16 +177,14 @@ std::vector<std::byte> receive_bytes(int from, size_t limit) {
 std::vector<std::byte> exchange_bytes(const std::vector<std::byte>& out, int partner,
                                       size_t limit) {
   uint64_t size_out = out.size(), size_in = 0;
-  MPI_Sendrecv(&size_out, 1, MPI_UINT64_T, partner, 2, &size_in, 1, MPI_UINT64_T, partner, 2,
-               MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  mpi_calls().sendrecv(&size_out, 1, &size_in, 1, IMX_MPI_UINT64, partner, 2);
   check_announced(size_in, limit, partner);
   std::vector<std::byte> in(size_in);
   for (size_t at = 0; at < std::max(out.size(), in.size()); at += kPiece) {
     int n_out = static_cast<int>(at < out.size() ? std::min(kPiece, out.size() - at) : 0);
     int n_in = static_cast<int>(at < in.size() ? std::min(kPiece, in.size() - at) : 0);
-    MPI_Sendrecv(out.data() + std::min(at, out.size()), n_out, MPI_BYTE, partner, 3,
-                 in.data() + std::min(at, in.size()), n_in, MPI_BYTE, partner, 3, MPI_COMM_WORLD,
-                 MPI_STATUS_IGNORE);
+    mpi_calls().sendrecv(out.data() + std::min(at, out.size()), n_out,
+                         in.data() + std::min(at, in.size()), n_in, IMX_MPI_BYTE, partner, 3);
   }
   return in;
 }
@@ -232,8 +267,8 @@ std::vector<glm::vec4> composite(const MpiSession& mpi, ZtBuffer& arrays, size_t
     displs[r] = static_cast<int>(s.result.first * 4);
   }
   std::vector<glm::vec4> image(mpi.rank == 0 ? pixels : 0);
-  MPI_Gatherv(mine.data(), static_cast<int>(mine.size() * 4), MPI_FLOAT, image.data(),
-              counts.data(), displs.data(), MPI_FLOAT, 0, MPI_COMM_WORLD);
+  mpi_calls().gatherv(mine.data(), static_cast<int>(mine.size() * 4), image.data(), counts.data(),
+                      displs.data(), IMX_MPI_FLOAT, 0);
   lap(stats.gather_s);
   return image;
 }
@@ -342,14 +377,14 @@ void render_frame(const MpiSession& mpi, const DistributedRequest& request) {
   // 4. Compositing. A failure here (out of memory mid-exchange) cannot be agreed on while a
   // partner waits in a send, so it ends the job.
   std::vector<glm::vec4> pixels_rgba;
-  MPI_Barrier(MPI_COMM_WORLD);
+  mpi_calls().barrier();
   Clock::time_point t = Clock::now();
   try {
     pixels_rgba = composite(mpi, arrays, pixels, spp, outline, threads, stats);
   } catch (...) {
     std::fprintf(stderr, "error: rank %d of %d: compositing failed: %s\n", mpi.rank, mpi.size,
                  message_of(std::current_exception()).c_str());
-    MPI_Abort(MPI_COMM_WORLD, 1);
+    mpi_calls().abort(1);
   }
   stats.composite_s = seconds_since(t);
   arrays = ZtBuffer();
@@ -359,8 +394,8 @@ void render_frame(const MpiSession& mpi, const DistributedRequest& request) {
       1 + static_cast<size_t>(std::countr_zero(static_cast<unsigned>(swap_group(mpi.size))));
   std::vector<double> mine = flatten(stats, steps);
   std::vector<double> gathered(mpi.rank == 0 ? mine.size() * mpi.size : 0);
-  MPI_Gather(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, gathered.data(),
-             static_cast<int>(mine.size()), MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  mpi_calls().gather(mine.data(), static_cast<int>(mine.size()), gathered.data(), IMX_MPI_DOUBLE,
+                     0);
 
   // 5. Rank 0 writes the image (and the report); the others learn whether it could.
   agreed(mpi, [&] {
@@ -404,13 +439,13 @@ int render_distributed(const DistributedRequest& request,
     // Every rank says it before any exits: mpirun ends the job at the first non-zero exit.
     print_error(e.what());
     std::fflush(stderr);
-    MPI_Barrier(MPI_COMM_WORLD);
+    mpi_calls().barrier();
     return 1;
   } catch (...) {  // this rank alone: the others may wait on it in a collective
     print_error(
         fmt::format("rank {} of {}: {}", mpi.rank, mpi.size, message_of(std::current_exception())));
     std::fflush(stderr);
-    MPI_Abort(MPI_COMM_WORLD, 1);
+    mpi_calls().abort(1);
     return 1;
   }
 }

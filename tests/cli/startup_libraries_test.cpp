@@ -2,8 +2,9 @@
 // assimp (with draco and minizip) for OBJ, STL, OFF and glTF meshes, Open MPI for --distributed.
 // Start-up, a NIfTI or DICOM conversion and a volume render map neither (the dynamic loader's own
 // report, LD_DEBUG=files, says what was mapped); a mesh of an assimp format maps the mesh plugin
-// and reads as before; a mesh plugin that cannot be loaded is one error naming the mesh file and
-// the paths tried. The DICOM test uses ../shared/data/dicom/ts (skipped without it).
+// and reads as before, a distributed render the MPI plugin; a plugin that cannot be loaded is one
+// error naming the paths tried (and the mesh file). The DICOM test uses ../shared/data/dicom/ts
+// (skipped without it).
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -29,7 +30,8 @@ bool contains(const std::string& text, const std::string& part) {
 // The loader's report names the C library (so it is there), and none of the plugin libraries.
 void expect_no_plugin_libraries(const test::CliResult& r) {
   ASSERT_TRUE(contains(r.output, "libc.so.6")) << r.output.substr(0, 2000);
-  for (const char* library : {"libassimp", "libdraco", "libminizip", "libimx_mesh_assimp"})
+  for (const char* library : {"libassimp", "libdraco", "libminizip", "libimx_mesh_assimp", "libmpi",
+                              "libopen-rte", "libopen-pal", "libhwloc", "libevent", "libimx_mpi"})
     EXPECT_FALSE(contains(r.output, library)) << library;
 }
 
@@ -129,6 +131,55 @@ TEST(StartUpLibraries, AMeshPluginThatCannotBeLoadedIsOneErrorNamingTheFileAndTh
     }
     EXPECT_EQ(lines, 1u) << r.output;
   }
+}
+
+// A scene of one small phantom volume, written by the program itself.
+fs::path write_sphere_scene(const TempDir& dir) {
+  const fs::path volume = dir / "s.nii", scene = dir / "s.json";
+  EXPECT_EQ(run_cli(fmt::format("phantom sphere --size 16 -o {}", volume.string())).exit_code, 0);
+  const test::CliResult r =
+      run_cli(fmt::format("render {} --save-scene {} --width 16 --height 16 -o {}", volume.string(),
+                          scene.string(), (dir / "s.png").string()));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  return scene;
+}
+
+TEST(StartUpLibraries, DistributedRenderLoadsTheMpiPlugin) {
+  TempDir dir;
+  const fs::path scene = write_sphere_scene(dir);
+  // One process without mpirun is a job of one rank.
+  const test::CliResult r =
+      run_cli(fmt::format("render {} --distributed --width 16 --height 16 -o {}", scene.string(),
+                          (dir / "d.png").string()),
+              "LD_DEBUG=files ");
+  if (contains(r.output, "built without MPI")) GTEST_SKIP() << "built without MPI";
+  ASSERT_EQ(r.exit_code, 0) << r.output.substr(r.output.size() > 4000 ? r.output.size() - 4000 : 0);
+  EXPECT_TRUE(fs::exists(dir / "d.png"));
+  EXPECT_TRUE(contains(r.output, "libimx_mpi.so"));
+  EXPECT_TRUE(contains(r.output, "libmpi.so"));
+}
+
+TEST(StartUpLibraries, AnMpiPluginThatCannotBeLoadedIsOneErrorNamingThePath) {
+  TempDir dir;
+  const fs::path scene = write_sphere_scene(dir);
+  const fs::path missing = dir / "missing" / "libimx_mpi.so";
+  const test::CliResult r =
+      run_cli(fmt::format("render {} --distributed --width 16 --height 16 -o {}", scene.string(),
+                          (dir / "d.png").string()),
+              fmt::format("IMX_MPI_PLUGIN={} ", missing.string()));
+  if (contains(r.output, "built without MPI")) GTEST_SKIP() << "built without MPI";
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "d.png"));
+  size_t lines = 0;
+  for (size_t at = 0; (at = r.output.find(missing.string(), at)) != std::string::npos;
+       at += missing.string().size()) {
+    const size_t begin = r.output.rfind('\n', at) + 1;
+    const std::string line = r.output.substr(begin, r.output.find('\n', at) - begin);
+    EXPECT_TRUE(contains(line, "--distributed needs the MPI plugin")) << line;
+    EXPECT_TRUE(contains(line, "tried: " + missing.string() + " (")) << line;
+    ++lines;
+  }
+  EXPECT_EQ(lines, 1u) << r.output;
 }
 
 }  // namespace

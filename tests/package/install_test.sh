@@ -61,6 +61,10 @@ done
 for m in methods frame csg scene presets io metrics raster volume core; do
   [ -f "$prefix/lib/libimx_$m.a" ] || fail "not installed: lib/libimx_$m.a"
 done
+# The MPI plugin, when the build has one (Open MPI found): opened by render --distributed.
+if [ -f "$build/libimx_mpi.so" ]; then
+  [ -f "$prefix/lib/intermix/libimx_mpi.so" ] || fail "not installed: lib/intermix/libimx_mpi.so"
+fi
 [ ! -e "$prefix/lib/libimx_server.a" ] || fail "imx_server is installed but is no public API"
 [ ! -e "$prefix/lib/libimx_probes.a" ] || fail "imx_probes is installed but is no public API"
 [ -z "$(find "$prefix/include" -type f ! -path "$prefix/include/intermix/*.hpp")" ] ||
