@@ -6,6 +6,7 @@
 #include <optional>
 #include <type_traits>
 
+#include "slab/collect_slabs.hpp"
 #include "volume/label_classifier.hpp"
 #include "volume/lane_bricks.hpp"
 #include "volume/lane_grid.hpp"
@@ -254,7 +255,7 @@ class PacketKernel {
  public:
   PacketKernel(const PreparedVolume& v, const VoxelGrid<T>& grid, std::span<const PacketRay> rays,
                float step, std::span<const ShadingLight> lights, float ert,
-               std::span<glm::vec4> out, SlabExtent extent)
+               std::span<glm::vec4> out, SlabExtent extent, const SlabCollection* collect)
       : v_(v),
         grid_(grid),
         voxels_(grid),
@@ -264,11 +265,13 @@ class PacketKernel {
         lights_(lights),
         step_(step),
         ert_(ert),
-        preint_(v.accel.preint ? v.accel.preint->view() : PreintegrationView()) {
+        preint_(v.accel.preint ? v.accel.preint->view() : PreintegrationView()),
+        collect_(collect) {
     if (v.accel.gradients) gradients_.emplace(*v.accel.gradients);
     const Shading& s = v.object->shading;
     shaded_ = s.enabled;
     centre_ = extent == SlabExtent::visible && preint_.moments;
+    trim_ = extent == SlabExtent::visible && v.accel.emptiness;  // as VolumeMarcher trims
     labels_ = v.labels.active();
     nearest_ = v.labels.nearest();
     for (int k = 0; k < kAlphaCache; ++k) cached_label_[k] = k + 1;  // no label maps to slot k
@@ -314,7 +317,7 @@ class PacketKernel {
         }
         for (live &= ~done; done; done &= done - 1) {
           int l = __builtin_ctz(done);
-          out_[L_.ray[l]] = glm::vec4(L_.r[l], L_.g[l], L_.b[l], L_.a[l]);
+          if (!collect_) out_[L_.ray[l]] = glm::vec4(L_.r[l], L_.g[l], L_.b[l], L_.a[l]);
         }
       }
     }
@@ -349,7 +352,8 @@ class PacketKernel {
           empty |= settle(fresh & ~empty);
         }
       }
-      for (unsigned m = empty; m; m &= m - 1) out_[L_.ray[__builtin_ctz(m)]] = glm::vec4(0.0f);
+      if (!collect_)
+        for (unsigned m = empty; m; m &= m - 1) out_[L_.ray[__builtin_ctz(m)]] = glm::vec4(0.0f);
       live |= fresh & ~empty;
     }
     return live;
@@ -472,7 +476,7 @@ class PacketKernel {
     // Where the light comes from, from the table's moments before the short-piece correction,
     // as PreintegrationView::lookup(s_f, s_b, light) in VolumeMarcher::classify.
     __m256 centre = splat(0.5f), spread = _mm256_setzero_ps();
-    if (shaded_ && centre_) light_of(s_f, s_b, ca, centre, spread);
+    if (centre_ && (shaded_ || collect_)) light_of(s_f, s_b, ca, centre, spread);
     const __m256 short_piece =
         _mm256_and_ps(vis, _mm256_cmp_ps(len, splat(0.9999f * step_), _CMP_NGE_UQ));
     if (_mm256_movemask_ps(short_piece)) correct_short(short_piece, len, cr, cg, cb, ca);
@@ -498,6 +502,7 @@ class PacketKernel {
         cb = _mm256_blendv_ps(cb, _mm256_mul_ps(half, _mm256_add_ps(cb, b2)), two);
       }
     }
+    if (collect_) collect(vis, s_f, s_b, front, back, centre, cr, cg, cb, ca);
     // over(acc, c) where the piece is visible.
     const __m256 ar = _mm256_load_ps(L_.r), ag = _mm256_load_ps(L_.g), ab = _mm256_load_ps(L_.b),
                  aa = _mm256_load_ps(L_.a);
@@ -507,6 +512,26 @@ class PacketKernel {
     _mm256_store_ps(L_.b, _mm256_blendv_ps(ab, _mm256_fmadd_ps(w, cb, ab), vis));
     _mm256_store_ps(L_.a, _mm256_blendv_ps(aa, _mm256_fmadd_ps(w, ca, aa), vis));
     return static_cast<unsigned>(_mm256_movemask_ps(vis));
+  }
+
+  // The visible pieces of the lanes in `vis` as slabs into their rays' lists (collect_packets),
+  // each trimmed as VolumeMarcher::next trims it: scalar, once per visible piece.
+  void collect(__m256 vis, __m256 s_f, __m256 s_b, __m256 front, __m256 back, __m256 centre,
+               __m256 cr, __m256 cg, __m256 cb, __m256 ca) {
+    alignas(32) float f[kLanes], b[kLanes], t0[kLanes], t1[kLanes], at[kLanes];
+    alignas(32) float r[kLanes], g[kLanes], bl[kLanes], a[kLanes];
+    _mm256_store_ps(f, s_f), _mm256_store_ps(b, s_b), _mm256_store_ps(at, centre);
+    _mm256_store_ps(t0, front), _mm256_store_ps(t1, back);
+    _mm256_store_ps(r, cr), _mm256_store_ps(g, cg), _mm256_store_ps(bl, cb), _mm256_store_ps(a, ca);
+    for (unsigned m = static_cast<unsigned>(_mm256_movemask_ps(vis)); m; m &= m - 1) {
+      const int l = __builtin_ctz(m);
+      double lo = t0[l], hi = t1[l];
+      if (trim_) trim_to_light(*v_.accel.emptiness, f[l], b[l], at[l], lo, hi);
+      collect_->lists[static_cast<size_t>(L_.ray[l])].push_back(
+          Slab::between(static_cast<float>(lo), static_cast<float>(hi),
+                        glm::vec4(r[l], g[l], bl[l], a[l])),
+          collect_->overflow);
+    }
   }
 
   // One piece of a label volume in every live lane, as VolumeMarcher::next_label_in_piece:
@@ -902,7 +927,9 @@ class PacketKernel {
   float step_, ert_;
   PreintegrationView preint_;
   bool shaded_ = false;
-  bool centre_ = false;  // SlabExtent::visible: shade where each piece's light comes from
+  bool centre_ = false;            // SlabExtent::visible: shade where each piece's light comes from
+  bool trim_ = false;              // SlabExtent::visible: collected slabs cover their visible part
+  const SlabCollection* collect_;  // null: composite only
   bool labels_ = false, nearest_ = false;  // a label volume (label_classifier.hpp)
   int32_t cached_label_[kAlphaCache];
   float cached_alpha_[kAlphaCache] = {};
@@ -1045,11 +1072,31 @@ void composite_packets(const PreparedVolume& v, std::span<const PacketRay> rays,
                        SlabExtent extent) {
 #if IMX_PACKET_LANES
   if (packet_marching_supported(v, lights)) {
-    run_lane_kernel<PacketKernel>(v, rays, step, lights, ert, out, extent);
+    run_lane_kernel<PacketKernel>(v, rays, step, lights, ert, out, extent,
+                                  static_cast<const SlabCollection*>(nullptr));
     return;
   }
 #endif
   composite_each(v, rays, step, lights, ert, out, extent);
+}
+
+void collect_packets(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
+                     std::span<const ShadingLight> lights, float a_ert,
+                     const SlabCollection& collection) {
+  for (SlabList& list : collection.lists) list.clear();
+  // ert_reached: an ERT opacity of 1 or more never stops a volume's own array.
+  const float ert = a_ert < 1.0f ? a_ert : 2.0f;
+#if IMX_PACKET_LANES
+  if (packet_marching_supported(v, lights) && !v.labels.active()) {
+    run_lane_kernel<PacketKernel>(v, rays, step, lights, ert, std::span<glm::vec4>(),
+                                  SlabExtent::visible, &collection);
+    return;
+  }
+#endif
+  for (size_t i = 0; i < rays.size(); ++i) {
+    VolumeMarcher m(v, rays[i].ray, rays[i].t0, rays[i].t1, step, lights, SlabExtent::visible);
+    collect_slabs(m, collection.lists[i], a_ert, collection.overflow);
+  }
 }
 
 }  // namespace imx

@@ -8,6 +8,7 @@
 #include "core/blinn_phong.hpp"
 #include "core/camera_model.hpp"
 #include "core/ray.hpp"
+#include "slab/slab_array.hpp"
 #include "volume/prepared_volume.hpp"
 #include "volume/volume_marcher.hpp"
 
@@ -56,5 +57,21 @@ void intersect_packets(const PreparedVolume& v, std::span<PacketRay> rays);
 void composite_packets(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
                        std::span<const ShadingLight> lights, float ert, std::span<glm::vec4> out,
                        SlabExtent extent = SlabExtent::grid);
+
+// Where collect_packets puts each ray's slabs: lists[i] for ray i, folded as `overflow` says
+// once full.
+struct SlabCollection {
+  std::span<SlabList> lists;
+  Overflow overflow = Overflow::tail;
+};
+
+// The slab methods' own array of volume `v` for many rays: for rays[i], the slabs that
+// VolumeMarcher(v, ray, t0, t1, step, lights, SlabExtent::visible) emits, gathered by
+// collect_slabs into collection.lists[i] until the volume alone reaches `a_ert` (ert_reached),
+// eight rays at a time in lanes where composite_packets would take them (and not a label map),
+// up to float rounding. Rays as composite_packets wants them.
+void collect_packets(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
+                     std::span<const ShadingLight> lights, float a_ert,
+                     const SlabCollection& collection);
 
 }  // namespace imx

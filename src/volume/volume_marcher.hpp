@@ -37,6 +37,27 @@ namespace imx {
 // pieces shaded at their midpoints, as a conventional ray caster does.
 enum class SlabExtent { grid, visible };
 
+// SlabExtent::visible: narrows [front, back] to the visible part of the ramp s_f -> s_b, and within
+// it to the interval centred on the light's centre `centre` (a fraction of the piece): the extent
+// over which an even spread of the slab's opacity has the true first moment, so that splitting it
+// linearly (OVI) puts its opacity where the medium absorbs. Keeps at least 1/16 of the piece
+// so that the slab stays a medium, not a surface.
+inline void trim_to_light(const TfEmptiness& tf, float s_f, float s_b, float centre, double& front,
+                          double& back) {
+  glm::vec2 u = tf.visible_part(s_f, s_b);
+  float c = std::clamp(centre, u.x, u.y);
+  float half = std::min(c - u.x, u.y - c);
+  u = glm::vec2(c - half, c + half);
+  constexpr float kMin = 1.0f / 16.0f;
+  if (u.y - u.x < kMin) {
+    float mid = std::clamp(0.5f * (u.x + u.y), 0.5f * kMin, 1.0f - 0.5f * kMin);
+    u = glm::vec2(mid - 0.5f * kMin, mid + 0.5f * kMin);
+  }
+  double len = back - front;
+  back = front + u.y * len;
+  front = front + u.x * len;
+}
+
 // The cell k of the sampling grid [k, k+1) * step that holds t, guarding against rounding at its
 // ends. Every marcher cuts its steps on this grid.
 inline double grid_cell(double t, double step) {
@@ -272,24 +293,8 @@ class VolumeMarcher {
     return true;
   }
 
-  // Narrows [front, back] to the visible part of the ramp s_f -> s_b, and within it to the
-  // interval centred on the light's centre `centre` (a fraction of the piece): the extent over
-  // which an even spread of the slab's opacity has the true first moment, so that splitting it
-  // linearly (OVI) puts its opacity where the medium absorbs. Keeps at least 1/16 of the piece
-  // so that the slab stays a medium, not a surface.
   void trim(float s_f, float s_b, float centre, double& front, double& back) const {
-    glm::vec2 u = v_->accel.emptiness->visible_part(s_f, s_b);
-    float c = std::clamp(centre, u.x, u.y);
-    float half = std::min(c - u.x, u.y - c);
-    u = glm::vec2(c - half, c + half);
-    constexpr float kMin = 1.0f / 16.0f;
-    if (u.y - u.x < kMin) {
-      float mid = std::clamp(0.5f * (u.x + u.y), 0.5f * kMin, 1.0f - 0.5f * kMin);
-      u = glm::vec2(mid - 0.5f * kMin, mid + 0.5f * kMin);
-    }
-    double len = back - front;
-    back = front + u.y * len;
-    front = front + u.x * len;
+    trim_to_light(*v_->accel.emptiness, s_f, s_b, centre, front, back);
   }
 
   // (C, A) of the piece; for visible slabs also where its light comes from (else `light` is

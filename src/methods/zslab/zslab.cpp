@@ -18,6 +18,7 @@ using zslab_tiles::deferred_end;
 using zslab_tiles::for_each_sample;
 using zslab_tiles::for_each_sample_index;
 using zslab_tiles::kTileSize;
+using zslab_tiles::OwnVolumeSlabs;
 using zslab_tiles::report;
 
 // Stateless pipeline: every stage runs on one tile's ping-pong ZT-buffers before the next tile;
@@ -45,10 +46,26 @@ Image render_streamed(const Scene& scene, int spp, const RenderOptions& options,
         SampleFragments fragments, clip;
         const bool have_clip = z.rasterize_clip(tile, clip);
         Slab in_slots[kMaxZslabLayers], out_slots[kMaxZslabLayers];
+        OwnVolumeSlabs own(samples, n);
         for (size_t k = 0; k < end; ++k) {
           const bool surfaces = z.stages[k].kind == ZslabStage::Kind::surfaces;
           if (surfaces && !z.stage_reaches(k, tile)) continue;  // no fragment here: untouched
           if (surfaces) z.rasterize(k, tile, fragments);
+          if (!surfaces && z.volume_stage_in_packets(k)) {
+            // The volume's own arrays of the whole tile in lanes, then each merged as
+            // run_deferred merges it.
+            z.own_volume_slabs(k, tile, own.lists);
+            for (size_t i = 0; i < samples; ++i) {
+              if (own.lists[i].size() == 0) continue;
+              uint32_t c = current(i);
+              int count = zt[c].load(i, in_slots);
+              SlabList out(std::span<Slab>(out_slots, static_cast<size_t>(n)));
+              z.merge_own(k, std::span<const Slab>(in_slots, count), own.lists[i].items(), out);
+              zt[1 - c].store(i, out.items());
+              flags[i / 32] ^= 1u << (i % 32);
+            }
+            continue;
+          }
           auto run = [&](int x, int y, const Ray& ray, size_t i) {
             std::span<const Fragment> f = surfaces ? fragments.of(i) : std::span<const Fragment>();
             if (surfaces && f.empty()) return;

@@ -177,6 +177,18 @@ void render_objects(const CachedRun& r, const TileRect& tile, TileInputs& in) {
     KeptSlabArrays* writing = r.arrays.writing[k].get();
     if (!writing) in.local[k] = std::make_unique<KeptSlabArrays>(tile_samples, r.capacity[k]);
     const bool surfaces = r.z.stages[k].kind == ZslabStage::Kind::surfaces;
+    if (!surfaces && r.z.volume_stage_in_packets(k)) {  // the whole tile in lanes
+      zslab_tiles::OwnVolumeSlabs lanes(tile_samples, r.z.params.layers);
+      r.z.own_volume_slabs(k, tile, lanes.lists);
+      zslab_tiles::for_each_sample_index(r.z, tile, [&](int x, int y, size_t i) {
+        const std::span<const Slab> slabs = lanes.lists[i].items();
+        if (writing)
+          writing->store(r.global(x, y, i), slabs);
+        else
+          in.local[k]->store(i, slabs);
+      });
+      continue;
+    }
     std::span<Slab> mine(own, static_cast<size_t>(r.capacity[k]));
     auto run = [&](int x, int y, const Ray& ray, size_t i) {
       std::span<const Fragment> f = surfaces ? in.fragments[k].of(i) : std::span<const Fragment>();

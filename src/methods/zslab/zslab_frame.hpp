@@ -70,6 +70,13 @@ class ZslabFrame {
   // the stage does not touch the sample.
   int own_slabs(size_t k, int x, int y, const Ray& ray, std::span<const Fragment> fragments,
                 std::span<Slab> own, std::span<const Fragment> clip = {}) const;
+  // Whether volume stage `k` (a deferred dvr volume no clip mesh cuts) can cast every sample of
+  // a tile at once in vector lanes: own_volume_slabs.
+  bool volume_stage_in_packets(size_t k) const;
+  // Stage k's own arrays (own_slabs) for every sample of `tile` at once, lists[i] for sample i in
+  // for_each_sample's order, each over its own params.layers slots; the same slabs up to float
+  // rounding. Needs volume_stage_in_packets(k).
+  void own_volume_slabs(size_t k, const TileRect& tile, std::span<SlabList> lists) const;
   // Merges stage k's own array into `stored` (out: N slots); false, `out` untouched, when `own`
   // is empty.
   bool merge_own(size_t k, std::span<const Slab> stored, std::span<const Slab> own,

@@ -12,6 +12,7 @@
 #include "intermix/scene.hpp"
 #include "raster/fragment.hpp"
 #include "slab/accumulate.hpp"
+#include "slab/collect_slabs.hpp"
 #include "slab/intermix_kernel.hpp"
 #include "slab/slab.hpp"
 #include "slab/slab_array.hpp"
@@ -56,21 +57,6 @@ inline void intermix_stage(std::span<const Slab> stored, std::span<const Slab> i
                            SlabList& out, const IntermixSettings& s) {
   out.clear();
   intermix(stored, incoming, out, s);
-}
-
-// A volume's own zSlab array for deferred intermixing: its sample slabs in depth order, folded as
-// `overflow` says once `out` is full, until the volume alone reaches the ERT opacity.
-// Source: bool next(Slab&) (VolumeMarcher or a single hit).
-template <class Source>
-inline void collect_slabs(Source& source, SlabList& out, float a_ert, Overflow overflow) {
-  out.clear();
-  glm::vec4 acc(0.0f);
-  Slab s;
-  while (!ert_reached(acc.a, a_ert) && source.next(s)) {
-    if (s.is_empty()) continue;
-    out.push_back(s, overflow);
-    acc = over(acc, s.color);
-  }
 }
 
 // Hybrid stage: the last volume's slabs go through the kernel against the stored array as the

@@ -38,7 +38,7 @@ struct ZslabReusePlan {
   std::vector<bool> render;  // its object is rendered this frame
   size_t first = 0;          // the first stage not matched (the deferred count when none)
   size_t start = 0;          // the first stage merged: the kept prefix's stage, or 0
-  bool read_prefix = false;   // the kept prefix is valid: the merges start from it
+  bool read_prefix = false;  // the kept prefix is valid: the merges start from it
   bool write_prefix = false;  // the merged array before `first` becomes the kept prefix
   bool drop_prefix = false;   // the cache lets its prefix go (it may still be read this frame)
   uint64_t own_bytes = 0;     // the own arrays kept

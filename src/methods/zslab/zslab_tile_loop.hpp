@@ -3,6 +3,7 @@
 #pragma once
 #include <cstddef>
 #include <span>
+#include <vector>
 
 #include "core/parallel.hpp"
 #include "intermix/render.hpp"
@@ -42,6 +43,18 @@ void for_each_sample_index(const ZslabFrame& z, const TileRect& tile, const Fn& 
     for (int x = tile.x0; x < tile.x1; ++x)
       for (size_t o = 0; o < per_pixel; ++o) fn(x, y, i++);
 }
+
+// A tile's own volume arrays for ZslabFrame::own_volume_slabs: `layers` slots per sample.
+struct OwnVolumeSlabs {
+  std::vector<Slab> slots;
+  std::vector<SlabList> lists;
+  OwnVolumeSlabs(size_t samples, int layers) : slots(samples * static_cast<size_t>(layers)) {
+    lists.reserve(samples);
+    for (size_t i = 0; i < samples; ++i)
+      lists.emplace_back(std::span<Slab>(slots).subspan(i * static_cast<size_t>(layers),
+                                                        static_cast<size_t>(layers)));
+  }
+};
 
 inline void report(const RenderOptions& options, int done, int total) {
   if (options.progress) options.progress(static_cast<double>(done) / total);
