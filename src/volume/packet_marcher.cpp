@@ -6,7 +6,6 @@
 #include <optional>
 #include <type_traits>
 
-#include "slab/collect_slabs.hpp"
 #include "volume/label_classifier.hpp"
 #include "volume/lane_bricks.hpp"
 #include "volume/lane_grid.hpp"
@@ -255,7 +254,7 @@ class PacketKernel {
  public:
   PacketKernel(const PreparedVolume& v, const VoxelGrid<T>& grid, std::span<const PacketRay> rays,
                float step, std::span<const ShadingLight> lights, float ert,
-               std::span<glm::vec4> out, SlabExtent extent, const SlabCollection* collect)
+               std::span<glm::vec4> out, SlabExtent extent, SlabSink* sink)
       : v_(v),
         grid_(grid),
         voxels_(grid),
@@ -266,7 +265,7 @@ class PacketKernel {
         step_(step),
         ert_(ert),
         preint_(v.accel.preint ? v.accel.preint->view() : PreintegrationView()),
-        collect_(collect) {
+        sink_(sink) {
     if (v.accel.gradients) gradients_.emplace(*v.accel.gradients);
     const Shading& s = v.object->shading;
     shaded_ = s.enabled;
@@ -317,7 +316,7 @@ class PacketKernel {
         }
         for (live &= ~done; done; done &= done - 1) {
           int l = __builtin_ctz(done);
-          if (!collect_) out_[L_.ray[l]] = glm::vec4(L_.r[l], L_.g[l], L_.b[l], L_.a[l]);
+          if (!sink_) out_[L_.ray[l]] = glm::vec4(L_.r[l], L_.g[l], L_.b[l], L_.a[l]);
         }
       }
     }
@@ -352,7 +351,7 @@ class PacketKernel {
           empty |= settle(fresh & ~empty);
         }
       }
-      if (!collect_)
+      if (!sink_)
         for (unsigned m = empty; m; m &= m - 1) out_[L_.ray[__builtin_ctz(m)]] = glm::vec4(0.0f);
       live |= fresh & ~empty;
     }
@@ -476,7 +475,7 @@ class PacketKernel {
     // Where the light comes from, from the table's moments before the short-piece correction,
     // as PreintegrationView::lookup(s_f, s_b, light) in VolumeMarcher::classify.
     __m256 centre = splat(0.5f), spread = _mm256_setzero_ps();
-    if (centre_ && (shaded_ || collect_)) light_of(s_f, s_b, ca, centre, spread);
+    if (centre_ && (shaded_ || sink_)) light_of(s_f, s_b, ca, centre, spread);
     const __m256 short_piece =
         _mm256_and_ps(vis, _mm256_cmp_ps(len, splat(0.9999f * step_), _CMP_NGE_UQ));
     if (_mm256_movemask_ps(short_piece)) correct_short(short_piece, len, cr, cg, cb, ca);
@@ -502,7 +501,7 @@ class PacketKernel {
         cb = _mm256_blendv_ps(cb, _mm256_mul_ps(half, _mm256_add_ps(cb, b2)), two);
       }
     }
-    if (collect_) collect(vis, s_f, s_b, front, back, centre, cr, cg, cb, ca);
+    if (sink_) collect(vis, s_f, s_b, front, back, centre, cr, cg, cb, ca);
     // over(acc, c) where the piece is visible.
     const __m256 ar = _mm256_load_ps(L_.r), ag = _mm256_load_ps(L_.g), ab = _mm256_load_ps(L_.b),
                  aa = _mm256_load_ps(L_.a);
@@ -514,8 +513,9 @@ class PacketKernel {
     return static_cast<unsigned>(_mm256_movemask_ps(vis));
   }
 
-  // The visible pieces of the lanes in `vis` as slabs into their rays' lists (collect_packets),
-  // each trimmed as VolumeMarcher::next trims it: scalar, once per visible piece.
+  // The visible pieces of the lanes in `vis` as slabs to the sink (march_slab_packets), each
+  // trimmed as VolumeMarcher::next trims it: scalar, once per visible piece. A ray the sink
+  // declines ends here (its span closes).
   void collect(__m256 vis, __m256 s_f, __m256 s_b, __m256 front, __m256 back, __m256 centre,
                __m256 cr, __m256 cg, __m256 cb, __m256 ca) {
     alignas(32) float f[kLanes], b[kLanes], t0[kLanes], t1[kLanes], at[kLanes];
@@ -527,10 +527,9 @@ class PacketKernel {
       const int l = __builtin_ctz(m);
       double lo = t0[l], hi = t1[l];
       if (trim_) trim_to_light(*v_.accel.emptiness, f[l], b[l], at[l], lo, hi);
-      collect_->lists[static_cast<size_t>(L_.ray[l])].push_back(
-          Slab::between(static_cast<float>(lo), static_cast<float>(hi),
-                        glm::vec4(r[l], g[l], bl[l], a[l])),
-          collect_->overflow);
+      const Slab slab = Slab::between(static_cast<float>(lo), static_cast<float>(hi),
+                                      glm::vec4(r[l], g[l], bl[l], a[l]));
+      if (!sink_->take(static_cast<size_t>(L_.ray[l]), slab)) L_.t1[l] = -INFINITY;
     }
   }
 
@@ -927,9 +926,9 @@ class PacketKernel {
   float step_, ert_;
   PreintegrationView preint_;
   bool shaded_ = false;
-  bool centre_ = false;            // SlabExtent::visible: shade where each piece's light comes from
-  bool trim_ = false;              // SlabExtent::visible: collected slabs cover their visible part
-  const SlabCollection* collect_;  // null: composite only
+  bool centre_ = false;  // SlabExtent::visible: shade where each piece's light comes from
+  bool trim_ = false;    // SlabExtent::visible: collected slabs cover their visible part
+  SlabSink* sink_;       // null: composite only
   bool labels_ = false, nearest_ = false;  // a label volume (label_classifier.hpp)
   int32_t cached_label_[kAlphaCache];
   float cached_alpha_[kAlphaCache] = {};
@@ -1073,30 +1072,47 @@ void composite_packets(const PreparedVolume& v, std::span<const PacketRay> rays,
 #if IMX_PACKET_LANES
   if (packet_marching_supported(v, lights)) {
     run_lane_kernel<PacketKernel>(v, rays, step, lights, ert, out, extent,
-                                  static_cast<const SlabCollection*>(nullptr));
+                                  static_cast<SlabSink*>(nullptr));
     return;
   }
 #endif
   composite_each(v, rays, step, lights, ert, out, extent);
 }
 
-void collect_packets(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
-                     std::span<const ShadingLight> lights, float a_ert,
-                     const SlabCollection& collection) {
-  for (SlabList& list : collection.lists) list.clear();
-  // ert_reached: an ERT opacity of 1 or more never stops a volume's own array.
-  const float ert = a_ert < 1.0f ? a_ert : 2.0f;
+void march_slab_packets(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
+                        std::span<const ShadingLight> lights, float ert, SlabSink& sink) {
 #if IMX_PACKET_LANES
   if (packet_marching_supported(v, lights) && !v.labels.active()) {
     run_lane_kernel<PacketKernel>(v, rays, step, lights, ert, std::span<glm::vec4>(),
-                                  SlabExtent::visible, &collection);
+                                  SlabExtent::visible, &sink);
     return;
   }
 #endif
   for (size_t i = 0; i < rays.size(); ++i) {
     VolumeMarcher m(v, rays[i].ray, rays[i].t0, rays[i].t1, step, lights, SlabExtent::visible);
-    collect_slabs(m, collection.lists[i], a_ert, collection.overflow);
+    glm::vec4 acc(0.0f);
+    Slab s;
+    while (!(acc.a >= ert) && m.next(s)) {
+      if (!sink.take(i, s)) break;
+      acc = over(acc, s.color);
+    }
   }
+}
+
+void collect_packets(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
+                     std::span<const ShadingLight> lights, float a_ert,
+                     const SlabCollection& collection) {
+  struct Lists final : SlabSink {
+    const SlabCollection& c;
+    explicit Lists(const SlabCollection& collection) : c(collection) {}
+    bool take(size_t ray, const Slab& slab) override {
+      c.lists[ray].push_back(slab, c.overflow);
+      return true;
+    }
+  } lists(collection);
+  for (SlabList& list : collection.lists) list.clear();
+  // ert_reached: an ERT opacity of 1 or more never stops a volume's own array.
+  march_slab_packets(v, rays, step, lights, a_ert < 1.0f ? a_ert : 2.0f, lists);
 }
 
 }  // namespace imx

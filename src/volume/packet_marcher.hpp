@@ -58,6 +58,23 @@ void composite_packets(const PreparedVolume& v, std::span<const PacketRay> rays,
                        std::span<const ShadingLight> lights, float ert, std::span<glm::vec4> out,
                        SlabExtent extent = SlabExtent::grid);
 
+// Where march_slab_packets puts each ray's visible pieces, in depth order: take(i, slab) for
+// ray i returns false when that ray needs no more.
+class SlabSink {
+ public:
+  virtual bool take(size_t ray, const Slab& slab) = 0;
+
+ protected:
+  ~SlabSink() = default;
+};
+
+// The slabs VolumeMarcher(v, ray, t0, t1, step, lights, SlabExtent::visible) emits for each ray,
+// into `sink`, until the ray's composite of them reaches `ert` (never when ert > 1) or the sink
+// declines: eight rays at a time in lanes where composite_packets would take them (and not a
+// label map), up to float rounding. Rays as composite_packets wants them.
+void march_slab_packets(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
+                        std::span<const ShadingLight> lights, float ert, SlabSink& sink);
+
 // Where collect_packets puts each ray's slabs: lists[i] for ray i, folded as `overflow` says
 // once full.
 struct SlabCollection {

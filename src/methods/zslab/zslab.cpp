@@ -93,12 +93,29 @@ Image render_streamed(const Scene& scene, int spp, const RenderOptions& options,
           });
           return;
         }
+        // The last volume cast on the fly: a tile's samples at once in lanes where it can.
+        std::vector<glm::vec4> cast;
+        if (z.final_stage_in_lanes(end)) {
+          std::vector<std::span<const Slab>> stored(samples);
+          for (size_t i = 0; i < samples; ++i) {
+            Slab* slots = own.slots.data() + i * static_cast<size_t>(n);
+            stored[i] = std::span<const Slab>(
+                slots, static_cast<size_t>(
+                           zt[current(i)].load(i, std::span<Slab>(slots, static_cast<size_t>(n)))));
+          }
+          cast.resize(samples);
+          z.run_final_in_lanes(end, tile, stored, cast);
+        }
         glm::vec4 sum(0.0f);
         size_t done = 0;
         for_each_sample(z, tile, [&](int x, int y, const Ray& ray, size_t i) {
-          int count = zt[current(i)].load(i, in_slots);
-          sum += z.run_final(end, x, y, ray, std::span<const Slab>(in_slots, count),
-                             clip_row(clip, have_clip, i));
+          if (!cast.empty()) {
+            sum += cast[i];
+          } else {
+            int count = zt[current(i)].load(i, in_slots);
+            sum += z.run_final(end, x, y, ray, std::span<const Slab>(in_slots, count),
+                               clip_row(clip, have_clip, i));
+          }
           if (++done == z.offsets.size()) {
             image.at(x, y) = over_background(sum * weight, scene.image.background);
             sum = glm::vec4(0.0f);

@@ -211,9 +211,9 @@ void render_objects(const CachedRun& r, const TileRect& tile, TileInputs& in) {
 }
 
 // Sample i's merges in stage order, from the kept prefix or from nothing (storing the new
-// prefix where the plan writes one), then its final accumulation or cast.
-glm::vec4 merge_sample(const CachedRun& r, const TileInputs& in, int x, int y, const Ray& ray,
-                       size_t i) {
+// prefix where the plan writes one), into `merged` (N slots): returns how many.
+int merge_sample(const CachedRun& r, const TileInputs& in, int x, int y, const Ray& ray, size_t i,
+                 std::span<Slab> merged) {
   Slab run[2][kMaxZslabLayers];
   Slab own[std::max(kMaxOwnSurfaceSlabs, kMaxZslabLayers)];
   const ZslabReusePlan& plan = r.plan;
@@ -244,7 +244,8 @@ glm::vec4 merge_sample(const CachedRun& r, const TileInputs& in, int x, int y, c
     if (plan.write_prefix && k + 1 == plan.first)
       r.arrays.prefix->store(g, std::span<const Slab>(run[cur], static_cast<size_t>(count)));
   }
-  return r.z.run_final(r.end, x, y, ray, std::span<const Slab>(run[cur], count), clip_i);
+  std::copy_n(run[cur], count, merged.begin());
+  return count;
 }
 
 // A tile: its rasterization, then each object to render, then per sample the merges; the
@@ -258,11 +259,28 @@ void run_tile(const CachedRun& r, const TileRect& tile, Image& image) {
       r.z.rasterize(k, tile, in.fragments[k]);
   in.have_clip = r.clip_needed && r.z.rasterize_clip(tile, in.clip);
   render_objects(r, tile, in);
+  // Every sample's merged array, then the final accumulation or cast: the last volume cast on
+  // the fly takes the whole tile at once in lanes where it can.
+  const size_t samples = static_cast<size_t>(tile.width()) * tile.height() * r.spx;
+  const size_t n = static_cast<size_t>(r.z.params.layers);
+  std::vector<Slab> slots(samples * n);
+  std::vector<std::span<const Slab>> merged(samples);
+  for_each_sample(r.z, tile, [&](int x, int y, const Ray& ray, size_t i) {
+    std::span<Slab> mine = std::span<Slab>(slots).subspan(i * n, n);
+    merged[i] = mine.first(static_cast<size_t>(merge_sample(r, in, x, y, ray, i, mine)));
+  });
+  std::vector<glm::vec4> cast;
+  if (r.z.final_stage_in_lanes(r.end)) {
+    cast.resize(samples);
+    r.z.run_final_in_lanes(r.end, tile, merged, cast);
+  }
   const float weight = 1.0f / static_cast<float>(r.spx);
   const glm::vec4 background = r.z.scene.image.background;
   glm::vec4 sum(0.0f);
   for_each_sample(r.z, tile, [&](int x, int y, const Ray& ray, size_t i) {
-    sum += merge_sample(r, in, x, y, ray, i);
+    sum += cast.empty()
+               ? r.z.run_final(r.end, x, y, ray, merged[i], clip_row(in.clip, in.have_clip, i))
+               : cast[i];
     if (i % r.spx + 1 == r.spx) {
       image.at(x, y) = over_background(sum * weight, background);
       sum = glm::vec4(0.0f);

@@ -73,6 +73,14 @@ class ZslabFrame {
   // Whether volume stage `k` (a deferred dvr volume no clip mesh cuts) can cast every sample of
   // a tile at once in vector lanes: own_volume_slabs.
   bool volume_stage_in_packets(size_t k) const;
+  // Whether the on-the-fly stage at `k` (zslab-hybrid's last volume, no clip mesh cutting it)
+  // can cast a tile's samples at once in lanes: run_final_in_lanes.
+  bool final_stage_in_lanes(size_t k) const;
+  // run_final(k, ...) for every sample of `tile` (for_each_sample's order) at once, sample i over
+  // stored[i], into out[i]; the same colours up to float rounding. Needs final_stage_in_lanes.
+  void run_final_in_lanes(size_t k, const TileRect& tile,
+                          std::span<const std::span<const Slab>> stored,
+                          std::span<glm::vec4> out) const;
   // Stage k's own arrays (own_slabs) for every sample of `tile` at once, lists[i] for sample i in
   // for_each_sample's order, each over its own params.layers slots; the same slabs up to float
   // rounding. Needs volume_stage_in_packets(k).
