@@ -100,6 +100,24 @@ TEST(MdvrPackets, SlabMethodsVolumeStagesInLanes) {
   }
 }
 
+// Hidden planes make no fragments, so a volume whose planes are all hidden (a viewer's reading
+// planes in its 3-D view) takes the one-volume lanes: the bytes of the scene without them.
+TEST(MdvrPackets, HiddenPlanesLeaveOneVolumeInLanes) {
+  const std::vector<std::string> small = {"image.width=61", "image.height=47"};
+  std::vector<std::string> hidden = small;
+  for (const char* plane : {"axial", "coronal", "sagittal"})
+    hidden.push_back(std::string("objects.") + plane + ".opacity=0");
+  const Scene planes = load_scene(std::filesystem::path(IMX_EXAMPLES_DIR) / "mpr.json", hidden);
+  Scene alone = planes;
+  alone.planes.clear();
+  std::erase_if(alone.order, [](const ObjectRef& r) { return r.kind == ObjectKind::plane; });
+  for (const char* method : {"mdvr", "zslab"}) {
+    const Image with = render_mdvr(planes, true, method),
+                without = render_mdvr(alone, true, method);
+    EXPECT_TRUE(std::equal(with.data(), with.data() + with.size(), without.data())) << method;
+  }
+}
+
 // With faintly visible air the box's own edges show: the packets leave out only pixels outside
 // the box's projection, with the box cut by the image's edge and with the eye inside it.
 TEST(MdvrPackets, LeaveOutOnlyPixelsThatMissTheBox) {

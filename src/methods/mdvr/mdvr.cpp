@@ -9,14 +9,18 @@
 #include "frame/ray_base.hpp"
 #include "frame/sample_pattern.hpp"
 #include "methods/mdvr/mdvr_kernel.hpp"
+#include "raster/rasterizer.hpp"
 #include "volume/packet_marcher.hpp"
 #include "volume/packet_projection.hpp"
 
 namespace imx {
 
 bool volume_packets_apply(const Scene& scene, const FrameSetup& frame) {
-  if (!scene.render.packets || !scene.meshes.empty() || !scene.planes.empty() ||
-      !frame.clip.empty() || frame.volumes.size() != 1)
+  // Hidden meshes and planes make no fragments (a viewer's reading planes, hidden in 3-D).
+  const std::vector<bool> meshes = shown_meshes(scene);
+  if (!scene.render.packets || std::find(meshes.begin(), meshes.end(), true) != meshes.end() ||
+      std::any_of(scene.planes.begin(), scene.planes.end(), shown_plane) || !frame.clip.empty() ||
+      frame.volumes.size() != 1)
     return false;
   const PreparedVolume& v = frame.volumes[0];
   return v.object->style == VolumeStyle::dvr ? packet_marching_supported(v, frame.lights)

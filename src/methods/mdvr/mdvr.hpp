@@ -18,7 +18,7 @@ MdvrParams prepare_mdvr(const Scene& scene, FrameSetup& frame);
 
 Image render_mdvr(const Scene& scene, int spp, const RenderOptions& options);
 
-// One volume and nothing else (nothing clipping it but its clip planes), with render.packets:
+// One volume and nothing else shown (nothing clipping it but its clip planes), with render.packets:
 // every method's trace is then VolumeMarcher::composite (dvr) or the one projection or iso hit
 // per ray, which the rays of a tile can share in vector lanes.
 bool volume_packets_apply(const Scene& scene, const FrameSetup& frame);
