@@ -147,11 +147,13 @@ fs::path write_sphere_scene(const TempDir& dir) {
 TEST(StartUpLibraries, DistributedRenderLoadsTheMpiPlugin) {
   TempDir dir;
   const fs::path scene = write_sphere_scene(dir);
-  // One process without mpirun is a job of one rank.
+  // One process without mpirun is a job of one rank. Leak checking is off under ASan, as in
+  // tests/dist/mpi_render_test.py: Open MPI keeps registries until exit in plugins it unloads
+  // first, so the reports name no module a suppression could match.
   const test::CliResult r =
       run_cli(fmt::format("render {} --distributed --width 16 --height 16 -o {}", scene.string(),
                           (dir / "d.png").string()),
-              "LD_DEBUG=files ");
+              "ASAN_OPTIONS=\"${ASAN_OPTIONS}:detect_leaks=0\" LD_DEBUG=files ");
   if (contains(r.output, "built without MPI")) GTEST_SKIP() << "built without MPI";
   ASSERT_EQ(r.exit_code, 0) << r.output.substr(r.output.size() > 4000 ? r.output.size() - 4000 : 0);
   EXPECT_TRUE(fs::exists(dir / "d.png"));
