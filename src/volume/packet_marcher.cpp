@@ -71,14 +71,20 @@ class LaneGradients {
         cz[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(w, 2), 22));
       }
     } else {
+      // The x-neighbours c and c + 1 are 12 adjacent bytes: three words (x0 y0, z0 x1, y1 z1)
+      // instead of four.
       const int* words = reinterpret_cast<const int*>(int16_);
-      for (int c = 0; c < 8; ++c) {
+      auto low = [](__m256i w) {
+        return _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(w, 16), 16));
+      };
+      auto high = [](__m256i w) { return _mm256_cvtepi32_ps(_mm256_srai_epi32(w, 16)); };
+      for (int c = 0; c < 8; c += 2) {
         __m256i at = _mm256_mullo_epi32(corner[c], splat(6));  // bytes: 3 int16 per voxel
-        __m256i xy = _mm256_i32gather_epi32(words, at, 1);
-        __m256i zx = _mm256_i32gather_epi32(words, _mm256_add_epi32(at, splat(4)), 1);
-        cx[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(xy, 16), 16));
-        cy[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(xy, 16));
-        cz[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(zx, 16), 16));
+        __m256i w0 = _mm256_i32gather_epi32(words, at, 1);
+        __m256i w1 = _mm256_i32gather_epi32(words, _mm256_add_epi32(at, splat(4)), 1);
+        __m256i w2 = _mm256_i32gather_epi32(words, _mm256_add_epi32(at, splat(8)), 1);
+        cx[c] = low(w0), cy[c] = high(w0), cz[c] = low(w1);
+        cx[c + 1] = high(w1), cy[c + 1] = low(w2), cz[c + 1] = high(w2);
       }
     }
     auto trilinear = [&](const __m256* v) {
