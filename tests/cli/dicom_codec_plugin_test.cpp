@@ -18,12 +18,9 @@ namespace imx {
 namespace {
 
 namespace fs = std::filesystem;
+using test::contains;
 using test::run_cli;
 using test::TempDir;
-
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
 
 // One image in nine transfer syntaxes: 1 is explicit little endian, 5 JPEG lossless, 7 JPEG-LS
 // lossless, 9 JPEG 2000 lossless.

@@ -20,12 +20,9 @@ namespace imx {
 namespace {
 
 namespace fs = std::filesystem;
+using test::contains;
 using test::run_cli;
 using test::TempDir;
-
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
 
 // The loader's report names the C library (so it is there), and none of the plugin libraries.
 void expect_no_plugin_libraries(const test::CliResult& r) {

@@ -14,6 +14,11 @@ struct CliResult {
   std::string output;  // what the command wrote to stdout (the programs': stdout and stderr)
 };
 
+// Whether `text` (a command's output) holds `part`.
+inline bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
 // Runs `command` in the shell; `output` is its stdout (add "2>&1" for its errors as well).
 inline CliResult run_shell(const std::string& command) {
   CliResult r;

@@ -1,5 +1,6 @@
 #include "methods/zslab/zslab.hpp"
 
+#include <optional>
 #include <vector>
 
 #include "core/colour.hpp"
@@ -46,7 +47,7 @@ Image render_streamed(const Scene& scene, int spp, const RenderOptions& options,
         SampleFragments fragments, clip;
         const bool have_clip = z.rasterize_clip(tile, clip);
         Slab in_slots[kMaxZslabLayers], out_slots[kMaxZslabLayers];
-        OwnVolumeSlabs own(samples, n);
+        std::optional<OwnVolumeSlabs> own;  // made when a volume stage or the cast needs it
         for (size_t k = 0; k < end; ++k) {
           const bool surfaces = z.stages[k].kind == ZslabStage::Kind::surfaces;
           if (surfaces && !z.stage_reaches(k, tile)) continue;  // no fragment here: untouched
@@ -54,13 +55,14 @@ Image render_streamed(const Scene& scene, int spp, const RenderOptions& options,
           if (!surfaces && z.volume_stage_in_packets(k)) {
             // The volume's own arrays of the whole tile in lanes, then each merged as
             // run_deferred merges it.
-            z.own_volume_slabs(k, tile, own.lists);
+            if (!own) own.emplace(samples, n);
+            z.own_volume_slabs(k, tile, own->lists);
             for (size_t i = 0; i < samples; ++i) {
-              if (own.lists[i].size() == 0) continue;
+              if (own->lists[i].size() == 0) continue;
               uint32_t c = current(i);
               int count = zt[c].load(i, in_slots);
               SlabList out(std::span<Slab>(out_slots, static_cast<size_t>(n)));
-              z.merge_own(k, std::span<const Slab>(in_slots, count), own.lists[i].items(), out);
+              z.merge_own(k, std::span<const Slab>(in_slots, count), own->lists[i].items(), out);
               zt[1 - c].store(i, out.items());
               flags[i / 32] ^= 1u << (i % 32);
             }
@@ -97,8 +99,9 @@ Image render_streamed(const Scene& scene, int spp, const RenderOptions& options,
         std::vector<glm::vec4> cast;
         if (z.final_stage_in_lanes(end)) {
           std::vector<std::span<const Slab>> stored(samples);
+          if (!own) own.emplace(samples, n);
           for (size_t i = 0; i < samples; ++i) {
-            Slab* slots = own.slots.data() + i * static_cast<size_t>(n);
+            Slab* slots = own->slots.data() + i * static_cast<size_t>(n);
             stored[i] = std::span<const Slab>(
                 slots, static_cast<size_t>(
                            zt[current(i)].load(i, std::span<Slab>(slots, static_cast<size_t>(n)))));

@@ -259,18 +259,20 @@ void run_tile(const CachedRun& r, const TileRect& tile, Image& image) {
       r.z.rasterize(k, tile, in.fragments[k]);
   in.have_clip = r.clip_needed && r.z.rasterize_clip(tile, in.clip);
   render_objects(r, tile, in);
-  // Every sample's merged array, then the final accumulation or cast: the last volume cast on
-  // the fly takes the whole tile at once in lanes where it can.
-  const size_t samples = static_cast<size_t>(tile.width()) * tile.height() * r.spx;
-  const size_t n = static_cast<size_t>(r.z.params.layers);
-  std::vector<Slab> slots(samples * n);
-  std::vector<std::span<const Slab>> merged(samples);
-  for_each_sample(r.z, tile, [&](int x, int y, const Ray& ray, size_t i) {
-    std::span<Slab> mine = std::span<Slab>(slots).subspan(i * n, n);
-    merged[i] = mine.first(static_cast<size_t>(merge_sample(r, in, x, y, ray, i, mine)));
-  });
+  // The last volume cast on the fly takes the whole tile at once in lanes where it can: every
+  // sample's merged array first, then the cast. Else each sample is merged and finished in turn.
+  std::vector<Slab> slots;
+  std::vector<std::span<const Slab>> merged;
   std::vector<glm::vec4> cast;
   if (r.z.final_stage_in_lanes(r.end)) {
+    const size_t samples = static_cast<size_t>(tile.width()) * tile.height() * r.spx;
+    const size_t n = static_cast<size_t>(r.z.params.layers);
+    slots.resize(samples * n);
+    merged.resize(samples);
+    for_each_sample(r.z, tile, [&](int x, int y, const Ray& ray, size_t i) {
+      std::span<Slab> mine = std::span<Slab>(slots).subspan(i * n, n);
+      merged[i] = mine.first(static_cast<size_t>(merge_sample(r, in, x, y, ray, i, mine)));
+    });
     cast.resize(samples);
     r.z.run_final_in_lanes(r.end, tile, merged, cast);
   }
@@ -278,9 +280,14 @@ void run_tile(const CachedRun& r, const TileRect& tile, Image& image) {
   const glm::vec4 background = r.z.scene.image.background;
   glm::vec4 sum(0.0f);
   for_each_sample(r.z, tile, [&](int x, int y, const Ray& ray, size_t i) {
-    sum += cast.empty()
-               ? r.z.run_final(r.end, x, y, ray, merged[i], clip_row(in.clip, in.have_clip, i))
-               : cast[i];
+    if (!cast.empty()) {
+      sum += cast[i];
+    } else {
+      Slab mine[kMaxZslabLayers];
+      const int count = merge_sample(r, in, x, y, ray, i, mine);
+      sum += r.z.run_final(r.end, x, y, ray, std::span<const Slab>(mine, count),
+                           clip_row(in.clip, in.have_clip, i));
+    }
     if (i % r.spx + 1 == r.spx) {
       image.at(x, y) = over_background(sum * weight, background);
       sum = glm::vec4(0.0f);
