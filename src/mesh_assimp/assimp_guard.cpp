@@ -1,5 +1,6 @@
 #include "mesh_assimp/assimp_guard.hpp"
 
+#include <algorithm>
 #include <mutex>
 #include <stdexcept>
 
@@ -47,7 +48,44 @@ Assimp::IOStream* GuardedIOSystem::Open(const char* file, const char* mode) {
     if (allow_(context_, std::filesystem::absolute(file).string().c_str(), why, sizeof why) != 0)
       throw std::runtime_error(why);
   }
-  return DefaultIOSystem::Open(file, mode);
+  Assimp::IOStream* stream = DefaultIOSystem::Open(file, mode);
+  if (stream != nullptr && pad_mesh_ && same_file(file, mesh_)) return new PaddedTextStream(stream);
+  return stream;
+}
+
+PaddedTextStream::PaddedTextStream(Assimp::IOStream* file)
+    : file_(file), file_size_(file->FileSize()) {}
+
+PaddedTextStream::~PaddedTextStream() {
+  delete file_;
+}
+
+size_t PaddedTextStream::Read(void* buffer, size_t size, size_t count) {
+  if (size == 0 || count == 0) return 0;
+  const size_t total = FileSize();
+  count = std::min(count, (total - std::min(position_, total)) / size);
+  auto* out = static_cast<char*>(buffer);
+  size_t wanted = size * count, done = 0;
+  if (position_ < file_size_) {
+    const size_t from_file = std::min(wanted, file_size_ - position_);
+    if (file_->Seek(position_, aiOrigin_SET) != aiReturn_SUCCESS ||
+        file_->Read(out, 1, from_file) != from_file)
+      return 0;
+    done = from_file;
+  }
+  for (; done < wanted; ++done) out[done] = kPadding[position_ + done - file_size_];
+  position_ += wanted;
+  return count;
+}
+
+aiReturn PaddedTextStream::Seek(size_t offset, aiOrigin origin) {
+  // Offsets back from here or the end come as negative numbers cast to size_t: the sums wrap.
+  size_t to = offset;
+  if (origin == aiOrigin_CUR) to = position_ + offset;
+  if (origin == aiOrigin_END) to = FileSize() + offset;
+  if (to > FileSize()) return aiReturn_FAILURE;
+  position_ = to;
+  return aiReturn_SUCCESS;
 }
 
 AssimpErrorLog::AssimpErrorLog() {

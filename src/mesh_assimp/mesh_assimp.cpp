@@ -3,10 +3,12 @@
 // first use (io/mesh_assimp_plugin.cpp) and turns what it gives into an imx::Mesh.
 #include "mesh_assimp/mesh_assimp_abi.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <memory>
 #include <new>
 #include <string>
@@ -124,7 +126,11 @@ int32_t read(const char* path, bool srgb_colors, imx_mesh_assimp_allow_fn allow,
   auto imported = std::make_unique<Imported>();
   imported->srgb_colors = srgb_colors;
   Assimp::Importer& importer = imported->importer;
-  importer.SetIOHandler(new imx::detail::GuardedIOSystem(path, allow, context));
+  // assimp picks its OBJ reader by the extension, whatever its case.
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  importer.SetIOHandler(
+      new imx::detail::GuardedIOSystem(path, extension == ".obj", allow, context));
   imx::detail::AssimpErrorLog errors;
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);

@@ -84,6 +84,25 @@ TEST(MeshHardening, PolygonsWithTooManyCornersAreRefused) {
   expect_error([&] { read_mesh(dir / "nul.obj"); }, {"nul.obj", "line 1: a NUL byte"});
 }
 
+// assimp reads OBJ through two newlines added after the file (fuzz_mesh: a one-line file and a
+// continuation at the end ran its line reader past its buffers): the mesh is the file's own.
+TEST(MeshHardening, ObjEndingsReadAsTheFileSays) {
+  TempDir dir;
+  const std::string quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
+  write_bytes(dir / "plain.obj", quad + "f 1 2 3 4\n");
+  write_bytes(dir / "no-newline.OBJ", quad + "f 1 2 3 4");
+  write_bytes(dir / "continued.obj", quad + "f 1 2 \\\r\n3 4");
+  const Mesh plain = read_mesh(dir / "plain.obj");
+  ASSERT_EQ(plain.triangles.size(), 2u);
+  for (const char* name : {"no-newline.OBJ", "continued.obj"}) {
+    const Mesh mesh = read_mesh(dir / name);
+    EXPECT_EQ(mesh.positions, plain.positions) << name;
+    EXPECT_EQ(mesh.triangles, plain.triangles) << name;
+  }
+  write_bytes(dir / "one-line.obj", "p \"#glg # \n");
+  expect_error([&] { read_mesh(dir / "one-line.obj"); }, {"one-line.obj"});
+}
+
 TEST(MeshHardening, GlbChunksLongerThanTheFileAreRefused) {
   TempDir dir;
   // 12-byte header (length 20), then a JSON chunk header claiming 0xFFFFFFF0 bytes.
