@@ -101,7 +101,10 @@ struct SlabArrayOps {
 
   // Appends a slab that sorts after every stored one (the kernel's emission order).
   void push_back(const Slab& s, Overflow o = Overflow::tail) {
-    self().count = detail::place(storage(), size(), size(), s, o);
+    if (self().count < self().capacity())
+      self().data()[self().count++] = s;  // room left: place()'s insert at the end, inline
+    else
+      self().count = detail::place(storage(), size(), size(), s, o);
   }
   // Inserts at the sorted position (after stored slabs of equal order).
   void insert(const Slab& s, Overflow o = Overflow::tail) {

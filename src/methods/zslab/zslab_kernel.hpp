@@ -104,6 +104,11 @@ class SurfaceStageMerge {
 
   // Flushes the layers left and writes the merged array to `out`.
   void finish(SlabList& out) {
+    if (cur_ < 0 && rt_count_ > 0 && out.capacity() == n_) {
+      // One flush in all (the stage's layers fit the RT layers): merge straight into `out`.
+      flush_into(out);
+      return;
+    }
     if (rt_count_ > 0) flush();
     out.clear();
     for (int k = 0; k < cur_count_; ++k) out.push_back(zt_[cur_][k], Overflow::tail);
@@ -111,14 +116,19 @@ class SurfaceStageMerge {
 
  private:
   void flush() {
-    SlabList merged(std::span<Slab>(merged_, kMaxRtLayers));
-    rearrange_layers(std::span<Slab>(rt_, rt_count_), merged, p_.mix.interpolation);
     int dst = cur_ == 0 ? 1 : 0;
     SlabList next(std::span<Slab>(zt_[dst], n_));
-    std::span<const Slab> in = cur_ < 0 ? stored_ : std::span<const Slab>(zt_[cur_], cur_count_);
-    intermix_stage(in, merged.items(), next, p_.mix);
+    flush_into(next);
     cur_ = dst;
     cur_count_ = next.size();
+  }
+
+  // Rearranges the RT layers and intermixes them with the current array into `next`.
+  void flush_into(SlabList& next) {
+    SlabList merged(std::span<Slab>(merged_, kMaxRtLayers));
+    rearrange_layers(std::span<Slab>(rt_, rt_count_), merged, p_.mix.interpolation);
+    std::span<const Slab> in = cur_ < 0 ? stored_ : std::span<const Slab>(zt_[cur_], cur_count_);
+    intermix_stage(in, merged.items(), next, p_.mix);
     rt_count_ = 0;
   }
 
