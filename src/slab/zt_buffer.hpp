@@ -112,14 +112,18 @@ class ZtBuffer {
   void store(size_t sample, std::span<const Slab> slabs) {
     size_t base = sample * static_cast<size_t>(capacity_);
     int n = std::min(capacity_, static_cast<int>(slabs.size()));
-    for (int k = 0; k < capacity_; ++k) {
-      // a stored thickness is never negative: the sentinel marks the end
-      Slab s = k < n ? slabs[k] : Slab{0.0f, -1.0f, glm::vec4(0.0f)};
-      if (k < n) s.thickness = std::max(s.thickness, 0.0f);
-      if (format_ == SlabFormat::rgba8)
-        s8_[base + k] = k < n ? pack8(s) : PackedSlab8{0.0f, -1.0f, {0, 0, 0, 0}};
-      else
-        s32_[base + k] = pack32(s);
+    // A stored thickness is never negative: the sentinel (-1) marks the end.
+    if (format_ == SlabFormat::rgba8) {
+      for (int k = 0; k < n; ++k) {
+        Slab s = slabs[k];
+        s.thickness = std::max(s.thickness, 0.0f);
+        s8_[base + k] = pack8(s);
+      }
+      for (int k = n; k < capacity_; ++k) s8_[base + k] = PackedSlab8{0.0f, -1.0f, {0, 0, 0, 0}};
+    } else {
+      for (int k = 0; k < n; ++k)
+        s32_[base + k] = {slabs[k].t_back, std::max(slabs[k].thickness, 0.0f), slabs[k].color};
+      for (int k = n; k < capacity_; ++k) s32_[base + k] = {0.0f, -1.0f, glm::vec4(0.0f)};
     }
   }
 
