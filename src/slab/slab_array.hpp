@@ -147,6 +147,22 @@ struct SlabList : SlabArrayOps<SlabList> {
   const Slab* data() const { return slots.data(); }
 };
 
+// Slots a kernel writes before it reads them, left uninitialized: an array of Slab would be
+// zeroed (its member initializers) on every call, which per pixel and stage cost more than the
+// merge it holds (zslab surface stages: half of run_deferred's own time).
+template <int N>
+struct SlabScratch {
+  SlabScratch() {}  // NOLINT: leaves `slots` uninitialized on purpose
+  union {
+    Slab slots[N];
+  };
+  Slab* data() { return slots; }
+  const Slab* data() const { return slots; }
+  Slab& operator[](int i) { return slots[i]; }
+  const Slab& operator[](int i) const { return slots[i]; }
+  std::span<Slab> span(int count = N) { return {slots, static_cast<size_t>(count)}; }
+};
+
 // A sink that keeps nothing, for callers that need only a kernel's running composite.
 struct DiscardSink {
   void push_back(const Slab&, Overflow) {}

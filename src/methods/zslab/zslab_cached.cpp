@@ -214,37 +214,37 @@ void render_objects(const CachedRun& r, const TileRect& tile, TileInputs& in) {
 // prefix where the plan writes one), into `merged` (N slots): returns how many.
 int merge_sample(const CachedRun& r, const TileInputs& in, int x, int y, const Ray& ray, size_t i,
                  std::span<Slab> merged) {
-  Slab run[2][kMaxZslabLayers];
-  Slab own[std::max(kMaxOwnSurfaceSlabs, kMaxZslabLayers)];
+  SlabScratch<kMaxZslabLayers> run[2];
+  SlabScratch<std::max(kMaxOwnSurfaceSlabs, kMaxZslabLayers)> own;
   const ZslabReusePlan& plan = r.plan;
   const size_t g = r.global(x, y, i);
   const std::span<const Fragment> clip_i = clip_row(in.clip, in.have_clip, i);
   int cur = 0;
-  int count = plan.start > 0 ? r.arrays.prefix->load(g, run[0]) : 0;
+  int count = plan.start > 0 ? r.arrays.prefix->load(g, run[0].span()) : 0;
   for (size_t k = plan.start; k < r.end; ++k) {
     const bool surfaces = r.z.stages[k].kind == ZslabStage::Kind::surfaces;
     std::span<const Fragment> f =
         plan.render[k] && surfaces ? in.fragments[k].of(i) : std::span<const Fragment>();
-    std::span<const Slab> stored(run[cur], static_cast<size_t>(count));
-    SlabList out(std::span<Slab>(run[1 - cur], static_cast<size_t>(r.z.params.layers)));
+    std::span<const Slab> stored(run[cur].data(), static_cast<size_t>(count));
+    SlabList out(run[1 - cur].span(r.z.params.layers));
     bool touched = false;
     if (r.capacity[k] == 0) {  // not split: the whole stage, from its fragments
       touched = (!surfaces || !f.empty()) && r.z.run_deferred(k, x, y, ray, f, stored, out, clip_i);
     } else {
-      std::span<Slab> mine(own, static_cast<size_t>(r.capacity[k]));
+      std::span<Slab> mine = own.span(r.capacity[k]);
       const int m = r.arrays.matched[k]   ? r.arrays.matched[k]->load(g, mine)
                     : r.arrays.writing[k] ? r.arrays.writing[k]->load(g, mine)
                                           : in.local[k]->load(i, mine);
       touched = r.z.merge_own(k, stored, mine.first(static_cast<size_t>(m)), out);
     }
     if (touched) {
-      count = as_stored(std::span<Slab>(run[1 - cur], static_cast<size_t>(out.size())), r.z.format);
+      count = as_stored(run[1 - cur].span(out.size()), r.z.format);
       cur = 1 - cur;
     }
     if (plan.write_prefix && k + 1 == plan.first)
-      r.arrays.prefix->store(g, std::span<const Slab>(run[cur], static_cast<size_t>(count)));
+      r.arrays.prefix->store(g, std::span<const Slab>(run[cur].data(), static_cast<size_t>(count)));
   }
-  std::copy_n(run[cur], count, merged.begin());
+  std::copy_n(run[cur].data(), count, merged.begin());
   return count;
 }
 

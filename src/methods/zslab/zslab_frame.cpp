@@ -295,8 +295,8 @@ bool ZslabFrame::run_deferred(size_t k, int x, int y, const Ray& ray,
   ClipPieces pieces;
   const KeptSpan what = kept(st.volume, span, clip, pieces);
   if (what.empty()) return false;
-  Slab local[kMaxZslabLayers];
-  SlabList own(std::span<Slab>(local, static_cast<size_t>(params.layers)));
+  SlabScratch<kMaxZslabLayers> local;
+  SlabList own(local.span(params.layers));
   if (v.object->style == VolumeStyle::dvr) {
     if (v.lut.max_opacity() <= 0.0f) return false;
     VolumeMarcher marcher(v, ray, what, st.step, frame.lights);

@@ -36,14 +36,15 @@ inline void rearrange_layers(std::span<Slab> rt, SlabList& out, InSlabInterpolat
   for (size_t i = 1; i < rt.size(); ++i)  // insertion sort: M is small
     for (size_t j = i; j > 0 && detail::sorts_before(rt[j], rt[j - 1]); --j)
       std::swap(rt[j], rt[j - 1]);
-  Slab buf[2][kMaxRtLayers];
+  SlabScratch<kMaxRtLayers> buf[2];
   int count = 0, cur = 0;
   IntermixSettings s;
   s.interpolation = interp;
   s.a_ert = 1.0f;
   for (const Slab& layer : rt) {
-    SlabList next(std::span<Slab>(buf[1 - cur], kMaxRtLayers));
-    intermix(std::span<const Slab>(buf[cur], count), std::span<const Slab>(&layer, 1), next, s);
+    SlabList next(buf[1 - cur].span());
+    intermix(std::span<const Slab>(buf[cur].data(), count), std::span<const Slab>(&layer, 1), next,
+             s);
     count = next.size();
     cur = 1 - cur;
   }
@@ -117,7 +118,7 @@ class SurfaceStageMerge {
  private:
   void flush() {
     int dst = cur_ == 0 ? 1 : 0;
-    SlabList next(std::span<Slab>(zt_[dst], n_));
+    SlabList next(zt_[dst].span(n_));
     flush_into(next);
     cur_ = dst;
     cur_count_ = next.size();
@@ -125,9 +126,10 @@ class SurfaceStageMerge {
 
   // Rearranges the RT layers and intermixes them with the current array into `next`.
   void flush_into(SlabList& next) {
-    SlabList merged(std::span<Slab>(merged_, kMaxRtLayers));
-    rearrange_layers(std::span<Slab>(rt_, rt_count_), merged, p_.mix.interpolation);
-    std::span<const Slab> in = cur_ < 0 ? stored_ : std::span<const Slab>(zt_[cur_], cur_count_);
+    SlabList merged(merged_.span());
+    rearrange_layers(rt_.span(rt_count_), merged, p_.mix.interpolation);
+    std::span<const Slab> in =
+        cur_ < 0 ? stored_ : std::span<const Slab>(zt_[cur_].data(), cur_count_);
     intermix_stage(in, merged.items(), next, p_.mix);
     rt_count_ = 0;
   }
@@ -135,8 +137,8 @@ class SurfaceStageMerge {
   std::span<const Slab> stored_;
   const ZslabParams& p_;
   int m_, n_;
-  Slab rt_[kMaxRtLayers], merged_[kMaxRtLayers];
-  Slab zt_[2][kMaxZslabLayers];
+  SlabScratch<kMaxRtLayers> rt_, merged_;
+  SlabScratch<kMaxZslabLayers> zt_[2];
   int rt_count_ = 0, cur_ = -1, cur_count_ = 0;  // cur_ < 0: the stored array is the current one
 };
 
