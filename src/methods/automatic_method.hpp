@@ -5,11 +5,16 @@
 // - a csg block or exclusive mixing: csg (the one fast method that renders them);
 // - surfaces only (meshes and planes, no volume): dfb-sfm, within 0.02 dB of the best on every
 //   such example at 1.5x the fastest (mdvr and csg lose up to 6.8 dB where surfaces coincide);
-// - volumes with meshes: kbuffer-ofm, within 0.03 dB of the best at 1.4x the fastest (mdvr
-//   loses up to 3.4 dB where a surface crosses a volume);
+// - volumes with meshes: zslab-hybrid, the fastest (0.65-0.81x mdvr's time on ct-implant,
+//   fusion, mpr-widgets and the Philips CT with its screws, 0.45-0.9x kbuffer-ofm's, which it
+//   replaced at stop 43) and within 0.05 dB of the best (mdvr loses up to 3.4 dB where a surface
+//   crosses a volume);
 // - volumes with planes and no mesh: peel, the fastest and within 0.01 dB;
-// - volumes only: mdvr, 2x to 3.5x faster than any other on real CT and MR, within 0.3-1.5 dB
-//   of the best (the others' extra 1 dB costs more than the 2x a user waits for auto to keep).
+// - several volumes only: zslab-hybrid, 0.66-0.84x mdvr's time, at most 0.07 dB below mdvr and
+//   1.5 dB above it on two-volumes (docs/open_data.md);
+// - one volume only: mdvr, 2x to 3.5x faster than the per-sample methods on real CT and MR and
+//   within 0.3-1.5 dB of the best (the slab methods in its lanes cost 1.0-1.35x for up to
+//   1 dB).
 #pragma once
 #include <string>
 
