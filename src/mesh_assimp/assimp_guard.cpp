@@ -97,6 +97,7 @@ AssimpErrorLog::AssimpErrorLog() {
 
 AssimpErrorLog::~AssimpErrorLog() {
   collecting = false;
+  std::string().swap(first_logged_error);  // no heap memory that only this thread's TLS holds
 }
 
 const std::string& AssimpErrorLog::first_error() const {
