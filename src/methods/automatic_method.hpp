@@ -5,8 +5,8 @@
 // - a csg block or exclusive mixing: csg (the one fast method that renders them);
 // - surfaces only (meshes and planes, no volume): dfb-sfm, within 0.02 dB of the best on every
 //   such example at 1.5x the fastest (mdvr and csg lose up to 6.8 dB where surfaces coincide);
-// - volumes with meshes: zslab-hybrid, the fastest (0.65-0.81x mdvr's time on ct-implant,
-//   fusion, mpr-widgets and the Philips CT with its screws, 0.45-0.9x kbuffer-ofm's, which it
+// - volumes with meshes: zslab-hybrid, the fastest (0.65-0.82x mdvr's time on ct-implant,
+//   fusion, mpr-widgets and the Philips CT with its screws, 0.41-0.89x kbuffer-ofm's, which it
 //   replaced at stop 43) and within 0.05 dB of the best (mdvr loses up to 3.4 dB where a surface
 //   crosses a volume);
 // - volumes with planes and no mesh: peel, the fastest and within 0.01 dB;

@@ -1094,11 +1094,14 @@ void march_slab_packets(const PreparedVolume& v, std::span<const PacketRay> rays
     return;
   }
 #endif
+  // One ray at a time (builds without lanes, label maps): the lanes' pieces, empty ones left out
+  // as the lanes leave out the invisible.
   for (size_t i = 0; i < rays.size(); ++i) {
     VolumeMarcher m(v, rays[i].ray, rays[i].t0, rays[i].t1, step, lights, SlabExtent::visible);
     glm::vec4 acc(0.0f);
     Slab s;
     while (!(acc.a >= ert) && m.next(s)) {
+      if (s.is_empty()) continue;
       if (!sink.take(i, s)) break;
       acc = over(acc, s.color);
     }

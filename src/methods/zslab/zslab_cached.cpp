@@ -283,9 +283,9 @@ void run_tile(const CachedRun& r, const TileRect& tile, Image& image) {
     if (!cast.empty()) {
       sum += cast[i];
     } else {
-      Slab mine[kMaxZslabLayers];
-      const int count = merge_sample(r, in, x, y, ray, i, mine);
-      sum += r.z.run_final(r.end, x, y, ray, std::span<const Slab>(mine, count),
+      SlabScratch<kMaxZslabLayers> mine;
+      const int count = merge_sample(r, in, x, y, ray, i, mine.span());
+      sum += r.z.run_final(r.end, x, y, ray, std::span<const Slab>(mine.data(), count),
                            clip_row(in.clip, in.have_clip, i));
     }
     if (i % r.spx + 1 == r.spx) {
