@@ -250,7 +250,7 @@ BENCHMARK(BM_PreintegrationLookup);
 // The per-volume scan (TF-independent), on one thread.
 void BM_BrickMinMax256(benchmark::State& state) {
   AnyGrid grid(volume<int16_t>());
-  for (auto _ : state) benchmark::DoNotOptimize(BrickMinMax(grid, 8, 1));
+  for (auto _ : state) benchmark::DoNotOptimize(BrickMinMax(grid, glm::ivec3(8), 1));
 }
 BENCHMARK(BM_BrickMinMax256)->Unit(benchmark::kMillisecond);
 

@@ -211,7 +211,7 @@ struct RenderSettings {
   std::string skipping = "distance";             // empty-space skipping: none, bricks, distance
   std::string classification = "preintegrated";  // volume samples: preintegrated or post
   std::string gradients = "precomputed";         // shading normals: precomputed or on-the-fly
-  int brick_size = 8;                            // voxels per brick edge for skipping
+  int brick_size = 8;  // cells per brick edge for skipping, along the finest voxel axis
   int k = 8;                                     // k+-buffer fragments per pixel
   int fragment_cap = 1024;                       // dynamic fragment buffer cap per pixel
   std::optional<double> thickness;               // default surface thickness, mm; empty = auto

@@ -19,7 +19,7 @@ BrickCoverage::BrickCoverage(const PreparedVolume& v, const CameraModel& camera)
   const glm::ivec3 bricks = occ ? occ->grid().dims : glm::ivec3(1);
   const int group = (std::max({bricks.x, bricks.y, bricks.z}) + kMaxCells - 1) / kMaxCells;
   const glm::ivec3 cells = (bricks + group - 1) / group;
-  const glm::dvec3 cell_size = occ ? glm::dvec3(double(occ->grid().size) * group)
+  const glm::dvec3 cell_size = occ ? glm::dvec3(occ->grid().size * group)
                                    : glm::dvec3(glm::max(voxels - 1, glm::ivec3(1)));
   std::vector<uint8_t> occupied(static_cast<size_t>(cells.x) * cells.y * cells.z, occ ? 0 : 1);
   if (occ)

@@ -28,7 +28,7 @@ class BrickDda {
   BrickDda() = default;
   BrickDda(const BrickGrid& grid, glm::vec3 origin, glm::vec3 dir, float t0, float t1)
       : dims_(grid.dims),
-        size_(static_cast<float>(grid.size)),
+        size_(grid.size),
         origin_(origin),
         t_enter_(t0),
         t1_(t1) {
@@ -44,7 +44,7 @@ class BrickDda {
         inv_dir_[a] = 1.0f / dir[a];
       }
       // A start exactly on a boundary belongs to the cell the ray moves into.
-      float x = p[a] / size_;
+      float x = p[a] / size_[a];
       float c = step_[a] < 0 ? std::ceil(x) - 1.0f : std::floor(x);
       c = c > 0.0f ? std::min(c, static_cast<float>(dims_[a] - 1)) : 0.0f;  // NaN goes to 0
       cell_[a] = static_cast<int>(c);
@@ -126,7 +126,7 @@ class BrickDda {
   float crossing(int a, int j) const {
     int next = j + step_[a];
     if (step_[a] == 0 || next < 0 || next >= dims_[a]) return INFINITY;
-    float plane = static_cast<float>(step_[a] > 0 ? next : j) * size_;
+    float plane = static_cast<float>(step_[a] > 0 ? next : j) * size_[a];
     return (plane - origin_[a]) * inv_dir_[a];
   }
   static int first_axis(const glm::vec3& t) {
@@ -135,7 +135,7 @@ class BrickDda {
   }
 
   glm::ivec3 dims_{1};
-  float size_ = 1.0f;
+  glm::vec3 size_{1.0f};  // cells per brick along each axis
   glm::vec3 origin_{0.0f};
   glm::vec3 inv_dir_{0.0f};
   glm::ivec3 step_{0};

@@ -1,4 +1,5 @@
-// BrickGrid: how a voxel grid is cut into bricks of B^3 cells, and which voxels each brick reads.
+// BrickGrid: how a voxel grid is cut into bricks of Bx x By x Bz cells, and which voxels each
+// brick reads.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,7 @@
 
 namespace imx {
 
-// Brick b (per axis) owns the closed index-space region [b*B, (b+1)*B] clipped to the hull
+// Brick b (per axis a) owns the closed index-space region [b*B_a, (b+1)*B_a] clipped to the hull
 // [0, N-1]. Neighbouring regions share their boundary face, so every sample position lies in
 // at least one brick. A trilinear sample at p reads voxels floor(p) and ceil(p) with non-zero
 // weight, so over the region it depends exactly on voxels [b*B, min((b+1)*B, N-1)]: B+1 voxels,
@@ -17,13 +18,29 @@ struct BrickGrid {
   static constexpr int kDefaultSize = 8;
 
   glm::ivec3 voxel_dims{1};
-  int size = kDefaultSize;  // B, in voxels (index units)
-  glm::ivec3 dims{1};       // bricks per axis
+  glm::ivec3 size{kDefaultSize};  // B per axis, in voxels (index units)
+  glm::ivec3 dims{1};             // bricks per axis
 
   BrickGrid() = default;
-  BrickGrid(glm::ivec3 voxels, int brick_size) : voxel_dims(voxels), size(brick_size) {
+  BrickGrid(glm::ivec3 voxels, glm::ivec3 shape) : voxel_dims(voxels), size(shape) {
     // ceil((N-1)/B) bricks cover [0, N-1]; a one-voxel axis still gets one (degenerate) brick.
-    for (int a = 0; a < 3; ++a) dims[a] = std::max(1, (voxel_dims[a] - 1 + size - 1) / size);
+    for (int a = 0; a < 3; ++a) dims[a] = std::max(1, (voxel_dims[a] - 1 + size[a] - 1) / size[a]);
+  }
+  BrickGrid(glm::ivec3 voxels, int cube) : BrickGrid(voxels, glm::ivec3(cube)) {}
+
+  // The brick shape for voxels `spacing` mm apart along i, j, k: `cells` cells along the finest
+  // axis and about as many mm along the others (at least one cell), so that a brick is close to
+  // a cube in the world. A CT of 0.45 x 0.45 x 5 mm voxels gets 8 x 8 x 1 cells, not a 3.6 x
+  // 3.6 x 40 mm column whose one bone voxel makes every ray through it march. Spacings that are
+  // not positive and finite give a cube.
+  static glm::ivec3 shape_for(int cells, glm::dvec3 spacing) {
+    glm::ivec3 shape(cells);
+    for (int a = 0; a < 3; ++a)
+      if (!(spacing[a] > 0.0) || !std::isfinite(spacing[a])) return shape;
+    const double finest = std::min({spacing.x, spacing.y, spacing.z});
+    for (int a = 0; a < 3; ++a)
+      shape[a] = std::clamp(static_cast<int>(std::lround(cells * finest / spacing[a])), 1, cells);
+    return shape;
   }
 
   size_t count() const { return static_cast<size_t>(dims.x) * dims.y * dims.z; }
@@ -40,7 +57,7 @@ struct BrickGrid {
   glm::ivec3 brick_of(glm::vec3 p) const {
     glm::ivec3 b;
     for (int a = 0; a < 3; ++a) {
-      float f = std::floor(p[a] / static_cast<float>(size));
+      float f = std::floor(p[a] / static_cast<float>(size[a]));
       f = f > 0.0f ? std::min(f, static_cast<float>(dims[a] - 1)) : 0.0f;  // NaN goes to 0
       b[a] = static_cast<int>(f);
     }

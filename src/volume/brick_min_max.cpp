@@ -43,8 +43,8 @@ glm::vec2 scan_brick(const VoxelGrid<T>& g, glm::ivec3 lo, glm::ivec3 hi) {
 
 }  // namespace
 
-BrickMinMax::BrickMinMax(const AnyGrid& voxels, int brick_size, int threads)
-    : grid_(voxels.dims, brick_size), ranges_(grid_.count()) {
+BrickMinMax::BrickMinMax(const AnyGrid& voxels, glm::ivec3 shape, int threads)
+    : grid_(voxels.dims, shape), ranges_(grid_.count()) {
   voxels.visit([&](const auto& g) {
     parallel_for(static_cast<long>(grid_.count()), threads, [&](long begin, long end) {
       for (long n = begin; n < end; ++n) {

@@ -14,9 +14,10 @@ class BrickMinMax {
  public:
   BrickMinMax() = default;
   // Scans every brick's voxels including its apron (BrickGrid::first_voxel..last_voxel), in
-  // parallel on up to `threads` threads (0 = all). Depends only on the voxels, not on the TF.
-  explicit BrickMinMax(const AnyGrid& voxels, int brick_size = BrickGrid::kDefaultSize,
-                       int threads = 0);
+  // parallel on up to `threads` threads (0 = all), for bricks of `shape` cells (BrickGrid::size).
+  // Depends only on the voxels, not on the TF.
+  explicit BrickMinMax(const AnyGrid& voxels,
+                       glm::ivec3 shape = glm::ivec3(BrickGrid::kDefaultSize), int threads = 0);
 
   const BrickGrid& grid() const { return grid_; }
   // (min, max) of brick b's finite voxels: NaN and inf voxels are no data, left out (samples

@@ -18,9 +18,9 @@ class LaneBricks {
  public:
   LaneBricks(const BrickOccupancy& occ, SkipMode mode)
       : distances_(reinterpret_cast<const int*>(occ.padded_distances())),
-        by_distance_(mode == SkipMode::distance),
-        inv_size_(splat(1.0f / static_cast<float>(occ.grid().size))) {
+        by_distance_(mode == SkipMode::distance) {
     const glm::ivec3 d = occ.grid().dims;
+    for (int a = 0; a < 3; ++a) inv_size_[a] = splat(1.0f / static_cast<float>(occ.grid().size[a]));
     stride_y_ = splat(static_cast<float>(d.x));
     stride_z_ = splat(static_cast<float>(d.x) * static_cast<float>(d.y));
     last_[0] = splat(static_cast<float>(d.x - 1));
@@ -48,13 +48,13 @@ class LaneBricks {
     const __m256 zero = _mm256_setzero_ps(), one = splat(1.0f);
     r.octant = _mm256_setzero_si256();
     for (int a = 0; a < 3; ++a) {
-      const __m256 o = _mm256_mul_ps(_mm256_load_ps(origin[a]), inv_size_);
+      const __m256 o = _mm256_mul_ps(_mm256_load_ps(origin[a]), inv_size_[a]);
       const __m256 d = _mm256_load_ps(dir[a]);
       const __m256 crosses =
           _mm256_cmp_ps(_mm256_andnot_ps(splat(-0.0f), d), splat(1e-12f), _CMP_GE_OQ);
       const __m256 forward = _mm256_and_ps(crosses, _mm256_cmp_ps(d, zero, _CMP_GT_OQ));
       r.origin[a] = o;
-      r.dir[a] = _mm256_mul_ps(d, inv_size_);
+      r.dir[a] = _mm256_mul_ps(d, inv_size_[a]);
       r.backward[a] = _mm256_andnot_ps(forward, crosses);
       r.inv_dir[a] = _mm256_blendv_ps(splat(INFINITY), _mm256_div_ps(one, r.dir[a]), crosses);
       r.shift[a] = _mm256_blendv_ps(one, _mm256_sub_ps(_mm256_and_ps(forward, one), o), crosses);
@@ -144,7 +144,7 @@ class LaneBricks {
 
   const int* distances_;
   bool by_distance_;
-  __m256 inv_size_;
+  __m256 inv_size_[3];          // 1 / cells per brick, per axis
   __m256 stride_y_, stride_z_;  // brick index strides, as floats
   __m256 last_[3];              // dims - 1, as floats
 };

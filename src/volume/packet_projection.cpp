@@ -86,8 +86,8 @@ class ProjectionKernel {
     if (r) {
       ranges_ = reinterpret_cast<const float*>(r->ranges().data());
       const BrickGrid& g = r->grid();
-      brick_size_ = static_cast<float>(g.size);
       for (int a = 0; a < 3; ++a) {
+        brick_size_[a] = static_cast<float>(g.size[a]);
         brick_last_[a] = static_cast<float>(g.dims[a] - 1);
         voxel_last_[a] = static_cast<float>(g.voxel_dims[a] - 1);
       }
@@ -287,14 +287,14 @@ class ProjectionKernel {
     }
     const __m256 o[3] = {_mm256_load_ps(L_.ox), _mm256_load_ps(L_.oy), _mm256_load_ps(L_.oz)};
     const __m256 d[3] = {_mm256_load_ps(L_.dx), _mm256_load_ps(L_.dy), _mm256_load_ps(L_.dz)};
-    const __m256 zero = _mm256_setzero_ps(), size = splat(brick_size_);
-    const __m256 inv_size = splat(1.0f / brick_size_);
+    const __m256 zero = _mm256_setzero_ps();
     __m256 exit = splat(INFINITY);
     __m256i index = _mm256_setzero_si256();
     const int stride[3] = {1, brick_stride_y_, brick_stride_z_};
     for (int a = 0; a < 3; ++a) {
       // BrickGrid::brick_of: max(x, 0) sends a NaN to brick 0.
       const __m256 p = _mm256_fmadd_ps(t, d[a], o[a]);
+      const __m256 size = splat(brick_size_[a]), inv_size = splat(1.0f / brick_size_[a]);
       const __m256 b = _mm256_min_ps(
           _mm256_max_ps(_mm256_floor_ps(_mm256_mul_ps(p, inv_size)), zero), splat(brick_last_[a]));
       index = _mm256_add_epi32(index, _mm256_mullo_epi32(_mm256_cvttps_epi32(b), splat(stride[a])));
@@ -395,8 +395,8 @@ class ProjectionKernel {
   int look_limit_ = kMaxLookDelay;    // how many, before the next look
   std::optional<LaneBricks> bricks_;  // the TF's empty bricks, where they may be walked past
   LaneBricks::Rays brick_rays_{};
-  const float* ranges_ = nullptr;  // (min, max) per brick; null: no skipping
-  float brick_size_ = 8.0f;
+  const float* ranges_ = nullptr;             // (min, max) per brick; null: no skipping
+  float brick_size_[3] = {8.0f, 8.0f, 8.0f};  // cells per brick along each axis
   float brick_last_[3] = {}, voxel_last_[3] = {};
   int brick_stride_y_ = 1, brick_stride_z_ = 1;
   ProjectionLanes L_{};

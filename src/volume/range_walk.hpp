@@ -32,8 +32,8 @@ class RangeBricks {
     for (int a = 0; a < 3; ++a) {
       if (std::abs(dir_[a]) < 1e-12f) continue;  // parallel: never leaves through this axis
       const float face =
-          dir_[a] > 0.0f ? static_cast<float>(std::min((b[a] + 1) * g.size, g.voxel_dims[a] - 1))
-                         : static_cast<float>(b[a] * g.size);
+          dir_[a] > 0.0f ? static_cast<float>(std::min((b[a] + 1) * g.size[a], g.voxel_dims[a] - 1))
+                         : static_cast<float>(b[a] * g.size[a]);
       exit = std::min(exit, (face - origin_[a]) / dir_[a]);
     }
     return ranges_->range(b);

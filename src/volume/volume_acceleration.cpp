@@ -5,8 +5,8 @@
 #include <list>
 #include <mutex>
 
-#include "intermix/scene.hpp"
 #include "core/fnv1a.hpp"
+#include "intermix/scene.hpp"
 #include "volume/brick_min_max.hpp"
 #include "volume/label_classifier.hpp"
 #include "volume/preintegration_cache.hpp"
@@ -57,7 +57,7 @@ class PerVolumeCache {
 };
 
 struct OccupancyKey {
-  int brick_size;
+  glm::ivec3 brick_shape;
   uint64_t tf;
   bool operator==(const OccupancyKey&) const = default;
 };
@@ -93,7 +93,7 @@ bool has_non_finite_voxels(const std::shared_ptr<const VolumeData>& data) {
 
 VolumeAcceleration accelerate(const VolumeObject& v, const TfLut& lut, float step,
                               const MarchSettings& settings) {
-  static PerVolumeCache<int, BrickMinMax> ranges(8);
+  static PerVolumeCache<glm::ivec3, BrickMinMax> ranges(8);
   static PerVolumeCache<OccupancyKey, BrickOccupancy> occupancies(16);
   static PerVolumeCache<int, GradientVolume> gradients(4);
   static PreintegrationCache tables(16);
@@ -102,22 +102,26 @@ VolumeAcceleration accelerate(const VolumeObject& v, const TfLut& lut, float ste
   a.skip = settings.skip;
   const AnyGrid grid(*v.data);
   // Built once per voxel array: skipping reads it, and it gives the data range without a scan.
-  std::shared_ptr<const BrickMinMax> r = ranges.get(
-      v.data, settings.brick_size, [&] { return BrickMinMax(grid, settings.brick_size); });
+  // Bricks are near cubes in the world (BrickGrid::shape_for): the object's index steps in mm.
+  const glm::dmat4& m = v.index_to_world;
+  const glm::ivec3 shape = BrickGrid::shape_for(
+      settings.brick_size, {glm::length(glm::dvec3(m[0])), glm::length(glm::dvec3(m[1])),
+                            glm::length(glm::dvec3(m[2]))});
+  std::shared_ptr<const BrickMinMax> r =
+      ranges.get(v.data, shape, [&] { return BrickMinMax(grid, shape); });
   if (v.labels) {  // no TF tables: occupancy by the visible labels only (label_classifier.hpp)
     if (settings.skip == SkipMode::none) return a;
     a.ranges = r;
     const LabelLooks looks(*v.labels);
-    a.occupancy = occupancies.get(
-        v.data, OccupancyKey{settings.brick_size, label_fingerprint(*v.labels)}, [&] {
-          return BrickOccupancy(*r, [&](float lo, float hi) { return !looks.any_shown_in(lo, hi); });
-        });
+    a.occupancy = occupancies.get(v.data, OccupancyKey{shape, label_fingerprint(*v.labels)}, [&] {
+      return BrickOccupancy(*r, [&](float lo, float hi) { return !looks.any_shown_in(lo, hi); });
+    });
     return a;
   }
   if (settings.skip != SkipMode::none) {
     a.ranges = r;
     a.emptiness = std::make_shared<const TfEmptiness>(lut);
-    a.occupancy = occupancies.get(v.data, OccupancyKey{settings.brick_size, tf_fingerprint(lut)},
+    a.occupancy = occupancies.get(v.data, OccupancyKey{shape, tf_fingerprint(lut)},
                                   [&] { return BrickOccupancy(*r, *a.emptiness); });
   }
   if (settings.classification == Classification::preintegrated) {

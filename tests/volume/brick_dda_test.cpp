@@ -17,12 +17,19 @@
 namespace imx {
 namespace {
 
+// Brick shapes the trials take in turn: cubes, and the flat and uneven ones that
+// BrickGrid::shape_for gives volumes of thick slices.
+glm::ivec3 trial_shape(int trial) {
+  constexpr glm::ivec3 shapes[] = {{8, 8, 8}, {4, 4, 4}, {8, 8, 1}, {3, 8, 2}};
+  return shapes[trial % 4];
+}
+
 // A volume placed obliquely, so index-space directions are not unit and t is world mm.
 struct PlacedGrid {
   VolumeObject obj;
   std::unique_ptr<PreparedVolume> pv;
   BrickGrid grid;
-  PlacedGrid(glm::ivec3 dims, int brick, std::mt19937& rng, VolumeData data = {}) {
+  PlacedGrid(glm::ivec3 dims, glm::ivec3 brick, std::mt19937& rng, VolumeData data = {}) {
     if (data.dims.x == 0) {
       data.dims = dims;
       data.voxels = std::vector<uint8_t>(static_cast<size_t>(dims.x) * dims.y * dims.z, 0);
@@ -56,10 +63,10 @@ Ray random_ray(const PlacedGrid& s, std::mt19937& rng, int kind) {
     if (u(rng) < 0.5f)
       for (int b = 0; b < 3; ++b)
         if (b != a)
-          target[b] = std::min(hi[b], static_cast<float>(s.grid.size * (int)(u(rng) * 4)));
+          target[b] = std::min(hi[b], static_cast<float>(s.grid.size[b] * (int)(u(rng) * 4)));
   } else if (kind % 4 == 3) {  // a diagonal of the index lattice
     dir_index = glm::vec3(u(rng) < 0.5f ? 1 : -1, u(rng) < 0.5f ? 1 : -1, u(rng) < 0.5f ? 1 : -1);
-    target = glm::floor(target / float(s.grid.size)) * float(s.grid.size);
+    target = glm::floor(target / glm::vec3(s.grid.size)) * glm::vec3(s.grid.size);
   } else {
     dir_index = glm::vec3(u(rng), u(rng), u(rng)) * 2.0f - 1.0f;
   }
@@ -93,7 +100,7 @@ glm::ivec3 brick_at(const BrickGrid& g, glm::dvec3 p) {
   glm::ivec3 b;
   for (int a = 0; a < 3; ++a)
     b[a] = static_cast<int>(
-        std::clamp(std::floor(p[a] / g.size), 0.0, static_cast<double>(g.dims[a] - 1)));
+        std::clamp(std::floor(p[a] / g.size[a]), 0.0, static_cast<double>(g.dims[a] - 1)));
   return b;
 }
 
@@ -115,8 +122,8 @@ std::vector<glm::ivec3> fine_walk(const PlacedGrid& s, const Ray& r, RayInterval
 // to infinity, as positions outside the grid clamp to them.
 bool in_cell(const BrickGrid& g, glm::ivec3 b, glm::dvec3 p, double eps) {
   for (int a = 0; a < 3; ++a) {
-    if (b[a] > 0 && p[a] < b[a] * g.size - eps) return false;
-    if (b[a] < g.dims[a] - 1 && p[a] > (b[a] + 1) * g.size + eps) return false;
+    if (b[a] > 0 && p[a] < b[a] * g.size[a] - eps) return false;
+    if (b[a] < g.dims[a] - 1 && p[a] > (b[a] + 1) * g.size[a] + eps) return false;
   }
   return true;
 }
@@ -126,7 +133,7 @@ TEST(BrickDda, VisitsExactlyTheBricksOfAFineWalk) {
   std::uniform_int_distribution<int> size(5, 60);
   int rays = 0, exact = 0;
   for (int trial = 0; trial < 30; ++trial) {
-    PlacedGrid s({size(rng), size(rng), size(rng)}, trial % 2 ? 8 : 4, rng);
+    PlacedGrid s({size(rng), size(rng), size(rng)}, trial_shape(trial), rng);
     for (int k = 0; k < 40; ++k) {
       Ray r = random_ray(s, rng, k);
       RayInterval iv = s.pv->intersect(r);
@@ -238,7 +245,7 @@ TEST(BrickDda, DistanceJumpsNeverSkipAnOccupiedBrick) {
     // Real volumes under random TFs...
     glm::ivec3 dims(size(rng), size(rng), size(rng));
     VolumeData vol = test::blob_volume<uint8_t>(dims, rng, 1.0f, 0.0f, 1 + trial % 3);
-    BrickMinMax mm(AnyGrid(vol), trial % 2 ? 8 : 4);
+    BrickMinMax mm(AnyGrid(vol), trial_shape(trial));
     TfLut lut(test::random_tf(rng, 20.0f, 255.0f));
     PlacedGrid s(dims, mm.grid().size, rng, vol);
     BrickOccupancy occ(mm, TfEmptiness(lut));
@@ -252,7 +259,7 @@ TEST(BrickDda, DistanceJumpsNeverSkipAnOccupiedBrick) {
 TEST(BrickOccupancy, DistanceIsTheOctantTransformOfOccupancy) {
   std::mt19937 rng(23);
   VolumeData vol = test::blob_volume<int16_t>({70, 50, 60}, rng, 4.0f, -500.0f, 3);
-  BrickMinMax mm(AnyGrid(vol), 8);
+  BrickMinMax mm(AnyGrid(vol), glm::ivec3(8, 4, 2));
   TfLut lut(test::random_tf(rng, -400.0f, 520.0f));
   BrickOccupancy occ(mm, TfEmptiness(lut));
   const BrickGrid& g = occ.grid();

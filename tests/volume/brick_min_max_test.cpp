@@ -39,12 +39,31 @@ TEST(BrickGrid, CountsBricksCoveringTheHull) {
   EXPECT_EQ(g.last_voxel({2, 2, 2}), glm::ivec3(19));
   EXPECT_EQ(g.brick_of({19.0f, 16.0f, 15.99f}), glm::ivec3(2, 2, 1));
   EXPECT_EQ(g.brick_of({-3.0f, 40.0f, 8.0f}), glm::ivec3(0, 2, 1));
+
+  BrickGrid flat({512, 512, 28}, {8, 8, 1});  // one slice of cells a brick
+  EXPECT_EQ(flat.dims, glm::ivec3(64, 64, 27));
+  EXPECT_EQ(flat.last_voxel({1, 1, 26}), glm::ivec3(16, 16, 27));
+  EXPECT_EQ(flat.brick_of({17.0f, 3.0f, 5.5f}), glm::ivec3(2, 0, 5));
+}
+
+TEST(BrickGrid, ShapesBricksAsNearCubesInMillimetres) {
+  EXPECT_EQ(BrickGrid::shape_for(8, {1.0, 1.0, 1.0}), glm::ivec3(8));
+  EXPECT_EQ(BrickGrid::shape_for(8, {0.45, 0.45, 5.0}), glm::ivec3(8, 8, 1));  // 3.6 x 3.6 x 5 mm
+  EXPECT_EQ(BrickGrid::shape_for(8, {0.49, 0.49, 2.62}), glm::ivec3(8, 8, 1));
+  EXPECT_EQ(BrickGrid::shape_for(8, {2.0, 1.0, 1.5}), glm::ivec3(4, 8, 5));
+  EXPECT_EQ(BrickGrid::shape_for(4, {3.0, 3.0, 1.0}), glm::ivec3(1, 1, 4));
+  EXPECT_EQ(BrickGrid::shape_for(8, {1.0, 1.2, 1.0}), glm::ivec3(8, 7, 8));
+  // Nothing to go by: a cube.
+  EXPECT_EQ(BrickGrid::shape_for(8, {0.0, 1.0, 1.0}), glm::ivec3(8));
+  EXPECT_EQ(BrickGrid::shape_for(8, {NAN, 1.0, 1.0}), glm::ivec3(8));
+  EXPECT_EQ(BrickGrid::shape_for(8, {1.0, NAN, 1.0}), glm::ivec3(8));
+  EXPECT_EQ(BrickGrid::shape_for(8, {1.0, INFINITY, 1.0}), glm::ivec3(8));
 }
 
 // Every trilinear sample inside a brick lies in its [min, max], and the bounds are attained
 // there (tight: the voxel range is exactly what trilinear reads).
 template <class T>
-void check_min_max(glm::ivec3 dims, int brick, float scale, float offset, uint32_t seed) {
+void check_min_max(glm::ivec3 dims, glm::ivec3 brick, float scale, float offset, uint32_t seed) {
   std::mt19937 rng(seed);
   VolumeData vol = test::blob_volume<T>(dims, rng, scale, offset);
   AnyGrid grid(vol);
@@ -72,15 +91,17 @@ void check_min_max(glm::ivec3 dims, int brick, float scale, float offset, uint32
 }
 
 TEST(BrickMinMax, BoundsEveryTrilinearSampleAndIsTight) {
-  check_min_max<uint8_t>({21, 18, 13}, 4, 1.0f, 0.0f, 1);
-  check_min_max<int16_t>({19, 25, 17}, 8, 8.0f, -1024.0f, 2);
-  check_min_max<float>({33, 9, 16}, 8, 0.01f, -0.5f, 3);
-  check_min_max<uint16_t>({8, 9, 10}, 3, 100.0f, 0.0f, 4);
+  check_min_max<uint8_t>({21, 18, 13}, glm::ivec3(4), 1.0f, 0.0f, 1);
+  check_min_max<int16_t>({19, 25, 17}, glm::ivec3(8), 8.0f, -1024.0f, 2);
+  check_min_max<float>({33, 9, 16}, glm::ivec3(8), 0.01f, -0.5f, 3);
+  check_min_max<uint16_t>({8, 9, 10}, glm::ivec3(3), 100.0f, 0.0f, 4);
+  check_min_max<int16_t>({23, 20, 9}, {8, 8, 1}, 8.0f, -1024.0f, 5);  // thick slices
+  check_min_max<uint8_t>({17, 30, 12}, {2, 5, 3}, 1.0f, 0.0f, 6);
 }
 
 // No false "empty": wherever a brick is flagged empty, the classified samples are transparent.
 template <class T>
-void check_occupancy(glm::ivec3 dims, int brick, float scale, float offset, uint32_t seed) {
+void check_occupancy(glm::ivec3 dims, glm::ivec3 brick, float scale, float offset, uint32_t seed) {
   std::mt19937 rng(seed);
   VolumeData vol = test::blob_volume<T>(dims, rng, scale, offset);
   AnyGrid grid(vol);
@@ -107,9 +128,10 @@ void check_occupancy(glm::ivec3 dims, int brick, float scale, float offset, uint
 }
 
 TEST(BrickOccupancy, EmptyBricksHaveNoVisibleSample) {
-  check_occupancy<uint8_t>({30, 27, 22}, 4, 1.0f, 0.0f, 10);
-  check_occupancy<int16_t>({26, 26, 26}, 8, 8.0f, -1024.0f, 11);
-  check_occupancy<float>({24, 20, 28}, 4, 0.01f, -0.5f, 12);
+  check_occupancy<uint8_t>({30, 27, 22}, glm::ivec3(4), 1.0f, 0.0f, 10);
+  check_occupancy<int16_t>({26, 26, 26}, glm::ivec3(8), 8.0f, -1024.0f, 11);
+  check_occupancy<float>({24, 20, 28}, glm::ivec3(4), 0.01f, -0.5f, 12);
+  check_occupancy<int16_t>({30, 28, 10}, {8, 8, 1}, 8.0f, -1024.0f, 13);
 }
 
 }  // namespace

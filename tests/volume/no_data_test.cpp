@@ -67,7 +67,7 @@ TEST(NoData, BrickRangesLeaveOutNonFiniteVoxels) {
   data[(7 * 9 + 7) * 9 + 7] = -kInf;
   data[(6 * 9 + 6) * 9 + 6] = 3.0f;
   vol.voxels = data;
-  BrickMinMax mm(AnyGrid(vol), 4);
+  BrickMinMax mm(AnyGrid(vol), glm::ivec3(4));
   EXPECT_EQ(mm.range({1, 1, 1}), glm::vec2(0.0f, 3.0f));
   EXPECT_TRUE(BrickMinMax::holds_data(mm.range({1, 1, 1})));
   EXPECT_EQ(mm.range({0, 0, 0}), glm::vec2(0.0f));
@@ -81,7 +81,7 @@ TEST(NoData, ABrickOfNoDataIsEmptyWhateverTheTf) {
     for (int j = 4; j < 9; ++j)
       for (int i = 4; i < 9; ++i) data[(k * 9 + j) * 9 + i] = (i + j + k) % 3 ? kNan : -kInf;
   vol.voxels = data;
-  BrickMinMax mm(AnyGrid(vol), 4);
+  BrickMinMax mm(AnyGrid(vol), glm::ivec3(4));
   EXPECT_FALSE(BrickMinMax::holds_data(mm.range({1, 1, 1})));
   EXPECT_TRUE(BrickMinMax::holds_data(mm.range({0, 1, 1})));
   TransferFunction opaque;  // every value shows
