@@ -27,11 +27,7 @@ class BrickDda {
  public:
   BrickDda() = default;
   BrickDda(const BrickGrid& grid, glm::vec3 origin, glm::vec3 dir, float t0, float t1)
-      : dims_(grid.dims),
-        size_(grid.size),
-        origin_(origin),
-        t_enter_(t0),
-        t1_(t1) {
+      : dims_(grid.dims), size_(grid.size), origin_(origin), t_enter_(t0), t1_(t1) {
     done_ = !(t1 > t0);
     glm::vec3 p = origin + t0 * dir;
     for (int a = 0; a < 3; ++a) {

@@ -79,7 +79,7 @@ GradientVolume::GradientVolume(const AnyGrid& voxels, int threads) : dims_(voxel
     }
     scale_ = largest > 0.0f ? largest / 32767.0f : 1.0f;
     const float inv = 1.0f / scale_;
-    data_.resize(3 * count + 1);  // the spare entry: see sample()
+    data_.resize(3 * count + 2);  // the spare entries: see data()
     auto store = [&](size_t n, int a, float d, int) {
       data_[3 * n + a] = std::isfinite(d) ? static_cast<int16_t>(std::lround(d * inv)) : 0;
     };

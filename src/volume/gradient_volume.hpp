@@ -49,8 +49,9 @@ class GradientVolume {
 
   size_t bytes() const { return data_.size() * sizeof(int16_t) + words_.size() * sizeof(uint32_t); }
   // Which raw layout holds the gradients, for vectorized fetches. Packed: one word per voxel
-  // (x-fastest), each component a signed 10-bit field. Int16: x, y, z per voxel, one spare entry
-  // after the last voxel. Either way a stored unit is scale() value units per voxel.
+  // (x-fastest), each component a signed 10-bit field. Int16: x, y, z per voxel, two spare entries
+  // after the last voxel (16 bytes read from any x-neighbour pair stay inside). Either way a stored
+  // unit is scale() value units per voxel.
   bool packed() const { return !words_.empty(); }
   const uint32_t* words() const { return words_.data(); }
   const int16_t* data() const { return data_.data(); }
@@ -106,7 +107,7 @@ class GradientVolume {
     return static_cast<int32_t>(w << (22 - 10 * a)) >> 22;
   }
 
-  std::vector<int16_t> data_;    // int16 layout: x, y, z per voxel and one spare entry
+  std::vector<int16_t> data_;    // int16 layout: x, y, z per voxel and two spare entries
   std::vector<uint32_t> words_;  // packed layout
   glm::ivec3 dims_{1};
   float scale_ = 1.0f;  // stored unit in value units per voxel

@@ -87,7 +87,7 @@ class LaneBricks {
       const __m256i brick = _mm256_cvttps_epi32(
           _mm256_fmadd_ps(cell[2], stride_z_, _mm256_fmadd_ps(cell[1], stride_y_, cell[0])));
       const __m256i index = _mm256_or_si256(_mm256_slli_epi32(brick, 3), ray.octant);
-      const __m256i d = _mm256_and_si256(_mm256_i32gather_epi32(distances_, index, 1), splat(0xff));
+      const __m256i d = _mm256_and_si256(gather_words<1>(distances_, index), splat(0xff));
       const __m256 occupied = _mm256_castsi256_ps(_mm256_cmpeq_epi32(d, _mm256_setzero_si256()));
       // The cube of empty bricks reaches `reach` bricks ahead of this one (with SkipMode::bricks,
       // or for an occupied brick, it is the brick alone).

@@ -67,20 +67,19 @@ class LaneGrid {
       const __m256i one = splat(1);
       const __m256i offs[4] = {base, o01, o10, o11};
       for (int k = 0; k < 4; ++k) {
-        c[2 * k] = _mm256_i32gather_ps(data_, offs[k], 4);
-        c[2 * k + 1] = _mm256_i32gather_ps(data_, _mm256_add_epi32(offs[k], one), 4);
+        c[2 * k] = gather_floats(data_, offs[k]);
+        c[2 * k + 1] = gather_floats(data_, _mm256_add_epi32(offs[k], one));
       }
     } else {
-      const int* words = reinterpret_cast<const int*>(data_);
       __m256i w[4];
       if constexpr (sizeof(T) == 1) {
-        w[0] = _mm256_i32gather_epi32(words, base, 1);
-        w[1] = _mm256_i32gather_epi32(words, o01, 1);
-        w[2] = _mm256_i32gather_epi32(words, o10, 1);
+        w[0] = gather_words<1>(data_, base);
+        w[1] = gather_words<1>(data_, o01);
+        w[2] = gather_words<1>(data_, o10);
         // Only the last pair can lie within the last 3 bytes (every stride is at least 2).
         __m256i at = _mm256_min_epi32(o11, last_word_);
         __m256i shift = _mm256_slli_epi32(_mm256_sub_epi32(o11, at), 3);
-        w[3] = _mm256_srlv_epi32(_mm256_i32gather_epi32(words, at, 1), shift);
+        w[3] = _mm256_srlv_epi32(gather_words<1>(data_, at), shift);
         const __m256i byte = splat(0xff);
         for (int k = 0; k < 4; ++k) {
           c[2 * k] = _mm256_cvtepi32_ps(_mm256_and_si256(w[k], byte));
@@ -88,10 +87,10 @@ class LaneGrid {
         }
       } else {
         // Element i + 1 is at most the last voxel: no word runs past the end.
-        w[0] = _mm256_i32gather_epi32(words, base, 2);
-        w[1] = _mm256_i32gather_epi32(words, o01, 2);
-        w[2] = _mm256_i32gather_epi32(words, o10, 2);
-        w[3] = _mm256_i32gather_epi32(words, o11, 2);
+        w[0] = gather_words<2>(data_, base);
+        w[1] = gather_words<2>(data_, o01);
+        w[2] = gather_words<2>(data_, o10);
+        w[3] = gather_words<2>(data_, o11);
         for (int k = 0; k < 4; ++k) {
           if constexpr (std::is_signed_v<T>) {
             c[2 * k] = _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(w[k], 16), 16));

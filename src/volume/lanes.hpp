@@ -5,6 +5,9 @@
 #include <immintrin.h>
 
 #include <cfloat>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
 #define IMX_PACKET_LANES 1
 #else
 #define IMX_PACKET_LANES 0
@@ -37,6 +40,30 @@ inline __m256 dot3(__m256 ax, __m256 ay, __m256 az, __m256 bx, __m256 by, __m256
 // a + f * (b - a), the interpolation step of every trilinear and bilinear fetch.
 inline __m256 lerp(__m256 a, __m256 b, __m256 f) {
   return _mm256_fmadd_ps(f, _mm256_sub_ps(b, a), a);
+}
+
+// _mm256_i32gather_epi32(base, index, Scale) as eight scalar loads: on the AMD cores this runs
+// on a gather costs about as much as a cycle a lane, more than eight loads and inserts (the
+// Philips CT with a ramp X-ray: 18% faster with every voxel fetch this way).
+template <int Scale>
+inline __m256i gather_words(const void* base, __m256i index) {
+  alignas(32) int32_t at[kLanes];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(at), index);
+  const char* bytes = static_cast<const char*>(base);
+  auto word = [&](int l) {
+    int32_t v;
+    std::memcpy(&v, bytes + static_cast<ptrdiff_t>(at[l]) * Scale, sizeof v);
+    return v;
+  };
+  return _mm256_setr_epi32(word(0), word(1), word(2), word(3), word(4), word(5), word(6), word(7));
+}
+
+// _mm256_i32gather_ps(base, index, 4) the same way.
+inline __m256 gather_floats(const float* base, __m256i index) {
+  alignas(32) int32_t at[kLanes];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(at), index);
+  return _mm256_setr_ps(base[at[0]], base[at[1]], base[at[2]], base[at[3]], base[at[4]],
+                        base[at[5]], base[at[6]], base[at[7]]);
 }
 
 // no_data() in lanes: all ones where s is NaN or infinite.

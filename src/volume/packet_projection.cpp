@@ -310,8 +310,8 @@ class ProjectionKernel {
     __m256 skip = _mm256_setzero_ps();
     if (mode_ != Mode::integral) {
       const __m256i at = _mm256_slli_epi32(index, 1);
-      const __m256 lo = _mm256_i32gather_ps(ranges_, at, 4);
-      const __m256 hi = _mm256_i32gather_ps(ranges_, _mm256_add_epi32(at, splat(1)), 4);
+      const __m256 lo = gather_floats(ranges_, at);
+      const __m256 hi = gather_floats(ranges_, _mm256_add_epi32(at, splat(1)));
       const __m256 best = _mm256_load_ps(L_.best);
       if (mode_ == Mode::max)
         skip = _mm256_cmp_ps(hi, best, _CMP_LE_OQ);
