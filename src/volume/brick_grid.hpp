@@ -28,18 +28,25 @@ struct BrickGrid {
   }
   BrickGrid(glm::ivec3 voxels, int cube) : BrickGrid(voxels, glm::ivec3(cube)) {}
 
-  // The brick shape for voxels `spacing` mm apart along i, j, k: `cells` cells along the finest
-  // axis and about as many mm along the others (at least one cell), so that a brick is close to
-  // a cube in the world. A CT of 0.45 x 0.45 x 5 mm voxels gets 8 x 8 x 1 cells, not a 3.6 x
-  // 3.6 x 40 mm column whose one bone voxel makes every ray through it march. Spacings that are
-  // not positive and finite give a cube.
-  static glm::ivec3 shape_for(int cells, glm::dvec3 spacing) {
+  // The brick shape for `voxels` voxels `spacing` mm apart along i, j, k: `cells` cells along the
+  // finest axis and about as many mm along the others (at least one cell), so that a brick is
+  // close to a cube in the world. A CT of 0.45 x 0.45 x 5 mm voxels gets 8 x 8 x 1 cells, not a
+  // 3.6 x 3.6 x 40 mm column whose one bone voxel makes every ray through it march. Spacings
+  // that are not positive and finite give a cube. Grids of more than kMaxBricks bricks take
+  // twice the cells on every axis until they fit: the tables stay below 64 MiB, and the packet
+  // walk's float brick indices exact.
+  static constexpr size_t kMaxBricks = size_t{1} << 22;
+  static glm::ivec3 shape_for(int cells, glm::dvec3 spacing, glm::ivec3 voxels) {
     glm::ivec3 shape(cells);
-    for (int a = 0; a < 3; ++a)
-      if (!(spacing[a] > 0.0) || !std::isfinite(spacing[a])) return shape;
-    const double finest = std::min({spacing.x, spacing.y, spacing.z});
-    for (int a = 0; a < 3; ++a)
-      shape[a] = std::clamp(static_cast<int>(std::lround(cells * finest / spacing[a])), 1, cells);
+    bool known = true;
+    for (int a = 0; a < 3; ++a) known = known && spacing[a] > 0.0 && std::isfinite(spacing[a]);
+    if (known) {
+      const double finest = std::min({spacing.x, spacing.y, spacing.z});
+      for (int a = 0; a < 3; ++a)
+        shape[a] = std::clamp(static_cast<int>(std::lround(cells * finest / spacing[a])), 1, cells);
+    }
+    while (BrickGrid(voxels, shape).count() > kMaxBricks && glm::any(glm::lessThan(shape, voxels)))
+      shape *= 2;
     return shape;
   }
 

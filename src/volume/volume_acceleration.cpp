@@ -104,9 +104,9 @@ VolumeAcceleration accelerate(const VolumeObject& v, const TfLut& lut, float ste
   // Built once per voxel array: skipping reads it, and it gives the data range without a scan.
   // Bricks are near cubes in the world (BrickGrid::shape_for): the object's index steps in mm.
   const glm::dmat4& m = v.index_to_world;
-  const glm::ivec3 shape = BrickGrid::shape_for(
-      settings.brick_size, {glm::length(glm::dvec3(m[0])), glm::length(glm::dvec3(m[1])),
-                            glm::length(glm::dvec3(m[2]))});
+  const glm::dvec3 spacing(glm::length(glm::dvec3(m[0])), glm::length(glm::dvec3(m[1])),
+                           glm::length(glm::dvec3(m[2])));
+  const glm::ivec3 shape = BrickGrid::shape_for(settings.brick_size, spacing, v.data->dims);
   std::shared_ptr<const BrickMinMax> r =
       ranges.get(v.data, shape, [&] { return BrickMinMax(grid, shape); });
   if (v.labels) {  // no TF tables: occupancy by the visible labels only (label_classifier.hpp)

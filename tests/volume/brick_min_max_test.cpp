@@ -47,17 +47,27 @@ TEST(BrickGrid, CountsBricksCoveringTheHull) {
 }
 
 TEST(BrickGrid, ShapesBricksAsNearCubesInMillimetres) {
-  EXPECT_EQ(BrickGrid::shape_for(8, {1.0, 1.0, 1.0}), glm::ivec3(8));
-  EXPECT_EQ(BrickGrid::shape_for(8, {0.45, 0.45, 5.0}), glm::ivec3(8, 8, 1));  // 3.6 x 3.6 x 5 mm
-  EXPECT_EQ(BrickGrid::shape_for(8, {0.49, 0.49, 2.62}), glm::ivec3(8, 8, 1));
-  EXPECT_EQ(BrickGrid::shape_for(8, {2.0, 1.0, 1.5}), glm::ivec3(4, 8, 5));
-  EXPECT_EQ(BrickGrid::shape_for(4, {3.0, 3.0, 1.0}), glm::ivec3(1, 1, 4));
-  EXPECT_EQ(BrickGrid::shape_for(8, {1.0, 1.2, 1.0}), glm::ivec3(8, 7, 8));
+  const glm::ivec3 kVoxels(256, 256, 100);
+  EXPECT_EQ(BrickGrid::shape_for(8, {1.0, 1.0, 1.0}, kVoxels), glm::ivec3(8));
+  EXPECT_EQ(BrickGrid::shape_for(8, {0.45, 0.45, 5.0}, kVoxels),
+            glm::ivec3(8, 8, 1));  // 3.6 x 3.6 x 5 mm
+  EXPECT_EQ(BrickGrid::shape_for(8, {0.49, 0.49, 2.62}, kVoxels), glm::ivec3(8, 8, 1));
+  EXPECT_EQ(BrickGrid::shape_for(8, {2.0, 1.0, 1.5}, kVoxels), glm::ivec3(4, 8, 5));
+  EXPECT_EQ(BrickGrid::shape_for(4, {3.0, 3.0, 1.0}, kVoxels), glm::ivec3(1, 1, 4));
+  EXPECT_EQ(BrickGrid::shape_for(8, {1.0, 1.2, 1.0}, kVoxels), glm::ivec3(8, 7, 8));
   // Nothing to go by: a cube.
-  EXPECT_EQ(BrickGrid::shape_for(8, {0.0, 1.0, 1.0}), glm::ivec3(8));
-  EXPECT_EQ(BrickGrid::shape_for(8, {NAN, 1.0, 1.0}), glm::ivec3(8));
-  EXPECT_EQ(BrickGrid::shape_for(8, {1.0, NAN, 1.0}), glm::ivec3(8));
-  EXPECT_EQ(BrickGrid::shape_for(8, {1.0, INFINITY, 1.0}), glm::ivec3(8));
+  EXPECT_EQ(BrickGrid::shape_for(8, {0.0, 1.0, 1.0}, kVoxels), glm::ivec3(8));
+  EXPECT_EQ(BrickGrid::shape_for(8, {NAN, 1.0, 1.0}, kVoxels), glm::ivec3(8));
+  EXPECT_EQ(BrickGrid::shape_for(8, {1.0, NAN, 1.0}, kVoxels), glm::ivec3(8));
+  EXPECT_EQ(BrickGrid::shape_for(8, {1.0, INFINITY, 1.0}, kVoxels), glm::ivec3(8));
+  // Too many bricks: twice the cells until the grid has at most kMaxBricks.
+  const glm::ivec3 big(1024, 1024, 600);
+  const glm::ivec3 shape = BrickGrid::shape_for(8, {0.2, 0.2, 2.0}, big);
+  EXPECT_EQ(shape, glm::ivec3(16, 16, 2));
+  EXPECT_LE(BrickGrid(big, shape).count(), BrickGrid::kMaxBricks);
+  EXPECT_GT(BrickGrid(big, shape / 2).count(), BrickGrid::kMaxBricks);
+  // Never larger than the grid needs.
+  EXPECT_EQ(BrickGrid::shape_for(8, {1.0, 1.0, 1.0}, glm::ivec3(3, 2, 1)), glm::ivec3(8));
 }
 
 // Every trilinear sample inside a brick lies in its [min, max], and the bounds are attained
