@@ -67,11 +67,19 @@ class LaneBricks {
     return r;
   }
 
-  // Where the lanes in `walk` meet their first occupied brick at or after `t`, before `t1`:
-  // `enter` gets the time the ray enters it (t itself when it is already in one), `leave` the time
-  // it leaves it. Returns the lanes that meet none.
+  // Every occupied brick counts (first_occupied's default).
+  struct AnyOccupied {
+    __m256 operator()(__m256i) const { return _mm256_castsi256_ps(splat(-1)); }
+  };
+
+  // Where the lanes in `walk` meet their first occupied brick at or after `t`, before `t1`, that
+  // `counts` (lanes of all ones for the brick indices it is given) takes: `enter` gets the time
+  // the ray enters it (t itself when it is already in one), `leave` the time it leaves it. An
+  // occupied brick it refuses is walked past, one brick at a time. Returns the lanes that meet
+  // none.
+  template <class Counts = AnyOccupied>
   unsigned first_occupied(const Rays& ray, unsigned walk, __m256 t, __m256 t1, __m256& enter,
-                          __m256& leave) const {
+                          __m256& leave, Counts counts = {}) const {
     __m256 cell[3];
     for (int a = 0; a < 3; ++a) {
       // As BrickDda's constructor: a start on a boundary belongs to the brick the ray moves into.
@@ -88,7 +96,8 @@ class LaneBricks {
           _mm256_fmadd_ps(cell[2], stride_z_, _mm256_fmadd_ps(cell[1], stride_y_, cell[0])));
       const __m256i index = _mm256_or_si256(_mm256_slli_epi32(brick, 3), ray.octant);
       const __m256i d = _mm256_and_si256(gather_words<1>(distances_, index), splat(0xff));
-      const __m256 occupied = _mm256_castsi256_ps(_mm256_cmpeq_epi32(d, _mm256_setzero_si256()));
+      const __m256 occupied = _mm256_and_ps(
+          _mm256_castsi256_ps(_mm256_cmpeq_epi32(d, _mm256_setzero_si256())), counts(brick));
       // The cube of empty bricks reaches `reach` bricks ahead of this one (with SkipMode::bricks,
       // or for an occupied brick, it is the brick alone).
       __m256 reach = _mm256_setzero_ps();

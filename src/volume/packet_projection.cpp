@@ -278,7 +278,21 @@ class ProjectionKernel {
     __m256 judge = need;
     if (bricks_) {
       __m256 leave = t1;
-      const unsigned none = bricks_->first_occupied(brick_rays_, waiting, t, t1, target, leave);
+      unsigned none = 0;
+      if (mode_ == Mode::max || mode_ == Mode::min) {
+        // Bricks whose values cannot pass the running result are walked past too.
+        const __m256 best = _mm256_load_ps(L_.best);
+        const bool max = mode_ == Mode::max;
+        none =
+            bricks_->first_occupied(brick_rays_, waiting, t, t1, target, leave, [&](__m256i brick) {
+              const __m256i at = _mm256_slli_epi32(brick, 1);
+              return max ? _mm256_cmp_ps(gather_floats(ranges_, _mm256_add_epi32(at, splat(1))),
+                                         best, _CMP_GT_OQ)
+                         : _mm256_cmp_ps(gather_floats(ranges_, at), best, _CMP_LT_OQ);
+            });
+      } else {
+        none = bricks_->first_occupied(brick_rays_, waiting, t, t1, target, leave);
+      }
       ends = lane_mask(none);
       ahead = _mm256_andnot_ps(ends, _mm256_and_ps(need, _mm256_cmp_ps(target, t, _CMP_GT_OQ)));
       judge = _mm256_andnot_ps(_mm256_or_ps(ends, ahead), need);
