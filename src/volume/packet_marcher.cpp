@@ -290,7 +290,9 @@ constexpr std::array<uint32_t, 256> kPackOrder = [] {
 // eight after at most seven left over.
 struct alignas(32) ShadeQueue {
   enum Field { kW, kR, kG, kB, kA, kAx, kAy, kAz, kBx, kBy, kBz, kLane, kTwo, kFields };
-  float field[kFields][2 * kLanes] = {};  // kW: the weight over() gives the piece's colour
+  // kW: the weight over() gives the piece's colour; kLane (an int32 bit pattern): the lane of its
+  // ray; kTwo: all ones where it is shaded at two points.
+  float field[kFields][2 * kLanes] = {};
   int count = 0;
 };
 
@@ -623,9 +625,10 @@ class PacketKernel {
     shade_points(valid, _mm256_and_ps(valid, field(ShadeQueue::kTwo)), from, at, cr, cg, cb,
                  field(ShadeQueue::kA));
     alignas(32) float r[kLanes], g[kLanes], b[kLanes];
+    alignas(32) int32_t lane[kLanes];
     _mm256_store_ps(r, cr), _mm256_store_ps(g, cg), _mm256_store_ps(b, cb);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(lane), from);
     const float* w = queue_.field[ShadeQueue::kW];
-    const int32_t* lane = reinterpret_cast<const int32_t*>(queue_.field[ShadeQueue::kLane]);
     for (int k = 0; k < n; ++k) {
       const int l = lane[k];
       L_.r[l] = std::fma(w[k], r[k], L_.r[l]);
