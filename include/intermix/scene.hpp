@@ -195,8 +195,8 @@ struct CsgExpression {
 
 struct RenderSettings {
   std::string method = "auto";  // a method's name, or auto (resolve_method in render.hpp)
-  int spp = 0;           // samples per pixel, a perfect square; 0 = the method's default
-  double step_mm = 0.0;  // ray step; 0 = the method's default
+  int spp = 0;                  // samples per pixel, a perfect square; 0 = the method's default
+  double step_mm = 0.0;         // ray step; 0 = the method's default
   double reference_step_fraction =
       0.125;                             // reference step as a fraction of the smallest voxel pitch
   double ert_threshold = 0.99;           // early ray termination opacity; 1 disables
@@ -211,11 +211,11 @@ struct RenderSettings {
   std::string skipping = "distance";             // empty-space skipping: none, bricks, distance
   std::string classification = "preintegrated";  // volume samples: preintegrated or post
   std::string gradients = "precomputed";         // shading normals: precomputed or on-the-fly
-  int brick_size = 8;  // cells per brick edge for skipping, along the finest voxel axis
-  int k = 8;                                     // k+-buffer fragments per pixel
-  int fragment_cap = 1024;                       // dynamic fragment buffer cap per pixel
-  std::optional<double> thickness;               // default surface thickness, mm; empty = auto
-  std::string slab_format = "rgba32f";           // stored slab colour: rgba32f or rgba8
+  int brick_size = 8;       // cells per brick edge for skipping, along the finest voxel axis
+  int k = 8;                // k+-buffer fragments per pixel
+  int fragment_cap = 1024;  // dynamic fragment buffer cap per pixel
+  std::optional<double> thickness;      // default surface thickness, mm; empty = auto
+  std::string slab_format = "rgba32f";  // stored slab colour: rgba32f or rgba8
   std::string last_volume;  // zSlab: the volume rendered last (cast on the fly); empty = auto
   std::string overflow = "greedy";  // zSlab: a full ZT array folds by greedy or tail merging
   // zSlab: every volume at the common step ("common") or each at a step for its own pitch
