@@ -129,7 +129,7 @@ BENCHMARK(BM_BrickDdaFullWalk);
 // Block skipping alone on the shell volume: every brick is visited and tested; items are the
 // non-empty bricks reached (compare with BM_BrickDdaWithJumps).
 void BM_BrickDdaBlockSkip(benchmark::State& state) {
-  BrickMinMax mm(AnyGrid(volume<uint8_t>()), 8);
+  BrickMinMax mm(AnyGrid(volume<uint8_t>()), glm::ivec3(8));
   BrickOccupancy occ(mm, TfEmptiness(shell_lut()));
   Rays rays = random_rays(1024);
   int64_t visible = 0;
@@ -150,7 +150,7 @@ BENCHMARK(BM_BrickDdaBlockSkip);
 // The same rays with distance jumps over the shell volume's empty bricks; items are the
 // non-empty bricks reached.
 void BM_BrickDdaWithJumps(benchmark::State& state) {
-  BrickMinMax mm(AnyGrid(volume<uint8_t>()), 8);
+  BrickMinMax mm(AnyGrid(volume<uint8_t>()), glm::ivec3(8));
   BrickOccupancy occ(mm, TfEmptiness(shell_lut()));
   Rays rays = random_rays(1024);
   int64_t visible = 0, stops = 0;
@@ -176,7 +176,7 @@ BENCHMARK(BM_BrickDdaWithJumps);
 // From where each ray enters the grid to its first non-empty brick on the shell volume, with
 // distance jumps, one ray at a time: what the marcher does before its first sample.
 void BM_FirstOccupiedBrickDda(benchmark::State& state) {
-  BrickMinMax mm(AnyGrid(volume<uint8_t>()), 8);
+  BrickMinMax mm(AnyGrid(volume<uint8_t>()), glm::ivec3(8));
   BrickOccupancy occ(mm, TfEmptiness(shell_lut()));
   Rays rays = random_rays(1024);
   for (auto _ : state) {
@@ -195,7 +195,7 @@ BENCHMARK(BM_FirstOccupiedBrickDda);
 // The same walks eight rays at a time in AVX2 lanes (LaneBricks, as the packet path does them).
 void BM_FirstOccupiedLaneBricks(benchmark::State& state) {
   using lanes::kLanes;
-  BrickMinMax mm(AnyGrid(volume<uint8_t>()), 8);
+  BrickMinMax mm(AnyGrid(volume<uint8_t>()), glm::ivec3(8));
   BrickOccupancy occ(mm, TfEmptiness(shell_lut()));
   const lanes::LaneBricks walker(occ, SkipMode::distance);
   Rays rays = random_rays(1024);
@@ -256,7 +256,7 @@ BENCHMARK(BM_BrickMinMax256)->Unit(benchmark::kMillisecond);
 
 // What a TF change costs: emptiness prefix, occupancy and distance map of 32^3 bricks.
 void BM_TfChangeRebuild(benchmark::State& state) {
-  BrickMinMax mm(AnyGrid(volume<uint8_t>()), 8);
+  BrickMinMax mm(AnyGrid(volume<uint8_t>()), glm::ivec3(8));
   TfLut lut = shell_lut();
   for (auto _ : state) benchmark::DoNotOptimize(BrickOccupancy(mm, TfEmptiness(lut)));
 }

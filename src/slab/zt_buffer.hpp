@@ -113,17 +113,18 @@ class ZtBuffer {
     size_t base = sample * static_cast<size_t>(capacity_);
     int n = std::min(capacity_, static_cast<int>(slabs.size()));
     // A stored thickness is never negative: the sentinel (-1) marks the end.
+    const Slab end{0.0f, -1.0f, glm::vec4(0.0f)};
+    auto stored = [&](int k) {
+      Slab s = slabs[k];
+      s.thickness = std::max(s.thickness, 0.0f);
+      return s;
+    };
     if (format_ == SlabFormat::rgba8) {
-      for (int k = 0; k < n; ++k) {
-        Slab s = slabs[k];
-        s.thickness = std::max(s.thickness, 0.0f);
-        s8_[base + k] = pack8(s);
-      }
-      for (int k = n; k < capacity_; ++k) s8_[base + k] = PackedSlab8{0.0f, -1.0f, {0, 0, 0, 0}};
+      for (int k = 0; k < n; ++k) s8_[base + k] = pack8(stored(k));
+      for (int k = n; k < capacity_; ++k) s8_[base + k] = pack8(end);
     } else {
-      for (int k = 0; k < n; ++k)
-        s32_[base + k] = {slabs[k].t_back, std::max(slabs[k].thickness, 0.0f), slabs[k].color};
-      for (int k = n; k < capacity_; ++k) s32_[base + k] = {0.0f, -1.0f, glm::vec4(0.0f)};
+      for (int k = 0; k < n; ++k) s32_[base + k] = pack32(stored(k));
+      for (int k = n; k < capacity_; ++k) s32_[base + k] = pack32(end);
     }
   }
 

@@ -64,9 +64,8 @@ class LaneGradients {
         _mm256_add_epi32(_mm256_add_epi32(_mm256_add_epi32(base, sz), sy), one)};
     __m256 cx[8], cy[8], cz[8];
     if (packed_) {
-      const int* words = reinterpret_cast<const int*>(words_);
       for (int c = 0; c < 8; ++c) {
-        const __m256i w = gather_words<4>(words, corner[c]);
+        const __m256i w = gather_words<4>(words_, corner[c]);
         cx[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(w, 22), 22));
         cy[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(w, 12), 22));
         cz[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(w, 2), 22));
@@ -74,7 +73,7 @@ class LaneGradients {
     } else {
       // The x-neighbours c and c + 1 are 12 adjacent bytes: per lane one 16-byte load (the
       // volume's spare entries keep the last pair's inside), lanes l and l + 4 in one register,
-      // then a transpose, instead of three 8-lane gathers (gathers cost about a cycle a lane).
+      // then a transpose, instead of three 8-lane gathers (bench/lane_fetch_bench.cpp).
       alignas(32) int32_t at[4][kLanes];
       for (int k = 0; k < 4; ++k)
         _mm256_store_si256(reinterpret_cast<__m256i*>(at[k]), corner[2 * k]);
@@ -149,19 +148,17 @@ class LaneLabelCells {
             _mm256_cvttps_epi32(gather_floats(data_, _mm256_add_epi32(offs[k], splat(1))));
       }
     } else if constexpr (sizeof(T) == 1) {
-      const int* words = reinterpret_cast<const int*>(data_);
       for (int k = 0; k < 4; ++k) {
         // Only the last pair can lie within the last 3 bytes (as LaneGrid).
         const __m256i at = k == 3 ? _mm256_min_epi32(offs[k], last_word_) : offs[k];
         const __m256i shift = _mm256_slli_epi32(_mm256_sub_epi32(offs[k], at), 3);
-        const __m256i w = _mm256_srlv_epi32(gather_words<1>(words, at), shift);
+        const __m256i w = _mm256_srlv_epi32(gather_words<1>(data_, at), shift);
         c[2 * k] = _mm256_and_si256(w, splat(0xff));
         c[2 * k + 1] = _mm256_and_si256(_mm256_srli_epi32(w, 8), splat(0xff));
       }
     } else {
-      const int* words = reinterpret_cast<const int*>(data_);
       for (int k = 0; k < 4; ++k) {
-        const __m256i w = gather_words<2>(words, offs[k]);
+        const __m256i w = gather_words<2>(data_, offs[k]);
         if constexpr (std::is_signed_v<T>) {
           c[2 * k] = _mm256_srai_epi32(_mm256_slli_epi32(w, 16), 16);
           c[2 * k + 1] = _mm256_srai_epi32(w, 16);
@@ -198,13 +195,12 @@ class LaneLabelCells {
       base = _mm256_blendv_epi8(safe_, base, _mm256_castps_si256(inside));
       const __m256i at = _mm256_sub_epi32(base, splat(1));
       const __m256i sy = lattice_.sy(), sz = lattice_.sz();
-      const int* words = reinterpret_cast<const int*>(data_);
       // The label in every byte: a byte compare then flags the voxels that hold it.
       const __m256i pattern = _mm256_mullo_epi32(label, splat(0x01010101));
       auto row = [&](int dy, int dz) {
         const __m256i o = _mm256_add_epi32(at, _mm256_add_epi32(_mm256_mullo_epi32(sy, splat(dy)),
                                                                 _mm256_mullo_epi32(sz, splat(dz))));
-        return _mm256_cmpeq_epi8(gather_words<1>(words, o), pattern);
+        return _mm256_cmpeq_epi8(gather_words<1>(data_, o), pattern);
       };
       // Voxel x0 - 1 + k of a row as 0 or 1.
       auto is = [](__m256i eq, int k) {

@@ -88,6 +88,7 @@ class ProjectionKernel {
       const BrickGrid& g = r->grid();
       for (int a = 0; a < 3; ++a) {
         brick_size_[a] = static_cast<float>(g.size[a]);
+        inv_brick_size_[a] = 1.0f / brick_size_[a];
         brick_last_[a] = static_cast<float>(g.dims[a] - 1);
         voxel_last_[a] = static_cast<float>(g.voxel_dims[a] - 1);
       }
@@ -308,7 +309,7 @@ class ProjectionKernel {
     for (int a = 0; a < 3; ++a) {
       // BrickGrid::brick_of: max(x, 0) sends a NaN to brick 0.
       const __m256 p = _mm256_fmadd_ps(t, d[a], o[a]);
-      const __m256 size = splat(brick_size_[a]), inv_size = splat(1.0f / brick_size_[a]);
+      const __m256 size = splat(brick_size_[a]), inv_size = splat(inv_brick_size_[a]);
       const __m256 b = _mm256_min_ps(
           _mm256_max_ps(_mm256_floor_ps(_mm256_mul_ps(p, inv_size)), zero), splat(brick_last_[a]));
       index = _mm256_add_epi32(index, _mm256_mullo_epi32(_mm256_cvttps_epi32(b), splat(stride[a])));
@@ -411,6 +412,7 @@ class ProjectionKernel {
   LaneBricks::Rays brick_rays_{};
   const float* ranges_ = nullptr;             // (min, max) per brick; null: no skipping
   float brick_size_[3] = {8.0f, 8.0f, 8.0f};  // cells per brick along each axis
+  float inv_brick_size_[3] = {0.125f, 0.125f, 0.125f};
   float brick_last_[3] = {}, voxel_last_[3] = {};
   int brick_stride_y_ = 1, brick_stride_z_ = 1;
   ProjectionLanes L_{};
