@@ -1,14 +1,17 @@
-// intermix info FILE | --phantom NAME | --presets: what a volume or mesh holds; the preset names.
+// intermix info FILE | --phantom NAME | --presets | --formats: what a volume or mesh holds; the
+// preset names; the format registry.
 #include <cstdio>
 #include <filesystem>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
 #include "core/math.hpp"
 #include "intermix/dicom.hpp"
 #include "intermix/error.hpp"
+#include "intermix/formats.hpp"
 #include "intermix/io.hpp"
 #include "presets/colormap.hpp"
 #include "presets/volume_presets.hpp"
@@ -130,6 +133,32 @@ void print_dicom_series(const nlohmann::json& j) {
     std::printf("refused: %s\n", r.get<std::string>().c_str());
 }
 
+// The format registry's rows: one line each, or (json) one array of objects.
+void print_formats(bool json) {
+  const std::vector<FileFormat> formats = file_formats();
+  if (json) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const FileFormat& f : formats)
+      list.push_back({{"kind", f.kind},
+                      {"name", f.name},
+                      {"extensions", f.extensions},
+                      {"by_content", f.by_content},
+                      {"gz_wrapped", f.gz_wrapped},
+                      {"writes", f.writes},
+                      {"reference", f.reference},
+                      {"needs", f.needs},
+                      {"fuzz_target", f.fuzz_target},
+                      {"fuzz_seeds", f.fuzz_seeds}});
+    std::printf("%s\n", nlohmann::json({{"kind", "formats"}, {"formats", list}}).dump().c_str());
+    return;
+  }
+  for (const FileFormat& f : formats)
+    std::printf("%-16s %-48s %s%s%s\n", f.kind.c_str(), f.name.c_str(),
+                fmt::format("{}", fmt::join(f.extensions, " ")).c_str(),
+                f.by_content ? " (or by content)" : "",
+                f.writes.empty() ? "" : fmt::format("; writes {}", f.writes).c_str());
+}
+
 Command add_info(CLI::App& app) {
   struct Options {
     std::string file, phantom, series;
@@ -137,12 +166,12 @@ Command add_info(CLI::App& app) {
     int frame = 0;
     bool json = false;
     bool presets = false;
+    bool formats = false;
+    bool markdown = false;
   };
   auto o = std::make_shared<Options>();
-  app.add_option(
-      "file", o->file,
-      "volume (.nrrd, .nhdr, .nii, .nii.gz, .hdr/.img, .mgh, .mgz, .mha, .mhd, a DICOM folder, "
-      "DICOMDIR, .dcm or .dcm.gz) or mesh (.obj, .ply, .stl, .gii, ...)");
+  app.add_option("file", o->file,
+                 "a volume (a DICOM folder too) or a mesh; --formats lists every format");
   app.add_option("--phantom", o->phantom, "describe a built-in phantom instead of a file");
   app.add_option("--size", o->size, "phantom size (voxels along the largest axis)");
   app.add_flag("--json", o->json, "print one JSON object on stdout");
@@ -150,10 +179,21 @@ Command add_info(CLI::App& app) {
                  "DICOM: describe this series (number, id or UID) as a volume, not the list");
   app.add_option("--frame", o->frame, "of a multi-frame (4-D) source: describe this frame")
       ->check(CLI::NonNegativeNumber);
+  app.add_flag("--formats", o->formats,
+               "list every file format intermix reads and writes (the format registry)");
+  app.add_flag("--markdown", o->markdown, "with --formats: the README's Markdown table");
   app.add_flag("--presets", o->presets,
                "list the transfer-function, window and colour-map names scenes may use");
   return [o]() {
     nlohmann::json j;
+    if (o->formats) {
+      if (o->markdown) {
+        std::printf("%s", file_formats_markdown().c_str());
+        return 0;
+      }
+      print_formats(o->json);
+      return 0;
+    }
     if (o->presets) {
       j = {{"kind", "presets"},
            {"transfer_function", volume_preset_names()},
@@ -180,9 +220,8 @@ Command add_info(CLI::App& app) {
       j = describe(read_mesh_file(o->file));
       j["file"] = o->file;
     } else {
-      throw Error(fmt::format("{}: '{}' is not a format intermix reads: volumes {}; meshes {}",
-                              o->file, std::filesystem::path(o->file).extension().string(),
-                              volume_formats(), mesh_formats()));
+      // Not a volume or mesh: one of another kind, which needs something beside it, or none.
+      throw Error(needs_message(o->file, identify_file(o->file)));
     }
     if (o->json)
       std::printf("%s\n", j.dump().c_str());

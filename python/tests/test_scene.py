@@ -164,5 +164,5 @@ def test_from_files_errors_name_the_argument_or_file(tmp_path):
     with pytest.raises(ValueError, match="view 'up' is not one of anterior"):
         intermix.Scene.from_files(tmp_path, view="up")
     (tmp_path / "notes.txt").write_text("x")
-    with pytest.raises(ValueError, match="notes.txt: not a file intermix reads"):
+    with pytest.raises(ValueError, match="notes.txt: '.txt' is not a format intermix reads"):
         intermix.Scene.from_files([tmp_path / "notes.txt"])

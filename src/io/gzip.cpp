@@ -1,6 +1,8 @@
 #include "io/gzip.hpp"
 
 #include <algorithm>
+#include <cerrno>
+#include <fstream>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -137,6 +139,27 @@ void gzip(std::span<const std::span<const uint8_t>> parts, std::ostream& out, in
 void gzip(std::span<const uint8_t> data, std::ostream& out, int level, const std::string& what) {
   const std::span<const uint8_t> parts[] = {data};
   gzip(parts, out, level, what);
+}
+
+void gunzip_file(const std::filesystem::path& gz, const std::filesystem::path& out,
+                 uint64_t max_bytes, const std::string& what, const std::string& too_large) {
+  std::ifstream in(gz, std::ios::binary);
+  if (!in) throw FileError(fmt::format("{}: cannot open the file", what), errno);
+  std::ofstream file(out, std::ios::binary);
+  if (!file) throw FileError(fmt::format("{}: cannot write its inflated copy", what), errno);
+  GzipStream stream(in, what);
+  std::vector<uint8_t> buffer(size_t{1} << 20);
+  uint64_t total = 0;
+  while (size_t got = stream.read(buffer)) {
+    total += got;
+    if (total > max_bytes)
+      throw Error(
+          fmt::format("{}: inflates to more than {} bytes: {}", what, max_bytes, too_large));
+    file.write(reinterpret_cast<const char*>(buffer.data()), static_cast<std::streamsize>(got));
+    if (!file) throw FileError(fmt::format("{}: cannot write its inflated copy", what), errno);
+    if (got < buffer.size()) break;
+  }
+  stream.finish(static_cast<size_t>(total));
 }
 
 }  // namespace imx::detail

@@ -2,6 +2,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <istream>
 #include <memory>
 #include <ostream>
@@ -34,6 +35,13 @@ class GzipStream final : public DecompressingStream {
 // the next go into `out`. Returns how many bytes were written to `out`, fewer than its size
 // when the data ends early. Throws imx::Error naming `what` when the data is corrupt.
 size_t gunzip(std::istream& in, size_t skip, std::span<uint8_t> out, const std::string& what);
+
+// Inflates the gzip file `gz` into the new file `out` piece by piece. Throws imx::Error naming
+// `what` when it would inflate to more than `max_bytes` ("WHAT: inflates to more than N bytes" and
+// `too_large`, which says what that means), is corrupt or truncated; imx::FileError when a file
+// cannot be opened or written.
+void gunzip_file(const std::filesystem::path& gz, const std::filesystem::path& out,
+                 uint64_t max_bytes, const std::string& what, const std::string& too_large);
 
 // deflate cannot expand data more than about 1032:1; larger claims are corrupt headers.
 inline constexpr double kMaxInflateRatio = 1100.0;

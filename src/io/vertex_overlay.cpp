@@ -14,11 +14,11 @@
 #include "io/byte_cursor.hpp"
 #include "io/gifti_check.hpp"
 #include "io/header_text.hpp"
+#include "io/overlay_formats.hpp"
 
 namespace imx::detail {
-namespace {
 
-VertexOverlay gifti_overlay(const std::filesystem::path& file, int array) {
+VertexOverlay read_gifti_vertex_overlay(const std::filesystem::path& file, int array) {
   GiftiOverlay g = read_gifti_overlay(file, array);
   const GiftiArray& a = g.values;
   VertexOverlay out;
@@ -48,37 +48,17 @@ VertexOverlay gifti_overlay(const std::filesystem::path& file, int array) {
   return out;
 }
 
-}  // namespace
-
 bool is_overlay_file(const std::filesystem::path& file) {
-  const std::string ext = lower(file.extension().string());
-  if (ext == ".annot" || ext == ".label") return true;
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return false;
-  if (ext == ".gii") {
-    // GIfTI is XML: a surface names NIFTI_INTENT_POINTSET; func, shape and label files do not.
-    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    return text.find("NIFTI_INTENT_POINTSET") == std::string::npos;
-  }
-  std::string head(3, '\0');
-  in.read(head.data(), 3);
-  return in.gcount() == 3 && is_freesurfer_curv(head);
+  return find_overlay_format(probe_file(file)) != nullptr;
 }
 
 VertexOverlay read_vertex_overlay(const std::filesystem::path& file, int array) {
-  const std::string ext = lower(file.extension().string());
-  if (ext == ".gii") return gifti_overlay(file, array);
-  if (array >= 0)
-    throw Error(fmt::format("{}: \"array\" picks a data array of a GIfTI file; this is not one",
-                            file.string()));
-  const std::string bytes = read_file_bytes(file);
-  if (ext == ".annot") return read_freesurfer_annot(bytes, file.string());
-  if (ext == ".label") return read_freesurfer_label(bytes, file.string(), file.stem().string());
-  if (is_freesurfer_curv(bytes)) return read_freesurfer_curv(bytes, file.string());
-  throw Error(
-      fmt::format("{}: not an overlay intermix reads (GIfTI .gii, FreeSurfer curvature "
-                  "such as lh.thickness, .annot or .label)",
-                  file.string()));
+  if (const OverlayFormat* format = find_overlay_format(probe_file(file)))
+    return format->read(file, array);
+  std::vector<const FormatInfo*> rows;
+  for (const OverlayFormat& row : overlay_formats_table()) rows.push_back(&row.info);
+  throw Error(fmt::format("{}: '{}' is not a surface overlay format intermix reads (overlays: {})",
+                          file.string(), compound_suffix(file), list_formats(rows)));
 }
 
 std::vector<double> overlay_values(const VertexOverlay& overlay, size_t vertex_count,

@@ -46,6 +46,10 @@ bool is_overlay_file(const std::filesystem::path& file);
 std::vector<double> overlay_values(const VertexOverlay& overlay, size_t vertex_count,
                                    const std::string& what);
 
+// A GIfTI func, shape or label file's data array `array` (-1: the first of intent NONE, SHAPE,
+// LABEL or any statistic).
+VertexOverlay read_gifti_vertex_overlay(const std::filesystem::path& file, int array);
+
 // The FreeSurfer formats, one file each (freesurfer_curv.cpp, freesurfer_annot.cpp,
 // freesurfer_label.cpp), on a file's bytes; `what` names it in errors.
 bool is_freesurfer_curv(const std::string& bytes);

@@ -11,6 +11,7 @@
 #include "intermix/labels.hpp"
 #include "io/regular_file.hpp"
 #include "labels/colour_table_readers.hpp"
+#include "labels/label_table_formats.hpp"
 #include "labels/label_text.hpp"
 
 namespace imx {
@@ -69,37 +70,49 @@ void validate_label_entries(const std::vector<LabelEntry>& entries, const std::s
   }
 }
 
-std::vector<LabelEntry> read_label_table(const std::filesystem::path& file, int layer) {
+namespace labels_detail {
+
+std::vector<LabelEntry> read_slicer_segments(const std::filesystem::path& file, int layer) {
   const std::string what = file.string();
-  std::string text = read_head(file, kMaxNrrdHeaderBytes, false);
-  std::vector<LabelEntry> entries;
-  if (labels_detail::looks_like_nrrd(text)) {
-    const size_t end = text.find("\n\n"), crlf_end = text.find("\r\n\r\n");
-    const size_t header_end = std::min(end, crlf_end);
-    if (header_end == std::string::npos && text.size() >= kMaxNrrdHeaderBytes)
-      throw Error(fmt::format("{}: no end of the NRRD header in its first {} bytes", what,
-                              kMaxNrrdHeaderBytes));
-    const auto fields = labels_detail::nrrd_key_values(
-        std::string_view(text).substr(
-            0, header_end == std::string::npos ? text.size() : header_end + 1),
-        what);
-    const int layers = read_volume_header(file).frames;
-    if (layer < 0 || layer >= layers)
-      throw Error(fmt::format("{}: layer {} asked for; the segmentation has {} (0-{})", what, layer,
-                              layers, layers - 1));
-    entries = labels_detail::parse_slicer_segments(fields, layers, layer, what);
-  } else {
-    if (layer != 0) throw Error(fmt::format("{}: only a 3D Slicer segmentation has layers", what));
-    text = read_head(file, kMaxTableBytes, true);
-    if (text.find('\0') != std::string::npos)
-      throw Error(what + ": not a text colour table (it holds NUL bytes)");
-    const std::string_view row = first_row(text);
-    if (row.empty()) throw Error(what + ": no rows; an empty colour table");
-    entries = row.find('"') != std::string_view::npos
-                  ? labels_detail::parse_itksnap_labels(text, what)
-                  : labels_detail::parse_freesurfer_lut(text, what);
-  }
-  validate_label_entries(entries, what);
+  const std::string text = read_head(file, kMaxNrrdHeaderBytes, false);
+  const size_t end = text.find("\n\n"), crlf_end = text.find("\r\n\r\n");
+  const size_t header_end = std::min(end, crlf_end);
+  if (header_end == std::string::npos && text.size() >= kMaxNrrdHeaderBytes)
+    throw Error(fmt::format("{}: no end of the NRRD header in its first {} bytes", what,
+                            kMaxNrrdHeaderBytes));
+  const auto fields =
+      nrrd_key_values(std::string_view(text).substr(
+                          0, header_end == std::string::npos ? text.size() : header_end + 1),
+                      what);
+  const int layers = read_volume_header(file).frames;
+  if (layer < 0 || layer >= layers)
+    throw Error(fmt::format("{}: layer {} asked for; the segmentation has {} (0-{})", what, layer,
+                            layers, layers - 1));
+  return parse_slicer_segments(fields, layers, layer, what);
+}
+
+std::vector<LabelEntry> read_text_table(const std::filesystem::path& file, int layer) {
+  const std::string what = file.string();
+  if (layer != 0) throw Error(fmt::format("{}: only a 3D Slicer segmentation has layers", what));
+  const std::string text = read_head(file, kMaxTableBytes, true);
+  if (text.find('\0') != std::string::npos)
+    throw Error(what + ": not a text colour table (it holds NUL bytes)");
+  const std::string_view row = first_row(text);
+  if (row.empty()) throw Error(what + ": no rows; an empty colour table");
+  return row.find('"') != std::string_view::npos ? parse_itksnap_labels(text, what)
+                                                 : parse_freesurfer_lut(text, what);
+}
+
+}  // namespace labels_detail
+
+std::vector<LabelEntry> read_label_table(const std::filesystem::path& file, int layer) {
+  const detail::FileProbe probe = detail::probe_file(file);
+  // A table is known by its content: any name but a NRRD's is read as text.
+  const labels_detail::LabelTableFormat* format =
+      detail::find_format(labels_detail::label_table_formats_table(), probe);
+  std::vector<LabelEntry> entries =
+      format ? format->read(file, layer) : labels_detail::read_text_table(file, layer);
+  validate_label_entries(entries, file.string());
   return entries;
 }
 

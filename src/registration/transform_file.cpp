@@ -5,8 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
-
-#include <cctype>
+#include <vector>
 
 #include <fmt/format.h>
 #include <glm/glm.hpp>
@@ -14,43 +13,22 @@
 #include "core/math.hpp"
 #include "intermix/error.hpp"
 #include "io/regular_file.hpp"
+#include "registration/transform_formats.hpp"
 #include "registration/transform_readers.hpp"
 
 namespace imx {
 namespace {
 
-std::string lower_name(const std::string& name) {
-  std::string low = std::filesystem::path(name).filename().string();
-  for (char& c : low) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return low;
-}
-
-bool ends_with(const std::string& s, std::string_view suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-bool starts_with_text(std::string_view bytes, std::string_view prefix) {
-  while (!bytes.empty() && (bytes.front() == ' ' || bytes.front() == '\n' ||
-                            bytes.front() == '\r' || bytes.front() == '\t'))
-    bytes.remove_prefix(1);
-  return bytes.substr(0, prefix.size()) == prefix;
-}
-
 TransformFormat detect_format(std::string_view bytes, const std::string& name) {
-  const std::string low = lower_name(name);
-  if (ends_with(low, ".tfm") || ends_with(low, ".txt")) return TransformFormat::itk_text;
-  if (ends_with(low, ".mat"))
-    return detail::looks_like_matlab_v4(bytes) || bytes.substr(0, 6) == "MATLAB"
-               ? TransformFormat::itk_matlab
-               : TransformFormat::fsl_flirt;
-  if (ends_with(low, ".lta")) return TransformFormat::freesurfer_lta;
-  if (ends_with(low, ".1d")) return TransformFormat::afni_aff12;
-  if (starts_with_text(bytes, "#Insight Transform File")) return TransformFormat::itk_text;
-  throw Error(fmt::format(
-      "{}: not a transform file intermix knows by its name: .tfm or .txt (ITK, 3D Slicer, "
-      "ANTs), .mat (ITK binary or FSL FLIRT), .lta (FreeSurfer), .aff12.1D (AFNI)",
-      name));
+  detail::FileProbe probe = detail::probe_name(name);
+  probe.head = bytes.substr(0, detail::kProbeBytes);
+  if (const auto* row = detail::find_format(detail::transform_formats_table(), probe))
+    return row->format;
+  std::vector<const detail::FormatInfo*> rows;
+  for (const detail::TransformFileFormat& row : detail::transform_formats_table())
+    rows.push_back(&row.info);
+  throw Error(fmt::format("{}: '{}' is not a transform format intermix reads (transforms: {})",
+                          name, detail::compound_suffix(name), detail::list_formats(rows)));
 }
 
 // Throws unless `m` is finite, affine and invertible (relative to its own scale).

@@ -15,6 +15,7 @@
 
 #include "intermix/dicom.hpp"
 #include "intermix/error.hpp"
+#include "intermix/formats.hpp"
 #include "intermix/io.hpp"
 #include "scene/overrides.hpp"
 #include "scene/scene_document.hpp"
@@ -155,10 +156,8 @@ SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
       object["material"] = {
           {"color", color_json(mesh_palette()[meshes++ % mesh_palette().size()])}};
     } else {
-      throw Error(
-          fmt::format("{}: not a file intermix reads: volumes {}; meshes {}; or a scene "
-                      "file (.json) alone",
-                      file.string(), volume_formats(), mesh_formats()));
+      // Not a volume or mesh: a file of another kind that needs something beside it, or none.
+      throw Error(needs_message(file, identify_file(file)));
     }
     objects.push_back(std::move(object));
   }

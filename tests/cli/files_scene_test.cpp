@@ -125,7 +125,8 @@ TEST(CliFilesScene, BadInputsGetOneClearError) {
   test::write_bytes(text, "hello");
   test::CliResult r = run_cli(fmt::format("render {} -o {}/x.png", text, dir.path().string()));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.output.find(text + ": not a file intermix reads: volumes"), std::string::npos)
+  EXPECT_NE(r.output.find(text + ": '.txt' is not a format intermix reads; volumes:"),
+            std::string::npos)
       << r.output;
   r = run_cli(
       fmt::format("render {}/missing.nii -o {}/x.png", dir.path().string(), dir.path().string()));

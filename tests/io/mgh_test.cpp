@@ -218,7 +218,7 @@ TEST(MghBytes, BadHeadersTruncatedDataAndCorruptGzipAreRefusedNamingTheFile) {
 TEST(MghBytes, TheUnknownExtensionMessageListsTheNewFormats) {
   TempDir dir;
   test::write_bytes(dir / "x.vtk", "x");
-  expect_error([&] { read_volume(dir / "x.vtk"); }, {".hdr/.img", ".mgh", ".mgz", "Analyze"});
+  expect_error([&] { read_volume(dir / "x.vtk"); }, {"'.vtk' is not a volume format", ".hdr", ".img", ".mgh", ".mgz", "Analyze"});
 }
 
 }  // namespace

@@ -250,7 +250,7 @@ TEST_F(SurfaceFiles, DamagedFilesAreRefused) {
   test::write_bytes(dir / "bad.pial", bad_face);
   test::expect_error([&] { read_mesh_file(dir / "bad.pial"); }, {"face 0 uses vertex 9999"});
   test::expect_error([&] { read_mesh_file(file("lh.thickness")); },
-                     {"curvature file is an overlay"});
+                     {"lh.thickness is a surface overlay (FreeSurfer morphometry", "not a mesh"});
   const std::string curv = read_bytes(file("lh.thickness"));
   test::write_bytes(dir / "cut.thickness", curv.substr(0, 100));
   test::expect_error([&] { detail::read_vertex_overlay(dir / "cut.thickness"); },
@@ -263,7 +263,7 @@ TEST_F(SurfaceFiles, DamagedFilesAreRefused) {
                      {"line 2 says 3 vertices, but the file lists 1"});
   test::write_bytes(dir / "plain.txt", "hello");
   test::expect_error([&] { detail::read_vertex_overlay(dir / "plain.txt"); },
-                     {"not an overlay intermix reads"});
+                     {"'.txt' is not a surface overlay format intermix reads"});
 }
 
 }  // namespace

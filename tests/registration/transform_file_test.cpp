@@ -266,9 +266,8 @@ TEST(BadTransformFiles, OneClearLineEach) {
             affine + "Parameters: 1 0 0 0 1 0 0 0 0 0 0 0\nFixedParameters: 0 0 0\n", "flat.tfm");
       },
       {"flat.tfm", "singular"});
-  expect_error(
-      [&] { parse_transform_file("1 0 0 0\n0 1 0 0\n0 0 0 0\n", "flat.aff12.1D"); },
-      {"flat.aff12.1D", "singular"});
+  expect_error([&] { parse_transform_file("1 0 0 0\n0 1 0 0\n0 0 0 0\n", "flat.aff12.1D"); },
+               {"flat.aff12.1D", "singular"});
   expect_error([&] { parse_transform_file("1 0 0 0 0 1 0 0 0 0 0 0\n", "flat.aff12.1D"); },
                {"singular"});
   // Truncated.
@@ -315,7 +314,7 @@ TEST(BadTransformFiles, OneClearLineEach) {
   expect_error([&] { parse_transform_file("MATLAB 5.0 MAT-file, Platform: GLNXA64", "v5.mat"); },
                {"v5.mat", "MATLAB 5/7", "not read"});
   expect_error([&] { parse_transform_file("1 0 0 0\n", "reg.xfm"); },
-               {"reg.xfm", "not a transform file"});
+               {"reg.xfm", "'.xfm' is not a transform format", ".lta"});
   // NaN entries.
   expect_error(
       [&] {

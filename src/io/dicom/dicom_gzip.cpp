@@ -50,22 +50,7 @@ std::filesystem::path InflatedDicomFiles::add(const std::filesystem::path& gz) {
   std::string stem = gz.filename().string();
   stem.resize(stem.size() - 3);  // without .gz
   const std::filesystem::path out = folder_ / fmt::format("{}_{}", names_.size(), stem);
-  std::ifstream in(gz, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open file", what), errno);
-  std::ofstream file(out, std::ios::binary);
-  GzipStream stream(in, what);
-  std::vector<uint8_t> buffer(size_t{1} << 20);
-  size_t total = 0;
-  while (size_t got = stream.read(buffer)) {
-    total += got;
-    if (total > kMaxInflatedDicomBytes)
-      throw Error(fmt::format("{}: inflates to more than {} bytes: not a DICOM file", what,
-                              kMaxInflatedDicomBytes));
-    file.write(reinterpret_cast<const char*>(buffer.data()), static_cast<std::streamsize>(got));
-    if (!file) throw FileError(fmt::format("{}: cannot write its inflated copy", what), errno);
-    if (got < buffer.size()) break;
-  }
-  stream.finish(total);
+  gunzip_file(gz, out, kMaxInflatedDicomBytes, what, "not a DICOM file");
   names_.emplace_back(out.string(), what);
   return out;
 }

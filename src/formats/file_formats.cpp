@@ -1,0 +1,122 @@
+// The format registry's tables of every kind, read together: for listings, the README's table,
+// and the kind of a file given on its own.
+#include "intermix/formats.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "intermix/error.hpp"
+#include "io/mesh_formats.hpp"
+#include "io/overlay_formats.hpp"
+#include "io/volume_formats.hpp"
+#include "labels/label_table_formats.hpp"
+#include "registration/transform_formats.hpp"
+
+namespace imx {
+namespace {
+
+// Every row's FormatInfo, kind by kind, in each table's order.
+std::vector<const detail::FormatInfo*> all_rows() {
+  std::vector<const detail::FormatInfo*> rows;
+  const auto add = [&rows](const auto& table) {
+    for (const auto& row : table) rows.push_back(&row.info);
+  };
+  add(detail::volume_formats_table());
+  add(detail::mesh_formats_table());
+  add(detail::overlay_formats_table());
+  add(detail::transform_formats_table());
+  add(labels_detail::label_table_formats_table());
+  return rows;
+}
+
+std::string rows_of_kind(detail::FileKind kind) {
+  std::vector<const detail::FormatInfo*> rows;
+  for (const detail::FormatInfo* row : all_rows())
+    if (row->kind == kind) rows.push_back(row);
+  return detail::list_formats(rows);
+}
+
+}  // namespace
+
+std::vector<FileFormat> file_formats() {
+  std::vector<FileFormat> out;
+  for (const detail::FormatInfo* row : all_rows()) {
+    FileFormat f;
+    f.kind = detail::file_kind_name(row->kind);
+    f.name = row->name;
+    for (std::string_view ext : row->extensions) f.extensions.emplace_back(ext);
+    f.by_content = row->sniff != nullptr;
+    f.gz_wrapped = row->gz_wrapped;
+    f.writes = row->writes;
+    f.reference = row->reference;
+    f.needs = row->needs;
+    f.fuzz_target = row->fuzz_target;
+    f.fuzz_seeds = row->fuzz_seeds;
+    out.push_back(std::move(f));
+  }
+  return out;
+}
+
+std::string file_formats_markdown() {
+  std::string out =
+      "| kind | format | names | written | checked against | needs |\n"
+      "|---|---|---|---|---|---|\n";
+  for (const FileFormat& f : file_formats()) {
+    std::vector<std::string> names;
+    for (const std::string& ext : f.extensions) names.push_back(fmt::format("`{}`", ext));
+    if (f.gz_wrapped) names.push_back("and each `.gz`");
+    if (f.by_content) names.push_back("(or by content)");
+    out += fmt::format("| {} | {} | {} | {} | {} | {} |\n", f.kind, f.name,
+                       names.empty() ? "by content" : fmt::format("{}", fmt::join(names, " ")),
+                       f.writes.empty() ? "" : fmt::format("`{}`", f.writes), f.reference, f.needs);
+  }
+  return out;
+}
+
+std::string unknown_format_message(const std::filesystem::path& file) {
+  return fmt::format(
+      "{}: '{}' is not a format intermix reads; volumes: {}, DICOM folders; meshes: {}; "
+      "surface overlays (after their surface): {}; or a scene file (.json) alone",
+      file.string(), detail::compound_suffix(file), rows_of_kind(detail::FileKind::volume),
+      rows_of_kind(detail::FileKind::mesh), rows_of_kind(detail::FileKind::overlay));
+}
+
+IdentifiedFile identify_file(const std::filesystem::path& file) {
+  const detail::FileProbe probe = detail::probe_file(file);
+  const auto found = [](const auto* row) {
+    return IdentifiedFile{detail::file_kind_name(row->info.kind), std::string(row->info.name),
+                          std::string(row->info.needs)};
+  };
+  // Overlays first: a GIfTI data file is a .gii, a curvature file has no mesh extension.
+  if (const auto* row = detail::find_overlay_format(probe)) return found(row);
+  if (const auto* row = detail::find_volume_format(probe)) return found(row);
+  if (const auto* row = detail::find_mesh_format(probe)) return found(row);
+  // Transforms and label tables share ".txt" with every text file: named by it alone, a file is
+  // none of them.
+  const auto specific = [&probe](const auto* row) {
+    return row && ((row->info.sniff && row->info.sniff(probe)) ||
+                   detail::matched_extension(row->info, probe.name) != ".txt");
+  };
+  if (const auto* row = detail::find_format(detail::transform_formats_table(), probe);
+      specific(row))
+    return found(row);
+  if (const auto* row = detail::find_format(labels_detail::label_table_formats_table(), probe);
+      specific(row))
+    return found(row);
+  throw Error(unknown_format_message(file));
+}
+
+std::string needs_message(const std::filesystem::path& file, const IdentifiedFile& identified) {
+  const std::string name = file.filename().string();
+  if (identified.kind == detail::file_kind_name(detail::FileKind::overlay)) {
+    const bool hemisphere = name.starts_with("lh.") || name.starts_with("rh.");
+    const std::string surface = hemisphere ? name.substr(0, 3) + "pial" : "surface.gii";
+    return fmt::format(
+        "{}: {} is a surface overlay ({}): give it after its surface (intermix render {} {})",
+        file.string(), name, identified.format, surface, name);
+  }
+  return fmt::format("{}: {} is a {} ({}): it needs {}", file.string(), name, identified.kind,
+                     identified.format, identified.needs);
+}
+
+}  // namespace imx

@@ -1,0 +1,135 @@
+#include "io/format_registry.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <exception>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "intermix/error.hpp"
+#include "io/file_head.hpp"
+#include "io/gzip.hpp"
+#include "io/header_text.hpp"
+
+namespace imx::detail {
+
+const char* file_kind_name(FileKind kind) {
+  switch (kind) {
+    case FileKind::volume:
+      return "volume";
+    case FileKind::mesh:
+      return "mesh";
+    case FileKind::overlay:
+      return "surface overlay";
+    case FileKind::transform:
+      return "transform";
+    case FileKind::label_table:
+      return "label table";
+  }
+  return "file";
+}
+
+FileProbe probe_name(const std::filesystem::path& file) {
+  FileProbe probe;
+  probe.path = file;
+  probe.name = lower(file.filename().string());
+  return probe;
+}
+
+FileProbe probe_file(const std::filesystem::path& file) {
+  FileProbe probe = probe_name(file);
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(file, ec);
+  probe.folder = !ec && std::filesystem::is_directory(status);
+  // Only regular files are opened: a FIFO would block (the reader refuses it by name).
+  if (ec || !std::filesystem::is_regular_file(status)) return probe;
+  try {
+    FileHead head = read_file_head(file, kProbeBytes, file.string());
+    probe.head = std::move(head.bytes);
+    probe.gzipped = head.gzipped;
+  } catch (const Error&) {
+    // Corrupt gzip data or no permission: the format is then known by name and its reader
+    // says what is wrong.
+  }
+  return probe;
+}
+
+std::string_view matched_extension(const FormatInfo& row, std::string_view name) {
+  std::string_view best;
+  for (std::string_view ext : row.extensions)
+    if (ext.size() > best.size() && name.size() > ext.size() && name.ends_with(ext)) best = ext;
+  return best;
+}
+
+std::string compound_suffix(const std::filesystem::path& file) {
+  const std::string name = lower(file.filename().string());
+  const size_t last = name.rfind('.');
+  if (last == std::string::npos || last == 0) return name;
+  static constexpr std::string_view kCompressions[] = {".gz", ".bz2", ".xz", ".zst", ".zip"};
+  const std::string_view ext = std::string_view(name).substr(last);
+  if (std::find(std::begin(kCompressions), std::end(kCompressions), ext) == std::end(kCompressions))
+    return std::string(ext);
+  const size_t before = name.rfind('.', last - 1);
+  return before == std::string::npos || before == 0 ? std::string(ext) : name.substr(before);
+}
+
+std::string list_formats(std::span<const FormatInfo* const> rows) {
+  std::vector<std::string> items;
+  for (const FormatInfo* row : rows) {
+    std::vector<std::string> names(row->extensions.begin(), row->extensions.end());
+    if (row->gz_wrapped)
+      for (std::string_view ext : row->extensions) names.push_back(fmt::format("{}.gz", ext));
+    items.push_back(names.empty() ? fmt::format("{} (by content)", row->name)
+                                  : fmt::format("{} ({})", row->name, fmt::join(names, " ")));
+  }
+  return fmt::format("{}", fmt::join(items, ", "));
+}
+
+InflatedFile::InflatedFile(const std::filesystem::path& file, const std::string& inner_name,
+                           uint64_t max_bytes) {
+  const std::string what = file.string();
+  std::error_code ec;
+  std::string pattern = (std::filesystem::temp_directory_path(ec) / "intermix-gz-XXXXXX").string();
+  std::vector<char> name(pattern.begin(), pattern.end());
+  name.push_back('\0');
+  if (ec || ::mkdtemp(name.data()) == nullptr)
+    throw FileError(fmt::format("{}: cannot make a temporary folder to inflate it into", what),
+                    errno);
+  folder_ = name.data();
+  path_ = folder_ / inner_name;
+  try {
+    gunzip_file(file, path_, max_bytes, what, "more than the memory budget allows (--max-memory)");
+  } catch (...) {
+    std::filesystem::remove_all(folder_, ec);
+    throw;
+  }
+}
+
+InflatedFile::~InflatedFile() {
+  std::error_code ec;
+  std::filesystem::remove_all(folder_, ec);
+}
+
+void rethrow_naming(const std::filesystem::path& temporary, const std::filesystem::path& file) {
+  const auto renamed = [&](std::string message) {
+    const std::string from = temporary.string(), to = file.string();
+    for (size_t at = message.find(from); at != std::string::npos;
+         at = message.find(from, at + to.size()))
+      message.replace(at, from.size(), to);
+    return message;
+  };
+  try {
+    throw;
+  } catch (const OutOfMemory& e) {
+    throw OutOfMemory(renamed(e.what()));
+  } catch (const FileError& e) {
+    throw FileError(renamed(e.what()), e.code());
+  } catch (const Error& e) {
+    throw Error(renamed(e.what()));
+  }
+}
+
+}  // namespace imx::detail

@@ -1,0 +1,48 @@
+// The templates of format_registry.hpp.
+#pragma once
+#include <utility>
+
+#include "intermix/error.hpp"
+
+namespace imx::detail {
+
+template <class Row>
+const Row* find_format(std::span<const Row> rows, const FileProbe& probe, bool* wrapped) {
+  if (wrapped) *wrapped = false;
+  for (const Row& row : rows)
+    if (row.info.sniff && row.info.sniff(probe)) return &row;
+  const Row* best = nullptr;
+  size_t best_length = 0;
+  for (const Row& row : rows) {
+    const size_t length = matched_extension(row.info, probe.name).size();
+    if (length > best_length) best = &row, best_length = length;
+  }
+  if (best || !probe.name.ends_with(".gz")) return best;
+  // x.obj.gz: the row of x.obj, read through an inflated copy when the row allows it.
+  const std::string_view inner = std::string_view(probe.name).substr(0, probe.name.size() - 3);
+  for (const Row& row : rows) {
+    const size_t length = matched_extension(row.info, inner).size();
+    if (row.info.gz_wrapped && length > best_length) best = &row, best_length = length;
+  }
+  if (best && wrapped) *wrapped = true;
+  return best;
+}
+
+// Rethrows the imx::Error being handled, of the same type, with `temporary` replaced by `file`
+// in its message.
+[[noreturn]] void rethrow_naming(const std::filesystem::path& temporary,
+                                 const std::filesystem::path& file);
+
+template <class Read>
+auto read_inflated(const std::filesystem::path& file, uint64_t max_bytes, Read&& read) {
+  std::string inner = file.filename().string();
+  inner.resize(inner.size() - 3);  // without ".gz"
+  const InflatedFile copy(file, inner, max_bytes);
+  try {
+    return std::forward<Read>(read)(copy.path());
+  } catch (const Error&) {
+    rethrow_naming(copy.path(), file);
+  }
+}
+
+}  // namespace imx::detail

@@ -1,0 +1,97 @@
+// One row per volume format. A new format: its reader file and one row here (docs/architecture.md).
+#include "io/volume_formats.hpp"
+
+#include <vector>
+
+#include "intermix/dicom.hpp"
+#include "io/metaimage.hpp"
+#include "io/mgh.hpp"
+#include "io/nifti.hpp"
+#include "io/nrrd.hpp"
+
+namespace imx::detail {
+namespace {
+
+bool dicom_source(const FileProbe& probe) {
+  return is_dicom_source(probe.path);
+}
+
+VolumeData read_dicom_volume(const std::filesystem::path& file, int frame) {
+  DicomReadOptions options;
+  options.frame = frame;
+  return read_dicom(file, options).volume;
+}
+
+VolumeHeader read_dicom_volume_header(const std::filesystem::path& file) {
+  return read_dicom_header(file);
+}
+
+// DICOM is read whole and cropped: its voxels come slice file by slice file, decoded (and
+// possibly decompressed) by GDCM, with no byte layout to seek in.
+VolumeData read_dicom_volume_region(const std::filesystem::path& file, const VoxelBox& box,
+                                    int frame) {
+  return crop(read_dicom_volume(file, frame), box, file.string());
+}
+
+}  // namespace
+
+std::span<const VolumeFormat> volume_formats_table() {
+  static const std::vector<VolumeFormat> table = {
+      {{.kind = FileKind::volume,
+        .name = "DICOM",
+        .extensions = {".dcm", ".dicom", ".dcm.gz"},
+        .sniff = dicom_source,
+        .fuzz_target = "fuzz_dicom",
+        .fuzz_seeds = "*.dcm",
+        .reference = "dcm2niix"},
+       read_dicom_volume,
+       read_dicom_volume_header,
+       read_dicom_volume_region},
+      {{.kind = FileKind::volume,
+        .name = "NRRD",
+        .extensions = {".nrrd", ".nhdr"},
+        .writes = ".nrrd",
+        .fuzz_target = "fuzz_nrrd",
+        .fuzz_seeds = "*.nrrd *.nhdr",
+        .reference = "teem (unu), pynrrd"},
+       read_nrrd,
+       read_nrrd_header,
+       read_nrrd_region},
+      {{.kind = FileKind::volume,
+        .name = "NIfTI-1/2, Analyze 7.5",
+        .extensions = {".nii", ".nii.gz", ".hdr", ".hdr.gz", ".img", ".img.gz"},
+        .writes = ".nii, .nii.gz",
+        .fuzz_target = "fuzz_nifti",
+        .fuzz_seeds = "*.nii *.nii.gz",
+        .reference = "nibabel"},
+       read_nifti,
+       read_nifti_header,
+       read_nifti_region},
+      {{.kind = FileKind::volume,
+        .name = "MetaImage",
+        .extensions = {".mha", ".mhd"},
+        .writes = ".mha",
+        .fuzz_target = "fuzz_metaimage",
+        .fuzz_seeds = "*.mha *.mhd",
+        .reference = "ITK"},
+       read_metaimage,
+       read_metaimage_header,
+       read_metaimage_region},
+      {{.kind = FileKind::volume,
+        .name = "FreeSurfer MGH",
+        .extensions = {".mgh", ".mgz", ".mgh.gz"},
+        .fuzz_target = "fuzz_mgh",
+        .fuzz_seeds = "*.mgh *.mgz",
+        .reference = "nibabel"},
+       read_mgh,
+       read_mgh_header,
+       read_mgh_region},
+  };
+  return table;
+}
+
+const VolumeFormat* find_volume_format(const FileProbe& probe) {
+  return find_format(volume_formats_table(), probe);
+}
+
+}  // namespace imx::detail
