@@ -8,6 +8,7 @@
 #include "io/mgh.hpp"
 #include "io/nifti.hpp"
 #include "io/nrrd.hpp"
+#include "io/volume/afni.hpp"
 
 namespace imx::detail {
 namespace {
@@ -86,6 +87,13 @@ std::span<const VolumeFormat> volume_formats_table() {
        read_mgh,
        read_mgh_header,
        read_mgh_region},
+      {{.kind = FileKind::volume,
+        .name = "AFNI BRIK/HEAD",
+        .extensions = {".head", ".brik", ".brik.gz"},
+        .sniff = [](const FileProbe& p) { return is_afni_head(p.head); },
+        .fuzz_target = "fuzz_afni",
+        .reference = "nibabel.brikhead"},
+       read_afni, read_afni_header, read_afni_region},
   };
   return table;
 }

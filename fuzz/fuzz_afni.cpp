@@ -1,0 +1,36 @@
+// AFNI BRIK/HEAD reader: the input's first 2 bytes (little-endian) are the HEAD's length; the
+// HEAD follows, then the BRIK (gzip data, a .BRIK.gz, is found by its magic), written as
+// in+orig.HEAD and in+orig.BRIK. The last sub-brick is read, then the header and a region.
+#include <algorithm>
+#include <exception>
+
+#include "harness.hpp"
+#include "io/volume/afni.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  using namespace imx::fuzz;
+  if (size < 2) return 0;
+  const ScratchDir& dir = scratch();
+  dir.clear();
+  const size_t head_size = std::min<size_t>(size - 2, data[0] | size_t{data[1]} << 8);
+  const std::filesystem::path head = dir.write("in+orig.HEAD", data + 2, head_size);
+  dir.write("in+orig.BRIK", data + 2 + head_size, size - 2 - head_size);
+  int frame = 0;
+  try {
+    frame = imx::detail::read_afni_header(head).frames - 1;
+  } catch (const std::exception& e) {
+    refused(e);
+  }
+  try {
+    check_volume(imx::detail::read_afni(head, frame));
+    accepted("volume");
+  } catch (const std::exception& e) {
+    refused(e);
+  }
+  fuzz_region(
+      head, data[size - 1], [](const auto& f) { return imx::detail::read_afni_header(f); },
+      [frame](const auto& f, const imx::VoxelBox& box) {
+        return imx::detail::read_afni_region(f, box, frame);
+      });
+  return 0;
+}
