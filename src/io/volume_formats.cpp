@@ -9,6 +9,9 @@
 #include "io/nifti.hpp"
 #include "io/nrrd.hpp"
 #include "io/volume/afni.hpp"
+#include "io/volume/minc.hpp"
+#include "io/volume/mrtrix.hpp"
+#include "io/volume/parrec.hpp"
 
 namespace imx::detail {
 namespace {
@@ -93,7 +96,38 @@ std::span<const VolumeFormat> volume_formats_table() {
         .sniff = [](const FileProbe& p) { return is_afni_head(p.head); },
         .fuzz_target = "fuzz_afni",
         .reference = "nibabel.brikhead"},
-       read_afni, read_afni_header, read_afni_region},
+       read_afni,
+       read_afni_header,
+       read_afni_region},
+      {{.kind = FileKind::volume,
+        .name = "MRtrix image",
+        .extensions = {".mif", ".mif.gz", ".mih"},
+        .sniff = [](const FileProbe& p) { return is_mrtrix_header(p.head); },
+        .fuzz_target = "fuzz_mrtrix",
+        .fuzz_seeds = "*.mif",
+        .reference = "MRtrix3 (mrconvert)"},
+       read_mrtrix,
+       read_mrtrix_header,
+       read_mrtrix_region},
+      {{.kind = FileKind::volume,
+        .name = "Philips PAR/REC",
+        .extensions = {".par", ".rec"},
+        .sniff = [](const FileProbe& p) { return is_parrec_header(p.head); },
+        .fuzz_target = "fuzz_parrec",
+        .reference = "nibabel.parrec"},
+       read_parrec,
+       read_parrec_header,
+       read_parrec_region},
+      {{.kind = FileKind::volume,
+        .name = "MINC-2 (MINC-1 named and refused)",
+        .extensions = {".mnc"},
+        .sniff = [](const FileProbe& p) { return is_minc(p.head); },
+        .fuzz_target = "fuzz_minc",
+        .fuzz_seeds = "*.mnc",
+        .reference = "nibabel.minc2"},
+       read_minc,
+       read_minc_header,
+       read_minc_region},
   };
   return table;
 }

@@ -1,10 +1,11 @@
 // The libraries only some inputs need are plugins opened on first use (src/io/plugin_loader.hpp):
-// assimp (with draco and minizip) for OBJ, STL, OFF and glTF meshes, Open MPI for --distributed.
-// Start-up, a NIfTI or DICOM conversion and a volume render map neither (the dynamic loader's own
-// report, LD_DEBUG=files, says what was mapped); a mesh of an assimp format maps the mesh plugin
-// and reads as before, a distributed render the MPI plugin; a plugin that cannot be loaded is one
-// error naming the paths tried (and the mesh file). The DICOM test uses ../shared/data/dicom/ts
-// (skipped without it).
+// assimp (with draco and minizip) for OBJ, STL, OFF and glTF meshes, libhdf5 for MINC-2, Open MPI
+// for --distributed. Start-up, a NIfTI or DICOM conversion and a volume render map none of them
+// (the dynamic loader's own report, LD_DEBUG=files, says what was mapped); a mesh of an assimp
+// format maps the mesh plugin and reads as before, a MINC-2 file the MINC plugin, a distributed
+// render the MPI plugin; a plugin that cannot be loaded is one error naming the paths tried (and
+// the mesh file). The DICOM test uses ../shared/data/dicom/ts (skipped without it), the MINC test
+// h5py (/usr/bin/python3) to write its file.
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -27,8 +28,9 @@ using test::TempDir;
 // The loader's report names the C library (so it is there), and none of the plugin libraries.
 void expect_no_plugin_libraries(const test::CliResult& r) {
   ASSERT_TRUE(contains(r.output, "libc.so.6")) << r.output.substr(0, 2000);
-  for (const char* library : {"libassimp", "libdraco", "libminizip", "libimx_mesh_assimp", "libmpi",
-                              "libopen-rte", "libopen-pal", "libhwloc", "libevent", "libimx_mpi"})
+  for (const char* library :
+       {"libassimp", "libdraco", "libminizip", "libimx_mesh_assimp", "libmpi", "libopen-rte",
+        "libopen-pal", "libhwloc", "libevent", "libimx_mpi", "libhdf5", "libimx_minc_hdf5"})
     EXPECT_FALSE(contains(r.output, library)) << library;
 }
 
@@ -128,6 +130,38 @@ TEST(StartUpLibraries, AMeshPluginThatCannotBeLoadedIsOneErrorNamingTheFileAndTh
     }
     EXPECT_EQ(lines, 1u) << r.output;
   }
+}
+
+// A MINC-2 file of 4 x 3 x 2 zeros (zspace, yspace, xspace; uint8, identity scaling), written with
+// h5py (/usr/bin/python3); whether the script succeeded.
+bool write_minc2(const TempDir& dir, const fs::path& file) {
+  std::ofstream(dir / "make_minc.py")
+      << "import sys\nimport numpy as np, h5py\n"
+         "with h5py.File(sys.argv[1], 'w') as f:\n"
+         "    for d in ('xspace', 'yspace', 'zspace'):\n"
+         "        v = f.create_dataset('minc-2.0/dimensions/' + d, data=np.int32(0))\n"
+         "        v.attrs['spacing'] = np.bytes_('regular__')\n"
+         "    zeros = np.zeros((4, 3, 2), np.uint8)\n"
+         "    image = f.create_dataset('minc-2.0/image/0/image', data=zeros)\n"
+         "    image.attrs['dimorder'] = np.bytes_('zspace,yspace,xspace')\n"
+         "    f['minc-2.0/image/0/image-min'] = 0.0\n"
+         "    f['minc-2.0/image/0/image-max'] = 255.0\n";
+  return test::run_shell(fmt::format("/usr/bin/python3 {} {} 2>&1", (dir / "make_minc.py").string(),
+                                     file.string()))
+             .exit_code == 0;
+}
+
+TEST(StartUpLibraries, AMinc2FileLoadsTheMincPlugin) {
+  TempDir dir;
+  if (test::run_shell("/usr/bin/python3 -c 'import h5py' 2>&1").exit_code != 0)
+    GTEST_SKIP() << "/usr/bin/python3 has no h5py";
+  ASSERT_TRUE(write_minc2(dir, dir / "zeros.mnc"));
+  const test::CliResult r =
+      run_cli(fmt::format("info {}", (dir / "zeros.mnc").string()), "LD_DEBUG=files ");
+  ASSERT_EQ(r.exit_code, 0) << r.output.substr(r.output.size() > 4000 ? r.output.size() - 4000 : 0);
+  EXPECT_TRUE(contains(r.output, "libimx_minc_hdf5.so"));
+  EXPECT_TRUE(contains(r.output, "libhdf5"));
+  EXPECT_TRUE(contains(r.output, "[4,3,2]")) << r.output;  // the file's dims, slowest first
 }
 
 // A scene of one small phantom volume, written by the program itself.

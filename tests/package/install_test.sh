@@ -55,7 +55,8 @@ for f in include/intermix/renderer.hpp include/intermix/io.hpp \
          lib/cmake/intermix/intermixConfig.cmake lib/cmake/intermix/intermixConfigVersion.cmake \
          lib/cmake/intermix/intermixTargets.cmake lib/pkgconfig/intermix.pc \
          bin/intermix share/intermix/web/index.html share/intermix/web/js/main.js \
-         lib/intermix/libimx_dicom_codec.so lib/intermix/libimx_mesh_assimp.so; do
+         lib/intermix/libimx_dicom_codec.so lib/intermix/libimx_mesh_assimp.so \
+         lib/intermix/libimx_minc_hdf5.so; do
   [ -f "$prefix/$f" ] || fail "not installed: $f"
 done
 for m in methods frame csg scene presets io metrics raster volume core; do
