@@ -21,12 +21,13 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
+#include "io/base64.hpp"
 #include "io/gzip.hpp"
 #include "io/header_text.hpp"
-#include "io/base64.hpp"
 
 namespace imx::detail {
 namespace {
@@ -62,6 +63,25 @@ const std::map<std::string, TypeInfo, std::less<>>& types() {
   return table;
 }
 
+// The encodings by every name nibabel knows them (the GIfTI spelling, its own label and the
+// GIFTI_ENCODING_ constant): older files say B64BIN. External data is not among them.
+std::optional<Encoding> encoding_named(std::string_view name) {
+  if (name == "ASCII" || name == "GIFTI_ENCODING_ASCII") return Encoding::ascii;
+  if (name == "Base64Binary" || name == "B64BIN" || name == "GIFTI_ENCODING_B64BIN")
+    return Encoding::base64;
+  if (name == "GZipBase64Binary" || name == "B64GZ" || name == "GIFTI_ENCODING_B64GZ")
+    return Encoding::gzip_base64;
+  return std::nullopt;
+}
+
+// Whether the byte order is big-endian, by nibabel's names for the two (an undefined one is not
+// a byte order).
+std::optional<bool> endian_named(std::string_view name) {
+  if (name == "BigEndian" || name == "GIFTI_ENDIAN_BIG") return true;
+  if (name == "LittleEndian" || name == "GIFTI_ENDIAN_LITTLE") return false;
+  return std::nullopt;
+}
+
 // Decodes the <Data> text of one checked array chunk by chunk, counting what it holds and
 // appending the bytes to `keep` when given (ASCII values as this machine stores their type).
 // Compressed data is inflated only when kept: otherwise its size need only be possible.
@@ -94,6 +114,7 @@ class DataDecoder {
       for (char c : text) {
         if (std::isspace(static_cast<unsigned char>(c))) {
           end_token();
+          if (c == '\n') end_line();
         } else if (token_.size() == kMaxToken) {
           fault_ = fmt::format("value {} is not a number", count_ + 1);
         } else {
@@ -129,6 +150,7 @@ class DataDecoder {
     if (!fault_.empty()) return fault_;
     if (encoding_ == Encoding::ascii) {
       end_token();
+      end_line();
       if (fault_.empty() && count_ != values_)
         fault_ = fmt::format("the data holds {} values, the dimensions claim {}", count_, values_);
       return fault_;
@@ -157,7 +179,23 @@ class DataDecoder {
     return fault_;
   }
 
+  // ASCII data's lines: how many hold values, and how many each holds where all hold as many.
+  struct Lines {
+    uint64_t count = 0, width = 0;
+    bool uniform = true;
+  };
+  const Lines& lines() const { return lines_; }
+
  private:
+  void end_line() {
+    if (line_values_ == 0) return;
+    if (++lines_.count == 1)
+      lines_.width = line_values_;
+    else if (lines_.width != line_values_)
+      lines_.uniform = false;
+    line_values_ = 0;
+  }
+
   void keep(const uint8_t* data, size_t n) {
     if (keep_) keep_->insert(keep_->end(), data, data + n);
   }
@@ -165,6 +203,7 @@ class DataDecoder {
   void end_token() {
     if (token_.empty()) return;
     ++count_;
+    ++line_values_;
     if (count_ > values_) {
       fault_ = fmt::format("the data holds more values than the {} the dimensions claim", values_);
       return;
@@ -238,6 +277,8 @@ class DataDecoder {
   // ASCII
   std::string token_;
   uint64_t count_ = 0;
+  uint64_t line_values_ = 0;  // on the line being read
+  Lines lines_;
   // base64
   uint32_t quad_ = 0;
   int quad_chars_ = 0;
@@ -297,9 +338,10 @@ struct Parser {
   bool overlay_mode = false;
   int wanted = -1;
   GiftiOverlay overlay;
-  bool sparse = false;              // a NIFTI_INTENT_NODE_INDEX array
-  std::optional<GiftiLabel> label;  // the <Label> being read
-  uint64_t kept_bytes = 0;          // the kept arrays and the mesh made of them
+  bool sparse = false;                     // a NIFTI_INTENT_NODE_INDEX array
+  std::vector<std::string> value_intents;  // of the arrays of per-vertex values, for messages
+  std::optional<GiftiLabel> label;         // the <Label> being read
+  uint64_t kept_bytes = 0;                 // the kept arrays and the mesh made of them
   // The checked array's claim, until its <Data>.
   Encoding encoding = Encoding::ascii;
   TypeInfo type{};
@@ -330,6 +372,8 @@ struct Parser {
     if (intent == "NIFTI_INTENT_NODE_INDEX") sparse = true;
     const bool values_intent = intent != "NIFTI_INTENT_POINTSET" &&
                                intent != "NIFTI_INTENT_TRIANGLE" && intent != "NIFTI_INTENT_VECTOR";
+    if (values_intent && value_intents.size() < 8)
+      value_intents.push_back(intent.empty() ? "no Intent" : shown(intent));
     const bool is_overlay =
         overlay_mode && overlay.index < 0 && (wanted >= 0 ? index == wanted : values_intent);
     checked = index;
@@ -344,19 +388,15 @@ struct Parser {
       return fail(fmt::format("{}: external data files (ExternalFileName '{}') are not read", what,
                               shown(external)));
     const std::string encoding_name = get("Encoding");
-    if (encoding_name == "ASCII")
-      encoding = Encoding::ascii;
-    else if (encoding_name == "Base64Binary")
-      encoding = Encoding::base64;
-    else if (encoding_name == "GZipBase64Binary")
-      encoding = Encoding::gzip_base64;
+    if (const std::optional<Encoding> e = encoding_named(encoding_name))
+      encoding = *e;
     else
       return fail(fmt::format("{}: Encoding '{}' is not ASCII, Base64Binary or GZipBase64Binary",
                               what, shown(encoding_name)));
-    const std::string endian = get("Endian");
-    if (encoding != Encoding::ascii && endian != "LittleEndian" && endian != "BigEndian")
-      return fail(
-          fmt::format("{}: Endian '{}' is not LittleEndian or BigEndian", what, shown(endian)));
+    const std::optional<bool> big_endian = endian_named(get("Endian"));
+    if (encoding != Encoding::ascii && !big_endian)
+      return fail(fmt::format("{}: Endian '{}' is not LittleEndian or BigEndian", what,
+                              shown(get("Endian"))));
     const std::string order = get("ArrayIndexingOrder");
     if (order != "RowMajorOrder" && order != "ColumnMajorOrder")
       return fail(
@@ -413,8 +453,8 @@ struct Parser {
       kept->type = t.type;
       kept->rows = static_cast<uint64_t>(dims[0]);
       kept->column_major = order == "ColumnMajorOrder";
-      kept->swapped = encoding != Encoding::ascii &&
-                      (endian == "BigEndian") != (std::endian::native == std::endian::big);
+      kept->swapped =
+          encoding != Encoding::ascii && *big_endian != (std::endian::native == std::endian::big);
     }
     if (is_overlay) {
       if (n_dims > 2 || (n_dims == 2 && dims[1] != 1))
@@ -427,15 +467,16 @@ struct Parser {
       kept = &overlay.values;
       kept->type = t.type;
       kept->rows = static_cast<uint64_t>(dims[0]);
-      kept->swapped = encoding != Encoding::ascii &&
-                      (endian == "BigEndian") != (std::endian::native == std::endian::big);
+      kept->swapped =
+          encoding != Encoding::ascii && *big_endian != (std::endian::native == std::endian::big);
     }
   }
 
-  // <Label Key="" Red="" Green="" Blue="" Alpha="">name</Label>: colours in [0, 1].
+  // <Label Key="" Red="" Green="" Blue="" Alpha="">name</Label>: colours in [0, 1]; Index="" in
+  // older files.
   void start_label(const char** attrs) {
     GiftiLabel l;
-    bool has_key = false;
+    std::optional<int64_t> key, index;
     for (const char** p = attrs; p[0] && p[1]; p += 2) {
       const std::string_view name = p[0], value = p[1];
       const int channel = name == "Red"     ? 0
@@ -443,11 +484,12 @@ struct Parser {
                           : name == "Blue"  ? 2
                           : name == "Alpha" ? 3
                                             : -1;
-      if (name == "Key") {
-        auto r = std::from_chars(value.data(), value.data() + value.size(), l.key);
+      if (name == "Key" || name == "Index") {
+        int64_t k = 0;
+        auto r = std::from_chars(value.data(), value.data() + value.size(), k);
         if (r.ec != std::errc() || r.ptr != value.data() + value.size())
-          return fail(fmt::format("label table: Key '{}' is not an integer", shown(value)));
-        has_key = true;
+          return fail(fmt::format("label table: {} '{}' is not an integer", name, shown(value)));
+        (name == "Key" ? key : index) = k;
       } else if (channel >= 0) {
         std::optional<double> v = parse_header_number<double>(value);
         if (!v || !(*v >= 0.0 && *v <= 1.0))
@@ -456,7 +498,9 @@ struct Parser {
         l.rgba[channel] = static_cast<float>(*v);
       }
     }
-    if (!has_key) return fail("label table: a <Label> has no Key");
+    // Older GIfTI files number labels by Index; nibabel takes Key where a label has both.
+    if (!key && !index) return fail("label table: a <Label> has no Key (or Index)");
+    l.key = key ? *key : *index;
     label = std::move(l);
   }
 
@@ -475,6 +519,22 @@ struct Parser {
           what, values, type.name, rest, encoding == Encoding::base64 ? "base64" : "text"));
     if (kept) kept->bytes.reserve(bytes);
     decoder.emplace(what, encoding, type, values, bytes, kept ? &kept->bytes : nullptr);
+  }
+
+  // ASCII text in ColumnMajorOrder. nibabel reads ASCII by its lines, the order unused, and
+  // writes a row a line whatever the order says; libgiftiio writes a column a line and reads the
+  // values in the stated order. Rows a line are nibabel's rows; any other layout is in column
+  // order (a column a line, as libgiftiio writes it; nibabel's arrays there take the wrong
+  // shape). Three lines of three could be either: refused.
+  void ascii_order() {
+    const DataDecoder::Lines& lines = decoder->lines();
+    const bool rows_a_line = lines.uniform && lines.width == 3 && lines.count == kept->rows;
+    if (rows_a_line && kept->rows == 3)
+      return fail(fmt::format(
+          "{}: ASCII data in ColumnMajorOrder on 3 lines of 3 values: rows (as nibabel writes "
+          "and reads it) or columns (as libgiftiio does)?",
+          where()));
+    if (rows_a_line) kept->column_major = false;
   }
 
   // Expat may still call back after a stop: nothing more happens once a fault is known.
@@ -522,6 +582,7 @@ struct Parser {
       data_depth = 0;
       if (std::string why = decoder->finish(); !why.empty())
         return fail(fmt::format("{}: {}", where(), why));
+      if (kept && kept->column_major && encoding == Encoding::ascii) ascii_order();
     }
     if (depth == 2 && checked >= 0) {
       if (!has_data) return fail(fmt::format("{} has no <Data>", where()));
@@ -631,6 +692,11 @@ GiftiSurface read_gifti_arrays(const std::filesystem::path& file) {
   auto fail = [&](const std::string& why) {
     throw Error(fmt::format("{}: {}", file.string(), why));
   };
+  if (p.pointset < 0 && !p.value_intents.empty())
+    fail(fmt::format(
+        "no NIFTI_INTENT_POINTSET data array (the vertices): its data arrays ({}) are values "
+        "for the vertices of a surface, an overlay to open with the surface it belongs to",
+        fmt::join(p.value_intents, ", ")));
   if (p.pointset < 0) fail("no NIFTI_INTENT_POINTSET data array (the vertices)");
   if (p.triangle < 0) fail("no NIFTI_INTENT_TRIANGLE data array (the triangles)");
   return std::move(p.surface);

@@ -54,7 +54,8 @@ struct GiftiSurface {
   GiftiArray points, triangles;
 };
 
-// One entry of a GIfTI LabelTable: Key, Red, Green, Blue, Alpha (0..1) and the label's name.
+// One entry of a GIfTI LabelTable: Key (Index in older files; Key where both), Red, Green, Blue,
+// Alpha (0..1) and the label's name.
 struct GiftiLabel {
   int64_t key = 0;
   float rgba[4] = {1.0f, 1.0f, 1.0f, 1.0f};
@@ -71,12 +72,16 @@ struct GiftiOverlay {
 
 // Parses the XML (expat) and checks it all: the elements nest as GIfTI's do, no entities, and
 // every data array has a numeric type, 1 to 6 dimensions of at most 1 GiB, and ASCII,
-// Base64Binary or GZipBase64Binary data in the file itself holding exactly the values its
-// dimensions claim. Before any data is decoded, the claim must be one the rest of the file can
-// hold (for compressed data, at deflate's largest ratio, kMaxInflateRatio) and, for the two
-// arrays kept, fit the memory budget (check_memory) with the mesh made from them; compressed
-// data is inflated to the claim, never past it. Other arrays are checked as they stream by and
-// not kept; their compressed data is not inflated (deflate can expand 1032 times: 2.5 s of
+// Base64Binary or GZipBase64Binary data (by any name nibabel knows: B64BIN, GIFTI_ENCODING_B64GZ,
+// ...) in the file itself holding exactly the values its dimensions claim. ASCII data in
+// ColumnMajorOrder a row a line (as nibabel writes and reads it, whatever the order) is rows;
+// in any other layout (a column a line, as libgiftiio writes it) it is in column order; on 3
+// lines of 3 values, which could be either, it is refused. A file of values alone (no POINTSET) is
+// refused as an overlay that needs its surface. Before any data is decoded, the claim must be one
+// the rest of the file can hold (for compressed data, at deflate's largest ratio, kMaxInflateRatio)
+// and, for the two arrays kept, fit the memory budget (check_memory) with the mesh made from them;
+// compressed data is inflated to the claim, never past it. Other arrays are checked as they stream
+// by and not kept; their compressed data is not inflated (deflate can expand 1032 times: 2.5 s of
 // work for each MB of a file), only its size held to the claim. Throws imx::Error naming the
 // file, the array and the fault.
 GiftiSurface read_gifti_arrays(const std::filesystem::path& file);

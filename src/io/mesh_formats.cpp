@@ -6,6 +6,7 @@
 #include "io/freesurfer_surface.hpp"
 #include "io/gifti_reader.hpp"
 #include "io/gltf_check.hpp"
+#include "io/mesh/mz3.hpp"
 #include "io/mesh_assimp_plugin.hpp"
 #include "io/mesh_space.hpp"
 #include "io/ply_reader.hpp"
@@ -17,6 +18,12 @@ namespace {
 
 bool ply_head(const FileProbe& probe) {
   return probe.head.starts_with("ply\n") || probe.head.starts_with("ply\r");
+}
+
+// Surfice's MZ3 (raw or gzip: the probe's bytes are inflated) with faces: a mesh.
+bool mz3_mesh_head(const FileProbe& probe) {
+  return probe.head.size() >= 4 && probe.head.starts_with("MZ") &&
+         (static_cast<uint8_t>(probe.head[2]) & 1) != 0;
 }
 
 bool freesurfer_head(const FileProbe& probe) {
@@ -38,6 +45,10 @@ MeshContent gifti(const std::filesystem::path& file) {
 
 MeshContent polydata(PolyDataFile poly) {
   return {std::move(poly.mesh), std::move(poly.point_data), poly.space, {}};
+}
+
+MeshContent mz3(const std::filesystem::path& file) {
+  return polydata(read_mz3_mesh(file));
 }
 
 MeshContent vtk_legacy(const std::filesystem::path& file) {
@@ -154,6 +165,15 @@ std::span<const MeshFormat> mesh_formats_table() {
         .reference = "assimp"},
        gltf,
        MeshSpace::lps},
+      {{.kind = FileKind::mesh,
+        .name = "Surfice/NiiVue MZ3",
+        .extensions = {".mz3"},
+        .sniff = mz3_mesh_head,
+        .fuzz_target = "fuzz_mz3",
+        .fuzz_seeds = "*.mz3",
+        .reference = "NiiVue (readMZ3), Surfice"},
+       mz3,
+       MeshSpace::ras},
   };
   return table;
 }

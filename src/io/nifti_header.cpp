@@ -263,6 +263,7 @@ void decode_348(const Fields& f, bool pair, NiftiHeader& h, const std::string& w
     return;
   }
   h.xyzt_units = f.get<uint8_t>(IMX_N1(xyzt_units));
+  h.intent_code = f.get<int16_t>(IMX_N1(intent_code));
   h.qform_code = f.get<int16_t>(IMX_N1(qform_code));
   h.sform_code = f.get<int16_t>(IMX_N1(sform_code));
   h.quatern_b = f.get<float>(IMX_N1(quatern_b));
@@ -301,6 +302,7 @@ void decode_540(const Fields& f, bool pair, NiftiHeader& h, const std::string& w
   h.vox_offset = static_cast<uint64_t>(offset);
 
   h.xyzt_units = f.get<int32_t>(IMX_N2(xyzt_units));
+  h.intent_code = f.get<int32_t>(IMX_N2(intent_code));
   h.qform_code = f.get<int32_t>(IMX_N2(qform_code));
   h.sform_code = f.get<int32_t>(IMX_N2(sform_code));
   h.quatern_b = f.get<double>(IMX_N2(quatern_b));

@@ -35,6 +35,7 @@ struct NiftiHeader {
   std::array<double, 3> qoffset{};
   std::array<std::array<double, 4>, 3> srow{};
   int xyzt_units = 0;                   // NIfTI only
+  int intent_code = 0;                  // NIfTI only (CIFTI-2 files: 3000-3099)
   std::array<int16_t, 3> spm_origin{};  // Analyze only: SPM's "originator" voxel, 1-based
 };
 

@@ -19,6 +19,7 @@
 #include "io/header_text.hpp"
 #include "io/nifti.hpp"
 #include "io/nifti_header.hpp"
+#include "io/overlay/cifti.hpp"
 #include "io/raw_voxels.hpp"
 #include "io/regular_file.hpp"
 #include "volume/volume_checks.hpp"
@@ -155,6 +156,8 @@ Layout parse_layout(const fs::path& file) {
   const std::string& what = files.what;
   const FileHead head = read_file_head(files.header, 540, what);
   const NiftiHeader h = decode_nifti_header(head.bytes, files.pair, head.gzipped, what);
+  // A CIFTI matrix is no grid: read as one it would be a 1x1x1 volume of many frames.
+  if (h.intent_code >= 3000 && h.intent_code <= 3099) throw Error(cifti_needs_surfaces(what));
   if (h.kind == NiftiKind::analyze && !files.spm_mat.empty())
     throw Error(fmt::format(
         "{}: SPM's placement file {} lies beside this Analyze 7.5 image; intermix does not read "

@@ -10,6 +10,8 @@
 
 #include "intermix/error.hpp"
 #include "io/byte_cursor.hpp"
+#include "io/mesh/mz3.hpp"
+#include "io/overlay/cifti.hpp"
 
 namespace imx::detail {
 namespace {
@@ -24,6 +26,12 @@ void require_no_array(const std::filesystem::path& file, int array) {
 
 bool curv_head(const FileProbe& probe) {
   return is_freesurfer_curv(probe.head);
+}
+
+// Surfice's MZ3 (raw or gzip: the probe's bytes are inflated) without faces: values only.
+bool mz3_values_head(const FileProbe& probe) {
+  return probe.head.size() >= 4 && probe.head.starts_with("MZ") &&
+         (static_cast<uint8_t>(probe.head[2]) & 1) == 0;
 }
 
 // GIfTI is XML: a surface names NIFTI_INTENT_POINTSET; func, shape and label files do not.
@@ -84,6 +92,22 @@ std::span<const OverlayFormat> overlay_formats_table() {
         .reference = "nibabel",
         .needs = kNeedsSurface},
        read_gifti_vertex_overlay},
+      {{.kind = FileKind::overlay,
+        .name = "CIFTI-2 dense data (scalars, labels, series)",
+        .extensions = {".dscalar.nii", ".dlabel.nii", ".dtseries.nii"},
+        .sniff = [](const FileProbe& probe) { return is_cifti_head(probe.head); },
+        .fuzz_target = "fuzz_cifti",
+        .fuzz_seeds = "*.dscalar.nii",
+        .reference = "nibabel.cifti2",
+        .needs = kNeedsSurface},
+       read_cifti_vertex_overlay},
+      {{.kind = FileKind::overlay,
+        .name = "Surfice/NiiVue MZ3 values",
+        .sniff = mz3_values_head,
+        .fuzz_target = "fuzz_mz3",
+        .reference = "NiiVue (readMZ3), Surfice",
+        .needs = kNeedsSurface},
+       read_mz3_overlay},
   };
   return table;
 }

@@ -214,7 +214,12 @@ MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context) {
   std::shared_ptr<const Mesh> mesh = load_mesh_source(r.get("source"), m.name, context);
   // Values on the mesh colour its vertices before it is placed ("color_by" comes after every
   // object is read: apply_color_by).
-  if (auto v = r.find("overlay")) mesh = apply_overlay(*v, mesh, context);
+  if (auto v = r.find("overlay")) {
+    const JsonReader src = r.get("source");  // a CIFTI overlay asks the surface file what it is
+    mesh = apply_overlay(
+        *v, mesh, context,
+        src.has("file") ? context.resolve_file(src.get("file")) : std::filesystem::path());
+  }
   // One placed copy per source and transform, so that a scene parsed again keeps its meshes.
   std::string key = fmt::format("{}", static_cast<const void*>(mesh.get()));
   for (int c = 0; c < 4; ++c)

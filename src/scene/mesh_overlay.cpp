@@ -10,6 +10,8 @@
 
 #include "core/colour.hpp"
 #include "intermix/error.hpp"
+#include "io/overlay/cifti.hpp"
+#include "io/overlay/volume_overlay.hpp"
 #include "io/vertex_overlay.hpp"
 #include "scene/surface_sampling.hpp"
 #include "volume/tf_lut.hpp"
@@ -94,6 +96,47 @@ std::string pointer_key(const void* p) {
   return fmt::format("{}", p);
 }
 
+// The overlay file's values for the surface: a CIFTI-2 file's map of the surface's structure
+// ("structure", else the one the surface file says it is), a FreeSurfer per-vertex volume's
+// frame, or another overlay file's values (`index`: a GIfTI data array).
+detail::VertexOverlay read_overlay_file(const JsonReader& overlay,
+                                        const std::filesystem::path& path,
+                                        const std::filesystem::path& surface_file,
+                                        size_t file_vertices) {
+  const JsonReader file_reader = overlay.get("file");
+  const bool cifti = detail::is_cifti(path);
+  const bool volume = !cifti && !detail::is_overlay_file(path) && is_volume_file(path);
+  int index = -1;
+  if (auto v = overlay.find("index")) {
+    if (cifti || volume)
+      v->fail("\"index\" picks a data array of a GIfTI file; \"frame\" picks a map of this one");
+    index = v->integer(0, 1 << 20);
+  }
+  int frame = 0;
+  if (auto v = overlay.find("frame")) {
+    if (!cifti && !volume)
+      v->fail("\"frame\" picks a map of a CIFTI-2 file or a frame of a NIfTI or MGH overlay");
+    frame = v->integer(0, static_cast<int>(detail::kMaxCiftiMaps));
+  }
+  std::optional<std::string> structure;
+  if (auto v = overlay.find("structure")) {
+    if (!cifti) v->fail("\"structure\" picks a surface structure of a CIFTI-2 file");
+    structure = v->string();
+  }
+  return file_reader.reading(path.string(), [&] {
+    if (cifti) {
+      const detail::CiftiFile c = detail::read_cifti(path);
+      const std::string chosen =
+          structure ? *structure
+                    : detail::cifti_structure_of_surface(c, surface_file, file_vertices);
+      return detail::cifti_overlay(c, chosen, frame, path.string());
+    }
+    if (volume)
+      return detail::volume_as_overlay(read_volume(path, frame), file_vertices, path.string());
+    return detail::read_vertex_overlay(path, index);
+  });
+}
+
 }  // namespace
 
 std::shared_ptr<const Mesh> share_mesh_file(MeshFile file) {
@@ -109,9 +152,10 @@ const MeshFile* mesh_file_of(const std::shared_ptr<const Mesh>& mesh) {
 
 std::shared_ptr<const Mesh> apply_overlay(const JsonReader& overlay,
                                           const std::shared_ptr<const Mesh>& source,
-                                          SceneContext& context) {
-  overlay.check_keys({"file", "array", "index", "color", "transfer_function", "colormap", "range",
-                      "threshold", "symmetric", "opacity"});
+                                          SceneContext& context,
+                                          const std::filesystem::path& surface_file) {
+  overlay.check_keys({"file", "array", "index", "frame", "structure", "color", "transfer_function",
+                      "colormap", "range", "threshold", "symmetric", "opacity"});
   const bool has_file = overlay.has("file"), has_array = overlay.has("array");
   if (has_file == has_array)
     overlay.fail(has_file ? "give \"file\" or \"array\", not both"
@@ -135,10 +179,7 @@ std::shared_ptr<const Mesh> apply_overlay(const JsonReader& overlay,
   ValueColoring coloring;
   if (has_file) {
     const JsonReader file_reader = overlay.get("file");
-    int index = -1;
-    if (auto v = overlay.find("index")) index = v->integer(0, 1 << 20);
-    detail::VertexOverlay read = file_reader.reading(
-        path.string(), [&] { return detail::read_vertex_overlay(path, index); });
+    detail::VertexOverlay read = read_overlay_file(overlay, path, surface_file, file_vertices);
     values = file_reader.reading(
         path.string(), [&] { return detail::overlay_values(read, file_vertices, path.string()); });
     if (read.labels) {
@@ -156,6 +197,9 @@ std::shared_ptr<const Mesh> apply_overlay(const JsonReader& overlay,
     const JsonReader array = overlay.get("array");
     const std::string name = array.string();
     if (auto v = overlay.find("index")) v->fail("\"index\" picks a data array of a GIfTI file");
+    for (const char* key : {"frame", "structure"})
+      if (auto v = overlay.find(key))
+        v->fail(fmt::format("\"{}\" applies to an overlay file", key));
     if (!file) array.fail("the mesh is not read from a file: it has no point data");
     const MeshPointData* found = nullptr;
     std::vector<std::string> names;

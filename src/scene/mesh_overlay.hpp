@@ -22,11 +22,14 @@ const MeshFile* mesh_file_of(const std::shared_ptr<const Mesh>& mesh);
 
 // The source mesh coloured by the mesh object's "overlay" (the reader at `overlay`): keys
 // "file" (an overlay file) or "array" (a point data array of the mesh file), "index" (a GIfTI
-// file's data array), "color" (a .label's colour), and how values become colours
-// (parse_value_coloring). Cached in the context by source and overlay.
+// file's data array), "frame" (a CIFTI-2 file's map, a NIfTI or MGH per-vertex file's frame),
+// "structure" (a CIFTI-2 file's surface structure, "CORTEX_LEFT"; by default the one
+// `surface_file`, the mesh's file, says it is), "color" (a .label's colour), and how values
+// become colours (parse_value_coloring). Cached in the context by source and overlay.
 std::shared_ptr<const Mesh> apply_overlay(const JsonReader& overlay,
                                           const std::shared_ptr<const Mesh>& source,
-                                          SceneContext& context);
+                                          SceneContext& context,
+                                          const std::filesystem::path& surface_file = {});
 
 // Every mesh object's "color_by": {"volume": name, "depth_mm": [from, to], "reduce": "mean" |
 // "max" | "min", and how values become colours (default: the volume's own transfer function)}.

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <optional>
 
+#include "io/overlay/cifti.hpp"
+#include "io/overlay/volume_overlay.hpp"
 #include "io/vertex_overlay.hpp"
 
 #include <set>
@@ -80,9 +82,7 @@ void mark_label_maps(SceneDocument& read) {
 // An overlay file's colouring: a label overlay its own table; signed values (curvature, sulcal
 // depth, a statistic) cold-hot both ways over the 98th percentile of their magnitude; others
 // (thickness) viridis over their 2nd to 98th percentile.
-Json automatic_overlay(const std::filesystem::path& file) {
-  Json overlay = {{"file", file.string()}};
-  const detail::VertexOverlay read = detail::read_vertex_overlay(file);
+Json automatic_coloring(Json overlay, const detail::VertexOverlay& read) {
   if (read.labels) return overlay;
   std::vector<double> values;
   for (double v : read.values)
@@ -109,6 +109,58 @@ Json automatic_overlay(const std::filesystem::path& file) {
   return overlay;
 }
 
+Json automatic_overlay(const std::filesystem::path& file) {
+  return automatic_coloring({{"file", file.string()}}, detail::read_vertex_overlay(file));
+}
+
+std::filesystem::path mesh_file_of(const Json& mesh) {
+  return mesh["source"]["file"].get<std::string>();
+}
+
+// A CIFTI-2 file colours each mesh given right before it that has no overlay yet (both
+// hemispheres: intermix render L.surf.gii R.surf.gii x.dscalar.nii), each with the map of the
+// structure its file says it is (written out as "structure"); its first map.
+void add_cifti_overlays(const std::filesystem::path& file, const std::filesystem::path& absolute,
+                        Json& objects) {
+  std::vector<size_t> surfaces;
+  for (size_t k = objects.size();
+       k > 0 && objects[k - 1]["type"] == "mesh" && !objects[k - 1].contains("overlay"); --k)
+    surfaces.push_back(k - 1);
+  if (surfaces.empty()) throw Error(detail::cifti_needs_surfaces(file.string()));
+  const detail::CiftiFile cifti = detail::read_cifti(absolute);
+  for (size_t k : surfaces) {
+    Json& mesh = objects[k];
+    const std::filesystem::path surface = mesh_file_of(mesh);
+    const size_t vertices = read_mesh_file(surface).info.file_vertices;
+    const std::string structure = detail::cifti_structure_of_surface(cifti, surface, vertices);
+    Json overlay = {{"file", absolute.string()},
+                    {"structure", detail::short_structure_name(structure)}};
+    if (cifti.maps > 1) overlay["frame"] = 0;
+    mesh["overlay"] =
+        automatic_coloring(overlay, detail::cifti_overlay(cifti, structure, 0, file.string()));
+  }
+}
+
+// A FreeSurfer per-vertex map stored as a volume (lh.thickness.mgh, sig.nii.gz) given right
+// after its surface: as many voxels as the surface has vertices, and an axis of 1
+// (is_vertex_volume_shape), which no brain image has. Its overlay, else nullopt (a volume).
+std::optional<Json> vertex_volume_overlay(const std::filesystem::path& file,
+                                          const std::filesystem::path& absolute,
+                                          const Json& objects) {
+  if (objects.empty() || objects.back()["type"] != "mesh" || objects.back().contains("overlay") ||
+      is_dicom_source(file) || !is_volume_file(file))
+    return std::nullopt;
+  const VolumeHeader header = read_volume_header(absolute);
+  const glm::ivec3 d = header.dims;
+  if (std::min({d.x, d.y, d.z}) != 1) return std::nullopt;  // a 3-D image: never an overlay
+  const size_t vertices = read_mesh_file(mesh_file_of(objects.back())).info.file_vertices;
+  if (!detail::is_vertex_volume_shape(d, vertices)) return std::nullopt;
+  Json overlay = {{"file", absolute.string()}};
+  if (header.frames > 1) overlay["frame"] = 0;
+  return automatic_coloring(
+      overlay, detail::volume_as_overlay(read_volume(absolute, 0), vertices, file.string()));
+}
+
 }  // namespace
 
 const std::vector<glm::vec3>& mesh_palette() {
@@ -131,6 +183,15 @@ SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
     if (!std::filesystem::exists(file, ec))
       throw FileError(fmt::format("{}: no such file or folder", file.string()), ENOENT);
     const std::filesystem::path absolute = std::filesystem::absolute(file, ec).lexically_normal();
+    // Surface data in volume containers: CIFTI-2, FreeSurfer's per-vertex NIfTI and MGH files.
+    if (!is_dicom_source(file) && detail::is_cifti(file)) {
+      add_cifti_overlays(file, absolute, objects);
+      continue;
+    }
+    if (std::optional<Json> overlay = vertex_volume_overlay(file, absolute, objects)) {
+      objects.back()["overlay"] = std::move(*overlay);
+      continue;
+    }
     if (!is_dicom_source(file) && !is_volume_file(file) && detail::is_overlay_file(file)) {
       if (!last_mesh)
         throw Error(

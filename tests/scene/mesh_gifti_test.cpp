@@ -45,7 +45,9 @@ std::string ascii(const T (*rows)[3], size_t n, bool column_major) {
   std::string out;
   for (size_t k = 0; k < 3 * n; ++k) {
     const size_t r = column_major ? k % n : k / 3, c = column_major ? k / n : k % 3;
-    out += std::to_string(rows[r][c]) + (k % 3 == 2 ? "\n" : " ");
+    // A column a line when column-major, as libgiftiio writes it (a row a line is nibabel's).
+    const size_t line = column_major ? n : 3;
+    out += std::to_string(rows[r][c]) + (k % line == line - 1 ? "\n" : " ");
   }
   return out;
 }

@@ -1,0 +1,139 @@
+// `intermix render lh.pial sig.nii.gz`: a FreeSurfer per-vertex map stored as a NIfTI volume
+// (7x1x6 voxels for 42 vertices, as 163842 become 27307x1x6) colours the surface before it,
+// vertex v taking voxel v (x fastest; the order is checked against nibabel in
+// tests/io/vertex_volume_test.cpp), exactly as a curvature file of the same values does.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.hpp"
+#include "intermix/io.hpp"
+#include "intermix/scene.hpp"
+#include "scene/scene_from_files.hpp"
+#include "temp_dir.hpp"
+
+namespace imx {
+namespace {
+
+std::string be32(uint32_t v) {
+  std::string s(4, '\0');
+  for (int i = 0; i < 4; ++i) s[i] = static_cast<char>((v >> (24 - 8 * i)) & 0xFF);
+  return s;
+}
+std::string bef(float f) {
+  uint32_t u;
+  std::memcpy(&u, &f, 4);
+  return be32(u);
+}
+
+// A closed FreeSurfer surface of 2 + 4 * 10 = 42 vertices: poles and four rings.
+void write_surface(const std::filesystem::path& file) {
+  const int rings = 5, around = 10;
+  std::vector<glm::vec3> p{{0, 0, 30}};
+  for (int r = 1; r < rings; ++r)
+    for (int a = 0; a < around; ++a) {
+      const double th = M_PI * r / rings, ph = 2 * M_PI * a / around;
+      p.emplace_back(30 * std::sin(th) * std::cos(ph), 30 * std::sin(th) * std::sin(ph),
+                     30 * std::cos(th));
+    }
+  p.emplace_back(0, 0, -30);
+  std::vector<glm::ivec3> t;
+  auto at = [&](int r, int a) { return 1 + (r - 1) * around + (a % around); };
+  for (int a = 0; a < around; ++a) t.emplace_back(0, at(1, a), at(1, a + 1));
+  for (int r = 1; r + 1 < rings; ++r)
+    for (int a = 0; a < around; ++a) {
+      t.emplace_back(at(r, a), at(r + 1, a), at(r + 1, a + 1));
+      t.emplace_back(at(r, a), at(r + 1, a + 1), at(r, a + 1));
+    }
+  const int last = static_cast<int>(p.size()) - 1;
+  for (int a = 0; a < around; ++a) t.emplace_back(last, at(rings - 1, a + 1), at(rings - 1, a));
+  std::string s =
+      "\xFF\xFF\xFE"
+      "created by test\n\n";
+  s += be32(static_cast<uint32_t>(p.size())) + be32(static_cast<uint32_t>(t.size()));
+  for (const glm::vec3& q : p) s += bef(q.x) + bef(q.y) + bef(q.z);
+  for (const glm::ivec3& q : t)
+    s += be32(static_cast<uint32_t>(q.x)) + be32(static_cast<uint32_t>(q.y)) +
+         be32(static_cast<uint32_t>(q.z));
+  test::write_bytes(file, s);
+}
+
+void write_curv(const std::filesystem::path& file, const std::vector<float>& values) {
+  std::string s = "\xFF\xFF\xFF";
+  s += be32(static_cast<uint32_t>(values.size())) + be32(0) + be32(1);
+  for (float v : values) s += bef(v);
+  test::write_bytes(file, s);
+}
+
+// `values` as a float volume of `dims`, x fastest.
+void write_values(const std::filesystem::path& file, glm::ivec3 dims,
+                  const std::vector<float>& values) {
+  VolumeData v;
+  v.dims = dims;
+  v.voxels = values;
+  write_nifti(v, file, file.extension() == ".gz");
+}
+
+std::vector<float> signed_values() {
+  std::vector<float> v(42);
+  for (size_t i = 0; i < v.size(); ++i)
+    v[i] = static_cast<float>(2.0 * std::sin(0.7 * static_cast<double>(i)) + 0.05 * i);
+  return v;
+}
+
+TEST(CliSurfaceData, APerVertexNiftiAfterItsSurfaceColoursItLikeACurvatureFile) {
+  test::TempDir dir;
+  write_surface(dir / "lh.pial");
+  const std::vector<float> values = signed_values();
+  write_values(dir / "sig.nii.gz", {7, 1, 6}, values);
+  write_curv(dir / "lh.sig", values);
+  const std::string png = (dir / "sig.png").string(), saved = (dir / "sig.json").string();
+  const test::CliResult r = test::run_cli(
+      fmt::format("render {} {} -o {} --width 64 --height 64 --save-scene {}",
+                  (dir / "lh.pial").string(), (dir / "sig.nii.gz").string(), png, saved));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json document = nlohmann::json::parse(test::read_bytes(saved));
+  ASSERT_EQ(document["objects"].size(), 1u) << document.dump(2);  // no volume object
+  const nlohmann::json& overlay = document["objects"][0]["overlay"];
+  EXPECT_EQ(overlay["file"], (dir / "sig.nii.gz").string());
+  const Scene from_cli = load_scene(saved);
+  const SceneDocument from_curv = scene_from_files({dir / "lh.pial", dir / "lh.sig"}, "left", {});
+  for (const char* key : {"colormap", "range", "symmetric"})
+    EXPECT_EQ(overlay[key], from_curv.json()["objects"][0]["overlay"][key]) << key;
+  const std::vector<glm::vec3>& a = from_cli.meshes.at(0).mesh->colors;
+  const std::vector<glm::vec3>& b = from_curv.scene().meshes.at(0).mesh->colors;
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_FALSE(a.empty());
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << "vertex " << i;
+  // The same values in another voxel order colour other vertices: the check can fail.
+  std::vector<float> swapped = values;
+  std::swap(swapped[3], swapped[30]);
+  write_values(dir / "swapped.nii", {7, 1, 6}, swapped);
+  const SceneDocument other = scene_from_files({dir / "lh.pial", dir / "swapped.nii"}, "left", {});
+  EXPECT_NE(other.scene().meshes.at(0).mesh->colors, b);
+}
+
+TEST(CliSurfaceData, AThreeDimensionalImageAfterASurfaceStaysAVolume) {
+  test::TempDir dir;
+  write_surface(dir / "lh.pial");
+  // 42 voxels, as many as the surface's vertices, but no axis of 1: an image.
+  write_values(dir / "cube.nii", {2, 3, 7}, signed_values());
+  const SceneDocument doc = scene_from_files({dir / "lh.pial", dir / "cube.nii"}, "left", {});
+  ASSERT_EQ(doc.json()["objects"].size(), 2u);
+  EXPECT_EQ(doc.json()["objects"][1]["type"], "volume");
+  EXPECT_FALSE(doc.json()["objects"][0].contains("overlay"));
+  // An axis of 1 but another count: a volume too (a single slice).
+  write_values(dir / "slice.nii", {6, 8, 1}, std::vector<float>(48, 1.0f));
+  EXPECT_EQ(
+      scene_from_files({dir / "lh.pial", dir / "slice.nii"}, "left", {}).json()["objects"].size(),
+      2u);
+}
+
+}  // namespace
+}  // namespace imx
