@@ -198,8 +198,12 @@ Command add_convert(CLI::App& app) {
                          repetition_s > 0.0 ? repetition_s : frame_seconds(labels), gzip);
       if (!labels.empty()) {
         write_frame_labels(labels, o->output);
-        if (std::any_of(labels.begin(), labels.end(),
-                        [](const FrameLabel& l) { return l.b_value.has_value(); }))
+        // As dcm2niix: only a series with some diffusion weighting (b > 0 or a direction), not
+        // the b = 0 labels of an fMRI, ASL or field map series.
+        if (std::any_of(labels.begin(), labels.end(), [](const FrameLabel& l) {
+              return l.b_value.value_or(0.0) > 0.0 ||
+                     glm::length(l.b_vector.value_or(glm::dvec3(0.0))) > 0.0;
+            }))
           write_diffusion(labels, first.index_to_world, o->output);
       }
     }

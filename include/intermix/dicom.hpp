@@ -70,6 +70,8 @@ struct DicomVolume {
 // - slices sorted by ImagePositionPatient along the slice normal; duplicate positions (within
 //   0.01 mm) and missing slices (a gap at least 1.5 times both neighbouring gaps, or the only
 //   gap of three slices) are refused;
+// - a series without any ImagePositionPatient is stacked in acquisition order along the patient
+//   axes, centred on the origin, as dcm2niix places it (a note says so);
 // - RescaleSlope / RescaleIntercept applied per slice: float when slopes differ or are not
 //   integers (or intercepts are not), else the smallest of u8, i16, u16 that holds the values;
 // - gantry tilt kept exactly as a sheared index_to_world when the spacing is even;
@@ -81,7 +83,8 @@ struct DicomVolume {
 DicomVolume read_dicom(const std::filesystem::path& source, const DicomReadOptions& options = {});
 
 // Every frame of a multi-volume series (one for a 3-D series), in order, each as read_dicom gives
-// it with that frame; the files are read once. For `intermix convert`.
+// it with that frame; the files are read once. The series' file list (series.files) and the
+// frame labels, the same for every frame, are in the first frame's alone. For `intermix convert`.
 std::vector<DicomVolume> read_dicom_frames(const std::filesystem::path& source,
                                            const DicomReadOptions& options = {});
 

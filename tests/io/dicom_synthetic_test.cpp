@@ -1,5 +1,6 @@
 // DICOM reading on small series written here with GDCM: rescale and types, geometry (tilt,
 // uneven spacing), SUV, and one clear error for each kind of bad input.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -801,7 +802,7 @@ TEST(DicomVolumes, MosaicTilesAreSlicesPlacedFromTheMosaicCorner) {
   expect_error([&] { read_dicom(dir / "m.dcm"); }, {"m.dcm", "mosaic", "NumberOfImagesInMosaic"});
 }
 
-TEST(DicomVolumes, GeReversedPolarityRowsAreMirroredAlternatingRefused) {
+TEST(DicomVolumes, GeReversedPolarityRowsAreMirrored) {
   TempDir dir;
   auto pepolar = [](const std::string& user_data) {
     return [user_data](gdcm::DataSet& ds) {
@@ -820,9 +821,14 @@ TEST(DicomVolumes, GeReversedPolarityRowsAreMirroredAlternatingRefused) {
   s.extra = pepolar("0");  // forward: as stored
   write_slice(dir / "r.dcm", s);
   EXPECT_EQ(read_dicom(dir / "r.dcm").volume.value_at(0, 0, 0), 0);
+  // Alternating, without a temporal position to tell the polarities apart: as stored, as
+  // dcm2niix reads it (dicom_diffusion_test.cpp checks the split by temporal position).
   s.extra = pepolar("2");
   write_slice(dir / "r.dcm", s);
-  expect_error([&] { read_dicom(dir / "r.dcm"); }, {"r.dcm", "epi_pepolar", "alternating"});
+  const DicomVolume alternating = read_dicom(dir / "r.dcm");
+  EXPECT_EQ(alternating.volume.value_at(0, 0, 0), 0);
+  EXPECT_TRUE(std::any_of(alternating.notes.begin(), alternating.notes.end(),
+                          [](const std::string& n) { return n.find("epi_pepolar") != n.npos; }));
 }
 
 }  // namespace
@@ -873,13 +879,25 @@ TEST(DicomVolumes, TheSameImageTwiceIsRefusedNotASecondVolume) {
   expect_error([&] { read_dicom(dir.path()); }, {"are the same image", "SOPInstanceUID"});
 }
 
-TEST(DicomVolumes, ImagesWithoutPositionsAreNotSplitIntoVolumes) {
+// No image with a position: stacked as dcm2niix stacks them, one volume, with a note
+// (dicom_diffusion_test.cpp compares the placement with dcm2niix's); some with and some without
+// one: refused.
+TEST(DicomVolumes, ImagesWithoutPositionsAreStackedAsOneVolume) {
   TempDir dir;
   for (int i = 0; i < 3; ++i) {
     Slice s;
     s.extra = [](gdcm::DataSet& ds) { ds.Remove(gdcm::Tag(0x0020, 0x0032)); };
     write_slice(dir / fmt::format("p{}.dcm", i), s);
   }
+  const DicomVolume d = read_dicom(dir.path());
+  EXPECT_EQ(d.frames, 1);
+  EXPECT_EQ(d.volume.dims.z, 3);
+  EXPECT_TRUE(std::any_of(d.notes.begin(), d.notes.end(), [](const std::string& n) {
+    return n.find("no ImagePositionPatient") != n.npos;
+  }));
+  Slice placed;
+  placed.position = glm::dvec3(0, 0, 7);
+  write_slice(dir / "p3.dcm", placed);
   expect_error([&] { read_dicom(dir.path()); }, {"no ImagePositionPatient"});
 }
 

@@ -108,14 +108,63 @@ void read_standard_diffusion(const gdcm::DataSet& ds, DicomFrame& f) {
       f.gradient = glm::dvec3(v[0], v[1], v[2]);
   };
   gradient(ds);
+  // DiffusionDirectionality (0018,9075) ISOTROPIC: a trace image of an enhanced file.
+  if (tag_text(ds, 0x0018, 0x9075).value_or("") == "ISOTROPIC" && f.b_value.value_or(0.0) > 0.0)
+    f.derived_diffusion = true;
   gdcm::SmartPointer<gdcm::SequenceOfItems> hold;
   if (const gdcm::DataSet* s = first_item(ds, 0x0018, 0x9076, hold)) gradient(*s);
+}
+
+// GE's (0019,xxBB-BD) gradient is not in patient space but along the image's phase, frequency
+// and slice axes. dcm2niix (geCorrectBvecs) swaps the first two for row phase encoding and
+// mirrors the axes its slice class (sagittal, coronal, axial: the normal's largest component)
+// lists; expressed along the row, column and normal (row x column) of the image, that gives the
+// direction it writes, which is turned here into patient space. A length between 0.03 and 0.97
+// scales the b-value by its square, as GE's scaled multi-shell tensors mean (and dcm2niix reads).
+void ge_gradient_to_patient(const gdcm::DataSet& ds, glm::dvec3 v, DicomFrame& f,
+                            std::vector<std::string>& notes) {
+  const double length = glm::length(v);
+  if (length <= 1e-6) {
+    f.gradient = glm::dvec3(0.0);
+    // dcm2niix reads a b-value without a direction (a trace, or a b = 0 misnamed) as b = 0.
+    if (f.b_value && *f.b_value > 0.0) {
+      notes.push_back(
+          "GE diffusion: images with b > 0 but no direction (trace, or b = 0) are read as b = 0, "
+          "as dcm2niix reads them");
+      f.b_value = 0.0;
+    }
+    return;
+  }
+  if (!f.row_direction || !f.column_direction) return;  // cannot be placed: left unknown
+  if (length > 0.03 && length < 0.97 && f.b_value) {
+    f.b_value = *f.b_value * length * length;
+    v /= length;
+  }
+  std::string phase = tag_text(ds, 0x0018, 0x1312).value_or("");
+  if (phase != "ROW" && phase != "COL") {
+    notes.push_back(
+        "GE diffusion directions: no InPlanePhaseEncodingDirection (0018,1312) of ROW or COL "
+        "says which image axis (0019,xxBB) follows; read as COL, GE's usual");
+    phase = "COL";
+  }
+  if (phase == "ROW") v = glm::dvec3(v.y, -v.x, v.z);
+  const glm::dvec3 r = *f.row_direction, c = *f.column_direction;
+  const glm::dvec3 n = glm::normalize(glm::cross(r, c));
+  const glm::dvec3 a = glm::abs(n);
+  glm::dvec3 mirror(1.0, 1.0, -1.0);  // axial
+  if (a.x > a.y && a.x > a.z)
+    mirror = glm::dvec3(-1.0, -1.0, 1.0);  // sagittal
+  else if (a.y > a.x && a.y > a.z)
+    mirror = glm::dvec3(1.0, -1.0, -1.0);  // coronal
+  v = -(v * mirror);
+  f.gradient = r * v.x + c * v.y + n * v.z;
 }
 
 // The vendors' private diffusion tags of classic (single-frame) files, each read only under its
 // own private creator: Siemens (0019,xx0C/0E), GE (0043,xx39 b-value; 0019,xxBB-BD gradient),
 // Philips (2001,xx03 b-value; 2005,xxB0-B2 gradient).
-void read_private_diffusion(const gdcm::DataSet& ds, DicomFrame& f) {
+void read_private_diffusion(const gdcm::DataSet& ds, DicomFrame& f,
+                            std::vector<std::string>& notes) {
   if (auto b = private_block(ds, 0x0019, "SIEMENS MR HEADER")) {
     if (auto v = tag_number(ds, 0x0019, *b | 0x0C); v && *v >= 0.0) f.b_value = v;
     if (std::vector<double> g = tag_fd(ds, 0x0019, *b | 0x0E); g.size() == 3)
@@ -128,11 +177,15 @@ void read_private_diffusion(const gdcm::DataSet& ds, DicomFrame& f) {
   if (auto b = private_block(ds, 0x0019, "GEMS_ACQU_01")) {
     auto x = tag_number(ds, 0x0019, *b | 0xBB), y = tag_number(ds, 0x0019, *b | 0xBC),
          z = tag_number(ds, 0x0019, *b | 0xBD);
-    if (x && y && z) f.gradient = glm::dvec3(*x, *y, *z);
+    if (x && y && z) ge_gradient_to_patient(ds, glm::dvec3(*x, *y, *z), f, notes);
   }
-  if (auto b = private_block(ds, 0x2001, "Philips Imaging DD 001"))
+  if (auto b = private_block(ds, 0x2001, "Philips Imaging DD 001")) {
     if (std::vector<double> v = tag_fl(ds, 0x2001, *b | 0x03); v.size() == 1 && v[0] >= 0.0)
       f.b_value = v[0];
+    // Diffusion direction 'I': the isotropic (trace) image Philips derives from the others.
+    if (tag_text(ds, 0x2001, *b | 0x04).value_or("") == "I" && f.b_value.value_or(0.0) > 0.0)
+      f.derived_diffusion = true;
+  }
   if (auto b = private_block(ds, 0x2005, "Philips MR Imaging DD 001")) {
     std::vector<double> x = tag_fl(ds, 0x2005, *b | 0xB0), y = tag_fl(ds, 0x2005, *b | 0xB1),
                         z = tag_fl(ds, 0x2005, *b | 0xB2);
@@ -141,7 +194,8 @@ void read_private_diffusion(const gdcm::DataSet& ds, DicomFrame& f) {
 }
 
 // The top-level tags that tell volumes apart, for every frame of the file.
-void read_volume_keys(const gdcm::DataSet& ds, const std::string& image_type, DicomFrame& f) {
+void read_volume_keys(const gdcm::DataSet& ds, const std::string& image_type, DicomFrame& f,
+                      std::vector<std::string>& notes) {
   if (auto t = tag_number(ds, 0x0020, 0x0100)) f.temporal_position = clamped_int(*t);
   if (auto t = tag_number(ds, 0x0018, 0x1060)) f.trigger_time_ms = t;
   if (auto e = tag_number(ds, 0x0018, 0x0086)) f.echo_number = clamped_int(*e);
@@ -151,7 +205,7 @@ void read_volume_keys(const gdcm::DataSet& ds, const std::string& image_type, Di
   if (!f.acquisition_time_s)
     if (auto dt = tag_text(ds, 0x0008, 0x002a); dt && dt->size() > 8)
       f.acquisition_time_s = parse_dicom_time(dt->substr(8));
-  read_private_diffusion(ds, f);
+  read_private_diffusion(ds, f, notes);
   read_standard_diffusion(ds, f);
   // ImageType's third value names the complex component of MR images (M, P, R, I).
   std::vector<std::string> parts;
@@ -161,6 +215,12 @@ void read_volume_keys(const gdcm::DataSet& ds, const std::string& image_type, Di
     if (cut == std::string::npos) break;
     at = cut + 1;
   }
+  // ADC, trace and isotropic images computed from the diffusion-weighted ones (dcm2niix keeps
+  // them out of the DWI).
+  if (!parts.empty() && parts[0] == "DERIVED")
+    for (const std::string& p : parts)
+      if (p == "ADC" || p == "TRACEW" || p == "TRACE" || p == "ISOTROPIC" || p == "FA")
+        f.derived_diffusion = true;
   if (parts.size() >= 3 &&
       (parts[2] == "M" || parts[2] == "P" || parts[2] == "R" || parts[2] == "I"))
     f.complex_component = parts[2];
@@ -218,23 +278,36 @@ void read_suv_tags(const gdcm::DataSet& ds, DicomSuvTags& t) {
 }
 
 // GE's research EPI "epi_pepolar" says in user data 12 (0019,xxB3) which volumes it acquired with
-// the phase encoding reversed: 1 all of them (their rows are mirrored, as dcm2niix reads them);
-// 2 and 3 alternate forward and reverse volumes, which dcm2niix splits into two series: refused.
-bool ge_reversed_polarity(const gdcm::DataSet& ds, const std::string& what) {
+// the phase encoding reversed, whose rows dcm2niix mirrors back: 1 all of them; 2 the odd and 3
+// the even TemporalPositionIdentifiers (0020,0100), where dcm2niix then converts the odd and the
+// even time points as two series (the `polarity_part`, 1 and 2, keeps them apart here too).
+// Without a temporal position dcm2niix mirrors none and keeps one series: so does this.
+void read_ge_polarity(const gdcm::DataSet& ds, DicomFileHeader& h) {
   auto b = private_block(ds, 0x0019, "GEMS_ACQU_01");
-  if (!b) return false;
+  if (!b) return;
   std::string name = tag_text(ds, 0x0019, *b | 0x9C).value_or("") + " " +
                      tag_text(ds, 0x0019, *b | 0x9E).value_or("");
   std::transform(name.begin(), name.end(), name.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (name.find("epi_pepolar") == std::string::npos) return false;
+  if (name.find("epi_pepolar") == std::string::npos) return;
   const double user_data_12 = tag_number(ds, 0x0019, *b | 0xB3).value_or(0.0);
-  if (user_data_12 == 2.0 || user_data_12 == 3.0)
-    throw Error(fmt::format(
-        "{}: GE epi_pepolar with alternating forward and reverse volumes (user data 12 (0019,10B3) "
-        "is {}) is not supported",
-        what, user_data_12));
-  return user_data_12 == 1.0;
+  if (user_data_12 == 1.0) h.mirror_rows = true;
+  if (user_data_12 != 2.0 && user_data_12 != 3.0) return;
+  const std::optional<int> time =
+      h.frames.empty() ? std::nullopt : h.frames.front().temporal_position;
+  if (!time) {
+    h.notes.push_back(
+        "GE epi_pepolar with alternating phase encoding (user data 12 (0019,10B3)) but no "
+        "TemporalPositionIdentifier (0020,0100): read as stored, as dcm2niix reads it");
+    return;
+  }
+  const bool odd = *time % 2 != 0;
+  h.polarity_part = odd ? 1 : 2;
+  h.mirror_rows = (user_data_12 == 2.0) == odd;
+  h.notes.push_back(fmt::format(
+      "GE epi_pepolar with alternating phase encoding: the {} time points, one polarity, are this "
+      "series; the other polarity is series part {}",
+      odd ? "odd" : "even", odd ? 2 : 1));
 }
 
 // A Siemens mosaic: the tiles of one volume side by side in one image, as many per row as per
@@ -457,7 +530,7 @@ void read_frames(const gdcm::DataSet& ds, const std::string& image_type, DicomFi
   read_rescale(ds, base, what);
   read_window(ds, base);
   base.instance_number = h.instance_number;
-  read_volume_keys(ds, image_type, base);
+  read_volume_keys(ds, image_type, base, h.notes);
   gdcm::SmartPointer<gdcm::SequenceOfItems> shared_hold;
   if (const gdcm::DataSet* shared = first_item(ds, 0x5200, 0x9229, shared_hold))
     apply_functional_groups(*shared, base, what);
@@ -563,7 +636,7 @@ std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& fi
 
   read_frames(ds, image_type, h);
   if (image_type.find("MOSAIC") != std::string::npos) split_into_tiles(ds, h);
-  h.mirror_rows = ge_reversed_polarity(ds, file.string());
+  read_ge_polarity(ds, h);
   read_suv_tags(ds, h.suv);
   check_pixel_data(h);
   return h;

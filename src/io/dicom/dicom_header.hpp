@@ -35,6 +35,9 @@ struct DicomFrame {
   std::string complex_component;             // "M", "P", "R", "I" from ImageType or (0008,9208)
   std::optional<double> acquisition_time_s;  // seconds since midnight
   std::optional<double> repetition_time_ms;  // RepetitionTime (0018,0080)
+  // An ADC, trace or isotropic image derived from diffusion-weighted ones (ImageType DERIVED with
+  // ADC, TRACEW, ...; Philips diffusion direction (2001,xx04) 'I'): not a diffusion direction.
+  bool derived_diffusion = false;
 };
 
 // The tags SUV by body weight needs, as found (nullopt: absent or malformed).
@@ -62,6 +65,9 @@ struct DicomFileHeader {
   // GE's reversed-polarity EPI (epi_pepolar, reverse): rows stored mirrored along the phase axis,
   // which dcm2niix flips back; so does the decoder.
   bool mirror_rows = false;
+  // epi_pepolar alternating forward and reverse volumes: 1 odd, 2 even time points (each a series
+  // of its own, as dcm2niix converts them); 0 otherwise.
+  int polarity_part = 0;
   bool localizer = false;
   bool has_pixel_data = false;
   uint64_t pixel_bytes = 0;  // bytes in the file from the pixel data's value on
@@ -74,6 +80,7 @@ struct DicomFileHeader {
   std::optional<double> slice_spacing;  // SpacingBetweenSlices, else SliceThickness
   std::string slice_spacing_fault;      // why neither is usable where one is present, else ""
   std::vector<DicomFrame> frames;       // frame_count of them
+  std::vector<std::string> notes;       // what the series' notes should say about this file
   DicomSuvTags suv;
 };
 

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <tuple>
 
 #include <sys/mman.h>
 
@@ -36,8 +37,34 @@ struct SeriesLayout {
   DicomSeriesGroup group;
   DicomVolumes volumes;
   std::string note, what;
+  std::vector<std::string> notes;       // the files' and the volumes' notes, each once
   std::vector<std::string> not_images;  // files beside the series that are not DICOM images
 };
+
+// A series none of whose images has an ImagePositionPatient (some UIH DTI series): stacked as
+// dcm2niix stacks them, in acquisition order along the patient axes (ImageOrientationPatient
+// ignored, as it ignores it), PixelSpacing and SpacingBetweenSlices (else SliceThickness, else
+// 1 mm) apart, centred on the origin. Returns the note that says so.
+std::string place_without_positions(std::vector<DicomFrame>& images, const DicomFileHeader& h) {
+  std::stable_sort(images.begin(), images.end(), [](const DicomFrame& a, const DicomFrame& b) {
+    return std::tie(a.instance_number, a.file, a.frame) <
+           std::tie(b.instance_number, b.file, b.frame);
+  });
+  const glm::dvec2 pixel = images.front().pixel_spacing.value_or(glm::dvec2(1.0));
+  const double step = h.slice_spacing.value_or(1.0);
+  const glm::dvec3 first(-(h.columns - 1) * pixel.y / 2.0, -(h.rows - 1) * pixel.x / 2.0,
+                         -static_cast<double>(images.size() - 1) * step / 2.0);
+  for (size_t k = 0; k < images.size(); ++k) {
+    images[k].row_direction = glm::dvec3(1.0, 0.0, 0.0);
+    images[k].column_direction = glm::dvec3(0.0, 1.0, 0.0);
+    images[k].position = first + glm::dvec3(0.0, 0.0, step * static_cast<double>(k));
+  }
+  return fmt::format(
+      "no ImagePositionPatient (0020,0032): the {} images are stacked in acquisition order "
+      "{:g} mm apart along the patient axes, centred on the origin, as dcm2niix places them "
+      "(the real placement is unknown)",
+      images.size(), step);
+}
 
 SeriesLayout layout_of(const std::filesystem::path& source, const std::string& series) {
   std::vector<std::string> broken, not_images;
@@ -51,6 +78,9 @@ SeriesLayout layout_of(const std::filesystem::path& source, const std::string& s
   l.not_images = std::move(not_images);
   l.group = choose_series(groups, series, source, l.note);
   l.what = fmt::format("{} (series {})", source.string(), l.group.info.id);
+  for (const DicomFileHeader& h : l.group.headers)
+    for (const std::string& n : h.notes)
+      if (std::find(l.notes.begin(), l.notes.end(), n) == l.notes.end()) l.notes.push_back(n);
   // The same image twice (a folder copied into itself) would pass for a second volume.
   std::map<std::string, const DicomFileHeader*> by_sop;
   for (const DicomFileHeader& h : l.group.headers)
@@ -62,6 +92,9 @@ SeriesLayout layout_of(const std::filesystem::path& source, const std::string& s
   std::vector<DicomFrame> images;
   for (const DicomFileHeader& h : l.group.headers)
     images.insert(images.end(), h.frames.begin(), h.frames.end());
+  if (images.size() > 1 &&
+      std::none_of(images.begin(), images.end(), [](const DicomFrame& f) { return f.position; }))
+    l.notes.push_back(place_without_positions(images, l.group.headers.front()));
   try {
     l.volumes = split_volumes(std::move(images), l.what);
   } catch (const Error& e) {
@@ -75,6 +108,8 @@ AcquiredSeries acquired_layout(const SeriesLayout& l, int frame) {
   AcquiredSeries out;
   out.info = l.group.info;
   if (!l.note.empty()) out.notes.push_back(l.note);
+  out.notes.insert(out.notes.end(), l.notes.begin(), l.notes.end());
+  out.notes.insert(out.notes.end(), l.volumes.notes.begin(), l.volumes.notes.end());
   const DicomFileHeader& first = l.group.headers.front();
   out.modality = first.modality;
   out.photometric = first.photometric;
@@ -256,7 +291,15 @@ std::vector<AcquiredSeries> decode_volumes(const SeriesLayout& l, std::vector<in
       fmt::format("{} ({}x{}x{} voxels, {} frame{})", l.what, first.columns, first.rows,
                   l.volumes.volumes.front().size(), which.size(), which.size() == 1 ? "" : "s"));
   std::vector<AcquiredSeries> out;
-  for (int f : which) out.push_back(acquired_layout(l, f));
+  for (int f : which) {
+    out.push_back(acquired_layout(l, f));
+    // The series' file list and labels are the same for every volume: the first alone keeps
+    // them, so that thousands of files in hundreds of volumes are not held once per volume.
+    if (out.size() > 1) {
+      std::vector<std::filesystem::path>().swap(out.back().info.files);
+      std::vector<FrameLabel>().swap(out.back().labels);
+    }
+  }
 
   // Where each image goes.
   SlotsByFile slots;
@@ -442,11 +485,11 @@ DicomVolume to_volume(detail::AcquiredSeries& a, const DicomReadOptions& options
   detail::SliceGrid grid = detail::plan_slice_grid(a.stack, options.slice_spacing_mm, series_what);
 
   DicomVolume out;
-  out.series = a.info;
+  out.series = std::move(a.info);
   out.notes = a.notes;
   out.notes.insert(out.notes.end(), a.stack.notes.begin(), a.stack.notes.end());
   out.frames = a.frames;
-  out.frame_labels = a.labels;
+  out.frame_labels = std::move(a.labels);
   if (const auto& tr = a.stack.frames.front().repetition_time_ms) out.repetition_time_s = *tr / 1e3;
   if (a.modality == "CT")
     out.units = a.rescale_type.empty() ? "HU" : a.rescale_type;

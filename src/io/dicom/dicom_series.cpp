@@ -156,10 +156,17 @@ std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& sou
 
   // Group by series UID and number (one UID may carry several numbers: dcm2niix makes a volume
   // of each), size, localizer-ness, then by orientation within those.
-  std::map<std::tuple<std::string, int, int, int, bool>, std::vector<std::vector<DicomFileHeader>>>
+  // Derived diffusion images (ADC, trace), colour images and the two polarities of GE's
+  // alternating epi_pepolar sharing one UID are series of their own too, as dcm2niix converts
+  // them apart.
+  std::map<std::tuple<std::string, int, int, int, bool, bool, int, int>,
+           std::vector<std::vector<DicomFileHeader>>>
       keyed;
   for (DicomFileHeader& h : headers) {
-    auto& clusters = keyed[{h.series_uid, h.series_number, h.rows, h.columns, h.localizer}];
+    const bool derived = std::all_of(h.frames.begin(), h.frames.end(),
+                                     [](const DicomFrame& f) { return f.derived_diffusion; });
+    auto& clusters = keyed[{h.series_uid, h.series_number, h.rows, h.columns, h.localizer,
+                            derived && !h.frames.empty(), h.samples_per_pixel, h.polarity_part}];
     auto it = std::find_if(clusters.begin(), clusters.end(), [&](const auto& c) {
       return same_orientation(c.front().frames.front(), h.frames.front());
     });

@@ -152,8 +152,18 @@ FrameLabel label_of(const std::vector<DicomFrame>& volume, double first_time, bo
 DicomVolumes split_volumes(std::vector<DicomFrame> images, const std::string& what) {
   DicomVolumes out;
   if (images.empty()) throw Error(fmt::format("{}: the series has no images", what));
+  // ADC or trace images among diffusion-weighted ones are left out, as dcm2niix leaves them.
+  const auto derived = std::count_if(images.begin(), images.end(),
+                                     [](const DicomFrame& f) { return f.derived_diffusion; });
+  if (derived > 0 && static_cast<size_t>(derived) < images.size()) {
+    std::erase_if(images, [](const DicomFrame& f) { return f.derived_diffusion; });
+    out.notes.push_back(fmt::format(
+        "{} derived diffusion image{} (isotropic, ADC or trace) left out of the diffusion volumes",
+        derived, derived == 1 ? "" : "s"));
+  }
   // Without a position on every image there is no telling volumes apart: order_slices refuses
-  // such a stack of several images.
+  // such a stack of several images (a series without any was placed before, as dcm2niix places
+  // it).
   if (std::any_of(images.begin(), images.end(), [](const DicomFrame& f) { return !f.position; })) {
     out.volumes.push_back(std::move(images));
     return out;

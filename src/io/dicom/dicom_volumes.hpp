@@ -12,6 +12,7 @@ namespace imx::detail {
 struct DicomVolumes {
   std::vector<std::vector<DicomFrame>> volumes;  // each: one image per slice position
   std::vector<FrameLabel> labels;                // one per volume when there are several
+  std::vector<std::string> notes;                // images left out, and why
 };
 
 // Splits `images` (one series: one size and orientation) into volumes that each hold one image
