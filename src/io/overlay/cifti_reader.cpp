@@ -132,6 +132,73 @@ int64_t check_models(std::vector<CiftiBrainModel>& models, const std::string& wh
   return next;
 }
 
+// What the NIfTI-2 header of a CIFTI-2 file must say: a CIFTI intent, dim[1] to dim[4] at 1, the
+// matrix along dim[5] and dim[6], a bounded XML extension before the data.
+void check_cifti_nifti_header(const NiftiHeader& h, const std::string& what) {
+  if (!cifti_intent(h.intent_code))
+    throw Error(fmt::format("{}: not a CIFTI file (NIfTI intent code {}, CIFTI's are 3000-3099)",
+                            what, h.intent_code));
+  if (h.kind != NiftiKind::nifti2)
+    throw Error(fmt::format("{}: a {} file with a CIFTI intent ({}); CIFTI-2 files are NIfTI-2",
+                            what, nifti_kind_name(h.kind), h.intent_code));
+  for (int d = 1; d <= 4; ++d)
+    if (h.dim[d] != 1)
+      throw Error(
+          fmt::format("{}: dim[{}] is {}; a CIFTI-2 file keeps dim[1] to dim[4] at 1 "
+                      "(its matrix lies along dim[5] and dim[6])",
+                      what, d, h.dim[d]));
+  if (h.ndim > 6)
+    throw Error(
+        fmt::format("{}: dim[0] is {}; intermix reads CIFTI-2 matrices of two "
+                    "dimensions (dim[0] 5 or 6)",
+                    what, h.ndim));
+  if (h.vox_offset > kMaxCiftiXmlBytes)
+    throw Error(fmt::format("{}: vox_offset is {}: more than {} bytes of header extensions", what,
+                            h.vox_offset, kMaxCiftiXmlBytes));
+}
+
+// The two index maps of a dense file: brain models along one matrix dimension, the maps
+// (scalars, labels or series) along the other.
+struct DenseIndexMaps {
+  const CiftiIndexMap* maps = nullptr;
+  CiftiIndexMap* models = nullptr;
+  bool maps_fastest = true;  // the brain models along matrix dimension 1
+};
+
+DenseIndexMaps dense_index_maps(CiftiXml& xml, const std::string& what) {
+  CiftiIndexMap* along[2] = {nullptr, nullptr};
+  for (CiftiIndexMap& m : xml.maps) {
+    if (m.type == "CIFTI_INDEX_TYPE_PARCELS")
+      throw Error(
+          fmt::format("{}: a parcellated CIFTI-2 file (CIFTI_INDEX_TYPE_PARCELS: "
+                      ".pscalar, .ptseries, .pconn...); intermix reads dense files, "
+                      "whose values belong to vertices (.dscalar, .dlabel, .dtseries)",
+                      what));
+    for (int d : m.dimensions) {
+      if (along[d])
+        throw Error(fmt::format("{}: two index maps apply to matrix dimension {}", what, d));
+      along[d] = &m;
+    }
+  }
+  for (int d = 0; d < 2; ++d)
+    if (!along[d])
+      throw Error(fmt::format("{}: no index map applies to matrix dimension {}", what, d));
+  const bool models0 = along[0]->type == "CIFTI_INDEX_TYPE_BRAIN_MODELS";
+  const bool models1 = along[1]->type == "CIFTI_INDEX_TYPE_BRAIN_MODELS";
+  if (models0 && models1)
+    throw Error(
+        fmt::format("{}: dense connectivity (brain models along both dimensions, "
+                    ".dconn); intermix reads maps of values on vertices (.dscalar, "
+                    ".dlabel, .dtseries)",
+                    what));
+  if (!models0 && !models1)
+    throw Error(
+        fmt::format("{}: no CIFTI_INDEX_TYPE_BRAIN_MODELS map (maps {} and {}): no "
+                    "values on vertices",
+                    what, along[0]->type, along[1]->type));
+  return {along[models1 ? 0 : 1], along[models1 ? 1 : 0], models1};
+}
+
 }  // namespace
 
 std::string short_structure_name(const std::string& structure) {
@@ -199,26 +266,7 @@ CiftiFile read_cifti(const std::filesystem::path& file) {
   require_regular_file(file);
   const FileHead first = read_file_head(file, kNifti2HeaderBytes, what);
   const NiftiHeader h = decode_nifti_header(first.bytes, false, first.gzipped, what);
-  if (!cifti_intent(h.intent_code))
-    throw Error(fmt::format("{}: not a CIFTI file (NIfTI intent code {}, CIFTI's are 3000-3099)",
-                            what, h.intent_code));
-  if (h.kind != NiftiKind::nifti2)
-    throw Error(fmt::format("{}: a {} file with a CIFTI intent ({}); CIFTI-2 files are NIfTI-2",
-                            what, nifti_kind_name(h.kind), h.intent_code));
-  for (int d = 1; d <= 4; ++d)
-    if (h.dim[d] != 1)
-      throw Error(
-          fmt::format("{}: dim[{}] is {}; a CIFTI-2 file keeps dim[1] to dim[4] at 1 "
-                      "(its matrix lies along dim[5] and dim[6])",
-                      what, d, h.dim[d]));
-  if (h.ndim > 6)
-    throw Error(
-        fmt::format("{}: dim[0] is {}; intermix reads CIFTI-2 matrices of two "
-                    "dimensions (dim[0] 5 or 6)",
-                    what, h.ndim));
-  if (h.vox_offset > kMaxCiftiXmlBytes)
-    throw Error(fmt::format("{}: vox_offset is {}: more than {} bytes of header extensions", what,
-                            h.vox_offset, kMaxCiftiXmlBytes));
+  check_cifti_nifti_header(h, what);
   std::error_code ec;
   const uintmax_t file_size = std::filesystem::file_size(file, ec);
   if (!first.gzipped && !ec && h.vox_offset > file_size)
@@ -239,44 +287,13 @@ CiftiFile read_cifti(const std::filesystem::path& file) {
     throw Error(
         fmt::format("{}: the CIFTI element's Version is '{}', not 2", what, shown(xml.version)));
 
-  // One index map per matrix dimension: brain models along one, maps along the other.
-  CiftiIndexMap* along[2] = {nullptr, nullptr};
-  for (CiftiIndexMap& m : xml.maps) {
-    if (m.type == "CIFTI_INDEX_TYPE_PARCELS")
-      throw Error(
-          fmt::format("{}: a parcellated CIFTI-2 file (CIFTI_INDEX_TYPE_PARCELS: "
-                      ".pscalar, .ptseries, .pconn...); intermix reads dense files, "
-                      "whose values belong to vertices (.dscalar, .dlabel, .dtseries)",
-                      what));
-    for (int d : m.dimensions) {
-      if (along[d])
-        throw Error(fmt::format("{}: two index maps apply to matrix dimension {}", what, d));
-      along[d] = &m;
-    }
-  }
-  for (int d = 0; d < 2; ++d)
-    if (!along[d])
-      throw Error(fmt::format("{}: no index map applies to matrix dimension {}", what, d));
-  const bool models0 = along[0]->type == "CIFTI_INDEX_TYPE_BRAIN_MODELS";
-  const bool models1 = along[1]->type == "CIFTI_INDEX_TYPE_BRAIN_MODELS";
-  if (models0 && models1)
-    throw Error(
-        fmt::format("{}: dense connectivity (brain models along both dimensions, "
-                    ".dconn); intermix reads maps of values on vertices (.dscalar, "
-                    ".dlabel, .dtseries)",
-                    what));
-  if (!models0 && !models1)
-    throw Error(
-        fmt::format("{}: no CIFTI_INDEX_TYPE_BRAIN_MODELS map (maps {} and {}): no "
-                    "values on vertices",
-                    what, along[0]->type, along[1]->type));
-
+  DenseIndexMaps dense = dense_index_maps(xml, what);
   CiftiFile c;
   c.file = file;
   c.intent_code = h.intent_code;
-  c.maps_fastest = models1;
-  const CiftiIndexMap& maps = *along[models1 ? 0 : 1];
-  CiftiIndexMap& models = *along[models1 ? 1 : 0];
+  c.maps_fastest = dense.maps_fastest;
+  const CiftiIndexMap& maps = *dense.maps;
+  CiftiIndexMap& models = *dense.models;
   if (maps.type == "CIFTI_INDEX_TYPE_SCALARS" || maps.type == "CIFTI_INDEX_TYPE_LABELS") {
     c.kind = maps.type == "CIFTI_INDEX_TYPE_LABELS" ? CiftiMapKind::labels : CiftiMapKind::scalars;
     c.maps = static_cast<int64_t>(maps.names.size());
