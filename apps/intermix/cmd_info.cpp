@@ -211,6 +211,10 @@ Command add_info(CLI::App& app) {
         print_dicom_series(j);
         return 0;
       }
+    } else if (const IdentifiedFile identified = identify_file(o->file);
+               !identified.needs.empty()) {
+      // An overlay, transform or colour table: it says what it needs beside it.
+      throw Error(needs_message(o->file, identified));
     } else if (is_volume_file(o->file)) {
       const VolumeHeader header = read_volume_header(o->file);
       j = describe(read_volume(o->file, o->frame));
@@ -220,8 +224,7 @@ Command add_info(CLI::App& app) {
       j = describe(read_mesh_file(o->file));
       j["file"] = o->file;
     } else {
-      // Not a volume or mesh: one of another kind, which needs something beside it, or none.
-      throw Error(needs_message(o->file, identify_file(o->file)));
+      throw Error(unknown_format_message(o->file));  // identify_file has refused it already
     }
     if (o->json)
       std::printf("%s\n", j.dump().c_str());

@@ -2,6 +2,9 @@
 // and the kind of a file given on its own.
 #include "intermix/formats.hpp"
 
+#include <algorithm>
+#include <system_error>
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -34,6 +37,30 @@ std::string rows_of_kind(detail::FileKind kind) {
   for (const detail::FormatInfo* row : all_rows())
     if (row->kind == kind) rows.push_back(row);
   return detail::list_formats(rows);
+}
+
+// The surface an overlay file probably belongs to, for the example in a message: a mesh file
+// beside it whose name shares everything before the overlay's last suffix
+// (BrainMesh.lh.mz3 for BrainMesh.lh.curv), else lh.pial or rh.pial for FreeSurfer names,
+// else "surface.gii".
+std::string surface_for_overlay(const std::filesystem::path& file) {
+  const std::string name = file.filename().string();
+  const size_t dot = name.rfind('.');
+  const std::string stem = dot == std::string::npos ? name : name.substr(0, dot + 1);
+  std::error_code ec;
+  std::vector<std::string> candidates;
+  for (const auto& entry : std::filesystem::directory_iterator(
+           file.parent_path().empty() ? "." : file.parent_path(), ec)) {
+    const std::string other = entry.path().filename().string();
+    if (other != name && other.starts_with(stem) && entry.is_regular_file(ec) &&
+        detail::find_mesh_format(detail::probe_file(entry.path())) &&
+        !detail::find_overlay_format(detail::probe_file(entry.path())))
+      candidates.push_back(other);
+    if (candidates.size() > 64) break;  // a huge folder: no need to look at all of it
+  }
+  if (!candidates.empty()) return *std::min_element(candidates.begin(), candidates.end());
+  if (name.starts_with("lh.") || name.starts_with("rh.")) return name.substr(0, 3) + "pial";
+  return "surface.gii";
 }
 
 }  // namespace
@@ -109,11 +136,9 @@ IdentifiedFile identify_file(const std::filesystem::path& file) {
 std::string needs_message(const std::filesystem::path& file, const IdentifiedFile& identified) {
   const std::string name = file.filename().string();
   if (identified.kind == detail::file_kind_name(detail::FileKind::overlay)) {
-    const bool hemisphere = name.starts_with("lh.") || name.starts_with("rh.");
-    const std::string surface = hemisphere ? name.substr(0, 3) + "pial" : "surface.gii";
     return fmt::format(
         "{}: {} is a surface overlay ({}): give it after its surface (intermix render {} {})",
-        file.string(), name, identified.format, surface, name);
+        file.string(), name, identified.format, surface_for_overlay(file), name);
   }
   return fmt::format("{}: {} is a {} ({}): it needs {}", file.string(), name, identified.kind,
                      identified.format, identified.needs);

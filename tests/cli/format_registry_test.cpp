@@ -119,6 +119,12 @@ TEST(FormatRegistry, AFileThatCannotStandAloneSaysWhatItNeeds) {
   EXPECT_TRUE(
       test::contains(r.output, "give it after its surface (intermix render lh.pial lh.curv)"))
       << r.output;
+  // With its surface beside it, the example names that surface.
+  std::filesystem::create_directory(dir.path() / "subject");
+  test::write_bytes(dir.path() / "subject/lh.curv", test::read_bytes(curv));
+  test::write_bytes(dir.path() / "subject/lh.white", "a surface by its name");
+  const test::CliResult beside = test::run_cli("info " + (dir.path() / "subject/lh.curv").string());
+  EXPECT_TRUE(test::contains(beside.output, "(intermix render lh.white lh.curv)")) << beside.output;
   const std::filesystem::path lta = dir.path() / "reg.lta";
   test::write_bytes(lta, "# transform\n");
   const test::CliResult t = test::run_cli("info " + lta.string());
