@@ -1,11 +1,12 @@
-// AFNI BRIK/HEAD reader: the input's first 2 bytes (little-endian) are the HEAD's length; the
-// HEAD follows, then the BRIK (gzip data, a .BRIK.gz, is found by its magic), written as
-// in+orig.HEAD and in+orig.BRIK. The last sub-brick is read, then the header and a region.
+// AFNI BRIK/HEAD reader: the input's first 2 bytes (little-endian) are the HEAD's length; the HEAD
+// follows, then the BRIK (gzip data, a .BRIK.gz, is found by its magic), written as in+orig.HEAD
+// and in+orig.BRIK. The last sub-brick is read, then the header and a region. Read through the
+// format registry (imx::read_volume*), as a user's file is.
 #include <algorithm>
 #include <exception>
 
 #include "harness.hpp"
-#include "io/volume/afni.hpp"
+#include "intermix/io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace imx::fuzz;
@@ -17,20 +18,20 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   dir.write("in+orig.BRIK", data + 2 + head_size, size - 2 - head_size);
   int frame = 0;
   try {
-    frame = imx::detail::read_afni_header(head).frames - 1;
+    frame = imx::read_volume_header(head).frames - 1;
   } catch (const std::exception& e) {
     refused(e);
   }
   try {
-    check_volume(imx::detail::read_afni(head, frame));
+    check_volume(imx::read_volume(head, frame));
     accepted("volume");
   } catch (const std::exception& e) {
     refused(e);
   }
   fuzz_region(
-      head, data[size - 1], [](const auto& f) { return imx::detail::read_afni_header(f); },
+      head, data[size - 1], [](const auto& f) { return imx::read_volume_header(f); },
       [frame](const auto& f, const imx::VoxelBox& box) {
-        return imx::detail::read_afni_region(f, box, frame);
+        return imx::read_volume_region(f, box, frame);
       });
   return 0;
 }

@@ -1,11 +1,12 @@
 // MINC reader: the input is a .mnc file, MINC-2 (HDF5, parsed by libhdf5: this target is what
-// exercises libhdf5 on hostile input) or MINC-1 (refused). The last frame is read, then the
-// header and a region of that frame (fuzz_region). Seeds: small MINC-2 files (nibabel's test
-// data, or tests/io/minc_test.cpp's), so that mutations reach the attributes and the scaling.
+// exercises libhdf5 on hostile input) or MINC-1 (refused). The last frame is read, then the header
+// and a region of that frame (fuzz_region). Seeds: small MINC-2 files (nibabel's test data, or
+// tests/io/minc_test.cpp's), so that mutations reach the attributes and the scaling. Read through
+// the format registry (imx::read_volume*), as a user's file is.
 #include <exception>
 
 #include "harness.hpp"
-#include "io/volume/minc.hpp"
+#include "intermix/io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace imx::fuzz;
@@ -14,21 +15,20 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::filesystem::path file = dir.write("in.mnc", data, size);
   int frame = 0;
   try {
-    frame = imx::detail::read_minc_header(file).frames - 1;
+    frame = imx::read_volume_header(file).frames - 1;
   } catch (const std::exception& e) {
     refused(e);
   }
   try {
-    check_volume(imx::detail::read_minc(file, frame));
+    check_volume(imx::read_volume(file, frame));
     accepted("volume");
   } catch (const std::exception& e) {
     refused(e);
   }
   fuzz_region(
-      file, size > 0 ? data[size - 1] : 0,
-      [](const auto& f) { return imx::detail::read_minc_header(f); },
+      file, size > 0 ? data[size - 1] : 0, [](const auto& f) { return imx::read_volume_header(f); },
       [frame](const auto& f, const imx::VoxelBox& box) {
-        return imx::detail::read_minc_region(f, box, frame);
+        return imx::read_volume_region(f, box, frame);
       });
   return 0;
 }

@@ -1,10 +1,11 @@
-// MRtrix reader: the input is a .mif (gzip data, a .mif.gz, is found by its magic); when it
-// holds kDataMarker, the part before it is a .mih header and the part after it its data file,
-// in.dat. The last volume is read, then the header and a region.
+// MRtrix reader: the input is a .mif (gzip data, a .mif.gz, is found by its magic); when it holds
+// kDataMarker, the part before it is a .mih header and the part after it its data file, in.dat.
+// The last volume is read, then the header and a region. Read through the format registry
+// (imx::read_volume*), as a user's file is.
 #include <exception>
 
 #include "harness.hpp"
-#include "io/volume/mrtrix.hpp"
+#include "intermix/io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace imx::fuzz;
@@ -15,21 +16,20 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (parts.found) dir.write("in.dat", parts.tail);
   int frame = 0;
   try {
-    frame = imx::detail::read_mrtrix_header(file).frames - 1;
+    frame = imx::read_volume_header(file).frames - 1;
   } catch (const std::exception& e) {
     refused(e);
   }
   try {
-    check_volume(imx::detail::read_mrtrix(file, frame));
+    check_volume(imx::read_volume(file, frame));
     accepted("volume");
   } catch (const std::exception& e) {
     refused(e);
   }
   fuzz_region(
-      file, size > 0 ? data[size - 1] : 0,
-      [](const auto& f) { return imx::detail::read_mrtrix_header(f); },
+      file, size > 0 ? data[size - 1] : 0, [](const auto& f) { return imx::read_volume_header(f); },
       [frame](const auto& f, const imx::VoxelBox& box) {
-        return imx::detail::read_mrtrix_region(f, box, frame);
+        return imx::read_volume_region(f, box, frame);
       });
   return 0;
 }

@@ -143,7 +143,7 @@ void print_formats(bool json) {
                       {"name", f.name},
                       {"extensions", f.extensions},
                       {"by_content", f.by_content},
-                      {"gz_wrapped", f.gz_wrapped},
+                      {"gz_extensions", f.gz_extensions},
                       {"writes", f.writes},
                       {"reference", f.reference},
                       {"needs", f.needs},

@@ -8,16 +8,16 @@
 namespace imx {
 
 struct FileFormat {
-  std::string kind;                     // "volume", "mesh", "surface overlay", "transform", ...
-  std::string name;                     // "NIfTI-1/2, Analyze 7.5"
-  std::vector<std::string> extensions;  // ".nii", ".nii.gz", ...; empty: known by content only
-  bool by_content = false;              // known by its first bytes too, whatever its name
-  bool gz_wrapped = false;              // also read as a .gz of any of its extensions
-  std::string writes;                   // extensions written, "" when none
-  std::string reference;                // the reader it is checked against
-  std::string needs;                    // what a file of it needs beside it, "" when none
-  std::string fuzz_target;              // the libFuzzer target that reaches its reader
-  std::string fuzz_seeds;               // find(1) patterns of that target's seed files
+  std::string kind;                        // "volume", "mesh", "surface overlay", "transform", ...
+  std::string name;                        // "NIfTI-1/2, Analyze 7.5"
+  std::vector<std::string> extensions;     // ".nii", ".nii.gz", ...; empty: known by content only
+  bool by_content = false;                 // known by its first bytes too, whatever its name
+  std::vector<std::string> gz_extensions;  // ".obj.gz", ...: gzipped files read by inflating
+  std::string writes;                      // extensions written, "" when none
+  std::string reference;                   // the reader it is checked against
+  std::string needs;                       // what a file of it needs beside it, "" when none
+  std::string fuzz_target;                 // the libFuzzer target that reaches its reader
+  std::string fuzz_seeds;                  // find(1) patterns of that target's seed files
 };
 
 // Every row of every kind's table, kind by kind.

@@ -73,7 +73,8 @@ std::vector<FileFormat> file_formats() {
     f.name = row->name;
     for (std::string_view ext : row->extensions) f.extensions.emplace_back(ext);
     f.by_content = row->sniff != nullptr;
-    f.gz_wrapped = row->gz_wrapped;
+    for (std::string_view ext : row->gz_wrapped)
+      f.gz_extensions.push_back(fmt::format("{}.gz", ext));
     f.writes = row->writes;
     f.reference = row->reference;
     f.needs = row->needs;
@@ -91,7 +92,7 @@ std::string file_formats_markdown() {
   for (const FileFormat& f : file_formats()) {
     std::vector<std::string> names;
     for (const std::string& ext : f.extensions) names.push_back(fmt::format("`{}`", ext));
-    if (f.gz_wrapped) names.push_back("and each `.gz`");
+    for (const std::string& gz : f.gz_extensions) names.push_back(fmt::format("`{}`", gz));
     if (f.by_content) names.push_back("(or by content)");
     out += fmt::format("| {} | {} | {} | {} | {} | {} |\n", f.kind, f.name,
                        names.empty() ? "by content" : fmt::format("{}", fmt::join(names, " ")),

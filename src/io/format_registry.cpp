@@ -80,8 +80,7 @@ std::string list_formats(std::span<const FormatInfo* const> rows) {
   std::vector<std::string> items;
   for (const FormatInfo* row : rows) {
     std::vector<std::string> names(row->extensions.begin(), row->extensions.end());
-    if (row->gz_wrapped)
-      for (std::string_view ext : row->extensions) names.push_back(fmt::format("{}.gz", ext));
+    for (std::string_view ext : row->gz_wrapped) names.push_back(fmt::format("{}.gz", ext));
     items.push_back(names.empty() ? fmt::format("{} (by content)", row->name)
                                   : fmt::format("{} ({})", row->name, fmt::join(names, " ")));
   }

@@ -47,15 +47,16 @@ struct FormatInfo {
   std::string_view fuzz_seeds = {};   // find(1) name patterns of seed files for that target
   std::string_view reference = {};    // the reader every file is checked against
   std::string_view needs = {};        // what a file of this format needs beside it, "" when none
-  // A gzip of the file (name + ".gz") is read by inflating it first, with the budget's bound.
-  bool gz_wrapped = false;
+  // Extensions whose gzip (name + ".gz") is read by inflating it first, with the budget's bound:
+  // files that stand alone (an attached .nrrd, not a detached .nhdr naming its data file).
+  std::vector<std::string_view> gz_wrapped = {};
 };
 
 // The extension of `row` that `name` (lower case) ends with, longest first; "" when none.
 std::string_view matched_extension(const FormatInfo& row, std::string_view name);
 
 // The row of `rows` for `probe`: the first whose sniff accepts the bytes, else the one with the
-// longest extension that ends the name, else (for a .gz of a gz_wrapped format) that row with
+// longest extension that ends the name, else (for a .gz of a gz_wrapped extension) that row with
 // `*wrapped` set. nullopt when none.
 template <class Row>
 const Row* find_format(std::span<const Row> rows, const FileProbe& probe, bool* wrapped = nullptr);

@@ -20,10 +20,10 @@ const Row* find_format(std::span<const Row> rows, const FileProbe& probe, bool* 
   if (best || !probe.name.ends_with(".gz")) return best;
   // x.obj.gz: the row of x.obj, read through an inflated copy when the row allows it.
   const std::string_view inner = std::string_view(probe.name).substr(0, probe.name.size() - 3);
-  for (const Row& row : rows) {
-    const size_t length = matched_extension(row.info, inner).size();
-    if (row.info.gz_wrapped && length > best_length) best = &row, best_length = length;
-  }
+  for (const Row& row : rows)
+    for (std::string_view ext : row.info.gz_wrapped)
+      if (ext.size() > best_length && inner.size() > ext.size() && inner.ends_with(ext))
+        best = &row, best_length = ext.size();
   if (best && wrapped) *wrapped = true;
   return best;
 }

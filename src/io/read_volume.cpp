@@ -5,6 +5,7 @@
 
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
+#include "intermix/limits.hpp"
 #include "io/regular_file.hpp"
 #include "io/volume_formats.hpp"
 
@@ -12,14 +13,28 @@ namespace imx {
 
 namespace {
 
+struct Chosen {
+  const detail::VolumeFormat& format;
+  bool wrapped;  // a .gz of the format's file: read through an inflated copy
+};
+
 // The reader for `file` (a DICOM folder, or a file known by content or name); throws imx::Error
 // naming the file and its whole suffix for any other.
-const detail::VolumeFormat& reader_for(const std::filesystem::path& file) {
+Chosen reader_for(const std::filesystem::path& file) {
   const detail::FileProbe probe = detail::probe_file(file);
   if (!probe.folder) require_regular_file(file);
-  if (const detail::VolumeFormat* format = detail::find_volume_format(probe)) return *format;
+  bool wrapped = false;
+  if (const detail::VolumeFormat* format = detail::find_volume_format(probe, &wrapped))
+    return {*format, wrapped};
   throw Error(fmt::format("{}: '{}' is not a volume format intermix reads (volumes: {})",
                           file.string(), detail::compound_suffix(file), volume_formats()));
+}
+
+// `read(path)` on the file, or on its inflated copy when it is a wrapped .gz.
+template <class Read>
+auto read_chosen(const Chosen& chosen, const std::filesystem::path& file, Read&& read) {
+  if (!chosen.wrapped) return read(file);
+  return detail::read_inflated(file, input_limits().max_memory, read);
 }
 
 }  // namespace
@@ -36,15 +51,22 @@ std::string volume_formats() {
 }
 
 VolumeData read_volume(const std::filesystem::path& file, int frame) {
-  return reader_for(file).whole(file, frame);
+  const Chosen chosen = reader_for(file);
+  return read_chosen(chosen, file,
+                     [&](const std::filesystem::path& f) { return chosen.format.whole(f, frame); });
 }
 
 VolumeHeader read_volume_header(const std::filesystem::path& file) {
-  return reader_for(file).header(file);
+  const Chosen chosen = reader_for(file);
+  return read_chosen(chosen, file,
+                     [&](const std::filesystem::path& f) { return chosen.format.header(f); });
 }
 
 VolumeData read_volume_region(const std::filesystem::path& file, const VoxelBox& box, int frame) {
-  return reader_for(file).region(file, box, frame);
+  const Chosen chosen = reader_for(file);
+  return read_chosen(chosen, file, [&](const std::filesystem::path& f) {
+    return chosen.format.region(f, box, frame);
+  });
 }
 
 }  // namespace imx

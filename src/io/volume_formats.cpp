@@ -57,7 +57,8 @@ std::span<const VolumeFormat> volume_formats_table() {
         .writes = ".nrrd",
         .fuzz_target = "fuzz_nrrd",
         .fuzz_seeds = "*.nrrd *.nhdr",
-        .reference = "teem (unu), pynrrd"},
+        .reference = "teem (unu), pynrrd",
+        .gz_wrapped = {".nrrd"}},
        read_nrrd,
        read_nrrd_header,
        read_nrrd_region},
@@ -77,7 +78,8 @@ std::span<const VolumeFormat> volume_formats_table() {
         .writes = ".mha",
         .fuzz_target = "fuzz_metaimage",
         .fuzz_seeds = "*.mha *.mhd",
-        .reference = "ITK"},
+        .reference = "ITK",
+        .gz_wrapped = {".mha"}},
        read_metaimage,
        read_metaimage_header,
        read_metaimage_region},
@@ -124,7 +126,8 @@ std::span<const VolumeFormat> volume_formats_table() {
         .sniff = [](const FileProbe& p) { return is_minc(p.head); },
         .fuzz_target = "fuzz_minc",
         .fuzz_seeds = "*.mnc",
-        .reference = "nibabel.minc2"},
+        .reference = "nibabel.minc2",
+        .gz_wrapped = {".mnc"}},
        read_minc,
        read_minc_header,
        read_minc_region},
@@ -132,8 +135,8 @@ std::span<const VolumeFormat> volume_formats_table() {
   return table;
 }
 
-const VolumeFormat* find_volume_format(const FileProbe& probe) {
-  return find_format(volume_formats_table(), probe);
+const VolumeFormat* find_volume_format(const FileProbe& probe, bool* wrapped) {
+  return find_format(volume_formats_table(), probe, wrapped);
 }
 
 }  // namespace imx::detail

@@ -18,7 +18,7 @@ struct VolumeFormat {
 
 std::span<const VolumeFormat> volume_formats_table();
 
-// The row for `probe`, nullptr when no volume format takes it.
-const VolumeFormat* find_volume_format(const FileProbe& probe);
+// The row for `probe`, nullptr when no volume format takes it; `wrapped` as find_format sets it.
+const VolumeFormat* find_volume_format(const FileProbe& probe, bool* wrapped = nullptr);
 
 }  // namespace imx::detail

@@ -107,11 +107,13 @@ std::vector<LabelEntry> read_text_table(const std::filesystem::path& file, int l
 
 std::vector<LabelEntry> read_label_table(const std::filesystem::path& file, int layer) {
   const detail::FileProbe probe = detail::probe_file(file);
-  // A table is known by its content: any name but a NRRD's is read as text.
+  // A table is known by its content: a NRRD is a segmentation, any other file text.
   const labels_detail::LabelTableFormat* format =
       detail::find_format(labels_detail::label_table_formats_table(), probe);
-  std::vector<LabelEntry> entries =
-      format ? format->read(file, layer) : labels_detail::read_text_table(file, layer);
+  std::vector<LabelEntry> entries = format ? format->read(file, layer)
+                                    : labels_detail::looks_like_nrrd(probe.head)
+                                        ? labels_detail::read_slicer_segments(file, layer)
+                                        : labels_detail::read_text_table(file, layer);
   validate_label_entries(entries, file.string());
   return entries;
 }

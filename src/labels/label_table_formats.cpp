@@ -1,6 +1,8 @@
 // One row per label-table format. A new format: its reader and one row here.
 #include "labels/label_table_formats.hpp"
 
+#include <string>
+
 #include "labels/colour_table_readers.hpp"
 
 namespace imx::labels_detail {
@@ -9,8 +11,10 @@ namespace {
 constexpr std::string_view kNeedsLabels =
     "a label volume: its object's \"labels\": {\"table\": ...}";
 
-bool nrrd_head(const detail::FileProbe& probe) {
-  return looks_like_nrrd(probe.head);
+// A NRRD whose first bytes hold 3D Slicer's segment fields (any NRRD is read as one when named
+// as a colour table: read_label_table).
+bool segmentation_head(const detail::FileProbe& probe) {
+  return looks_like_nrrd(probe.head) && probe.head.find("Segment0_") != std::string::npos;
 }
 
 }  // namespace
@@ -20,7 +24,7 @@ std::span<const LabelTableFormat> label_table_formats_table() {
       {{.kind = detail::FileKind::label_table,
         .name = "3D Slicer segmentation",
         .extensions = {".seg.nrrd"},
-        .sniff = nrrd_head,
+        .sniff = segmentation_head,
         .fuzz_target = "fuzz_labels",
         .reference = "3D Slicer (vtkMRMLSegmentationStorageNode)",
         .needs = kNeedsLabels},

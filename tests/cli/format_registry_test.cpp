@@ -153,5 +153,32 @@ TEST(FormatRegistry, GzipOfAMeshReadsAsTheMesh) {
   EXPECT_FALSE(test::contains(message, "intermix-gz-")) << message;
 }
 
+TEST(FormatRegistry, GzipOfAnAttachedVolumeReadsAsTheVolume) {
+  test::TempDir dir;
+  const VolumeData phantom = make_phantom("ct-head", 24);
+  write_nrrd(phantom, dir.path() / "v.nrrd", false);
+  write_metaimage(phantom, dir.path() / "v.mha", false);
+  for (const char* name : {"v.nrrd", "v.mha"}) {
+    const std::string bytes = test::read_bytes(dir.path() / name);
+    const std::filesystem::path gz = dir.path() / (std::string(name) + ".gz");
+    {
+      std::ofstream out(gz, std::ios::binary);
+      detail::gzip(std::span(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()), out, 1,
+                   gz.string());
+    }
+    ASSERT_TRUE(is_volume_file(gz)) << name;
+    const VolumeData plain = read_volume(dir.path() / name), inflated = read_volume(gz);
+    EXPECT_EQ(inflated.dims, plain.dims) << name;
+    EXPECT_EQ(inflated.index_to_world, plain.index_to_world) << name;
+    for (int k = 0; k < plain.dims.z; k += 5)
+      for (int j = 0; j < plain.dims.y; j += 3)
+        for (int i = 0; i < plain.dims.x; i += 2)
+          ASSERT_EQ(inflated.value_at(i, j, k), plain.value_at(i, j, k)) << name;
+    EXPECT_EQ(read_volume_header(gz).dims, plain.dims) << name;
+    const VoxelBox box{{1, 2, 3}, {9, 8, 7}};
+    EXPECT_EQ(read_volume_region(gz, box).value_at(2, 2, 2), plain.value_at(3, 4, 5)) << name;
+  }
+}
+
 }  // namespace
 }  // namespace imx
