@@ -1,9 +1,6 @@
 #include "io/format_registry.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <exception>
 
 #include <fmt/format.h>
@@ -90,18 +87,12 @@ std::string list_formats(std::span<const FormatInfo* const> rows) {
 InflatedFile::InflatedFile(const std::filesystem::path& file, const std::string& inner_name,
                            uint64_t max_bytes) {
   const std::string what = file.string();
-  std::error_code ec;
-  std::string pattern = (std::filesystem::temp_directory_path(ec) / "intermix-gz-XXXXXX").string();
-  std::vector<char> name(pattern.begin(), pattern.end());
-  name.push_back('\0');
-  if (ec || ::mkdtemp(name.data()) == nullptr)
-    throw FileError(fmt::format("{}: cannot make a temporary folder to inflate it into", what),
-                    errno);
-  folder_ = name.data();
+  folder_ = make_inflate_folder(what);
   path_ = folder_ / inner_name;
   try {
     gunzip_file(file, path_, max_bytes, what, "more than the memory budget allows (--max-memory)");
   } catch (...) {
+    std::error_code ec;
     std::filesystem::remove_all(folder_, ec);
     throw;
   }

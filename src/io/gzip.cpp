@@ -1,5 +1,7 @@
 #include "io/gzip.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cerrno>
 #include <fstream>
@@ -160,6 +162,18 @@ void gunzip_file(const std::filesystem::path& gz, const std::filesystem::path& o
     if (got < buffer.size()) break;
   }
   stream.finish(static_cast<size_t>(total));
+}
+
+std::filesystem::path make_inflate_folder(const std::string& what) {
+  std::error_code ec;
+  const std::string pattern =
+      (std::filesystem::temp_directory_path(ec) / "intermix-gz-XXXXXX").string();
+  std::vector<char> name(pattern.begin(), pattern.end());
+  name.push_back('\0');
+  if (ec || ::mkdtemp(name.data()) == nullptr)
+    throw FileError(fmt::format("{}: cannot make a temporary folder to inflate it into", what),
+                    errno);
+  return name.data();
 }
 
 }  // namespace imx::detail

@@ -36,6 +36,11 @@ class GzipStream final : public DecompressingStream {
 // when the data ends early. Throws imx::Error naming `what` when the data is corrupt.
 size_t gunzip(std::istream& in, size_t skip, std::span<uint8_t> out, const std::string& what);
 
+// A new private folder (mode 0700) under the system's temporary folder for inflated copies of
+// files that readers take only by name; the caller removes it. imx::FileError naming `what` when
+// it cannot be made.
+std::filesystem::path make_inflate_folder(const std::string& what);
+
 // Inflates the gzip file `gz` into the new file `out` piece by piece. Throws imx::Error naming
 // `what` when it would inflate to more than `max_bytes` ("WHAT: inflates to more than N bytes" and
 // `too_large`, which says what that means), is corrupt or truncated; imx::FileError when a file

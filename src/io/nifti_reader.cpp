@@ -236,25 +236,15 @@ VolumeHeader read_nifti_header(const fs::path& file) {
 
 VolumeData read_nifti_region(const fs::path& file, const VoxelBox& box, int frame) {
   const Layout layout = parse_layout(file);
-  require_frame(frame, layout.data.frames, file.string());
-  require_box_inside(layout.header.dims, box, file.string());
-  VolumeData v;
-  v.dims = box.size();
-  v.index_to_world = box_index_to_world(layout.header.index_to_world, box.lo);
-  v.voxels = read_voxels(layout, frame, box);
-  v.validate(file.string());
-  return v;
+  return frame_box_volume(layout.header, layout.data.frames, frame, box, file.string(),
+                          [&](const VoxelBox& b) { return read_voxels(layout, frame, b); });
 }
 
 VolumeData read_nifti(const fs::path& file, int frame) {
   const Layout layout = parse_layout(file);
-  require_frame(frame, layout.data.frames, file.string());
-  VolumeData v;
-  v.dims = layout.header.dims;
-  v.index_to_world = layout.header.index_to_world;
-  v.voxels = read_voxels(layout, frame, VoxelBox::whole(v.dims));
-  v.validate(file.string());
-  return v;
+  return frame_box_volume(layout.header, layout.data.frames, frame,
+                          VoxelBox::whole(layout.header.dims), file.string(),
+                          [&](const VoxelBox& b) { return read_voxels(layout, frame, b); });
 }
 
 }  // namespace imx::detail

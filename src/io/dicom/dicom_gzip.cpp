@@ -1,8 +1,5 @@
 #include "io/dicom/dicom_gzip.hpp"
 
-#include <unistd.h>
-
-#include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -36,17 +33,7 @@ InflatedDicomFiles::~InflatedDicomFiles() {
 
 std::filesystem::path InflatedDicomFiles::add(const std::filesystem::path& gz) {
   const std::string what = gz.string();
-  if (folder_.empty()) {
-    std::error_code ec;
-    std::string pattern =
-        (std::filesystem::temp_directory_path(ec) / "intermix-dcmgz-XXXXXX").string();
-    std::vector<char> name(pattern.begin(), pattern.end());
-    name.push_back('\0');
-    if (ec || ::mkdtemp(name.data()) == nullptr)
-      throw FileError(fmt::format("{}: cannot make a temporary folder to inflate it into", what),
-                      errno);
-    folder_ = name.data();
-  }
+  if (folder_.empty()) folder_ = make_inflate_folder(what);
   std::string stem = gz.filename().string();
   stem.resize(stem.size() - 3);  // without .gz
   const std::filesystem::path out = folder_ / fmt::format("{}_{}", names_.size(), stem);

@@ -431,25 +431,15 @@ VolumeHeader read_afni_header(const fs::path& file) {
 
 VolumeData read_afni_region(const fs::path& file, const VoxelBox& box, int frame) {
   const Layout l = parse_layout(file, false);
-  require_frame(frame, l.data.frames, file.string());
-  require_box_inside(l.header.dims, box, file.string());
-  VolumeData v;
-  v.dims = box.size();
-  v.index_to_world = box_index_to_world(l.header.index_to_world, box.lo);
-  v.voxels = read_voxels(l, frame, box);
-  v.validate(file.string());
-  return v;
+  return frame_box_volume(l.header, l.data.frames, frame, box, file.string(),
+                          [&](const VoxelBox& b) { return read_voxels(l, frame, b); });
 }
 
 VolumeData read_afni(const fs::path& file, int frame) {
   const Layout l = parse_layout(file, false);
-  require_frame(frame, l.data.frames, file.string());
-  VolumeData v;
-  v.dims = l.header.dims;
-  v.index_to_world = l.header.index_to_world;
-  v.voxels = read_voxels(l, frame, VoxelBox::whole(v.dims));
-  v.validate(file.string());
-  return v;
+  return frame_box_volume(l.header, l.data.frames, frame, VoxelBox::whole(l.header.dims),
+                          file.string(),
+                          [&](const VoxelBox& b) { return read_voxels(l, frame, b); });
 }
 
 bool is_afni_head(std::string_view first_bytes) {

@@ -165,25 +165,16 @@ VolumeHeader read_mrtrix_header(const fs::path& file) {
 
 VolumeData read_mrtrix_region(const fs::path& file, const VoxelBox& box, int frame) {
   const MrtrixLayout l = read_mrtrix_layout(file);
-  require_frame(frame, l.header.frames, file.string());
-  require_box_inside(l.header.dims, box, file.string());
-  VolumeData v;
-  v.dims = box.size();
-  v.index_to_world = box_index_to_world(l.header.index_to_world, box.lo);
-  v.voxels = scaled(read_voxels(l.data, frame, box), l);
-  v.validate(file.string());
-  return v;
+  return frame_box_volume(
+      l.header, l.header.frames, frame, box, file.string(),
+      [&](const VoxelBox& b) { return scaled(read_voxels(l.data, frame, b), l); });
 }
 
 VolumeData read_mrtrix(const fs::path& file, int frame) {
   const MrtrixLayout l = read_mrtrix_layout(file);
-  require_frame(frame, l.header.frames, file.string());
-  VolumeData v;
-  v.dims = l.header.dims;
-  v.index_to_world = l.header.index_to_world;
-  v.voxels = scaled(read_voxels(l.data, frame, VoxelBox::whole(v.dims)), l);
-  v.validate(file.string());
-  return v;
+  return frame_box_volume(
+      l.header, l.header.frames, frame, VoxelBox::whole(l.header.dims), file.string(),
+      [&](const VoxelBox& b) { return scaled(read_voxels(l.data, frame, b), l); });
 }
 
 }  // namespace imx::detail

@@ -304,25 +304,14 @@ VolumeHeader read_parrec_header(const std::filesystem::path& file) {
 
 VolumeData read_parrec_region(const std::filesystem::path& file, const VoxelBox& box, int frame) {
   const Layout l = parse_layout(file);
-  require_frame(frame, l.header.frames, file.string());
-  require_box_inside(l.header.dims, box, file.string());
-  VolumeData v;
-  v.dims = box.size();
-  v.index_to_world = box_index_to_world(l.header.index_to_world, box.lo);
-  v.voxels = read_box(l, frame, box);
-  v.validate(file.string());
-  return v;
+  return frame_box_volume(l.header, l.header.frames, frame, box, file.string(),
+                          [&](const VoxelBox& b) { return read_box(l, frame, b); });
 }
 
 VolumeData read_parrec(const std::filesystem::path& file, int frame) {
   const Layout l = parse_layout(file);
-  require_frame(frame, l.header.frames, file.string());
-  VolumeData v;
-  v.dims = l.header.dims;
-  v.index_to_world = l.header.index_to_world;
-  v.voxels = read_box(l, frame, VoxelBox::whole(v.dims));
-  v.validate(file.string());
-  return v;
+  return frame_box_volume(l.header, l.header.frames, frame, VoxelBox::whole(l.header.dims),
+                          file.string(), [&](const VoxelBox& b) { return read_box(l, frame, b); });
 }
 
 }  // namespace imx::detail
