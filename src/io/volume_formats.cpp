@@ -116,6 +116,7 @@ std::span<const VolumeFormat> volume_formats_table() {
         .extensions = {".par", ".rec"},
         .sniff = [](const FileProbe& p) { return is_parrec_header(p.head); },
         .fuzz_target = "fuzz_parrec",
+        .fuzz_seeds = "*.par",
         .reference = "nibabel.parrec"},
        read_parrec,
        read_parrec_header,
