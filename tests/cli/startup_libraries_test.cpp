@@ -151,7 +151,10 @@ bool write_minc2(const TempDir& dir, const fs::path& file) {
              .exit_code == 0;
 }
 
-TEST(StartUpLibraries, AMinc2FileLoadsTheMincPlugin) {
+// libhdf5 is not safe on hostile files: the MINC plugin runs in a child process
+// (io/volume/minc_isolated.cpp), whose loader report is captured there, so this process maps none
+// of it and still gives the file's dims.
+TEST(StartUpLibraries, AMinc2FileIsReadWithLibhdf5OnlyInAChildProcess) {
   TempDir dir;
   if (test::run_shell("/usr/bin/python3 -c 'import h5py' 2>&1").exit_code != 0)
     GTEST_SKIP() << "/usr/bin/python3 has no h5py";
@@ -159,8 +162,8 @@ TEST(StartUpLibraries, AMinc2FileLoadsTheMincPlugin) {
   const test::CliResult r =
       run_cli(fmt::format("info {}", (dir / "zeros.mnc").string()), "LD_DEBUG=files ");
   ASSERT_EQ(r.exit_code, 0) << r.output.substr(r.output.size() > 4000 ? r.output.size() - 4000 : 0);
-  EXPECT_TRUE(contains(r.output, "libimx_minc_hdf5.so"));
-  EXPECT_TRUE(contains(r.output, "libhdf5"));
+  EXPECT_FALSE(contains(r.output, "libimx_minc_hdf5.so"));
+  EXPECT_FALSE(contains(r.output, "libhdf5"));
   EXPECT_TRUE(contains(r.output, "[4,3,2]")) << r.output;  // the file's dims, slowest first
 }
 

@@ -31,4 +31,11 @@ VolumeData read_minc_region(const std::filesystem::path& file, const VoxelBox& b
 // (netCDF classic: "CDF\x01" or "CDF\x02"; read_minc refuses it with a message saying so).
 bool is_minc(std::string_view first_bytes);
 
+// The reads behind read_minc_header and read_minc(_region) in this process (minc2_reader.cpp):
+// libhdf5 1.10 is not safe on hostile files (fuzz_minc: a use-after-free under H5Aexists), so
+// the public functions run these in a child process (minc_isolated.cpp).
+VolumeHeader read_minc_header_in_process(const std::filesystem::path& file);
+VoxelStorage read_minc_box_in_process(const std::filesystem::path& file, int frame,
+                                      const VoxelBox& box);
+
 }  // namespace imx::detail

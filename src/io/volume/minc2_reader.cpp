@@ -459,40 +459,21 @@ bool is_minc(std::string_view first_bytes) {
          first_bytes.rfind(std::string_view("CDF\x02", 4), 0) == 0;
 }
 
-VolumeHeader read_minc_header(const std::filesystem::path& file) {
+VolumeHeader read_minc_header_in_process(const std::filesystem::path& file) {
   VolumeHeader header = with_minc_file(
       file, [](const Hdf5File& h, const Context& c) { return parse_file(h, c).header; });
   check_placement(header.index_to_world, file.string());
   return header;
 }
 
-VolumeData read_minc_region(const std::filesystem::path& file, const VoxelBox& box, int frame) {
-  VolumeData v = with_minc_file(file, [&](const Hdf5File& h, const Context& c) {
+VoxelStorage read_minc_box_in_process(const std::filesystem::path& file, int frame,
+                                      const VoxelBox& box) {
+  return with_minc_file(file, [&](const Hdf5File& h, const Context& c) {
     const Layout l = parse_file(h, c);
     require_frame(frame, l.header.frames, c.what);
     require_box_inside(l.header.dims, box, c.what);
-    VolumeData out;
-    out.dims = box.size();
-    out.index_to_world = box_index_to_world(l.header.index_to_world, box.lo);
-    out.voxels = read_box(h, l, frame, box, c);
-    return out;
+    return read_box(h, l, frame, box, c);
   });
-  v.validate(file.string());
-  return v;
-}
-
-VolumeData read_minc(const std::filesystem::path& file, int frame) {
-  VolumeData v = with_minc_file(file, [&](const Hdf5File& h, const Context& c) {
-    const Layout l = parse_file(h, c);
-    require_frame(frame, l.header.frames, c.what);
-    VolumeData out;
-    out.dims = l.header.dims;
-    out.index_to_world = l.header.index_to_world;
-    out.voxels = read_box(h, l, frame, VoxelBox::whole(out.dims), c);
-    return out;
-  });
-  v.validate(file.string());
-  return v;
 }
 
 }  // namespace imx::detail
