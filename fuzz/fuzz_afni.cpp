@@ -3,10 +3,8 @@
 // and in+orig.BRIK. The last sub-brick is read, then the header and a region. Read through the
 // format registry (imx::read_volume*), as a user's file is.
 #include <algorithm>
-#include <exception>
 
 #include "harness.hpp"
-#include "intermix/io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace imx::fuzz;
@@ -16,22 +14,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const size_t head_size = std::min<size_t>(size - 2, data[0] | size_t{data[1]} << 8);
   const std::filesystem::path head = dir.write("in+orig.HEAD", data + 2, head_size);
   dir.write("in+orig.BRIK", data + 2 + head_size, size - 2 - head_size);
-  int frame = 0;
-  try {
-    frame = imx::read_volume_header(head).frames - 1;
-  } catch (const std::exception& e) {
-    refused(e);
-  }
-  try {
-    check_volume(imx::read_volume(head, frame));
-    accepted("volume");
-  } catch (const std::exception& e) {
-    refused(e);
-  }
-  fuzz_region(
-      head, data[size - 1], [](const auto& f) { return imx::read_volume_header(f); },
-      [frame](const auto& f, const imx::VoxelBox& box) {
-        return imx::read_volume_region(f, box, frame);
-      });
+  fuzz_volume_file(head, size > 0 ? data[size - 1] : 0);
   return 0;
 }

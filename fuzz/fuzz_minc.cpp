@@ -3,32 +3,14 @@
 // and a region of that frame (fuzz_region). Seeds: small MINC-2 files (nibabel's test data, or
 // tests/io/minc_test.cpp's), so that mutations reach the attributes and the scaling. Read through
 // the format registry (imx::read_volume*), as a user's file is.
-#include <exception>
 
 #include "harness.hpp"
-#include "intermix/io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace imx::fuzz;
   const ScratchDir& dir = scratch();
   dir.clear();
   const std::filesystem::path file = dir.write("in.mnc", data, size);
-  int frame = 0;
-  try {
-    frame = imx::read_volume_header(file).frames - 1;
-  } catch (const std::exception& e) {
-    refused(e);
-  }
-  try {
-    check_volume(imx::read_volume(file, frame));
-    accepted("volume");
-  } catch (const std::exception& e) {
-    refused(e);
-  }
-  fuzz_region(
-      file, size > 0 ? data[size - 1] : 0, [](const auto& f) { return imx::read_volume_header(f); },
-      [frame](const auto& f, const imx::VoxelBox& box) {
-        return imx::read_volume_region(f, box, frame);
-      });
+  fuzz_volume_file(file, size > 0 ? data[size - 1] : 0);
   return 0;
 }

@@ -2,10 +2,8 @@
 // kDataMarker, the part before it is a .mih header and the part after it its data file, in.dat.
 // The last volume is read, then the header and a region. Read through the format registry
 // (imx::read_volume*), as a user's file is.
-#include <exception>
 
 #include "harness.hpp"
-#include "intermix/io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace imx::fuzz;
@@ -14,22 +12,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const Split parts = split_at(as_view(data, size), kDataMarker);
   const std::filesystem::path file = dir.write(parts.found ? "in.mih" : "in.mif", parts.head);
   if (parts.found) dir.write("in.dat", parts.tail);
-  int frame = 0;
-  try {
-    frame = imx::read_volume_header(file).frames - 1;
-  } catch (const std::exception& e) {
-    refused(e);
-  }
-  try {
-    check_volume(imx::read_volume(file, frame));
-    accepted("volume");
-  } catch (const std::exception& e) {
-    refused(e);
-  }
-  fuzz_region(
-      file, size > 0 ? data[size - 1] : 0, [](const auto& f) { return imx::read_volume_header(f); },
-      [frame](const auto& f, const imx::VoxelBox& box) {
-        return imx::read_volume_region(f, box, frame);
-      });
+  fuzz_volume_file(file, size > 0 ? data[size - 1] : 0);
   return 0;
 }

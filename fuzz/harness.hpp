@@ -175,6 +175,26 @@ void fuzz_region(const std::filesystem::path& file, uint8_t pick, ReadHeader rea
   }
 }
 
+// `file` through the format registry, as a user's file is read: its header, its last frame (so
+// that the skips past the others are reached), then a region of that frame (fuzz_region, `pick`).
+inline void fuzz_volume_file(const std::filesystem::path& file, uint8_t pick) {
+  int frame = 0;
+  try {
+    frame = read_volume_header(file).frames - 1;
+  } catch (const std::exception& e) {
+    refused(e);
+  }
+  try {
+    check_volume(read_volume(file, frame));
+    accepted("volume");
+  } catch (const std::exception& e) {
+    refused(e);
+  }
+  fuzz_region(
+      file, pick, [](const auto& f) { return read_volume_header(f); },
+      [frame](const auto& f, const VoxelBox& box) { return read_volume_region(f, box, frame); });
+}
+
 // One input through a volume reader: written as `attached`, or, when it holds kDataMarker, split
 // into a detached header `detached` and its data file "data.raw" beside it. Only the reader
 // runs: validate() and range() would double the time of large volumes. Then the same file
