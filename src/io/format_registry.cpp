@@ -44,9 +44,7 @@ FileProbe probe_file(const std::filesystem::path& file) {
   // Only regular files are opened: a FIFO would block (the reader refuses it by name).
   if (ec || !std::filesystem::is_regular_file(status)) return probe;
   try {
-    FileHead head = read_file_head(file, kProbeBytes, file.string());
-    probe.head = std::move(head.bytes);
-    probe.gzipped = head.gzipped;
+    probe.head = read_file_head(file, kProbeBytes, file.string()).bytes;
   } catch (const Error&) {
     // Corrupt gzip data or no permission: the format is then known by name and its reader
     // says what is wrong.

@@ -24,7 +24,6 @@ struct FileProbe {
   std::filesystem::path path;
   std::string name;  // the file name in lower case
   std::string head;  // the first kProbeBytes bytes, inflated when the file is gzip data
-  bool gzipped = false;
   bool folder = false;  // a folder (DICOM)
 };
 inline constexpr size_t kProbeBytes = 512;
