@@ -1,0 +1,66 @@
+// docs/architecture.md's "Longer than the rules" table against the tree: every source file over
+// 500 lines is listed there with its current length, and every file listed is still over 500.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "temp_dir.hpp"
+
+namespace imx {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kRoot = fs::path(IMX_EXAMPLES_DIR).parent_path();
+constexpr long kMaxLines = 500;
+
+long line_count(const fs::path& file) {
+  const std::string text = test::read_bytes(file);
+  return static_cast<long>(std::count(text.begin(), text.end(), '\n'));
+}
+
+// The table's rows that name one file: path -> lines.
+std::map<std::string, long> listed_files() {
+  std::istringstream doc(test::read_bytes(kRoot / "docs/architecture.md"));
+  const std::regex row(R"(^\| `([^`]+\.(cpp|hpp|h))` \| (\d+) \|)");
+  std::map<std::string, long> out;
+  bool in_section = false;
+  for (std::string line; std::getline(doc, line);) {
+    if (line.starts_with("### ")) in_section = line == "### Longer than the rules";
+    std::smatch m;
+    if (in_section && std::regex_search(line, m, row)) out[m[1]] = std::stol(m[3]);
+  }
+  return out;
+}
+
+TEST(SourceRules, EveryFileOverFiveHundredLinesIsExplainedWithItsLength) {
+  const std::map<std::string, long> listed = listed_files();
+  ASSERT_FALSE(listed.empty()) << "no table rows found in docs/architecture.md";
+  for (const char* folder : {"src", "apps", "python/src"})
+    for (const auto& entry : fs::recursive_directory_iterator(kRoot / folder)) {
+      const std::string ext = entry.path().extension().string();
+      if (!entry.is_regular_file() || (ext != ".cpp" && ext != ".hpp" && ext != ".h")) continue;
+      const long lines = line_count(entry.path());
+      if (lines <= kMaxLines) continue;
+      const std::string path = fs::relative(entry.path(), kRoot).string();
+      const auto it = listed.find(path);
+      if (it == listed.end())
+        ADD_FAILURE() << path << " has " << lines
+                      << " lines: split it, or add a row to docs/architecture.md's "
+                         "\"Longer than the rules\" saying why it stays whole";
+      else
+        EXPECT_EQ(it->second, lines) << path << ": docs/architecture.md says " << it->second;
+    }
+  for (const auto& [path, lines] : listed)
+    EXPECT_GT(line_count(kRoot / path), kMaxLines)
+        << path << " is listed in docs/architecture.md but no longer over " << kMaxLines;
+}
+
+}  // namespace
+}  // namespace imx
