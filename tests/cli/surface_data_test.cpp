@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
+#include "freesurfer_files.hpp"
 #include "intermix/io.hpp"
 #include "intermix/scene.hpp"
 #include "scene/scene_from_files.hpp"
@@ -21,54 +22,9 @@
 namespace imx {
 namespace {
 
-std::string be32(uint32_t v) {
-  std::string s(4, '\0');
-  for (int i = 0; i < 4; ++i) s[i] = static_cast<char>((v >> (24 - 8 * i)) & 0xFF);
-  return s;
-}
-std::string bef(float f) {
-  uint32_t u;
-  std::memcpy(&u, &f, 4);
-  return be32(u);
-}
-
 // A closed FreeSurfer surface of 2 + 4 * 10 = 42 vertices: poles and four rings.
 void write_surface(const std::filesystem::path& file) {
-  const int rings = 5, around = 10;
-  std::vector<glm::vec3> p{{0, 0, 30}};
-  for (int r = 1; r < rings; ++r)
-    for (int a = 0; a < around; ++a) {
-      const double th = M_PI * r / rings, ph = 2 * M_PI * a / around;
-      p.emplace_back(30 * std::sin(th) * std::cos(ph), 30 * std::sin(th) * std::sin(ph),
-                     30 * std::cos(th));
-    }
-  p.emplace_back(0, 0, -30);
-  std::vector<glm::ivec3> t;
-  auto at = [&](int r, int a) { return 1 + (r - 1) * around + (a % around); };
-  for (int a = 0; a < around; ++a) t.emplace_back(0, at(1, a), at(1, a + 1));
-  for (int r = 1; r + 1 < rings; ++r)
-    for (int a = 0; a < around; ++a) {
-      t.emplace_back(at(r, a), at(r + 1, a), at(r + 1, a + 1));
-      t.emplace_back(at(r, a), at(r + 1, a + 1), at(r, a + 1));
-    }
-  const int last = static_cast<int>(p.size()) - 1;
-  for (int a = 0; a < around; ++a) t.emplace_back(last, at(rings - 1, a + 1), at(rings - 1, a));
-  std::string s =
-      "\xFF\xFF\xFE"
-      "created by test\n\n";
-  s += be32(static_cast<uint32_t>(p.size())) + be32(static_cast<uint32_t>(t.size()));
-  for (const glm::vec3& q : p) s += bef(q.x) + bef(q.y) + bef(q.z);
-  for (const glm::ivec3& q : t)
-    s += be32(static_cast<uint32_t>(q.x)) + be32(static_cast<uint32_t>(q.y)) +
-         be32(static_cast<uint32_t>(q.z));
-  test::write_bytes(file, s);
-}
-
-void write_curv(const std::filesystem::path& file, const std::vector<float>& values) {
-  std::string s = "\xFF\xFF\xFF";
-  s += be32(static_cast<uint32_t>(values.size())) + be32(0) + be32(1);
-  for (float v : values) s += bef(v);
-  test::write_bytes(file, s);
+  test::write_freesurfer_sphere(file, 5, 10);
 }
 
 // `values` as a float volume of `dims`, x fastest.
@@ -92,7 +48,7 @@ TEST(CliSurfaceData, APerVertexNiftiAfterItsSurfaceColoursItLikeACurvatureFile) 
   write_surface(dir / "lh.pial");
   const std::vector<float> values = signed_values();
   write_values(dir / "sig.nii.gz", {7, 1, 6}, values);
-  write_curv(dir / "lh.sig", values);
+  test::write_freesurfer_curv(dir / "lh.sig", values);
   const std::string png = (dir / "sig.png").string(), saved = (dir / "sig.json").string();
   const test::CliResult r = test::run_cli(
       fmt::format("render {} {} -o {} --width 64 --height 64 --save-scene {}",

@@ -17,6 +17,7 @@
 
 #include "core/colour.hpp"
 #include "expect_error.hpp"
+#include "freesurfer_files.hpp"
 #include "intermix/io.hpp"
 #include "intermix/scene.hpp"
 #include "scene/scene_from_files.hpp"
@@ -197,63 +198,18 @@ TEST(MeshValues, ColorByReducesAlongTheNormal) {
 // ---- overlays on a FreeSurfer surface, written here byte by byte (the readers are checked
 // against nibabel in tests/io)
 
-std::string be32(int32_t v) {
-  std::string s(4, '\0');
-  for (int i = 0; i < 4; ++i)
-    s[i] = static_cast<char>((static_cast<uint32_t>(v) >> (24 - 8 * i)) & 0xFF);
-  return s;
-}
-std::string bef(float f) {
-  uint32_t u;
-  std::memcpy(&u, &f, 4);
-  return be32(static_cast<int32_t>(u));
-}
-
-// An icosahedron-like closed surface: n vertices on a sphere (a fan of triangles per band).
-void write_surface(const std::filesystem::path& file, int rings, int around) {
-  std::vector<glm::vec3> p;
-  p.emplace_back(0, 0, 30);
-  for (int r = 1; r < rings; ++r)
-    for (int a = 0; a < around; ++a) {
-      const double th = M_PI * r / rings, ph = 2 * M_PI * a / around;
-      p.emplace_back(30 * std::sin(th) * std::cos(ph), 30 * std::sin(th) * std::sin(ph),
-                     30 * std::cos(th));
-    }
-  p.emplace_back(0, 0, -30);
-  std::vector<glm::ivec3> t;
-  auto at = [&](int r, int a) { return 1 + (r - 1) * around + (a % around); };
-  for (int a = 0; a < around; ++a) t.emplace_back(0, at(1, a), at(1, a + 1));
-  for (int r = 1; r + 1 < rings; ++r)
-    for (int a = 0; a < around; ++a) {
-      t.emplace_back(at(r, a), at(r + 1, a), at(r + 1, a + 1));
-      t.emplace_back(at(r, a), at(r + 1, a + 1), at(r, a + 1));
-    }
-  const int last = static_cast<int>(p.size()) - 1;
-  for (int a = 0; a < around; ++a) t.emplace_back(last, at(rings - 1, a + 1), at(rings - 1, a));
-  std::string s =
-      "\xFF\xFF\xFE"
-      "created by test\n\n";
-  s += be32(static_cast<int32_t>(p.size())) + be32(static_cast<int32_t>(t.size()));
-  for (const glm::vec3& q : p) s += bef(q.x) + bef(q.y) + bef(q.z);
-  for (const glm::ivec3& q : t) s += be32(q.x) + be32(q.y) + be32(q.z);
-  test::write_bytes(file, s);
-}
-
-void write_curv(const std::filesystem::path& file, const std::vector<float>& values) {
-  std::string s = "\xFF\xFF\xFF";
-  s += be32(static_cast<int32_t>(values.size())) + be32(0) + be32(1);
-  for (float v : values) s += bef(v);
-  test::write_bytes(file, s);
-}
+using test::be32;
+using test::write_freesurfer_curv;
+using test::write_freesurfer_sphere;
 
 TEST(MeshValues, CurvatureOverlayThroughATransferFunctionWithThreshold) {
   test::TempDir dir;
-  write_surface(dir / "lh.pial", 20, 24);
+  write_freesurfer_sphere(dir / "lh.pial", 20, 24);
   const MeshFile surface = read_mesh_file(dir / "lh.pial");
   const size_t n = surface.info.file_vertices;
   std::vector<float> thickness(n);
   for (size_t i = 0; i < n; ++i) thickness[i] = 0.5f + 4.0f * static_cast<float>(i % 97) / 96.0f;
-  write_curv(dir / "lh.thickness", thickness);
+  write_freesurfer_curv(dir / "lh.thickness", thickness);
   const std::vector<std::array<double, 4>> points = {{1, 1, 0, 0}, {4, 1, 1, 0}};
   const json cortex = {
       {"name", "cortex"},
@@ -278,15 +234,15 @@ TEST(MeshValues, CurvatureOverlayThroughATransferFunctionWithThreshold) {
 
 TEST(MeshValues, AnOverlayFileAfterItsSurfaceColoursItInASceneFromFiles) {
   test::TempDir dir;
-  write_surface(dir / "lh.pial", 12, 16);
+  write_freesurfer_sphere(dir / "lh.pial", 12, 16);
   const size_t n = read_mesh_file(dir / "lh.pial").info.file_vertices;
   std::vector<float> curv(n), thickness(n);
   for (size_t i = 0; i < n; ++i) {
     curv[i] = static_cast<float>(i % 2 ? 0.3 : -0.2) * static_cast<float>(i % 7);
     thickness[i] = 1.0f + static_cast<float>(i % 50) / 20.0f;
   }
-  write_curv(dir / "lh.curv", curv);
-  write_curv(dir / "lh.thickness", thickness);
+  write_freesurfer_curv(dir / "lh.curv", curv);
+  write_freesurfer_curv(dir / "lh.thickness", thickness);
   // Signed values: cold-hot both ways; positive ones: viridis over the robust range.
   SceneDocument doc = scene_from_files({dir / "lh.pial", dir / "lh.curv"}, "left", {});
   const json& overlay = doc.json()["objects"][0]["overlay"];
@@ -312,9 +268,9 @@ TEST(MeshValues, AnOverlayFileAfterItsSurfaceColoursItInASceneFromFiles) {
 
 TEST(MeshValues, OverlayWithAnotherVertexCountIsRefusedInOneLine) {
   test::TempDir dir;
-  write_surface(dir / "lh.pial", 10, 12);
+  write_freesurfer_sphere(dir / "lh.pial", 10, 12);
   const size_t n = read_mesh_file(dir / "lh.pial").info.file_vertices;
-  write_curv(dir / "lh.thickness", std::vector<float>(n - 1, 2.0f));
+  write_freesurfer_curv(dir / "lh.thickness", std::vector<float>(n - 1, 2.0f));
   const json cortex = {
       {"name", "cortex"},
       {"type", "mesh"},
@@ -330,7 +286,7 @@ TEST(MeshValues, OverlayWithAnotherVertexCountIsRefusedInOneLine) {
 
 TEST(MeshValues, AnnotationColoursByItsOwnTable) {
   test::TempDir dir;
-  write_surface(dir / "lh.pial", 8, 10);
+  write_freesurfer_sphere(dir / "lh.pial", 8, 10);
   const MeshFile surface = read_mesh_file(dir / "lh.pial");
   const auto n = static_cast<int32_t>(surface.info.file_vertices);
   // Two labels, packed as r + g << 8 + b << 16; vertex 0 has none.
