@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "harness.hpp"
-#include "io/gzip.hpp"
+#include "io/streams/gzip.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace imx::fuzz;

@@ -1,7 +1,7 @@
 // MetaImage reader: an attached .mha, or (input holding the data marker) a detached .mhd header
 // with its data file "data.raw" beside it; then its header and a region of it (fuzz_region).
 #include "harness.hpp"
-#include "io/metaimage.hpp"
+#include "io/volume/metaimage.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   return imx::fuzz::fuzz_volume_reader(

@@ -4,7 +4,7 @@
 #include <exception>
 
 #include "harness.hpp"
-#include "io/mgh.hpp"
+#include "io/volume/mgh.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace imx::fuzz;

@@ -7,7 +7,7 @@
 
 #include "harness.hpp"
 #include "intermix/io.hpp"
-#include "io/nifti.hpp"
+#include "io/volume/nifti.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace imx::fuzz;

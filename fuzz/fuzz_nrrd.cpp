@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "harness.hpp"
-#include "io/nrrd.hpp"
+#include "io/volume/nrrd.hpp"
 
 namespace {
 

@@ -9,7 +9,7 @@
 
 #include "harness.hpp"
 #include "intermix/io.hpp"
-#include "io/vertex_overlay.hpp"
+#include "io/overlay/vertex_overlay.hpp"
 
 namespace {
 

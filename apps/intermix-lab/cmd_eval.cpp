@@ -26,7 +26,7 @@
 #include "intermix/render.hpp"
 #include "intermix/renderer.hpp"
 #include "intermix/scene.hpp"
-#include "io/atomic_file.hpp"
+#include "io/streams/atomic_file.hpp"
 #include "lab_commands.hpp"
 #include "probes/first_hit_depth.hpp"
 

@@ -15,7 +15,7 @@
 #include "intermix/dicom.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
-#include "io/atomic_file.hpp"
+#include "io/streams/atomic_file.hpp"
 
 namespace imx::cli {
 

@@ -6,7 +6,7 @@
 #include <fmt/ranges.h>
 
 #include "intermix/error.hpp"
-#include "io/atomic_file.hpp"
+#include "io/streams/atomic_file.hpp"
 #include "scene/camera_framing.hpp"
 #include "scene/scene_from_files.hpp"
 

@@ -11,8 +11,8 @@
 #include "core/limits.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
-#include "io/mesh_space.hpp"
-#include "io/vertex_normals.hpp"
+#include "io/mesh/mesh_space.hpp"
+#include "io/mesh/vertex_normals.hpp"
 
 namespace imx::python {
 namespace {

@@ -19,8 +19,8 @@
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
-#include "io/frame_voxels.hpp"
-#include "io/raw_voxels.hpp"
+#include "io/voxels/frame_voxels.hpp"
+#include "io/voxels/raw_voxels.hpp"
 
 namespace imx::python {
 namespace {

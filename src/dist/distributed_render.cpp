@@ -24,8 +24,8 @@
 #include "intermix/error.hpp"
 #include "intermix/image.hpp"
 #include "intermix/io.hpp"
-#include "io/atomic_file.hpp"
-#include "io/plugin_loader.hpp"
+#include "io/registry/plugin_loader.hpp"
+#include "io/streams/atomic_file.hpp"
 #include "methods/method_table.hpp"
 #include "methods/zslab/zslab.hpp"
 

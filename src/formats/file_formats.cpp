@@ -9,9 +9,9 @@
 #include <fmt/ranges.h>
 
 #include "intermix/error.hpp"
-#include "io/mesh_formats.hpp"
-#include "io/overlay_formats.hpp"
-#include "io/volume_formats.hpp"
+#include "io/mesh/mesh_formats.hpp"
+#include "io/overlay/overlay_formats.hpp"
+#include "io/volume/volume_formats.hpp"
 #include "labels/label_table_formats.hpp"
 #include "registration/transform_formats.hpp"
 

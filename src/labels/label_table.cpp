@@ -9,7 +9,7 @@
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/labels.hpp"
-#include "io/regular_file.hpp"
+#include "io/streams/regular_file.hpp"
 #include "labels/colour_table_readers.hpp"
 #include "labels/label_table_formats.hpp"
 #include "labels/label_text.hpp"

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "intermix/labels.hpp"
-#include "io/format_registry.hpp"
+#include "io/registry/format_registry.hpp"
 
 namespace imx::labels_detail {
 

@@ -1,6 +1,6 @@
 // The mesh plugin: assimp imports one mesh file (OBJ, STL, OFF, glTF; imx_io checks the file
 // and chooses the format first) behind the C interface of mesh_assimp_abi.h. imx_io opens it on
-// first use (io/mesh_assimp_plugin.cpp) and turns what it gives into an imx::Mesh.
+// first use (io/mesh/mesh_assimp_plugin.cpp) and turns what it gives into an imx::Mesh.
 #include "mesh_assimp/mesh_assimp_abi.h"
 
 #include <cctype>

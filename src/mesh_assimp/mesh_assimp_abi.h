@@ -1,6 +1,6 @@
 /* The C interface of the mesh plugin (libimx_mesh_assimp.so, built from this folder): assimp's
  * importers for the mesh formats intermix does not parse itself (OBJ, STL, OFF, glTF). imx_io
- * opens the plugin with dlopen on the first such file (io/mesh_assimp_plugin.cpp), so that
+ * opens the plugin with dlopen on the first such file (io/mesh/mesh_assimp_plugin.cpp), so that
  * assimp, draco and minizip are not loaded at every start-up. Plain C: paths, counts, buffers
  * and an error string; no C++ type or exception crosses it. */
 #ifndef IMX_MESH_ASSIMP_ABI_H

@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
-#include "io/regular_file.hpp"
+#include "io/streams/regular_file.hpp"
 
 namespace imx {
 

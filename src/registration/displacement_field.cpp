@@ -13,7 +13,7 @@
 #include "core/parallel.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
-#include "io/file_head.hpp"
+#include "io/streams/file_head.hpp"
 
 namespace imx {
 namespace {

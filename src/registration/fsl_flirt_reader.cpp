@@ -11,8 +11,8 @@
 #include <glm/glm.hpp>
 
 #include "intermix/error.hpp"
-#include "io/file_head.hpp"
-#include "io/nifti_header.hpp"
+#include "io/streams/file_head.hpp"
+#include "io/voxels/nifti_header.hpp"
 #include "registration/transform_readers.hpp"
 
 namespace imx::detail {

@@ -12,7 +12,7 @@
 
 #include "core/math.hpp"
 #include "intermix/error.hpp"
-#include "io/regular_file.hpp"
+#include "io/streams/regular_file.hpp"
 #include "registration/transform_formats.hpp"
 #include "registration/transform_readers.hpp"
 

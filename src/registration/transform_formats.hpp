@@ -3,7 +3,7 @@
 #pragma once
 #include <span>
 
-#include "io/format_registry.hpp"
+#include "io/registry/format_registry.hpp"
 #include "registration/transform_file.hpp"
 
 namespace imx::detail {

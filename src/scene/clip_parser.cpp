@@ -7,8 +7,8 @@
 
 #include <fmt/format.h>
 
-#include "io/mesh_topology.hpp"
 #include "core/edit_distance.hpp"
+#include "io/mesh/mesh_topology.hpp"
 #include "scene/scene_parsers.hpp"
 
 namespace imx::scene_json {

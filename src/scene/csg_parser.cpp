@@ -10,7 +10,7 @@
 #include <fmt/format.h>
 
 #include "core/edit_distance.hpp"
-#include "io/mesh_topology.hpp"
+#include "io/mesh/mesh_topology.hpp"
 #include "scene/label_map_parser.hpp"
 #include "scene/scene_parsers.hpp"
 

@@ -10,7 +10,7 @@
 
 #include "intermix/error.hpp"
 #include "intermix/scene.hpp"
-#include "io/regular_file.hpp"
+#include "io/streams/regular_file.hpp"
 #include "scene/mesh_overlay.hpp"
 #include "scene/scene_document.hpp"
 #include "scene/scene_parsers.hpp"

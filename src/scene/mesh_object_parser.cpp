@@ -8,8 +8,8 @@
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
-#include "io/mesh_primitives.hpp"
-#include "io/mesh_space.hpp"
+#include "io/mesh/mesh_space.hpp"
+#include "phantoms/mesh_primitives.hpp"
 #include "scene/mesh_overlay.hpp"
 #include "scene/scene_parsers.hpp"
 

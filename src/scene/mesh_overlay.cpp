@@ -11,8 +11,8 @@
 #include "core/colour.hpp"
 #include "intermix/error.hpp"
 #include "io/overlay/cifti.hpp"
+#include "io/overlay/vertex_overlay.hpp"
 #include "io/overlay/volume_overlay.hpp"
-#include "io/vertex_overlay.hpp"
 #include "scene/surface_sampling.hpp"
 #include "volume/tf_lut.hpp"
 

@@ -7,8 +7,9 @@
 #include <optional>
 
 #include "io/overlay/cifti.hpp"
+#include "io/overlay/vertex_overlay.hpp"
 #include "io/overlay/volume_overlay.hpp"
-#include "io/vertex_overlay.hpp"
+#include "io/voxels/nifti_header.hpp"
 
 #include <set>
 #include <system_error>

@@ -11,7 +11,7 @@
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/render.hpp"
-#include "io/atomic_file.hpp"
+#include "io/streams/atomic_file.hpp"
 #include "scene/json_reader.hpp"
 #include "scene/strict_json.hpp"
 #include "server/jpeg_encoder.hpp"

@@ -12,7 +12,7 @@
 #include "expect_error.hpp"
 #include "intermix/formats.hpp"
 #include "intermix/io.hpp"
-#include "io/gzip.hpp"
+#include "io/streams/gzip.hpp"
 #include "temp_dir.hpp"
 
 namespace imx {

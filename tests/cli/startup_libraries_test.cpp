@@ -1,5 +1,5 @@
-// The libraries only some inputs need are plugins opened on first use (src/io/plugin_loader.hpp):
-// assimp (with draco and minizip) for OBJ, STL, OFF and glTF meshes, libhdf5 for MINC-2, Open MPI
+// The libraries only some inputs need are plugins opened on first use
+// (src/io/registry/plugin_loader.hpp): assimp (with draco and minizip) for OBJ, STL, OFF and glTF meshes, libhdf5 for MINC-2, Open MPI
 // for --distributed. Start-up, a NIfTI or DICOM conversion and a volume render map none of them
 // (the dynamic loader's own report, LD_DEBUG=files, says what was mapped); a mesh of an assimp
 // format maps the mesh plugin and reads as before, a MINC-2 file the MINC plugin, a distributed

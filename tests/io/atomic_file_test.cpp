@@ -8,7 +8,7 @@
 #include <unistd.h>
 
 #include "expect_error.hpp"
-#include "io/atomic_file.hpp"
+#include "io/streams/atomic_file.hpp"
 #include "temp_dir.hpp"
 
 namespace imx {

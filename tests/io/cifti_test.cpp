@@ -15,7 +15,7 @@
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "io/overlay/cifti.hpp"
-#include "io/vertex_overlay.hpp"
+#include "io/overlay/vertex_overlay.hpp"
 #include "nibabel_reference.hpp"
 #include "shared_data.hpp"
 #include "temp_dir.hpp"

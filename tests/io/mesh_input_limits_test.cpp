@@ -19,9 +19,9 @@
 #include "expect_error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
-#include "io/gifti_reader.hpp"
-#include "io/mesh_primitives.hpp"
+#include "io/mesh/gifti_reader.hpp"
 #include "peak_growth.hpp"
+#include "phantoms/mesh_primitives.hpp"
 #include "temp_dir.hpp"
 
 namespace imx {

@@ -1,5 +1,5 @@
 // Tests for check_closed and flipped: closedness, orientation and volume of meshes (CSG.md P3).
-#include "io/mesh_topology.hpp"
+#include "io/mesh/mesh_topology.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -9,7 +9,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "intermix/io.hpp"
-#include "io/mesh_primitives.hpp"
+#include "phantoms/mesh_primitives.hpp"
 #include "shared_data.hpp"
 
 namespace imx {

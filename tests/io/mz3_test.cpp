@@ -16,8 +16,8 @@
 #include "core/colour.hpp"
 #include "expect_error.hpp"
 #include "intermix/error.hpp"
-#include "io/gzip.hpp"
 #include "io/mesh/mz3.hpp"
+#include "io/streams/gzip.hpp"
 #include "shared_data.hpp"
 #include "temp_dir.hpp"
 

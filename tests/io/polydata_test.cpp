@@ -11,7 +11,7 @@
 #include "expect_error.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
-#include "io/polydata.hpp"
+#include "io/mesh/polydata.hpp"
 #include "nibabel_reference.hpp"
 #include "temp_dir.hpp"
 

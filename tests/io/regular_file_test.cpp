@@ -1,6 +1,6 @@
 // Non-regular files are refused where a regular file is read or written: a FIFO would block a
 // reader forever, and renaming over a device or FIFO would replace it (issue 17).
-#include "io/regular_file.hpp"
+#include "io/streams/regular_file.hpp"
 
 #include <sys/stat.h>
 
@@ -10,7 +10,7 @@
 
 #include "expect_error.hpp"
 #include "intermix/io.hpp"
-#include "io/atomic_file.hpp"
+#include "io/streams/atomic_file.hpp"
 #include "temp_dir.hpp"
 
 namespace imx {

@@ -12,8 +12,8 @@
 #include "expect_error.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
-#include "io/freesurfer_surface.hpp"
-#include "io/vertex_overlay.hpp"
+#include "io/mesh/freesurfer_surface.hpp"
+#include "io/overlay/vertex_overlay.hpp"
 #include "nibabel_reference.hpp"
 #include "temp_dir.hpp"
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "io/gzip.hpp"
+#include "io/streams/gzip.hpp"
 
 namespace imx::test {
 

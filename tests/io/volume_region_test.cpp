@@ -15,7 +15,7 @@
 
 #include "expect_error.hpp"
 #include "intermix/io.hpp"
-#include "io/raw_voxels.hpp"
+#include "io/voxels/raw_voxels.hpp"
 #include "pattern_volume.hpp"
 #include "shared_data.hpp"
 #include "temp_dir.hpp"

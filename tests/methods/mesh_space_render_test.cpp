@@ -16,7 +16,7 @@
 #include <glm/glm.hpp>
 
 #include "intermix/scene.hpp"
-#include "io/mesh_primitives.hpp"
+#include "phantoms/mesh_primitives.hpp"
 #include "probes/first_hit_depth.hpp"
 
 namespace imx {

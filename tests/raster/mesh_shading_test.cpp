@@ -8,7 +8,7 @@
 #include <glm/glm.hpp>
 
 #include "intermix/io.hpp"
-#include "io/mesh_primitives.hpp"
+#include "phantoms/mesh_primitives.hpp"
 #include "raster_test_util.hpp"
 #include "temp_dir.hpp"
 

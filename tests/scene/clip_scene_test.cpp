@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "intermix/scene.hpp"
-#include "io/mesh_topology.hpp"
+#include "io/mesh/mesh_topology.hpp"
 #include "scene_fixture.hpp"
 #include "temp_dir.hpp"
 

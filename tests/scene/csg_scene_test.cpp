@@ -10,7 +10,7 @@
 
 #include "intermix/io.hpp"
 #include "intermix/scene.hpp"
-#include "io/mesh_topology.hpp"
+#include "io/mesh/mesh_topology.hpp"
 #include "scene_fixture.hpp"
 #include "shared_data.hpp"
 #include "temp_dir.hpp"

@@ -1,4 +1,4 @@
-// Mesh topology checks for the scene tests, written apart from io/mesh_topology.hpp's so that
+// Mesh topology checks for the scene tests, written apart from io/mesh/mesh_topology.hpp's so that
 // they check it too: closed and consistently wound, and the enclosed volume.
 #pragma once
 #include <cstdint>

@@ -11,8 +11,8 @@
 #include "encodings.hpp"
 #include "expect_error.hpp"
 #include "intermix/io.hpp"
-#include "io/gifti_reader.hpp"
-#include "io/mesh_topology.hpp"
+#include "io/mesh/gifti_reader.hpp"
+#include "io/mesh/mesh_topology.hpp"
 #include "shared_data.hpp"
 #include "temp_dir.hpp"
 

@@ -11,9 +11,9 @@
 
 #include "expect_error.hpp"
 #include "intermix/io.hpp"
-#include "io/mesh_primitives.hpp"
-#include "io/mesh_topology.hpp"
-#include "io/vertex_normals.hpp"
+#include "io/mesh/mesh_topology.hpp"
+#include "io/mesh/vertex_normals.hpp"
+#include "phantoms/mesh_primitives.hpp"
 #include "temp_dir.hpp"
 
 namespace imx {

@@ -1,4 +1,4 @@
-#include "io/mesh_primitives.hpp"
+#include "phantoms/mesh_primitives.hpp"
 
 #include <cmath>
 #include <numbers>

@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "intermix/io.hpp"
-#include "io/mesh_topology.hpp"
+#include "io/mesh/mesh_topology.hpp"
 #include "scene_fixture.hpp"
 #include "temp_dir.hpp"
 

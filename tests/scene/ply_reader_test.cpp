@@ -1,4 +1,4 @@
-#include "io/ply_reader.hpp"
+#include "io/mesh/ply_reader.hpp"
 
 #include <bit>
 #include <cstring>

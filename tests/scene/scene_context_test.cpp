@@ -7,7 +7,7 @@
 
 #include "expect_error.hpp"
 #include "intermix/io.hpp"
-#include "io/mesh_primitives.hpp"
+#include "phantoms/mesh_primitives.hpp"
 #include "scene/overrides.hpp"
 #include "scene/scene_parsers.hpp"
 #include "temp_dir.hpp"

@@ -5,7 +5,7 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
-#include "io/plugin_loader.hpp"
+#include "io/registry/plugin_loader.hpp"
 
 // CMake defines these on this file's command line only (CMakeLists.txt), so that no other
 // compile names the build or install folder.

@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
-#include "io/gzip.hpp"
+#include "io/streams/gzip.hpp"
 
 namespace imx::detail {
 

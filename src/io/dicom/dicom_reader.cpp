@@ -24,7 +24,7 @@
 #include "io/dicom/dicom_series.hpp"
 #include "io/dicom/dicom_suv.hpp"
 #include "io/dicom/dicom_volumes.hpp"
-#include "io/frames.hpp"
+#include "io/voxels/frames.hpp"
 
 namespace imx {
 

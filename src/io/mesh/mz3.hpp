@@ -6,8 +6,8 @@
 #pragma once
 #include <filesystem>
 
-#include "io/polydata.hpp"
-#include "io/vertex_overlay.hpp"
+#include "io/mesh/polydata.hpp"
+#include "io/overlay/vertex_overlay.hpp"
 
 namespace imx::detail {
 

@@ -14,11 +14,11 @@
 #include "core/colour.hpp"
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
-#include "io/byte_cursor.hpp"
-#include "io/file_head.hpp"
-#include "io/gzip.hpp"
 #include "io/mesh/mz3.hpp"
-#include "io/regular_file.hpp"
+#include "io/streams/byte_cursor.hpp"
+#include "io/streams/file_head.hpp"
+#include "io/streams/gzip.hpp"
+#include "io/streams/regular_file.hpp"
 
 namespace imx::detail {
 namespace {

@@ -12,8 +12,8 @@
 #include <string_view>
 #include <vector>
 
-#include "io/raw_voxels.hpp"
-#include "io/vertex_overlay.hpp"
+#include "io/overlay/vertex_overlay.hpp"
+#include "io/voxels/raw_voxels.hpp"
 
 namespace imx::detail {
 
@@ -54,10 +54,6 @@ struct CiftiFile {
   uint64_t offset = 0;
   double slope = 0.0, inter = 0.0;  // NIfTI scaling, slope 0 for none
 };
-
-// "WHAT is a CIFTI-2 file of surface data: give it after its surfaces (...)": what a volume
-// reader says of one.
-std::string cifti_needs_surfaces(const std::string& what);
 
 // Whether `file` is a NIfTI file whose intent is a CIFTI one (3000-3099). Reads the header only;
 // false for anything it cannot read. is_cifti_head: the same on a file's first (at least 512,

@@ -10,13 +10,13 @@
 
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
-#include "io/file_head.hpp"
-#include "io/frame_voxels.hpp"
-#include "io/header_text.hpp"
-#include "io/nifti_header.hpp"
 #include "io/overlay/cifti.hpp"
 #include "io/overlay/cifti_xml.hpp"
-#include "io/regular_file.hpp"
+#include "io/streams/file_head.hpp"
+#include "io/streams/header_text.hpp"
+#include "io/streams/regular_file.hpp"
+#include "io/voxels/frame_voxels.hpp"
+#include "io/voxels/nifti_header.hpp"
 
 namespace imx::detail {
 namespace {
@@ -205,14 +205,6 @@ std::string short_structure_name(const std::string& structure) {
   return structure.starts_with(kStructurePrefix)
              ? structure.substr(std::string_view(kStructurePrefix).size())
              : structure;
-}
-
-std::string cifti_needs_surfaces(const std::string& what) {
-  const std::string name = std::filesystem::path(what).filename().string();
-  return fmt::format(
-      "{} is a CIFTI-2 file of surface data: give it after its surfaces (intermix "
-      "render fs_LR.32k.L.inflated.surf.gii {})",
-      what, name.empty() ? what : name);
 }
 
 bool is_cifti_head(std::string_view head) {

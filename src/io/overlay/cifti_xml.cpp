@@ -12,7 +12,7 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
-#include "io/header_text.hpp"
+#include "io/streams/header_text.hpp"
 
 namespace imx::detail {
 namespace {

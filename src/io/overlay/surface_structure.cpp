@@ -13,8 +13,8 @@
 #include <fmt/ranges.h>
 
 #include "intermix/error.hpp"
-#include "io/header_text.hpp"
 #include "io/overlay/cifti.hpp"
+#include "io/streams/header_text.hpp"
 
 namespace imx::detail {
 namespace {

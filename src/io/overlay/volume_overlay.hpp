@@ -10,7 +10,7 @@
 #include <glm/vec3.hpp>
 
 #include "intermix/volume.hpp"
-#include "io/vertex_overlay.hpp"
+#include "io/overlay/vertex_overlay.hpp"
 
 namespace imx::detail {
 

@@ -13,15 +13,15 @@
 
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
-#include "io/file_head.hpp"
-#include "io/frame_voxels.hpp"
-#include "io/frames.hpp"
-#include "io/gzip.hpp"
-#include "io/header_text.hpp"
-#include "io/raw_voxels.hpp"
-#include "io/regular_file.hpp"
+#include "io/streams/file_head.hpp"
+#include "io/streams/gzip.hpp"
+#include "io/streams/header_text.hpp"
+#include "io/streams/regular_file.hpp"
 #include "io/volume/afni.hpp"
 #include "io/volume/afni_attributes.hpp"
+#include "io/voxels/frame_voxels.hpp"
+#include "io/voxels/frames.hpp"
+#include "io/voxels/raw_voxels.hpp"
 #include "volume/volume_checks.hpp"
 
 namespace imx::detail {

@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
-#include "io/plugin_loader.hpp"
+#include "io/registry/plugin_loader.hpp"
 #include "minc_hdf5/minc_hdf5_abi.h"
 
 // CMake defines these on this file's command line only (CMakeLists.txt), so that no other

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "io/raw_voxels.hpp"
+#include "io/voxels/raw_voxels.hpp"
 
 namespace imx::detail {
 

@@ -13,8 +13,8 @@
 #include "core/isolated_call.hpp"
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
-#include "io/frames.hpp"
 #include "io/volume/minc.hpp"
+#include "io/voxels/frames.hpp"
 
 namespace imx::detail {
 namespace {

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "intermix/volume.hpp"
-#include "io/raw_voxels.hpp"
+#include "io/voxels/raw_voxels.hpp"
 
 namespace imx::detail {
 

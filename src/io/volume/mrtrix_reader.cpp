@@ -13,13 +13,13 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
-#include "io/frame_voxels.hpp"
-#include "io/frames.hpp"
-#include "io/gzip.hpp"
-#include "io/raw_voxels.hpp"
-#include "io/regular_file.hpp"
+#include "io/streams/gzip.hpp"
+#include "io/streams/regular_file.hpp"
 #include "io/volume/mrtrix.hpp"
 #include "io/volume/mrtrix_header.hpp"
+#include "io/voxels/frame_voxels.hpp"
+#include "io/voxels/frames.hpp"
+#include "io/voxels/raw_voxels.hpp"
 #include "volume/volume_checks.hpp"
 
 namespace imx::detail {

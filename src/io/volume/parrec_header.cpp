@@ -15,8 +15,8 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
-#include "io/header_text.hpp"
-#include "io/regular_file.hpp"
+#include "io/streams/header_text.hpp"
+#include "io/streams/regular_file.hpp"
 #include "io/volume/parrec.hpp"
 #include "io/volume/parrec_header.hpp"
 

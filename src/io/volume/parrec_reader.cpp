@@ -13,13 +13,13 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
-#include "io/frame_voxels.hpp"
-#include "io/frames.hpp"
-#include "io/header_text.hpp"
-#include "io/raw_voxels.hpp"
-#include "io/regular_file.hpp"
+#include "io/streams/header_text.hpp"
+#include "io/streams/regular_file.hpp"
 #include "io/volume/parrec.hpp"
 #include "io/volume/parrec_header.hpp"
+#include "io/voxels/frame_voxels.hpp"
+#include "io/voxels/frames.hpp"
+#include "io/voxels/raw_voxels.hpp"
 #include "volume/volume_checks.hpp"
 
 namespace imx::detail {

@@ -1,0 +1,143 @@
+// One row per volume format. A new format: its reader file and one row here (docs/architecture.md).
+#include "io/volume/volume_formats.hpp"
+
+#include <vector>
+
+#include "intermix/dicom.hpp"
+#include "io/volume/afni.hpp"
+#include "io/volume/metaimage.hpp"
+#include "io/volume/mgh.hpp"
+#include "io/volume/minc.hpp"
+#include "io/volume/mrtrix.hpp"
+#include "io/volume/nifti.hpp"
+#include "io/volume/nrrd.hpp"
+#include "io/volume/parrec.hpp"
+
+namespace imx::detail {
+namespace {
+
+bool dicom_source(const FileProbe& probe) {
+  return is_dicom_source(probe.path);
+}
+
+VolumeData read_dicom_volume(const std::filesystem::path& file, int frame) {
+  DicomReadOptions options;
+  options.frame = frame;
+  return read_dicom(file, options).volume;
+}
+
+VolumeHeader read_dicom_volume_header(const std::filesystem::path& file) {
+  return read_dicom_header(file);
+}
+
+// DICOM is read whole and cropped: its voxels come slice file by slice file, decoded (and
+// possibly decompressed) by GDCM, with no byte layout to seek in.
+VolumeData read_dicom_volume_region(const std::filesystem::path& file, const VoxelBox& box,
+                                    int frame) {
+  return crop(read_dicom_volume(file, frame), box, file.string());
+}
+
+}  // namespace
+
+std::span<const VolumeFormat> volume_formats_table() {
+  static const std::vector<VolumeFormat> table = {
+      {{.kind = FileKind::volume,
+        .name = "DICOM",
+        .extensions = {".dcm", ".dicom", ".dcm.gz"},
+        .sniff = dicom_source,
+        .fuzz_target = "fuzz_dicom",
+        .fuzz_seeds = "*.dcm",
+        .reference = "dcm2niix"},
+       read_dicom_volume,
+       read_dicom_volume_header,
+       read_dicom_volume_region},
+      {{.kind = FileKind::volume,
+        .name = "NRRD",
+        .extensions = {".nrrd", ".nhdr"},
+        .writes = ".nrrd",
+        .fuzz_target = "fuzz_nrrd",
+        .fuzz_seeds = "*.nrrd *.nhdr",
+        .reference = "teem (unu), pynrrd",
+        .gz_wrapped = {".nrrd"}},
+       read_nrrd,
+       read_nrrd_header,
+       read_nrrd_region},
+      {{.kind = FileKind::volume,
+        .name = "NIfTI-1/2, Analyze 7.5",
+        .extensions = {".nii", ".nii.gz", ".hdr", ".hdr.gz", ".img", ".img.gz"},
+        .writes = ".nii, .nii.gz",
+        .fuzz_target = "fuzz_nifti",
+        .fuzz_seeds = "*.nii *.nii.gz",
+        .reference = "nibabel"},
+       read_nifti,
+       read_nifti_header,
+       read_nifti_region},
+      {{.kind = FileKind::volume,
+        .name = "MetaImage",
+        .extensions = {".mha", ".mhd"},
+        .writes = ".mha",
+        .fuzz_target = "fuzz_metaimage",
+        .fuzz_seeds = "*.mha *.mhd",
+        .reference = "ITK",
+        .gz_wrapped = {".mha"}},
+       read_metaimage,
+       read_metaimage_header,
+       read_metaimage_region},
+      {{.kind = FileKind::volume,
+        .name = "FreeSurfer MGH",
+        .extensions = {".mgh", ".mgz", ".mgh.gz"},
+        .fuzz_target = "fuzz_mgh",
+        .fuzz_seeds = "*.mgh *.mgz",
+        .reference = "nibabel"},
+       read_mgh,
+       read_mgh_header,
+       read_mgh_region},
+      {{.kind = FileKind::volume,
+        .name = "AFNI BRIK/HEAD",
+        .extensions = {".head", ".brik", ".brik.gz"},
+        .sniff = [](const FileProbe& p) { return is_afni_head(p.head); },
+        .fuzz_target = "fuzz_afni",
+        .reference = "nibabel.brikhead"},
+       read_afni,
+       read_afni_header,
+       read_afni_region},
+      {{.kind = FileKind::volume,
+        .name = "MRtrix image",
+        .extensions = {".mif", ".mif.gz", ".mih"},
+        .sniff = [](const FileProbe& p) { return is_mrtrix_header(p.head); },
+        .fuzz_target = "fuzz_mrtrix",
+        .fuzz_seeds = "*.mif",
+        .reference = "MRtrix3 (mrconvert)"},
+       read_mrtrix,
+       read_mrtrix_header,
+       read_mrtrix_region},
+      {{.kind = FileKind::volume,
+        .name = "Philips PAR/REC",
+        .extensions = {".par", ".rec"},
+        .sniff = [](const FileProbe& p) { return is_parrec_header(p.head); },
+        .fuzz_target = "fuzz_parrec",
+        .fuzz_seeds = "*.par",
+        .reference = "nibabel.parrec"},
+       read_parrec,
+       read_parrec_header,
+       read_parrec_region},
+      {{.kind = FileKind::volume,
+        .name = "MINC-2 (MINC-1 named and refused)",
+        .extensions = {".mnc"},
+        .sniff = [](const FileProbe& p) { return is_minc(p.head); },
+        .fuzz_target = "fuzz_minc",
+        .fuzz_seeds = "*.mnc",
+        .reference = "nibabel.minc2",
+        .gz_wrapped = {".mnc"}},
+       read_minc,
+       read_minc_header,
+       read_minc_region},
+  };
+  return table;
+}
+
+const VolumeFormat* find_volume_format(const FileProbe& probe, bool* wrapped) {
+  return find_format(volume_formats_table(), probe, wrapped);
+}
+
+}  // namespace imx::detail
