@@ -59,7 +59,8 @@ for f in include/intermix/renderer.hpp include/intermix/io.hpp \
          lib/intermix/libimx_minc_hdf5.so; do
   [ -f "$prefix/$f" ] || fail "not installed: $f"
 done
-for m in methods frame csg scene presets io metrics raster volume core; do
+for m in methods frame csg scene presets phantoms io_mesh io_volume io_dicom io_image io_voxels \
+         io_registry io_streams metrics raster volume core; do
   [ -f "$prefix/lib/libimx_$m.a" ] || fail "not installed: lib/libimx_$m.a"
 done
 # The MPI plugin, when the build has one (Open MPI found): opened by render --distributed.
