@@ -14,9 +14,17 @@
 
 namespace imx::detail {
 
-enum class FileKind : uint8_t { volume, mesh, overlay, transform, label_table };
+enum class FileKind : uint8_t {
+  volume,
+  mesh,
+  overlay,
+  transform,
+  label_table,
+  streamlines,
+  connectome
+};
 
-// "volume", "mesh", "surface overlay", "transform", "label table".
+// "volume", "mesh", "surface overlay", "transform", "label table", "streamlines", "connectome".
 const char* file_kind_name(FileKind kind);
 
 // What reading knows of a file before choosing its format: the name and the first bytes.
