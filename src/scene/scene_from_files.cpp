@@ -8,6 +8,7 @@
 
 #include "io/overlay/cifti.hpp"
 #include "io/overlay/volume_overlay.hpp"
+#include "io/streamline_formats.hpp"
 #include "io/vertex_overlay.hpp"
 
 #include <set>
@@ -178,6 +179,7 @@ SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
   std::set<std::string> taken;
   size_t meshes = 0;
   std::optional<size_t> last_mesh;  // an overlay file colours the mesh before it
+  std::optional<size_t> last_streamlines;  // a .tsf holds values of the tractogram before it
   for (const std::filesystem::path& file : files) {
     std::error_code ec;
     if (!std::filesystem::exists(file, ec))
@@ -204,6 +206,22 @@ SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
                                 file.string(), mesh["name"].get<std::string>(),
                                 mesh["overlay"]["file"].get<std::string>()));
       mesh["overlay"] = automatic_overlay(absolute);
+      continue;
+    }
+    if (const detail::StreamlineFormat* tracts =
+            is_dicom_source(file) ? nullptr : detail::find_streamline_format(detail::probe_file(file));
+        tracts && !tracts->read) {
+      // Per-point values (.tsf) of the tractogram given before them.
+      if (!last_streamlines)
+        throw Error(fmt::format("{}: {} holds values of a tractogram: give it after its .tck",
+                                file.string(), file.filename().string()));
+      objects[*last_streamlines]["source"]["values"].push_back(absolute.string());
+      continue;
+    } else if (tracts) {
+      last_streamlines = objects.size();
+      objects.push_back({{"name", object_name(file, taken)},
+                         {"type", "streamlines"},
+                         {"source", {{"file", absolute.string()}}}});
       continue;
     }
     Json object = {{"name", object_name(file, taken)}};

@@ -60,6 +60,24 @@ inline void hash_stage_fields(Fnv1a& h, const MeshObject& m) {
   if (interior) h.add(interior->color).add(interior->opacity).add(interior->unit_distance);
 }
 
+inline void hash_stage_fields(Fnv1a& h, const StreamlineObject& o) {
+  const auto& [name, streamlines, radius, colouring, color, value, colormap, range, opacity,
+               group_opacity, shading, stride, min_length, regions, thickness, cache] = o;
+  (void)name, (void)cache;  // a label; the cache builds from the fields hashed here
+  h.add(streamlines.get()).add(radius).add(colouring).add(color).add(value.size());
+  for (char c : value) h.add(c);
+  h.add(colormap).add(opacity).add(group_opacity.size()).add(stride).add(min_length);
+  for (float g : group_opacity) h.add(g);
+  h.add(range.has_value());
+  if (range) h.add(*range);
+  hash_stage_shading(h, shading);
+  hash_stage_optional(h, thickness);
+  h.add(regions.size());
+  for (const StreamlineRegion& r : regions)
+    h.add(r.shape).add(r.avoid).add(r.center).add(r.radius).add(r.labels.get()).add(r.label).add(
+        r.mesh.get());
+}
+
 inline void hash_stage_fields(Fnv1a& h, const Scene& scene, const PlaneObject& p) {
   const auto& [name, center, normal, up, size, volume, window, color, colormap, threshold,
                symmetric, opacity, thickness] = p;
