@@ -20,11 +20,6 @@
 namespace imx::cli {
 namespace {
 
-const std::string& object_name(const Scene& scene, ObjectRef ref) {
-  return ref.kind == ObjectKind::volume ? scene.volumes[ref.index].name
-                                        : scene.meshes[ref.index].name;
-}
-
 std::vector<std::string> digit_strings(const std::vector<ClipState>& states, int n) {
   std::vector<std::string> out;
   for (ClipState s : states) out.push_back(digits(s, n));

@@ -60,19 +60,7 @@ bool reset_peak_rss() {
 
 std::vector<std::string> object_names(const Scene& scene) {
   std::vector<std::string> names;
-  for (const ObjectRef& ref : scene.order) {
-    switch (ref.kind) {
-      case ObjectKind::volume:
-        names.push_back(scene.volumes[ref.index].name);
-        break;
-      case ObjectKind::mesh:
-        names.push_back(scene.meshes[ref.index].name);
-        break;
-      case ObjectKind::plane:
-        names.push_back(scene.planes[ref.index].name);
-        break;
-    }
-  }
+  for (const ObjectRef& ref : scene.order) names.push_back(object_name(scene, ref));
   return names;
 }
 

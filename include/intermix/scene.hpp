@@ -15,6 +15,7 @@
 
 #include "intermix/labels.hpp"
 #include "intermix/mesh.hpp"
+#include "intermix/streamlines.hpp"
 #include "intermix/volume.hpp"
 
 namespace imx {
@@ -164,7 +165,51 @@ struct PlaneObject {
   std::optional<double> thickness;
 };
 
-enum class ObjectKind : uint8_t { volume, mesh, plane };
+// How a streamline object colours its tubes.
+enum class StreamlineColouring : uint8_t {
+  direction,             // |dx|, |dy|, |dz| of the local segment (directionally encoded colour)
+  streamline_direction,  // the same of the whole streamline (first to last point)
+  fixed,                 // StreamlineObject::color
+  point_value,           // a per-point value through the colour map
+  streamline_value,      // a per-streamline value through the colour map
+  group                  // the colour of the streamline's first group (TRX), else `color`
+};
+
+// Which streamlines a region keeps: those passing through it, or those avoiding it.
+struct StreamlineRegion {
+  enum class Shape : uint8_t { sphere, label, mesh } shape = Shape::sphere;
+  bool avoid = false;
+  glm::dvec3 center{0.0};  // sphere, world mm
+  double radius = 0.0;     // sphere, mm
+  // label: voxels equal to `label` in a label map; mesh: the inside of a closed mesh.
+  std::shared_ptr<const VolumeData> labels;
+  int label = 0;
+  std::shared_ptr<const Mesh> mesh;
+};
+
+class TubeCache;  // the tubes' geometry and its acceleration, built on first use (src/tubes/)
+
+// A tractogram drawn as tubes: each segment an exact capsule or cone of `radius` mm.
+struct StreamlineObject {
+  std::string name;
+  std::shared_ptr<const Streamlines> streamlines;  // world space, the transform applied
+  double radius = 0.5;                             // mm
+  StreamlineColouring colouring = StreamlineColouring::direction;
+  glm::vec3 color{1.0f};  // fixed colouring, and groups without a colour
+  std::string value;      // point_value / streamline_value: the values' name
+  Colormap colormap = Colormap::viridis;
+  std::optional<glm::dvec2> range;   // the values mapped to the colour map's ends; empty: all
+  float opacity = 1.0f;              // per tube crossing
+  std::vector<float> group_opacity;  // per StreamlineGroup, overriding `opacity`; may be empty
+  Shading shading{true};
+  int stride = 1;                         // every stride-th streamline
+  double min_length = 0.0;                // mm; shorter streamlines are not drawn
+  std::vector<StreamlineRegion> regions;  // all must hold
+  std::optional<double> thickness;        // mm; empty means "auto", as for meshes
+  std::shared_ptr<TubeCache> cache;       // shared by copies of the scene; may be null
+};
+
+enum class ObjectKind : uint8_t { volume, mesh, plane, streamlines };
 
 // An object in scene order: which list and which entry.
 struct ObjectRef {
@@ -242,12 +287,18 @@ struct Scene {
   std::vector<VolumeObject> volumes;
   std::vector<MeshObject> meshes;
   std::vector<PlaneObject> planes;
+  std::vector<StreamlineObject> streamlines;
   std::vector<ObjectRef> order;      // every object, in the order of the scene file
   std::optional<CsgExpression> csg;  // the "csg" block; empty without one or with "csg": null
   RenderSettings render;
   std::filesystem::path file;      // the scene file, when loaded from one
   std::vector<std::string> notes;  // what loading chose for the user (a series, a mesh's space)
 };
+
+// "volume", "mesh", "plane" or "streamlines": what scene files call the kind.
+const char* object_kind_name(ObjectKind kind);
+// The name of the object `ref` refers to in `scene` (its index must be in range).
+const std::string& object_name(const Scene& scene, const ObjectRef& ref);
 
 // Loads and validates a JSON scene file; relative paths resolve against its folder.
 // `overrides` are "json.path=value" assignments applied before validation (--set).

@@ -2,6 +2,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -39,10 +40,21 @@ const char* voxel_type_name(VoxelType type);
 using VoxelStorage = std::variant<VoxelBuffer<uint8_t>, VoxelBuffer<int16_t>, VoxelBuffer<uint16_t>,
                                   VoxelBuffer<float>>;
 
+// The colours of a colour volume (NIfTI RGB24 / RGBA32, DICOM RGB): per voxel, in the order of
+// VolumeData::voxels, its red, green and blue as the file stores them (sRGB-encoded bytes). The
+// volume's scalar voxels then hold its luminance (or the file's alpha), so that every scalar path
+// (bricks, bounds, statistics, the TF's opacity) serves it unchanged (docs/clinical_data.md).
+struct ColourVoxels {
+  std::vector<uint8_t> rgb;  // 3 bytes per voxel
+};
+
 struct VolumeData {
   glm::ivec3 dims{0};              // voxels along i, j, k; x fastest in memory
   VoxelStorage voxels;             // dims.x * dims.y * dims.z values
   glm::dmat4 index_to_world{1.0};  // voxel centres at integer indices -> world mm (LPS)
+  // A colour volume's colours (shown instead of the TF's colour and the planes' grey); null for
+  // a scalar volume.
+  std::shared_ptr<const ColourVoxels> colours;
 
   VoxelType type() const { return static_cast<VoxelType>(voxels.index()); }
   size_t voxel_count() const;

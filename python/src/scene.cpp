@@ -70,17 +70,6 @@ std::shared_ptr<PyScene> from_dict(const SceneDictParameter& dict,
   return std::make_shared<PyScene>(std::move(document), std::move(sources), kDictOrigin, folder);
 }
 
-std::string object_name(const Scene& scene, const ObjectRef& ref) {
-  const auto i = static_cast<size_t>(ref.index);
-  return ref.kind == ObjectKind::volume ? scene.volumes[i].name
-         : ref.kind == ObjectKind::mesh ? scene.meshes[i].name
-                                        : scene.planes[i].name;
-}
-
-const char* kind_name(ObjectKind kind) {
-  return kind == ObjectKind::volume ? "volume" : kind == ObjectKind::mesh ? "mesh" : "plane";
-}
-
 // A file source's dict: {"file": path}.
 py::dict file_source(const py::handle& source, const Argument& argument) {
   return py::dict(py::arg("file") = py::str(python::path(source, argument).string()));
@@ -460,7 +449,7 @@ keeps stages between frames.
         std::string objects;
         for (const ObjectRef& ref : s.scene().order)
           objects += fmt::format("{}{} ({})", objects.empty() ? "" : ", ",
-                                 object_name(s.scene(), ref), kind_name(ref.kind));
+                                 object_name(s.scene(), ref), object_kind_name(ref.kind));
         return fmt::format("<intermix.Scene {}: {}; {}x{}, method {}>",
                            s.file().empty() ? s.origin() : s.file().string(),
                            objects.empty() ? "no objects" : objects, s.scene().image.width,

@@ -18,6 +18,8 @@ const char* kind_name(ObjectKind kind) {
       return "mesh";
     case ObjectKind::plane:
       return "plane";
+    case ObjectKind::streamlines:
+      return "streamlines";
   }
   return "object";
 }

@@ -101,6 +101,11 @@ std::vector<Unit> units_of(const Scene& scene, const std::set<size_t>& bricked_v
       u.cost =
           kCostPerSurface +
           kCostPerTriangle * static_cast<double>(scene.meshes[ref.index].mesh->triangles.size());
+    } else if (ref.kind == ObjectKind::streamlines) {
+      u.objects.push_back(k);
+      u.cost = kCostPerSurface +
+               kCostPerTriangle *
+                   static_cast<double>(scene.streamlines[ref.index].streamlines->points.size());
     } else {
       if (scene.planes[ref.index].volume >= 0) continue;  // goes with its volume
       u.objects.push_back(k);
@@ -214,9 +219,7 @@ std::string Partition::describe(const Scene& scene, int rank) const {
                                 b.lo.z, b.hi.z));
   for (size_t k : part.objects) {
     const ObjectRef& ref = scene.order[k];
-    items.push_back(ref.kind == ObjectKind::volume ? scene.volumes[ref.index].name
-                    : ref.kind == ObjectKind::mesh ? scene.meshes[ref.index].name
-                                                   : scene.planes[ref.index].name);
+    items.push_back(object_name(scene, ref));
   }
   std::string list;
   for (const std::string& s : items) list += (list.empty() ? "" : ", ") + s;

@@ -99,6 +99,11 @@ Scene rank_scene(const Scene& loaded, const Partition& partition, int rank) {
       mesh_at[ref.index] = static_cast<int>(sub.meshes.size());
       sub.order.push_back({ObjectKind::mesh, mesh_at[ref.index]});
       sub.meshes.push_back(std::move(m));
+    } else if (ref.kind == ObjectKind::streamlines) {
+      StreamlineObject o = loaded.streamlines[ref.index];
+      if (auto_thickness && !o.thickness) o.thickness = pitch;
+      sub.order.push_back({ObjectKind::streamlines, static_cast<int>(sub.streamlines.size())});
+      sub.streamlines.push_back(std::move(o));
     } else {
       PlaneObject p = loaded.planes[ref.index];
       if (auto_thickness && !p.thickness) p.thickness = pitch;

@@ -11,6 +11,7 @@
 #include "intermix/error.hpp"
 #include "io/mesh/mesh_formats.hpp"
 #include "io/overlay/overlay_formats.hpp"
+#include "io/streamlines/streamline_formats.hpp"
 #include "io/volume/volume_formats.hpp"
 #include "labels/label_table_formats.hpp"
 #include "registration/transform_formats.hpp"
@@ -29,6 +30,8 @@ std::vector<const detail::FormatInfo*> all_rows() {
   add(detail::overlay_formats_table());
   add(detail::transform_formats_table());
   add(labels_detail::label_table_formats_table());
+  add(detail::streamline_formats_table());
+  add(detail::connectome_formats_table());
   return rows;
 }
 
@@ -104,9 +107,11 @@ std::string file_formats_markdown() {
 std::string unknown_format_message(const std::filesystem::path& file) {
   return fmt::format(
       "{}: '{}' is not a format intermix reads; volumes: {}, DICOM folders; meshes: {}; "
-      "surface overlays (after their surface): {}; or a scene file (.json) alone",
+      "surface overlays (after their surface): {}; streamlines: {}; connectomes: {}; or a scene "
+      "file (.json) alone",
       file.string(), detail::compound_suffix(file), rows_of_kind(detail::FileKind::volume),
-      rows_of_kind(detail::FileKind::mesh), rows_of_kind(detail::FileKind::overlay));
+      rows_of_kind(detail::FileKind::mesh), rows_of_kind(detail::FileKind::overlay),
+      rows_of_kind(detail::FileKind::streamlines), rows_of_kind(detail::FileKind::connectome));
 }
 
 IdentifiedFile identify_file(const std::filesystem::path& file) {
@@ -118,6 +123,9 @@ IdentifiedFile identify_file(const std::filesystem::path& file) {
   // Overlays first: a GIfTI data file is a .gii, a curvature file has no mesh extension.
   if (const auto* row = detail::find_overlay_format(probe)) return found(row);
   if (const auto* row = detail::find_volume_format(probe)) return found(row);
+  // Tractograms before meshes: VTK polydata of lines only is one.
+  if (const auto* row = detail::find_streamline_format(probe)) return found(row);
+  if (const auto* row = detail::find_connectome_format(probe)) return found(row);
   if (const auto* row = detail::find_mesh_format(probe)) return found(row);
   // Transforms and label tables share ".txt" with every text file: named by it alone, a file is
   // none of them.
@@ -141,6 +149,9 @@ std::string needs_message(const std::filesystem::path& file, const IdentifiedFil
         "{}: {} is a surface overlay ({}): give it after its surface (intermix render {} {})",
         file.string(), name, identified.format, surface_for_overlay(file), name);
   }
+  if (identified.needs.empty())  // a connectome: read (intermix info) but not drawn yet
+    return fmt::format("{}: {} is a {} ({}): intermix reads it but does not draw {}s yet",
+                       file.string(), name, identified.kind, identified.format, identified.kind);
   return fmt::format("{}: {} is a {} ({}): it needs {}", file.string(), name, identified.kind,
                      identified.format, identified.needs);
 }

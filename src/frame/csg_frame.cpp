@@ -9,15 +9,6 @@
 #include "intermix/error.hpp"
 
 namespace imx {
-namespace {
-
-const std::string& object_name(const Scene& scene, ObjectRef ref) {
-  return ref.kind == ObjectKind::volume ? scene.volumes[ref.index].name
-                                        : scene.meshes[ref.index].name;
-}
-
-}  // namespace
-
 std::vector<CsgBox> primitive_boxes(const Scene& scene, std::span<const CsgPrimitive> primitives) {
   std::vector<CsgBox> boxes;
   for (const CsgPrimitive& p : primitives) {

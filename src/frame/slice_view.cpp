@@ -46,6 +46,14 @@ glm::vec4 slice_pixel(const std::vector<SliceLayer>& layers, const glm::vec3& wo
     }
     const float value = l.volume->grid.sample(inside);
     if (!std::isfinite(value)) continue;
+    if (l.volume->colours.active()) {  // a colour volume: its colours; over others, its opacity
+      const glm::vec4 c = table_look(*l.volume, inside);
+      const float w =
+          l.base ? 1.0f : std::min(kMaxOverlayWeight, c.a * l.alpha_scale * kMaxOverlayWeight);
+      rgb = rgb * (1.0f - w) + glm::vec3(c) * w;
+      covered = std::max(covered, w);
+      continue;
+    }
     if (l.base) {
       rgb = glm::vec3(window_level(value, l.centre, l.width));
       covered = 1.0f;

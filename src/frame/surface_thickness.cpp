@@ -9,6 +9,9 @@ SurfaceThickness::SurfaceThickness(const Scene& scene, const CameraModel& camera
     std::optional<double> d = scene.render.thickness;
     if (ref.kind == ObjectKind::mesh && ref.index >= 0 && size_t(ref.index) < scene.meshes.size())
       d = scene.meshes[ref.index].thickness ? scene.meshes[ref.index].thickness : d;
+    if (ref.kind == ObjectKind::streamlines && ref.index >= 0 &&
+        size_t(ref.index) < scene.streamlines.size())
+      d = scene.streamlines[ref.index].thickness ? scene.streamlines[ref.index].thickness : d;
     if (ref.kind == ObjectKind::plane && ref.index >= 0 && size_t(ref.index) < scene.planes.size())
       d = scene.planes[ref.index].thickness ? scene.planes[ref.index].thickness : d;
     if (zero)

@@ -7,6 +7,7 @@ MethodChoice choose_method(const Scene& scene) {
   if (scene.render.mixing == "exclusive") return {"csg", "exclusive mixing"};
   if (scene.volumes.empty()) return {"dfb-sfm", "surfaces only"};
   if (!scene.meshes.empty()) return {"zslab-hybrid", "volumes with meshes"};
+  if (!scene.streamlines.empty()) return {"zslab-hybrid", "volumes with streamlines"};
   if (!scene.planes.empty()) return {"peel", "volumes with planes"};
   if (scene.volumes.size() > 1) return {"zslab-hybrid", "several volumes"};
   return {"mdvr", "volumes only"};

@@ -15,6 +15,8 @@
 #include "raster/clip_polygon.hpp"
 #include "raster/edge_function.hpp"
 #include "raster/shade_fragment.hpp"
+#include "tubes/tube_cache.hpp"
+#include "tubes/tube_fragments.hpp"
 
 namespace imx {
 
@@ -95,6 +97,14 @@ struct Rasterizer::Impl {
   std::vector<RasterTriangle> triangles;
   std::vector<uint32_t> bin_offsets;  // tile b owns bin_items[bin_offsets[b] .. bin_offsets[b+1])
   std::vector<uint32_t> bin_items;
+  // Streamline objects: their tubes are ray-traced per sample, not binned (src/tubes/).
+  struct Tubes {
+    StreamlineObject object;  // a copy: the scene need not outlive the rasterizer
+    std::shared_ptr<const TubeGeometry> geometry;
+    TubeLook look;
+    uint32_t order_index = 0;
+  };
+  std::vector<std::unique_ptr<Tubes>> tubes;
 
   explicit Impl(const CameraModel& c) : camera(c) {}
 
@@ -102,6 +112,8 @@ struct Rasterizer::Impl {
                     const std::array<glm::vec3, 3>* vertex_normals,
                     const std::array<glm::vec3, 3>* vertex_colors, uint32_t object);
   void build_bins();
+  void add_tube_fragments(const TileRect& tile, std::span<const glm::vec2> offsets,
+                          SampleFragments& out) const;
 
   // Screen coordinates of image position (px, py): its ray's camera-space direction (x/z, y/z)
   // in perspective, its ray's camera-space origin (x, y) in orthographic.
@@ -130,6 +142,12 @@ struct Rasterizer::Impl {
       if (obj.volume && obj.volume->labels.active()) {  // a label plane: the table's colours
         glm::vec3 rgb;
         if (!sample_plane_labels(*obj.volume, glm::vec3(camera.to_world(hit)), rgb)) return false;
+        f.color = shade_plane_fragment(obj.plane_color, obj.plane_opacity, rgb);
+        return true;
+      }
+      if (obj.volume && obj.volume->colours.active()) {  // a colour volume: its own colours
+        glm::vec3 rgb;
+        if (!sample_plane_colour(*obj.volume, glm::vec3(camera.to_world(hit)), rgb)) return false;
         f.color = shade_plane_fragment(obj.plane_color, obj.plane_opacity, rgb);
         return true;
       }
@@ -386,6 +404,20 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
   for (size_t k = 0; k < scene.order.size(); ++k) {
     const ObjectRef& ref = scene.order[k];
     if (ref.kind == ObjectKind::volume) continue;
+    if (ref.kind == ObjectKind::streamlines) {
+      if (ref.index < 0 || static_cast<size_t>(ref.index) >= scene.streamlines.size())
+        throw Error(
+            fmt::format("scene order[{}]: streamlines index {} is out of range", k, ref.index));
+      const StreamlineObject& so = scene.streamlines[ref.index];
+      if (clip_only || !(so.opacity > 0.0f)) continue;  // tubes never cut; hidden ones cost 0
+      auto tubes = std::make_unique<Impl::Tubes>();
+      tubes->object = so;
+      tubes->geometry = tube_geometry(so);
+      tubes->look = make_tube_look(tubes->object, *tubes->geometry);
+      tubes->order_index = static_cast<uint32_t>(k);
+      im.tubes.push_back(std::move(tubes));
+      continue;
+    }
     const bool is_mesh = ref.kind == ObjectKind::mesh;
     const size_t count = is_mesh ? scene.meshes.size() : scene.planes.size();
     if (ref.index < 0 || static_cast<size_t>(ref.index) >= count)
@@ -501,6 +533,31 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
 
 size_t Rasterizer::triangle_count() const {
   return impl_->triangles.size();
+}
+
+// Appends every sample's tube fragments to its row, after its triangles' (arrival order).
+void Rasterizer::Impl::add_tube_fragments(const TileRect& tile, std::span<const glm::vec2> offsets,
+                                          SampleFragments& out) const {
+  const Impl& im = *this;
+  std::vector<uint32_t> starts;
+  std::vector<Fragment> merged;
+  starts.reserve(out.offsets.size());
+  merged.reserve(out.fragments.size());
+  size_t sample = 0;
+  for (int y = tile.y0; y < tile.y1; ++y)
+    for (int x = tile.x0; x < tile.x1; ++x)
+      for (const glm::vec2& o : offsets) {
+        starts.push_back(static_cast<uint32_t>(merged.size()));
+        const std::span<const Fragment> row = out.of(sample++);
+        merged.insert(merged.end(), row.begin(), row.end());
+        const Ray ray = im.camera.ray(x + o.x, y + o.y);
+        for (const auto& tubes : im.tubes)
+          append_tube_fragments(tubes->look, ray, std::numeric_limits<float>::infinity(),
+                                tubes->order_index, im.lights, merged);
+      }
+  starts.push_back(static_cast<uint32_t>(merged.size()));
+  out.offsets.swap(starts);
+  out.fragments.swap(merged);
 }
 
 void Rasterizer::rasterize(const TileRect& tile, std::span<const glm::vec2> offsets,
@@ -619,6 +676,8 @@ void Rasterizer::rasterize(const TileRect& tile, std::span<const glm::vec2> offs
     }
     frags.resize(kept);
   }
+
+  if (!im.tubes.empty()) im.add_tube_fragments(tile, offsets, out);
 
   if (order == FragmentOrder::arrival) return;
   // Stable by t: fragments arrived in triangle order, which is scene order.

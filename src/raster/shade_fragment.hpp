@@ -72,4 +72,14 @@ inline bool sample_plane_labels(const PreparedVolume& volume, const glm::vec3& w
   return look.a > 0.0f;
 }
 
+// The colour a plane shows at a world point of a colour volume (VolumeData::colours): its
+// voxels' colour, as the file stores it, in place of the windowed grey; false outside the grid.
+inline bool sample_plane_colour(const PreparedVolume& volume, const glm::vec3& world,
+                                glm::vec3& rgb) {
+  glm::vec3 index = volume.to_index(world);
+  if (!volume.grid.inside(index)) return false;
+  rgb = volume.colours.sample(index);
+  return true;
+}
+
 }  // namespace imx

@@ -31,6 +31,7 @@ Json lit_shading() {
 }  // namespace
 
 bool looks_like_label_map(const VolumeData& data) {
+  if (data.colours) return false;  // a colour volume's scalars are its luminance
   constexpr size_t kMostLabels = 256;
   std::set<int64_t> values;
   const bool integers = std::visit(
@@ -52,6 +53,10 @@ bool looks_like_label_map(const VolumeData& data) {
 
 AutomaticLook automatic_look(const VolumeData& data, std::string_view modality,
                              std::string_view units) {
+  if (data.colours)  // its own colours; opacity rising with luminance, black clear (as NiiVue)
+    return {{{"points", Json::array({point(0, 1, 1, 1, 0), point(255, 1, 1, 1, 1)})}},
+            nullptr,
+            "a colour volume: its colours, opacity rising with luminance"};
   constexpr std::array<double, 6> kFractions = {0.001, 0.02, 0.5, 0.98, 0.995, 0.999};
   const std::vector<double> q = value_percentiles(data, kFractions);
   const auto [lowest, highest] = data.range();

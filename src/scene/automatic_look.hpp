@@ -1,6 +1,8 @@
 // The transfer function a volume gets when its scene object names none (and every volume of a
 // scene built from files): chosen from what the volume is, as a scene file spells it, so that a
 // saved scene renders the same. The rules, in order:
+// - a colour volume (VolumeData::colours): opacity rising from 0 at black to 1 at white over its
+//   luminance, its voxels' own colours (NiiVue's look of an RGB volume);
 // - CT (DICOM modality CT, units HU, or values from air at -1000 up past water): preset ct-bone;
 // - PET (modality PT, or units g/ml or BQML): a hot colour ramp over the upper values;
 // - a signed map (floats well on both sides of zero: t or z statistics): blue below -t, red to

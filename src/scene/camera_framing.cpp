@@ -137,6 +137,13 @@ WorldBox visible_bounds(const Scene& scene, bool whole_grids) {
       if (visible) include(shown, glm::dvec3(p));
     }
   }
+  for (const StreamlineObject& o : scene.streamlines) {
+    if (!o.streamlines) continue;
+    const double r = o.radius;
+    for (const glm::vec3& p : o.streamlines->points)
+      for (WorldBox* box : {&all, o.opacity > 0.0f ? &shown : nullptr})
+        if (box) include(*box, glm::dvec3(p) - r), include(*box, glm::dvec3(p) + r);
+  }
   for (const PlaneObject& p : scene.planes) {
     include_plane(all, p);
     if (p.opacity > 0.0f) include_plane(shown, p);

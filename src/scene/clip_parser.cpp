@@ -20,19 +20,13 @@ std::string plural(size_t n, const char* word) {
   return fmt::format("{} {}{}", n, word, n == 1 ? "" : "s");
 }
 
-const char* kind_name(ObjectKind kind) {
-  return kind == ObjectKind::volume ? "volume" : kind == ObjectKind::mesh ? "mesh" : "plane";
-}
-
 }  // namespace
 
 void parse_clip_meshes(const std::vector<JsonReader>& objects, Scene& scene) {
   std::vector<std::string> names;
   std::map<std::string, ObjectRef> by_name;
   for (const ObjectRef& ref : scene.order) {
-    const std::string& name = ref.kind == ObjectKind::volume ? scene.volumes[ref.index].name
-                              : ref.kind == ObjectKind::mesh ? scene.meshes[ref.index].name
-                                                             : scene.planes[ref.index].name;
+    const std::string& name = object_name(scene, ref);
     names.push_back(name);
     by_name.emplace(name, ref);
   }
@@ -57,7 +51,7 @@ void parse_clip_meshes(const std::vector<JsonReader>& objects, Scene& scene) {
         mesh_at.fail(fmt::format("no object named '{}'{}", name, did_you_mean(name, names)));
       if (found->second.kind != ObjectKind::mesh)
         mesh_at.fail(fmt::format("'{}' is a {}; clip geometry is a closed mesh", name,
-                                 kind_name(found->second.kind)));
+                                 object_kind_name(found->second.kind)));
       const int m = found->second.index;
       if (auto [it, fresh] = seen.emplace(m, j); !fresh)
         mesh_at.fail(

@@ -97,17 +97,7 @@ class CsgBuilder {
     volume.labels = std::move(map);
   }
 
-  std::string name_of(const ObjectRef& ref) const {
-    switch (ref.kind) {
-      case ObjectKind::volume:
-        return scene_.volumes[ref.index].name;
-      case ObjectKind::mesh:
-        return scene_.meshes[ref.index].name;
-      case ObjectKind::plane:
-        return scene_.planes[ref.index].name;
-    }
-    return {};
-  }
+  std::string name_of(const ObjectRef& ref) const { return object_name(scene_, ref); }
 
   // `level` counts the operators above r; checking it before descending keeps a hostile file
   // from exhausting the stack.

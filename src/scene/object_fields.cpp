@@ -53,3 +53,36 @@ bool parse_visible(const JsonReader& object) {
 }
 
 }  // namespace imx::scene_json
+
+namespace imx {
+
+const char* object_kind_name(ObjectKind kind) {
+  switch (kind) {
+    case ObjectKind::volume:
+      return "volume";
+    case ObjectKind::mesh:
+      return "mesh";
+    case ObjectKind::plane:
+      return "plane";
+    case ObjectKind::streamlines:
+      return "streamlines";
+  }
+  return "object";
+}
+
+const std::string& object_name(const Scene& scene, const ObjectRef& ref) {
+  const auto i = static_cast<size_t>(ref.index);
+  switch (ref.kind) {
+    case ObjectKind::volume:
+      return scene.volumes.at(i).name;
+    case ObjectKind::mesh:
+      return scene.meshes.at(i).name;
+    case ObjectKind::plane:
+      return scene.planes.at(i).name;
+    case ObjectKind::streamlines:
+      break;
+  }
+  return scene.streamlines.at(i).name;
+}
+
+}  // namespace imx

@@ -67,6 +67,8 @@ void SceneDocument::parse(nlohmann::json json) {
   prune(context_.volumes);
   prune(context_.meshes);
   prune(context_.placed_meshes);
+  prune(context_.streamlines);
+  prune(context_.placed_streamlines);
   json_ = std::move(json);
   scene_ = std::move(scene);
 }

@@ -9,6 +9,7 @@
 #include "io/overlay/cifti.hpp"
 #include "io/overlay/vertex_overlay.hpp"
 #include "io/overlay/volume_overlay.hpp"
+#include "io/streamlines/streamline_formats.hpp"
 #include "io/voxels/nifti_header.hpp"
 
 #include <set>
@@ -178,7 +179,8 @@ SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
   Json objects = Json::array();
   std::set<std::string> taken;
   size_t meshes = 0;
-  std::optional<size_t> last_mesh;  // an overlay file colours the mesh before it
+  std::optional<size_t> last_mesh;         // an overlay file colours the mesh before it
+  std::optional<size_t> last_streamlines;  // a .tsf holds values of the tractogram before it
   for (const std::filesystem::path& file : files) {
     std::error_code ec;
     if (!std::filesystem::exists(file, ec))
@@ -205,6 +207,23 @@ SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
                                 file.string(), mesh["name"].get<std::string>(),
                                 mesh["overlay"]["file"].get<std::string>()));
       mesh["overlay"] = automatic_overlay(absolute);
+      continue;
+    }
+    if (const detail::StreamlineFormat* tracts =
+            is_dicom_source(file) ? nullptr
+                                  : detail::find_streamline_format(detail::probe_file(file));
+        tracts && !tracts->read) {
+      // Per-point values (.tsf) of the tractogram given before them.
+      if (!last_streamlines)
+        throw Error(fmt::format("{}: {} holds values of a tractogram: give it after its .tck",
+                                file.string(), file.filename().string()));
+      objects[*last_streamlines]["source"]["values"].push_back(absolute.string());
+      continue;
+    } else if (tracts) {
+      last_streamlines = objects.size();
+      objects.push_back({{"name", object_name(file, taken)},
+                         {"type", "streamlines"},
+                         {"source", {{"file", absolute.string()}}}});
       continue;
     }
     Json object = {{"name", object_name(file, taken)}};

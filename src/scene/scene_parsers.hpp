@@ -43,6 +43,10 @@ struct SceneContext {
   // Meshes placed by an object's transform, by source and transform, and the keys of `volumes`,
   // `meshes` and `placed_meshes` the last document used (a program drops the others).
   std::map<std::string, std::shared_ptr<const Mesh>> placed_meshes = {};
+  // Tractograms by file and value files, and placed by a transform with their tubes' cache.
+  std::map<std::string, std::shared_ptr<const Streamlines>> streamlines = {};
+  std::map<std::string, std::pair<std::shared_ptr<const Streamlines>, std::shared_ptr<TubeCache>>>
+      placed_streamlines = {};
   std::set<std::string> used = {};
   // Set: each volume object's data is only the box this chooses (load_scene by region).
   VolumeRegionChooser region = {};
@@ -64,8 +68,8 @@ nlohmann::json parse_scene_json(const std::string& json_text, const std::string&
 Scene parse_scene_document(const nlohmann::json& root, const std::string& origin,
                            SceneContext& context);
 
-// A "view" (anterior, left, ...) sets *framed_view and leaves eye, target and up to framing: the caller
-// frames the objects (camera_framing.hpp); without `framed_view`, "view" is an error.
+// A "view" (anterior, left, ...) sets *framed_view and leaves eye, target and up to framing: the
+// caller frames the objects (camera_framing.hpp); without `framed_view`, "view" is an error.
 // `space`: the scene's; eye, target and up given in RAS are read into LPS.
 Camera parse_camera(const JsonReader& r, std::optional<PatientView>* framed_view = nullptr,
                     MeshSpace space = MeshSpace::lps);
@@ -139,6 +143,9 @@ Colormap parse_colormap(const JsonReader& v);
 std::vector<ClipPlane> parse_clip_planes(const JsonReader& r, MeshSpace space = MeshSpace::lps);
 VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context);
 MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context);
+// {"source": {"file", "values"}, "radius", "color_by", "color", "value", "colormap", "range",
+// "opacity", "group_opacity", "shading", "stride", "min_length", "regions", "thickness"}.
+StreamlineObject parse_streamline_object(const JsonReader& r, SceneContext& context);
 // `scene` holds the volumes, which "volume" may name; `object_types` maps every object's name
 // to its type, for a clear message when "volume" names a mesh or a plane.
 PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,

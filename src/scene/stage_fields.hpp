@@ -32,8 +32,8 @@ inline void hash_stage_labels(Fnv1a& h, const LabelMap* labels) {
 // (a clipped volume's stage keeps its clip meshes too).
 inline void hash_stage_fields(Fnv1a& h, const Scene& scene, const VolumeObject& v) {
   const auto& [name, data, index_to_world, transfer_function, style, iso_value, xray_mode, shading,
-               clip_planes, clip_meshes, display_window, units, source_dims, region, frame,
-               frames, labels] = v;
+               clip_planes, clip_meshes, display_window, units, source_dims, region, frame, frames,
+               labels] = v;
   // Not read by a render: the name and units are labels, the display window a default for
   // planes; the region and frame chose what `data` holds, and data is hashed.
   (void)name, (void)display_window, (void)units, (void)source_dims, (void)region, (void)frame,
@@ -60,6 +60,29 @@ inline void hash_stage_fields(Fnv1a& h, const MeshObject& m) {
   if (interior) h.add(interior->color).add(interior->opacity).add(interior->unit_distance);
 }
 
+inline void hash_stage_fields(Fnv1a& h, const StreamlineObject& o) {
+  const auto& [name, streamlines, radius, colouring, color, value, colormap, range, opacity,
+               group_opacity, shading, stride, min_length, regions, thickness, cache] = o;
+  (void)name, (void)cache;  // a label; the cache builds from the fields hashed here
+  h.add(streamlines.get()).add(radius).add(colouring).add(color).add(value.size());
+  for (char c : value) h.add(c);
+  h.add(colormap).add(opacity).add(group_opacity.size()).add(stride).add(min_length);
+  for (float g : group_opacity) h.add(g);
+  h.add(range.has_value());
+  if (range) h.add(*range);
+  hash_stage_shading(h, shading);
+  hash_stage_optional(h, thickness);
+  h.add(regions.size());
+  for (const StreamlineRegion& r : regions)
+    h.add(r.shape)
+        .add(r.avoid)
+        .add(r.center)
+        .add(r.radius)
+        .add(r.labels.get())
+        .add(r.label)
+        .add(r.mesh.get());
+}
+
 inline void hash_stage_fields(Fnv1a& h, const Scene& scene, const PlaneObject& p) {
   const auto& [name, center, normal, up, size, volume, window, color, colormap, threshold,
                symmetric, opacity, thickness] = p;
@@ -71,7 +94,7 @@ inline void hash_stage_fields(Fnv1a& h, const Scene& scene, const PlaneObject& p
   if (volume >= 0 && static_cast<size_t>(volume) < scene.volumes.size()) {
     const VolumeObject& v = scene.volumes[static_cast<size_t>(volume)];
     h.add(v.data.get()).add(v.index_to_world);  // a plane reads the voxels, not the TF
-    hash_stage_labels(h, v.labels.get());          // but a label volume's plane its table
+    hash_stage_labels(h, v.labels.get());       // but a label volume's plane its table
   }
 }
 

@@ -44,17 +44,6 @@ constexpr int kMaxBins = 4096;
 // Names listed in an unknown-object error.
 constexpr size_t kMaxListedNames = 24;
 
-const char* kind_name(ObjectKind kind) {
-  return kind == ObjectKind::volume ? "volume" : kind == ObjectKind::mesh ? "mesh" : "plane";
-}
-
-const std::string& object_name(const Scene& scene, const ObjectRef& ref) {
-  const auto i = static_cast<size_t>(ref.index);
-  return ref.kind == ObjectKind::volume ? scene.volumes[i].name
-         : ref.kind == ObjectKind::mesh ? scene.meshes[i].name
-                                        : scene.planes[i].name;
-}
-
 // The shortest decimal that reads back as `f`: saved files show 0.95, not 0.949999988079071.
 double tidy(float f) {
   const double d = std::strtod(fmt::format("{}", f).c_str(), nullptr);
@@ -377,8 +366,8 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
                                                      {"center", ObjectKind::plane}};
   for (const auto& [key, kind] : only)
     if (auto v = r.find(key); v && ref.kind != kind)
-      v->fail(fmt::format("applies to {}s only, and this object is a {}", kind_name(kind),
-                          kind_name(ref.kind)));
+      v->fail(fmt::format("applies to {}s only, and this object is a {}", object_kind_name(kind),
+                          object_kind_name(ref.kind)));
 
   bool visible = state.visible[k];
   float opacity = state.opacity[k];
@@ -488,7 +477,7 @@ nlohmann::json describe_state(const ViewerState& state) {
   for (size_t k = 0; k < scene.order.size(); ++k) {
     const ObjectRef ref = scene.order[k];
     const size_t i = static_cast<size_t>(ref.index);
-    Json o = {{"kind", kind_name(ref.kind)},
+    Json o = {{"kind", object_kind_name(ref.kind)},
               {"visible", k < state.visible.size() ? bool(state.visible[k]) : true},
               {"opacity", k < state.opacity.size() ? tidy(state.opacity[k]) : 1.0}};
     if (ref.kind == ObjectKind::volume) {

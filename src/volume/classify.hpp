@@ -18,11 +18,13 @@ inline glm::vec4 table_look(const PreparedVolume& v, glm::vec3 idx) {
         [&](const auto& g) { return v.labels.look(winning_label(g, idx, v.labels.nearest())); });
   const float s = v.grid.sample(idx);
   if (v.has_no_data && no_data(s)) return glm::vec4(0.0f);
+  if (v.colours.active()) return glm::vec4(v.colours.sample(idx), v.lut.lookup(s).a);
   return v.lut.lookup(s);
 }
 
 // The straight colour and opacity (of unit distance) a volume shows at index position `idx`:
-// its TF at the trilinear value, or a label volume's winning label; none where no data.
+// its TF at the trilinear value (a colour volume: its voxels' colour with the TF's opacity), or
+// a label volume's winning label; none where no data.
 inline glm::vec4 volume_look(const PreparedVolume& v, glm::vec3 idx) {
   if (v.labels.active() && !v.labels.shown()) return glm::vec4(0.0f);
   return table_look(v, idx);
@@ -55,7 +57,7 @@ inline glm::vec4 classify_sample(const PreparedVolume& v, const Ray& ray, double
   glm::vec4 tf = v.lut.lookup(s);
   if (tf.a <= 0.0f) return glm::vec4(0.0f);
   float a = correct_opacity(tf.a, static_cast<float>(len), v.lut.unit_distance());
-  glm::vec3 rgb(tf);
+  glm::vec3 rgb = v.colours.active() ? v.colours.sample(idx) : glm::vec3(tf);
   if (v.object->shading.enabled)
     rgb = blinn_phong(v.object->shading, rgb, v.world_gradient(idx), -ray.dir, lights);
   return glm::vec4(rgb * a, a);

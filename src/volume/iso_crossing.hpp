@@ -41,8 +41,9 @@ inline VolumeHit refine_iso_crossing(const PreparedVolume& v, const Ray& ray, do
   double t = flo == fhi ? 0.5 * (lo + hi) : lo + (hi - lo) * (flo / (flo - fhi));
   glm::vec3 idx = v.to_index(ray.at(static_cast<float>(t)));
   glm::vec4 tf = v.lut.lookup(iso);
-  glm::vec3 rgb =
-      blinn_phong(v.object->shading, glm::vec3(tf), v.world_gradient(idx), -ray.dir, lights);
+  // A colour volume's surface wears its voxels' colours.
+  const glm::vec3 base = v.colours.active() ? v.colours.sample(idx) : glm::vec3(tf);
+  glm::vec3 rgb = blinn_phong(v.object->shading, base, v.world_gradient(idx), -ray.dir, lights);
   return {t, glm::vec4(rgb * tf.a, tf.a)};
 }
 

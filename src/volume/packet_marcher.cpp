@@ -1070,6 +1070,7 @@ class PacketKernel {
 }  // namespace
 
 bool packet_marching_supported(const PreparedVolume& v, std::span<const ShadingLight> lights) {
+  if (v.colours.active()) return false;  // a colour volume's colours: VolumeMarcher, ray by ray
 #if IMX_PACKET_LANES
   const glm::ivec3 d = v.grid.dims;
   const bool labels = v.labels.active();  // classified by label, not by a table

@@ -26,6 +26,7 @@ PreparedVolume::PreparedVolume(const VolumeObject& v)
     : object(&v),
       grid(*v.data),
       labels(v.labels ? LabelLooks(*v.labels) : LabelLooks()),
+      colours(v.labels ? ColourGrid() : ColourGrid(*v.data)),
       specular(v.shading.shininess) {
   lut = TfLut(v.labels ? label_presence(labels) : v.transfer_function);
   if (!all_finite(v.index_to_world))

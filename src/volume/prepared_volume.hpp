@@ -6,6 +6,7 @@
 #include "core/specular_table.hpp"
 #include "intermix/scene.hpp"
 #include "volume/any_grid.hpp"
+#include "volume/colour_grid.hpp"
 #include "volume/label_classifier.hpp"
 #include "volume/projection_tables.hpp"
 #include "volume/tf_lut.hpp"
@@ -28,6 +29,9 @@ struct PreparedVolume {
   float min_pitch = 1.0f;             // smallest voxel spacing in mm
   TfLut lut;  // of a label volume: one entry, its most opaque label (max_opacity, unit_distance)
   LabelLooks labels;  // active for a label volume (VolumeObject::labels)
+  // Active for a colour volume (VolumeData::colours): a sample's colour is its voxels' colour,
+  // its opacity the TF's at the scalar (the luminance).
+  ColourGrid colours;
   ProjectionLimits limits;       // the LUT's bounds for MIP and MinIP
   AttenuationTable attenuation;  // X-ray's line integral (empty for the other styles)
   SpecularTable specular;        // x^shininess of the volume's shading

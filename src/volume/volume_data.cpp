@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <type_traits>
 #include <vector>
 
@@ -79,6 +80,9 @@ void VolumeData::validate(const std::string& what) const {
   if (stored != voxel_count())
     throw Error(fmt::format("{}: holds {} voxels, dimensions {}x{}x{} need {}", what, stored,
                             dims.x, dims.y, dims.z, voxel_count()));
+  if (colours && colours->rgb.size() != 3 * voxel_count())
+    throw Error(fmt::format("{}: holds {} colour bytes, dimensions {}x{}x{} need {} (RGB)", what,
+                            colours->rgb.size(), dims.x, dims.y, dims.z, 3 * voxel_count()));
   // NaN and inf voxels are valid: no data (non_finite_count), which renders as nothing.
   detail::check_placement(index_to_world, what);
 }
@@ -112,6 +116,17 @@ VolumeData crop(const VolumeData& volume, const VoxelBox& box, const std::string
         return VoxelBuffer<T>(std::move(part));
       },
       volume.voxels);
+  if (volume.colours) {
+    auto part = std::make_shared<ColourVoxels>();
+    part->rgb.reserve(3 * box.count());
+    for (int k = box.lo.z; k < box.hi.z; ++k)
+      for (int j = box.lo.y; j < box.hi.y; ++j) {
+        const size_t row = (static_cast<size_t>(k) * volume.dims.y + j) * volume.dims.x + box.lo.x;
+        const uint8_t* from = volume.colours->rgb.data() + 3 * row;
+        part->rgb.insert(part->rgb.end(), from, from + 3 * (box.hi.x - box.lo.x));
+      }
+    out.colours = std::move(part);
+  }
   return out;
 }
 

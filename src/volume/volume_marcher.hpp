@@ -256,6 +256,10 @@ class VolumeMarcher {
       PreintegrationView::Light light;
       glm::vec4 c = classify(s_f, s_b, static_cast<float>(back - front), light);
       if (c.a <= 0.0f) continue;
+      // A colour volume: the TF gave the opacity; the colour is the voxels' where the light is.
+      if (v_->colours.active())
+        c = glm::vec4(v_->colours.sample(index_at(front + light.centre * (back - front))) * c.a,
+                      c.a);
       if (v_->object->shading.enabled) c = shade(c, front, back, light);
       if (trim_) trim(s_f, s_b, light.centre, front, back);
       out = Slab::between(static_cast<float>(front), static_cast<float>(back), c);

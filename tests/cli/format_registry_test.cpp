@@ -89,14 +89,14 @@ TEST(FormatRegistry, InfoListsEveryKind) {
 
 TEST(FormatRegistry, UnknownFileNamesItsWholeSuffixAndEveryKind) {
   test::TempDir dir;
-  const std::filesystem::path file = dir.path() / "tract.trk.gz";
+  const std::filesystem::path file = dir.path() / "fibres.fib.gz";
   test::write_bytes(file, "not a tractogram");
   const std::vector<std::string> commands = {"info ",
                                              "render -o " + (dir.path() / "x.png").string() + " "};
   for (const std::string& command : commands) {
     const test::CliResult r = test::run_cli(command + file.string());
     EXPECT_NE(r.exit_code, 0);
-    for (const char* part : {"'.trk.gz' is not a format intermix reads", "volumes:", ".nii.gz",
+    for (const char* part : {"'.fib.gz' is not a format intermix reads", "volumes:", ".nii.gz",
                              "meshes:", ".obj", "surface overlays", ".annot"})
       EXPECT_TRUE(test::contains(r.output, part)) << command << ": " << part << "\n" << r.output;
   }
@@ -104,8 +104,8 @@ TEST(FormatRegistry, UnknownFileNamesItsWholeSuffixAndEveryKind) {
   test::write_bytes(dir.path() / "notes.txt", "x");
   const test::CliResult text = test::run_cli("info " + (dir.path() / "notes.txt").string());
   EXPECT_TRUE(test::contains(text.output, "'.txt' is not a format intermix reads")) << text.output;
-  test::expect_error([&] { read_volume(file); }, {"'.trk.gz' is not a volume format"});
-  test::expect_error([&] { read_mesh(file); }, {"'.trk.gz' is not a mesh format"});
+  test::expect_error([&] { read_volume(file); }, {"'.fib.gz' is not a volume format"});
+  test::expect_error([&] { read_mesh(file); }, {"'.fib.gz' is not a mesh format"});
 }
 
 TEST(FormatRegistry, AFileThatCannotStandAloneSaysWhatItNeeds) {

@@ -1,11 +1,11 @@
 // The libraries only some inputs need are plugins opened on first use
-// (src/io/registry/plugin_loader.hpp): assimp (with draco and minizip) for OBJ, STL, OFF and glTF meshes, libhdf5 for MINC-2, Open MPI
-// for --distributed. Start-up, a NIfTI or DICOM conversion and a volume render map none of them
-// (the dynamic loader's own report, LD_DEBUG=files, says what was mapped); a mesh of an assimp
-// format maps the mesh plugin and reads as before, a MINC-2 file the MINC plugin, a distributed
-// render the MPI plugin; a plugin that cannot be loaded is one error naming the paths tried (and
-// the mesh file). The DICOM test uses ../shared/data/dicom/ts (skipped without it), the MINC test
-// h5py (/usr/bin/python3) to write its file.
+// (src/io/registry/plugin_loader.hpp): assimp (with draco and minizip) for OBJ, STL, OFF and glTF
+// meshes, libhdf5 for MINC-2, Open MPI for --distributed. Start-up, a NIfTI or DICOM conversion and
+// a volume render map none of them (the dynamic loader's own report, LD_DEBUG=files, says what was
+// mapped); a mesh of an assimp format maps the mesh plugin and reads as before, a MINC-2 file the
+// MINC plugin, a distributed render the MPI plugin; a plugin that cannot be loaded is one error
+// naming the paths tried (and the mesh file). The DICOM test uses ../shared/data/dicom/ts (skipped
+// without it), the MINC test h5py (/usr/bin/python3) to write its file.
 #include <filesystem>
 #include <fstream>
 #include <string>

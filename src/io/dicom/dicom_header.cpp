@@ -618,6 +618,7 @@ std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& fi
   h.high_bit = tag_us(ds, 0x0028, 0x0102).value_or(h.bits_stored - 1);
   h.pixel_representation = tag_us(ds, 0x0028, 0x0103).value_or(0);
   h.samples_per_pixel = tag_us(ds, 0x0028, 0x0002).value_or(1);
+  h.planar_configuration = tag_us(ds, 0x0028, 0x0006).value_or(0);
   read_slice_spacing(ds, h);
   const auto whole = [](double v) { return v >= 1.0 && v <= kMaxFrames && v == std::floor(v); };
   double frames = 1.0;

@@ -77,6 +77,7 @@ struct DicomFileHeader {
   std::string transfer_syntax;  // (0002,0010)
   int bits_allocated = 0, bits_stored = 0, high_bit = 0, pixel_representation = 0;
   int samples_per_pixel = 1;
+  int planar_configuration = 0;         // (0028,0006): 0 colour-by-pixel, 1 colour-by-plane
   std::optional<double> slice_spacing;  // SpacingBetweenSlices, else SliceThickness
   std::string slice_spacing_fault;      // why neither is usable where one is present, else ""
   std::vector<DicomFrame> frames;       // frame_count of them

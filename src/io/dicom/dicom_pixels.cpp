@@ -23,6 +23,7 @@
 #include "intermix/limits.hpp"
 #include "io/dicom/dicom_codec_plugin.hpp"
 #include "io/dicom/dicom_tags.hpp"
+#include "volume/colour_grid.hpp"
 
 namespace imx::detail {
 
@@ -318,16 +319,29 @@ void check_decodable(const DicomFileHeader& header) {
   const std::string what = header.file.string();
   if (!header.has_pixel_data)
     throw Error(fmt::format("{}: no pixel data (7FE0,0010) in this file", what));
-  if (header.photometric != "MONOCHROME1" && header.photometric != "MONOCHROME2")
-    throw Error(
-        fmt::format("{}: unsupported photometric interpretation '{}' (0028,0004): only "
-                    "greyscale MONOCHROME1 and MONOCHROME2 images are read",
-                    what, header.photometric));
+  const bool rgb = header.photometric == "RGB";
+  if (!rgb && header.photometric != "MONOCHROME1" && header.photometric != "MONOCHROME2")
+    throw Error(fmt::format(
+        "{}: unsupported photometric interpretation '{}' (0028,0004): only greyscale "
+        "MONOCHROME1 and MONOCHROME2 and colour RGB images are read{}",
+        what, header.photometric,
+        header.photometric.rfind("YBR", 0) == 0
+            ? " (YBR colour is not converted; convert the series to RGB first, e.g. gdcmconv "
+              "--raw --photometric-interpretation RGB)"
+            : ""));
+  if (rgb && !is_rgb_image(header))
+    throw Error(fmt::format(
+        "{}: unsupported RGB image: SamplesPerPixel {} (0028,0002), BitsAllocated {}, "
+        "BitsStored {}, PixelRepresentation {}, transfer syntax {}{}; RGB is read as 3 unsigned "
+        "8-bit samples per pixel, uncompressed",
+        what, header.samples_per_pixel, header.bits_allocated, header.bits_stored,
+        header.pixel_representation, header.transfer_syntax,
+        header.mosaic_tiles > 0 ? ", a mosaic" : ""));
   // The decoded values (up to 8 bytes each) and the floats made of them.
   check_memory(pixel_count(header) * 12,
                fmt::format("{} ({}x{}x{} pixels)", what, header.stored_columns, header.stored_rows,
                            header.stored_frames));
-  if (header.samples_per_pixel != 1)
+  if (!rgb && header.samples_per_pixel != 1)
     throw Error(
         fmt::format("{}: unsupported photometric interpretation: {} samples per pixel "
                     "(SamplesPerPixel (0028,0002)); only greyscale images are read",
@@ -344,8 +358,17 @@ void check_decodable(const DicomFileHeader& header) {
 
 }  // namespace
 
+bool is_rgb_image(const DicomFileHeader& h) {
+  const std::string& ts = h.transfer_syntax;
+  return h.photometric == "RGB" && h.samples_per_pixel == 3 && h.bits_allocated == 8 &&
+         h.bits_stored == 8 && h.pixel_representation == 0 && h.mosaic_tiles == 0 &&
+         (h.planar_configuration == 0 || h.planar_configuration == 1) &&
+         (ts == "1.2.840.10008.1.2" || ts == "1.2.840.10008.1.2.1");
+}
+
 bool needs_codec(const DicomFileHeader& h) {
   const std::string& ts = h.transfer_syntax;
+  if (is_rgb_image(h)) return false;  // read natively (decode_rgb_frames)
   return (ts != "1.2.840.10008.1.2" && ts != "1.2.840.10008.1.2.1") || h.samples_per_pixel != 1 ||
          !integer_type(h.bits_allocated, h.pixel_representation == 1);
 }
@@ -393,8 +416,59 @@ std::vector<std::string> codec_failures(std::span<const DicomFileHeader* const> 
   return out;
 }
 
+namespace {
+
+// The frames of an RGB file (is_rgb_image): each frame's colours, interleaved whichever
+// PlanarConfiguration stored them, and their luminance (colour_luminance) as its values.
+DecodedFrames decode_rgb_frames(const DicomFileHeader& header) {
+  const std::string what = header.file.string();
+  const size_t plane = static_cast<size_t>(header.stored_rows) * header.stored_columns;
+  const uint64_t bytes = 3 * plane * static_cast<uint64_t>(header.stored_frames);
+  std::error_code ec;
+  const uintmax_t size = std::filesystem::file_size(header.file, ec);
+  if (ec || header.pixel_bytes < bytes || size < header.pixel_bytes)
+    throw Error(fmt::format("{}: the pixel data holds {} bytes, {} RGB frames of {}x{} need {}",
+                            what, header.pixel_bytes, header.stored_frames, header.stored_columns,
+                            header.stored_rows, bytes));
+  std::ifstream in(header.file, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(size - header.pixel_bytes));
+  std::vector<uint8_t> stored(bytes);
+  in.read(reinterpret_cast<char*>(stored.data()), static_cast<std::streamsize>(bytes));
+  if (in.gcount() != static_cast<std::streamsize>(bytes))
+    throw Error(fmt::format("{}: the pixel data ends before its {} bytes", what, bytes));
+  DecodedFrames out;
+  out.frames.resize(static_cast<size_t>(header.stored_frames));
+  out.colours.resize(out.frames.size());
+  const bool by_plane = header.planar_configuration == 1;
+  for (size_t f = 0; f < out.frames.size(); ++f) {
+    const uint8_t* src = stored.data() + f * 3 * plane;
+    std::vector<uint8_t>& rgb = out.colours[f];
+    FloatPlane& values = out.frames[f];
+    rgb.resize(3 * plane);
+    values.resize(plane);
+    for (size_t i = 0; i < plane; ++i) {
+      for (size_t c = 0; c < 3; ++c)
+        rgb[3 * i + c] = by_plane ? src[c * plane + i] : src[3 * i + c];
+      values[i] = colour_luminance(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
+    }
+    if (header.mirror_rows)
+      for (int y = 0; y < header.rows / 2; ++y) {
+        const size_t a = static_cast<size_t>(y) * header.columns;
+        const size_t b = static_cast<size_t>(header.rows - 1 - y) * header.columns;
+        std::swap_ranges(values.begin() + a, values.begin() + a + header.columns,
+                         values.begin() + b);
+        std::swap_ranges(rgb.begin() + 3 * a, rgb.begin() + 3 * (a + header.columns),
+                         rgb.begin() + 3 * b);
+      }
+  }
+  return out;
+}
+
+}  // namespace
+
 DecodedFrames decode_dicom_frames(const DicomFileHeader& header, const CodecPixels* codec) {
   check_decodable(header);
+  if (is_rgb_image(header)) return decode_rgb_frames(header);
   const std::string what = header.file.string();
   const size_t plane = static_cast<size_t>(header.stored_rows) * header.stored_columns;
   const size_t count = pixel_count(header);
@@ -580,7 +654,7 @@ void mirror_rows(const DicomFileHeader& h, std::byte* image, size_t row_bytes) {
 }  // namespace
 
 std::optional<StoredType> native_stored_type(const DicomFileHeader& header) {
-  if (needs_codec(header)) return std::nullopt;
+  if (needs_codec(header) || is_rgb_image(header)) return std::nullopt;  // RGB: decoded frames
   try {
     check_decodable(header);
   } catch (const std::exception&) {

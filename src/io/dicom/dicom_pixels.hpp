@@ -41,7 +41,14 @@ using FloatPlane = std::vector<float, UninitializedAllocator<float>>;
 struct DecodedFrames {
   std::vector<FloatPlane> frames;  // one per frame
   bool integer_pixels = true;      // stored values are integers (not float pixel data)
+  // An RGB image's colours, one per frame: rows * columns * 3 bytes, r g b interleaved; `frames`
+  // then hold their luminance (colour_grid.hpp). Empty for a greyscale image.
+  std::vector<std::vector<uint8_t>> colours;
 };
+
+// Whether a file's images are colour ones intermix reads: PhotometricInterpretation RGB, three
+// 8-bit unsigned samples per pixel, native (uncompressed) little endian.
+bool is_rgb_image(const DicomFileHeader& header);
 
 enum class StoredType : uint8_t { u8, i8, u16, i16, u32, i32, f32, f64 };
 
@@ -91,9 +98,10 @@ bool read_stored_images(const DicomFileHeader& header, std::span<std::byte* cons
                         std::span<StoredRange> ranges);
 
 // Decodes every frame of `header.file` (from `codec`, that file's decode_with_codecs result, when
-// given) and applies each frame's RescaleSlope and RescaleIntercept. Throws imx::Error naming the
-// file when it has no pixel data, is truncated or cannot be decoded, is not
-// MONOCHROME1/MONOCHROME2 with one sample per pixel, or its size differs from the header's.
+// given) and applies each frame's RescaleSlope and RescaleIntercept; an RGB image (is_rgb_image)
+// gives its colours and their luminance, unscaled. Throws imx::Error naming the file when it has
+// no pixel data, is truncated or cannot be decoded, is neither MONOCHROME1/MONOCHROME2 with one
+// sample per pixel nor is_rgb_image, or its size differs from the header's.
 DecodedFrames decode_dicom_frames(const DicomFileHeader& header,
                                   const CodecPixels* codec = nullptr);
 

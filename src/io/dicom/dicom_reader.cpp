@@ -253,7 +253,10 @@ bool read_stored_volumes(const std::vector<const DicomFileHeader*>& needed,
 // when every file's stored values are integers.
 bool decode_float_planes(const std::vector<const DicomFileHeader*>& needed,
                          const SlotsByFile& slots, std::vector<AcquiredSeries>& out) {
-  for (AcquiredSeries& a : out) a.values.resize(a.stack.frames.size());
+  for (AcquiredSeries& a : out) {
+    a.values.resize(a.stack.frames.size());
+    if (!needed.empty() && is_rgb_image(*needed.front())) a.colours.resize(a.stack.frames.size());
+  }
   // Files decode independently (one GDCM reader each), into distinct slices.
   // Compressed files first, in a few decoder processes (dicom_pixels.hpp).
   std::vector<const DicomFileHeader*> compressed;
@@ -272,9 +275,16 @@ bool decode_float_planes(const std::vector<const DicomFileHeader*>& needed,
     DecodedFrames decoded = decode_dicom_frames(h, codec);
     if (codec != nullptr) std::vector<char>().swap(codec->bytes);  // done with them
     integer_pixels[i] = decoded.integer_pixels;
-    for (const Slot& s : slots.at(h.file))
+    for (const Slot& s : slots.at(h.file)) {
       out[s.volume].values[s.slice] = std::move(decoded.frames[static_cast<size_t>(s.image)]);
+      if (!decoded.colours.empty())
+        out[s.volume].colours[s.slice] = std::move(decoded.colours[static_cast<size_t>(s.image)]);
+    }
   });
+  // A series mixing RGB and greyscale images is two series (dicom_series.cpp keys on samples).
+  for (AcquiredSeries& a : out)
+    if (std::any_of(a.colours.begin(), a.colours.end(), [](const auto& c) { return c.empty(); }))
+      a.colours.clear();
   return std::all_of(integer_pixels.begin(), integer_pixels.end(), [](char c) { return c != 0; });
 }
 
@@ -348,6 +358,26 @@ VoxelStorage fill(const detail::AcquiredSeries& a, const detail::SliceGrid& grid
       for (size_t i = 0; i < plane; ++i)
         dst[i] = static_cast<T>(((1.0 - w) * lo[i] + w * hi[i]) * scale);
     }
+  });
+  return out;
+}
+
+// An RGB series' colours on the volume's grid: each slice's, or the blend of two acquired slices'
+// bytes where the grid is resampled (as fill blends their luminance).
+std::shared_ptr<const ColourVoxels> colours_on_grid(const detail::AcquiredSeries& a,
+                                                    const detail::SliceGrid& grid) {
+  const size_t plane = 3 * a.values.front().size();
+  auto out = std::make_shared<ColourVoxels>();
+  out->rgb.resize(plane * grid.blends.size());
+  tbb::parallel_for(size_t{0}, grid.blends.size(), [&](size_t k) {
+    const detail::SliceBlend b = grid.blends[k];
+    const size_t lower = static_cast<size_t>(b.lower);
+    const std::vector<uint8_t>& lo = a.colours[lower];
+    const std::vector<uint8_t>& hi = a.colours[std::min(lower + 1, a.colours.size() - 1)];
+    uint8_t* dst = out->rgb.data() + k * plane;
+    const double w = b.weight;
+    for (size_t i = 0; i < plane; ++i)
+      dst[i] = w == 0.0 ? lo[i] : static_cast<uint8_t>(std::lround((1.0 - w) * lo[i] + w * hi[i]));
   });
   return out;
 }
@@ -574,6 +604,7 @@ DicomVolume to_volume(detail::AcquiredSeries& a, const DicomReadOptions& options
         break;
     }
   }
+  if (!a.colours.empty()) v.colours = colours_on_grid(a, grid);
   out.series.slices = static_cast<int>(a.stack.frames.size());
   v.validate(series_what);
   return out;

@@ -31,8 +31,11 @@ struct AcquiredSeries {
   DicomSeriesInfo info;
   DicomStack stack;                // frames sorted along the slice normal
   std::vector<FloatPlane> values;  // per sorted frame: rescaled, rows * columns
-  StoredSlices stored;             // instead of values, when read with stored_values
-  bool integer_valued = true;      // integer pixels, one integer slope, integer intercepts
+  // An RGB series (is_rgb_image): per sorted frame, its colours (rows * columns * 3 bytes), whose
+  // luminance `values` hold; empty for a greyscale series.
+  std::vector<std::vector<uint8_t>> colours;
+  StoredSlices stored;         // instead of values, when read with stored_values
+  bool integer_valued = true;  // integer pixels, one integer slope, integer intercepts
   std::string modality, photometric, rescale_type;
   DicomSuvTags suv;  // the first file's
   std::vector<std::string> notes;

@@ -245,10 +245,13 @@ void skip_metadata(LegacyReader& in) {
   skip_metadata_lines(in);
 }
 
-// The attributes of POINT_DATA (kept: scalars, normals, field arrays) or CELL_DATA (skipped),
-// until the next section or the end. Returns the keyword line that ended them, if any.
+// The attributes of POINT_DATA (kept: scalars, normals, field arrays) or CELL_DATA (skipped, or
+// kept in `cell_arrays` where given), until the next section or the end. Returns the keyword
+// line that ended them, if any.
 std::optional<std::string_view> read_attributes(LegacyReader& in, uint64_t n, bool keep,
-                                                PolyDataFile& out) {
+                                                PolyDataFile& out,
+                                                std::vector<MeshPointData>* cell_arrays = nullptr) {
+  std::vector<MeshPointData>& target = cell_arrays ? *cell_arrays : out.point_data;
   while (std::optional<std::string_view> line = in.line()) {
     const auto w = split_words(*line);
     const std::string_view key = w[0];
@@ -270,11 +273,12 @@ std::optional<std::string_view> read_attributes(LegacyReader& in, uint64_t n, bo
       }
       if (in.next_is("LOOKUP_TABLE")) in.line();
       std::vector<double> v = in.values(w[2], n * components, "SCALARS " + name, keep);
-      if (keep) out.point_data.push_back({name, static_cast<int>(components), std::move(v)});
+      if (keep) target.push_back({name, static_cast<int>(components), std::move(v)});
     } else if (key == "NORMALS") {
       need_words(3);
-      std::vector<double> v = in.values(w[2], n * 3, "NORMALS " + name, keep);
-      if (keep) {
+      const bool normals = keep && !cell_arrays;
+      std::vector<double> v = in.values(w[2], n * 3, "NORMALS " + name, normals);
+      if (normals) {
         out.mesh.normals.resize(static_cast<size_t>(n));
         for (size_t i = 0; i < out.mesh.normals.size(); ++i) {
           glm::dvec3 d(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
@@ -321,8 +325,7 @@ std::optional<std::string_view> read_attributes(LegacyReader& in, uint64_t n, bo
         const bool kept = keep && ac[1] == n;
         std::vector<double> v =
             in.values(aw[3], ac[0] * ac[1], "FIELD array " + std::string(aw[0]), kept);
-        if (kept)
-          out.point_data.push_back({std::string(aw[0]), static_cast<int>(ac[0]), std::move(v)});
+        if (kept) target.push_back({std::string(aw[0]), static_cast<int>(ac[0]), std::move(v)});
         skip_metadata(in);
       }
     } else if (key == "METADATA") {
@@ -336,7 +339,7 @@ std::optional<std::string_view> read_attributes(LegacyReader& in, uint64_t n, bo
 
 }  // namespace
 
-PolyDataFile read_vtk_legacy(const std::filesystem::path& file) {
+PolyDataFile read_vtk_legacy(const std::filesystem::path& file, bool keep_lines) {
   const std::string bytes = read_file_bytes(file);
   LegacyReader in(bytes, file.string());
   const std::string_view version_line = trim(in.raw_line("the version line"));
@@ -363,6 +366,10 @@ PolyDataFile read_vtk_legacy(const std::filesystem::path& file) {
 
   uint64_t points = 0;
   bool has_points = false;
+  // With keep_lines: the cells around the lines (VTK orders cell data vertices, lines,
+  // polygons, strips) and the CELL_DATA arrays.
+  uint64_t vertex_cells = 0, other_cells = 0;
+  std::vector<MeshPointData> cell_arrays;
   std::optional<std::string_view> line = in.line();
   while (line) {
     const auto w = split_words(*line);
@@ -381,7 +388,14 @@ PolyDataFile read_vtk_legacy(const std::filesystem::path& file) {
                key == "LINES") {
       if (!has_points) in.fail(fmt::format("{} comes before POINTS", key));
       const auto cells = read_cells(in, *line, version5);
-      for (size_t c = 0; c < cells.size(); ++c) {
+      if (keep_lines && key == "VERTICES") vertex_cells += cells.size();
+      if (keep_lines && (key == "POLYGONS" || key == "TRIANGLE_STRIPS"))
+        other_cells += cells.size();
+      for (size_t c = 0; keep_lines && key == "LINES" && c < cells.size(); ++c) {
+        out.lines.indices.insert(out.lines.indices.end(), cells[c].begin(), cells[c].end());
+        out.lines.offsets.push_back(out.lines.indices.size());
+      }
+      for (size_t c = 0; !keep_lines && c < cells.size(); ++c) {
         const std::string what = fmt::format("{}: {} cell {}", file.string(), key, c);
         if (key == "POLYGONS") add_polygon(out.mesh, cells[c], points, what);
         if (key == "TRIANGLE_STRIPS") add_strip(out.mesh, cells[c], points, what);
@@ -391,7 +405,8 @@ PolyDataFile read_vtk_legacy(const std::filesystem::path& file) {
       const bool point_data = key == "POINT_DATA";
       if (point_data && c[0] != points)
         in.fail(fmt::format("POINT_DATA has {} values, but there are {} points", c[0], points));
-      line = read_attributes(in, c[0], point_data, out);
+      line = read_attributes(in, c[0], point_data || keep_lines, out,
+                             point_data || !keep_lines ? nullptr : &cell_arrays);
       continue;
     } else if (key == "FIELD" || key == "METADATA") {
       PolyDataFile ignored;  // the dataset's own field data: read past, then the next section
@@ -404,6 +419,19 @@ PolyDataFile read_vtk_legacy(const std::filesystem::path& file) {
     line = in.line();
   }
   if (!has_points) in.fail("the file has no POINTS");
+  const uint64_t lines = out.lines.offsets.size() - 1;
+  for (const MeshPointData& a : cell_arrays) {
+    const uint64_t cells = vertex_cells + lines + other_cells;
+    const auto k = static_cast<uint64_t>(a.components);
+    if (a.values.size() != cells * k)
+      in.fail(fmt::format("CELL_DATA array '{}' holds {} tuples, but the file has {} cells",
+                          shown(a.name), a.values.size() / k, cells));
+    out.line_data.push_back(
+        {a.name, a.components,
+         std::vector<double>(
+             a.values.begin() + static_cast<ptrdiff_t>(vertex_cells * k),
+             a.values.begin() + static_cast<ptrdiff_t>((vertex_cells + lines) * k))});
+  }
   if (!out.mesh.normals.empty() && out.mesh.normals.size() != out.mesh.positions.size())
     out.mesh.normals.clear();
   return out;

@@ -3,6 +3,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -56,6 +57,7 @@ struct ArrayRef {
 
 struct PieceInfo {
   uint64_t points = 0, polys = 0, strips = 0;
+  uint64_t verts = 0, lines = 0;
   std::string normals;  // PointData's Normals attribute: the array that is the normals
 };
 
@@ -75,7 +77,7 @@ class ByteSource {
       return true;
     }
     while (pending_.size() < n) {
-      if (!decode_group()) return false;
+      if (!decode_plain_groups(n - pending_.size()) && !decode_group()) return false;
     }
     out.append(pending_, 0, n);
     pending_.erase(0, n);
@@ -88,6 +90,33 @@ class ByteSource {
   }
 
  private:
+  // The fast path for long arrays: runs of four base64 characters (no white space, no padding)
+  // decoded at once, enough for `want` bytes. False when the next group is not such a run.
+  bool decode_plain_groups(size_t want) {
+    static constexpr auto kValue = [] {
+      std::array<int8_t, 256> t{};
+      for (int c = 0; c < 256; ++c) t[c] = static_cast<int8_t>(base64_value(c));
+      return t;
+    }();
+    const size_t groups = std::min((want + 2) / 3, (data_.size() - pos_) / 4);
+    const size_t before = pending_.size();
+    pending_.resize(before + 3 * groups);
+    size_t done = 0;
+    for (; done < groups; ++done) {
+      const auto* c = reinterpret_cast<const unsigned char*>(data_.data() + pos_);
+      const int a = kValue[c[0]], b = kValue[c[1]], d = kValue[c[2]], e = kValue[c[3]];
+      if ((a | b | d | e) < 0) break;
+      const uint32_t quad = static_cast<uint32_t>(a << 18 | b << 12 | d << 6 | e);
+      char* out = pending_.data() + before + 3 * done;
+      out[0] = static_cast<char>(quad >> 16);
+      out[1] = static_cast<char>(quad >> 8);
+      out[2] = static_cast<char>(quad);
+      pos_ += 4;
+    }
+    pending_.resize(before + 3 * done);
+    return done > 0;
+  }
+
   bool decode_group() {
     int chars = 0, pad = 0;
     uint32_t quad = 0;
@@ -129,6 +158,7 @@ struct Parser {
   std::vector<ArrayRef> arrays;
   bool in_array = false;
   uint64_t text_limit = 0;  // the file's size: no array text is longer
+  bool keep_lines = false;
 
   void fail(std::string message) {
     if (fault.empty()) fault = std::move(message);
@@ -190,6 +220,12 @@ struct Parser {
       p.points = *points;
       p.polys = *polys;
       p.strips = *strips;
+      if (keep_lines) {
+        auto verts = count(a, "NumberOfVerts"), lines = count(a, "NumberOfLines");
+        if (!verts || !lines) return;
+        p.verts = *verts;
+        p.lines = *lines;
+      }
       if (pieces.size() >= 4096) return fail("more than 4096 pieces");
       pieces.push_back(p);
     } else if (n == "PointData" && !pieces.empty()) {
@@ -243,7 +279,9 @@ struct Parser {
   }
 
   void text(std::string_view s) {
-    if (!fault.empty() || !in_array) return;
+    // Only the array's own text: VTK 9 nests <InformationKey> elements (ranges) in an array.
+    if (!fault.empty() || !in_array || (stack.back() != "DataArray" && stack.back() != "Array"))
+      return;
     std::string& t = arrays.back().text;
     if (t.size() + s.size() > text_limit)
       return fail("a data array's text is longer than the file");
@@ -447,9 +485,34 @@ void add_cells(PolyDataFile& out, const std::vector<double>& connectivity,
   }
 }
 
+// One piece's Lines cells, appended to `lines` with their point indices (each checked against
+// the piece's `points`) shifted by `base`.
+void add_lines(PolyLines& lines, const std::vector<double>& connectivity,
+               const std::vector<double>& offsets, uint64_t cells, uint64_t base, uint64_t points,
+               const std::string& what) {
+  if (offsets.size() != cells)
+    throw Error(fmt::format("{}: {} offsets for {} cells", what, offsets.size(), cells));
+  double start = 0.0;
+  for (size_t c = 0; c < offsets.size(); ++c) {
+    const double end = offsets[c];
+    if (!(end >= start && end <= static_cast<double>(connectivity.size())))
+      throw Error(fmt::format("{}: cell {} ends at offset {}, outside {}..{}", what, c, end, start,
+                              connectivity.size()));
+    for (auto k = static_cast<size_t>(start); k < static_cast<size_t>(end); ++k) {
+      const double v = connectivity[k];
+      if (!(v >= 0.0 && v < static_cast<double>(points)))
+        throw Error(fmt::format("{} cell {}: point index {} is not one of the piece's {} points",
+                                what, c, v, points));
+      lines.indices.push_back(static_cast<int64_t>(v) + static_cast<int64_t>(base));
+    }
+    lines.offsets.push_back(lines.indices.size());
+    start = end;
+  }
+}
+
 }  // namespace
 
-PolyDataFile read_vtp(const std::filesystem::path& file) {
+PolyDataFile read_vtp(const std::filesystem::path& file, bool keep_lines) {
   const std::string what = file.string();
   const std::string bytes = read_file_bytes(file);
   // The appended data is not XML: expat reads what comes before it.
@@ -476,6 +539,7 @@ PolyDataFile read_vtp(const std::filesystem::path& file) {
   Parser p;
   p.what = what;
   p.text_limit = bytes.size();
+  p.keep_lines = keep_lines;
   std::unique_ptr<std::remove_pointer_t<XML_Parser>, decltype(&XML_ParserFree)> xml(
       XML_ParserCreate(nullptr), &XML_ParserFree);
   if (!xml) throw Error(fmt::format("{}: cannot start the XML parser", what));
@@ -548,13 +612,45 @@ PolyDataFile read_vtp(const std::filesystem::path& file) {
       const uint64_t cells = std::string_view(section) == "Polys" ? piece.polys : piece.strips;
       const ArrayRef* connectivity = find(section, "connectivity");
       const ArrayRef* offsets = find(section, "offsets");
-      if (cells == 0) continue;
+      if (cells == 0 || keep_lines) continue;
       if (!connectivity || !offsets)
         throw Error(
             fmt::format("{}: <{}> lacks its connectivity or offsets array", piece_what, section));
       add_cells(out, decode(*connectivity, decoder, what), decode(*offsets, decoder, what), cells,
                 base, piece.points, std::string_view(section) == "Strips",
                 fmt::format("{} {}", piece_what, section));
+    }
+    if (keep_lines && piece.lines > 0) {
+      const ArrayRef* connectivity = find("Lines", "connectivity");
+      const ArrayRef* offsets = find("Lines", "offsets");
+      if (!connectivity || !offsets)
+        throw Error(fmt::format("{}: <Lines> lacks its connectivity or offsets array", piece_what));
+      add_lines(out.lines, decode(*connectivity, decoder, what), decode(*offsets, decoder, what),
+                piece.lines, base, piece.points, piece_what + " Lines");
+    }
+    // Cell data, ordered vertices, lines, polygons, strips: the lines' tuples of each array.
+    for (size_t i = 0; keep_lines && i < p.arrays.size(); ++i) {
+      const ArrayRef& r = p.arrays[i];
+      if (r.piece != static_cast<int>(k) || r.section != "CellData") continue;
+      const std::vector<double> v = decode(r, decoder, what);
+      const uint64_t cells = piece.verts + piece.lines + piece.polys + piece.strips;
+      const auto c = static_cast<uint64_t>(r.components);
+      if (v.size() != cells * c)
+        throw Error(fmt::format("{}: cell data '{}' holds {} values, {} cells of {} need {}",
+                                piece_what, shown(r.name), v.size(), cells, c, cells * c));
+      auto d = std::find_if(out.line_data.begin(), out.line_data.end(),
+                            [&](const MeshPointData& m) { return m.name == r.name; });
+      if (d == out.line_data.end()) {
+        if (k > 0)
+          throw Error(
+              fmt::format("{}: cell data '{}' is not in every piece", piece_what, shown(r.name)));
+        d = out.line_data.insert(out.line_data.end(), {r.name, r.components, {}});
+      }
+      if (d->components != r.components)
+        throw Error(
+            fmt::format("{}: cell data '{}' changes its components", piece_what, shown(r.name)));
+      d->values.insert(d->values.end(), v.begin() + static_cast<ptrdiff_t>(piece.verts * c),
+                       v.begin() + static_cast<ptrdiff_t>((piece.verts + piece.lines) * c));
     }
     // Point data: the normals, and every other array as the file names it.
     std::vector<glm::vec3> normals;
@@ -596,6 +692,9 @@ PolyDataFile read_vtp(const std::filesystem::path& file) {
     if (d.values.size() != total_points * static_cast<uint64_t>(d.components))
       throw Error(fmt::format("{}: point data '{}' is not in every piece", what, shown(d.name)));
   if (out.mesh.normals.size() != out.mesh.positions.size()) out.mesh.normals.clear();
+  for (const MeshPointData& d : out.line_data)
+    if (d.values.size() != (out.lines.offsets.size() - 1) * static_cast<uint64_t>(d.components))
+      throw Error(fmt::format("{}: cell data '{}' is not in every piece", what, shown(d.name)));
   // 3D Slicer's coordinate system: a String array SPACE in the field data.
   for (const ArrayRef& r : p.arrays)
     if (r.section == "FieldData" && r.name == "SPACE" && r.type == "String") {

@@ -25,6 +25,10 @@ const char* file_kind_name(FileKind kind) {
       return "transform";
     case FileKind::label_table:
       return "label table";
+    case FileKind::streamlines:
+      return "streamlines";
+    case FileKind::connectome:
+      return "connectome";
   }
   return "file";
 }

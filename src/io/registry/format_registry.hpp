@@ -14,16 +14,24 @@
 
 namespace imx::detail {
 
-enum class FileKind : uint8_t { volume, mesh, overlay, transform, label_table };
+enum class FileKind : uint8_t {
+  volume,
+  mesh,
+  overlay,
+  transform,
+  label_table,
+  streamlines,
+  connectome
+};
 
-// "volume", "mesh", "surface overlay", "transform", "label table".
+// "volume", "mesh", "surface overlay", "transform", "label table", "streamlines", "connectome".
 const char* file_kind_name(FileKind kind);
 
 // What reading knows of a file before choosing its format: the name and the first bytes.
 struct FileProbe {
   std::filesystem::path path;
-  std::string name;  // the file name in lower case
-  std::string head;  // the first kProbeBytes bytes, inflated when the file is gzip data
+  std::string name;     // the file name in lower case
+  std::string head;     // the first kProbeBytes bytes, inflated when the file is gzip data
   bool folder = false;  // a folder (DICOM)
 };
 inline constexpr size_t kProbeBytes = 512;

@@ -3,6 +3,7 @@
 #include <climits>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <system_error>
@@ -21,6 +22,7 @@
 #include "io/voxels/frames.hpp"
 #include "io/voxels/nifti_header.hpp"
 #include "io/voxels/raw_voxels.hpp"
+#include "volume/colour_grid.hpp"
 #include "volume/volume_checks.hpp"
 
 namespace imx::detail {
@@ -115,6 +117,8 @@ struct Layout {
   VolumeHeader header;
   FrameLayout data;
   double slope = 0.0, inter = 0.0;
+  // RGB24 (3) or RGBA32 (4): `data` is then a grid of uint8 channels, `channels` times as wide.
+  int channels = 0;
   // The scaling changes the voxels (slope 0 means "none"), which are then float32.
   bool scaled() const { return slope != 0.0 && !(slope == 1.0 && inter == 0.0); }
 };
@@ -193,15 +197,20 @@ Layout parse_layout(const fs::path& file) {
   check_frame_count(dims, frames, what);
 
   Layout l;
-  l.slope = h.slope;
-  l.inter = h.inter;
+  // nifti1.h: scl_slope and scl_inter do not apply to RGB data (nibabel cannot apply them).
+  l.slope = h.colour_channels ? 0.0 : h.slope;
+  l.inter = h.colour_channels ? 0.0 : h.inter;
+  l.channels = h.colour_channels;
+  if (l.channels && dims.x > INT_MAX / l.channels)
+    throw Error(fmt::format("{}: dim[1] is {}, more than {} colour voxels a row", what, dims.x,
+                            INT_MAX / l.channels));
   l.data.file = files.voxels;
   l.data.what = files.data_what;
   l.data.gzipped = files.pair ? files.voxels_gzipped : head.gzipped;
   l.data.offset = h.vox_offset;
   l.data.type = h.type;
   l.data.swap = h.swapped;
-  l.data.dims = dims;
+  l.data.dims = l.channels ? glm::ivec3(dims.x * l.channels, dims.y, dims.z) : dims;
   l.data.frames = static_cast<int>(frames);
   l.header.dims = dims;
   l.header.type = l.scaled() ? VoxelType::f32 : storage_type_for(h.type);
@@ -209,6 +218,27 @@ Layout parse_layout(const fs::path& file) {
   l.header.frames = l.data.frames;
   l.header.frame_labels = time_labels(h, l.data.frames);
   return l;
+}
+
+// The voxels of `box` of frame `frame` of a colour image: its luminance (RGB24) or alpha
+// (RGBA32, as NiiVue takes its opacity), and its colours into `colours`.
+VoxelStorage read_colour_voxels(const Layout& l, int frame, const VoxelBox& box,
+                                std::shared_ptr<const ColourVoxels>& colours) {
+  const int n = l.channels;
+  const VoxelBox bytes{{box.lo.x * n, box.lo.y, box.lo.z}, {box.hi.x * n, box.hi.y, box.hi.z}};
+  VoxelStorage raw = read_frame_voxels(l.data, frame, bytes);
+  const uint8_t* in = std::get<VoxelBuffer<uint8_t>>(raw).data();
+  const size_t count = box.count();
+  auto rgb = std::make_shared<ColourVoxels>();
+  rgb->rgb.resize(3 * count);
+  std::vector<uint8_t> scalar(count);
+  for (size_t i = 0; i < count; ++i) {
+    const uint8_t* c = in + n * i;
+    std::copy(c, c + 3, rgb->rgb.data() + 3 * i);
+    scalar[i] = n == 4 ? c[3] : colour_luminance(c[0], c[1], c[2]);
+  }
+  colours = std::move(rgb);
+  return VoxelBuffer<uint8_t>(std::move(scalar));
 }
 
 // The voxels of `box` of frame `frame`, scaled.
@@ -235,15 +265,18 @@ VolumeHeader read_nifti_header(const fs::path& file) {
 
 VolumeData read_nifti_region(const fs::path& file, const VoxelBox& box, int frame) {
   const Layout layout = parse_layout(file);
-  return frame_box_volume(layout.header, layout.data.frames, frame, box, file.string(),
-                          [&](const VoxelBox& b) { return read_voxels(layout, frame, b); });
+  std::shared_ptr<const ColourVoxels> colours;
+  VolumeData v = frame_box_volume(
+      layout.header, layout.data.frames, frame, box, file.string(), [&](const VoxelBox& b) {
+        return layout.channels ? read_colour_voxels(layout, frame, b, colours)
+                               : read_voxels(layout, frame, b);
+      });
+  v.colours = std::move(colours);
+  return v;
 }
 
 VolumeData read_nifti(const fs::path& file, int frame) {
-  const Layout layout = parse_layout(file);
-  return frame_box_volume(layout.header, layout.data.frames, frame,
-                          VoxelBox::whole(layout.header.dims), file.string(),
-                          [&](const VoxelBox& b) { return read_voxels(layout, frame, b); });
+  return read_nifti_region(file, VoxelBox::whole(parse_layout(file).header.dims), frame);
 }
 
 }  // namespace imx::detail

@@ -174,10 +174,15 @@ void check_datatype(NiftiHeader& h, const std::string& what) {
         "{}: datatype {} ({}) is not supported in an Analyze 7.5 header (supported: uint8, "
         "int16, int32, float32, float64)",
         what, h.datatype, nifti_datatype_string(h.datatype)));
+  if (h.datatype == DT_RGB24 || h.datatype == DT_RGBA32) {  // a colour volume
+    h.type = RawType::u8;
+    h.colour_channels = h.datatype == DT_RGB24 ? 3 : 4;
+    return;
+  }
   if (!type)
     throw Error(
         fmt::format("{}: datatype {} ({}) is not supported (supported: integers of 8 to 64 bits, "
-                    "float32, float64)",
+                    "float32, float64, RGB24, RGBA32)",
                     what, h.datatype, nifti_datatype_string(h.datatype)));
   h.type = *type;
 }

@@ -26,6 +26,9 @@ struct NiftiHeader {
   std::array<double, 8> pixdim{};  // as stored
   int datatype = 0;
   RawType type = RawType::u8;
+  // RGB24 (3) or RGBA32 (4): a colour image, that many interleaved uint8 channels per voxel
+  // (`type` u8); 0 for a scalar image.
+  int colour_channels = 0;
   uint64_t vox_offset = 0;  // where the voxels start in their file
   // Intensity scaling, value * slope + inter, already decided by the rules of the header's kind
   // (NIfTI's scl_slope/scl_inter; SPM2's for Analyze); slope 0 means none.

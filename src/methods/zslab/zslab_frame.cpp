@@ -152,6 +152,8 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast, int sample_ind
     if (ref.kind == ObjectKind::volume) continue;
     if (ref.kind == ObjectKind::mesh && !shown[ref.index]) continue;
     if (ref.kind == ObjectKind::plane && !shown_plane(scene.planes[ref.index])) continue;
+    if (ref.kind == ObjectKind::streamlines && !(scene.streamlines[ref.index].opacity > 0.0f))
+      continue;
     std::optional<double> d = r.thickness;
     StageHash h;
     h.add(group.content).add(ref.kind);
@@ -160,6 +162,11 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast, int sample_ind
       if (m.thickness) d = m.thickness;
       hash_stage_fields(h, m);
       group.name += (group.name.empty() ? "" : "+") + m.name;
+    } else if (ref.kind == ObjectKind::streamlines) {
+      const StreamlineObject& so = scene.streamlines[ref.index];
+      if (so.thickness) d = so.thickness;
+      hash_stage_fields(h, so);
+      group.name += (group.name.empty() ? "" : "+") + so.name;
     } else {
       const PlaneObject& p = scene.planes[ref.index];
       if (p.thickness) d = p.thickness;
@@ -254,6 +261,9 @@ void ZslabFrame::prepare(size_t first) {
       if (ref.kind == ObjectKind::mesh) {
         sub.order.push_back({ObjectKind::mesh, static_cast<int>(sub.meshes.size())});
         sub.meshes.push_back(scene.meshes[ref.index]);
+      } else if (ref.kind == ObjectKind::streamlines) {
+        sub.order.push_back({ObjectKind::streamlines, static_cast<int>(sub.streamlines.size())});
+        sub.streamlines.push_back(scene.streamlines[ref.index]);
       } else {
         sub.order.push_back({ObjectKind::plane, static_cast<int>(sub.planes.size())});
         sub.planes.push_back(scene.planes[ref.index]);

@@ -1,0 +1,152 @@
+#include "tubes/tube_fragments.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include <fmt/format.h>
+#include <glm/glm.hpp>
+
+#include "intermix/error.hpp"
+#include "presets/colormap.hpp"
+
+namespace imx {
+namespace {
+
+constexpr float kLetThrough = 1.0f / 1024.0f;
+constexpr size_t kHitsPerQuery = 32;
+
+const StreamlineValues* find_values(const std::vector<StreamlineValues>& all,
+                                    const std::string& name) {
+  for (const StreamlineValues& v : all)
+    if (v.name == name) return &v;
+  return nullptr;
+}
+
+std::string value_names(const std::vector<StreamlineValues>& all) {
+  std::string names;
+  for (const StreamlineValues& v : all) names += (names.empty() ? "'" : ", '") + v.name + "'";
+  return names.empty() ? "none" : names;
+}
+
+// The colour of a crossing before lighting.
+glm::vec3 base_colour(const TubeLook& look, const TubeHit& hit) {
+  const StreamlineObject& o = *look.object;
+  const Streamlines& s = *o.streamlines;
+  const uint32_t p = look.geometry->first_point(hit.segment);
+  switch (o.colouring) {
+    case StreamlineColouring::direction: {
+      const glm::vec3 d = s.points[p + 1] - s.points[p];
+      const float len = glm::length(d);
+      return len > 0.0f ? glm::abs(d) / len : glm::vec3(0.0f);
+    }
+    case StreamlineColouring::streamline_direction: {
+      const uint32_t i = look.geometry->streamline(hit.segment);
+      const glm::vec3 d = s.points[s.offsets[i + 1] - 1] - s.points[s.offsets[i]];
+      const float len = glm::length(d);
+      return len > 0.0f ? glm::abs(d) / len : glm::vec3(0.0f);
+    }
+    case StreamlineColouring::fixed:
+      return o.color;
+    case StreamlineColouring::point_value:
+    case StreamlineColouring::streamline_value: {
+      const float v = look.point_values
+                          ? look.point_values[p] * (1.0f - hit.u) + look.point_values[p + 1] * hit.u
+                          : look.streamline_values[look.geometry->streamline(hit.segment)];
+      const float span = look.value_high - look.value_low;
+      const float x = span > 0.0f ? (v - look.value_low) / span : 0.5f;
+      return colormap_rgb(o.colormap, std::clamp(x, 0.0f, 1.0f));
+    }
+    case StreamlineColouring::group: {
+      const int32_t g = look.group_of[look.geometry->streamline(hit.segment)];
+      return g >= 0 && s.groups[g].color ? *s.groups[g].color : o.color;
+    }
+  }
+  return o.color;
+}
+
+float crossing_opacity(const TubeLook& look, const TubeHit& hit) {
+  const StreamlineObject& o = *look.object;
+  if (o.group_opacity.empty() || look.group_of.empty()) return o.opacity;
+  const int32_t g = look.group_of[look.geometry->streamline(hit.segment)];
+  return g >= 0 && static_cast<size_t>(g) < o.group_opacity.size() ? o.group_opacity[g] : o.opacity;
+}
+
+}  // namespace
+
+float tube_fragment_alpha(float crossing_opacity) {
+  return 1.0f - std::sqrt(1.0f - std::clamp(crossing_opacity, 0.0f, 1.0f));
+}
+
+TubeLook make_tube_look(const StreamlineObject& object, const TubeGeometry& geometry) {
+  TubeLook look;
+  look.object = &object;
+  look.geometry = &geometry;
+  const Streamlines& s = *object.streamlines;
+  const bool per_point = object.colouring == StreamlineColouring::point_value;
+  if (per_point || object.colouring == StreamlineColouring::streamline_value) {
+    const auto& all = per_point ? s.point_values : s.streamline_values;
+    const StreamlineValues* values = find_values(all, object.value);
+    if (!values)
+      throw Error(fmt::format("streamlines '{}': no per-{} values named '{}' (it has {})",
+                              object.name, per_point ? "point" : "streamline", object.value,
+                              value_names(all)));
+    (per_point ? look.point_values : look.streamline_values) = values->values.data();
+    if (object.range) {
+      look.value_low = static_cast<float>(object.range->x);
+      look.value_high = static_cast<float>(object.range->y);
+    } else {
+      auto [lo, hi] = std::minmax_element(values->values.begin(), values->values.end());
+      if (lo != values->values.end()) look.value_low = *lo, look.value_high = *hi;
+    }
+  }
+  if (!s.groups.empty() &&
+      (object.colouring == StreamlineColouring::group || !object.group_opacity.empty())) {
+    look.group_of.assign(s.count(), -1);
+    for (size_t g = s.groups.size(); g-- > 0;)  // the first group wins
+      for (uint32_t m : s.groups[g].members)
+        if (m < look.group_of.size()) look.group_of[m] = static_cast<int32_t>(g);
+  } else if (object.colouring == StreamlineColouring::group) {
+    look.group_of.assign(s.count(), -1);
+  }
+  float least_alpha = tube_fragment_alpha(object.opacity);
+  for (float g : object.group_opacity) least_alpha = std::min(least_alpha, tube_fragment_alpha(g));
+  const double needed = least_alpha >= 1.0f ? 1.0
+                        : least_alpha <= 0.0f
+                            ? double(kHitsPerQuery)
+                            : std::ceil(std::log(kLetThrough) / std::log(1.0 - least_alpha));
+  look.hits_per_query = static_cast<size_t>(std::clamp(needed, 1.0, double(kHitsPerQuery)));
+  return look;
+}
+
+void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, uint32_t object,
+                           std::span<const ShadingLight> lights, std::vector<Fragment>& out) {
+  std::array<TubeHit, kHitsPerQuery> buffer;
+  // As many hits per query as the most transparent crossing needs to let through less than the
+  // bound: one for opaque tubes, the nearest alone being far cheaper to find than 32.
+  const std::span<TubeHit> hits(buffer.data(), look.hits_per_query);
+  const glm::vec3 to_eye = -ray.dir;
+  float let_through = 1.0f, t_min = 0.0f;
+  for (;;) {
+    const size_t n = look.geometry->nearest_hits(ray, t_min, t_max, hits);
+    for (size_t i = 0; i < n; ++i) {
+      const TubeHit& h = hits[i];
+      Fragment f;
+      f.t = h.t;
+      f.object = object;
+      f.front_facing = glm::dot(h.normal, ray.dir) < 0.0f ? 1u : 0u;
+      const float alpha = tube_fragment_alpha(crossing_opacity(look, h));
+      if (look.shaded) {
+        const glm::vec3 rgb =
+            blinn_phong(look.object->shading, base_colour(look, h), h.normal, to_eye, lights);
+        f.color = glm::vec4(rgb * alpha, alpha);
+      }
+      out.push_back(f);
+      let_through *= 1.0f - alpha;
+    }
+    if (n < hits.size() || let_through < kLetThrough) return;
+    t_min = hits[n - 1].t;
+  }
+}
+
+}  // namespace imx

@@ -1,0 +1,183 @@
+#include "tubes/tube_geometry.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <string>
+
+#include <embree3/rtcore.h>
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+
+#include "intermix/error.hpp"
+#include "intermix/limits.hpp"
+#include "tubes/tube_selection.hpp"
+
+namespace imx {
+namespace {
+
+std::atomic<int64_t> g_embree_bytes{0};  // what Embree holds now, from its memory monitor
+std::mutex g_error_mutex;
+std::string g_last_error;
+
+bool monitor(void*, ssize_t bytes, bool) {
+  g_embree_bytes += bytes;
+  return true;
+}
+
+void on_error(void*, RTCError, const char* message) {
+  std::lock_guard lock(g_error_mutex);
+  g_last_error = message ? message : "unknown error";
+}
+
+// One device for the process: its thread pool is TBB's, shared with every other parallel loop.
+// The 4-wide OBB hair BVH with indexed leaves is the most compact of Embree's curve layouts.
+RTCDevice device() {
+  static RTCDevice d = [] {
+    RTCDevice made = rtcNewDevice("hair_accel=bvh4obb.virtualcurve4i");
+    if (!made) throw Error("streamlines: Embree could not start (rtcNewDevice failed)");
+    rtcSetDeviceErrorFunction(made, on_error, nullptr);
+    rtcSetDeviceMemoryMonitorFunction(made, monitor, nullptr);
+    return made;
+  }();
+  return d;
+}
+
+[[noreturn]] void fail(const std::string& name, const char* doing) {
+  std::lock_guard lock(g_error_mutex);
+  throw Error(fmt::format("streamlines '{}': {} failed: {}", name, doing, g_last_error));
+}
+
+// The K nearest hits of one ray: a sorted buffer that, once full, shrinks the ray's reach to
+// its farthest entry, so traversal skips what lies behind (Embree keeps tfar of an accepted hit).
+struct NearestHits {
+  RTCIntersectContext context;  // first: Embree passes it back to the filter
+  TubeHit* hits;
+  size_t capacity;
+  size_t count;
+  float t_min;
+};
+
+void keep_nearest(const RTCFilterFunctionNArguments* args) {
+  NearestHits& near = *reinterpret_cast<NearestHits*>(args->context);
+  const float t = RTCRayN_tfar(args->ray, args->N, 0);
+  args->valid[0] = 0;
+  if (!(t > near.t_min)) return;
+  if (near.count == near.capacity && t >= near.hits[near.capacity - 1].t) return;
+  size_t i = near.count < near.capacity ? near.count++ : near.capacity - 1;
+  for (; i > 0 && near.hits[i - 1].t > t; --i) near.hits[i] = near.hits[i - 1];
+  TubeHit& h = near.hits[i];
+  h.t = t;
+  h.normal = {RTCHitN_Ng_x(args->hit, args->N, 0), RTCHitN_Ng_y(args->hit, args->N, 0),
+              RTCHitN_Ng_z(args->hit, args->N, 0)};
+  h.segment = RTCHitN_primID(args->hit, args->N, 0);
+  h.u = RTCHitN_u(args->hit, args->N, 0);
+  if (near.count == near.capacity) {
+    args->valid[0] = -1;  // accepted, with the reach set to the farthest kept hit
+    RTCRayN_tfar(args->ray, args->N, 0) = near.hits[near.capacity - 1].t;
+  }
+}
+
+}  // namespace
+
+struct TubeGeometry::Embree {
+  RTCScene scene = nullptr;
+  ~Embree() {
+    if (scene) rtcReleaseScene(scene);
+  }
+};
+
+TubeGeometry::TubeGeometry(const StreamlineObject& object)
+    : embree_(std::make_unique<Embree>()), streamlines_(object.streamlines) {
+  if (!streamlines_) throw Error(fmt::format("streamlines '{}': has no streamlines", object.name));
+  const Streamlines& s = *streamlines_;
+  const std::vector<uint32_t> selected = select_streamlines(object);
+  selected_count_ = selected.size();
+  size_t segments = 0;
+  for (uint32_t i : selected) segments += s.length(i) - 1;
+  const size_t points = s.points.size();
+  // Vertices, indices and flags, and about 34 bytes of BVH per segment (measured).
+  check_memory(points * 16 + segments * (4 + 1 + 34),
+               fmt::format("streamlines '{}' ({} segments)", object.name, segments));
+  segment_points_.resize(segments);
+  if (segments == 0) return;  // nothing drawn: no BVH
+  const RTCDevice dev = device();
+  RTCGeometry geometry = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
+  if (!geometry) fail(object.name, "creating the tube geometry");
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), points));
+  auto* flags = static_cast<uint8_t*>(
+      rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_FLAGS, 0, RTC_FORMAT_UCHAR, 1, segments));
+  if (!vertices || !flags) {
+    rtcReleaseGeometry(geometry);
+    fail(object.name, "allocating the tube vertices");
+  }
+  const float radius = static_cast<float>(object.radius);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, points, 1 << 16), [&](const auto& r) {
+    for (size_t p = r.begin(); p < r.end(); ++p) {
+      const glm::vec3& v = s.points[p];
+      vertices[4 * p] = v.x, vertices[4 * p + 1] = v.y, vertices[4 * p + 2] = v.z;
+      vertices[4 * p + 3] = radius;
+    }
+  });
+  size_t k = 0;
+  for (uint32_t i : selected) {
+    const uint32_t a = s.offsets[i], b = s.offsets[i + 1];
+    for (uint32_t p = a; p + 1 < b; ++p, ++k) {
+      segment_points_[k] = p;
+      // Joined segments: Embree leaves out the inner caps, so a bend has no seam or extra hit.
+      flags[k] = static_cast<uint8_t>((p > a ? RTC_CURVE_FLAG_NEIGHBOR_LEFT : 0) |
+                                      (p + 2 < b ? RTC_CURVE_FLAG_NEIGHBOR_RIGHT : 0));
+    }
+  }
+  rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT,
+                             segment_points_.data(), 0, sizeof(uint32_t), segments);
+  rtcCommitGeometry(geometry);
+  embree_->scene = rtcNewScene(dev);
+  rtcSetSceneFlags(embree_->scene, RTC_SCENE_FLAG_COMPACT | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+  rtcSetSceneBuildQuality(embree_->scene, RTC_BUILD_QUALITY_LOW);
+  rtcAttachGeometry(embree_->scene, geometry);
+  rtcReleaseGeometry(geometry);
+  const int64_t before = g_embree_bytes.load();
+  rtcCommitScene(embree_->scene);
+  if (rtcGetDeviceError(dev) != RTC_ERROR_NONE) fail(object.name, "building the tubes' BVH");
+  bytes_ = static_cast<size_t>(std::max<int64_t>(g_embree_bytes.load() - before, 0)) + points * 16 +
+           segments * 5;
+}
+
+TubeGeometry::~TubeGeometry() = default;
+
+uint32_t TubeGeometry::streamline(uint32_t segment) const {
+  const std::vector<uint32_t>& offsets = streamlines_->offsets;
+  const uint32_t point = segment_points_[segment];
+  return static_cast<uint32_t>(std::upper_bound(offsets.begin(), offsets.end(), point) -
+                               offsets.begin() - 1);
+}
+
+size_t TubeGeometry::nearest_hits(const Ray& ray, float t_min, float t_max,
+                                  std::span<TubeHit> out) const {
+  if (out.empty() || segment_points_.empty()) return 0;
+  NearestHits near;
+  rtcInitIntersectContext(&near.context);
+  near.context.filter = keep_nearest;
+  near.hits = out.data();
+  near.capacity = out.size();
+  near.count = 0;
+  near.t_min = t_min;
+  RTCRayHit rh;
+  rh.ray.org_x = ray.origin.x, rh.ray.org_y = ray.origin.y, rh.ray.org_z = ray.origin.z;
+  rh.ray.dir_x = ray.dir.x, rh.ray.dir_y = ray.dir.y, rh.ray.dir_z = ray.dir.z;
+  rh.ray.tnear = std::max(t_min, 0.0f);
+  rh.ray.tfar = t_max;
+  rh.ray.time = 0.0f;
+  rh.ray.mask = ~0u;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(embree_->scene, &near.context, &rh);
+  return near.count;
+}
+
+}  // namespace imx

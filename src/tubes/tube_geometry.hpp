@@ -1,0 +1,55 @@
+// TubeGeometry: a streamline object's tubes as exact round linear curves in an Embree BVH.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "core/ray.hpp"
+#include "intermix/scene.hpp"
+
+namespace imx {
+
+// One crossing of a ray with a tube's surface.
+struct TubeHit {
+  float t = 0.0f;          // along the ray, mm
+  glm::vec3 normal{0.0f};  // the surface's geometric normal, not unit length
+  uint32_t segment = 0;    // TubeGeometry segment index
+  float u = 0.0f;          // where along the segment, 0 at its first point, 1 at its second
+};
+
+class TubeGeometry {
+ public:
+  // Every segment of the streamlines `object` selects (tube_selection.hpp), of its radius.
+  // Throws imx::Error naming the object when the memory budget or Embree refuses.
+  explicit TubeGeometry(const StreamlineObject& object);
+  ~TubeGeometry();
+  TubeGeometry(const TubeGeometry&) = delete;
+  TubeGeometry& operator=(const TubeGeometry&) = delete;
+
+  // The hits of `ray` with t_min < t < t_max, nearest first: the out.size() nearest of them.
+  // Returns how many were found. Thread-safe.
+  size_t nearest_hits(const Ray& ray, float t_min, float t_max, std::span<TubeHit> out) const;
+
+  // The first of a segment's two points, an index into the object's Streamlines::points.
+  uint32_t first_point(uint32_t segment) const { return segment_points_[segment]; }
+  // The streamline a segment belongs to (Streamlines index).
+  uint32_t streamline(uint32_t segment) const;
+  size_t segment_count() const { return segment_points_.size(); }
+  size_t streamline_count() const { return selected_count_; }
+  // Resident bytes of the vertices, segment indices and the BVH.
+  size_t bytes() const { return bytes_; }
+
+ private:
+  struct Embree;
+  std::unique_ptr<Embree> embree_;
+  std::shared_ptr<const Streamlines> streamlines_;
+  std::vector<uint32_t> segment_points_;  // the Embree index buffer
+  size_t selected_count_ = 0;
+  size_t bytes_ = 0;
+};
+
+}  // namespace imx
