@@ -25,6 +25,17 @@ DepthRange scene_depth_range(const Scene& scene, const CameraModel& camera) {
   for (size_t k = 0; k < scene.meshes.size(); ++k)
     if (scene.meshes[k].mesh && shown[k])
       for (const glm::vec3& p : scene.meshes[k].mesh->positions) add(glm::dvec3(p));
+  for (const StreamlineObject& o : scene.streamlines) {
+    if (!o.streamlines || o.streamlines->points.empty() || !(o.opacity > 0.0f)) continue;
+    glm::vec3 box_lo(INFINITY), box_hi(-INFINITY);  // the tubes' box: 8 corners, not every point
+    for (const glm::vec3& p : o.streamlines->points)
+      box_lo = glm::min(box_lo, p), box_hi = glm::max(box_hi, p);
+    const glm::dvec3 r(o.radius);
+    for (int i = 0; i < 8; ++i)
+      add(glm::dvec3(i & 1 ? box_hi.x : box_lo.x, i & 2 ? box_hi.y : box_lo.y,
+                     i & 4 ? box_hi.z : box_lo.z) +
+          (glm::dvec3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1) * r));
+  }
   for (const PlaneObject& p : scene.planes) {
     if (!shown_plane(p)) continue;
     glm::dvec3 n = glm::normalize(p.normal);

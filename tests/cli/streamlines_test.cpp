@@ -86,6 +86,26 @@ TEST(Streamlines, ATractOverTheMniTemplateLiesInsideTheBrainOnItsSide) {
   EXPECT_LE(in_left, tract_pixels * 5 / 100) << in_left << " of " << tract_pixels;
 }
 
+// With a volume in the scene (even one that shows nothing) every method still draws the tubes:
+// no volume-only fast path may skip them.
+TEST(Streamlines, TubesShowBesideAVolumeInEveryMethod) {
+  SKIP_WITHOUT_SHARED_DATA(kTract, kTemplate);
+  for (const char* method : {"zslab-hybrid", "zslab", "mdvr", "peel", "dfb-sfm", "kbuffer"}) {
+    nlohmann::json volume = template_object(1e5, false);  // its TF is clear everywhere
+    const nlohmann::json scene = {
+        {"camera", from_above()},
+        {"image", {{"width", 64}, {"height", 64}, {"background", {0, 0, 0, 0}}}},
+        {"render", {{"method", method}, {"spp", 1}}},
+        {"objects", {volume, {{"name", "ifof"}, {"type", "streamlines"}, {"radius", 1.5},
+                              {"source", {{"file", test::shared_data(kTract).string()}}}}}}};
+    const Image image = render(parse_scene(scene.dump(), ".", "test"));
+    size_t drawn = 0;
+    for (int y = 0; y < 64; ++y)
+      for (int x = 0; x < 64; ++x) drawn += image.at(x, y).a > 0.5f;
+    EXPECT_GT(drawn, 20u) << method;
+  }
+}
+
 // A .tck and a .tsf written here: two straight streamlines along x at y = -20 and y = +20,
 // values rising along the first.
 void write_tracks(const std::filesystem::path& tck, const std::filesystem::path& tsf) {

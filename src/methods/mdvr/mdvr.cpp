@@ -16,11 +16,13 @@
 namespace imx {
 
 bool volume_packets_apply(const Scene& scene, const FrameSetup& frame) {
-  // Hidden meshes and planes make no fragments (a viewer's reading planes, hidden in 3-D).
+  // Hidden meshes, planes and tubes make no fragments (a viewer's reading planes, hidden in 3-D).
   const std::vector<bool> meshes = shown_meshes(scene);
   if (!scene.render.packets || std::find(meshes.begin(), meshes.end(), true) != meshes.end() ||
-      std::any_of(scene.planes.begin(), scene.planes.end(), shown_plane) || !frame.clip.empty() ||
-      frame.volumes.size() != 1)
+      std::any_of(scene.planes.begin(), scene.planes.end(), shown_plane) ||
+      std::any_of(scene.streamlines.begin(), scene.streamlines.end(),
+                  [](const StreamlineObject& o) { return o.opacity > 0.0f; }) ||
+      !frame.clip.empty() || frame.volumes.size() != 1)
     return false;
   const PreparedVolume& v = frame.volumes[0];
   return v.object->style == VolumeStyle::dvr ? packet_marching_supported(v, frame.lights)
