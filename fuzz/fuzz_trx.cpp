@@ -3,46 +3,9 @@
 // allocated or inflated; what it returns must be whole: offsets from 0 to the point count, every
 // streamline of 2 points or more, every point finite, one value per point or streamline in every
 // array, group members ascending and naming streamlines that exist.
-#include <cmath>
-#include <exception>
-#include <string>
-#include <vector>
-
-#include "harness.hpp"
 #include "io/streamlines/trx.hpp"
-
-namespace {
-
-void check_streamlines(const imx::Streamlines& s) {
-  if (s.offsets.empty() || s.offsets.front() != 0 || s.offsets.back() != s.points.size())
-    __builtin_trap();
-  for (size_t i = 0; i < s.count(); ++i)
-    if (s.offsets[i + 1] < s.offsets[i] + 2) __builtin_trap();
-  for (const glm::vec3& p : s.points)
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) __builtin_trap();
-  for (const imx::StreamlineValues& v : s.point_values)
-    if (v.values.size() != s.points.size()) __builtin_trap();
-  for (const imx::StreamlineValues& v : s.streamline_values)
-    if (v.values.size() != s.count()) __builtin_trap();
-  for (const imx::StreamlineGroup& g : s.groups)
-    for (size_t i = 0; i < g.members.size(); ++i)
-      if (g.members[i] >= s.count() || (i > 0 && g.members[i] <= g.members[i - 1]))
-        __builtin_trap();
-}
-
-}  // namespace
+#include "streamlines_check.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  using namespace imx::fuzz;
-  const ScratchDir& dir = scratch();
-  dir.clear();
-  const std::filesystem::path file = dir.write("in.trx", data, size);
-  try {
-    std::vector<std::string> notes;
-    check_streamlines(imx::detail::read_trx(file, notes));
-    accepted("streamlines");
-  } catch (const std::exception& e) {
-    refused(e);
-  }
-  return 0;
+  return imx::fuzz::fuzz_streamline_reader(data, size, "in.trx", imx::detail::read_trx);
 }

@@ -296,7 +296,19 @@ struct Scene {
 };
 
 // "volume", "mesh", "plane" or "streamlines": what scene files call the kind.
-const char* object_kind_name(ObjectKind kind);
+inline const char* object_kind_name(ObjectKind kind) {
+  switch (kind) {
+    case ObjectKind::volume:
+      return "volume";
+    case ObjectKind::mesh:
+      return "mesh";
+    case ObjectKind::plane:
+      return "plane";
+    case ObjectKind::streamlines:
+      return "streamlines";
+  }
+  return "object";
+}
 // The name of the object `ref` refers to in `scene` (its index must be in range).
 const std::string& object_name(const Scene& scene, const ObjectRef& ref);
 

@@ -10,20 +10,6 @@
 namespace imx {
 namespace {
 
-const char* kind_name(ObjectKind kind) {
-  switch (kind) {
-    case ObjectKind::volume:
-      return "volume";
-    case ObjectKind::mesh:
-      return "mesh";
-    case ObjectKind::plane:
-      return "plane";
-    case ObjectKind::streamlines:
-      return "streamlines";
-  }
-  return "object";
-}
-
 const char* presence_name(CsgPresence p) {
   return p == CsgPresence::region ? "region" : "opacity";
 }
@@ -88,14 +74,15 @@ CsgExpr compile_expression(const CsgExpression& e, std::vector<CsgPrimitive>& pr
       ++k;
     if (k == int(primitives.size())) {
       if (k == kMaxCsgPrimitives)
-        throw Error(fmt::format(
-            "{}: at most {} primitives are allowed; node {} ({} {}) would be "
-            "primitive number {}",
-            what, kMaxCsgPrimitives, item.source, kind_name(n.object.kind), n.object.index, k + 1));
+        throw Error(
+            fmt::format("{}: at most {} primitives are allowed; node {} ({} {}) would be "
+                        "primitive number {}",
+                        what, kMaxCsgPrimitives, item.source, object_kind_name(n.object.kind),
+                        n.object.index, k + 1));
       primitives.push_back({n.object, n.presence});
     } else if (primitives[k].presence != n.presence) {
       throw Error(fmt::format("{}: {} {} is used with both {} and {} presence", what,
-                              kind_name(n.object.kind), n.object.index,
+                              object_kind_name(n.object.kind), n.object.index,
                               presence_name(primitives[k].presence), presence_name(n.presence)));
     }
     out.nodes[index].primitive = k;

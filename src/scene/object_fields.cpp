@@ -56,20 +56,6 @@ bool parse_visible(const JsonReader& object) {
 
 namespace imx {
 
-const char* object_kind_name(ObjectKind kind) {
-  switch (kind) {
-    case ObjectKind::volume:
-      return "volume";
-    case ObjectKind::mesh:
-      return "mesh";
-    case ObjectKind::plane:
-      return "plane";
-    case ObjectKind::streamlines:
-      return "streamlines";
-  }
-  return "object";
-}
-
 const std::string& object_name(const Scene& scene, const ObjectRef& ref) {
   const auto i = static_cast<size_t>(ref.index);
   switch (ref.kind) {
