@@ -11,6 +11,7 @@
 #include "io/connectome/connectome_matrix.hpp"
 #include "io/connectome/jcon.hpp"
 #include "io/streams/byte_cursor.hpp"
+#include "io/streams/json_depth.hpp"
 
 namespace imx::detail {
 namespace {
@@ -22,28 +23,8 @@ constexpr int kMaxJsonDepth = 64;
 // value; a short key, a map node of about 80 bytes).
 constexpr uint64_t kJsonBytesPerTextByte = 16;
 
-// Whether `text` nests arrays and objects deeper than kMaxJsonDepth (brackets inside strings
-// not counted): checked before parsing, since a deep nest costs the document far more memory
-// per byte than kJsonBytesPerTextByte.
 bool nested_too_deep(std::string_view text) {
-  int depth = 0;
-  bool in_string = false;
-  for (size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (in_string) {
-      if (c == '\\')
-        ++i;
-      else if (c == '"')
-        in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > kMaxJsonDepth) return true;
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-  return false;
+  return json_nested_deeper_than(text, kMaxJsonDepth);
 }
 
 // A value as a message shows it: its JSON, cut short.

@@ -22,6 +22,7 @@
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
 #include "io/streamlines/trx.hpp"
+#include "io/streams/json_depth.hpp"
 #include "io/streams/regular_file.hpp"
 #include "io/streams/zip_archive.hpp"
 
@@ -395,26 +396,8 @@ void TrxReader::classify() {
         fmt::format("{}: no offsets.DTYPE array: not a TRX (or not one it can read)", what_));
 }
 
-// Refuses JSON nested deeper than kMaxJsonDepth before nlohmann parses it recursively.
 bool nested_too_deep(std::string_view text) {
-  int depth = 0;
-  bool in_string = false;
-  for (size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (in_string) {
-      if (c == '\\')
-        ++i;
-      else if (c == '"')
-        in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > kMaxJsonDepth) return true;
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-  return false;
+  return json_nested_deeper_than(text, kMaxJsonDepth);
 }
 
 void TrxReader::read_header() {
