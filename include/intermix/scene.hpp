@@ -189,6 +189,19 @@ struct StreamlineRegion {
 
 class TubeCache;  // the tubes' geometry and its acceleration, built on first use (src/tubes/)
 
+// How a connectome object draws its node spheres and edge tubes: NiiVue's display fields, each
+// from the scene object, else the file, else NiiVue's default (docs/streamlines.md).
+struct ConnectomeLook {
+  float node_scale = 3.0f;                 // sphere radius = node size * node_scale, mm
+  float node_min = 0.0f, node_max = 4.0f;  // values at the map's ends; below node_min: hidden
+  Colormap node_colormap = Colormap::red_yellow;               // NiiVue's "warm"
+  Colormap node_colormap_negative = Colormap::blue_lightblue;  // "winter": negative values
+  float edge_scale = 1.0f;                 // tube radius = |weight| * edge_scale, mm
+  float edge_min = 2.0f, edge_max = 6.0f;  // |weight| at the map's ends; below edge_min: hidden
+  Colormap edge_colormap = Colormap::red_yellow;
+  Colormap edge_colormap_negative = Colormap::blue_lightblue;  // of negative weights
+};
+
 // A tractogram drawn as tubes: each segment an exact capsule or cone of `radius` mm.
 struct StreamlineObject {
   std::string name;
@@ -206,7 +219,13 @@ struct StreamlineObject {
   double min_length = 0.0;                // mm; shorter streamlines are not drawn
   std::vector<StreamlineRegion> regions;  // all must hold
   std::optional<double> thickness;        // mm; empty means "auto", as for meshes
+  std::vector<ClipPlane> clip_planes;     // world; tubes show where all keep, cuts capped
   std::shared_ptr<TubeCache> cache;       // shared by copies of the scene; may be null
+  // A "connectome" object: these spheres and tubes are drawn instead of streamlines. Then
+  // `streamlines` holds the node centres and no streamline, and `radius` the largest sphere or
+  // tube radius, so that bounds and depth ranges see it as they see tubes.
+  std::shared_ptr<const Connectome> connectome;  // world space, the transform applied
+  ConnectomeLook connectome_look;
 };
 
 enum class ObjectKind : uint8_t { volume, mesh, plane, streamlines };

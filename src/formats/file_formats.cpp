@@ -149,7 +149,7 @@ std::string needs_message(const std::filesystem::path& file, const IdentifiedFil
         "{}: {} is a surface overlay ({}): give it after its surface (intermix render {} {})",
         file.string(), name, identified.format, surface_for_overlay(file), name);
   }
-  if (identified.needs.empty())  // a connectome: read (intermix info) but not drawn yet
+  if (identified.needs.empty())  // read (intermix info) but not drawn: a transform, a label table
     return fmt::format("{}: {} is a {} ({}): intermix reads it but does not draw {}s yet",
                        file.string(), name, identified.kind, identified.format, identified.kind);
   return fmt::format("{}: {} is a {} ({}): it needs {}", file.string(), name, identified.kind,

@@ -22,6 +22,7 @@ Image first_hit_depth(const Scene& scene, const std::string& name, float opacity
   Scene one = scene;  // the object alone
   one.meshes.clear();
   one.planes.clear();
+  one.streamlines.clear();
   one.order.clear();
   for (VolumeObject& v : one.volumes) v.clip_meshes.clear();  // a cutter alone is drawn too
   int volume = -1;
@@ -34,6 +35,10 @@ Image first_hit_depth(const Scene& scene, const std::string& name, float opacity
     if (ref.kind == ObjectKind::plane && scene.planes[ref.index].name == name) {
       one.order.push_back({ObjectKind::plane, 0});
       one.planes.push_back(scene.planes[ref.index]);
+    }
+    if (ref.kind == ObjectKind::streamlines && scene.streamlines[ref.index].name == name) {
+      one.order.push_back({ObjectKind::streamlines, 0});
+      one.streamlines.push_back(scene.streamlines[ref.index]);
     }
   }
   if (volume < 0 && one.order.empty())

@@ -76,7 +76,7 @@ Scene scene_json::parse_scene_document(const nlohmann::json& root, const std::st
     if (auto [it, fresh] = first_use.emplace(name, i); !fresh)
       name_reader.fail(
           fmt::format("{} is already the name of objects[{}]", name_reader.text(), it->second));
-    kinds.push_back(o.get("type").choice({"volume", "mesh", "plane", "streamlines"}));
+    kinds.push_back(o.get("type").choice({"volume", "mesh", "plane", "streamlines", "connectome"}));
     types[name] = kinds.back();
   }
 
@@ -96,6 +96,9 @@ Scene scene_json::parse_scene_document(const nlohmann::json& root, const std::st
     } else if (kinds[i] == "streamlines") {
       order.push_back({ObjectKind::streamlines, static_cast<int>(scene.streamlines.size())});
       scene.streamlines.push_back(scene_json::parse_streamline_object(objects[i], context));
+    } else if (kinds[i] == "connectome") {  // spheres and tubes: a streamline object's kind
+      order.push_back({ObjectKind::streamlines, static_cast<int>(scene.streamlines.size())});
+      scene.streamlines.push_back(scene_json::parse_connectome_object(objects[i], context));
     } else {
       order.push_back({ObjectKind::plane, static_cast<int>(scene.planes.size())});
       scene.planes.push_back(

@@ -42,6 +42,7 @@ SceneDocument::SceneDocument(nlohmann::json json, std::string origin,
   context_.base_dir = std::move(base_dir);
   context_.given_volumes = std::move(given.volumes);
   context_.given_meshes = std::move(given.meshes);
+  context_.given_streamlines = std::move(given.streamlines);
   parse(std::move(json));
 }
 
@@ -94,11 +95,13 @@ void SceneDocument::edit(const std::function<void(nlohmann::json&)>& change, Giv
   change(json);
   std::swap(context_.given_volumes, given.volumes);
   std::swap(context_.given_meshes, given.meshes);
+  std::swap(context_.given_streamlines, given.streamlines);
   try {
     parse(std::move(json));
   } catch (...) {
     std::swap(context_.given_volumes, given.volumes);
     std::swap(context_.given_meshes, given.meshes);
+    std::swap(context_.given_streamlines, given.streamlines);
     throw;
   }
 }

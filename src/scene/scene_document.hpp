@@ -22,6 +22,7 @@ namespace imx {
 struct GivenData {
   std::map<std::string, std::shared_ptr<const VolumeData>> volumes;
   std::map<std::string, std::shared_ptr<const Mesh>> meshes;
+  std::map<std::string, std::shared_ptr<const Streamlines>> streamlines;  // {"$streamlines": ID}
 };
 
 class SceneDocument {

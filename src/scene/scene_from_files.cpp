@@ -181,6 +181,7 @@ SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
   size_t meshes = 0;
   std::optional<size_t> last_mesh;         // an overlay file colours the mesh before it
   std::optional<size_t> last_streamlines;  // a .tsf holds values of the tractogram before it
+  size_t last_nodes = SIZE_MAX;  // a BrainNet .edge: edges of the .node object just before it
   for (const std::filesystem::path& file : files) {
     std::error_code ec;
     if (!std::filesystem::exists(file, ec))
@@ -223,6 +224,21 @@ SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
       last_streamlines = objects.size();
       objects.push_back({{"name", object_name(file, taken)},
                          {"type", "streamlines"},
+                         {"source", {{"file", absolute.string()}}}});
+      continue;
+    }
+    if (const detail::ConnectomeFormat* connectome =
+            is_dicom_source(file) ? nullptr
+                                  : detail::find_connectome_format(detail::probe_file(file))) {
+      if (!connectome->read) {  // a BrainNet .edge: the edges of the .node given before it
+        if (last_nodes >= objects.size()) throw Error(needs_message(file, identify_file(file)));
+        objects[last_nodes]["source"]["edges"] = absolute.string();
+        last_nodes = SIZE_MAX;
+        continue;
+      }
+      if (file.extension() == ".node") last_nodes = objects.size();
+      objects.push_back({{"name", object_name(file, taken)},
+                         {"type", "connectome"},
                          {"source", {{"file", absolute.string()}}}});
       continue;
     }

@@ -40,6 +40,7 @@ struct SceneContext {
   // unknown like any other.
   std::map<std::string, std::shared_ptr<const VolumeData>> given_volumes = {};
   std::map<std::string, std::shared_ptr<const Mesh>> given_meshes = {};
+  std::map<std::string, std::shared_ptr<const Streamlines>> given_streamlines = {};  // $streamlines
   // Meshes placed by an object's transform, by source and transform, and the keys of `volumes`,
   // `meshes` and `placed_meshes` the last document used (a program drops the others).
   std::map<std::string, std::shared_ptr<const Mesh>> placed_meshes = {};
@@ -144,8 +145,13 @@ std::vector<ClipPlane> parse_clip_planes(const JsonReader& r, MeshSpace space = 
 VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context);
 MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context);
 // {"source": {"file", "values"}, "radius", "color_by", "color", "value", "colormap", "range",
-// "opacity", "group_opacity", "shading", "stride", "min_length", "regions", "thickness"}.
+// "opacity", "group_opacity", "shading", "stride", "min_length", "regions", "thickness",
+// "clip_planes" (as a volume's; cut tubes are capped)}.
 StreamlineObject parse_streamline_object(const JsonReader& r, SceneContext& context);
+// A "connectome" object, drawn as a streamline object of spheres and tubes: {"source": {"file",
+// "edges"}, "node_scale", "edge_scale", "node_min", "node_max", "edge_min", "edge_max",
+// "node_colormap", "edge_colormap" (and their "_negative"), "opacity", "shading", "transform"}.
+StreamlineObject parse_connectome_object(const JsonReader& r, SceneContext& context);
 // `scene` holds the volumes, which "volume" may name; `object_types` maps every object's name
 // to its type, for a clear message when "volume" names a mesh or a plane.
 PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,

@@ -62,7 +62,8 @@ inline void hash_stage_fields(Fnv1a& h, const MeshObject& m) {
 
 inline void hash_stage_fields(Fnv1a& h, const StreamlineObject& o) {
   const auto& [name, streamlines, radius, colouring, color, value, colormap, range, opacity,
-               group_opacity, shading, stride, min_length, regions, thickness, cache] = o;
+               group_opacity, shading, stride, min_length, regions, thickness, clip_planes, cache,
+               connectome, connectome_look] = o;
   (void)name, (void)cache;  // a label; the cache builds from the fields hashed here
   h.add(streamlines.get()).add(radius).add(colouring).add(color).add(value.size());
   for (char c : value) h.add(c);
@@ -72,6 +73,8 @@ inline void hash_stage_fields(Fnv1a& h, const StreamlineObject& o) {
   if (range) h.add(*range);
   hash_stage_shading(h, shading);
   hash_stage_optional(h, thickness);
+  h.add(clip_planes.size());
+  for (const ClipPlane& c : clip_planes) h.add(c.point).add(c.normal);
   h.add(regions.size());
   for (const StreamlineRegion& r : regions)
     h.add(r.shape)
@@ -81,6 +84,13 @@ inline void hash_stage_fields(Fnv1a& h, const StreamlineObject& o) {
         .add(r.labels.get())
         .add(r.label)
         .add(r.mesh.get());
+  h.add(connectome.get());
+  if (connectome) {
+    const ConnectomeLook& c = connectome_look;
+    h.add(c.node_scale).add(c.node_min).add(c.node_max).add(c.node_colormap);
+    h.add(c.node_colormap_negative).add(c.edge_scale).add(c.edge_min).add(c.edge_max);
+    h.add(c.edge_colormap).add(c.edge_colormap_negative);
+  }
 }
 
 inline void hash_stage_fields(Fnv1a& h, const Scene& scene, const PlaneObject& p) {

@@ -6,6 +6,7 @@
 
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
+#include "intermix/limits.hpp"
 #include "io/streamlines/streamline_formats.hpp"
 #include "scene/scene_parsers.hpp"
 #include "scene/world_space.hpp"
@@ -13,6 +14,8 @@
 
 namespace imx::scene_json {
 namespace {
+
+constexpr size_t kMaxClipPlanes = 64;  // each is a test per tube crossing
 
 const std::vector<std::pair<std::string, StreamlineColouring>> kColourings = {
     {"direction", StreamlineColouring::direction},
@@ -25,6 +28,18 @@ const std::vector<std::pair<std::string, StreamlineColouring>> kColourings = {
 // The tractogram a "source" names, read once per file and list of value files.
 std::shared_ptr<const Streamlines> load_streamlines(const JsonReader& src, const std::string& name,
                                                     SceneContext& context) {
+  if (!context.given_streamlines.empty() && src.json().is_object() && src.has("$streamlines")) {
+    src.check_keys({"$streamlines"});
+    JsonReader id = src.get("$streamlines");
+    auto it = context.given_streamlines.find(id.string());
+    if (it == context.given_streamlines.end())
+      id.fail(id.text() + " is not a set of streamlines of this scene");
+    return it->second;
+  }
+  if (src.json().is_object() && ((!context.given_volumes.empty() && src.has("$volume")) ||
+                                 (!context.given_meshes.empty() && src.has("$mesh"))))
+    src.fail(fmt::format("is a {} the program gave, not streamlines",
+                         src.has("$volume") ? "volume" : "mesh"));
   src.check_keys({"file", "values"});
   JsonReader file_reader = src.get("file");
   const std::filesystem::path path = context.resolve_file(file_reader);
@@ -92,12 +107,31 @@ StreamlineRegion parse_region(const JsonReader& r, SceneContext& context) {
   return region;
 }
 
+// A tractogram whose tubes would exceed the memory budget is decimated, not refused: the
+// smallest stride whose tubes fit, with a note (the vertices of every point stay: they must fit).
+void fit_stride_to_budget(StreamlineObject& o, SceneContext& context) {
+  const Streamlines& s = *o.streamlines;
+  const uint64_t budget = input_limits().max_memory, points = s.points.size();
+  const uint64_t segments = points - std::min<uint64_t>(points, s.count());
+  auto fits = [&](uint64_t stride) { return tube_bytes(points, segments / stride) <= budget; };
+  uint64_t stride = static_cast<uint64_t>(o.stride);
+  if (fits(stride) || !fits(s.count() + 1)) return;
+  const uint64_t full = tube_bytes(points, segments / stride);
+  while (!fits(stride)) ++stride;
+  o.stride = static_cast<int>(stride);
+  context.notes.push_back(fmt::format(
+      "streamlines '{}': tubes for all {} streamlines need {}, more than the memory budget of {} "
+      "(--max-memory): one in {} is drawn (\"stride\": {})",
+      o.name, s.count(), format_bytes(full), format_bytes(budget), stride, stride));
+}
+
 }  // namespace
 
 StreamlineObject parse_streamline_object(const JsonReader& r, SceneContext& context) {
-  r.check_keys({"name", "type", "source", "transform", "radius", "color_by", "color", "value",
-                "colormap", "range", "opacity", "group_opacity", "shading", "stride", "min_length",
-                "regions", "thickness", "visible", "sides"});
+  r.check_keys({"name",     "type",          "source",  "transform", "radius",
+                "color_by", "color",         "value",   "colormap",  "range",
+                "opacity",  "group_opacity", "shading", "stride",    "min_length",
+                "regions",  "thickness",     "visible", "sides",     "clip_planes"});
   StreamlineObject o;
   o.name = r.get("name").string();
   glm::dmat4 transform(1.0);
@@ -133,6 +167,12 @@ StreamlineObject parse_streamline_object(const JsonReader& r, SceneContext& cont
   if (auto v = r.find("thickness")) o.thickness = parse_thickness(*v);
   if (auto v = r.find("regions"))
     for (const JsonReader& e : v->elements()) o.regions.push_back(parse_region(e, context));
+  if (auto v = r.find("clip_planes")) {
+    if (v->size() > kMaxClipPlanes)
+      v->fail(
+          fmt::format("{} clip planes; streamlines take at most {}", v->size(), kMaxClipPlanes));
+    o.clip_planes = parse_clip_planes(*v, context.world_space);  // as a volume's, world space
+  }
   if (auto v = r.find("sides"))
     v->integer(3, 64);  // the VTK peer's tube sides; tubes here are round
   if (!parse_visible(r)) o.opacity = 0.0f;
@@ -160,6 +200,7 @@ StreamlineObject parse_streamline_object(const JsonReader& r, SceneContext& cont
   if (fresh) it->second = {placed(read, transform), make_tube_cache()};
   o.streamlines = it->second.first;
   o.cache = it->second.second;
+  fit_stride_to_budget(o, context);
   return o;
 }
 

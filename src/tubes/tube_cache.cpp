@@ -1,5 +1,6 @@
 #include "tubes/tube_cache.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 
@@ -15,20 +16,63 @@ std::vector<double> geometry_key(const StreamlineObject& o) {
     key.insert(key.end(), {static_cast<double>(r.shape), r.avoid ? 1.0 : 0.0, r.center.x,
                            r.center.y, r.center.z, r.radius, address(r.labels.get()),
                            static_cast<double>(r.label), address(r.mesh.get())});
+  if (o.connectome) {  // its colours are built in too
+    const ConnectomeLook& c = o.connectome_look;
+    key.insert(key.end(),
+               {address(o.connectome.get()), c.node_scale, c.node_min, c.node_max, c.edge_scale,
+                c.edge_min, c.edge_max, static_cast<double>(c.node_colormap),
+                static_cast<double>(c.node_colormap_negative), static_cast<double>(c.edge_colormap),
+                static_cast<double>(c.edge_colormap_negative)});
+  }
   return key;
 }
 
 }  // namespace
 
+int preview_stride(const StreamlineObject& object) {
+  const size_t count = object.streamlines ? object.streamlines->count() : 0;
+  const size_t stride = std::max<size_t>(std::max(object.stride, 1),
+                                         (count + kPreviewStreamlines - 1) / kPreviewStreamlines);
+  return static_cast<int>(std::min<size_t>(stride, 1 << 30));
+}
+
 std::shared_ptr<const TubeGeometry> TubeCache::geometry(const StreamlineObject& object) {
   std::vector<double> key = geometry_key(object);
+  // The slot by what the stride lets through at most, known before anything is built.
+  const size_t count = object.streamlines ? object.streamlines->count() : 0;
+  const size_t stride = static_cast<size_t>(std::max(object.stride, 1));
+  Entry& entry = entries_[(count + stride - 1) / stride <= kPreviewStreamlines ? 0 : 1];
   std::lock_guard lock(mutex_);
-  if (!built_ || key != key_) {
-    built_.reset();  // the old BVH goes before the new one is built: one at a time in memory
-    built_ = std::make_shared<const TubeGeometry>(object);
-    key_ = std::move(key);
+  if (!entry.built || key != entry.key) {
+    entry.built.reset();  // the old BVH goes before the new one is built: one at a time in memory
+    entry.built = std::make_shared<const TubeGeometry>(object);
+    entry.key = std::move(key);
+    entry.build = ++builds_;
+    entry.clip.reset();
   }
-  return built_;
+  return entry.built;
+}
+
+std::shared_ptr<const TubeClip> TubeCache::clip(const StreamlineObject& object,
+                                                const TubeGeometry& geometry) {
+  std::lock_guard lock(mutex_);
+  for (Entry& entry : entries_) {
+    if (entry.built.get() != &geometry) continue;
+    std::vector<double> key = {static_cast<double>(entry.build)};
+    for (const ClipPlane& p : object.clip_planes)
+      key.insert(key.end(), {p.point.x, p.point.y, p.point.z, p.normal.x, p.normal.y, p.normal.z});
+    if (!entry.clip || key != entry.clip_key) {
+      entry.clip = std::make_shared<const TubeClip>(object, geometry);
+      entry.clip_key = std::move(key);
+    }
+    return entry.clip;
+  }
+  return std::make_shared<const TubeClip>(object, geometry);  // a geometry built elsewhere
+}
+
+size_t TubeCache::builds() const {
+  std::lock_guard lock(mutex_);
+  return builds_;
 }
 
 std::shared_ptr<TubeCache> make_tube_cache() {
@@ -38,6 +82,13 @@ std::shared_ptr<TubeCache> make_tube_cache() {
 std::shared_ptr<const TubeGeometry> tube_geometry(const StreamlineObject& object) {
   if (object.cache) return object.cache->geometry(object);
   return std::make_shared<const TubeGeometry>(object);
+}
+
+std::shared_ptr<const TubeClip> tube_clip(const StreamlineObject& object,
+                                          const TubeGeometry& geometry) {
+  if (object.clip_planes.empty() || geometry.is_connectome()) return nullptr;
+  if (object.cache) return object.cache->clip(object, geometry);
+  return std::make_shared<const TubeClip>(object, geometry);
 }
 
 }  // namespace imx

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 
 #include <fmt/format.h>
 #include <glm/glm.hpp>
 
 #include "intermix/error.hpp"
 #include "presets/colormap.hpp"
+#include "tubes/tube_cache.hpp"
 
 namespace imx {
 namespace {
@@ -29,11 +31,12 @@ std::string value_names(const std::vector<StreamlineValues>& all) {
   return names.empty() ? "none" : names;
 }
 
-// The colour of a crossing before lighting.
-glm::vec3 base_colour(const TubeLook& look, const TubeHit& hit) {
+// The colour at `u` along the segment from point `p` before lighting; `streamline()` gives the
+// segment's streamline, asked only by the colourings that need it.
+template <class StreamlineOf>
+glm::vec3 colour_at(const TubeLook& look, uint32_t p, float u, StreamlineOf streamline) {
   const StreamlineObject& o = *look.object;
   const Streamlines& s = *o.streamlines;
-  const uint32_t p = look.geometry->first_point(hit.segment);
   switch (o.colouring) {
     case StreamlineColouring::direction: {
       const glm::vec3 d = s.points[p + 1] - s.points[p];
@@ -41,7 +44,7 @@ glm::vec3 base_colour(const TubeLook& look, const TubeHit& hit) {
       return len > 0.0f ? glm::abs(d) / len : glm::vec3(0.0f);
     }
     case StreamlineColouring::streamline_direction: {
-      const uint32_t i = look.geometry->streamline(hit.segment);
+      const uint32_t i = streamline();
       const glm::vec3 d = s.points[s.offsets[i + 1] - 1] - s.points[s.offsets[i]];
       const float len = glm::length(d);
       return len > 0.0f ? glm::abs(d) / len : glm::vec3(0.0f);
@@ -51,18 +54,25 @@ glm::vec3 base_colour(const TubeLook& look, const TubeHit& hit) {
     case StreamlineColouring::point_value:
     case StreamlineColouring::streamline_value: {
       const float v = look.point_values
-                          ? look.point_values[p] * (1.0f - hit.u) + look.point_values[p + 1] * hit.u
-                          : look.streamline_values[look.geometry->streamline(hit.segment)];
+                          ? look.point_values[p] * (1.0f - u) + look.point_values[p + 1] * u
+                          : look.streamline_values[streamline()];
       const float span = look.value_high - look.value_low;
       const float x = span > 0.0f ? (v - look.value_low) / span : 0.5f;
       return colormap_rgb(o.colormap, std::clamp(x, 0.0f, 1.0f));
     }
     case StreamlineColouring::group: {
-      const int32_t g = look.group_of[look.geometry->streamline(hit.segment)];
+      const int32_t g = look.group_of[streamline()];
       return g >= 0 && s.groups[g].color ? *s.groups[g].color : o.color;
     }
   }
   return o.color;
+}
+
+// The colour of a crossing before lighting.
+glm::vec3 base_colour(const TubeLook& look, const TubeHit& hit) {
+  if (look.geometry->is_connectome()) return look.geometry->primitive_color(hit.segment);
+  return colour_at(look, look.geometry->first_point(hit.segment), hit.u,
+                   [&] { return look.geometry->streamline(hit.segment); });
 }
 
 float crossing_opacity(const TubeLook& look, const TubeHit& hit) {
@@ -78,10 +88,20 @@ float tube_fragment_alpha(float crossing_opacity) {
   return 1.0f - std::sqrt(1.0f - std::clamp(crossing_opacity, 0.0f, 1.0f));
 }
 
+glm::vec3 streamline_colour(const TubeLook& look, uint32_t streamline, uint32_t point, float u) {
+  return colour_at(look, point, u, [&] { return streamline; });
+}
+
 TubeLook make_tube_look(const StreamlineObject& object, const TubeGeometry& geometry) {
+  TubeLook look = make_tube_look(object);
+  look.geometry = &geometry;
+  look.clip = tube_clip(object, geometry);
+  return look;
+}
+
+TubeLook make_tube_look(const StreamlineObject& object) {
   TubeLook look;
   look.object = &object;
-  look.geometry = &geometry;
   const Streamlines& s = *object.streamlines;
   const bool per_point = object.colouring == StreamlineColouring::point_value;
   if (per_point || object.colouring == StreamlineColouring::streamline_value) {
@@ -109,14 +129,17 @@ TubeLook make_tube_look(const StreamlineObject& object, const TubeGeometry& geom
   } else if (object.colouring == StreamlineColouring::group) {
     look.group_of.assign(s.count(), -1);
   }
+  look.hits_per_query = std::min(tube_fragments_needed(object), kHitsPerQuery);
+  return look;
+}
+
+size_t tube_fragments_needed(const StreamlineObject& object) {
   float least_alpha = tube_fragment_alpha(object.opacity);
   for (float g : object.group_opacity) least_alpha = std::min(least_alpha, tube_fragment_alpha(g));
-  const double needed = least_alpha >= 1.0f ? 1.0
-                        : least_alpha <= 0.0f
-                            ? double(kHitsPerQuery)
-                            : std::ceil(std::log(kLetThrough) / std::log(1.0 - least_alpha));
-  look.hits_per_query = static_cast<size_t>(std::clamp(needed, 1.0, double(kHitsPerQuery)));
-  return look;
+  if (least_alpha >= 1.0f) return 1;
+  if (least_alpha <= 0.0f) return SIZE_MAX;
+  const double needed = std::ceil(std::log(kLetThrough) / std::log(1.0 - least_alpha));
+  return static_cast<size_t>(std::clamp(needed, 1.0, 1e9));
 }
 
 void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, uint32_t object,
@@ -127,24 +150,44 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
   const std::span<TubeHit> hits(buffer.data(), look.hits_per_query);
   const glm::vec3 to_eye = -ray.dir;
   float let_through = 1.0f, t_min = 0.0f;
-  for (;;) {
-    const size_t n = look.geometry->nearest_hits(ray, t_min, t_max, hits);
-    for (size_t i = 0; i < n; ++i) {
-      const TubeHit& h = hits[i];
-      Fragment f;
-      f.t = h.t;
-      f.object = object;
-      f.front_facing = glm::dot(h.normal, ray.dir) < 0.0f ? 1u : 0u;
-      const float alpha = tube_fragment_alpha(crossing_opacity(look, h));
-      if (look.shaded) {
-        const glm::vec3 rgb =
-            blinn_phong(look.object->shading, base_colour(look, h), h.normal, to_eye, lights);
-        f.color = glm::vec4(rgb * alpha, alpha);
-      }
-      out.push_back(f);
-      let_through *= 1.0f - alpha;
+  auto emit = [&](const TubeHit& h) {
+    Fragment f;
+    f.t = h.t;
+    f.object = object;
+    f.front_facing = glm::dot(h.normal, ray.dir) < 0.0f ? 1u : 0u;
+    const float alpha = tube_fragment_alpha(crossing_opacity(look, h));
+    if (look.shaded) {
+      const glm::vec3 rgb =
+          blinn_phong(look.object->shading, base_colour(look, h), h.normal, to_eye, lights);
+      f.color = glm::vec4(rgb * alpha, alpha);
     }
-    if (n < hits.size() || let_through < kLetThrough) return;
+    out.push_back(f);
+    let_through *= 1.0f - alpha;
+  };
+  // A cap where the ray meets `plane` at t inside a tube: flat, facing out of the kept side.
+  auto cap = [&](int plane, float t) {
+    TubeHit h;
+    if (plane < 0 || !look.clip->inside(plane, ray.at(t), &h)) return;
+    h.t = t;
+    h.normal = -look.clip->normal(plane);
+    emit(h);
+  };
+  TubeClip::Span span{0.0f, t_max, -1, -1};
+  if (look.clip) {
+    span = look.clip->kept(ray);
+    if (span.hi >= t_max) span.hi = t_max, span.hi_plane = -1;
+    if (!(span.lo < span.hi)) return;
+    cap(span.lo_plane, span.lo);
+    t_min = span.lo;
+    t_max = span.hi;
+  }
+  while (let_through >= kLetThrough) {
+    const size_t n = look.geometry->nearest_hits(ray, t_min, t_max, hits);
+    for (size_t i = 0; i < n; ++i) emit(hits[i]);
+    if (n < hits.size()) {
+      if (look.clip && let_through >= kLetThrough) cap(span.hi_plane, span.hi);
+      return;
+    }
     t_min = hits[n - 1].t;
   }
 }

@@ -12,6 +12,7 @@
 
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
+#include "tubes/connectome_primitives.hpp"
 #include "tubes/tube_selection.hpp"
 
 namespace imx {
@@ -58,6 +59,8 @@ struct NearestHits {
   size_t capacity;
   size_t count;
   float t_min;
+  unsigned sphere_geometry;  // a connectome's spheres: their primID counts from sphere_base
+  uint32_t sphere_base;
 };
 
 void keep_nearest(const RTCFilterFunctionNArguments* args) {
@@ -72,7 +75,9 @@ void keep_nearest(const RTCFilterFunctionNArguments* args) {
   h.t = t;
   h.normal = {RTCHitN_Ng_x(args->hit, args->N, 0), RTCHitN_Ng_y(args->hit, args->N, 0),
               RTCHitN_Ng_z(args->hit, args->N, 0)};
-  h.segment = RTCHitN_primID(args->hit, args->N, 0);
+  h.segment =
+      RTCHitN_primID(args->hit, args->N, 0) +
+      (RTCHitN_geomID(args->hit, args->N, 0) == near.sphere_geometry ? near.sphere_base : 0);
   h.u = RTCHitN_u(args->hit, args->N, 0);
   if (near.count == near.capacity) {
     args->valid[0] = -1;  // accepted, with the reach set to the farthest kept hit
@@ -91,6 +96,10 @@ struct TubeGeometry::Embree {
 
 TubeGeometry::TubeGeometry(const StreamlineObject& object)
     : embree_(std::make_unique<Embree>()), streamlines_(object.streamlines) {
+  if (object.connectome) {
+    build_connectome(object);
+    return;
+  }
   if (!streamlines_) throw Error(fmt::format("streamlines '{}': has no streamlines", object.name));
   const Streamlines& s = *streamlines_;
   const std::vector<uint32_t> selected = select_streamlines(object);
@@ -98,8 +107,7 @@ TubeGeometry::TubeGeometry(const StreamlineObject& object)
   size_t segments = 0;
   for (uint32_t i : selected) segments += s.length(i) - 1;
   const size_t points = s.points.size();
-  // Vertices, indices and flags, and about 34 bytes of BVH per segment (measured).
-  check_memory(points * 16 + segments * (4 + 1 + 34),
+  check_memory(tube_bytes(points, segments),
                fmt::format("streamlines '{}' ({} segments)", object.name, segments));
   segment_points_.resize(segments);
   if (segments == 0) return;  // nothing drawn: no BVH
@@ -147,6 +155,75 @@ TubeGeometry::TubeGeometry(const StreamlineObject& object)
            segments * 5;
 }
 
+// Tubes as 2-point round linear curves with their own vertices (the radius per tube) and caps
+// at both ends; spheres as Embree's sphere points. Both in one scene, each primitive one colour.
+void TubeGeometry::build_connectome(const StreamlineObject& object) {
+  connectome_ = true;
+  const ConnectomePrimitives shown =
+      connectome_primitives(*object.connectome, object.connectome_look);
+  const size_t tubes = shown.tubes.size(), spheres = shown.spheres.size();
+  check_memory((tubes * 2 + spheres) * 16 + (tubes + spheres) * (4 + 1 + 12 + 64),
+               fmt::format("connectome '{}' ({} tubes, {} spheres)", object.name, tubes, spheres));
+  primitive_colors_.reserve(tubes + spheres);
+  for (const ConnectomeTube& t : shown.tubes) primitive_colors_.push_back(t.color);
+  for (const ConnectomeSphere& s : shown.spheres) primitive_colors_.push_back(s.color);
+  if (tubes + spheres == 0) return;  // nothing drawn: no BVH
+  const RTCDevice dev = device();
+  embree_->scene = rtcNewScene(dev);
+  rtcSetSceneFlags(embree_->scene, RTC_SCENE_FLAG_COMPACT | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+  auto attach = [&](RTCGeometry geometry) {
+    rtcCommitGeometry(geometry);
+    const unsigned id = rtcAttachGeometry(embree_->scene, geometry);
+    rtcReleaseGeometry(geometry);
+    return id;
+  };
+  if (tubes > 0) {
+    RTCGeometry geometry = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
+    if (!geometry) fail(object.name, "creating the connectome's tubes");
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 2 * tubes));
+    auto* index = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(uint32_t), tubes));
+    auto* flags = static_cast<uint8_t*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_FLAGS, 0, RTC_FORMAT_UCHAR, 1, tubes));
+    if (!vertices || !index || !flags) {
+      rtcReleaseGeometry(geometry);
+      fail(object.name, "allocating the connectome's tubes");
+    }
+    for (size_t i = 0; i < tubes; ++i) {
+      const ConnectomeTube& t = shown.tubes[i];
+      float* v = vertices + 8 * i;
+      v[0] = t.a.x, v[1] = t.a.y, v[2] = t.a.z, v[3] = t.radius;
+      v[4] = t.b.x, v[5] = t.b.y, v[6] = t.b.z, v[7] = t.radius;
+      index[i] = static_cast<uint32_t>(2 * i);
+      flags[i] = 0;  // no neighbours: each tube is a capsule of its own
+    }
+    attach(geometry);
+  }
+  if (spheres > 0) {
+    RTCGeometry geometry = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+    if (!geometry) fail(object.name, "creating the connectome's spheres");
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), spheres));
+    if (!vertices) {
+      rtcReleaseGeometry(geometry);
+      fail(object.name, "allocating the connectome's spheres");
+    }
+    for (size_t i = 0; i < spheres; ++i) {
+      const ConnectomeSphere& s = shown.spheres[i];
+      float* v = vertices + 4 * i;
+      v[0] = s.center.x, v[1] = s.center.y, v[2] = s.center.z, v[3] = s.radius;
+    }
+    sphere_geometry_ = attach(geometry);
+    sphere_base_ = static_cast<uint32_t>(tubes);
+  }
+  const int64_t before = g_embree_bytes.load();
+  rtcCommitScene(embree_->scene);
+  if (rtcGetDeviceError(dev) != RTC_ERROR_NONE) fail(object.name, "building the connectome's BVH");
+  bytes_ = static_cast<size_t>(std::max<int64_t>(g_embree_bytes.load() - before, 0)) +
+           (tubes * 2 + spheres) * 16 + primitive_colors_.size() * sizeof(glm::vec3);
+}
+
 TubeGeometry::~TubeGeometry() = default;
 
 uint32_t TubeGeometry::streamline(uint32_t segment) const {
@@ -158,7 +235,7 @@ uint32_t TubeGeometry::streamline(uint32_t segment) const {
 
 size_t TubeGeometry::nearest_hits(const Ray& ray, float t_min, float t_max,
                                   std::span<TubeHit> out) const {
-  if (out.empty() || segment_points_.empty()) return 0;
+  if (out.empty() || !embree_->scene) return 0;
   NearestHits near;
   rtcInitIntersectContext(&near.context);
   near.context.filter = keep_nearest;
@@ -166,6 +243,8 @@ size_t TubeGeometry::nearest_hits(const Ray& ray, float t_min, float t_max,
   near.capacity = out.size();
   near.count = 0;
   near.t_min = t_min;
+  near.sphere_geometry = sphere_geometry_;
+  near.sphere_base = sphere_base_;
   RTCRayHit rh;
   rh.ray.org_x = ray.origin.x, rh.ray.org_y = ray.origin.y, rh.ray.org_z = ray.origin.z;
   rh.ray.dir_x = ray.dir.x, rh.ray.dir_y = ray.dir.y, rh.ray.dir_z = ray.dir.z;

@@ -17,13 +17,21 @@ namespace imx {
 struct TubeHit {
   float t = 0.0f;          // along the ray, mm
   glm::vec3 normal{0.0f};  // the surface's geometric normal, not unit length
-  uint32_t segment = 0;    // TubeGeometry segment index
+  uint32_t segment = 0;    // TubeGeometry segment index; a connectome's primitive index
   float u = 0.0f;          // where along the segment, 0 at its first point, 1 at its second
 };
 
+// Bytes TubeGeometry holds for `segments` segments over `points` points: float4 vertices,
+// index and flags, and Embree's BVH (about 34 bytes per segment, measured).
+inline uint64_t tube_bytes(uint64_t points, uint64_t segments) {
+  return points * 16 + segments * (4 + 1 + 34);
+}
+
 class TubeGeometry {
  public:
-  // Every segment of the streamlines `object` selects (tube_selection.hpp), of its radius.
+  // Every segment of the streamlines `object` selects (tube_selection.hpp), of its radius; or,
+  // for a connectome object, its shown edges as tubes and nodes as spheres
+  // (connectome_primitives.hpp), each of its own radius and colour.
   // Throws imx::Error naming the object when the memory budget or Embree refuses.
   explicit TubeGeometry(const StreamlineObject& object);
   ~TubeGeometry();
@@ -39,17 +47,28 @@ class TubeGeometry {
   // The streamline a segment belongs to (Streamlines index).
   uint32_t streamline(uint32_t segment) const;
   size_t segment_count() const { return segment_points_.size(); }
+  // A connectome's: its primitives are its tubes, then its spheres, each of one colour.
+  bool is_connectome() const { return connectome_; }
+  size_t primitive_count() const { return primitive_colors_.size(); }
+  const glm::vec3& primitive_color(uint32_t primitive) const {
+    return primitive_colors_[primitive];
+  }
   size_t streamline_count() const { return selected_count_; }
   // Resident bytes of the vertices, segment indices and the BVH.
   size_t bytes() const { return bytes_; }
 
  private:
   struct Embree;
+  void build_connectome(const StreamlineObject& object);
   std::unique_ptr<Embree> embree_;
   std::shared_ptr<const Streamlines> streamlines_;
   std::vector<uint32_t> segment_points_;  // the Embree index buffer
   size_t selected_count_ = 0;
   size_t bytes_ = 0;
+  bool connectome_ = false;
+  std::vector<glm::vec3> primitive_colors_;  // a connectome's, linear RGB
+  uint32_t sphere_geometry_ = ~0u;           // its spheres' Embree geometry, if any
+  uint32_t sphere_base_ = 0;                 // the primitive index of its first sphere
 };
 
 }  // namespace imx

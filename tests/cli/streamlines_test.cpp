@@ -8,10 +8,12 @@
 #include <string>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
 #include "intermix/io.hpp"
+#include "intermix/limits.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
 #include "shared_data.hpp"
@@ -96,8 +98,12 @@ TEST(Streamlines, TubesShowBesideAVolumeInEveryMethod) {
         {"camera", from_above()},
         {"image", {{"width", 64}, {"height", 64}, {"background", {0, 0, 0, 0}}}},
         {"render", {{"method", method}, {"spp", 1}}},
-        {"objects", {volume, {{"name", "ifof"}, {"type", "streamlines"}, {"radius", 1.5},
-                              {"source", {{"file", test::shared_data(kTract).string()}}}}}}};
+        {"objects",
+         {volume,
+          {{"name", "ifof"},
+           {"type", "streamlines"},
+           {"radius", 1.5},
+           {"source", {{"file", test::shared_data(kTract).string()}}}}}}};
     const Image image = render(parse_scene(scene.dump(), ".", "test"));
     size_t drawn = 0;
     for (int y = 0; y < 64; ++y)
@@ -233,6 +239,52 @@ TEST(Streamlines, TranslucentTubesLetThroughWhatTheirOpacitySays) {
   write_tracks(dir / "two.tck", dir / "two.tsf");
   const glm::vec4 c = at_world(render_two(dir, {{"opacity", 0.3}}), 0.0, 20.0);
   EXPECT_NEAR(c.a, 0.3f, 0.02f);  // one crossing, entry and exit together
+}
+
+// Tubes over the memory budget are decimated with a note, not refused: 100 streamlines of 50
+// points (5,000 vertices, 4,900 segments) under a budget that holds the vertices and a third of
+// the segments' index and BVH draw one streamline in three.
+TEST(Streamlines, TubesOverTheMemoryBudgetAreDecimatedWithANote) {
+  test::TempDir dir;
+  const std::filesystem::path tck = dir / "many.tck";
+  {
+    std::string header = "mrtrix tracks\ndatatype: Float32LE\ncount: 100\nfile: . ";
+    const size_t offset = header.size() + 16;
+    header += fmt::format("{}\nEND\n", offset);
+    header.resize(offset, '\0');
+    std::ofstream out(tck, std::ios::binary);
+    out << header;
+    auto put = [&](float x, float y, float z) {
+      const float p[3] = {x, y, z};
+      out.write(reinterpret_cast<const char*>(p), sizeof p);
+    };
+    for (int i = 0; i < 100; ++i) {
+      for (int k = 0; k < 50; ++k) put(k - 25.0f, i - 50.0f, 0.0f);
+      put(NAN, NAN, NAN);
+    }
+    put(INFINITY, INFINITY, INFINITY);
+  }
+  const std::string scene = fmt::format(
+      R"({{"objects": [{{"name": "many", "type": "streamlines", "source": {{"file": "{}"}}}}]}})",
+      tck.string());
+  const uint64_t vertices = 5000 * 16, per_segment = 4 + 1 + 34;
+  set_input_limits({vertices + 4900 * per_segment / 3 + per_segment, false});
+  Scene tight;
+  try {
+    tight = parse_scene(scene, dir.path().string(), "test");
+  } catch (...) {
+    set_input_limits({});
+    throw;
+  }
+  set_input_limits({});
+  ASSERT_EQ(tight.streamlines.size(), 1u);
+  EXPECT_EQ(tight.streamlines[0].stride, 3);
+  const std::string notes = fmt::format("{}", fmt::join(tight.notes, "\n"));
+  EXPECT_NE(notes.find("one in 3 is drawn"), std::string::npos) << notes;
+  // Under the default budget nothing is decimated.
+  const Scene roomy = parse_scene(scene, dir.path().string(), "test");
+  EXPECT_EQ(roomy.streamlines[0].stride, 1);
+  for (const std::string& note : roomy.notes) EXPECT_EQ(note.find("is drawn"), std::string::npos);
 }
 
 }  // namespace

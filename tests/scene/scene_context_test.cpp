@@ -68,6 +68,27 @@ TEST(SceneContext, GivenVolumesAndMeshesByPlaceholder) {
             "scene dict: objects[0].source.$volume: \"v2\" is not a volume of this scene");
 }
 
+TEST(SceneContext, GivenStreamlinesByPlaceholder) {
+  SceneContext context;
+  auto tracts = std::make_shared<Streamlines>();
+  tracts->points = {{0, 0, 0}, {10, 0, 0}, {10, 5, 0}};
+  tracts->offsets = {0, 3};
+  context.given_streamlines["s1"] = tracts;
+  context.given_meshes["m1"] = std::make_shared<const Mesh>(make_box({4.0, 5.0, 6.0}));
+  json doc = {{"objects", json::array({{{"name", "t"},
+                                        {"type", "streamlines"},
+                                        {"source", {{"$streamlines", "s1"}}}}})}};
+  const Scene scene = parse_scene_document(doc, "scene dict", context);
+  EXPECT_EQ(scene.streamlines[0].streamlines, tracts);  // no transform: the given data itself
+  doc["objects"][0]["source"] = {{"$streamlines", "s2"}};
+  EXPECT_EQ(test::error_of([&] { parse_scene_document(doc, "scene dict", context); }),
+            "scene dict: objects[0].source.$streamlines: \"s2\" is not a set of streamlines of "
+            "this scene");
+  doc["objects"][0]["source"] = {{"$mesh", "m1"}};
+  EXPECT_EQ(test::error_of([&] { parse_scene_document(doc, "scene dict", context); }),
+            "scene dict: objects[0].source: is a mesh the program gave, not streamlines");
+}
+
 TEST(SceneContext, FilesKnowNoPlaceholders) {
   json doc = document();
   doc["objects"][0]["source"] = {{"$volume", "v1"}};
