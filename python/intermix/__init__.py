@@ -12,9 +12,10 @@
     intermix.write_png(image, "ct.png")
 
 Scene (from_file, from_files, from_dict, set, set_view, add_volume, add_mesh, add_plane,
-to_dict, render), Volume, Mesh, Renderer (stage reuse), read_volume, read_mesh, write_volume,
-phantom, compare, to_uint8, write_png, read_png, available_methods, set_max_memory; one-line
-figures: orbit, stat_map, glass_brain (and their *_scene). Errors: ValueError (a scene
+add_streamlines, to_dict, render), Volume, Mesh, Streamlines (tractograms from files, nibabel
+or DIPY), Renderer (stage reuse), read_volume, read_mesh, write_volume, phantom, compare,
+to_uint8, write_png, read_png, available_methods, set_max_memory; one-line figures: orbit,
+stat_map, glass_brain, tracts_over_anatomy (and their *_scene). Errors: ValueError (a scene
 or value at fault), OSError (a file that cannot be read or written), MemoryError (an input over
 the memory budget, or more than the machine gives), RuntimeError (a render that failed), each
 with the library's one-line message. docs/python.md has the details.
@@ -28,6 +29,7 @@ from ._intermix import (
     Renderer,
     RendererStats,
     Scene,
+    Streamlines,
     Volume,
     _set_image_type,
     available_methods,
@@ -55,6 +57,8 @@ from ._figures import (
     stat_map,
     stat_map_scene,
     threshold_tf,
+    tracts_over_anatomy,
+    tracts_over_anatomy_scene,
 )
 
 __all__ = [
@@ -63,6 +67,7 @@ __all__ = [
     "Renderer",
     "RendererStats",
     "Scene",
+    "Streamlines",
     "Volume",
     "available_methods",
     "compare",
@@ -85,6 +90,8 @@ __all__ = [
     "stat_map_scene",
     "threshold_tf",
     "to_uint8",
+    "tracts_over_anatomy",
+    "tracts_over_anatomy_scene",
     "write_png",
     "write_volume",
 ]
@@ -131,5 +138,5 @@ class Image(_np.ndarray):
 
 _set_image_type(Image)
 
-Scene.__module__ = Volume.__module__ = Mesh.__module__ = __name__
+Scene.__module__ = Volume.__module__ = Mesh.__module__ = Streamlines.__module__ = __name__
 Renderer.__module__ = RendererStats.__module__ = __name__

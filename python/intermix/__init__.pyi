@@ -11,8 +11,12 @@ __version__: str
 PathLike = Union[str, os.PathLike[str]]
 Space = Literal["LPS", "RAS"]
 View = Literal["anterior", "posterior", "left", "right", "superior", "inferior"]
+Colouring = Literal[
+    "direction", "streamline_direction", "fixed", "point_value", "streamline_value", "group"
+]
 ArrayLike = npt.ArrayLike
-# A scene document value: what JSON holds, numpy arrays and scalars, paths, Volume and Mesh.
+# A scene document value: what JSON holds, numpy arrays and scalars, paths, Volume, Mesh and
+# Streamlines.
 SceneValue = Any
 
 class Image(np.ndarray):
@@ -78,6 +82,47 @@ class Mesh:
     @property
     def colors(self) -> Optional[npt.NDArray[np.float32]]: ...
 
+class Streamlines:
+    """A tractogram in LPS millimetres: from a file, a nibabel Tractogram or ArraySequence, a
+    DIPY StatefulTractogram or list of (n, 3) arrays, or (N, 3) points with count + 1 offsets.
+    Arrays are RAS unless space="LPS"; they are converted once into intermix's float32 points
+    (read through the buffer protocol, no Python copy)."""
+
+    def __init__(
+        self,
+        source: Any,
+        offsets: Optional[ArrayLike] = None,
+        *,
+        space: Optional[Space] = None,
+        point_values: Optional[Mapping[str, ArrayLike]] = None,
+        streamline_values: Optional[Mapping[str, ArrayLike]] = None,
+        values: Union[PathLike, Sequence[PathLike], None] = None,
+    ) -> None: ...
+    @staticmethod
+    def load(
+        path: PathLike, values: Union[PathLike, Sequence[PathLike], None] = None
+    ) -> "Streamlines": ...
+    @property
+    def count(self) -> int: ...
+    def __len__(self) -> int: ...
+    def __getitem__(self, index: int) -> npt.NDArray[np.float32]: ...
+    @property
+    def points(self) -> npt.NDArray[np.float32]: ...
+    @property
+    def offsets(self) -> npt.NDArray[np.uint32]: ...
+    @property
+    def lengths(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def point_values(self) -> dict[str, npt.NDArray[np.float32]]: ...
+    @property
+    def streamline_values(self) -> dict[str, npt.NDArray[np.float32]]: ...
+    @property
+    def value_names(self) -> list[str]: ...
+    @property
+    def groups(self) -> list[str]: ...
+    @property
+    def notes(self) -> list[str]: ...
+
 class Scene:
     """A scene in the schema of intermix's JSON scene files."""
 
@@ -106,6 +151,20 @@ class Scene:
     ) -> None: ...
     def add_mesh(
         self, name: str, source: Union[Mesh, PathLike, Mapping[str, SceneValue]], **fields: SceneValue
+    ) -> None: ...
+    def add_streamlines(
+        self,
+        source: Union[Streamlines, PathLike, Mapping[str, SceneValue], Any],
+        radius: float = 0.5,
+        colouring: Optional[Colouring] = None,
+        color: Optional[Sequence[float]] = None,
+        value: Optional[str] = None,
+        colormap: Optional[str] = None,
+        opacity: float = 1.0,
+        stride: int = 1,
+        min_length: float = 0.0,
+        name: Optional[str] = None,
+        **fields: SceneValue,
     ) -> None: ...
     def add_plane(self, name: str, **fields: SceneValue) -> None: ...
     def to_dict(self) -> dict: ...
@@ -221,6 +280,18 @@ def glass_brain(
     stat: Any, threshold: Optional[float] = None, *, vmax: Optional[float] = None,
     plot_abs: bool = True, view: View = "left", width: int = 512, height: int = 512,
     method: Optional[str] = None, spp: Optional[int] = None,
+) -> Image: ...
+def tracts_over_anatomy_scene(
+    tracts: Any, anatomy: Any, *, view: View = "left", radius: float = 0.5,
+    colouring: Optional[Colouring] = None, color: Optional[Sequence[float]] = None,
+    value: Optional[str] = None, colormap: Optional[str] = None, opacity: float = 1.0,
+    width: int = 512, height: int = 512,
+) -> Scene: ...
+def tracts_over_anatomy(
+    tracts: Any, anatomy: Any, *, view: View = "left", radius: float = 0.5,
+    colouring: Optional[Colouring] = None, color: Optional[Sequence[float]] = None,
+    value: Optional[str] = None, colormap: Optional[str] = None, opacity: float = 1.0,
+    width: int = 512, height: int = 512, method: Optional[str] = None, spp: Optional[int] = None,
 ) -> Image: ...
 def orbit_cameras(
     camera: Mapping[str, Any], frames: int = 36, degrees: float = 360.0

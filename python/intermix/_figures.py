@@ -1,4 +1,4 @@
-"""One-line figures: orbit, stat_map, glass_brain. Each builds a scene in the scene-file schema
+"""One-line figures: orbit, stat_map, glass_brain, tracts_over_anatomy. Each builds a scene in the scene-file schema
 (the *_scene functions return it, so it can be inspected, saved and changed) and renders it; no
 drawing happens here that the engine does not do.
 """
@@ -8,7 +8,7 @@ import sys
 
 import numpy as _np
 
-from ._intermix import Renderer, Scene, Volume, read_volume, write_png
+from ._intermix import Renderer, Scene, Streamlines, Volume, read_volume, write_png
 
 
 # ---- sources ----
@@ -134,6 +134,80 @@ def glass_brain(stat, threshold=None, *, vmax=None, plot_abs=True, view="left", 
     the brain outline). Returns an intermix.Image."""
     scene = glass_brain_scene(stat, threshold, vmax=vmax, plot_abs=plot_abs, view=view,
                               width=width, height=height)
+    return scene.render(method=method, spp=spp)
+
+
+# ---- tracts_over_anatomy ----
+
+# Each view's world axis (LPS: +x left, +y posterior, +z superior) and the side the camera is on.
+_VIEW_AXES = {"left": (0, 1.0), "right": (0, -1.0), "posterior": (1, 1.0),
+              "anterior": (1, -1.0), "superior": (2, 1.0), "inferior": (2, -1.0)}
+
+
+def _volume_bounds(volume):
+    """The volume's world (LPS) bounding box over its voxel centres: (lo, hi)."""
+    ni, nj, nk = volume.shape
+    corners = _np.array([[i, j, k, 1.0] for i in (0, ni - 1) for j in (0, nj - 1)
+                         for k in (0, nk - 1)])
+    world = (corners @ volume.lps_affine.T)[:, :3]
+    return world.min(axis=0), world.max(axis=0)
+
+
+def tracts_over_anatomy_scene(tracts, anatomy, *, view="left", radius=0.5, colouring=None,
+                              color=None, value=None, colormap=None, opacity=1.0,
+                              width=512, height=512):
+    """The scene intermix.tracts_over_anatomy renders, as a Scene: the tractogram as tubes
+    (Scene.add_streamlines: coloured by direction unless `colouring`, `color` or `value` say
+    otherwise) in front of one slice of the anatomy, perpendicular to `view` and just behind
+    the tracts as the camera sees them (the far side of their bounding box, within the
+    anatomy), grey over the anatomy's own range, on black. `tracts` is an intermix.Streamlines,
+    a tractogram file path, a nibabel Tractogram or ArraySequence, or a list of (n, 3) RAS
+    arrays; `anatomy` a Volume, a nibabel image or a file path."""
+    if view not in _VIEW_AXES:
+        raise ValueError(f"tracts_over_anatomy: view '{view}' is not one of "
+                         f"{', '.join(_VIEW_AXES)}")
+    if not isinstance(tracts, Streamlines):
+        tracts = Streamlines(tracts)
+    if tracts.count == 0 or len(tracts.points) == 0:
+        raise ValueError("tracts_over_anatomy: the tractogram has no streamlines")
+    anatomy = _volume(anatomy, "tracts_over_anatomy: anatomy")
+    axis, camera_side = _VIEW_AXES[view]
+    lo, hi = _volume_bounds(anatomy)
+    points = tracts.points
+    far = points[:, axis].min() if camera_side > 0 else points[:, axis].max()
+    center = (lo + hi) / 2
+    # Behind the tubes (their radius and a millimetre), kept inside the anatomy.
+    center[axis] = min(max(far - camera_side * (float(radius) + 1.0), lo[axis]), hi[axis])
+    normal = [0.0, 0.0, 0.0]
+    normal[axis] = 1.0
+    scene = Scene.from_dict({
+        "camera": {"view": view},
+        "image": {"width": width, "height": height, "background": [0, 0, 0]},
+        "objects": [
+            {"name": "anatomy", "type": "volume", "source": anatomy, "visible": False},
+            {"name": "slice", "type": "plane", "volume": "anatomy",
+             "center": [float(v) for v in center], "normal": normal,
+             "size": _largest_side(anatomy)},
+        ],
+    })
+    scene.add_streamlines(tracts, radius=radius, colouring=colouring, color=color, value=value,
+                          colormap=colormap, opacity=opacity, name="tracts")
+    return scene
+
+
+def tracts_over_anatomy(tracts, anatomy, *, view="left", radius=0.5, colouring=None, color=None,
+                        value=None, colormap=None, opacity=1.0, width=512, height=512,
+                        method=None, spp=None):
+    """A tractogram over an anatomical image in one call: tracts_over_anatomy_scene(...)
+    rendered (tubes coloured by direction in front of an anatomical slice, seen from `view`).
+    `tracts` is a file path (.trk, .tck, .trx, .tt.gz, .vtk), an intermix.Streamlines, a
+    nibabel Tractogram or ArraySequence or a list of (n, 3) RAS arrays; `anatomy` a file
+    path, a nibabel image or a Volume. Returns an intermix.Image (image.to_uint8() for
+    display)."""
+    scene = tracts_over_anatomy_scene(tracts, anatomy, view=view, radius=radius,
+                                      colouring=colouring, color=color, value=value,
+                                      colormap=colormap, opacity=opacity, width=width,
+                                      height=height)
     return scene.render(method=method, spp=spp)
 
 

@@ -9,6 +9,7 @@
 
 #include "intermix/image.hpp"
 #include "intermix/mesh.hpp"
+#include "intermix/streamlines.hpp"
 #include "intermix/volume.hpp"
 
 namespace imx::python {
@@ -18,6 +19,7 @@ namespace py = pybind11;
 void bind_errors(py::module_& m);
 void bind_volume(py::module_& m);
 void bind_mesh(py::module_& m);
+void bind_streamlines(py::module_& m);
 void bind_scene(py::module_& m);
 void bind_render(py::module_& m);
 void bind_image(py::module_& m);
@@ -44,7 +46,14 @@ struct PyMesh {
   std::shared_ptr<const Mesh> mesh;
 };
 
-// A fresh id for a volume or mesh ("volume-1", "mesh-2", ...).
+// intermix.Streamlines: a tractogram in LPS millimetres, from a file or from arrays.
+struct PyStreamlines {
+  std::string id;  // "streamlines-4": how a scene document names it ({"$streamlines": id})
+  std::shared_ptr<const Streamlines> data;
+  std::vector<std::string> notes;  // what reading chose (streamlines dropped, a field missing)
+};
+
+// A fresh id for a volume, mesh or streamlines ("volume-1", "mesh-2", ...).
 std::string next_source_id(const char* kind);
 
 // A numpy array viewing `count` elements of T at `data` with `shape`, C order, which keeps

@@ -14,6 +14,7 @@ namespace {
 
 constexpr const char* kVolumeKey = "$volume";
 constexpr const char* kMeshKey = "$mesh";
+constexpr const char* kStreamlinesKey = "$streamlines";
 // The most values a numpy array in a scene document may hold (transfer-function points, colour
 // tables): voxels and vertices go through Volume and Mesh, not through JSON.
 constexpr py::ssize_t kMaxArrayValues = py::ssize_t{1} << 18;
@@ -62,6 +63,11 @@ nlohmann::json convert(const py::handle& value, GivenSources& sources, const std
     sources[id] = py::reinterpret_borrow<py::object>(value);
     return {{kMeshKey, id}};
   }
+  if (py::isinstance<PyStreamlines>(value)) {
+    const std::string& id = value.cast<const PyStreamlines&>().id;
+    sources[id] = py::reinterpret_borrow<py::object>(value);
+    return {{kStreamlinesKey, id}};
+  }
   if (py::isinstance<py::dict>(value) ||
       py::isinstance(value, py::module_::import("collections.abc").attr("Mapping"))) {
     nlohmann::json object = nlohmann::json::object();
@@ -109,14 +115,14 @@ nlohmann::json convert(const py::handle& value, GivenSources& sources, const std
     return py::module_::import("os").attr("fspath")(value).cast<std::string>();
   fail(origin, path,
        fmt::format("a {} is not a scene value (dict, list, str, number, bool, None, numpy "
-                   "array, intermix.Volume or intermix.Mesh)",
+                   "array, intermix.Volume, intermix.Mesh or intermix.Streamlines)",
                    type_name(value)));
 }
 
 // The id a placeholder object names, or nullptr.
 const std::string* placeholder(const nlohmann::json& j) {
   if (!j.is_object() || j.size() != 1) return nullptr;
-  for (const char* key : {kVolumeKey, kMeshKey}) {
+  for (const char* key : {kVolumeKey, kMeshKey, kStreamlinesKey}) {
     auto it = j.find(key);
     if (it != j.end() && it->is_string()) return it->get_ptr<const std::string*>();
   }

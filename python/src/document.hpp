@@ -1,7 +1,7 @@
 // Scene documents from Python values and back: dicts, lists, strings, numbers, booleans, None,
-// numpy arrays and scalars, paths, and intermix.Volume / intermix.Mesh objects, which the
-// document names by placeholders ({"$volume": id}, {"$mesh": id}) that the scene loader resolves
-// through SceneContext::given_volumes / given_meshes.
+// numpy arrays and scalars, paths, and intermix.Volume / Mesh / Streamlines objects, which the
+// document names by placeholders ({"$volume": id}, {"$mesh": id}, {"$streamlines": id}) that the
+// scene loader resolves through SceneContext::given_volumes / given_meshes / given_streamlines.
 #pragma once
 #include <map>
 #include <string>
@@ -12,7 +12,7 @@
 
 namespace imx::python {
 
-// The Volume and Mesh objects a document names, by id.
+// The Volume, Mesh and Streamlines objects a document names, by id.
 using GivenSources = std::map<std::string, py::object>;
 
 // `value` as JSON; Volume and Mesh objects are added to `sources`. Throws ValueError

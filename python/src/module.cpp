@@ -10,6 +10,7 @@ PYBIND11_MODULE(_intermix, m) {
   imx::python::bind_errors(m);
   imx::python::bind_volume(m);
   imx::python::bind_mesh(m);
+  imx::python::bind_streamlines(m);
   imx::python::bind_scene(m);
   imx::python::bind_render(m);
   imx::python::bind_image(m);

@@ -106,6 +106,109 @@ py::object mesh_source(const py::handle& source) {
   throw_wrong_type(argument, "an intermix.Mesh, a path or a source dict", source);
 }
 
+// A streamlines source: an intermix.Streamlines, a path or a source dict as they are, anything
+// else (a nibabel Tractogram, an ArraySequence, a list of arrays) made a Streamlines.
+py::object streamlines_source(const py::handle& source) {
+  if (is_path_like(source) || PyBytes_Check(source.ptr()))
+    return file_source(source, {"Scene.add_streamlines", "source"});
+  if (py::isinstance<PyStreamlines>(source) || is_mapping(source))
+    return py::reinterpret_borrow<py::object>(source);
+  return py::type::of<PyStreamlines>()(source);
+}
+
+// The name an added object gets: `given`, else `stem` made unique among the scene's names.
+std::string object_name_for(const PyScene& s, const std::optional<std::string>& given,
+                            const std::string& stem) {
+  if (given) return *given;
+  auto taken = [&](const std::string& n) {
+    for (const ObjectRef& ref : s.scene().order)
+      if (object_name(s.scene(), ref) == n) return true;
+    return false;
+  };
+  const std::string base = stem.empty() ? "streamlines" : stem;
+  std::string name = base;
+  for (int n = 2; taken(name); ++n) name = fmt::format("{}-{}", base, n);
+  return name;
+}
+
+// A tractogram file's name without its extensions: "cst" for cst.trk.gz.
+std::string file_stem(const py::handle& source) {
+  if (!is_path_like(source)) return "streamlines";
+  std::filesystem::path file = python::path(source, {"Scene.add_streamlines", "source"});
+  if (file.extension() == ".gz") file = file.stem();
+  // Scene names hold no '.', '[', ']' or '=' (they separate --set paths).
+  std::string stem = file.stem().string();
+  std::replace_if(
+      stem.begin(), stem.end(), [](char c) { return c == '.' || c == '[' || c == ']' || c == '='; },
+      '_');
+  return stem;
+}
+
+const std::vector<std::string> kColourings = {"direction",   "streamline_direction", "fixed",
+                                              "point_value", "streamline_value",     "group"};
+
+// Scene.add_streamlines: the object's keys from the arguments, then, for a `value` without a
+// colouring, whether it names per-point or per-streamline values (the tractogram read).
+void add_streamlines(PyScene& s, const py::handle& source, const py::handle& radius,
+                     const py::handle& colouring_argument, const py::handle& color,
+                     const py::handle& value_argument, const py::handle& colormap,
+                     const py::handle& opacity, const py::handle& stride,
+                     const py::handle& min_length, const py::handle& name_argument,
+                     const py::kwargs& extra) {
+  constexpr const char* kFunction = "Scene.add_streamlines";
+  const std::optional<std::string> colouring =
+      optional_text(colouring_argument, {kFunction, "colouring"});
+  if (colouring &&
+      std::find(kColourings.begin(), kColourings.end(), *colouring) == kColourings.end())
+    throw py::value_error(fmt::format("{}: colouring '{}' is not one of {}", kFunction, *colouring,
+                                      fmt::join(kColourings, ", ")));
+  const std::optional<std::string> value = optional_text(value_argument, {kFunction, "value"});
+  const std::string name =
+      object_name_for(s, optional_text(name_argument, {kFunction, "name"}), file_stem(source));
+  py::dict fields;
+  fields["radius"] = radius;
+  if (colouring) fields["color_by"] = py::str(*colouring);
+  if (!color.is_none()) fields["color"] = color;
+  if (value) fields["value"] = py::str(*value);
+  if (!colormap.is_none()) fields["colormap"] = colormap;
+  fields["opacity"] = opacity;
+  fields["stride"] = stride;
+  fields["min_length"] = min_length;
+  for (const auto& [key, field] : extra) {
+    if (fields.contains(key))
+      throw py::type_error(
+          fmt::format("{}: {} given twice", kFunction, py::str(key).cast<std::string>()));
+    fields[key] = field;
+  }
+  const PyScene before = s;
+  s.add(name, "streamlines", streamlines_source(source), fields);
+  if (!value || colouring || fields.contains("color_by")) return;
+  const Streamlines& added = *s.scene().streamlines.back().streamlines;
+  auto has = [&](const std::vector<StreamlineValues>& list) {
+    return std::any_of(list.begin(), list.end(),
+                       [&](const StreamlineValues& v) { return v.name == *value; });
+  };
+  const char* by = has(added.point_values)        ? "point_value"
+                   : has(added.streamline_values) ? "streamline_value"
+                                                  : nullptr;
+  if (!by) {
+    std::vector<std::string> names;
+    for (const auto* list : {&added.point_values, &added.streamline_values})
+      for (const StreamlineValues& v : *list) names.push_back("'" + v.name + "'");
+    s = before;
+    throw py::value_error(
+        fmt::format("{}: the streamlines have no values named '{}' ({})", kFunction, *value,
+                    names.empty() ? std::string("they have none")
+                                  : "they have " + fmt::format("{}", fmt::join(names, ", "))));
+  }
+  try {
+    s.set(fmt::format("objects.{}.color_by", s.document()["objects"].size() - 1), py::str(by));
+  } catch (...) {
+    s = before;
+    throw;
+  }
+}
+
 }  // namespace
 
 namespace {
@@ -116,6 +219,8 @@ GivenData given_data(const GivenSources& sources) {
   for (const auto& [id, object] : sources) {
     if (py::isinstance<PyVolume>(object))
       given.volumes[id] = object.cast<const PyVolume&>().data;
+    else if (py::isinstance<PyStreamlines>(object))
+      given.streamlines[id] = object.cast<const PyStreamlines&>().data;
     else
       given.meshes[id] = object.cast<const PyMesh&>().mesh;
   }
@@ -344,6 +449,39 @@ arguments are the object's other keys: transfer_function={"preset": "ct-bone"} o
           R"doc(Adds a mesh object. `source` is an intermix.Mesh, a file path or a source dict
 ({"primitive": "sphere", "radius": 20}). Keyword arguments are the object's other keys:
 material={"color": [r, g, b], "opacity": a}, transform, thickness, visible.
+)doc")
+      .def(
+          "add_streamlines",
+          [](PyScene& s, const py::object& source, const py::object& radius,
+             const OptionalTextParameter& colouring, const py::object& color,
+             const OptionalTextParameter& value, const py::object& colormap,
+             const py::object& opacity, const py::object& stride, const py::object& min_length,
+             const OptionalTextParameter& name, const py::kwargs& fields) {
+            add_streamlines(s, source, radius, colouring, color, value, colormap, opacity, stride,
+                            min_length, name, fields);
+          },
+          py::arg("source"), py::arg("radius") = 0.5, py::arg("colouring") = py::none(),
+          py::arg("color") = py::none(), py::arg("value") = py::none(),
+          py::arg("colormap") = py::none(), py::arg("opacity") = 1.0, py::arg("stride") = 1,
+          py::arg("min_length") = 0.0, py::arg("name") = py::none(),
+          R"doc(Adds a streamlines object: the tractogram drawn as tubes (docs/streamlines.md). `source` is an
+intermix.Streamlines, a file path (.trk, .tck, .trx, .tt.gz, .vtk), a source dict
+({"file": "cst.tck", "values": ["cst_fa.tsf"]}), or anything intermix.Streamlines takes (a
+nibabel Tractogram or ArraySequence, a list of (n, 3) RAS arrays), made one.
+
+radius      tube radius, mm
+colouring   the scene's "color_by": "direction" (|dx|, |dy|, |dz| of each segment, the default),
+            "streamline_direction", "fixed" (`color`; the default when color is given),
+            "point_value" / "streamline_value" (`value` through `colormap`), "group" (TRX)
+color       linear RGB for "fixed" and for groups without a colour
+value       the name of the values to colour by; without `colouring`, point_value or
+            streamline_value as the tractogram holds it
+colormap    "viridis" (the default), "hot", "gray", ... ; `range=[lo, hi]` maps the values
+opacity     per tube crossing, 0..1
+stride      every stride-th streamline; min_length: shorter ones (mm) are not drawn
+name        the object's name (default: the file's name, else "streamlines", made unique)
+Keyword arguments are the object's other keys: range, regions, group_opacity, shading,
+transform, thickness, visible.
 )doc")
       .def(
           "add_plane",
