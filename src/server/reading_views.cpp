@@ -1,5 +1,6 @@
 #include "server/reading_views.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -9,6 +10,7 @@
 #include "intermix/io.hpp"
 #include "scene/json_reader.hpp"
 #include "scene/reading_planes.hpp"
+#include "server/streamline_slab.hpp"
 
 namespace imx::server {
 namespace {
@@ -49,7 +51,8 @@ glm::dvec2 ReadingWindows::of(const VolumeObject& volume) {
 
 SliceAnswer answer_slice(const ViewerState& state, ReadingWindows& windows, const Json& message) {
   const JsonReader r(message, "slice");
-  r.check_keys({"type", "seq", "view", "point", "width", "height", "mm_per_pixel", "window"});
+  r.check_keys(
+      {"type", "seq", "view", "point", "width", "height", "mm_per_pixel", "window", "slab"});
   const JsonReader axis_reader = r.get("view");
   const SliceAxis axis = *find_slice_axis(axis_reader.choice({"axial", "coronal", "sagittal"}));
   const glm::dvec3 point = r.get("point").vec3(Range::coordinate());
@@ -67,7 +70,16 @@ SliceAnswer answer_slice(const ViewerState& state, ReadingWindows& windows, cons
     if (!(cw.y > 0.0)) w->at(1).fail(fmt::format("window width {} must be > 0", cw.y));
     window_of[static_cast<size_t>(shown.front())] = cw;
   }
-  const Image image = render_slice(scene, view, shown, window_of);
+  Image image = render_slice(scene, view, shown, window_of);
+  // The shown streamlines within the slab around the plane, over the slice (mrview's way).
+  const double slab =
+      r.has("slab") ? r.get("slab").number(Range::closed(0.01, 1000.0)) : kDefaultStreamlineSlab;
+  const int line_px = std::max(1, static_cast<int>(std::lround(std::min(width, height) / 400.0)));
+  for (size_t k = 0; k < scene.order.size(); ++k)
+    if (scene.order[k].kind == ObjectKind::streamlines &&
+        (k >= state.visible.size() || state.visible[k]))
+      draw_streamline_slab(
+          image, view, scene.streamlines[static_cast<size_t>(scene.order[k].index)], slab, line_px);
 
   Json outlines = Json::array();
   for (size_t k = 0; k < scene.order.size(); ++k) {
@@ -88,6 +100,7 @@ SliceAnswer answer_slice(const ViewerState& state, ReadingWindows& windows, cons
                {"view", slice_axis_name(axis)},
                {"point", vec_json(point)},
                {"mm_per_pixel", mm},
+               {"slab", slab},
                {"width", width},
                {"height", height},
                {"outlines", std::move(outlines)}};

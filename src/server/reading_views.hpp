@@ -28,13 +28,14 @@ class ReadingWindows {
 };
 
 struct SliceAnswer {
-  std::string text;  // {"type": "slice", "view", "seq", "point", "mm_per_pixel", "outlines"}
+  std::string text;  // {"type": "slice", "view", "seq", "point", "mm_per_pixel", "slab", ...}
   std::string png;   // the image
 };
 
 // A `slice` message: {"view": "axial"|"coronal"|"sagittal", "point": [3], "width", "height",
 // "mm_per_pixel", "seq", "window" (optional [centre, width] of the first shown volume, a W/L
-// preset)}. Throws imx::Error naming the field at fault.
+// preset), "slab" (optional, mm: the shown streamlines within half of it of the plane are drawn
+// over the slice; default kDefaultStreamlineSlab)}. Throws imx::Error naming the field at fault.
 SliceAnswer answer_slice(const ViewerState& state, ReadingWindows& windows,
                          const nlohmann::json& message);
 

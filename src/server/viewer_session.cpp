@@ -15,6 +15,7 @@
 #include "scene/json_reader.hpp"
 #include "scene/strict_json.hpp"
 #include "server/jpeg_encoder.hpp"
+#include "tubes/tube_cache.hpp"
 
 namespace imx::server {
 
@@ -467,6 +468,8 @@ void ViewerSession::render_and_send(Snapshot& s) {
     scene.image.width = std::max(1, static_cast<int>(std::lround(full_w * scale)));
     scene.image.height = std::max(1, static_cast<int>(std::lround(full_h * scale)));
     o.spp = 1;
+    // A stride of each tractogram while moving (its own tube cache keeps both geometries).
+    for (StreamlineObject& so : scene.streamlines) so.stride = preview_stride(so);
   } else {
     if (accumulated_version_ != s.version) {
       accumulator_.reset();

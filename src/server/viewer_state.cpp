@@ -3,6 +3,7 @@
 #include "server/viewer_state.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -11,6 +12,7 @@
 #include <map>
 #include <optional>
 #include <sstream>
+#include <string_view>
 #include <variant>
 
 #include <fmt/format.h>
@@ -20,6 +22,7 @@
 #include "annotate/scene_colour_bars.hpp"
 #include "core/edit_distance.hpp"
 #include "intermix/error.hpp"
+#include "presets/colormap.hpp"
 #include "presets/volume_presets.hpp"
 #include "scene/overrides.hpp"
 #include "scene/scene_parsers.hpp"
@@ -38,6 +41,7 @@ using Json = nlohmann::json;
 // Bounds on one message's lists, far above what an editor sends, so that an edit costs little.
 constexpr size_t kMaxTfPoints = 1024;
 constexpr size_t kMaxClipPlanes = 64;
+constexpr size_t kMaxRegions = 64;
 // describe_histograms: the most voxels one volume's histogram reads, and the most bins.
 constexpr double kHistogramSamples = 4.0 * 1024 * 1024;
 constexpr int kMaxBins = 4096;
@@ -282,6 +286,123 @@ void edit_label_overrides(const JsonReader& rows, Json& object) {
   }
 }
 
+// A streamline object's colourings, by the names scene files give them.
+constexpr std::array<std::string_view, 6> kColourings = {
+    "direction", "streamline_direction", "fixed", "point_value", "streamline_value", "group"};
+
+const char* colouring_name(StreamlineColouring c) {
+  return kColourings[static_cast<size_t>(c)].data();
+}
+
+Json value_names(const std::vector<StreamlineValues>& values) {
+  Json names = Json::array();
+  for (const StreamlineValues& v : values) names.push_back(v.name);
+  return names;
+}
+
+// A `regions` edit: the object's sphere regions, [{"sphere": {"center", "radius"}, "avoid"}],
+// in LPS. They replace the document's spheres; its label-map and mesh regions stay (a message
+// never names files).
+void edit_sphere_regions(const JsonReader& list, Json& object, bool ras) {
+  list.expect_array();
+  if (list.size() > kMaxRegions)
+    list.fail(fmt::format("{} regions; an edit holds at most {}", list.size(), kMaxRegions));
+  Json regions = Json::array();
+  if (object.contains("regions") && object["regions"].is_array())
+    for (const Json& kept : object["regions"])
+      if (!kept.is_object() || !kept.contains("sphere")) regions.push_back(kept);
+  for (const JsonReader& e : list.elements()) {
+    e.check_keys({"sphere", "avoid"});
+    const JsonReader sphere = e.get("sphere");
+    sphere.check_keys({"center", "radius"});
+    Json center = vec_json(sphere.get("center").vec3(Range::coordinate()));
+    flip_if_ras(center, ras);
+    Json region = {{"sphere",
+                    {{"center", std::move(center)},
+                     {"radius", sphere.get("radius").number(Range::length())}}}};
+    if (auto v = e.find("avoid"); v && v->boolean()) region["avoid"] = true;
+    regions.push_back(std::move(region));
+  }
+  if (regions.empty())
+    object.erase("regions");
+  else
+    object["regions"] = std::move(regions);
+}
+
+// A streamline object's edited fields written into its document entry (the loader checks the
+// whole again). Colouring by values without a name takes the first values of that kind.
+void edit_streamline_object(const JsonReader& r, const StreamlineObject& s, Json& object,
+                            float opacity, bool ras) {
+  if (r.has("opacity")) object["opacity"] = tidy(opacity);
+  std::string colouring = colouring_name(s.colouring);
+  if (auto v = r.find("color_by"))
+    colouring = v->choice(
+        {"direction", "streamline_direction", "fixed", "point_value", "streamline_value", "group"});
+  if (r.has("color_by") || r.has("color")) object["color_by"] = colouring;
+  if (auto v = r.find("color")) {
+    const glm::vec3 c = v->color();
+    object["color"] = Json::array({tidy(c.r), tidy(c.g), tidy(c.b)});
+  }
+  const bool by_value = colouring == "point_value" || colouring == "streamline_value";
+  const bool per_point = colouring == "point_value";
+  const Streamlines& data = *s.streamlines;
+  const auto has = [](const std::vector<StreamlineValues>& values, const std::string& name) {
+    return std::any_of(values.begin(), values.end(),
+                       [&](const StreamlineValues& x) { return x.name == name; });
+  };
+  if (auto v = r.find("value")) {
+    // Checked here: the loader takes any name, and a wrong one would fail every frame.
+    const std::string name = v->string();
+    if (name.empty() && !by_value) object.erase("value");  // none (undo gives "" back)
+    const bool known = !by_value ? name.empty() || has(data.point_values, name) ||
+                                       has(data.streamline_values, name)
+                       : per_point ? has(data.point_values, name)
+                                   : has(data.streamline_values, name);
+    if (!known) {
+      const auto& listed = by_value && !per_point ? data.streamline_values : data.point_values;
+      std::string names;
+      for (const StreamlineValues& x : listed)
+        names += (names.empty() ? "'" : ", '") + x.name + "'";
+      v->fail(fmt::format("'{}' has no {}values named '{}' (it has {})", s.name,
+                          !by_value   ? ""
+                          : per_point ? "per-point "
+                                      : "per-streamline ",
+                          name, names.empty() ? "none" : names));
+    }
+    if (!name.empty()) object["value"] = name;
+  }
+  if (by_value && !r.has("value")) {
+    const std::vector<StreamlineValues>& values =
+        per_point ? data.point_values : data.streamline_values;
+    const std::string name = object.contains("value") && object["value"].is_string()
+                                 ? object["value"].get<std::string>()
+                                 : std::string();
+    if (!has(values, name)) {
+      if (values.empty())
+        (r.has("color_by") ? r.get("color_by") : r)
+            .fail(fmt::format("'{}' has no per-{} values", s.name,
+                              per_point ? "point" : "streamline"));
+      object["value"] = values.front().name;
+      object.erase("range");  // another value's range would not fit
+    }
+  }
+  if (auto v = r.find("colormap"))
+    object["colormap"] = std::string(colormap_name(scene_json::parse_colormap(*v)));
+  if (auto v = r.find("range")) {
+    if (v->json().is_null()) {
+      object.erase("range");  // the values' own range
+    } else {
+      const glm::dvec2 range = v->vec2();
+      if (!(range.x < range.y)) v->fail("needs [low, high] with low < high");
+      object["range"] = v->json();
+    }
+  }
+  if (auto v = r.find("radius")) object["radius"] = v->number(Range::length());
+  if (auto v = r.find("stride")) object["stride"] = v->integer(1, 1 << 30);
+  if (auto v = r.find("min_length")) object["min_length"] = v->number(Range::closed(0.0, 1e9));
+  if (auto v = r.find("regions")) edit_sphere_regions(*v, object, ras);
+}
+
 // The edited object as the document holds it: every field checked as the loader checks it (the
 // whole document is parsed again after), nothing of the state changed yet.
 Json edited_object(const ViewerState& state, const JsonReader& r, size_t k, bool visible,
@@ -325,6 +446,9 @@ Json edited_object(const ViewerState& state, const JsonReader& r, size_t k, bool
       if (!object.contains("shading") && !same_shading(volume.shading, Shading{}))
         object["shading"] = shading_json(volume.shading);
     }
+  } else if (ref.kind == ObjectKind::streamlines) {
+    edit_streamline_object(r, scene.streamlines[static_cast<size_t>(ref.index)], object, opacity,
+                           document_in_ras(state));
   } else if (ref.kind == ObjectKind::mesh) {
     if (r.has("opacity")) {
       if (!object.contains("material") || !object["material"].is_object())
@@ -349,8 +473,10 @@ Json edited_object(const ViewerState& state, const JsonReader& r, size_t k, bool
 
 bool apply_object_edit(ViewerState& state, const Json& message) {
   const JsonReader m(message, "edit");
-  m.check_keys({"type", "seq", "moving", "object", "visible", "opacity", "transfer_function",
-                "window", "center", "clip_planes", "frame", "labels"});
+  m.check_keys(
+      {"type",   "seq",      "moving",      "object", "visible", "opacity",    "transfer_function",
+       "window", "center",   "clip_planes", "frame",  "labels",  "color_by",   "color",
+       "value",  "colormap", "range",       "radius", "stride",  "min_length", "regions"});
   const size_t k = find_object(state.scene(), m.get("object"));
   const Json& objects = state.document.json()["objects"];
   if (k >= objects.size() || k >= state.visible.size() || k >= state.opacity.size())
@@ -363,7 +489,16 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
                                                      {"frame", ObjectKind::volume},
                                                      {"labels", ObjectKind::volume},
                                                      {"window", ObjectKind::plane},
-                                                     {"center", ObjectKind::plane}};
+                                                     {"center", ObjectKind::plane},
+                                                     {"color_by", ObjectKind::streamlines},
+                                                     {"color", ObjectKind::streamlines},
+                                                     {"value", ObjectKind::streamlines},
+                                                     {"colormap", ObjectKind::streamlines},
+                                                     {"range", ObjectKind::streamlines},
+                                                     {"radius", ObjectKind::streamlines},
+                                                     {"stride", ObjectKind::streamlines},
+                                                     {"min_length", ObjectKind::streamlines},
+                                                     {"regions", ObjectKind::streamlines}};
   for (const auto& [key, kind] : only)
     if (auto v = r.find(key); v && ref.kind != kind)
       v->fail(fmt::format("applies to {}s only, and this object is a {}", object_kind_name(kind),
@@ -391,6 +526,40 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
   state.opacity[k] = opacity;
   if (changed) count_labels(state);
   return changed;
+}
+
+// A streamline object's look and selection for the page's controls; its values' names and the
+// colour maps are the choices it offers.
+void describe_streamlines(const StreamlineObject& s, Json& o) {
+  o["name"] = s.name;
+  o["color_by"] = colouring_name(s.colouring);
+  o["color"] = Json::array({tidy(s.color.r), tidy(s.color.g), tidy(s.color.b)});
+  o["value"] = s.value;
+  o["colormap"] = std::string(colormap_name(s.colormap));
+  o["range"] = s.range ? Json::array({s.range->x, s.range->y}) : Json(nullptr);
+  o["radius"] = s.radius;
+  o["stride"] = s.stride;
+  o["min_length"] = s.min_length;
+  Json regions = Json::array();
+  for (const StreamlineRegion& r : s.regions) {
+    if (r.shape == StreamlineRegion::Shape::sphere)
+      regions.push_back({{"shape", "sphere"},
+                         {"center", vec_json(r.center)},
+                         {"radius", r.radius},
+                         {"avoid", r.avoid}});
+    else
+      regions.push_back({{"shape", r.shape == StreamlineRegion::Shape::label ? "label" : "mesh"},
+                         {"avoid", r.avoid}});
+  }
+  o["regions"] = std::move(regions);
+  const Streamlines* data = s.streamlines.get();
+  o["count"] = data ? data->count() : 0;
+  o["point_values"] = data ? value_names(data->point_values) : Json::array();
+  o["streamline_values"] = data ? value_names(data->streamline_values) : Json::array();
+  o["has_groups"] = data && !data->groups.empty();
+  Json maps = Json::array();
+  for (std::string_view m : kColormapNames) maps.push_back(std::string(m));
+  o["colormaps"] = std::move(maps);
 }
 
 // Counts of the sampled voxels in `bins` equal bins over their range.
@@ -435,6 +604,8 @@ ViewerState viewer_state(SceneDocument document, std::filesystem::path file) {
       opacity = document_float(object["material"], "opacity", Material{}.opacity);
     else if (ref.kind == ObjectKind::plane)
       opacity = document_float(object, "opacity", PlaneObject{}.opacity);
+    else if (ref.kind == ObjectKind::streamlines)
+      opacity = document_float(object, "opacity", StreamlineObject{}.opacity);
     state.opacity.push_back(opacity);
     if (ref.kind != ObjectKind::volume) continue;
     const VolumeObject& volume = scene.volumes[static_cast<size_t>(ref.index)];
@@ -514,6 +685,8 @@ nlohmann::json describe_state(const ViewerState& state) {
       }
     } else if (ref.kind == ObjectKind::mesh) {
       o["name"] = scene.meshes[i].name;
+    } else if (ref.kind == ObjectKind::streamlines) {
+      describe_streamlines(scene.streamlines[i], o);
     } else {
       const PlaneObject& p = scene.planes[i];
       o["name"] = p.name;

@@ -730,6 +730,15 @@ def run_test(args, out, checks, cleanup):
     else:
         log(f'l. skipped: no {ASL_SERIES}')
     run_labels(args, out, checks, cleanup, browser)
+    run_streamlines(args, out, checks, cleanup, browser)
+    browser.close()
+
+
+def run_streamlines_only(args, out, checks, cleanup):
+    browser = cdp.Browser(chromium=args.chromium, log_path=os.path.join(out, 'chromium.log'))
+    cleanup.append(browser.close)
+    browser.start()
+    run_streamlines(args, out, checks, cleanup, browser)
     browser.close()
 
 
@@ -837,6 +846,179 @@ def run_reading_views(args, checks, browser):
                  f"eye moved {math.dist(cam['eye'], cam2['eye']):.2g} mm", link[:80] + '...')
     browser.evaluate("viewer.setLayout('1x1')")
     wait_converged(browser, 20, 'after the linked view')
+
+
+# ---------------------------------------------------------------- test mode: streamlines
+def write_tck(path, count=200):
+    """A tractogram of `count` straight streamlines along y (RAS mm, MRtrix .tck), over x in
+    [-30, 30] at z = 0, each from y = -30 to 30 in 31 points: green when coloured by direction."""
+    import struct
+    header = f'mrtrix tracks\ndatatype: Float32LE\ncount: {count}\nfile: . '
+    offset = len(header) + 16
+    header = (header + f'{offset}\nEND\n').ljust(offset, '\0')
+    with open(path, 'wb') as f:
+        f.write(header.encode())
+        for i in range(count):
+            x = -30 + 60 * i / (count - 1)
+            for k in range(31):
+                f.write(struct.pack('<3f', x, -30 + 2 * k, 0))
+            f.write(struct.pack('<3f', math.nan, math.nan, math.nan))
+        f.write(struct.pack('<3f', math.inf, math.inf, math.inf))
+
+
+# Of the 3-D canvas (or a 2-D view's canvas, by selector): pixels mostly red, mostly green, any
+# drawn (brighter than the background), and their mean brightness.
+JS_TINTS = """((sel) => {
+  const c = document.querySelector(sel);
+  const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+  let red = 0, green = 0, drawn = 0, sum = 0;
+  for (let i = 0; i < d.length; i += 4) {
+    const r = d[i], g = d[i + 1], b = d[i + 2];
+    if (r + g + b < 40) continue;
+    drawn++;
+    sum += r + g + b;
+    if (r > g + 50 && r > b + 50) red++;  // highlights make it pink, not white
+    if (g > r + 50 && g > b + 50) green++;
+  }
+  return {red, green, drawn, mean: drawn ? sum / drawn / 3 : 0};
+})(%s)"""
+
+
+def tints(b, sel='#view'):
+    return b.evaluate(JS_TINTS % json.dumps(sel))
+
+
+def set_control(b, name, cls, value, events=('input', 'change')):
+    """Sets a panel control of object `name` (a select, colour or range input) as the user does,
+    firing its events."""
+    sel = json.dumps(f'.object[data-name="{name}"] .{cls}')
+    ok = b.evaluate(f"""(() => {{ const e = document.querySelector({sel}); if (!e) return false;
+      if (e.type === 'checkbox') e.checked = {json.dumps(bool(value))};
+      else e.value = {json.dumps(value)};
+      for (const t of {json.dumps(list(events))}) e.dispatchEvent(new Event(t, {{bubbles: true}}));
+      return true; }})()""")
+    if not ok:
+        raise Failure(f'no control .{cls} for {name} in the panel')
+
+
+def run_streamlines(args, out, checks, cleanup, browser):
+    """s. A tractogram over a volume whose transfer function shows nothing (the 2-D views' base):
+    the panel's colour mode and colour make the tubes red; an axial view through the streamlines'
+    plane shows them in red, a slice 8 mm away does not; the panel's stride and opacity thin and
+    darken the tubes; its sphere region at the crosshair keeps only the streamlines through it."""
+    write_tck(os.path.join(out, 'lines.tck'))
+    write_label_nrrd(os.path.join(out, 'base.nrrd'))
+    scene = os.path.join(out, 'streamlines.json')
+    with open(scene, 'w') as f:
+        json.dump({'camera': {'eye': [0, 0, 160], 'target': [0, 0, 0], 'up': [0, -1, 0]},
+                   'image': {'width': 128, 'height': 128, 'background': [0, 0, 0, 1]},
+                   'objects': [{'name': 'base', 'type': 'volume', 'source': {'file': 'base.nrrd'},
+                                'transfer_function': {'points': [[0, 0, 0, 0, 0],
+                                                                 [7, 0, 0, 0, 0]]}},
+                               {'name': 'lines', 'type': 'streamlines',
+                                'source': {'file': 'lines.tck'}, 'radius': 0.6}]}, f)
+    _, url, watcher, hello = serve_small(args, scene, os.path.join(out, 'server-streamlines.log'),
+                                         cleanup)
+    lines = state_object(hello or {}, 'lines') or {}
+    checks.check('s. hello describes the streamlines (count, colour mode, stride)',
+                 lines.get('count') == 200 and lines.get('color_by') == 'direction' and
+                 lines.get('stride') == 1, json.dumps({k: lines.get(k) for k in
+                                                       ('count', 'color_by', 'stride')}))
+    browser.navigate(url, timeout=20)
+    browser.wait_for('Boolean(window.viewerStats && viewerStats.connected)', timeout=10,
+                     what='the streamlines page to connect its WebSocket')
+    wait_converged(browser, 30, 'streamlines scene after load')
+    before = tints(browser)
+    snap(browser, 'sl_direction')
+    set_control(browser, 'lines', 'sl-color-by', 'fixed', ('change',))
+    browser.wait_for("Boolean(document.querySelector('.object[data-name=\"lines\"] .sl-color'))",
+                     timeout=5, what='the colour control of fixed colouring')
+    set_control(browser, 'lines', 'sl-color', '#ff0000', ('input',))
+    t0 = time.monotonic()
+    wait_converged(browser, 20, 'after fixed red')
+    st = settled_state(watcher, t0)
+    red = tints(browser)
+    o = state_object(st, 'lines') or {}
+    checks.check('s. colour mode "fixed" and a red colour from the panel make the tract red '
+                 '(it was green by direction)',
+                 o.get('color_by') == 'fixed' and o.get('color') == [1, 0, 0] and
+                 before['green'] > 0.8 * before['drawn'] and red['red'] > 0.8 * red['drawn'] and red['drawn'] > 200,
+                 f"red {red['red']} of {red['drawn']} drawn pixels",
+                 f"before: green {before['green']} of {before['drawn']}; state {o.get('color_by')} "
+                 f"{o.get('color')}")
+    snap(browser, 'sl_red')
+    canvas_png(browser, os.path.join(out, 'streamlines-red.png'))
+    browser.screenshot(os.path.join(out, 'viewer-streamlines.png'))
+    # The 2-D views: the crosshair starts at the base volume's centre, z = 0: the lines' plane.
+    browser.evaluate("viewer.setLayout('2x2')")
+    browser.wait_for('viewer.slicesDrawn() >= 3', timeout=15, what='the three 2-D views')
+    browser.wait_for('viewer.slicesSettled()', timeout=10, what='the 2-D views')
+    axial = '.slice-cell[data-axis=axial] .slice'
+    browser.pump_events(0.5)
+    at_plane = tints(browser, axial)
+    point = browser.evaluate('viewer.slicePoint()')
+    drawn = browser.evaluate('viewer.slicesDrawn()')
+    for _ in range(2):  # two 4 mm slice steps: 8 mm from the lines, beyond the 2 mm slab
+        browser.evaluate(f"document.querySelector({json.dumps(axial)})"
+                         ".dispatchEvent(new WheelEvent('wheel', {deltaY: -100, bubbles: true, "
+                         "cancelable: true}))")
+        browser.wait_for('viewer.slicesSettled()', timeout=10, what='a slice step')
+    browser.wait_for(f'viewer.slicesDrawn() >= {drawn + 2}', timeout=10, what='the stepped views')
+    browser.pump_events(0.5)
+    away = tints(browser, axial)
+    point2 = browser.evaluate('viewer.slicePoint()')
+    browser.screenshot(os.path.join(out, 'viewer-streamlines-slices.png'))
+    checks.check('s. the axial view through the streamlines shows them in their colour (red); '
+                 '8 mm away it shows none',
+                 point and abs(point[2]) < 1e-6 and at_plane['red'] > 100 and away['red'] == 0 and
+                 abs(point2[2]) >= 7.9,
+                 f"red pixels {at_plane['red']} at z = {point[2] if point else None}, "
+                 f"{away['red']} at z = {point2[2] if point2 else None}")
+    browser.evaluate("viewer.setLayout('1x1')")
+    wait_converged(browser, 20, 'back to the 3-D view alone')
+    set_control(browser, 'lines', 'sl-stride', '10')
+    t0 = time.monotonic()
+    wait_converged(browser, 20, 'after stride 10')
+    st = settled_state(watcher, t0)
+    strided = tints(browser)
+    o = state_object(st, 'lines') or {}
+    checks.check('s. stride 10 from the panel draws about a tenth of the streamlines',
+                 o.get('stride') == 10 and strided['drawn'] < 0.5 * red['drawn'],
+                 f"{strided['drawn']} drawn pixels (was {red['drawn']})",
+                 f"state stride {o.get('stride')}")
+    opacity_sel = '.object[data-name="lines"] .row input[type=range]'  # the first: opacity
+    ok = browser.evaluate(f"""(() => {{ const e = document.querySelector({json.dumps(opacity_sel)});
+      if (!e) return false; e.value = '0.3';
+      for (const t of ['input', 'change']) e.dispatchEvent(new Event(t, {{bubbles: true}}));
+      return true; }})()""")
+    if not ok:
+        raise Failure('no opacity slider for the streamlines')
+    t0 = time.monotonic()
+    wait_converged(browser, 20, 'after opacity 0.3')
+    st = settled_state(watcher, t0)
+    faint = tints(browser)
+    o = state_object(st, 'lines') or {}
+    checks.check('s. opacity 0.3 from the panel darkens the tubes over the black background',
+                 o.get('opacity') == 0.3 and faint['mean'] < 0.75 * strided['mean'],
+                 f"mean brightness {faint['mean']:.1f} (was {strided['mean']:.1f})",
+                 f"state opacity {o.get('opacity')}")
+    snap(browser, 'sl_faint')
+    # A sphere region at the crosshair (8 mm above the lines' centre, 10 mm radius): only the
+    # streamlines within 6 mm of x = 0 pass through it.
+    set_control(browser, 'lines', 'sl-region-on', True, ('change',))
+    t0 = time.monotonic()
+    wait_converged(browser, 20, 'after the sphere region')
+    st = settled_state(watcher, t0)
+    regions = (state_object(st, 'lines') or {}).get('regions') or []
+    passing = tints(browser)
+    checks.check('s. a sphere region at the crosshair from the panel keeps only the streamlines '
+                 'through it',
+                 len(regions) == 1 and regions[0].get('shape') == 'sphere' and
+                 regions[0].get('radius') == 10 and passing['drawn'] < 0.5 * faint['drawn'] and
+                 passing['drawn'] > 0,
+                 f"{passing['drawn']} drawn pixels (was {faint['drawn']})", json.dumps(regions))
+    browser.evaluate("viewer.setLayout('1x1')")
+    watcher.close()
 
 
 # ---------------------------------------------------------------- test mode: MPR planes and clips
@@ -1556,6 +1738,8 @@ def main():
     ap.add_argument('--settle', type=float, default=3.0,
                     help='measure mode: seconds to wait for convergence after each drag')
     ap.add_argument('--chromium', help='the browser (default /usr/bin/chromium)')
+    ap.add_argument('--only', choices=['streamlines'],
+                    help='test mode: run only this part (s: the streamline controls and views)')
     ap.add_argument('--timeout', type=float, help='overall limit in seconds '
                     '(default 180 in test mode, 120 + 8 per drag in measure mode)')
     args = ap.parse_args()
@@ -1599,7 +1783,10 @@ def main():
             status = run_measure(args, out, cleanup)
         else:
             log(f'viewer browser test: {args.scene}, output in {out}')
-            run_test(args, out, checks, cleanup)
+            if args.only == 'streamlines':
+                run_streamlines_only(args, out, checks, cleanup)
+            else:
+                run_test(args, out, checks, cleanup)
     except (Failure, CdpError, OSError, subprocess.SubprocessError,
             websocket.WebSocketException) as e:
         checks.check('run completed', False, type(e).__name__, str(e))

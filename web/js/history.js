@@ -26,6 +26,9 @@ export function editFields(o) {
   } else if (o.kind === 'plane') {
     f.window = [...o.window];
     f.center = [...o.center];
+  } else if (o.kind === 'streamlines') {
+    for (const key of STREAMLINE_EDITS) f[key] = JSON.parse(JSON.stringify(o[key] ?? null));
+    f.regions = sphereRegions(o);
   }
   return f;
 }
@@ -47,8 +50,22 @@ export function applyFields(o, f) {
   } else if (o.kind === 'plane') {
     if (f.window) o.window = [...f.window];
     if (f.center) o.center = [...f.center];
+  } else if (o.kind === 'streamlines') {
+    for (const key of STREAMLINE_EDITS)
+      if (key in f) o[key] = JSON.parse(JSON.stringify(f[key]));
+    if (f.regions)
+      o.regions = [...(o.regions || []).filter((r) => r.shape !== 'sphere'),
+                   ...f.regions.map((r) => ({shape: 'sphere', center: [...r.sphere.center],
+                                             radius: r.sphere.radius, avoid: Boolean(r.avoid)}))];
   }
 }
+
+// A tractogram's edit fields besides its regions (docs/viewer.md, `edit`).
+const STREAMLINE_EDITS = ['color_by', 'color', 'value', 'colormap', 'range', 'radius', 'stride',
+                          'min_length'];
+// Its sphere regions as an edit's `regions`.
+export const sphereRegions = (o) => (o.regions || []).filter((r) => r.shape === 'sphere').map(
+    (r) => ({sphere: {center: [...r.center], radius: r.radius}, avoid: Boolean(r.avoid)}));
 
 // Every object's fields become the committed ones (after hello and after another window's state).
 export function resetCommitted() {

@@ -1,8 +1,10 @@
 // The object panel: one box per object of the scene with visibility and opacity, and per kind a
 // plane's W/L target and position slider, a volume's frame slider and play, transfer-function
-// editor, presets and clip planes. Rebuilt whole from S (buildPanel) after anything that adds,
+// editor, presets and clip planes, a tractogram's colouring, radius, stride, minimum length and
+// sphere region. Rebuilt whole from S (buildPanel) after anything that adds,
 // removes or moves its controls.
 import {editInput} from './connection.js';
+import {sphereRegions} from './history.js';
 import {S, clipsMessage} from './state.js';
 import {TfEditor} from './tf_editor.js';
 import {add, dot, fmt, len, mul, norm, sub} from './vec.js';
@@ -94,6 +96,7 @@ export function buildPanel() {
 
     if (o.kind === 'volume') buildVolume(box, o);
     if (o.kind === 'plane') buildPlane(box, o);
+    if (o.kind === 'streamlines') buildStreamlines(box, o);
     root.append(box);
   }
 }
@@ -258,4 +261,129 @@ function buildVolume(box, o) {
     buildPanel();
   }));
   box.append(row);
+}
+
+const hexColour = (c) => '#' + c.map((x) => Math.round(255 * Math.min(1, Math.max(0, x)))
+    .toString(16).padStart(2, '0')).join('');
+const colourOfHex = (v) => [1, 3, 5].map((i) => parseInt(v.slice(i, i + 2), 16) / 255);
+
+function select(className, options, value, onChange) {
+  const el = document.createElement('select');
+  el.className = className;
+  el.append(...options.map(([v, text]) => new Option(text, v)));
+  el.value = value;
+  el.addEventListener('change', () => onChange(el.value));
+  return el;
+}
+
+function labelled(label, ...controls) {
+  const row = document.createElement('div');
+  row.className = 'row';
+  const l = document.createElement('span');
+  l.className = 'label';
+  l.textContent = label;
+  row.append(l, ...controls);
+  return row;
+}
+
+// A tractogram: its colouring (with a colour, or values through a colour map), tube radius,
+// stride, minimum length and one sphere region (pass through or avoid) at the crosshair, else
+// at the camera's target.
+function buildStreamlines(box, o) {
+  const modes = [['direction', 'direction'], ['streamline_direction', 'streamline direction'],
+                 ['fixed', 'fixed colour']];
+  if ((o.point_values || []).length) modes.push(['point_value', 'point values']);
+  if ((o.streamline_values || []).length) modes.push(['streamline_value', 'streamline values']);
+  if (o.has_groups) modes.push(['group', 'group']);
+  box.append(labelled('colour', select('sl-color-by', modes, o.color_by, (v) => {
+    o.color_by = v;
+    const names = v === 'point_value' ? o.point_values : o.streamline_values;
+    const fields = {color_by: v};
+    if ((v === 'point_value' || v === 'streamline_value') && !(names || []).includes(o.value))
+      fields.value = o.value = names[0];
+    editInput(o.name, fields, false);
+    buildPanel();
+  })));
+  if (o.color_by === 'fixed' || o.color_by === 'group') {
+    const colour = document.createElement('input');
+    colour.type = 'color';
+    colour.className = 'sl-color';
+    colour.value = hexColour(o.color || [1, 1, 1]);
+    colour.addEventListener('input', () => {
+      o.color = colourOfHex(colour.value);
+      editInput(o.name, {color: o.color}, false);
+    });
+    box.append(labelled('', colour));
+  }
+  if (o.color_by === 'point_value' || o.color_by === 'streamline_value') {
+    const names = o.color_by === 'point_value' ? o.point_values : o.streamline_values;
+    box.append(labelled('values', select('sl-value', names.map((n) => [n, n]), o.value, (v) => {
+      o.value = v;
+      editInput(o.name, {value: v}, false);
+    })));
+    const maps = (o.colormaps || []).map((n) => [n, n]);
+    box.append(labelled('map', select('sl-colormap', maps, o.colormap, (v) => {
+      o.colormap = v;
+      editInput(o.name, {colormap: v}, false);
+    })));
+  }
+  const field = (key, moving) => editInput(o.name, {[key]: o[key]}, moving);
+  const radius = slider('radius', 0.05, 3, 0.05, o.radius, (v) => { o.radius = v; field('radius', true); },
+                        (v) => { o.radius = v; field('radius', false); });
+  radius.input.classList.add('sl-radius');
+  box.append(radius.row);
+  const strideMax = Math.max(2, Math.min(1000, o.count || 2));
+  const stride = slider('stride', 1, strideMax, 1, o.stride,
+                        (v) => { o.stride = v; field('stride', true); },
+                        (v) => { o.stride = v; field('stride', false); }, 0);
+  stride.input.classList.add('sl-stride');
+  box.append(stride.row);
+  const minLength = slider('min length', 0, 200, 1, o.min_length,
+                           (v) => { o.min_length = v; field('min_length', true); },
+                           (v) => { o.min_length = v; field('min_length', false); }, 0);
+  minLength.input.classList.add('sl-min-length');
+  box.append(minLength.row);
+  buildSphereRegion(box, o);
+}
+
+function buildSphereRegion(box, o) {
+  const others = (o.regions || []).filter((r) => r.shape !== 'sphere');
+  let sphere = (o.regions || []).find((r) => r.shape === 'sphere');
+  const send = (moving) => {
+    o.regions = [...others, ...(sphere ? [sphere] : [])];
+    editInput(o.name, {regions: sphereRegions(o)}, moving);
+  };
+  const here = () => [...(S.point || (S.camera ? S.camera.target : [0, 0, 0]))];
+  const on = document.createElement('input');
+  on.type = 'checkbox';
+  on.className = 'sl-region-on';
+  on.checked = Boolean(sphere);
+  on.title = 'sphere region';
+  on.addEventListener('change', () => {
+    sphere = on.checked ? {shape: 'sphere', center: here(), radius: 10, avoid: false} : null;
+    send(false);
+    buildPanel();
+  });
+  box.append(labelled('region', on));
+  if (!sphere) return;
+  const mode = select('sl-region-mode', [['pass', 'pass through'], ['avoid', 'avoid']],
+                      sphere.avoid ? 'avoid' : 'pass', (v) => {
+                        sphere.avoid = v === 'avoid';
+                        send(false);
+                      });
+  const centre = button('centre here', () => {
+    sphere.center = here();
+    send(false);
+    buildPanel();
+  });
+  centre.className = 'sl-region-centre';
+  const text = document.createElement('span');
+  text.className = 'value';
+  text.textContent = sphere.center.map((c) => fmt(c, 1)).join(', ');
+  box.append(labelled('', mode, centre, text));
+  const r = slider('radius (mm)', 1, 60, 0.5, sphere.radius,
+                   (v) => { sphere.radius = v; send(true); },
+                   (v) => { sphere.radius = v; send(false); }, 1);
+  r.input.classList.add('sl-region-radius');
+  box.append(r.row);
 }

@@ -70,6 +70,8 @@ function localObject(o) {
     if (o.pitch) l.pitch = [...o.pitch];
     l.units = o.units || '';
     if (o.labels) l.labels = o.labels.map((x) => ({...x, color: [...x.color]}));
+  } else if (o.kind === 'streamlines') {
+    takeStreamlines(l, o);
   } else if (o.kind === 'plane') {
     l.center = [...o.center];
     l.initialCenter = [...o.center];
@@ -79,6 +81,15 @@ function localObject(o) {
     l.volume = o.volume;
   }
   return l;
+}
+
+// A streamline object's look and selection (state.objects' fields; docs/viewer.md).
+const STREAMLINE_FIELDS = ['color_by', 'color', 'value', 'colormap', 'range', 'radius', 'stride',
+                           'min_length', 'regions', 'count', 'point_values', 'streamline_values',
+                           'has_groups', 'colormaps'];
+function takeStreamlines(l, o) {
+  for (const key of STREAMLINE_FIELDS)
+    if (o[key] !== undefined) l[key] = JSON.parse(JSON.stringify(o[key]));
 }
 
 // The camera's projection, which the page never changes but needs for its overlays.
@@ -146,6 +157,8 @@ export function takeState(m) {
           return {base: [...c.point], normal: norm(c.normal), offset: 0};
         });
       }
+    } else if (l.kind === 'streamlines') {
+      takeStreamlines(l, o);
     } else if (l.kind === 'plane') {
       if (o.center) l.center = [...o.center];
       if (o.window) l.window = [...o.window];
