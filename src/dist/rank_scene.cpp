@@ -100,8 +100,7 @@ Scene rank_scene(const Scene& loaded, const Partition& partition, int rank) {
       sub.order.push_back({ObjectKind::mesh, mesh_at[ref.index]});
       sub.meshes.push_back(std::move(m));
     } else if (ref.kind == ObjectKind::streamlines) {
-      StreamlineObject o = loaded.streamlines[ref.index];
-      if (auto_thickness && !o.thickness) o.thickness = pitch;
+      StreamlineObject o = loaded.streamlines[ref.index];  // auto thickness: 0 in any scene
       sub.order.push_back({ObjectKind::streamlines, static_cast<int>(sub.streamlines.size())});
       sub.streamlines.push_back(std::move(o));
     } else {

@@ -1,6 +1,7 @@
 #include "methods/zslab/zslab_frame.hpp"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -11,6 +12,7 @@
 #include "methods/zslab/stage_hash.hpp"
 #include "methods/zslab/zslab.hpp"
 #include "scene/stage_fields.hpp"
+#include "tubes/tube_fragments.hpp"
 #include "volume/iso_crossing.hpp"
 #include "volume/projection.hpp"
 #include "volume/volume_marcher.hpp"
@@ -173,14 +175,23 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast, int sample_ind
       hash_stage_fields(h, scene, p);
       group.name += (group.name.empty() ? "" : "+") + p.name;
     }
-    // auto: the smallest voxel pitch with volumes in the scene, else the pixel footprint
+    // auto: the smallest voxel pitch with volumes in the scene, else the pixel footprint. Tubes:
+    // 0, a surface. Their crossings are exact, and a slab as thick as a tube's chord would mix its
+    // entry with its exit and with the medium and tubes in front (issue 44).
+    const bool tubes = ref.kind == ObjectKind::streamlines;
     float thickness = d             ? static_cast<float>(std::max(*d, 0.0))
+                      : tubes       ? 0.0f
                       : has_volumes ? static_cast<float>(frame.min_pitch)
                                     : -1.0f;
+    // Tubes are ray-traced, not peeled: every crossing that can still show, not the first L.
+    const int peel = tubes ? static_cast<int>(std::min<size_t>(
+                                 tube_fragments_needed(scene.streamlines[ref.index]), INT_MAX))
+                           : r.peel_layers;
     group.kind = ZslabStage::Kind::surfaces;
     group.objects.push_back(static_cast<uint32_t>(k));
     group.thickness.push_back(thickness);
-    group.content = h.add(thickness).value();
+    group.peel.push_back(peel);
+    group.content = h.add(thickness).add(peel).value();
     if (group.objects.size() >= std::min<size_t>(per_stage, kMaxRtLayers)) close_group();
   }
   close_group();
@@ -296,7 +307,7 @@ bool ZslabFrame::run_deferred(size_t k, int x, int y, const Ray& ray,
   const ZslabStage& st = stages[k];
   if (st.kind == ZslabStage::Kind::surfaces) {
     StageThickness th{st.thickness, footprint_at_0_, footprint_per_mm_};
-    return run_surface_stage(fragments, th, stored, out, params);
+    return run_surface_stage(fragments, th, stored, out, params, st.peel);
   }
   const PreparedVolume& v = frame.volumes[st.volume];
   if (!frame.may_show(st.volume, x, y)) return false;

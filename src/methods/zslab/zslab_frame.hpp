@@ -29,6 +29,7 @@ struct ZslabStage {
   int volume = -1;                // Scene::volumes index (volume stages)
   bool on_the_fly = false;        // the hybrid stage: cast against the stored array, not stored
   std::vector<float> thickness;   // surfaces: per object, mm, or < 0 for the pixel footprint
+  std::vector<int> peel;          // surfaces: per object, the fragments a ray keeps (peel_limit)
   float step = 1.0f;              // volumes: ray step, mm
   uint64_t content = 0;           // hash of what this stage reads of its own objects
   std::string name;               // the objects' names, for messages

@@ -86,6 +86,14 @@ struct StageThickness {
   }
 };
 
+// How many fragments of an object a surface stage keeps per ray: by default its first L (the
+// depth-peeling passes of a polygon object); `by_object` (indexed by Fragment::object, the
+// stage's own numbering) overrides L per object: tubes are ray-traced, not peeled, and keep every
+// crossing that can still show.
+inline int peel_limit(std::span<const int> by_object, uint32_t object, int layers) {
+  return object < by_object.size() ? by_object[object] : layers;
+}
+
 // The ping-pong ZT arrays of a surface stage, on the stack: virtual slabs fill the M RT layers,
 // and each time they are full (and at the end) the layers are rearranged and intermixed with the
 // current array into the other one; the stored array is the first current one. Pure.
@@ -143,17 +151,19 @@ class SurfaceStageMerge {
 };
 
 // A polygon stage for one sample: depth peeling keeps each object's first L fragments (sorted by
-// t), they fill the M RT layers, and each time the layers fill (and at the end) they are
-// rearranged and intermixed with the array so far. Returns false when no fragment touches the
-// sample (the flag buffer's "untouched": `out` is left as it is).
+// t; `peel_by_object`: see peel_limit), they fill the M RT layers, and each time the layers fill
+// (and at the end) they are rearranged and intermixed with the array so far. Returns false when
+// no fragment touches the sample (the flag buffer's "untouched": `out` is left as it is).
 inline bool run_surface_stage(std::span<const Fragment> fragments, const StageThickness& th,
-                              std::span<const Slab> stored, SlabList& out, const ZslabParams& p) {
+                              std::span<const Slab> stored, SlabList& out, const ZslabParams& p,
+                              std::span<const int> peel_by_object = {}) {
   if (fragments.empty()) return false;
   SurfaceStageMerge merge(stored, p);
   int peeled[kMaxRtLayers] = {};
   for (const Fragment& f : fragments) {
     uint32_t o = std::min<uint32_t>(f.object, kMaxRtLayers - 1);
-    if (peeled[o] >= p.peel_layers) continue;  // beyond the L peeling passes of its object
+    if (peeled[o] >= peel_limit(peel_by_object, f.object, p.peel_layers))
+      continue;  // beyond the L peeling passes of its object
     ++peeled[o];
     merge.add(virtual_slab(f.t, th.of(f.object, f.t), f.color));
   }

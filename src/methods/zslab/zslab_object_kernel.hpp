@@ -16,15 +16,18 @@ namespace imx {
 inline constexpr int kMaxOwnSurfaceSlabs = 64;
 
 // The peeled virtual slabs of a surface stage in fragment (depth) order: each object's first L
-// fragments, as run_surface_stage fills its RT layers. Returns how many were written to `own`;
-// a stage whose fragments do not fit `own` loses the rest (callers size it objects x L).
+// fragments (or its peel_limit), as run_surface_stage fills its RT layers. Returns how many were
+// written to `own`; a stage whose fragments do not fit `own` loses the rest (callers size it as
+// the sum of the objects' limits).
 inline int peel_surface_slabs(std::span<const Fragment> fragments, const StageThickness& th,
-                              int peel_layers, std::span<Slab> own) {
+                              int peel_layers, std::span<Slab> own,
+                              std::span<const int> peel_by_object = {}) {
   int peeled[kMaxRtLayers] = {};
   int count = 0;
   for (const Fragment& f : fragments) {
     uint32_t o = std::min<uint32_t>(f.object, kMaxRtLayers - 1);
-    if (peeled[o] >= peel_layers) continue;  // beyond the L peeling passes of its object
+    if (peeled[o] >= peel_limit(peel_by_object, f.object, peel_layers))
+      continue;  // beyond the L peeling passes of its object
     if (count == static_cast<int>(own.size())) break;
     ++peeled[o];
     own[static_cast<size_t>(count++)] = virtual_slab(f.t, th.of(f.object, f.t), f.color);

@@ -1,6 +1,7 @@
 // ZslabFrame's object-level split of a deferred stage (SPEC §4, reuse): the object's own slab
 // array and its merge into the stored array, so a kept own array can be merged again later.
 #include <algorithm>
+#include <cstdint>
 #include <vector>
 
 #include "methods/zslab/zslab_frame.hpp"
@@ -12,10 +13,11 @@ namespace imx {
 int ZslabFrame::own_capacity(size_t k) const {
   const ZslabStage& st = stages[k];
   if (st.kind == ZslabStage::Kind::volume) return params.layers;
-  int slots = 0;
-  for (uint32_t o : st.objects)  // the rasterizer is watertight: a plane has one fragment a ray
-    slots += scene.order[o].kind == ObjectKind::plane ? 1 : std::max(params.peel_layers, 1);
-  return slots <= kMaxOwnSurfaceSlabs ? slots : 0;
+  // The rasterizer is watertight: a plane has one fragment a ray; others their peel limit.
+  int64_t slots = 0;
+  for (size_t i = 0; i < st.objects.size(); ++i)
+    slots += scene.order[st.objects[i]].kind == ObjectKind::plane ? 1 : std::max(st.peel[i], 1);
+  return slots <= kMaxOwnSurfaceSlabs ? static_cast<int>(slots) : 0;
 }
 
 int ZslabFrame::own_slabs(size_t k, int x, int y, const Ray& ray,
@@ -24,7 +26,7 @@ int ZslabFrame::own_slabs(size_t k, int x, int y, const Ray& ray,
   const ZslabStage& st = stages[k];
   if (st.kind == ZslabStage::Kind::surfaces) {
     StageThickness th{st.thickness, footprint_at_0_, footprint_per_mm_};
-    return peel_surface_slabs(fragments, th, params.peel_layers, own);
+    return peel_surface_slabs(fragments, th, params.peel_layers, own, st.peel);
   }
   // A volume stage intermixed with nothing emits its own folded slabs unchanged: run_deferred
   // stays the one place that casts a volume.
