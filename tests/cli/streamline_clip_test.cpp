@@ -15,6 +15,7 @@
 #include "intermix/metrics.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "mrtrix_tracks.hpp"
 #include "temp_dir.hpp"
 
 namespace imx {
@@ -27,23 +28,6 @@ const std::vector<float> kRowsZ = {-6.0f, -2.0f, 2.0f, 6.0f};
 // A bundle of 16 straight streamlines along x (RAS in the file, so LPS x and y are negated:
 // the file's y rows are LPS -y), a point every mm, each point valued by its RAS x.
 void write_bundle(const std::filesystem::path& tck, const std::filesystem::path& tsf) {
-  auto write = [](const std::filesystem::path& file, const char* magic,
-                  const std::vector<std::vector<float>>& records, int per_point) {
-    std::string header =
-        fmt::format("{}\ndatatype: Float32LE\ncount: {}\nfile: . ", magic, records.size());
-    const size_t offset = header.size() + 16;
-    header += fmt::format("{}\nEND\n", offset);
-    header.resize(offset, '\0');
-    std::ofstream out(file, std::ios::binary);
-    out << header;
-    const float nan = std::nanf(""), inf = INFINITY;
-    for (const auto& r : records) {
-      out.write(reinterpret_cast<const char*>(r.data()),
-                static_cast<std::streamsize>(r.size() * 4));
-      for (int c = 0; c < per_point; ++c) out.write(reinterpret_cast<const char*>(&nan), 4);
-    }
-    for (int c = 0; c < per_point; ++c) out.write(reinterpret_cast<const char*>(&inf), 4);
-  };
   std::vector<std::vector<float>> points, values;
   for (float y : kRowsY)
     for (float z : kRowsZ) {
@@ -54,8 +38,8 @@ void write_bundle(const std::filesystem::path& tck, const std::filesystem::path&
         values.back().push_back(x);
       }
     }
-  write(tck, "mrtrix tracks", points, 3);
-  write(tsf, "mrtrix track scalars", values, 1);
+  test::write_mrtrix_tracks(tck, "mrtrix tracks", points, 3);
+  test::write_mrtrix_tracks(tsf, "mrtrix track scalars", values, 1);
 }
 
 // The plane the tests cut with (LPS): kept where dot(p - point, normal) >= 0. The file's RAS x

@@ -16,6 +16,7 @@
 #include "intermix/limits.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "mrtrix_tracks.hpp"
 #include "shared_data.hpp"
 #include "temp_dir.hpp"
 
@@ -115,22 +116,6 @@ TEST(Streamlines, TubesShowBesideAVolumeInEveryMethod) {
 // A .tck and a .tsf written here: two straight streamlines along x at y = -20 and y = +20,
 // values rising along the first.
 void write_tracks(const std::filesystem::path& tck, const std::filesystem::path& tsf) {
-  auto write = [](const std::filesystem::path& file, const char* magic,
-                  const std::vector<std::vector<float>>& records, int per_point) {
-    std::string header = fmt::format("{}\ndatatype: Float32LE\ncount: 2\nfile: . ", magic);
-    const size_t offset = header.size() + 16;
-    header += fmt::format("{}\nEND\n", offset);
-    header.resize(offset, '\0');
-    std::ofstream out(file, std::ios::binary);
-    out << header;
-    const float nan = std::nanf(""), inf = INFINITY;
-    for (const auto& r : records) {
-      out.write(reinterpret_cast<const char*>(r.data()),
-                static_cast<std::streamsize>(r.size() * 4));
-      for (int c = 0; c < per_point; ++c) out.write(reinterpret_cast<const char*>(&nan), 4);
-    }
-    for (int c = 0; c < per_point; ++c) out.write(reinterpret_cast<const char*>(&inf), 4);
-  };
   std::vector<float> a, b, va, vb;
   for (int i = 0; i <= 40; ++i) {
     a.insert(a.end(), {-40.0f + 2.0f * i, -20.0f, 0.0f});
@@ -138,8 +123,8 @@ void write_tracks(const std::filesystem::path& tck, const std::filesystem::path&
     va.push_back(static_cast<float>(i));
     vb.push_back(0.0f);
   }
-  write(tck, "mrtrix tracks", {a, b}, 3);
-  write(tsf, "mrtrix track scalars", {va, vb}, 1);
+  test::write_mrtrix_tracks(tck, "mrtrix tracks", {a, b}, 3);
+  test::write_mrtrix_tracks(tsf, "mrtrix track scalars", {va, vb}, 1);
 }
 
 TEST(Streamlines, RenderOfATckAndItsTsfMakesOneStreamlinesObjectWithValues) {
@@ -247,23 +232,10 @@ TEST(Streamlines, TranslucentTubesLetThroughWhatTheirOpacitySays) {
 TEST(Streamlines, TubesOverTheMemoryBudgetAreDecimatedWithANote) {
   test::TempDir dir;
   const std::filesystem::path tck = dir / "many.tck";
-  {
-    std::string header = "mrtrix tracks\ndatatype: Float32LE\ncount: 100\nfile: . ";
-    const size_t offset = header.size() + 16;
-    header += fmt::format("{}\nEND\n", offset);
-    header.resize(offset, '\0');
-    std::ofstream out(tck, std::ios::binary);
-    out << header;
-    auto put = [&](float x, float y, float z) {
-      const float p[3] = {x, y, z};
-      out.write(reinterpret_cast<const char*>(p), sizeof p);
-    };
-    for (int i = 0; i < 100; ++i) {
-      for (int k = 0; k < 50; ++k) put(k - 25.0f, i - 50.0f, 0.0f);
-      put(NAN, NAN, NAN);
-    }
-    put(INFINITY, INFINITY, INFINITY);
-  }
+  std::vector<std::vector<float>> records(100);
+  for (int i = 0; i < 100; ++i)
+    for (int k = 0; k < 50; ++k) records[i].insert(records[i].end(), {k - 25.0f, i - 50.0f, 0.0f});
+  test::write_mrtrix_tracks(tck, "mrtrix tracks", records, 3);
   const std::string scene = fmt::format(
       R"({{"objects": [{{"name": "many", "type": "streamlines", "source": {{"file": "{}"}}}}]}})",
       tck.string());

@@ -24,6 +24,7 @@
 #include "intermix/io.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "mrtrix_tracks.hpp"
 #include "server/reading_views.hpp"
 #include "server/streamline_slab.hpp"
 #include "server/viewer_session.hpp"
@@ -40,25 +41,6 @@ using namespace std::chrono_literals;
 
 constexpr int kSize = 40;
 
-// An MRtrix file of `records` (each point_size floats per point), with its NaN separators and
-// inf end marker.
-void write_mrtrix(const std::filesystem::path& file, const char* magic,
-                  const std::vector<std::vector<float>>& records, int per_point) {
-  std::string header =
-      fmt::format("{}\ndatatype: Float32LE\ncount: {}\nfile: . ", magic, records.size());
-  const size_t offset = header.size() + 16;
-  header += fmt::format("{}\nEND\n", offset);
-  header.resize(offset, '\0');
-  std::ofstream out(file, std::ios::binary);
-  out << header;
-  const float nan = std::nanf(""), inf = INFINITY;
-  for (const auto& r : records) {
-    out.write(reinterpret_cast<const char*>(r.data()), static_cast<std::streamsize>(r.size() * 4));
-    for (int c = 0; c < per_point; ++c) out.write(reinterpret_cast<const char*>(&nan), 4);
-  }
-  for (int c = 0; c < per_point; ++c) out.write(reinterpret_cast<const char*>(&inf), 4);
-}
-
 // `count` straight streamlines along y (RAS: .tck files are RAS mm) from y = -30 to 30 in three
 // points, spread over x in [-30, 30] at z = 0, with per-point values 0, 0.5, 1 ("fa") in a .tsf.
 // The first half is 60 mm long, the second half 30 mm (y from -15 to 15).
@@ -70,8 +52,8 @@ std::filesystem::path write_tract(const TempDir& dir, int count) {
     points.push_back({x, -half, 0.0f, x, 0.0f, 0.0f, x, half, 0.0f});
     values.push_back({0.0f, 0.5f, 1.0f});
   }
-  write_mrtrix(dir.path() / "tract.tck", "mrtrix tracks", points, 3);
-  write_mrtrix(dir.path() / "tract.tsf", "mrtrix track scalars", values, 1);
+  test::write_mrtrix_tracks(dir.path() / "tract.tck", "mrtrix tracks", points, 3);
+  test::write_mrtrix_tracks(dir.path() / "tract.tsf", "mrtrix track scalars", values, 1);
   return dir.path() / "tract.tck";
 }
 
