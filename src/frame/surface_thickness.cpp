@@ -14,7 +14,8 @@ SurfaceThickness::SurfaceThickness(const Scene& scene, const CameraModel& camera
       d = scene.streamlines[ref.index].thickness ? scene.streamlines[ref.index].thickness : d;
     if (ref.kind == ObjectKind::plane && ref.index >= 0 && size_t(ref.index) < scene.planes.size())
       d = scene.planes[ref.index].thickness ? scene.planes[ref.index].thickness : d;
-    if (zero)
+    // Tubes' crossings are ray-traced, exact: auto is 0, as in zSlab (docs/zslab.md).
+    if (zero || (ref.kind == ObjectKind::streamlines && !d))
       by_object_[k] = 0.0f;
     else if (d)
       by_object_[k] = static_cast<float>(std::max(*d, 0.0));

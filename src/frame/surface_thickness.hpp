@@ -14,9 +14,9 @@ namespace imx {
 // Relative spacing of float depths: one unit in the last place of t is at most t * 2^-23.
 inline constexpr float kFloatDepthQuantum = 1.0f / 8388608.0f;
 
-// Per scene object (Scene::order index): a fixed thickness in mm, or auto. Auto is twice the
-// float depth quantum at the fragment's depth, and at least the world footprint of one pixel
-// there, so coplanar surfaces, whose depths differ by rounding only, always overlap.
+// Per scene object (Scene::order index): a fixed thickness in mm, or auto (0 for tubes). Auto is
+// twice the float depth quantum at the fragment's depth, and at least the world footprint of one
+// pixel there, so coplanar surfaces, whose depths differ by rounding only, always overlap.
 class SurfaceThickness {
  public:
   SurfaceThickness() = default;
