@@ -25,6 +25,7 @@
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
 #include "mrtrix_tracks.hpp"
+#include "same_image.hpp"
 #include "server/reading_views.hpp"
 #include "server/streamline_slab.hpp"
 #include "server/viewer_session.hpp"
@@ -80,10 +81,7 @@ Image draw(const Scene& scene) {
   return render(scene, options);
 }
 
-bool same_bytes(const Image& a, const Image& b) {
-  return a.width() == b.width() && a.height() == b.height() &&
-         std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec4)) == 0;
-}
+using test::same_bytes;
 
 Json edit(Json fields) {
   fields["type"] = "edit";
