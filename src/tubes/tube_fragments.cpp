@@ -92,10 +92,13 @@ glm::vec3 streamline_colour(const TubeLook& look, uint32_t streamline, uint32_t 
   return colour_at(look, point, u, [&] { return streamline; });
 }
 
-TubeLook make_tube_look(const StreamlineObject& object, const TubeGeometry& geometry) {
+TubeLook make_tube_look(const StreamlineObject& object, const TubeGeometry& geometry,
+                        std::span<const MeshObject> meshes) {
   TubeLook look = make_tube_look(object);
   look.geometry = &geometry;
-  look.clip = tube_clip(object, geometry);
+  if (!object.clip_planes.empty() && !geometry.is_connectome())
+    look.clip = std::make_shared<const TubeClip>(object);
+  if (!geometry.is_connectome()) look.clip_meshes = tube_clip_meshes(object, meshes);
   return look;
 }
 
@@ -147,9 +150,12 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
   std::array<TubeHit, kHitsPerQuery> buffer;
   // As many hits per query as the most transparent crossing needs to let through less than the
   // bound: one for opaque tubes, the nearest alone being far cheaper to find than 32.
-  const std::span<TubeHit> hits(buffer.data(), look.hits_per_query);
+  const std::span<TubeHit> hits(buffer.data(),
+                                look.every_crossing ? kHitsPerQuery : look.hits_per_query);
   const glm::vec3 to_eye = -ray.dir;
-  float let_through = 1.0f, t_min = 0.0f;
+  float let_through = 1.0f;
+  // Whether a crossing behind those so far can still change a colour, or must be counted.
+  auto more = [&] { return look.every_crossing || let_through >= kLetThrough; };
   auto emit = [&](const TubeHit& h) {
     Fragment f;
     f.t = h.t;
@@ -164,31 +170,57 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
     out.push_back(f);
     let_through *= 1.0f - alpha;
   };
-  // A cap where the ray meets `plane` at t inside a tube: flat, facing out of the kept side.
-  auto cap = [&](int plane, float t) {
+  // One end of a kept piece of the ray: set by a clip plane, a clip mesh, or neither.
+  struct End {
+    float t = 0.0f;
+    int plane = -1;
+    const TubeClipMeshes::End* mesh = nullptr;
+  };
+  // A cap where the ray meets a plane or a mesh at t inside a tube: flat, facing out of the kept
+  // side.
+  auto cap = [&](const End& e) {
     TubeHit h;
-    if (plane < 0 || !look.clip->inside(plane, ray.at(t), &h)) return;
-    h.t = t;
-    h.normal = -look.clip->normal(plane);
+    if (e.plane < 0 && !(e.mesh && e.mesh->cut)) return;
+    if (!look.geometry->contains(ray.at(e.t), &h)) return;  // the nearest segment's colour
+    h.normal = e.plane >= 0 ? -look.clip->normal(e.plane) : e.mesh->normal;
+    h.t = e.t;
     emit(h);
   };
-  TubeClip::Span span{0.0f, t_max, -1, -1};
-  if (look.clip) {
-    span = look.clip->kept(ray);
-    if (span.hi >= t_max) span.hi = t_max, span.hi_plane = -1;
-    if (!(span.lo < span.hi)) return;
-    cap(span.lo_plane, span.lo);
-    t_min = span.lo;
-    t_max = span.hi;
-  }
-  while (let_through >= kLetThrough) {
-    const size_t n = look.geometry->nearest_hits(ray, t_min, t_max, hits);
-    for (size_t i = 0; i < n; ++i) emit(hits[i]);
-    if (n < hits.size()) {
-      if (look.clip && let_through >= kLetThrough) cap(span.hi_plane, span.hi);
-      return;
+  // The tubes between lo and hi, capped at both ends; false once what the fragments let
+  // through is below the bound.
+  auto draw = [&](const End& lo, const End& hi) {
+    if (!(lo.t < hi.t)) return true;
+    cap(lo);
+    float t_min = lo.t;
+    while (more()) {
+      const size_t n = look.geometry->nearest_hits(ray, t_min, hi.t, hits);
+      for (size_t i = 0; i < n; ++i) emit(hits[i]);
+      if (n < hits.size()) {
+        if (more()) cap(hi);
+        break;
+      }
+      t_min = hits[n - 1].t;
     }
-    t_min = hits[n - 1].t;
+    return more();
+  };
+  End lo{0.0f}, hi{t_max};
+  if (look.clip) {
+    const TubeClip::Span span = look.clip->kept(ray);
+    lo = End{span.lo, span.lo_plane};
+    if (span.hi < t_max) hi = End{span.hi, span.hi_plane};
+  }
+  if (!look.clip_meshes) {
+    draw(lo, hi);
+    return;
+  }
+  // Each piece the meshes keep, within what the planes keep: an end is the nearer cut's.
+  TubeClipMeshes::Pieces pieces;
+  look.clip_meshes->kept(ray, pieces);
+  for (int p = 0; p < pieces.count; ++p) {
+    const TubeClipMeshes::Piece& piece = pieces.piece[p];
+    const End piece_lo = piece.lo.t > lo.t ? End{piece.lo.t, -1, &piece.lo} : lo;
+    const End piece_hi = piece.hi.t < hi.t ? End{piece.hi.t, -1, &piece.hi} : hi;
+    if (!draw(piece_lo, piece_hi)) return;
   }
 }
 
