@@ -24,9 +24,13 @@ constexpr int kMedianDepth = 48;  // deeper than this, splits halve: depth stays
 constexpr int kStackDepth = 128;  // kMedianDepth + log2 of 2^32 runs, with room
 constexpr size_t kParallelRuns = 4096;
 
+// Trivial, so that the builder's bin arrays cost nothing until used: start from empty().
 struct Box {
-  glm::vec3 low{std::numeric_limits<float>::max()};
-  glm::vec3 high{-std::numeric_limits<float>::max()};
+  glm::vec3 low, high;
+  static Box empty() {
+    return {glm::vec3(std::numeric_limits<float>::max()),
+            glm::vec3(-std::numeric_limits<float>::max())};
+  }
   void grow(const Box& b) { low = glm::min(low, b.low), high = glm::max(high, b.high); }
   void grow(const glm::vec3& p) { low = glm::min(low, p), high = glm::max(high, p); }
   float half_area() const {
@@ -43,44 +47,54 @@ bool joined(const TubeBvh::Input& in, size_t a, size_t b) {
   return in.segment_points[b] == in.segment_points[a] + 1;
 }
 
+// A run's box and index: the builder partitions these records themselves, so that each
+// level reads them in order.
+struct Item {
+  Box box;
+  uint32_t run;
+  glm::vec3 centre() const { return 0.5f * (box.low + box.high); }
+};
+
 class Builder {
  public:
-  Builder(std::vector<Box>& boxes, std::vector<uint32_t>& order, std::vector<TubeBvh::Node>& nodes)
-      : boxes_(boxes), order_(order), nodes_(nodes) {}
+  Builder(std::vector<Item>& items, std::vector<TubeBvh::Node>& nodes)
+      : items_(items), nodes_(nodes) {}
 
   void build(uint32_t node, uint32_t begin, uint32_t end, const Box& bounds, int depth) {
     TubeBvh::Node& n = nodes_[node];
     for (int a = 0; a < 3; ++a) n.low[a] = bounds.low[a], n.high[a] = bounds.high[a];
     const uint32_t count = end - begin;
     if (count <= 1) return leaf(n, begin, count);
-    Box centroids;
-    for (uint32_t i = begin; i < end; ++i) centroids.grow(centre(order_[i]));
+    Box centroids = Box::empty();
+    for (uint32_t i = begin; i < end; ++i) centroids.grow(items_[i].centre());
     const glm::vec3 extent = centroids.high - centroids.low;
     const int axis =
         extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
     uint32_t middle = begin;
-    Box left, right;
+    Box left = Box::empty(), right = Box::empty();
     if (extent[axis] > 0.0f && depth < kMedianDepth) {
       const Split s = best_split(begin, end, centroids, bounds);
       if (s.axis >= 0 && count <= kMaxLeafRuns && s.cost >= kRunCost * static_cast<float>(count))
         return leaf(n, begin, count);
       if (s.axis >= 0) {
-        const float scale = kBins / extent[s.axis], low = centroids.low[s.axis];
+        const float scale = s.bins / extent[s.axis], low = centroids.low[s.axis];
         const auto* it =
-            std::partition(order_.data() + begin, order_.data() + end,
-                           [&](uint32_t r) { return bin(centre(r)[s.axis], low, scale) < s.bin; });
-        middle = static_cast<uint32_t>(it - order_.data());
+            std::partition(items_.data() + begin, items_.data() + end, [&](const Item& item) {
+              return bin(item.centre()[s.axis], low, scale, s.bins) < s.bin;
+            });
+        middle = static_cast<uint32_t>(it - items_.data());
         left = s.left, right = s.right;
       }
     }
     if (middle == begin || middle == end) {  // no useful split: halve by position
       if (count <= kMaxLeafRuns) return leaf(n, begin, count);
       middle = begin + count / 2;
-      std::nth_element(order_.data() + begin, order_.data() + middle, order_.data() + end,
-                       [&](uint32_t x, uint32_t y) { return centre(x)[axis] < centre(y)[axis]; });
-      left = right = Box{};
-      for (uint32_t i = begin; i < middle; ++i) left.grow(boxes_[order_[i]]);
-      for (uint32_t i = middle; i < end; ++i) right.grow(boxes_[order_[i]]);
+      std::nth_element(
+          items_.data() + begin, items_.data() + middle, items_.data() + end,
+          [&](const Item& x, const Item& y) { return x.centre()[axis] < y.centre()[axis]; });
+      left = right = Box::empty();
+      for (uint32_t i = begin; i < middle; ++i) left.grow(items_[i].box);
+      for (uint32_t i = middle; i < end; ++i) right.grow(items_[i].box);
     }
     const uint32_t child = next_.fetch_add(2);
     n.first = child;
@@ -99,62 +113,61 @@ class Builder {
 
  private:
   struct Split {
-    int axis = -1, bin = 0;
+    int axis = -1, bin = 0, bins = kBins;
     float cost = std::numeric_limits<float>::max();  // in units of one run's test over the node
     Box left, right;
   };
 
-  glm::vec3 centre(uint32_t run) const { return 0.5f * (boxes_[run].low + boxes_[run].high); }
-  static int bin(float c, float low, float scale) {
-    return std::clamp(static_cast<int>((c - low) * scale), 0, kBins - 1);
+  static int bin(float c, float low, float scale, int bins) {
+    return std::clamp(static_cast<int>((c - low) * scale), 0, bins - 1);
   }
   static void leaf(TubeBvh::Node& n, uint32_t begin, uint32_t count) {
     n.first = begin;
     n.count = count;
   }
 
-  // The surface area heuristic over kBins bins of the centroids on each axis; a box visit
-  // costs as much as one run's test.
+  // The surface area heuristic over bins of the centroids on each axis (kBins, fewer for small
+  // nodes, where the bins' own cost would dominate); a box visit costs kRunCost runs' tests.
   Split best_split(uint32_t begin, uint32_t end, const Box& centroids, const Box& bounds) const {
     Split best;
     const float node_area = std::max(bounds.half_area(), 1e-12f);
+    const int bins = std::clamp(static_cast<int>(end - begin), 4, kBins);
     for (int axis = 0; axis < 3; ++axis) {
       const float extent = centroids.high[axis] - centroids.low[axis];
       if (!(extent > 0.0f)) continue;
-      const float scale = kBins / extent, low = centroids.low[axis];
-      std::array<Box, kBins> bins;
-      std::array<uint32_t, kBins> counts{};
+      const float scale = bins / extent, low = centroids.low[axis];
+      std::array<Box, kBins> bin_box;
+      std::array<uint32_t, kBins> counts;
+      for (int b = 0; b < bins; ++b) bin_box[b] = Box::empty(), counts[b] = 0;
       for (uint32_t i = begin; i < end; ++i) {
-        const uint32_t r = order_[i];
-        const int b = bin(centre(r)[axis], low, scale);
-        bins[b].grow(boxes_[r]);
+        const int b = bin(items_[i].centre()[axis], low, scale, bins);
+        bin_box[b].grow(items_[i].box);
         ++counts[b];
       }
-      std::array<float, kBins> right_cost{};
+      std::array<float, kBins> right_cost;
       std::array<Box, kBins> right_box;
-      Box acc;
+      Box acc = Box::empty();
       uint32_t n = 0;
-      for (int b = kBins - 1; b > 0; --b) {
-        acc.grow(bins[b]);
+      for (int b = bins - 1; b > 0; --b) {
+        acc.grow(bin_box[b]);
         n += counts[b];
         right_box[b] = acc;
         right_cost[b] = n * acc.half_area();
       }
-      acc = Box{};
+      acc = Box::empty();
       n = 0;
-      for (int b = 1; b < kBins; ++b) {
-        acc.grow(bins[b - 1]);
+      for (int b = 1; b < bins; ++b) {
+        acc.grow(bin_box[b - 1]);
         n += counts[b - 1];
         if (n == 0 || n == end - begin) continue;
         const float cost = 1.0f + kRunCost * (n * acc.half_area() + right_cost[b]) / node_area;
-        if (cost < best.cost) best = Split{axis, b, cost, acc, right_box[b]};
+        if (cost < best.cost) best = Split{axis, b, bins, cost, acc, right_box[b]};
       }
     }
     return best;
   }
 
-  std::vector<Box>& boxes_;
-  std::vector<uint32_t>& order_;
+  std::vector<Item>& items_;
   std::vector<TubeBvh::Node>& nodes_;
   std::atomic<uint32_t> next_{2};  // children in pairs at even indices: one cache line
 };
@@ -229,11 +242,11 @@ TubeBvh::TubeBvh(const Input& input) : input_(input) {
     runs.push_back(run);
     k = end;
   }
-  std::vector<Box> boxes(runs.size());
+  std::vector<Item> items(runs.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, runs.size(), 4096), [&](const auto& range) {
     for (size_t i = range.begin(); i < range.end(); ++i) {
       const Run& run = runs[i];
-      Box b;
+      Box b = Box::empty();
       float r = 0.0f;
       for (uint32_t s = run.first_segment; s < run.first_segment + run.segments; ++s)
         r = std::max(r, segment_radius(input_, s));
@@ -243,24 +256,36 @@ TubeBvh::TubeBvh(const Input& input) : input_(input) {
       const glm::vec3 pad =
           glm::vec3(r) + 1e-5f + 1e-6f * glm::max(glm::abs(b.low), glm::abs(b.high));
       b.low -= pad, b.high += pad;
-      boxes[i] = b;
+      items[i] = Item{b, static_cast<uint32_t>(i)};
     }
   });
-  Box all;
-  for (const Box& b : boxes) all.grow(b);
-  std::vector<uint32_t> order(runs.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<uint32_t>(i);
-  std::vector<Node> binary(2 * runs.size() + 2);
-  Builder builder(boxes, order, binary);
-  builder.build(0, 0, static_cast<uint32_t>(runs.size()), all, 0);
-  binary.resize(builder.used());
-  // The runs in hierarchy order, copied with their points into the leaf stream.
-  std::vector<uint32_t> at(runs.size() + 1, 0);
-  for (size_t i = 0; i < order.size(); ++i) at[i + 1] = at[i] + runs[order[i]].segments + kRunExtra;
+  Box all = Box::empty();
+  for (const Item& item : items) all.grow(item.box);
+  // The binary tree, collapsed into 8-wide nodes, each freed before the next stage grows.
+  std::vector<uint32_t> at(runs.size() + 1, 0);  // run i of the tree's order: stream offset
+  {
+    std::vector<Node> binary(2 * runs.size() + 2);
+    Builder builder(items, binary);
+    builder.build(0, 0, static_cast<uint32_t>(runs.size()), all, 0);
+    binary.resize(builder.used());
+    for (size_t i = 0; i < items.size(); ++i)
+      at[i + 1] = at[i] + runs[items[i].run].segments + kRunExtra;
+    if (at.back() >= (1u << 29)) throw std::length_error("tubes: more than 2^29 leaf points");
+    for (Node& n : binary)
+      if (n.count > 0) n.first = at[n.first];
+    nodes_.reserve(binary.size() / 4 + 1);
+    if (binary[0].count > 0) {  // one leaf: the only child of the root
+      nodes_.emplace_back();
+      for (int i = 0; i < 8; ++i) set_child(nodes_[0], i, i == 0 ? &binary[0] : nullptr, 0);
+    } else {
+      collapse(binary, 0);
+    }
+  }
+  // The runs in the tree's order, copied with their points into the leaf stream.
   stream_.resize(at.back());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, runs.size(), 4096), [&](const auto& range) {
     for (size_t i = range.begin(); i < range.end(); ++i) {
-      Run run = runs[order[i]];
+      Run run = runs[items[i].run];
       const uint32_t p = input_.segment_points[run.first_segment], n = run.segments;
       float r = 0.0f, off = 0.0f;
       for (uint32_t s = run.first_segment; s < run.first_segment + n; ++s)
@@ -276,16 +301,6 @@ TubeBvh::TubeBvh(const Input& input) : input_(input) {
       out[n + 3] = input_.points[run.joins & 2 ? p + n + 1 : p + n];
     }
   });
-  if (at.back() >= (1u << 29)) throw std::length_error("tubes: more than 2^29 leaf points");
-  for (Node& n : binary)
-    if (n.count > 0) n.first = at[n.first];
-  nodes_.reserve(binary.size() / 4 + 1);
-  if (binary[0].count > 0) {  // one leaf: the only child of the root
-    nodes_.emplace_back();
-    for (int i = 0; i < 8; ++i) set_child(nodes_[0], i, i == 0 ? &binary[0] : nullptr, 0);
-  } else {
-    collapse(binary, 0);
-  }
   nodes_.shrink_to_fit();
 }
 

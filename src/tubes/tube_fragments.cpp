@@ -16,7 +16,7 @@ namespace imx {
 namespace {
 
 constexpr float kLetThrough = 1.0f / 1024.0f;
-constexpr size_t kHitsPerQuery = 32;
+constexpr size_t kHitsPerQuery = 64;
 
 const StreamlineValues* find_values(const std::vector<StreamlineValues>& all,
                                     const std::string& name) {
