@@ -52,7 +52,7 @@ bool joined(const TubeBvh::Input& in, size_t a, size_t b) {
 struct Item {
   Box box;
   uint32_t run;
-  glm::vec3 centre() const { return 0.5f * (box.low + box.high); }
+  glm::vec3 centre() const { return 0.5f * box.low + 0.5f * box.high; }  // no overflow
 };
 
 class Builder {
@@ -119,7 +119,8 @@ class Builder {
   };
 
   static int bin(float c, float low, float scale, int bins) {
-    return std::clamp(static_cast<int>((c - low) * scale), 0, bins - 1);
+    const float x = (c - low) * scale;  // NaN- and overflow-safe: a huge box's centre is finite
+    return x >= 1.0f ? std::min(static_cast<int>(std::min(x, 1e9f)), bins - 1) : 0;
   }
   static void leaf(TubeBvh::Node& n, uint32_t begin, uint32_t count) {
     n.first = begin;
