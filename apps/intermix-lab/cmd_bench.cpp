@@ -15,9 +15,11 @@
 #include "core/process_usage.hpp"
 #include "core/progress_bar.hpp"
 #include "intermix/error.hpp"
+#include "intermix/limits.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
 #include "lab_commands.hpp"
+#include "volume/prepared_volume.hpp"
 #include "vtk_peer_runner.hpp"
 
 namespace imx::cli {
@@ -269,13 +271,26 @@ Command add_bench(CLI::App& app) {
                      "rendering\n");
     }
 
+    // What each variant's volumes hold resident (the structures its frames built, from the caches).
+    nlohmann::json resident = nlohmann::json::array();
+    for (size_t v = 0; v < scenes.size(); ++v)
+      for (const VolumeObject& volume : scenes[v].volumes) {
+        nlohmann::json parts = nlohmann::json::array();
+        for (const ResidentPart& part :
+             resident_parts(volume, MarchSettings::from(scenes[v].render)))
+          parts.push_back({{"name", part.name}, {"bytes", part.bytes}});
+        resident.push_back(
+            {{"variant", variants[v].label}, {"volume", volume.name}, {"parts", parts}});
+      }
+
     const double first = rows.front()["ms_median"];
     for (auto& r : rows) r["ratio"] = r["ms_median"].get<double>() / first;
     if (o->json) {
       nlohmann::json out = {{"scene", o->scene},
                             {"width", base.image.width},
                             {"height", base.image.height},
-                            {"methods", rows}};
+                            {"methods", rows},
+                            {"resident", resident}};
       std::printf("%s\n", out.dump().c_str());
     } else {
       std::printf("%s at %dx%d\n", o->scene.c_str(), base.image.width, base.image.height);
@@ -292,6 +307,20 @@ Command add_bench(CLI::App& app) {
               "", r["stages_run"].get<int>(), r["stages"].get<int>(), r["stages_merged"].get<int>(),
               r["vs_fresh"].get<double>(), r["fresh_ms_median"].get<double>(),
               r["kept_bytes_per_pixel"].get<double>());
+      }
+      for (const auto& r : resident) {
+        std::string line;
+        uint64_t total = 0;
+        for (const auto& part : r["parts"]) {
+          const uint64_t bytes = part["bytes"];
+          total += bytes;
+          if (bytes)
+            line += fmt::format(", {} {}", part["name"].get<std::string>(), format_bytes(bytes));
+        }
+        const std::string variant = r["variant"];
+        std::printf("  resident %s%s'%s': %s%s\n", variant.c_str(), variant.empty() ? "" : " ",
+                    r["volume"].get<std::string>().c_str(), format_bytes(total).c_str(),
+                    line.empty() ? "" : (" =" + line.substr(1)).c_str());
       }
     }
     return 0;

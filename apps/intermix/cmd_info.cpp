@@ -1,5 +1,5 @@
-// intermix info FILE | --phantom NAME | --presets | --formats: what a volume or mesh holds; the
-// preset names; the format registry.
+// intermix info FILE | --phantom NAME | --presets | --formats | FILE --memory: what a volume or
+// mesh holds; the preset names; the format registry; what rendering a file holds resident.
 #include <cstdio>
 #include <filesystem>
 
@@ -13,9 +13,12 @@
 #include "intermix/error.hpp"
 #include "intermix/formats.hpp"
 #include "intermix/io.hpp"
+#include "intermix/limits.hpp"
 #include "presets/colormap.hpp"
 #include "presets/volume_presets.hpp"
 #include "presets/window_presets.hpp"
+#include "scene/scene_from_files.hpp"
+#include "volume/prepared_volume.hpp"
 
 namespace imx::cli {
 
@@ -76,6 +79,45 @@ nlohmann::json describe(const MeshFile& file) {
           {"normals", file.info.file_normals ? "file" : "computed (angle-weighted, crease 60 deg)"},
           {"colors", file.info.file_colors},
           {"bounds", {{lo.x, lo.y, lo.z}, {hi.x, hi.y, hi.z}}}};
+}
+
+// What rendering each volume of `file` holds resident, as `intermix render FILE` would render it
+// (scene_from_files: its automatic look, the default render settings).
+nlohmann::json resident_memory(const std::string& file) {
+  const SceneDocument document = scene_from_files({file});
+  const Scene& scene = document.scene();
+  const MarchSettings settings = MarchSettings::from(scene.render);
+  nlohmann::json list = nlohmann::json::array();
+  for (const VolumeObject& v : scene.volumes) {
+    nlohmann::json parts = nlohmann::json::array();
+    uint64_t total = 0, voxels = 0;
+    for (const ResidentPart& part : resident_parts(v, settings)) {
+      parts.push_back({{"name", part.name}, {"bytes", part.bytes}});
+      total += part.bytes;
+      if (part.name == "voxels") voxels = part.bytes;
+    }
+    list.push_back({{"volume", v.name},
+                    {"parts", parts},
+                    {"total", total},
+                    {"per_voxel_byte", voxels ? static_cast<double>(total) / voxels : 0.0}});
+  }
+  return list;
+}
+
+void print_memory(const nlohmann::json& list) {
+  for (const nlohmann::json& v : list) {
+    std::printf("%s: %s resident, %.2fx its voxels\n", v["volume"].get<std::string>().c_str(),
+                format_bytes(v["total"].get<uint64_t>()).c_str(),
+                v["per_voxel_byte"].get<double>());
+    for (const nlohmann::json& part : v["parts"]) {
+      const std::string name = part["name"];
+      const uint64_t bytes = part["bytes"];
+      std::printf("  %-22s %s\n", name.c_str(),
+                  bytes                 ? format_bytes(bytes).c_str()
+                  : name == "gradients" ? "none (on the fly)"
+                                        : "none");
+    }
+  }
 }
 
 void print_human(const nlohmann::json& j) {
@@ -168,6 +210,7 @@ Command add_info(CLI::App& app) {
     bool presets = false;
     bool formats = false;
     bool markdown = false;
+    bool memory = false;
   };
   auto o = std::make_shared<Options>();
   app.add_option("file", o->file,
@@ -182,6 +225,9 @@ Command add_info(CLI::App& app) {
   app.add_flag("--formats", o->formats,
                "list every file format intermix reads and writes (the format registry)");
   app.add_flag("--markdown", o->markdown, "with --formats: the README's Markdown table");
+  app.add_flag("--memory", o->memory,
+               "what rendering FILE holds resident per volume (voxels, gradients, bricks, "
+               "tables), as `intermix render FILE` renders it");
   app.add_flag("--presets", o->presets,
                "list the transfer-function, window and colour-map names scenes may use");
   return [o]() {
@@ -192,6 +238,15 @@ Command add_info(CLI::App& app) {
         return 0;
       }
       print_formats(o->json);
+      return 0;
+    }
+    if (o->memory) {
+      if (o->file.empty()) throw Error("info --memory: give a FILE (a volume, or a DICOM folder)");
+      j = {{"kind", "memory"}, {"file", o->file}, {"volumes", resident_memory(o->file)}};
+      if (o->json)
+        std::printf("%s\n", j.dump().c_str());
+      else
+        print_memory(j["volumes"]);
       return 0;
     }
     if (o->presets) {

@@ -275,7 +275,9 @@ struct RenderSettings {
   double beta = 1.0;
   std::string skipping = "distance";             // empty-space skipping: none, bricks, distance
   std::string classification = "preintegrated";  // volume samples: preintegrated or post
-  std::string gradients = "precomputed";         // shading normals: precomputed or on-the-fly
+  // Shading normals: auto (precomputed while their copy is small, volume_acceleration.hpp),
+  // precomputed, or on-the-fly.
+  std::string gradients = "auto";
   int brick_size = 8;       // cells per brick edge for skipping, along the finest voxel axis
   int k = 8;                // k+-buffer fragments per pixel
   int fragment_cap = 1024;  // dynamic fragment buffer cap per pixel

@@ -140,7 +140,7 @@ RenderSettings parse_render(const JsonReader& r) {
   if (auto v = r.find("beta")) s.beta = v->number(Range::closed(0.0, 1.0));
   if (auto v = r.find("skipping")) s.skipping = v->choice({"none", "bricks", "distance"});
   if (auto v = r.find("classification")) s.classification = v->choice({"preintegrated", "post"});
-  if (auto v = r.find("gradients")) s.gradients = v->choice({"on-the-fly", "precomputed"});
+  if (auto v = r.find("gradients")) s.gradients = v->choice({"auto", "on-the-fly", "precomputed"});
   if (auto v = r.find("brick_size")) s.brick_size = v->integer(2, 64);
   if (auto v = r.find("k")) s.k = v->integer(1, 64);
   if (auto v = r.find("fragment_cap")) s.fragment_cap = v->integer(1, 65536);

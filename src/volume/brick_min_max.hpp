@@ -26,6 +26,7 @@ class BrickMinMax {
   // Whether a range has any value: false for a brick of no data, which every walk may skip.
   static bool holds_data(glm::vec2 range) { return range.x <= range.y; }
   std::span<const glm::vec2> ranges() const { return ranges_; }
+  size_t bytes() const { return ranges_.capacity() * sizeof(glm::vec2); }
 
  private:
   BrickGrid grid_;

@@ -16,8 +16,7 @@ BrickOccupancy::BrickOccupancy(const BrickMinMax& ranges,
   for (size_t n = 0; n < r.size(); ++n) {
     // Trilinear blends round by a few ulps, so a sample may sit just outside the voxel range.
     float slack = 1e-5f * std::max(std::abs(r[n].x), std::abs(r[n].y));
-    const bool empty =
-        !BrickMinMax::holds_data(r[n]) || is_empty(r[n].x - slack, r[n].y + slack);
+    const bool empty = !BrickMinMax::holds_data(r[n]) || is_empty(r[n].x - slack, r[n].y + slack);
     occupied[n] = empty ? 0 : 1;
     occupied_count_ += occupied[n];
   }

@@ -32,6 +32,7 @@ class BrickOccupancy {
   const uint8_t* padded_distances() const { return distance_.data(); }
   static constexpr size_t kSpareBytes = 3;
   size_t occupied_count() const { return occupied_count_; }
+  size_t bytes() const { return distance_.capacity(); }
 
  private:
   BrickGrid grid_;

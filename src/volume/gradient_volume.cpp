@@ -36,6 +36,10 @@ float difference(const Grid& g, glm::ivec3 p, int axis) {
 
 }  // namespace
 
+uint64_t GradientVolume::bytes_at_most(const VolumeData& data) {
+  return static_cast<uint64_t>(data.voxel_count()) * (data.type() == VoxelType::u8 ? 4 : 6);
+}
+
 GradientVolume::GradientVolume(const AnyGrid& voxels, int threads) : dims_(voxels.dims) {
   const size_t count = static_cast<size_t>(dims_.x) * dims_.y * dims_.z;
   // Two passes (largest component, then quantize) instead of a float copy: the stored size at

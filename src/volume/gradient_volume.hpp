@@ -47,6 +47,9 @@ class GradientVolume {
     return trilinear(f, 3 * dx, 3 * dy, 3 * dz, [q](size_t o) { return widen(q + o); });
   }
 
+  // The most a GradientVolume of `data` can hold, before it is built: 4 bytes a voxel for 8-bit
+  // voxels (always packed), 6 otherwise.
+  static uint64_t bytes_at_most(const VolumeData& data);
   size_t bytes() const { return data_.size() * sizeof(int16_t) + words_.size() * sizeof(uint32_t); }
   // Which raw layout holds the gradients, for vectorized fetches. Packed: one word per voxel
   // (x-fastest), each component a signed 10-bit field. Int16: x, y, z per voxel, two spare entries

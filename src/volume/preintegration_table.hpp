@@ -115,6 +115,9 @@ class PreintegrationTable {
   float value(int i) const { return lo_ + (hi_ - lo_) * static_cast<float>(i) / (size_ - 1); }
 
   int size() const { return size_; }
+  size_t bytes() const {
+    return entries_.capacity() * sizeof(glm::vec4) + moments_.capacity() * sizeof(glm::vec2);
+  }
   float dt() const { return dt_; }
   float lo() const { return lo_; }
   float hi() const { return hi_; }

@@ -19,6 +19,10 @@ class TfEmptiness {
  public:
   TfEmptiness() = default;
   explicit TfEmptiness(const TfLut& lut);
+  size_t bytes() const {
+    return prefix_.capacity() * sizeof(uint32_t) +
+           (next_.capacity() + prev_.capacity()) * sizeof(int);
+  }
 
   // Pure and O(1). A NaN or inverted range is never empty.
   bool is_empty(float lo, float hi) const {

@@ -4,8 +4,10 @@
 #include <cmath>
 #include <list>
 #include <mutex>
+#include <variant>
 
 #include "core/fnv1a.hpp"
+#include "intermix/limits.hpp"
 #include "intermix/scene.hpp"
 #include "volume/brick_min_max.hpp"
 #include "volume/label_classifier.hpp"
@@ -79,10 +81,27 @@ MarchSettings MarchSettings::from(const RenderSettings& render) {
                                          : SkipMode::distance;
   s.classification =
       render.classification == "post" ? Classification::post : Classification::preintegrated;
-  s.gradients =
-      render.gradients == "on-the-fly" ? GradientSource::on_the_fly : GradientSource::precomputed;
+  s.gradients = render.gradients == "on-the-fly"    ? GradientSource::on_the_fly
+                : render.gradients == "precomputed" ? GradientSource::precomputed
+                                                    : GradientSource::automatic;
   s.brick_size = render.brick_size;
   return s;
+}
+
+namespace {
+
+uint64_t voxel_bytes(const VolumeData& data) {
+  return std::visit([&](const auto& b) -> uint64_t { return data.voxel_count() * sizeof(b[0]); },
+                    data.voxels);
+}
+
+}  // namespace
+
+bool precomputes_gradients(GradientSource source, const VolumeData& data) {
+  if (source != GradientSource::automatic) return source == GradientSource::precomputed;
+  const uint64_t copy = GradientVolume::bytes_at_most(data);
+  return copy <= kGradientCopyAllowance + voxel_bytes(data) / 4 &&
+         copy <= input_limits().max_memory / 4;
 }
 
 bool has_non_finite_voxels(const std::shared_ptr<const VolumeData>& data) {
@@ -136,9 +155,22 @@ VolumeAcceleration accelerate(const VolumeObject& v, const TfLut& lut, float ste
     if (!(t_hi > t_lo)) t_hi = t_lo + 1.0f;
     a.preint = tables.get(lut, step, t_lo, t_hi);
   }
-  if (settings.gradients == GradientSource::precomputed && v.shading.enabled)
+  if (v.shading.enabled && precomputes_gradients(settings.gradients, *v.data))
     a.gradients = gradients.get(v.data, 0, [&] { return GradientVolume(grid); });
   return a;
+}
+
+std::vector<ResidentPart> resident_parts(const VolumeObject& v, const VolumeAcceleration& a) {
+  auto size = [](const auto& part) -> uint64_t { return part ? part->bytes() : 0; };
+  const VolumeData& data = *v.data;
+  std::vector<ResidentPart> parts = {{"voxels", voxel_bytes(data)}};
+  if (data.colours) parts.push_back({"colours", data.colours->rgb.capacity()});
+  parts.push_back({"gradients", size(a.gradients)});
+  parts.push_back({"brick ranges", size(a.ranges)});
+  parts.push_back({"brick occupancy", size(a.occupancy)});
+  parts.push_back({"TF emptiness", size(a.emptiness)});
+  parts.push_back({"pre-integration table", size(a.preint)});
+  return parts;
 }
 
 }  // namespace imx

@@ -2,6 +2,8 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "volume/brick_occupancy.hpp"
 #include "volume/gradient_volume.hpp"
@@ -17,12 +19,22 @@ struct RenderSettings;
 
 enum class SkipMode : uint8_t { none, bricks, distance };
 enum class Classification : uint8_t { preintegrated, post };
-enum class GradientSource : uint8_t { on_the_fly, precomputed };
+enum class GradientSource : uint8_t { automatic, on_the_fly, precomputed };
+
+// What `automatic` lets a gradient copy take besides a quarter of the voxels' bytes: a volume
+// then holds at most 1.25x its voxels + 200 MiB. Measured (docs/performance.md): the copy is
+// 9-21% faster than central differences on the fly with packets up to 157 MB of voxels (30% one
+// ray at a time), level at 530 MB and half as fast at 1.26 GB, where it takes 3.8 GB and 12 s.
+inline constexpr uint64_t kGradientCopyAllowance = uint64_t{200} << 20;
+// Whether shading normals of `data` come from a GradientVolume under `source`: `automatic`
+// precomputes them while the copy (GradientVolume::bytes_at_most) fits kGradientCopyAllowance
+// plus a quarter of the voxels, and a quarter of the memory budget.
+bool precomputes_gradients(GradientSource source, const VolumeData& data);
 
 struct MarchSettings {
   SkipMode skip = SkipMode::distance;
   Classification classification = Classification::preintegrated;
-  GradientSource gradients = GradientSource::precomputed;
+  GradientSource gradients = GradientSource::automatic;
   int brick_size = 8;
 
   // The render block's choices (render.skipping, classification, gradients, brick_size).
@@ -49,5 +61,14 @@ bool has_non_finite_voxels(const std::shared_ptr<const VolumeData>& data);
 // or the step changes (cheaply: no voxel access). Thread-safe.
 VolumeAcceleration accelerate(const VolumeObject& v, const TfLut& lut, float step,
                               const MarchSettings& settings);
+
+// One structure a volume holds resident for rendering, and its bytes.
+struct ResidentPart {
+  std::string name;
+  uint64_t bytes = 0;
+};
+// What rendering `v` holds: its voxels (and colours) and each structure `a` has built for it, in
+// that order; a structure `a` lacks is listed with 0 bytes (gradients: taken on the fly).
+std::vector<ResidentPart> resident_parts(const VolumeObject& v, const VolumeAcceleration& a);
 
 }  // namespace imx

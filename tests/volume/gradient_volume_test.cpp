@@ -7,7 +7,9 @@
 #include <variant>
 #include <vector>
 
+#include "intermix/limits.hpp"
 #include "random_volumes.hpp"
+#include "volume/volume_acceleration.hpp"
 
 namespace imx {
 namespace {
@@ -118,6 +120,68 @@ TEST(GradientVolume, PacksSmallIntegerDifferencesExactly) {
   }
   EXPECT_FALSE(GradientVolume(AnyGrid(floats)).packed());  // float differences need not be
                                                            // integers
+}
+
+// `auto` precomputes gradients while their copy (4 bytes a voxel for 8-bit voxels, always
+// packed; 6 for others) takes at most 200 MiB plus a quarter of the voxels, and a quarter of the
+// memory budget. The shape alone decides: no voxel is read or allocated.
+TEST(GradientVolume, AutomaticPrecomputesWhileTheCopyKeepsMemoryNearTheVoxels) {
+  auto volume = [](glm::ivec3 dims, auto element) {
+    VolumeData v;
+    v.dims = dims;
+    v.voxels = VoxelBuffer<decltype(element)>();
+    return v;
+  };
+  // int16: 6 V <= 200 MiB + 2 V / 4 up to 512 x 512 x 145; 8-bit: 4 V <= 200 MiB + V / 4 up to
+  // 512 x 512 x 213.
+  const VolumeData ct = volume({512, 512, 145}, int16_t{}),
+                   big_ct = volume({512, 512, 146}, int16_t{});
+  const VolumeData mr = volume({512, 512, 213}, uint8_t{}),
+                   big_mr = volume({512, 512, 214}, uint8_t{});
+  EXPECT_EQ(GradientVolume::bytes_at_most(mr), 4ull * 512 * 512 * 213);
+  EXPECT_EQ(GradientVolume::bytes_at_most(ct), 6ull * 512 * 512 * 145);
+  EXPECT_TRUE(precomputes_gradients(GradientSource::automatic, ct));
+  EXPECT_TRUE(precomputes_gradients(GradientSource::automatic, mr));
+  EXPECT_FALSE(precomputes_gradients(GradientSource::automatic, big_ct));
+  EXPECT_FALSE(precomputes_gradients(GradientSource::automatic, big_mr));
+  EXPECT_TRUE(precomputes_gradients(GradientSource::precomputed, big_ct));
+  EXPECT_FALSE(precomputes_gradients(GradientSource::on_the_fly, mr));
+  // A budget of 800 MiB leaves the CT's 217.5 MiB copy out, not a 64 MiB one.
+  const InputLimits before = input_limits();
+  set_input_limits({uint64_t{800} << 20, false});
+  EXPECT_FALSE(precomputes_gradients(GradientSource::automatic, ct));
+  EXPECT_TRUE(precomputes_gradients(GradientSource::automatic, volume({256, 256, 256}, uint8_t{})));
+  set_input_limits(before);
+}
+
+// The listed structures are the ones built, with their sizes.
+TEST(GradientVolume, ResidentPartsListWhatAccelerateBuilt) {
+  auto data = std::make_shared<VolumeData>();
+  data->dims = {20, 16, 12};
+  std::vector<uint8_t> voxels(20 * 16 * 12);
+  for (size_t n = 0; n < voxels.size(); ++n) voxels[n] = static_cast<uint8_t>(n * 7);
+  data->voxels = std::move(voxels);
+  VolumeObject v;
+  v.data = data;
+  v.shading.enabled = true;
+  v.transfer_function.points = {{0.0, glm::vec4(0.0f)}, {255.0, glm::vec4(1.0f)}};
+  const TfLut lut(v.transfer_function);
+  for (GradientSource source : {GradientSource::automatic, GradientSource::on_the_fly}) {
+    const MarchSettings settings{SkipMode::distance, Classification::preintegrated, source, 8};
+    const VolumeAcceleration a = accelerate(v, lut, 1.0f, settings);
+    const std::vector<ResidentPart> parts = resident_parts(v, a);
+    auto bytes = [&](const std::string& name) {
+      for (const ResidentPart& p : parts)
+        if (p.name == name) return p.bytes;
+      ADD_FAILURE() << "no part named " << name;
+      return uint64_t{0};
+    };
+    EXPECT_EQ(bytes("voxels"), 20u * 16 * 12);
+    EXPECT_EQ(bytes("gradients"), source == GradientSource::automatic ? 4u * 20 * 16 * 12 : 0u);
+    EXPECT_EQ(bytes("brick ranges"), a.ranges->ranges().size() * sizeof(glm::vec2));
+    EXPECT_GT(bytes("brick occupancy"), 0u);
+    EXPECT_GT(bytes("pre-integration table"), 0u);
+  }
 }
 
 }  // namespace
