@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
 
 #include <fmt/format.h>
@@ -81,6 +82,27 @@ struct RasterTriangle {
 void pixel_span(int64_t min, int64_t max, int64_t o_lo, int64_t o_hi, int64_t& lo, int64_t& hi) {
   lo = ceil_div(min - o_hi, kSubpixelScale);
   hi = floor_div(max - o_lo, kSubpixelScale);
+}
+
+// Silhouette coverage for tubes (tube_fragments.hpp), opt-in while it is measured:
+// IMX_TUBE_SILHOUETTE_AA=1.
+bool silhouette_aa_on() {
+  const char* v = std::getenv("IMX_TUBE_SILHOUETTE_AA");
+  return v && v[0] == '1';
+}
+
+// The widest pixel footprint (mm) over `object`'s tubes: at the farthest corner of their bounds.
+float widest_footprint(const CameraModel& camera, const StreamlineObject& object) {
+  if (!camera.perspective()) return static_cast<float>(camera.pixel_footprint(0.0));
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const glm::vec3& p : object.streamlines->points) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  if (!(lo.x <= hi.x)) return 0.0f;
+  double far = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    const glm::dvec3 corner(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
+    far = std::max(far, camera.depth_of(camera.to_camera(corner)));
+  }
+  return static_cast<float>(camera.pixel_footprint(far + object.radius));
 }
 
 }  // namespace
@@ -412,8 +434,15 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
       if (clip_only || !(so.opacity > 0.0f)) continue;  // tubes never cut; hidden ones cost 0
       auto tubes = std::make_unique<Impl::Tubes>();
       tubes->object = so;
-      tubes->geometry = tube_geometry(so);
+      const bool aa = silhouette_aa_on() && !so.connectome && so.streamlines;
+      const float pad = aa ? silhouette_pad(widest_footprint(camera, so)) : 0.0f;
+      tubes->geometry = tube_geometry(so, pad);
       tubes->look = make_tube_look(tubes->object, *tubes->geometry);
+      if (aa) {
+        const auto at_0 = static_cast<float>(camera.pixel_footprint(0.0));
+        enable_silhouette_aa(tubes->look, at_0,
+                             static_cast<float>(camera.pixel_footprint(1.0)) - at_0);
+      }
       tubes->order_index = static_cast<uint32_t>(k);
       im.tubes.push_back(std::move(tubes));
       continue;

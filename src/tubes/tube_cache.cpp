@@ -36,8 +36,9 @@ int preview_stride(const StreamlineObject& object) {
   return static_cast<int>(std::min<size_t>(stride, 1 << 30));
 }
 
-std::shared_ptr<const TubeGeometry> TubeCache::geometry(const StreamlineObject& object) {
+std::shared_ptr<const TubeGeometry> TubeCache::geometry(const StreamlineObject& object, float pad) {
   std::vector<double> key = geometry_key(object);
+  key.push_back(pad);
   // The slot by what the stride lets through at most, known before anything is built.
   const size_t count = object.streamlines ? object.streamlines->count() : 0;
   const size_t stride = static_cast<size_t>(std::max(object.stride, 1));
@@ -45,7 +46,7 @@ std::shared_ptr<const TubeGeometry> TubeCache::geometry(const StreamlineObject& 
   std::lock_guard lock(mutex_);
   if (!entry.built || key != entry.key) {
     entry.built.reset();  // the old BVH goes before the new one is built: one at a time in memory
-    entry.built = std::make_shared<const TubeGeometry>(object);
+    entry.built = std::make_shared<const TubeGeometry>(object, pad);
     entry.key = std::move(key);
     entry.build = ++builds_;
     entry.clip.reset();
@@ -79,9 +80,9 @@ std::shared_ptr<TubeCache> make_tube_cache() {
   return std::make_shared<TubeCache>();
 }
 
-std::shared_ptr<const TubeGeometry> tube_geometry(const StreamlineObject& object) {
-  if (object.cache) return object.cache->geometry(object);
-  return std::make_shared<const TubeGeometry>(object);
+std::shared_ptr<const TubeGeometry> tube_geometry(const StreamlineObject& object, float pad) {
+  if (object.cache) return object.cache->geometry(object, pad);
+  return std::make_shared<const TubeGeometry>(object, pad);
 }
 
 std::shared_ptr<const TubeClip> tube_clip(const StreamlineObject& object,

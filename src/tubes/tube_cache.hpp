@@ -25,7 +25,8 @@ class TubeCache {
   // again only when one of them changed. Two are kept: a preview's (at most kPreviewStreamlines
   // streamlines by its stride) and a full one, so that a viewer switching between moving and
   // still frames builds neither again. Thread-safe.
-  std::shared_ptr<const TubeGeometry> geometry(const StreamlineObject& object);
+  // `pad`: TubeGeometry's, part of the key.
+  std::shared_ptr<const TubeGeometry> geometry(const StreamlineObject& object, float pad = 0.0f);
 
   // The clip planes of `object` over `geometry` (one this cache built), built again only when
   // the planes or the geometry changed; null when the object has no clip planes.
@@ -52,7 +53,7 @@ class TubeCache {
 std::shared_ptr<TubeCache> make_tube_cache();
 
 // The geometry of `object`: from its cache, or built now when it has none.
-std::shared_ptr<const TubeGeometry> tube_geometry(const StreamlineObject& object);
+std::shared_ptr<const TubeGeometry> tube_geometry(const StreamlineObject& object, float pad = 0.0f);
 
 // The clip planes of `object` over `geometry`: from its cache, or built now when it has none;
 // null without clip planes, and for a connectome (its primitives are no streamline segments).

@@ -82,7 +82,55 @@ float crossing_opacity(const TubeLook& look, const TubeHit& hit) {
   return g >= 0 && static_cast<size_t>(g) < o.group_opacity.size() ? o.group_opacity[g] : o.opacity;
 }
 
+// Where a ray passes closest to a segment's axis.
+struct Approach {
+  float t = 0.0f;         // along the ray
+  float u = 0.0f;         // along the segment, 0..1
+  float distance = 0.0f;  // from the axis
+  float sine = 1.0f;      // of the angle between the ray and the axis
+};
+
+Approach closest_approach(const Ray& ray, const glm::vec3& p0, const glm::vec3& p1) {
+  const glm::vec3 e = p1 - p0, w = ray.origin - p0;
+  const float b = glm::dot(ray.dir, e), d = glm::dot(ray.dir, w);
+  const glm::vec3 e_perp = e - b * ray.dir, w_perp = w - d * ray.dir;
+  const float ee = glm::dot(e_perp, e_perp), length2 = glm::dot(e, e);
+  Approach a;
+  a.u = ee > 1e-12f ? std::clamp(glm::dot(w_perp, e_perp) / ee, 0.0f, 1.0f) : 0.0f;
+  a.t = a.u * b - d;
+  a.distance = glm::length(w_perp - a.u * e_perp);
+  a.sine = length2 > 0.0f ? std::sqrt(ee / length2) : 1.0f;
+  return a;
+}
+
+// The outward normal (not unit length) of the segment's tube at a point near its surface.
+glm::vec3 radial(const glm::vec3& point, const glm::vec3& p0, const glm::vec3& p1) {
+  const glm::vec3 e = p1 - p0;
+  const float length2 = glm::dot(e, e);
+  const float u = length2 > 0.0f ? std::clamp(glm::dot(point - p0, e) / length2, 0.0f, 1.0f) : 0.0f;
+  return point - (p0 + u * e);
+}
+
 }  // namespace
+
+float tube_coverage(float radius, float distance, float footprint) {
+  if (!(footprint > 0.0f)) return distance <= radius ? 1.0f : 0.0f;
+  return std::clamp((radius + 0.5f * footprint - distance) / footprint, 0.0f, 1.0f);
+}
+
+float silhouette_pad(float widest_footprint) {
+  if (!(widest_footprint > 0.0f)) return 0.0f;
+  return std::exp2(std::ceil(std::log2(0.5f * widest_footprint)));
+}
+
+void enable_silhouette_aa(TubeLook& look, float footprint_at_0, float footprint_per_mm) {
+  if (!look.geometry || look.geometry->is_connectome()) return;
+  look.silhouette_aa = true;
+  look.footprint_at_0 = footprint_at_0;
+  look.footprint_per_mm = footprint_per_mm;
+  // Partly covering crossings let light through: an opaque object needs more than its nearest.
+  look.hits_per_query = kHitsPerQuery;
+}
 
 float tube_fragment_alpha(float crossing_opacity) {
   return 1.0f - std::sqrt(1.0f - std::clamp(crossing_opacity, 0.0f, 1.0f));
@@ -150,12 +198,13 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
   const std::span<TubeHit> hits(buffer.data(), look.hits_per_query);
   const glm::vec3 to_eye = -ray.dir;
   float let_through = 1.0f, t_min = 0.0f;
-  auto emit = [&](const TubeHit& h) {
+  auto emit = [&](const TubeHit& h, float coverage = 1.0f, int facing = -1) {
     Fragment f;
     f.t = h.t;
     f.object = object;
-    f.front_facing = glm::dot(h.normal, ray.dir) < 0.0f ? 1u : 0u;
-    const float alpha = tube_fragment_alpha(crossing_opacity(look, h));
+    f.front_facing = facing >= 0 ? static_cast<uint32_t>(facing)
+                                 : (glm::dot(h.normal, ray.dir) < 0.0f ? 1u : 0u);
+    const float alpha = tube_fragment_alpha(coverage * crossing_opacity(look, h));
     if (look.shaded) {
       const glm::vec3 rgb =
           blinn_phong(look.object->shading, base_colour(look, h), h.normal, to_eye, lights);
@@ -172,6 +221,33 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
     h.normal = -look.clip->normal(plane);
     emit(h);
   };
+  // With silhouette coverage the Embree tubes are padded: each entry into one is a candidate
+  // crossing, measured against the true radius at the segment's closest approach.
+  auto covered_crossing = [&](const TubeHit& candidate) {
+    if (glm::dot(candidate.normal, ray.dir) >= 0.0f) return;  // the padded tube's exit
+    const std::vector<glm::vec3>& points = look.object->streamlines->points;
+    const uint32_t p = look.geometry->first_point(candidate.segment);
+    const glm::vec3 &p0 = points[p], &p1 = points[p + 1];
+    const Approach a = closest_approach(ray, p0, p1);
+    const float radius = look.geometry->radius();
+    const float footprint = look.footprint_at_0 + look.footprint_per_mm * std::max(a.t, 0.0f);
+    const float coverage = tube_coverage(radius, a.distance, footprint);
+    if (!(coverage > 0.0f)) return;
+    // Inside the true radius: the chord of the tube; outside: both at the closest approach.
+    float half = 0.0f;
+    if (a.distance < radius)
+      half =
+          std::min(std::sqrt(radius * radius - a.distance * a.distance) / std::max(a.sine, 1e-3f),
+                   0.5f * glm::length(p1 - p0) + radius);
+    TubeHit h;
+    h.segment = candidate.segment;
+    h.u = a.u;
+    for (int entry = 1; entry >= 0; --entry) {
+      h.t = entry ? a.t - half : a.t + half;
+      h.normal = radial(ray.at(h.t), p0, p1);
+      emit(h, coverage, entry);
+    }
+  };
   TubeClip::Span span{0.0f, t_max, -1, -1};
   if (look.clip) {
     span = look.clip->kept(ray);
@@ -183,7 +259,12 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
   }
   while (let_through >= kLetThrough) {
     const size_t n = look.geometry->nearest_hits(ray, t_min, t_max, hits);
-    for (size_t i = 0; i < n; ++i) emit(hits[i]);
+    for (size_t i = 0; i < n; ++i) {
+      if (look.silhouette_aa)
+        covered_crossing(hits[i]);
+      else
+        emit(hits[i]);
+    }
     if (n < hits.size()) {
       if (look.clip && let_through >= kLetThrough) cap(span.hi_plane, span.hi);
       return;

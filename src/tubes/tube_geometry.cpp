@@ -94,8 +94,11 @@ struct TubeGeometry::Embree {
   }
 };
 
-TubeGeometry::TubeGeometry(const StreamlineObject& object)
-    : embree_(std::make_unique<Embree>()), streamlines_(object.streamlines) {
+TubeGeometry::TubeGeometry(const StreamlineObject& object, float pad)
+    : embree_(std::make_unique<Embree>()),
+      streamlines_(object.streamlines),
+      radius_(static_cast<float>(object.radius)),
+      pad_(object.connectome ? 0.0f : std::max(pad, 0.0f)) {
   if (object.connectome) {
     build_connectome(object);
     return;
@@ -122,7 +125,7 @@ TubeGeometry::TubeGeometry(const StreamlineObject& object)
     rtcReleaseGeometry(geometry);
     fail(object.name, "allocating the tube vertices");
   }
-  const float radius = static_cast<float>(object.radius);
+  const float radius = radius_ + pad_;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, points, 1 << 16), [&](const auto& r) {
     for (size_t p = r.begin(); p < r.end(); ++p) {
       const glm::vec3& v = s.points[p];

@@ -33,7 +33,10 @@ class TubeGeometry {
   // for a connectome object, its shown edges as tubes and nodes as spheres
   // (connectome_primitives.hpp), each of its own radius and colour.
   // Throws imx::Error naming the object when the memory budget or Embree refuses.
-  explicit TubeGeometry(const StreamlineObject& object);
+  // `pad` mm widens the streamlines' Embree tubes (not a connectome's) so that rays passing
+  // within radius + pad of an axis are candidates for silhouette coverage (tube_fragments.hpp);
+  // the true radius is radius().
+  explicit TubeGeometry(const StreamlineObject& object, float pad = 0.0f);
   ~TubeGeometry();
   TubeGeometry(const TubeGeometry&) = delete;
   TubeGeometry& operator=(const TubeGeometry&) = delete;
@@ -54,6 +57,8 @@ class TubeGeometry {
     return primitive_colors_[primitive];
   }
   size_t streamline_count() const { return selected_count_; }
+  float radius() const { return radius_; }
+  float pad() const { return pad_; }
   // Resident bytes of the vertices, segment indices and the BVH.
   size_t bytes() const { return bytes_; }
 
@@ -66,6 +71,8 @@ class TubeGeometry {
   size_t selected_count_ = 0;
   size_t bytes_ = 0;
   bool connectome_ = false;
+  float radius_ = 0.0f;                      // the streamlines' true radius, mm
+  float pad_ = 0.0f;                         // added to it in the Embree vertices
   std::vector<glm::vec3> primitive_colors_;  // a connectome's, linear RGB
   uint32_t sphere_geometry_ = ~0u;           // its spheres' Embree geometry, if any
   uint32_t sphere_base_ = 0;                 // the primitive index of its first sphere
