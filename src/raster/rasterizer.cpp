@@ -568,6 +568,18 @@ size_t Rasterizer::triangle_count() const {
 void Rasterizer::Impl::add_tube_fragments(const TileRect& tile, std::span<const glm::vec2> offsets,
                                           SampleFragments& out) const {
   const Impl& im = *this;
+  // Several samples per pixel: each covers its share, a footprint 1/sqrt(samples) as wide.
+  std::vector<TubeLook> scaled;
+  const bool covered = std::any_of(im.tubes.begin(), im.tubes.end(),
+                                   [](const auto& tubes) { return tubes->look.silhouette_aa; });
+  if (covered && offsets.size() > 1) {
+    const float share = 1.0f / std::sqrt(static_cast<float>(offsets.size()));
+    for (const auto& tubes : im.tubes) {
+      TubeLook& look = scaled.emplace_back(tubes->look);
+      look.footprint_at_0 *= share;
+      look.footprint_per_mm *= share;
+    }
+  }
   std::vector<uint32_t> starts;
   std::vector<Fragment> merged;
   starts.reserve(out.offsets.size());
@@ -580,9 +592,10 @@ void Rasterizer::Impl::add_tube_fragments(const TileRect& tile, std::span<const 
         const std::span<const Fragment> row = out.of(sample++);
         merged.insert(merged.end(), row.begin(), row.end());
         const Ray ray = im.camera.ray(x + o.x, y + o.y);
-        for (const auto& tubes : im.tubes)
-          append_tube_fragments(tubes->look, ray, std::numeric_limits<float>::infinity(),
-                                tubes->order_index, im.lights, merged);
+        for (size_t k = 0; k < im.tubes.size(); ++k)
+          append_tube_fragments(scaled.empty() ? im.tubes[k]->look : scaled[k], ray,
+                                std::numeric_limits<float>::infinity(), im.tubes[k]->order_index,
+                                im.lights, merged);
       }
   starts.push_back(static_cast<uint32_t>(merged.size()));
   out.offsets.swap(starts);

@@ -64,8 +64,8 @@ TEST(TubeSilhouetteAa, ARayThroughTheAxisCrossesTheTrueRadiusAndANearMissIsParti
   EXPECT_NEAR(pixel_alpha(look, Ray{{0.3f, 0.0f, -10.0f}, {0, 0, 1}}), 1.0f, 1e-5f);
   // A quarter of a pixel past the edge's middle: a quarter covered, though the ray misses.
   const float y = radius + 0.25f * fp;
-  EXPECT_NEAR(pixel_alpha(look, Ray{{0.3f, y, -10.0f}, {0, 0, 1}}),
-              tube_coverage(radius, y, fp), 1e-4f);
+  EXPECT_NEAR(pixel_alpha(look, Ray{{0.3f, y, -10.0f}, {0, 0, 1}}), tube_coverage(radius, y, fp),
+              1e-4f);
   EXPECT_NEAR(tube_coverage(radius, y, fp), 0.25f, 1e-6f);
   EXPECT_EQ(pixel_alpha(look, Ray{{0.3f, radius + fp, -10.0f}, {0, 0, 1}}), 0.0f);
   // Without coverage the same near miss is empty.
