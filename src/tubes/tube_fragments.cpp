@@ -128,8 +128,9 @@ void enable_silhouette_aa(TubeLook& look, float footprint_at_0, float footprint_
   look.silhouette_aa = true;
   look.footprint_at_0 = footprint_at_0;
   look.footprint_per_mm = footprint_per_mm;
-  // Partly covering crossings let light through: an opaque object needs more than its nearest.
-  look.hits_per_query = kHitsPerQuery;
+  // Partly covering crossings let light through: an opaque object needs more than its nearest,
+  // though rarely more than a few (each padded tube is an entry and an exit).
+  look.hits_per_query = std::max<size_t>(look.hits_per_query, 6);
 }
 
 float tube_fragment_alpha(float crossing_opacity) {
@@ -197,7 +198,7 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
   // bound: one for opaque tubes, the nearest alone being far cheaper to find than 32.
   const std::span<TubeHit> hits(buffer.data(), look.hits_per_query);
   const glm::vec3 to_eye = -ray.dir;
-  float let_through = 1.0f, t_min = 0.0f;
+  float let_through = 1.0f, t_min = 0.0f, farthest = 0.0f;
   auto emit = [&](const TubeHit& h, float coverage = 1.0f, int facing = -1) {
     Fragment f;
     f.t = h.t;
@@ -212,6 +213,7 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
     }
     out.push_back(f);
     let_through *= 1.0f - alpha;
+    farthest = std::max(farthest, h.t);
   };
   // A cap where the ray meets `plane` at t inside a tube: flat, facing out of the kept side.
   auto cap = [&](int plane, float t) {
@@ -257,7 +259,11 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
     t_min = span.lo;
     t_max = span.hi;
   }
-  while (let_through >= kLetThrough) {
+  // Covered crossings come in the order of their padded entries, not their own: once the bound
+  // is reached, a crossing whose padded entry lies before the farthest fragment drawn can still
+  // be in front of it, so those are still asked for.
+  while (let_through >= kLetThrough || (look.silhouette_aa && t_min < t_max)) {
+    if (look.silhouette_aa && let_through < kLetThrough) t_max = std::min(t_max, farthest);
     const size_t n = look.geometry->nearest_hits(ray, t_min, t_max, hits);
     for (size_t i = 0; i < n; ++i) {
       if (look.silhouette_aa)
