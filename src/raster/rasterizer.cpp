@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <limits>
 
 #include <fmt/format.h>
@@ -82,13 +81,6 @@ struct RasterTriangle {
 void pixel_span(int64_t min, int64_t max, int64_t o_lo, int64_t o_hi, int64_t& lo, int64_t& hi) {
   lo = ceil_div(min - o_hi, kSubpixelScale);
   hi = floor_div(max - o_lo, kSubpixelScale);
-}
-
-// Silhouette coverage for tubes (tube_fragments.hpp), opt-in while it is measured:
-// IMX_TUBE_SILHOUETTE_AA=1.
-bool silhouette_aa_on() {
-  const char* v = std::getenv("IMX_TUBE_SILHOUETTE_AA");
-  return v && v[0] == '1';
 }
 
 // The widest pixel footprint (mm) over `object`'s tubes: at the farthest corner of their bounds.
@@ -434,7 +426,7 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
       if (clip_only || !(so.opacity > 0.0f)) continue;  // tubes never cut; hidden ones cost 0
       auto tubes = std::make_unique<Impl::Tubes>();
       tubes->object = so;
-      const bool aa = silhouette_aa_on() && !so.connectome && so.streamlines;
+      const bool aa = silhouette_aa_requested() && !so.connectome && so.streamlines;
       const float pad = aa ? silhouette_pad(widest_footprint(camera, so)) : 0.0f;
       tubes->geometry = tube_geometry(so, pad);
       tubes->look = make_tube_look(tubes->object, *tubes->geometry);

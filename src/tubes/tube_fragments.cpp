@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 
 #include <fmt/format.h>
 #include <glm/glm.hpp>
@@ -17,6 +18,7 @@ namespace {
 
 constexpr float kLetThrough = 1.0f / 1024.0f;
 constexpr size_t kHitsPerQuery = 32;
+constexpr int kNeighbourWalk = 16;  // segments a covered crossing looks along each way
 
 const StreamlineValues* find_values(const std::vector<StreamlineValues>& all,
                                     const std::string& name) {
@@ -103,6 +105,42 @@ Approach closest_approach(const Ray& ray, const glm::vec3& p0, const glm::vec3& 
   return a;
 }
 
+// Where a ray enters and leaves a capsule: the union of a cylinder and two spheres, all convex,
+// so from the first piece's entry to the last one's exit.
+struct CapsuleSpan {
+  bool hit = false;
+  float t_in = INFINITY, t_out = -INFINITY;
+};
+
+CapsuleSpan capsule_span(const Ray& ray, const glm::vec3& pa, const glm::vec3& pb, float r) {
+  CapsuleSpan span;
+  auto take = [&](float t0, float t1) {
+    span.hit = true;
+    span.t_in = std::min(span.t_in, t0);
+    span.t_out = std::max(span.t_out, t1);
+  };
+  for (const glm::vec3& centre : {pa, pb}) {
+    const glm::vec3 oc = ray.origin - centre;
+    const float b = glm::dot(ray.dir, oc), h = b * b - (glm::dot(oc, oc) - r * r);
+    if (h >= 0.0f) take(-b - std::sqrt(h), -b + std::sqrt(h));
+  }
+  const glm::vec3 ba = pb - pa, oa = ray.origin - pa;
+  const float baba = glm::dot(ba, ba), bard = glm::dot(ba, ray.dir), baoa = glm::dot(ba, oa);
+  const float a = baba - bard * bard;
+  if (a > 1e-12f * baba && baba > 0.0f) {
+    const float b = baba * glm::dot(ray.dir, oa) - baoa * bard;
+    const float c = baba * glm::dot(oa, oa) - baoa * baoa - r * r * baba;
+    const float h = b * b - a * c;
+    if (h >= 0.0f) {
+      const float t0 = (-b - std::sqrt(h)) / a, t1 = (-b + std::sqrt(h)) / a;
+      const float y0 = baoa + t0 * bard, y1 = baoa + t1 * bard;
+      if (y0 > 0.0f && y0 < baba) take(t0, t0);
+      if (y1 > 0.0f && y1 < baba) take(t1, t1);
+    }
+  }
+  return span;
+}
+
 // The outward normal (not unit length) of the segment's tube at a point near its surface.
 glm::vec3 radial(const glm::vec3& point, const glm::vec3& p0, const glm::vec3& p1) {
   const glm::vec3 e = p1 - p0;
@@ -116,6 +154,11 @@ glm::vec3 radial(const glm::vec3& point, const glm::vec3& p0, const glm::vec3& p
 float tube_coverage(float radius, float distance, float footprint) {
   if (!(footprint > 0.0f)) return distance <= radius ? 1.0f : 0.0f;
   return std::clamp((radius + 0.5f * footprint - distance) / footprint, 0.0f, 1.0f);
+}
+
+bool silhouette_aa_requested() {
+  const char* v = std::getenv("IMX_TUBE_SILHOUETTE_AA");
+  return v && v[0] == '1';
 }
 
 float silhouette_pad(float widest_footprint) {
@@ -185,13 +228,16 @@ TubeLook make_tube_look(const StreamlineObject& object) {
 size_t tube_fragments_needed(const StreamlineObject& object) {
   float least_alpha = tube_fragment_alpha(object.opacity);
   for (float g : object.group_opacity) least_alpha = std::min(least_alpha, tube_fragment_alpha(g));
-  if (least_alpha >= 1.0f) return 1;
+  const size_t least = silhouette_aa_requested() && !object.connectome ? kCoveredFragments : 1;
+  if (least_alpha >= 1.0f) return least;
   if (least_alpha <= 0.0f) return SIZE_MAX;
   const double needed = std::ceil(std::log(kLetThrough) / std::log(1.0 - least_alpha));
-  return static_cast<size_t>(std::clamp(needed, 1.0, 1e9));
+  return std::max(static_cast<size_t>(std::clamp(needed, 1.0, 1e9)), least);
 }
 
-void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, uint32_t object,
+namespace {
+
+void append_in_query_order(const TubeLook& look, const Ray& ray, float t_max, uint32_t object,
                            std::span<const ShadingLight> lights, std::vector<Fragment>& out) {
   std::array<TubeHit, kHitsPerQuery> buffer;
   // As many hits per query as the most transparent crossing needs to let through less than the
@@ -228,25 +274,52 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
   auto covered_crossing = [&](const TubeHit& candidate) {
     if (glm::dot(candidate.normal, ray.dir) >= 0.0f) return;  // the padded tube's exit
     const std::vector<glm::vec3>& points = look.object->streamlines->points;
-    const uint32_t p = look.geometry->first_point(candidate.segment);
-    const glm::vec3 &p0 = points[p], &p1 = points[p + 1];
-    const Approach a = closest_approach(ray, p0, p1);
-    const float radius = look.geometry->radius();
+    const TubeGeometry& g = *look.geometry;
+    const float radius = g.radius(), reach = radius + g.pad();
+    // Joined segments share one padded surface: the ray may pass nearest to a neighbour of the
+    // segment it entered by, so look along the streamline while its segments stay within reach.
+    // The round tube is the union of its segments' capsules: it spans from the first capsule
+    // entry to the last exit.
+    uint32_t best = candidate.segment;
+    Approach a =
+        closest_approach(ray, points[g.first_point(best)], points[g.first_point(best) + 1]);
+    float t_in = INFINITY, t_out = -INFINITY;
+    uint32_t seg_in = best, seg_out = best;
+    auto span_of = [&](uint32_t segment) {
+      const uint32_t q = g.first_point(segment);
+      const CapsuleSpan c = capsule_span(ray, points[q], points[q + 1], radius);
+      if (!c.hit) return;
+      if (c.t_in < t_in) t_in = c.t_in, seg_in = segment;
+      if (c.t_out > t_out) t_out = c.t_out, seg_out = segment;
+    };
+    span_of(best);
+    for (const int step : {1, -1}) {
+      uint32_t segment = candidate.segment;
+      for (int k = 0; k < kNeighbourWalk; ++k) {
+        const int64_t next = static_cast<int64_t>(segment) + step;
+        if (next < 0 || static_cast<size_t>(next) >= g.segment_count()) break;
+        const uint32_t q = g.first_point(static_cast<uint32_t>(next));
+        if (q != g.first_point(segment) + step) break;  // another streamline
+        const Approach b = closest_approach(ray, points[q], points[q + 1]);
+        if (!(b.distance < reach)) break;
+        segment = static_cast<uint32_t>(next);
+        span_of(segment);
+        if (b.distance < a.distance) a = b, best = segment;
+      }
+    }
     const float footprint = look.footprint_at_0 + look.footprint_per_mm * std::max(a.t, 0.0f);
     const float coverage = tube_coverage(radius, a.distance, footprint);
     if (!(coverage > 0.0f)) return;
-    // Inside the true radius: the chord of the tube; outside: both at the closest approach.
-    float half = 0.0f;
-    if (a.distance < radius)
-      half =
-          std::min(std::sqrt(radius * radius - a.distance * a.distance) / std::max(a.sine, 1e-3f),
-                   0.5f * glm::length(p1 - p0) + radius);
+    // Through the tube: its entry and exit; past it: both at the closest approach.
+    if (!(t_in <= t_out)) t_in = t_out = a.t, seg_in = seg_out = best;
     TubeHit h;
-    h.segment = candidate.segment;
+    h.segment = best;
     h.u = a.u;
     for (int entry = 1; entry >= 0; --entry) {
-      h.t = entry ? a.t - half : a.t + half;
-      h.normal = radial(ray.at(h.t), p0, p1);
+      const uint32_t segment = entry ? seg_in : seg_out;
+      const uint32_t q = g.first_point(segment);
+      h.t = entry ? t_in : t_out;
+      h.normal = radial(ray.at(h.t), points[q], points[q + 1]);
       emit(h, coverage, entry);
     }
   };
@@ -277,6 +350,18 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
     }
     t_min = hits[n - 1].t;
   }
+}
+
+}  // namespace
+
+void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, uint32_t object,
+                           std::span<const ShadingLight> lights, std::vector<Fragment>& out) {
+  const size_t first = out.size();
+  append_in_query_order(look, ray, t_max, object, lights, out);
+  // Covered crossings are found by their padded entries: nearest first as the methods expect.
+  if (look.silhouette_aa)
+    std::stable_sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(),
+                     [](const Fragment& a, const Fragment& b) { return a.t < b.t; });
 }
 
 }  // namespace imx

@@ -32,6 +32,10 @@ struct TubeLook {
   float footprint_at_0 = 0.0f, footprint_per_mm = 0.0f;
 };
 
+// Whether silhouette coverage is asked for: IMX_TUBE_SILHOUETTE_AA=1 in the environment, read
+// per call, while it is measured (a scene field is to come).
+bool silhouette_aa_requested();
+
 // The pad (mm) a TubeGeometry needs for silhouette coverage where pixels are at most
 // `widest_footprint` mm wide: half of it, rounded up to a power of two so that small camera
 // moves keep the same geometry.
@@ -64,7 +68,9 @@ float tube_fragment_alpha(float crossing_opacity);
 
 // How many fragments of `object` a ray can need: past that many crossings what they let through
 // is below the bound (1/1024), so later ones change no colour by more. 1 for opaque tubes;
-// SIZE_MAX when a crossing opacity of 0 leaves no bound.
+// SIZE_MAX when a crossing opacity of 0 leaves no bound. With silhouette coverage at least
+// kCoveredFragments: partly covering crossings in front let light through.
+inline constexpr size_t kCoveredFragments = 8;
 size_t tube_fragments_needed(const StreamlineObject& object);
 
 // Appends to `out` the fragments of `ray` with the tubes in front of t_max, nearest first,
