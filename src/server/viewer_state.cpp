@@ -499,10 +499,13 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
                                                      {"stride", ObjectKind::streamlines},
                                                      {"min_length", ObjectKind::streamlines},
                                                      {"regions", ObjectKind::streamlines}};
+  // A connectome is drawn as tubes but has none of a tractogram's fields (its look is its own).
+  const bool connectome = ref.kind == ObjectKind::streamlines &&
+                          state.scene().streamlines[static_cast<size_t>(ref.index)].connectome;
   for (const auto& [key, kind] : only)
-    if (auto v = r.find(key); v && ref.kind != kind)
+    if (auto v = r.find(key); v && (ref.kind != kind || connectome))
       v->fail(fmt::format("applies to {}s only, and this object is a {}", object_kind_name(kind),
-                          object_kind_name(ref.kind)));
+                          connectome ? "connectome" : object_kind_name(ref.kind)));
 
   bool visible = state.visible[k];
   float opacity = state.opacity[k];
@@ -685,6 +688,9 @@ nlohmann::json describe_state(const ViewerState& state) {
       }
     } else if (ref.kind == ObjectKind::mesh) {
       o["name"] = scene.meshes[i].name;
+    } else if (ref.kind == ObjectKind::streamlines && scene.streamlines[i].connectome) {
+      o["name"] = scene.streamlines[i].name;  // opacity and visibility only: no tract controls
+      o["connectome"] = true;
     } else if (ref.kind == ObjectKind::streamlines) {
       describe_streamlines(scene.streamlines[i], o);
     } else {

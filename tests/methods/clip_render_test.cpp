@@ -20,6 +20,7 @@
 #include "intermix/renderer.hpp"
 #include "intermix/scene.hpp"
 #include "methods/reference/reference.hpp"
+#include "same_image.hpp"
 
 namespace imx {
 namespace {
@@ -47,13 +48,7 @@ Image render_with(const Scene& scene, const std::string& method, int spp = 0, in
   return render(scene, options);
 }
 
-bool same_bytes(const Image& a, const Image& b) {
-  if (a.width() != b.width() || a.height() != b.height()) return false;
-  for (int y = 0; y < a.height(); ++y)
-    for (int x = 0; x < a.width(); ++x)
-      if (a.at(x, y) != b.at(x, y)) return false;
-  return true;
-}
+using test::same_bytes;
 
 // Each method against the reference, on the clipped head and on the whole one (the same file
 // with the clip list removed): clipping costs no method more than 1 dB at the reference's 16

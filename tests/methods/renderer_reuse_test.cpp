@@ -11,6 +11,7 @@
 #include "intermix/renderer.hpp"
 #include "intermix/scene.hpp"
 #include "methods/zslab/zslab_frame.hpp"
+#include "same_image.hpp"
 
 namespace imx {
 namespace {
@@ -47,12 +48,7 @@ Image fresh(const Scene& s, const std::string& method) {
   return render(s, o);
 }
 
-bool same_bytes(const Image& a, const Image& b) {
-  if (a.width() != b.width() || a.height() != b.height()) return false;
-  for (size_t i = 0; i < a.size(); ++i)
-    if (a.data()[i] != b.data()[i]) return false;
-  return true;
-}
+using test::same_bytes;
 
 // One edit of one object: its Scene::order index and the edited scene.
 struct Edit {

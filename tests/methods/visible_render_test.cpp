@@ -12,6 +12,7 @@
 
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "same_image.hpp"
 
 namespace imx {
 namespace {
@@ -36,10 +37,7 @@ Scene load(const nlohmann::json& j, const std::string& origin) {
   return parse_scene(j.dump(), IMX_EXAMPLES_DIR, origin);
 }
 
-bool same_bytes(const Image& a, const Image& b) {
-  return a.width() == b.width() && a.height() == b.height() &&
-         std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec4)) == 0;
-}
+using test::same_bytes;
 
 // Object `index` of example `name` hidden, and left out: the same image in every method; and
 // shown, a different one (so the object is in view).

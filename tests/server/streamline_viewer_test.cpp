@@ -25,10 +25,12 @@
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
 #include "mrtrix_tracks.hpp"
+#include "same_image.hpp"
 #include "server/reading_views.hpp"
 #include "server/streamline_slab.hpp"
 #include "server/viewer_session.hpp"
 #include "server/viewer_state.hpp"
+#include "shared_data.hpp"
 #include "temp_dir.hpp"
 #include "tubes/tube_cache.hpp"
 
@@ -80,10 +82,7 @@ Image draw(const Scene& scene) {
   return render(scene, options);
 }
 
-bool same_bytes(const Image& a, const Image& b) {
-  return a.width() == b.width() && a.height() == b.height() &&
-         std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec4)) == 0;
-}
+using test::same_bytes;
 
 Json edit(Json fields) {
   fields["type"] = "edit";
@@ -353,6 +352,44 @@ TEST(StreamlineViewer, SliceAnswerDrawsShownStreamlinesOnly) {
   Json bad = message;
   bad["slab"] = -1;
   EXPECT_THROW(answer_slice(state, windows, bad), Error);
+}
+
+// A connectome is drawn as tubes but is no tractogram: the page gets its opacity and visibility
+// only, and a tractogram's field is refused by name instead of written into its document.
+TEST(StreamlineViewer, AConnectomeTakesOpacityButNoTractFields) {
+  SKIP_WITHOUT_SHARED_DATA("neuro/connectomes/connectome.jcon");
+  TempDir dir;
+  const nlohmann::json scene = {
+      {"image", {{"width", kSize}, {"height", kSize}, {"background", {0, 0, 0, 1}}}},
+      {"objects",
+       {{{"name", "net"},
+         {"type", "connectome"},
+         {"source",
+          {{"file", test::shared_data("neuro/connectomes/connectome.jcon").string()}}}}}}};
+  ViewerState state = load_viewer_state(dir.write("net.json", scene.dump(2)));
+  const Json described = describe_state(state);
+  bool found = false;
+  for (const Json& o : described["objects"])
+    if (o["name"] == "net") {
+      found = true;
+      EXPECT_EQ(o.value("connectome", false), true) << o.dump();
+      EXPECT_FALSE(o.contains("color_by")) << o.dump();
+    }
+  EXPECT_TRUE(found) << described.dump();
+  Json radius = edit({{"radius", 2.0}});
+  radius["object"] = "net";
+  try {
+    apply_edit(state, radius);
+    ADD_FAILURE() << "a tractogram's radius was accepted for a connectome";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("this object is a connectome"), std::string::npos)
+        << e.what();
+  }
+  const Image before = draw(state.scene());
+  Json opacity = edit({{"opacity", 0.4}});
+  opacity["object"] = "net";
+  EXPECT_TRUE(apply_edit(state, opacity));
+  EXPECT_FALSE(same_bytes(before, draw(state.scene())));
 }
 
 }  // namespace

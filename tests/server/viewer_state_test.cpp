@@ -4,11 +4,11 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <algorithm>
-#include <cmath>
 #include <functional>
 #include <random>
 #include <string>
@@ -21,6 +21,7 @@
 #include "intermix/io.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "same_image.hpp"
 #include "scene_fixture.hpp"
 #include "temp_dir.hpp"
 
@@ -48,10 +49,7 @@ Image draw(const Scene& scene) {
   return render(scene, options);
 }
 
-bool same_bytes(const Image& a, const Image& b) {
-  return a.width() == b.width() && a.height() == b.height() &&
-         std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec4)) == 0;
-}
+using test::same_bytes;
 
 // Applies `message`, then checks that the image changed and that the saved file renders the
 // session's bytes exactly.

@@ -96,7 +96,7 @@ export function buildPanel() {
 
     if (o.kind === 'volume') buildVolume(box, o);
     if (o.kind === 'plane') buildPlane(box, o);
-    if (o.kind === 'streamlines') buildStreamlines(box, o);
+    if (o.kind === 'streamlines' && !o.connectome) buildStreamlines(box, o);
     root.append(box);
   }
 }
