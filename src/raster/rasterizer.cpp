@@ -16,6 +16,7 @@
 #include "raster/edge_function.hpp"
 #include "raster/shade_fragment.hpp"
 #include "tubes/tube_cache.hpp"
+#include "tubes/tube_coverage.hpp"
 #include "tubes/tube_fragments.hpp"
 
 namespace imx {
@@ -81,20 +82,6 @@ struct RasterTriangle {
 void pixel_span(int64_t min, int64_t max, int64_t o_lo, int64_t o_hi, int64_t& lo, int64_t& hi) {
   lo = ceil_div(min - o_hi, kSubpixelScale);
   hi = floor_div(max - o_lo, kSubpixelScale);
-}
-
-// The widest pixel footprint (mm) over `object`'s tubes: at the farthest corner of their bounds.
-float widest_footprint(const CameraModel& camera, const StreamlineObject& object) {
-  if (!camera.perspective()) return static_cast<float>(camera.pixel_footprint(0.0));
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (const glm::vec3& p : object.streamlines->points) lo = glm::min(lo, p), hi = glm::max(hi, p);
-  if (!(lo.x <= hi.x)) return 0.0f;
-  double far = 0.0;
-  for (int c = 0; c < 8; ++c) {
-    const glm::dvec3 corner(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
-    far = std::max(far, camera.depth_of(camera.to_camera(corner)));
-  }
-  return static_cast<float>(camera.pixel_footprint(far + object.radius));
 }
 
 }  // namespace
@@ -367,7 +354,7 @@ bool shown_plane(const PlaneObject& plane) {
 
 Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
                        std::span<const PreparedVolume> volumes, int tile_size,
-                       RasterObjects objects)
+                       RasterObjects objects, bool tube_coverage)
     : tile_size_(tile_size) {
   if (tile_size <= 0)
     throw Error(fmt::format("rasterizer: tile size {} must be positive", tile_size));
@@ -426,15 +413,10 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
       if (clip_only || !(so.opacity > 0.0f)) continue;  // tubes never cut; hidden ones cost 0
       auto tubes = std::make_unique<Impl::Tubes>();
       tubes->object = so;
-      const bool aa = silhouette_aa_requested() && !so.connectome && so.streamlines;
-      const float pad = aa ? silhouette_pad(widest_footprint(camera, so)) : 0.0f;
-      tubes->geometry = tube_geometry(so, pad);
+      const bool covered = tube_coverage && coverable(so);
+      tubes->geometry = tube_geometry(so, covered ? silhouette_pad(camera, so) : 0.0f);
       tubes->look = make_tube_look(tubes->object, *tubes->geometry);
-      if (aa) {
-        const auto at_0 = static_cast<float>(camera.pixel_footprint(0.0));
-        enable_silhouette_aa(tubes->look, at_0,
-                             static_cast<float>(camera.pixel_footprint(1.0)) - at_0);
-      }
+      if (covered) enable_silhouette_aa(tubes->look, camera);
       tubes->order_index = static_cast<uint32_t>(k);
       im.tubes.push_back(std::move(tubes));
       continue;
@@ -560,18 +542,12 @@ size_t Rasterizer::triangle_count() const {
 void Rasterizer::Impl::add_tube_fragments(const TileRect& tile, std::span<const glm::vec2> offsets,
                                           SampleFragments& out) const {
   const Impl& im = *this;
-  // Several samples per pixel: each covers its share, a footprint 1/sqrt(samples) as wide.
+  // Several samples per pixel: each covers its share of the pixel.
   std::vector<TubeLook> scaled;
   const bool covered = std::any_of(im.tubes.begin(), im.tubes.end(),
                                    [](const auto& tubes) { return tubes->look.silhouette_aa; });
-  if (covered && offsets.size() > 1) {
-    const float share = 1.0f / std::sqrt(static_cast<float>(offsets.size()));
-    for (const auto& tubes : im.tubes) {
-      TubeLook& look = scaled.emplace_back(tubes->look);
-      look.footprint_at_0 *= share;
-      look.footprint_per_mm *= share;
-    }
-  }
+  if (covered && offsets.size() > 1)
+    for (const auto& tubes : im.tubes) share_footprint(scaled.emplace_back(tubes->look), offsets.size());
   std::vector<uint32_t> starts;
   std::vector<Fragment> merged;
   starts.reserve(out.offsets.size());

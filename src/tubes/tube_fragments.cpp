@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 
 #include <fmt/format.h>
 #include <glm/glm.hpp>
@@ -12,13 +11,13 @@
 #include "intermix/error.hpp"
 #include "presets/colormap.hpp"
 #include "tubes/tube_cache.hpp"
+#include "tubes/tube_coverage.hpp"
 
 namespace imx {
 namespace {
 
 constexpr float kLetThrough = 1.0f / 1024.0f;
 constexpr size_t kHitsPerQuery = 32;
-constexpr int kNeighbourWalk = 16;  // segments a covered crossing looks along each way
 
 const StreamlineValues* find_values(const std::vector<StreamlineValues>& all,
                                     const std::string& name) {
@@ -84,97 +83,7 @@ float crossing_opacity(const TubeLook& look, const TubeHit& hit) {
   return g >= 0 && static_cast<size_t>(g) < o.group_opacity.size() ? o.group_opacity[g] : o.opacity;
 }
 
-// Where a ray passes closest to a segment's axis.
-struct Approach {
-  float t = 0.0f;         // along the ray
-  float u = 0.0f;         // along the segment, 0..1
-  float distance = 0.0f;  // from the axis
-  float sine = 1.0f;      // of the angle between the ray and the axis
-};
-
-Approach closest_approach(const Ray& ray, const glm::vec3& p0, const glm::vec3& p1) {
-  const glm::vec3 e = p1 - p0, w = ray.origin - p0;
-  const float b = glm::dot(ray.dir, e), d = glm::dot(ray.dir, w);
-  const glm::vec3 e_perp = e - b * ray.dir, w_perp = w - d * ray.dir;
-  const float ee = glm::dot(e_perp, e_perp), length2 = glm::dot(e, e);
-  Approach a;
-  a.u = ee > 1e-12f ? std::clamp(glm::dot(w_perp, e_perp) / ee, 0.0f, 1.0f) : 0.0f;
-  a.t = a.u * b - d;
-  a.distance = glm::length(w_perp - a.u * e_perp);
-  a.sine = length2 > 0.0f ? std::sqrt(ee / length2) : 1.0f;
-  return a;
-}
-
-// Where a ray enters and leaves a capsule: the union of a cylinder and two spheres, all convex,
-// so from the first piece's entry to the last one's exit.
-struct CapsuleSpan {
-  bool hit = false;
-  float t_in = INFINITY, t_out = -INFINITY;
-};
-
-CapsuleSpan capsule_span(const Ray& ray, const glm::vec3& pa, const glm::vec3& pb, float r) {
-  CapsuleSpan span;
-  auto take = [&](float t0, float t1) {
-    span.hit = true;
-    span.t_in = std::min(span.t_in, t0);
-    span.t_out = std::max(span.t_out, t1);
-  };
-  for (const glm::vec3& centre : {pa, pb}) {
-    const glm::vec3 oc = ray.origin - centre;
-    const float b = glm::dot(ray.dir, oc), h = b * b - (glm::dot(oc, oc) - r * r);
-    if (h >= 0.0f) take(-b - std::sqrt(h), -b + std::sqrt(h));
-  }
-  const glm::vec3 ba = pb - pa, oa = ray.origin - pa;
-  const float baba = glm::dot(ba, ba), bard = glm::dot(ba, ray.dir), baoa = glm::dot(ba, oa);
-  const float a = baba - bard * bard;
-  if (a > 1e-12f * baba && baba > 0.0f) {
-    const float b = baba * glm::dot(ray.dir, oa) - baoa * bard;
-    const float c = baba * glm::dot(oa, oa) - baoa * baoa - r * r * baba;
-    const float h = b * b - a * c;
-    if (h >= 0.0f) {
-      const float t0 = (-b - std::sqrt(h)) / a, t1 = (-b + std::sqrt(h)) / a;
-      const float y0 = baoa + t0 * bard, y1 = baoa + t1 * bard;
-      if (y0 > 0.0f && y0 < baba) take(t0, t0);
-      if (y1 > 0.0f && y1 < baba) take(t1, t1);
-    }
-  }
-  return span;
-}
-
-// The outward normal (not unit length) of the segment's tube at a point near its surface.
-glm::vec3 radial(const glm::vec3& point, const glm::vec3& p0, const glm::vec3& p1) {
-  const glm::vec3 e = p1 - p0;
-  const float length2 = glm::dot(e, e);
-  const float u = length2 > 0.0f ? std::clamp(glm::dot(point - p0, e) / length2, 0.0f, 1.0f) : 0.0f;
-  return point - (p0 + u * e);
-}
-
 }  // namespace
-
-float tube_coverage(float radius, float distance, float footprint) {
-  if (!(footprint > 0.0f)) return distance <= radius ? 1.0f : 0.0f;
-  return std::clamp((radius + 0.5f * footprint - distance) / footprint, 0.0f, 1.0f);
-}
-
-bool silhouette_aa_requested() {
-  const char* v = std::getenv("IMX_TUBE_SILHOUETTE_AA");
-  return v && v[0] == '1';
-}
-
-float silhouette_pad(float widest_footprint) {
-  if (!(widest_footprint > 0.0f)) return 0.0f;
-  return std::exp2(std::ceil(std::log2(0.5f * widest_footprint)));
-}
-
-void enable_silhouette_aa(TubeLook& look, float footprint_at_0, float footprint_per_mm) {
-  if (!look.geometry || look.geometry->is_connectome()) return;
-  look.silhouette_aa = true;
-  look.footprint_at_0 = footprint_at_0;
-  look.footprint_per_mm = footprint_per_mm;
-  // Partly covering crossings let light through: an opaque object needs more than its nearest,
-  // though rarely more than a few (each padded tube is an entry and an exit).
-  look.hits_per_query = std::max<size_t>(look.hits_per_query, 6);
-}
 
 float tube_fragment_alpha(float crossing_opacity) {
   return 1.0f - std::sqrt(1.0f - std::clamp(crossing_opacity, 0.0f, 1.0f));
@@ -228,23 +137,22 @@ TubeLook make_tube_look(const StreamlineObject& object) {
 size_t tube_fragments_needed(const StreamlineObject& object) {
   float least_alpha = tube_fragment_alpha(object.opacity);
   for (float g : object.group_opacity) least_alpha = std::min(least_alpha, tube_fragment_alpha(g));
-  const size_t least = silhouette_aa_requested() && !object.connectome ? kCoveredFragments : 1;
-  if (least_alpha >= 1.0f) return least;
+  if (least_alpha >= 1.0f) return 1;
   if (least_alpha <= 0.0f) return SIZE_MAX;
   const double needed = std::ceil(std::log(kLetThrough) / std::log(1.0 - least_alpha));
-  return std::max(static_cast<size_t>(std::clamp(needed, 1.0, 1e9)), least);
+  return static_cast<size_t>(std::clamp(needed, 1.0, 1e9));
 }
 
-namespace {
-
-void append_in_query_order(const TubeLook& look, const Ray& ray, float t_max, uint32_t object,
+void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, uint32_t object,
                            std::span<const ShadingLight> lights, std::vector<Fragment>& out) {
   std::array<TubeHit, kHitsPerQuery> buffer;
   // As many hits per query as the most transparent crossing needs to let through less than the
   // bound: one for opaque tubes, the nearest alone being far cheaper to find than 32.
   const std::span<TubeHit> hits(buffer.data(), look.hits_per_query);
   const glm::vec3 to_eye = -ray.dir;
+  const size_t first = out.size();
   float let_through = 1.0f, t_min = 0.0f, farthest = 0.0f;
+  // `coverage`: the part of the pixel a covered crossing covers; `facing` set for those only.
   auto emit = [&](const TubeHit& h, float coverage = 1.0f, int facing = -1) {
     Fragment f;
     f.t = h.t;
@@ -269,60 +177,6 @@ void append_in_query_order(const TubeLook& look, const Ray& ray, float t_max, ui
     h.normal = -look.clip->normal(plane);
     emit(h);
   };
-  // With silhouette coverage the Embree tubes are padded: each entry into one is a candidate
-  // crossing, measured against the true radius at the segment's closest approach.
-  auto covered_crossing = [&](const TubeHit& candidate) {
-    if (glm::dot(candidate.normal, ray.dir) >= 0.0f) return;  // the padded tube's exit
-    const std::vector<glm::vec3>& points = look.object->streamlines->points;
-    const TubeGeometry& g = *look.geometry;
-    const float radius = g.radius(), reach = radius + g.pad();
-    // Joined segments share one padded surface: the ray may pass nearest to a neighbour of the
-    // segment it entered by, so look along the streamline while its segments stay within reach.
-    // The round tube is the union of its segments' capsules: it spans from the first capsule
-    // entry to the last exit.
-    uint32_t best = candidate.segment;
-    Approach a =
-        closest_approach(ray, points[g.first_point(best)], points[g.first_point(best) + 1]);
-    float t_in = INFINITY, t_out = -INFINITY;
-    uint32_t seg_in = best, seg_out = best;
-    auto span_of = [&](uint32_t segment) {
-      const uint32_t q = g.first_point(segment);
-      const CapsuleSpan c = capsule_span(ray, points[q], points[q + 1], radius);
-      if (!c.hit) return;
-      if (c.t_in < t_in) t_in = c.t_in, seg_in = segment;
-      if (c.t_out > t_out) t_out = c.t_out, seg_out = segment;
-    };
-    span_of(best);
-    for (const int step : {1, -1}) {
-      uint32_t segment = candidate.segment;
-      for (int k = 0; k < kNeighbourWalk; ++k) {
-        const int64_t next = static_cast<int64_t>(segment) + step;
-        if (next < 0 || static_cast<size_t>(next) >= g.segment_count()) break;
-        const uint32_t q = g.first_point(static_cast<uint32_t>(next));
-        if (q != g.first_point(segment) + step) break;  // another streamline
-        const Approach b = closest_approach(ray, points[q], points[q + 1]);
-        if (!(b.distance < reach)) break;
-        segment = static_cast<uint32_t>(next);
-        span_of(segment);
-        if (b.distance < a.distance) a = b, best = segment;
-      }
-    }
-    const float footprint = look.footprint_at_0 + look.footprint_per_mm * std::max(a.t, 0.0f);
-    const float coverage = tube_coverage(radius, a.distance, footprint);
-    if (!(coverage > 0.0f)) return;
-    // Through the tube: its entry and exit; past it: both at the closest approach.
-    if (!(t_in <= t_out)) t_in = t_out = a.t, seg_in = seg_out = best;
-    TubeHit h;
-    h.segment = best;
-    h.u = a.u;
-    for (int entry = 1; entry >= 0; --entry) {
-      const uint32_t segment = entry ? seg_in : seg_out;
-      const uint32_t q = g.first_point(segment);
-      h.t = entry ? t_in : t_out;
-      h.normal = radial(ray.at(h.t), points[q], points[q + 1]);
-      emit(h, coverage, entry);
-    }
-  };
   TubeClip::Span span{0.0f, t_max, -1, -1};
   if (look.clip) {
     span = look.clip->kept(ray);
@@ -339,29 +193,20 @@ void append_in_query_order(const TubeLook& look, const Ray& ray, float t_max, ui
     if (look.silhouette_aa && let_through < kLetThrough) t_max = std::min(t_max, farthest);
     const size_t n = look.geometry->nearest_hits(ray, t_min, t_max, hits);
     for (size_t i = 0; i < n; ++i) {
-      if (look.silhouette_aa)
-        covered_crossing(hits[i]);
-      else
+      if (!look.silhouette_aa) {
         emit(hits[i]);
+      } else if (const CoveredCrossing c = covered_crossing(look, ray, hits[i]); c.coverage > 0) {
+        emit(c.entry, c.coverage, 1);
+        emit(c.exit, c.coverage, 0);
+      }
     }
     if (n < hits.size()) {
       if (look.clip && let_through >= kLetThrough) cap(span.hi_plane, span.hi);
-      return;
+      break;
     }
     t_min = hits[n - 1].t;
   }
-}
-
-}  // namespace
-
-void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, uint32_t object,
-                           std::span<const ShadingLight> lights, std::vector<Fragment>& out) {
-  const size_t first = out.size();
-  append_in_query_order(look, ray, t_max, object, lights, out);
-  // Covered crossings are found by their padded entries: nearest first as the methods expect.
-  if (look.silhouette_aa)
-    std::stable_sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(),
-                     [](const Fragment& a, const Fragment& b) { return a.t < b.t; });
+  if (look.silhouette_aa) sort_covered_fragments(out, first);
 }
 
 }  // namespace imx

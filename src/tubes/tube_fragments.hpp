@@ -26,31 +26,11 @@ struct TubeLook {
   bool shaded = true;                    // false: colour 0, for clip passes
   size_t hits_per_query = 32;            // nearest hits asked at a time (1 for opaque tubes)
   std::shared_ptr<const TubeClip> clip;  // the object's clip planes; null without any
-  // Silhouette coverage (enable_silhouette_aa): a tube covers the part of a pixel of width
+  // Silhouette coverage (tube_coverage.hpp): a tube covers the part of a pixel of width
   // footprint(t) = footprint_at_0 + footprint_per_mm * t that lies within its radius.
   bool silhouette_aa = false;
   float footprint_at_0 = 0.0f, footprint_per_mm = 0.0f;
 };
-
-// Whether silhouette coverage is asked for: IMX_TUBE_SILHOUETTE_AA=1 in the environment, read
-// per call, while it is measured (a scene field is to come).
-bool silhouette_aa_requested();
-
-// The pad (mm) a TubeGeometry needs for silhouette coverage where pixels are at most
-// `widest_footprint` mm wide: half of it, rounded up to a power of two so that small camera
-// moves keep the same geometry.
-float silhouette_pad(float widest_footprint);
-
-// Turns silhouette coverage on in `look`, whose geometry must have been built with at least
-// silhouette_pad(footprint at the farthest tube): each crossing's fragments take the part c of
-// the pixel the tube covers, alpha 1 - sqrt(1 - c * opacity), and a ray passing within
-// radius + footprint / 2 of an axis gets an entry and exit at its closest approach. Streamlines
-// only (a connectome's look is left as it is).
-void enable_silhouette_aa(TubeLook& look, float footprint_at_0, float footprint_per_mm);
-
-// The part of a pixel of width `footprint` covered by a tube of `radius` whose axis passes at
-// `distance` from the pixel's ray: a linear ramp across the silhouette, 0..1.
-float tube_coverage(float radius, float distance, float footprint);
 
 // The look of `object` drawn with `geometry`. Throws imx::Error naming the object when its
 // colouring names values its streamlines do not have.
@@ -68,9 +48,7 @@ float tube_fragment_alpha(float crossing_opacity);
 
 // How many fragments of `object` a ray can need: past that many crossings what they let through
 // is below the bound (1/1024), so later ones change no colour by more. 1 for opaque tubes;
-// SIZE_MAX when a crossing opacity of 0 leaves no bound. With silhouette coverage at least
-// kCoveredFragments: partly covering crossings in front let light through.
-inline constexpr size_t kCoveredFragments = 8;
+// SIZE_MAX when a crossing opacity of 0 leaves no bound.
 size_t tube_fragments_needed(const StreamlineObject& object);
 
 // Appends to `out` the fragments of `ray` with the tubes in front of t_max, nearest first,

@@ -1,10 +1,9 @@
 // Silhouette coverage of tubes at one sample per pixel (issue 44), measured where the tract of
 // streamline_exactness_test meets the brain: the 1-sample methods against the 64-sample
-// reference in the intersection band, with coverage off and on (IMX_TUBE_SILHOUETTE_AA, read
-// per frame). The reference is drawn without it. Recorded, and coverage must not lose.
+// reference in the intersection band, with coverage off and on (render.tube_coverage). The
+// reference is drawn without it. Recorded, and coverage must not lose.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <string>
 
 #include <fmt/format.h>
@@ -54,13 +53,9 @@ Scene tract_in_brain(const std::string& method, int spp) {
 }
 
 Image render_with_coverage(const std::string& method, bool coverage) {
-  if (coverage)
-    setenv("IMX_TUBE_SILHOUETTE_AA", "1", 1);
-  else
-    unsetenv("IMX_TUBE_SILHOUETTE_AA");
-  Image image = render(tract_in_brain(method, 1));
-  unsetenv("IMX_TUBE_SILHOUETTE_AA");
-  return image;
+  Scene scene = tract_in_brain(method, 1);
+  scene.render.tube_coverage = coverage ? "on" : "off";
+  return render(scene);
 }
 
 TEST(StreamlineSilhouetteAa, CoverageBringsOneSampleCloserToSixtyFour) {
@@ -68,7 +63,6 @@ TEST(StreamlineSilhouetteAa, CoverageBringsOneSampleCloserToSixtyFour) {
 #ifdef IMX_SANITIZED
   GTEST_SKIP() << "the reference at 64 samples per pixel, only in the release build";
 #endif
-  unsetenv("IMX_TUBE_SILHOUETTE_AA");
   const Image ref64 = render(tract_in_brain("reference", 64));
   const Scene scene = tract_in_brain("reference", 1);
   const std::vector<uint8_t> band =

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tubes/tube_coverage.hpp"
 #include "tubes/tube_fragments.hpp"
 #include "tubes/tube_geometry.hpp"
 
