@@ -157,14 +157,16 @@ CoveredCrossing covered_crossing(const TubeLook& look, const Ray& ray, const Tub
   Approach a = closest_approach(ray, points[g.first_point(best)], points[g.first_point(best) + 1]);
   float t_in = INFINITY, t_out = -INFINITY;
   uint32_t seg_in = best, seg_out = best;
-  auto span_of = [&](uint32_t segment) {
+  // `distance`: the segment's from the ray; a capsule farther than its radius is missed.
+  auto span_of = [&](uint32_t segment, float distance) {
+    if (!(distance <= radius)) return;
     const uint32_t q = g.first_point(segment);
     const CapsuleSpan c = capsule_span(ray, points[q], points[q + 1], radius);
     if (!c.hit) return;
     if (c.t_in < t_in) t_in = c.t_in, seg_in = segment;
     if (c.t_out > t_out) t_out = c.t_out, seg_out = segment;
   };
-  span_of(best);
+  span_of(best, a.distance);
   for (const int step : {1, -1}) {
     uint32_t segment = candidate.segment;
     for (int k = 0; k < kNeighbourWalk; ++k) {
@@ -175,7 +177,7 @@ CoveredCrossing covered_crossing(const TubeLook& look, const Ray& ray, const Tub
       const Approach b = closest_approach(ray, points[q], points[q + 1]);
       if (!(b.distance < reach)) break;
       segment = static_cast<uint32_t>(next);
-      span_of(segment);
+      span_of(segment, b.distance);
       if (b.distance < a.distance) a = b, best = segment;
     }
   }
@@ -198,6 +200,22 @@ CoveredCrossing covered_crossing(const TubeLook& look, const Ray& ray, const Tub
 void sort_covered_fragments(std::vector<Fragment>& out, size_t first) {
   std::stable_sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(),
                    [](const Fragment& a, const Fragment& b) { return a.t < b.t; });
+}
+
+float cut_covered_fragments(std::vector<Fragment>& out, size_t first, float bound,
+                            float& let_through) {
+  sort_covered_fragments(out, first);
+  float through = 1.0f;
+  for (size_t k = first; k < out.size(); ++k) {
+    through *= 1.0f - out[k].color.a;
+    if (through < bound) {
+      out.resize(k + 1);
+      let_through = through;
+      return out[k].t;
+    }
+  }
+  let_through = through;
+  return INFINITY;
 }
 
 }  // namespace imx

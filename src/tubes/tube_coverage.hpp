@@ -63,4 +63,11 @@ CoveredCrossing covered_crossing(const TubeLook& look, const Ray& ray, const Tub
 // nearest first as the methods expect.
 void sort_covered_fragments(std::vector<Fragment>& out, size_t first);
 
+// Once the shaded fragments of `out` from `first` on let through less than `bound`: sorts them
+// and drops those behind the one where, in depth order, what they let through falls below it.
+// Returns that one's depth (INFINITY when none) and sets `let_through` to what the kept let
+// through. Candidates whose padded entries lie behind it need not be asked for.
+float cut_covered_fragments(std::vector<Fragment>& out, size_t first, float bound,
+                            float& let_through);
+
 }  // namespace imx

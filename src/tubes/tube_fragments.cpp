@@ -151,7 +151,8 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
   const std::span<TubeHit> hits(buffer.data(), look.hits_per_query);
   const glm::vec3 to_eye = -ray.dir;
   const size_t first = out.size();
-  float let_through = 1.0f, t_min = 0.0f, farthest = 0.0f;
+  // farthest: the deepest fragment; hidden: the nearest that alone lets through below the bound.
+  float let_through = 1.0f, t_min = 0.0f, farthest = 0.0f, hidden = INFINITY;
   // `coverage`: the part of the pixel a covered crossing covers; `facing` set for those only.
   auto emit = [&](const TubeHit& h, float coverage = 1.0f, int facing = -1) {
     Fragment f;
@@ -168,6 +169,7 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
     out.push_back(f);
     let_through *= 1.0f - alpha;
     farthest = std::max(farthest, h.t);
+    if (1.0f - alpha < kLetThrough) hidden = std::min(hidden, h.t);
   };
   // A cap where the ray meets `plane` at t inside a tube: flat, facing out of the kept side.
   auto cap = [&](int plane, float t) {
@@ -187,17 +189,23 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
     t_max = span.hi;
   }
   // Covered crossings come in the order of their padded entries, not their own: once the bound
-  // is reached, a crossing whose padded entry lies before the farthest fragment drawn can still
-  // be in front of it, so those are still asked for.
+  // is reached, a crossing whose padded entry lies before the farthest fragment drawn (or the
+  // nearest that hides what is behind it) can still be in front of it, so those are still asked
+  // for; what lies behind a hiding fragment is not drawn.
   while (let_through >= kLetThrough || (look.silhouette_aa && t_min < t_max)) {
-    if (look.silhouette_aa && let_through < kLetThrough) t_max = std::min(t_max, farthest);
+    if (look.silhouette_aa && let_through < kLetThrough) {
+      t_max = std::min({t_max, farthest, hidden});
+      if (look.shaded)
+        t_max = std::min(t_max, cut_covered_fragments(out, first, kLetThrough, let_through));
+    }
     const size_t n = look.geometry->nearest_hits(ray, t_min, t_max, hits);
     for (size_t i = 0; i < n; ++i) {
       if (!look.silhouette_aa) {
         emit(hits[i]);
-      } else if (const CoveredCrossing c = covered_crossing(look, ray, hits[i]); c.coverage > 0) {
+      } else if (const CoveredCrossing c = covered_crossing(look, ray, hits[i]);
+                 c.coverage > 0 && c.entry.t < hidden) {
         emit(c.entry, c.coverage, 1);
-        emit(c.exit, c.coverage, 0);
+        if (c.exit.t < hidden) emit(c.exit, c.coverage, 0);
       }
     }
     if (n < hits.size()) {

@@ -57,11 +57,21 @@ TEST(TubeSilhouetteAa, ARayThroughTheAxisCrossesTheTrueRadiusAndANearMissIsParti
   TubeGeometry tubes(o, silhouette_pad(fp));
   TubeLook look = make_tube_look(o, tubes);
   enable_silhouette_aa(look, fp, 0.0f);
+  // Opaque: the entry alone, what lies behind it hidden (as without coverage).
   std::vector<Fragment> out;
   append_tube_fragments(look, Ray{{0.3f, 0.0f, -10.0f}, {0, 0, 1}}, 1e9f, 0, {}, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_NEAR(out[0].t, 10.0f - radius, 1e-4f);
+  // Translucent: the entry and the exit, nearest first.
+  StreamlineObject half = o;
+  half.opacity = 0.5f;
+  TubeLook half_look = make_tube_look(half, tubes);
+  enable_silhouette_aa(half_look, fp, 0.0f);
+  out.clear();
+  append_tube_fragments(half_look, Ray{{0.3f, 0.0f, -10.0f}, {0, 0, 1}}, 1e9f, 0, {}, out);
   ASSERT_EQ(out.size(), 2u);
-  EXPECT_NEAR(std::min(out[0].t, out[1].t), 10.0f - radius, 1e-4f);
-  EXPECT_NEAR(std::max(out[0].t, out[1].t), 10.0f + radius, 1e-4f);
+  EXPECT_NEAR(out[0].t, 10.0f - radius, 1e-4f);
+  EXPECT_NEAR(out[1].t, 10.0f + radius, 1e-4f);
   EXPECT_NEAR(pixel_alpha(look, Ray{{0.3f, 0.0f, -10.0f}, {0, 0, 1}}), 1.0f, 1e-5f);
   // A quarter of a pixel past the edge's middle: a quarter covered, though the ray misses.
   const float y = radius + 0.25f * fp;
