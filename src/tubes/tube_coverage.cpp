@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <limits>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
 
 #include <glm/glm.hpp>
 
@@ -78,18 +80,24 @@ glm::vec3 radial(const glm::vec3& point, const glm::vec3& p0, const glm::vec3& p
   return point - (p0 + u * e);
 }
 
-// The widest pixel footprint (mm) over `object`'s tubes: at the farthest corner of their bounds.
+// The widest pixel footprint (mm) over `object`'s tubes: at the point farthest from the eye,
+// found with both cores (it is asked every frame, of millions of points).
 float widest_footprint(const CameraModel& camera, const StreamlineObject& object) {
   if (!camera.perspective()) return static_cast<float>(camera.pixel_footprint(0.0));
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (const glm::vec3& p : object.streamlines->points) lo = glm::min(lo, p), hi = glm::max(hi, p);
-  if (!(lo.x <= hi.x)) return 0.0f;
-  double far = 0.0;
-  for (int c = 0; c < 8; ++c) {
-    const glm::dvec3 corner(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
-    far = std::max(far, camera.depth_of(camera.to_camera(corner)));
-  }
-  return static_cast<float>(camera.pixel_footprint(far + object.radius));
+  const std::vector<glm::vec3>& points = object.streamlines->points;
+  if (points.empty()) return 0.0f;
+  const glm::vec3 eye(camera.eye());
+  const float far2 = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, points.size(), 1 << 16), 0.0f,
+      [&](const tbb::blocked_range<size_t>& r, float farthest) {
+        for (size_t k = r.begin(); k < r.end(); ++k) {
+          const glm::vec3 d = points[k] - eye;
+          farthest = std::max(farthest, glm::dot(d, d));
+        }
+        return farthest;
+      },
+      [](float a, float b) { return std::max(a, b); });
+  return static_cast<float>(camera.pixel_footprint(std::sqrt(far2) + object.radius));
 }
 
 }  // namespace
@@ -198,8 +206,14 @@ CoveredCrossing covered_crossing(const TubeLook& look, const Ray& ray, const Tub
 }
 
 void sort_covered_fragments(std::vector<Fragment>& out, size_t first) {
-  std::stable_sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(),
-                   [](const Fragment& a, const Fragment& b) { return a.t < b.t; });
+  // Insertion: a few dozen fragments, mostly in order already (an entry before its exit, and
+  // a second sort after a cut finds all but the last query's in place).
+  for (size_t k = first + 1; k < out.size(); ++k) {
+    const Fragment f = out[k];
+    size_t j = k;
+    for (; j > first && f.t < out[j - 1].t; --j) out[j] = out[j - 1];
+    out[j] = f;
+  }
 }
 
 float cut_covered_fragments(std::vector<Fragment>& out, size_t first, float bound,
