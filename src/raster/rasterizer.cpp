@@ -547,7 +547,8 @@ void Rasterizer::Impl::add_tube_fragments(const TileRect& tile, std::span<const 
   const bool covered = std::any_of(im.tubes.begin(), im.tubes.end(),
                                    [](const auto& tubes) { return tubes->look.silhouette_aa; });
   if (covered && offsets.size() > 1)
-    for (const auto& tubes : im.tubes) share_footprint(scaled.emplace_back(tubes->look), offsets.size());
+    for (const auto& tubes : im.tubes)
+      share_footprint(scaled.emplace_back(tubes->look), offsets.size());
   std::vector<uint32_t> starts;
   std::vector<Fragment> merged;
   starts.reserve(out.offsets.size());

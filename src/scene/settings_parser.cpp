@@ -114,8 +114,7 @@ RenderSettings parse_render(const JsonReader& r) {
   r.check_keys({"method", "spp", "step_mm", "reference_step_fraction", "ert_threshold", "layers",
                 "rt_layers", "peel_layers", "interpolation", "beta", "skipping", "classification",
                 "gradients", "brick_size", "k", "fragment_cap", "thickness", "slab_format",
-                "last_volume", "overflow", "sampling", "packets", "peel_rest",
-                "tube_coverage",
+                "last_volume", "overflow", "sampling", "packets", "peel_rest", "tube_coverage",
                 // CSG, and how co-located volumes mix
                 "csg_simplify", "csg_presence_threshold", "csg_max_states", "mixing",
                 "mixing_priority", "mixing_threshold"});

@@ -157,7 +157,8 @@ TEST(StreamlineClip, TheMethodsDrawTheSameCut) {
       const nlohmann::json look = {{"opacity", opacity}, {"shading", {{"enabled", true}}}};
       const Image reference =
           render_scene(oblique, 96, bundle(dir, true, look), "reference", coverage);
-      const Image whole = render_scene(oblique, 96, bundle(dir, false, look), "reference", coverage);
+      const Image whole =
+          render_scene(oblique, 96, bundle(dir, false, look), "reference", coverage);
       const double unclipped = psnr(reference, whole);
       EXPECT_LT(unclipped, 25.0) << "the cut changes the picture";
       for (const char* method : {"zslab-hybrid", "mdvr", "peel"}) {

@@ -42,13 +42,16 @@ constexpr double kFovDeg = 26.0;
 // `ert`: render.ert_threshold, empty for the default; `brain_visible` false hides the volume;
 // `coverage`: render.tube_coverage, empty for the default.
 Scene tract_in_brain(const std::string& method, int spp, std::optional<double> ert = {},
-                     bool brain_visible = true, const std::string& coverage = "",
-                     int side = kSide, double fov_deg = kFovDeg) {
+                     bool brain_visible = true, const std::string& coverage = "", int side = kSide,
+                     double fov_deg = kFovDeg) {
   // The brain faintly opaque (half its light gone about 20 mm in), so the tract, 1 mm thick
   // and a third opaque per crossing, passes in and out of the depth where the brain reaches 0.5.
   const nlohmann::json scene = {
       {"camera",
-       {{"eye", {-400, -60, 120}}, {"target", {0, -18, 8}}, {"up", {0, 0, 1}}, {"fov_deg", fov_deg}}},
+       {{"eye", {-400, -60, 120}},
+        {"target", {0, -18, 8}},
+        {"up", {0, 0, 1}},
+        {"fov_deg", fov_deg}}},
       {"image", {{"width", side}, {"height", side}, {"background", {0, 0, 0, 1}}}},
       {"render", {{"method", method}, {"spp", spp}}},
       {"objects",
@@ -102,7 +105,8 @@ void issue_criterion(int side) {
   const double mdvr_db = masked_psnr(mdvr, ref64, band);
   // Recorded only: both at the reference's ERT, as the same-ray test below.
   const double reference_ert = ReferenceParams{}.ert;
-  const double zslab_ert = masked_psnr(render(scene("zslab-hybrid", 1, reference_ert)), ref64, band);
+  const double zslab_ert =
+      masked_psnr(render(scene("zslab-hybrid", 1, reference_ert)), ref64, band);
   const double mdvr_ert = masked_psnr(render(scene("mdvr", 1, reference_ert)), ref64, band);
   using ::testing::Test;
   Test::RecordProperty("band_pixels", static_cast<int>(in_band));
@@ -181,8 +185,7 @@ TEST(StreamlineExactness, ZslabDrawsEveryTranslucentCrossingInOrder) {
   }
   ASSERT_GT(tract_pixels, 500u);
   for (const char* method : {"zslab-hybrid", "zslab"}) {
-    const double db =
-        masked_psnr(render(tract_in_brain(method, 1, {}, false, "off")), ref1, tract);
+    const double db = masked_psnr(render(tract_in_brain(method, 1, {}, false, "off")), ref1, tract);
     RecordProperty(fmt::format("tract_db_{}", method), fmt::format("{:.2f}", db));
     EXPECT_GE(db, 60.0) << method;
   }

@@ -187,10 +187,10 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast, int sample_ind
     // Tubes are ray-traced, not peeled: every crossing that can still show, not the first L.
     const bool covered = tubes && tube_coverage_on(r, true);
     const StreamlineObject* so = tubes ? &scene.streamlines[ref.index] : nullptr;
-    const int peel = tubes ? static_cast<int>(std::min<size_t>(
-                                 covered ? covered_fragments_needed(*so) : tube_fragments_needed(*so),
-                                 INT_MAX))
-                           : r.peel_layers;
+    const int peel =
+        tubes ? static_cast<int>(std::min<size_t>(
+                    covered ? covered_fragments_needed(*so) : tube_fragments_needed(*so), INT_MAX))
+              : r.peel_layers;
     group.kind = ZslabStage::Kind::surfaces;
     group.objects.push_back(static_cast<uint32_t>(k));
     group.thickness.push_back(thickness);
