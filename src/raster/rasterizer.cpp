@@ -416,7 +416,10 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
       const bool covered = tube_coverage && coverable(so);
       tubes->geometry = tube_geometry(so, covered ? silhouette_pad(camera, so) : 0.0f);
       tubes->look = make_tube_look(tubes->object, *tubes->geometry);
-      if (covered) enable_silhouette_aa(tubes->look, camera);
+      if (covered)
+        enable_silhouette_aa(tubes->look, camera);
+      else
+        hard_tubes_through_pad(tubes->look);
       tubes->order_index = static_cast<uint32_t>(k);
       im.tubes.push_back(std::move(tubes));
       continue;

@@ -27,6 +27,13 @@ std::vector<double> geometry_key(const StreamlineObject& o) {
   return key;
 }
 
+// Silhouette coverage works with any pad at least the one asked: a padded geometry serves pads
+// down to a quarter of its own, so that a camera moving in and out rebuilds no BVH at each step.
+// Without coverage (pad 0) any serves: the true tubes are found through the padded ones.
+bool serves_pad(float built, float asked) {
+  return asked > 0.0f ? built >= asked && built <= 4.0f * asked : true;
+}
+
 }  // namespace
 
 int preview_stride(const StreamlineObject& object) {
@@ -38,13 +45,12 @@ int preview_stride(const StreamlineObject& object) {
 
 std::shared_ptr<const TubeGeometry> TubeCache::geometry(const StreamlineObject& object, float pad) {
   std::vector<double> key = geometry_key(object);
-  key.push_back(pad);
   // The slot by what the stride lets through at most, known before anything is built.
   const size_t count = object.streamlines ? object.streamlines->count() : 0;
   const size_t stride = static_cast<size_t>(std::max(object.stride, 1));
   Entry& entry = entries_[(count + stride - 1) / stride <= kPreviewStreamlines ? 0 : 1];
   std::lock_guard lock(mutex_);
-  if (!entry.built || key != entry.key) {
+  if (!entry.built || key != entry.key || !serves_pad(entry.built->pad(), pad)) {
     entry.built.reset();  // the old BVH goes before the new one is built: one at a time in memory
     entry.built = std::make_shared<const TubeGeometry>(object, pad);
     entry.key = std::move(key);

@@ -25,7 +25,8 @@ class TubeCache {
   // again only when one of them changed. Two are kept: a preview's (at most kPreviewStreamlines
   // streamlines by its stride) and a full one, so that a viewer switching between moving and
   // still frames builds neither again. Thread-safe.
-  // `pad`: TubeGeometry's, part of the key.
+  // `pad`: TubeGeometry's; a geometry built with a pad from `pad` to 4 * `pad` serves, and any
+  // for 0 (hard_tubes_through_pad in tube_coverage.hpp draws the true tubes through it).
   std::shared_ptr<const TubeGeometry> geometry(const StreamlineObject& object, float pad = 0.0f);
 
   // The clip planes of `object` over `geometry` (one this cache built), built again only when

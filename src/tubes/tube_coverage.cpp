@@ -134,6 +134,10 @@ void enable_silhouette_aa(TubeLook& look, const CameraModel& camera) {
   enable_silhouette_aa(look, at_0, static_cast<float>(camera.pixel_footprint(1.0)) - at_0);
 }
 
+void hard_tubes_through_pad(TubeLook& look) {
+  if (look.geometry && look.geometry->pad() > 0.0f) enable_silhouette_aa(look, 0.0f, 0.0f);
+}
+
 void share_footprint(TubeLook& look, size_t samples) {
   if (samples <= 1) return;
   const float share = 1.0f / std::sqrt(static_cast<float>(samples));

@@ -37,6 +37,10 @@ void enable_silhouette_aa(TubeLook& look, float footprint_at_0, float footprint_
 // The same with `camera`'s pixel footprint.
 void enable_silhouette_aa(TubeLook& look, const CameraModel& camera);
 
+// Draws `look`'s true tubes, hit or missed, when its geometry is padded (built for coverage and
+// kept by TubeCache) but coverage is off: coverage with a footprint of 0.
+void hard_tubes_through_pad(TubeLook& look);
+
 // Several samples per pixel: each covers its share, a footprint 1/sqrt(samples) as wide.
 void share_footprint(TubeLook& look, size_t samples);
 

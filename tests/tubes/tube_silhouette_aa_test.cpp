@@ -82,6 +82,15 @@ TEST(TubeSilhouetteAa, ARayThroughTheAxisCrossesTheTrueRadiusAndANearMissIsParti
   // Without coverage the same near miss is empty.
   TubeGeometry plain(o);
   EXPECT_EQ(pixel_alpha(make_tube_look(o, plain), Ray{{0.3f, y, -10.0f}, {0, 0, 1}}), 0.0f);
+  // Nor through the padded geometry when coverage is off (a cache keeps one for both).
+  TubeLook hard = make_tube_look(o, tubes);
+  hard_tubes_through_pad(hard);
+  EXPECT_EQ(pixel_alpha(hard, Ray{{0.3f, y, -10.0f}, {0, 0, 1}}), 0.0f);
+  out.clear();
+  append_tube_fragments(hard, Ray{{0.3f, radius - 0.05f, -10.0f}, {0, 0, 1}}, 1e9f, 0, {}, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_NEAR(out[0].t, 10.0f - std::sqrt(radius * radius - 0.95f * 0.95f), 1e-3f);
+  EXPECT_FLOAT_EQ(out[0].color.a, 1.0f);
 }
 
 // Per column of a 512 x 512 orthographic image (0.5 mm pixels) across a 0.2 mm radius tube
