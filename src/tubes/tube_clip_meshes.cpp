@@ -11,6 +11,7 @@
 
 #include "frame/clip_intervals.hpp"
 #include "intermix/error.hpp"
+#include "intermix/limits.hpp"
 
 namespace imx {
 namespace {
@@ -182,6 +183,11 @@ TubeClipMeshes::TubeClipMeshes(std::vector<std::shared_ptr<const Mesh>> meshes,
   if (meshes_.size() > static_cast<size_t>(kMaxClipMeshes) || keep_inside.size() != meshes_.size())
     throw Error(fmt::format("streamlines '{}': {} clip meshes, at most {}", object, meshes_.size(),
                             kMaxClipMeshes));
+  size_t triangles = 0;
+  for (const auto& m : meshes_) triangles += m->triangles.size();
+  // The triangles twice (a list, then the tree's order) and the nodes over them.
+  check_memory(triangles * (2 * sizeof(Bvh::Triangle) + 2 * sizeof(Bvh::Node) / kLeafTriangles),
+               fmt::format("streamlines '{}': its clip meshes' {} triangles", object, triangles));
   std::vector<Bvh::Triangle> all;
   for (size_t k = 0; k < meshes_.size(); ++k) {
     const Mesh& m = *meshes_[k];

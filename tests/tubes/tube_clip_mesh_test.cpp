@@ -11,6 +11,8 @@
 #include <gtest/gtest.h>
 #include <glm/glm.hpp>
 
+#include "intermix/error.hpp"
+#include "intermix/limits.hpp"
 #include "tubes/tube_clip_meshes.hpp"
 #include "tubes/tube_fragments.hpp"
 #include "tubes/tube_geometry.hpp"
@@ -258,6 +260,22 @@ TEST(TubeClipMesh, AnIndexOutsideTheScenesMeshesIsAnError) {
   const TubeGeometry tubes(o);
   const auto meshes = objects_of({box({-4, -3, -3}, {4, 3, 3})});
   EXPECT_THROW(make_tube_look(o, tubes, meshes), Error);
+}
+
+TEST(TubeClipMesh, AClipMeshOverTheMemoryBudgetIsRefusedByName) {
+  StreamlineObject o = rod(0.5, 1.0f);
+  o.clip_meshes.push_back({0, true});
+  const auto meshes = objects_of({icosphere({0, 0, 0}, 3.0f, 4)});  // 5,120 triangles
+  set_input_limits({100 * 1024, false});
+  try {
+    make_tube_clip_meshes(o, meshes);
+    ADD_FAILURE() << "a clip mesh over the budget was built";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("clip meshes' 5120 triangles"), std::string::npos)
+        << e.what();
+  }
+  set_input_limits({});
+  EXPECT_NE(make_tube_clip_meshes(o, meshes), nullptr);
 }
 
 }  // namespace
