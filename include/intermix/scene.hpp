@@ -220,6 +220,7 @@ struct StreamlineObject {
   std::vector<StreamlineRegion> regions;  // all must hold
   std::optional<double> thickness;        // mm; empty means "auto", as for meshes
   std::vector<ClipPlane> clip_planes;     // world; tubes show where all keep, cuts capped
+  std::vector<ClipMesh> clip_meshes;      // closed meshes of the scene, as a volume's; capped
   std::shared_ptr<TubeCache> cache;       // shared by copies of the scene; may be null
   // A "connectome" object: these spheres and tubes are drawn instead of streamlines. Then
   // `streamlines` holds the node centres and no streamline, and `radius` the largest sphere or

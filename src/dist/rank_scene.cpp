@@ -67,6 +67,11 @@ Scene rank_scene(const Scene& loaded, const Partition& partition, int rank) {
         size_t m = static_cast<size_t>(order_of_mesh.at(static_cast<size_t>(c.mesh)));
         if (!keep[m] && !mine.count(m)) hidden[m] = true;
       }
+    if (ref.kind == ObjectKind::streamlines)
+      for (const ClipMesh& c : loaded.streamlines[ref.index].clip_meshes) {
+        size_t m = static_cast<size_t>(order_of_mesh.at(static_cast<size_t>(c.mesh)));
+        if (!keep[m] && !mine.count(m)) hidden[m] = true;
+      }
   }
 
   Scene sub;
@@ -116,6 +121,8 @@ Scene rank_scene(const Scene& loaded, const Partition& partition, int rank) {
     if (p.volume >= 0) p.volume = volume_at.at(static_cast<size_t>(p.volume));
   for (VolumeObject& v : sub.volumes)
     for (ClipMesh& c : v.clip_meshes) c.mesh = mesh_at.at(static_cast<size_t>(c.mesh));
+  for (StreamlineObject& o : sub.streamlines)
+    for (ClipMesh& c : o.clip_meshes) c.mesh = mesh_at.at(static_cast<size_t>(c.mesh));
   if (!sub.render.last_volume.empty() &&
       std::none_of(sub.volumes.begin(), sub.volumes.end(),
                    [&](const VolumeObject& v) { return v.name == sub.render.last_volume; }))

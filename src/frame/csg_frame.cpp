@@ -19,6 +19,14 @@ std::vector<CsgBox> primitive_boxes(const Scene& scene, std::span<const CsgPrimi
     };
     if (p.object.kind == ObjectKind::mesh) {
       for (const glm::vec3& q : scene.meshes[p.object.index].mesh->positions) add(q);
+    } else if (p.object.kind == ObjectKind::streamlines) {
+      // Every point, grown by the radius: a bound of the tubes whatever the selection draws.
+      const StreamlineObject& o = scene.streamlines[p.object.index];
+      if (o.streamlines)
+        for (const glm::vec3& q : o.streamlines->points) {
+          add(glm::dvec3(q) - o.radius);
+          add(glm::dvec3(q) + o.radius);
+        }
     } else {
       // Clip planes only shrink a volume's region: the hull's box stays a bound.
       const VolumeObject& v = scene.volumes[p.object.index];
@@ -61,6 +69,8 @@ CsgFrame::CsgFrame(const Scene& scene, const FrameSetup& frame, bool with_states
     if (p.object.kind == ObjectKind::volume) {
       primitive_of_volume_[p.object.index] = static_cast<int8_t>(k);
       volume_of_primitive_[k] = static_cast<int8_t>(p.object.index);
+    } else if (p.object.kind == ObjectKind::streamlines) {
+      meshes_ |= bit;  // a region bounded by its fragments, as a mesh's: entries and exits
     } else {
       meshes_ |= bit;
       if (const auto& m = scene.meshes[p.object.index].interior; m && m->opacity > 0.0f) {

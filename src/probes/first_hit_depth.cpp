@@ -39,6 +39,7 @@ Image first_hit_depth(const Scene& scene, const std::string& name, float opacity
     if (ref.kind == ObjectKind::streamlines && scene.streamlines[ref.index].name == name) {
       one.order.push_back({ObjectKind::streamlines, 0});
       one.streamlines.push_back(scene.streamlines[ref.index]);
+      one.streamlines.back().clip_meshes.clear();  // they name the scene's meshes
     }
   }
   if (volume < 0 && one.order.empty())

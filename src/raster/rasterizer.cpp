@@ -410,12 +410,21 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
         throw Error(
             fmt::format("scene order[{}]: streamlines index {} is out of range", k, ref.index));
       const StreamlineObject& so = scene.streamlines[ref.index];
-      if (clip_only || !(so.opacity > 0.0f)) continue;  // tubes never cut; hidden ones cost 0
+      // A CSG primitive's tubes bound a region: every crossing, whatever their opacity.
+      const bool csg_primitive =
+          scene.csg &&
+          std::any_of(scene.csg->nodes.begin(), scene.csg->nodes.end(), [&](const CsgNode& n) {
+            return n.op == CsgOp::primitive && n.object.kind == ref.kind &&
+                   n.object.index == ref.index;
+          });
+      if (clip_only || !(so.opacity > 0.0f || csg_primitive)) continue;  // hidden ones cost 0
       auto tubes = std::make_unique<Impl::Tubes>();
       tubes->object = so;
-      const bool covered = tube_coverage && coverable(so);
+      // Coverage not for a CSG primitive: its crossings bound a region, whole or none.
+      const bool covered = tube_coverage && coverable(so) && !csg_primitive;
       tubes->geometry = tube_geometry(so, covered ? silhouette_pad(camera, so) : 0.0f);
-      tubes->look = make_tube_look(tubes->object, *tubes->geometry);
+      tubes->look = make_tube_look(tubes->object, *tubes->geometry, scene.meshes);
+      tubes->look.every_crossing = csg_primitive;
       if (covered)
         enable_silhouette_aa(tubes->look, camera);
       else

@@ -1,4 +1,5 @@
-// Parser for the volumes' "clip" lists: closed meshes that keep a volume's inside or outside.
+// Parser for the "clip" lists of volumes and streamline objects: closed meshes that keep what
+// lies inside or outside them.
 #include <map>
 #include <memory>
 #include <optional>
@@ -33,11 +34,18 @@ void parse_clip_meshes(const std::vector<JsonReader>& objects, Scene& scene) {
   std::vector<bool> admitted(scene.meshes.size(), false);
   size_t distinct = 0;
   for (size_t i = 0; i < scene.order.size() && i < objects.size(); ++i) {
-    if (scene.order[i].kind != ObjectKind::volume) continue;
+    // Volumes and streamline objects take clip meshes (a connectome's parser refuses "clip").
+    const ObjectRef owner = scene.order[i];
+    if (owner.kind != ObjectKind::volume && owner.kind != ObjectKind::streamlines) continue;
     std::optional<JsonReader> list = objects[i].find("clip");
     if (!list) continue;
     list->expect_array();
-    VolumeObject& volume = scene.volumes[scene.order[i].index];
+    std::vector<ClipMesh>& clips = owner.kind == ObjectKind::volume
+                                       ? scene.volumes[owner.index].clip_meshes
+                                       : scene.streamlines[owner.index].clip_meshes;
+    const std::string owner_name =
+        fmt::format("{} '{}'", owner.kind == ObjectKind::volume ? "volume" : "streamlines",
+                    object_name(scene, owner));
     std::map<int, size_t> seen;  // mesh -> its position in this list
     for (size_t j = 0; j < list->size(); ++j) {
       const JsonReader entry = list->at(j);
@@ -54,8 +62,7 @@ void parse_clip_meshes(const std::vector<JsonReader>& objects, Scene& scene) {
                                  object_kind_name(found->second.kind)));
       const int m = found->second.index;
       if (auto [it, fresh] = seen.emplace(m, j); !fresh)
-        mesh_at.fail(
-            fmt::format("'{}' is already clip[{}] of volume '{}'", name, it->second, volume.name));
+        mesh_at.fail(fmt::format("'{}' is already clip[{}] of {}", name, it->second, owner_name));
       if (!admitted[m]) {
         if (distinct == kMaxClipMeshes)
           mesh_at.fail(fmt::format("at most {} different clip meshes in a scene; '{}' is the {}th",
@@ -75,7 +82,7 @@ void parse_clip_meshes(const std::vector<JsonReader>& objects, Scene& scene) {
         admitted[m] = true;
         ++distinct;
       }
-      volume.clip_meshes.push_back(ClipMesh{m, keep_inside});
+      clips.push_back(ClipMesh{m, keep_inside});
     }
   }
 }

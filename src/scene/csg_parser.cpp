@@ -1,4 +1,5 @@
-// Parser for the scene's "csg" block: an expression over dvr volumes and closed meshes.
+// Parser for the scene's "csg" block: an expression over dvr volumes, closed meshes and
+// streamline objects (the inside of their tubes).
 #include <algorithm>
 #include <charconv>
 #include <map>
@@ -185,8 +186,12 @@ class CsgBuilder {
     const ObjectRef ref = found->second;
     if (label) keep_only_label(ref, name, *label, name_at);
     if (ref.kind == ObjectKind::plane)
-      name_at.fail(
-          fmt::format("'{}' is a plane; CSG primitives are volumes and closed meshes", name));
+      name_at.fail(fmt::format(
+          "'{}' is a plane; CSG primitives are volumes and closed meshes, and streamlines", name));
+    if (ref.kind == ObjectKind::streamlines && scene_.streamlines[ref.index].connectome)
+      name_at.fail(fmt::format(
+          "'{}' is a connectome; CSG primitives are volumes and closed meshes, and streamlines",
+          name));
     if (ref.kind == ObjectKind::volume && scene_.volumes[ref.index].style != VolumeStyle::dvr)
       name_at.fail(
           fmt::format("'{}' is a volume of style {}; CSG primitives are dvr volumes and "
@@ -202,6 +207,11 @@ class CsgBuilder {
         presence_at->fail(fmt::format(
             "mesh '{}' can only have presence \"region\" (a mesh is present wherever it "
             "encloses the point, whatever its material)",
+            name));
+      if (ref.kind == ObjectKind::streamlines && presence == CsgPresence::opacity)
+        presence_at->fail(fmt::format(
+            "streamlines '{}' can only have presence \"region\" (tubes are present wherever "
+            "they enclose the point, whatever their opacity)",
             name));
     }
 
@@ -242,6 +252,7 @@ class CsgBuilder {
       ++volumes_;
       return;
     }
+    if (ref.kind == ObjectKind::streamlines) return;  // tubes are closed: round, capped ends
     MeshObject& mesh = scene_.meshes[ref.index];
     const MeshTopology topology = check_closed(*mesh.mesh);
     if (topology.open_edges > 0)

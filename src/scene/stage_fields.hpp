@@ -60,10 +60,10 @@ inline void hash_stage_fields(Fnv1a& h, const MeshObject& m) {
   if (interior) h.add(interior->color).add(interior->opacity).add(interior->unit_distance);
 }
 
-inline void hash_stage_fields(Fnv1a& h, const StreamlineObject& o) {
+inline void hash_stage_fields(Fnv1a& h, const Scene& scene, const StreamlineObject& o) {
   const auto& [name, streamlines, radius, colouring, color, value, colormap, range, opacity,
-               group_opacity, shading, stride, min_length, regions, thickness, clip_planes, cache,
-               connectome, connectome_look] = o;
+               group_opacity, shading, stride, min_length, regions, thickness, clip_planes,
+               clip_meshes, cache, connectome, connectome_look] = o;
   (void)name, (void)cache;  // a label; the cache builds from the fields hashed here
   h.add(streamlines.get()).add(radius).add(colouring).add(color).add(value.size());
   for (char c : value) h.add(c);
@@ -75,6 +75,9 @@ inline void hash_stage_fields(Fnv1a& h, const StreamlineObject& o) {
   hash_stage_optional(h, thickness);
   h.add(clip_planes.size());
   for (const ClipPlane& c : clip_planes) h.add(c.point).add(c.normal);
+  h.add(clip_meshes.size());
+  for (const ClipMesh& c : clip_meshes)
+    h.add(scene.meshes.at(static_cast<size_t>(c.mesh)).mesh.get()).add(c.keep_inside);
   h.add(regions.size());
   for (const StreamlineRegion& r : regions)
     h.add(r.shape)

@@ -108,15 +108,17 @@ StreamlineRegion parse_region(const JsonReader& r, SceneContext& context) {
 }
 
 // A tractogram whose tubes would exceed the memory budget is decimated, not refused: the
-// smallest stride whose tubes fit, with a note (the vertices of every point stay: they must fit).
+// smallest stride whose tubes fit, with a note (the streamlines' own points stay: they must fit).
 void fit_stride_to_budget(StreamlineObject& o, SceneContext& context) {
   const Streamlines& s = *o.streamlines;
   const uint64_t budget = input_limits().max_memory, points = s.points.size();
   const uint64_t segments = points - std::min<uint64_t>(points, s.count());
-  auto fits = [&](uint64_t stride) { return tube_bytes(points, segments / stride) <= budget; };
+  auto fits = [&](uint64_t stride) {
+    return tube_bytes(s.count() / stride, segments / stride) <= budget;
+  };
   uint64_t stride = static_cast<uint64_t>(o.stride);
   if (fits(stride) || !fits(s.count() + 1)) return;
-  const uint64_t full = tube_bytes(points, segments / stride);
+  const uint64_t full = tube_bytes(s.count() / stride, segments / stride);
   while (!fits(stride)) ++stride;
   o.stride = static_cast<int>(stride);
   context.notes.push_back(fmt::format(
@@ -128,10 +130,10 @@ void fit_stride_to_budget(StreamlineObject& o, SceneContext& context) {
 }  // namespace
 
 StreamlineObject parse_streamline_object(const JsonReader& r, SceneContext& context) {
-  r.check_keys({"name",     "type",          "source",  "transform", "radius",
-                "color_by", "color",         "value",   "colormap",  "range",
-                "opacity",  "group_opacity", "shading", "stride",    "min_length",
-                "regions",  "thickness",     "visible", "sides",     "clip_planes"});
+  r.check_keys({"name",    "type",        "source",     "transform", "radius",    "color_by",
+                "color",   "value",       "colormap",   "range",     "opacity",   "group_opacity",
+                "shading", "stride",      "min_length", "regions",   "thickness", "visible",
+                "sides",   "clip_planes", "clip"});
   StreamlineObject o;
   o.name = r.get("name").string();
   glm::dmat4 transform(1.0);
@@ -173,6 +175,7 @@ StreamlineObject parse_streamline_object(const JsonReader& r, SceneContext& cont
           fmt::format("{} clip planes; streamlines take at most {}", v->size(), kMaxClipPlanes));
     o.clip_planes = parse_clip_planes(*v, context.world_space);  // as a volume's, world space
   }
+  // "clip" names meshes, which may come later in the file: parse_clip_meshes reads it.
   if (auto v = r.find("sides"))
     v->integer(3, 64);  // the VTK peer's tube sides; tubes here are round
   if (!parse_visible(r)) o.opacity = 0.0f;

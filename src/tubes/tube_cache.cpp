@@ -54,27 +54,25 @@ std::shared_ptr<const TubeGeometry> TubeCache::geometry(const StreamlineObject& 
     entry.built.reset();  // the old BVH goes before the new one is built: one at a time in memory
     entry.built = std::make_shared<const TubeGeometry>(object, pad);
     entry.key = std::move(key);
-    entry.build = ++builds_;
-    entry.clip.reset();
+    ++builds_;
   }
   return entry.built;
 }
 
-std::shared_ptr<const TubeClip> TubeCache::clip(const StreamlineObject& object,
-                                                const TubeGeometry& geometry) {
-  std::lock_guard lock(mutex_);
-  for (Entry& entry : entries_) {
-    if (entry.built.get() != &geometry) continue;
-    std::vector<double> key = {static_cast<double>(entry.build)};
-    for (const ClipPlane& p : object.clip_planes)
-      key.insert(key.end(), {p.point.x, p.point.y, p.point.z, p.normal.x, p.normal.y, p.normal.z});
-    if (!entry.clip || key != entry.clip_key) {
-      entry.clip = std::make_shared<const TubeClip>(object, geometry);
-      entry.clip_key = std::move(key);
-    }
-    return entry.clip;
+std::shared_ptr<const TubeClipMeshes> TubeCache::clip_meshes(const StreamlineObject& object,
+                                                             std::span<const MeshObject> meshes) {
+  std::vector<uintptr_t> key;
+  for (const ClipMesh& c : object.clip_meshes) {
+    const bool known = c.mesh >= 0 && static_cast<size_t>(c.mesh) < meshes.size();
+    key.push_back(known ? reinterpret_cast<uintptr_t>(meshes[c.mesh].mesh.get()) : 0);
+    key.push_back(c.keep_inside ? 1 : 0);
   }
-  return std::make_shared<const TubeClip>(object, geometry);  // a geometry built elsewhere
+  std::lock_guard lock(mutex_);
+  if (!clip_meshes_ || key != clip_meshes_key_) {
+    clip_meshes_ = make_tube_clip_meshes(object, meshes);  // it holds the meshes it keys
+    clip_meshes_key_ = std::move(key);
+  }
+  return clip_meshes_;
 }
 
 size_t TubeCache::builds() const {
@@ -91,11 +89,11 @@ std::shared_ptr<const TubeGeometry> tube_geometry(const StreamlineObject& object
   return std::make_shared<const TubeGeometry>(object, pad);
 }
 
-std::shared_ptr<const TubeClip> tube_clip(const StreamlineObject& object,
-                                          const TubeGeometry& geometry) {
-  if (object.clip_planes.empty() || geometry.is_connectome()) return nullptr;
-  if (object.cache) return object.cache->clip(object, geometry);
-  return std::make_shared<const TubeClip>(object, geometry);
+std::shared_ptr<const TubeClipMeshes> tube_clip_meshes(const StreamlineObject& object,
+                                                       std::span<const MeshObject> meshes) {
+  if (object.clip_meshes.empty() || object.connectome) return nullptr;
+  if (object.cache) return object.cache->clip_meshes(object, meshes);
+  return make_tube_clip_meshes(object, meshes);
 }
 
 }  // namespace imx

@@ -2,12 +2,14 @@
 #pragma once
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <vector>
 
 #include "intermix/scene.hpp"
-#include "tubes/tube_clip.hpp"
+#include "tubes/tube_clip_meshes.hpp"
 #include "tubes/tube_geometry.hpp"
 
 namespace imx {
@@ -29,10 +31,10 @@ class TubeCache {
   // for 0 (hard_tubes_through_pad in tube_coverage.hpp draws the true tubes through it).
   std::shared_ptr<const TubeGeometry> geometry(const StreamlineObject& object, float pad = 0.0f);
 
-  // The clip planes of `object` over `geometry` (one this cache built), built again only when
-  // the planes or the geometry changed; null when the object has no clip planes.
-  std::shared_ptr<const TubeClip> clip(const StreamlineObject& object,
-                                       const TubeGeometry& geometry);
+  // The clip meshes of `object` resolved in `meshes` (the scene's), built again only when the
+  // meshes or what they keep changed; null without clip meshes.
+  std::shared_ptr<const TubeClipMeshes> clip_meshes(const StreamlineObject& object,
+                                                    std::span<const MeshObject> meshes);
 
   // How many geometries were built (for tests).
   size_t builds() const;
@@ -41,13 +43,12 @@ class TubeCache {
   struct Entry {
     std::vector<double> key;
     std::shared_ptr<const TubeGeometry> built;
-    size_t build = 0;              // which build of the cache made `built`
-    std::vector<double> clip_key;  // the planes and the build `clip` was made for
-    std::shared_ptr<const TubeClip> clip;
   };
   mutable std::mutex mutex_;
   std::array<Entry, 2> entries_;  // [0]: a preview, [1]: a full selection
   size_t builds_ = 0;
+  std::vector<uintptr_t> clip_meshes_key_;  // mesh addresses and keep flags
+  std::shared_ptr<const TubeClipMeshes> clip_meshes_;
 };
 
 // A fresh cache for a new streamline object.
@@ -56,9 +57,9 @@ std::shared_ptr<TubeCache> make_tube_cache();
 // The geometry of `object`: from its cache, or built now when it has none.
 std::shared_ptr<const TubeGeometry> tube_geometry(const StreamlineObject& object, float pad = 0.0f);
 
-// The clip planes of `object` over `geometry`: from its cache, or built now when it has none;
-// null without clip planes, and for a connectome (its primitives are no streamline segments).
-std::shared_ptr<const TubeClip> tube_clip(const StreamlineObject& object,
-                                          const TubeGeometry& geometry);
+// The clip meshes of `object` resolved in the scene's `meshes`: from its cache, or built now
+// when it has none; null without clip meshes, and for a connectome.
+std::shared_ptr<const TubeClipMeshes> tube_clip_meshes(const StreamlineObject& object,
+                                                       std::span<const MeshObject> meshes);
 
 }  // namespace imx

@@ -17,7 +17,7 @@ namespace imx {
 namespace {
 
 constexpr float kLetThrough = 1.0f / 1024.0f;
-constexpr size_t kHitsPerQuery = 32;
+constexpr size_t kHitsPerQuery = 64;
 
 const StreamlineValues* find_values(const std::vector<StreamlineValues>& all,
                                     const std::string& name) {
@@ -93,10 +93,13 @@ glm::vec3 streamline_colour(const TubeLook& look, uint32_t streamline, uint32_t 
   return colour_at(look, point, u, [&] { return streamline; });
 }
 
-TubeLook make_tube_look(const StreamlineObject& object, const TubeGeometry& geometry) {
+TubeLook make_tube_look(const StreamlineObject& object, const TubeGeometry& geometry,
+                        std::span<const MeshObject> meshes) {
   TubeLook look = make_tube_look(object);
   look.geometry = &geometry;
-  look.clip = tube_clip(object, geometry);
+  if (!object.clip_planes.empty() && !geometry.is_connectome())
+    look.clip = std::make_shared<const TubeClip>(object);
+  if (!geometry.is_connectome()) look.clip_meshes = tube_clip_meshes(object, meshes);
   return look;
 }
 
@@ -148,11 +151,14 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
   std::array<TubeHit, kHitsPerQuery> buffer;
   // As many hits per query as the most transparent crossing needs to let through less than the
   // bound: one for opaque tubes, the nearest alone being far cheaper to find than 32.
-  const std::span<TubeHit> hits(buffer.data(), look.hits_per_query);
+  const std::span<TubeHit> hits(buffer.data(),
+                                look.every_crossing ? kHitsPerQuery : look.hits_per_query);
   const glm::vec3 to_eye = -ray.dir;
   const size_t first = out.size();
   // farthest: the deepest fragment; hidden: the nearest that alone lets through below the bound.
-  float let_through = 1.0f, t_min = 0.0f, farthest = 0.0f, hidden = INFINITY;
+  float let_through = 1.0f, farthest = 0.0f, hidden = INFINITY;
+  // Whether a crossing behind those so far can still change a colour, or must be counted.
+  auto more = [&] { return look.every_crossing || let_through >= kLetThrough; };
   // `coverage`: the part of the pixel a covered crossing covers; `facing` set for those only.
   auto emit = [&](const TubeHit& h, float coverage = 1.0f, int facing = -1) {
     Fragment f;
@@ -171,48 +177,75 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
     farthest = std::max(farthest, h.t);
     if (1.0f - alpha < kLetThrough) hidden = std::min(hidden, h.t);
   };
-  // A cap where the ray meets `plane` at t inside a tube: flat, facing out of the kept side.
-  auto cap = [&](int plane, float t) {
+  // One end of a kept piece of the ray: set by a clip plane, a clip mesh, or neither.
+  struct End {
+    float t = 0.0f;
+    int plane = -1;
+    const TubeClipMeshes::End* mesh = nullptr;
+  };
+  // A cap where the ray meets a plane or a mesh at t inside a tube: flat, facing out of the kept
+  // side.
+  auto cap = [&](const End& e) {
     TubeHit h;
-    if (plane < 0 || !look.clip->inside(plane, ray.at(t), &h)) return;
-    h.t = t;
-    h.normal = -look.clip->normal(plane);
+    if (e.plane < 0 && !(e.mesh && e.mesh->cut)) return;
+    if (!look.geometry->contains(ray.at(e.t), &h)) return;  // the nearest segment's colour
+    h.normal = e.plane >= 0 ? -look.clip->normal(e.plane) : e.mesh->normal;
+    h.t = e.t;
     emit(h);
   };
-  TubeClip::Span span{0.0f, t_max, -1, -1};
-  if (look.clip) {
-    span = look.clip->kept(ray);
-    if (span.hi >= t_max) span.hi = t_max, span.hi_plane = -1;
-    if (!(span.lo < span.hi)) return;
-    cap(span.lo_plane, span.lo);
-    t_min = span.lo;
-    t_max = span.hi;
-  }
+  // The tubes between lo and hi, capped at both ends; false once what the fragments let
+  // through is below the bound.
   // Covered crossings come in the order of their padded entries, not their own: once the bound
   // is reached, a crossing whose padded entry lies before the farthest fragment drawn (or the
   // nearest that hides what is behind it) can still be in front of it, so those are still asked
-  // for; what lies behind a hiding fragment is not drawn.
-  while (let_through >= kLetThrough || (look.silhouette_aa && t_min < t_max)) {
-    if (look.silhouette_aa && let_through < kLetThrough) {
-      t_max = std::min({t_max, farthest, hidden});
-      if (look.shaded)
-        t_max = std::min(t_max, cut_covered_fragments(out, first, kLetThrough, let_through));
-    }
-    const size_t n = look.geometry->nearest_hits(ray, t_min, t_max, hits);
-    for (size_t i = 0; i < n; ++i) {
-      if (!look.silhouette_aa) {
-        emit(hits[i]);
-      } else if (const CoveredCrossing c = covered_crossing(look, ray, hits[i]);
-                 c.coverage > 0 && c.entry.t < hidden) {
-        emit(c.entry, c.coverage, 1);
-        if (c.exit.t < hidden) emit(c.exit, c.coverage, 0);
+  // for; what lies behind a hiding fragment, or outside lo..hi, is not drawn.
+  auto draw = [&](const End& lo, const End& hi) {
+    if (!(lo.t < hi.t)) return true;
+    cap(lo);
+    float t_min = lo.t, t_end = hi.t;
+    while (more() || (look.silhouette_aa && t_min < t_end)) {
+      if (look.silhouette_aa && !more()) {
+        t_end = std::min({t_end, farthest, hidden});
+        if (look.shaded)
+          t_end = std::min(t_end, cut_covered_fragments(out, first, kLetThrough, let_through));
       }
+      const size_t n = look.geometry->nearest_hits(ray, t_min, t_end, hits);
+      for (size_t i = 0; i < n; ++i) {
+        if (!look.silhouette_aa) {
+          emit(hits[i]);
+        } else if (const CoveredCrossing c = covered_crossing(look, ray, hits[i]); c.coverage > 0) {
+          if (c.entry.t >= lo.t && c.entry.t <= hi.t && c.entry.t < hidden)
+            emit(c.entry, c.coverage, 1);
+          if (c.exit.t >= lo.t && c.exit.t <= hi.t && c.exit.t < hidden)
+            emit(c.exit, c.coverage, 0);
+        }
+      }
+      if (n < hits.size()) {
+        if (more()) cap(hi);
+        break;
+      }
+      t_min = hits[n - 1].t;
     }
-    if (n < hits.size()) {
-      if (look.clip && let_through >= kLetThrough) cap(span.hi_plane, span.hi);
-      break;
+    return more();
+  };
+  End lo{0.0f}, hi{t_max};
+  if (look.clip) {
+    const TubeClip::Span span = look.clip->kept(ray);
+    lo = End{span.lo, span.lo_plane};
+    if (span.hi < t_max) hi = End{span.hi, span.hi_plane};
+  }
+  if (!look.clip_meshes) {
+    draw(lo, hi);
+  } else {
+    // Each piece the meshes keep, within what the planes keep: an end is the nearer cut's.
+    TubeClipMeshes::Pieces pieces;
+    look.clip_meshes->kept(ray, pieces);
+    for (int p = 0; p < pieces.count; ++p) {
+      const TubeClipMeshes::Piece& piece = pieces.piece[p];
+      const End piece_lo = piece.lo.t > lo.t ? End{piece.lo.t, -1, &piece.lo} : lo;
+      const End piece_hi = piece.hi.t < hi.t ? End{piece.hi.t, -1, &piece.hi} : hi;
+      if (!draw(piece_lo, piece_hi)) break;
     }
-    t_min = hits[n - 1].t;
   }
   if (look.silhouette_aa) sort_covered_fragments(out, first);
 }

@@ -10,6 +10,7 @@
 #include "intermix/scene.hpp"
 #include "raster/fragment.hpp"
 #include "tubes/tube_clip.hpp"
+#include "tubes/tube_clip_meshes.hpp"
 #include "tubes/tube_geometry.hpp"
 
 namespace imx {
@@ -25,16 +26,20 @@ struct TubeLook {
   std::vector<int32_t> group_of;         // per streamline: its first group, or -1 (group colouring)
   bool shaded = true;                    // false: colour 0, for clip passes
   size_t hits_per_query = 32;            // nearest hits asked at a time (1 for opaque tubes)
+  bool every_crossing = false;           // a CSG primitive: all crossings, so windings close
   std::shared_ptr<const TubeClip> clip;  // the object's clip planes; null without any
+  std::shared_ptr<const TubeClipMeshes> clip_meshes;  // its clip meshes; null without any
   // Silhouette coverage (tube_coverage.hpp): a tube covers the part of a pixel of width
   // footprint(t) = footprint_at_0 + footprint_per_mm * t that lies within its radius.
   bool silhouette_aa = false;
   float footprint_at_0 = 0.0f, footprint_per_mm = 0.0f;
 };
 
-// The look of `object` drawn with `geometry`. Throws imx::Error naming the object when its
-// colouring names values its streamlines do not have.
-TubeLook make_tube_look(const StreamlineObject& object, const TubeGeometry& geometry);
+// The look of `object` drawn with `geometry`; `meshes` are the scene's, which its clip meshes
+// index. Throws imx::Error naming the object when its colouring names values its streamlines
+// do not have, or a clip mesh is not one of `meshes`.
+TubeLook make_tube_look(const StreamlineObject& object, const TubeGeometry& geometry,
+                        std::span<const MeshObject> meshes = {});
 // The same without tubes (geometry null), for colours along the streamlines themselves.
 TubeLook make_tube_look(const StreamlineObject& object);
 
@@ -53,8 +58,9 @@ size_t tube_fragments_needed(const StreamlineObject& object);
 
 // Appends to `out` the fragments of `ray` with the tubes in front of t_max, nearest first,
 // until what they let through falls below 1/1024 (what lies behind can change no colour by
-// more). `object` is its Scene::order index. With clip planes, only crossings on the kept side
-// of every plane, and a cap fragment where the ray meets a plane inside a tube.
+// more), or all of them with look.every_crossing. `object` is its Scene::order index. With clip
+// planes and clip meshes, only crossings that every plane and mesh keeps, and a cap fragment where
+// the ray meets a plane or a mesh inside a tube.
 void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, uint32_t object,
                            std::span<const ShadingLight> lights, std::vector<Fragment>& out);
 

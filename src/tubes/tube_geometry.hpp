@@ -1,4 +1,4 @@
-// TubeGeometry: a streamline object's tubes as exact round linear curves in an Embree BVH.
+// TubeGeometry: a streamline object's tubes, exact capsules in a TubeBvh.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -6,25 +6,20 @@
 #include <span>
 #include <vector>
 
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include "core/ray.hpp"
 #include "intermix/scene.hpp"
+#include "tubes/tube_bvh.hpp"
 
 namespace imx {
 
-// One crossing of a ray with a tube's surface.
-struct TubeHit {
-  float t = 0.0f;          // along the ray, mm
-  glm::vec3 normal{0.0f};  // the surface's geometric normal, not unit length
-  uint32_t segment = 0;    // TubeGeometry segment index; a connectome's primitive index
-  float u = 0.0f;          // where along the segment, 0 at its first point, 1 at its second
-};
-
-// Bytes TubeGeometry holds for `segments` segments over `points` points: float4 vertices,
-// index and flags, and Embree's BVH (about 34 bytes per segment, measured).
-inline uint64_t tube_bytes(uint64_t points, uint64_t segments) {
-  return points * 16 + segments * (4 + 1 + 34);
+// Bytes TubeGeometry holds for `segments` segments of `streamlines` streamlines: a segment
+// index and a copied point each, and per run of at most TubeBvh::kRunSegments segments its
+// header and three more points and its share of the nodes (under 32 bytes, measured 22).
+inline uint64_t tube_bytes(uint64_t streamlines, uint64_t segments) {
+  return segments * (4 + 12) + (segments / TubeBvh::kRunSegments + streamlines) * (4 * 12 + 32);
 }
 
 class TubeGeometry {
@@ -32,10 +27,10 @@ class TubeGeometry {
   // Every segment of the streamlines `object` selects (tube_selection.hpp), of its radius; or,
   // for a connectome object, its shown edges as tubes and nodes as spheres
   // (connectome_primitives.hpp), each of its own radius and colour.
-  // Throws imx::Error naming the object when the memory budget or Embree refuses.
-  // `pad` mm widens the streamlines' Embree tubes (not a connectome's) so that rays passing
-  // within radius + pad of an axis are candidates for silhouette coverage (tube_fragments.hpp);
-  // the true radius is radius().
+  // Throws imx::Error naming the object when the memory budget refuses.
+  // `pad` mm widens the streamlines' tubes in the hierarchy (not a connectome's) so that rays
+  // passing within radius + pad of an axis are candidates for silhouette coverage
+  // (tube_coverage.hpp); the true radius is radius(), the one contains() tests.
   explicit TubeGeometry(const StreamlineObject& object, float pad = 0.0f);
   ~TubeGeometry();
   TubeGeometry(const TubeGeometry&) = delete;
@@ -43,7 +38,21 @@ class TubeGeometry {
 
   // The hits of `ray` with t_min < t < t_max, nearest first: the out.size() nearest of them.
   // Returns how many were found. Thread-safe.
-  size_t nearest_hits(const Ray& ray, float t_min, float t_max, std::span<TubeHit> out) const;
+  size_t nearest_hits(const Ray& ray, float t_min, float t_max, std::span<TubeHit> out) const {
+    return bvh_.nearest_hits(ray, t_min, t_max, out);
+  }
+
+  // Whether `point` lies inside a tube (within its radius of a segment's axis, or of a
+  // connectome sphere's centre); if so and `where` is given, a hit naming the nearest such
+  // primitive, with the normal from its axis to the point and t = 0. Thread-safe.
+  bool contains(const glm::vec3& point, TubeHit* where = nullptr) const {
+    if (pad_ == 0.0f) return bvh_.contains(point, where);
+    // Padded: the nearest axis within radius + pad, inside when within the true radius.
+    TubeHit nearest;
+    if (!bvh_.contains(point, &nearest) || !(glm::length(nearest.normal) <= radius_)) return false;
+    if (where) *where = nearest;
+    return true;
+  }
 
   // The first of a segment's two points, an index into the object's Streamlines::points.
   uint32_t first_point(uint32_t segment) const { return segment_points_[segment]; }
@@ -59,23 +68,24 @@ class TubeGeometry {
   size_t streamline_count() const { return selected_count_; }
   float radius() const { return radius_; }
   float pad() const { return pad_; }
-  // Resident bytes of the vertices, segment indices and the BVH.
+  // Resident bytes of the segment indices and the hierarchy (and a connectome's primitives).
   size_t bytes() const { return bytes_; }
 
  private:
-  struct Embree;
   void build_connectome(const StreamlineObject& object);
-  std::unique_ptr<Embree> embree_;
   std::shared_ptr<const Streamlines> streamlines_;
-  std::vector<uint32_t> segment_points_;  // the Embree index buffer
+  std::vector<uint32_t> segment_points_;  // per segment, its first point
   size_t selected_count_ = 0;
   size_t bytes_ = 0;
   bool connectome_ = false;
-  float radius_ = 0.0f;                      // the streamlines' true radius, mm
-  float pad_ = 0.0f;                         // added to it in the Embree vertices
-  std::vector<glm::vec3> primitive_colors_;  // a connectome's, linear RGB
-  uint32_t sphere_geometry_ = ~0u;           // its spheres' Embree geometry, if any
-  uint32_t sphere_base_ = 0;                 // the primitive index of its first sphere
+  float radius_ = 0.0f;  // the streamlines' true radius, mm
+  float pad_ = 0.0f;     // added to it in the hierarchy
+  // A connectome's primitives: a tube's two ends or a sphere's centre twice (a capsule of
+  // no length), the radius and the colour (linear RGB) of each.
+  std::vector<glm::vec3> primitive_points_;
+  std::vector<float> primitive_radii_;
+  std::vector<glm::vec3> primitive_colors_;
+  TubeBvh bvh_;
 };
 
 }  // namespace imx

@@ -19,6 +19,7 @@
 #include "mrtrix_tracks.hpp"
 #include "shared_data.hpp"
 #include "temp_dir.hpp"
+#include "tubes/tube_geometry.hpp"
 
 namespace imx {
 namespace {
@@ -239,8 +240,12 @@ TEST(Streamlines, TubesOverTheMemoryBudgetAreDecimatedWithANote) {
   const std::string scene = fmt::format(
       R"({{"objects": [{{"name": "many", "type": "streamlines", "source": {{"file": "{}"}}}}]}})",
       tck.string());
-  const uint64_t vertices = 5000 * 16, per_segment = 4 + 1 + 34;
-  set_input_limits({vertices + 4900 * per_segment / 3 + per_segment, false});
+  // A budget that every second streamline's tubes just exceed, every third's fit, and the
+  // 5,000 points themselves fit.
+  const uint64_t budget = tube_bytes(100 / 2, 4900 / 2) - 1;
+  ASSERT_LT(tube_bytes(100 / 3, 4900 / 3), budget);
+  ASSERT_GT(budget, 5000 * sizeof(glm::vec3));
+  set_input_limits({budget, false});
   Scene tight;
   try {
     tight = parse_scene(scene, dir.path().string(), "test");

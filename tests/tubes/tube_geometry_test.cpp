@@ -51,6 +51,24 @@ TEST(TubeGeometry, ARayThroughATubeEntersAndLeavesAtTheCylinder) {
   EXPECT_NEAR(hits[0].t, 20.0f - std::sqrt(0.25f - 0.09f), 1e-3f);
 }
 
+TEST(TubeGeometry, ContainsIsWithinTheRadiusOfTheNearestSegment) {
+  Streamlines s;
+  add_line(s, 0.0f, 10.0f, 1.0f, 0.0f, 0.0f);
+  add_line(s, 0.0f, 10.0f, 1.0f, 5.0f, 0.0f);
+  const TubeGeometry tubes(object_of(std::move(s), 1.0));
+  TubeHit where;
+  ASSERT_TRUE(tubes.contains({5.5f, 0.9f, 0.0f}, &where));
+  EXPECT_EQ(where.segment, 5u);  // the first streamline's sixth segment, x 5..6
+  EXPECT_NEAR(where.u, 0.5f, 1e-5f);
+  EXPECT_NEAR(where.normal.y, 0.9f, 1e-5f);  // from the axis to the point
+  EXPECT_FALSE(tubes.contains({5.5f, 1.1f, 0.0f}));
+  ASSERT_TRUE(tubes.contains({3.2f, 5.0f, -0.95f}, &where));
+  EXPECT_EQ(where.segment, 13u);                      // the second streamline's fourth
+  EXPECT_TRUE(tubes.contains({10.7f, 0.0f, 0.0f}));   // in the round end cap
+  EXPECT_FALSE(tubes.contains({10.0f, 0.8f, 0.8f}));  // beyond it, beside the axis's end
+  EXPECT_FALSE(tubes.contains({5.0f, 2.5f, 0.0f}));   // between the tubes
+}
+
 TEST(TubeGeometry, NearestHitsAreTheNearestOfAllInOrder) {
   // A stack of parallel tubes along z, so a ray along z crosses them all.
   Streamlines s;

@@ -40,8 +40,11 @@ void keep_alive_of(const Scene& scene, const ZslabStage& stage,
         out.push_back(scene.meshes[c.mesh].mesh);
     }
     if (ref.kind == ObjectKind::mesh) out.push_back(scene.meshes[ref.index].mesh);
-    if (ref.kind == ObjectKind::streamlines)
+    if (ref.kind == ObjectKind::streamlines) {
       out.push_back(scene.streamlines[ref.index].streamlines);
+      for (const ClipMesh& c : scene.streamlines[ref.index].clip_meshes)
+        out.push_back(scene.meshes[c.mesh].mesh);
+    }
     if (ref.kind == ObjectKind::plane && scene.planes[ref.index].volume >= 0)
       out.push_back(scene.volumes[scene.planes[ref.index].volume].data);
   }

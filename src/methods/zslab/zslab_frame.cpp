@@ -168,7 +168,7 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast, int sample_ind
     } else if (ref.kind == ObjectKind::streamlines) {
       const StreamlineObject& so = scene.streamlines[ref.index];
       if (so.thickness) d = so.thickness;
-      hash_stage_fields(h, so);
+      hash_stage_fields(h, scene, so);
       group.name += (group.name.empty() ? "" : "+") + so.name;
     } else {
       const PlaneObject& p = scene.planes[ref.index];
@@ -284,6 +284,16 @@ void ZslabFrame::prepare(size_t first) {
         sub.planes.push_back(scene.planes[ref.index]);
       }
     }
+    // A streamline object's clip meshes come along undrawn, so that its indices name them here.
+    for (StreamlineObject& so : sub.streamlines)
+      for (ClipMesh& c : so.clip_meshes) {
+        MeshObject m = scene.meshes.at(static_cast<size_t>(c.mesh));
+        m.material.opacity = 0.0f;
+        m.interior.reset();
+        c.mesh = static_cast<int>(sub.meshes.size());
+        sub.order.push_back({ObjectKind::mesh, c.mesh});
+        sub.meshes.push_back(std::move(m));
+      }
     rasterizers_[k] = std::make_shared<const Rasterizer>(sub, frame.camera, frame.volumes, 16,
                                                          RasterObjects::shown,
                                                          tube_coverage_on(scene.render, true));
