@@ -52,7 +52,7 @@ bool joined(const TubeBvh::Input& in, size_t a, size_t b) {
 struct Item {
   Box box;
   uint32_t run;
-  glm::vec3 centre() const { return 0.5f * (box.low + box.high); }
+  glm::vec3 centre() const { return 0.5f * box.low + 0.5f * box.high; }  // no overflow
 };
 
 class Builder {
@@ -119,7 +119,8 @@ class Builder {
   };
 
   static int bin(float c, float low, float scale, int bins) {
-    return std::clamp(static_cast<int>((c - low) * scale), 0, bins - 1);
+    const float x = (c - low) * scale;  // NaN- and overflow-safe: a huge box's centre is finite
+    return x >= 1.0f ? std::min(static_cast<int>(std::min(x, 1e9f)), bins - 1) : 0;
   }
   static void leaf(TubeBvh::Node& n, uint32_t begin, uint32_t count) {
     n.first = begin;
@@ -270,7 +271,7 @@ TubeBvh::TubeBvh(const Input& input) : input_(input) {
     binary.resize(builder.used());
     for (size_t i = 0; i < items.size(); ++i)
       at[i + 1] = at[i] + runs[items[i].run].segments + kRunExtra;
-    if (at.back() >= (1u << 29)) throw std::length_error("tubes: more than 2^29 leaf points");
+    if (at.back() >= kMaxStream) throw std::length_error("tubes: more than 2^29 leaf points");
     for (Node& n : binary)
       if (n.count > 0) n.first = at[n.first];
     nodes_.reserve(binary.size() / 4 + 1);
@@ -415,7 +416,7 @@ size_t TubeBvh::nearest_hits(const Ray& ray, float t_min, float t_max,
     const Pending p = stack[--top];
     if (p.t > list.reach()) continue;
     if (p.child & kLeafChild) {
-      const glm::vec3* run = stream_.data() + (p.child & ((1u << 29) - 1));
+      const glm::vec3* run = stream_.data() + (p.child & (kMaxStream - 1));
       const uint32_t runs = ((p.child >> 29) & 3) + 1;
       for (uint32_t i = 0; i < runs; ++i) run += hit_run(run, ray, list);
       continue;
@@ -437,7 +438,7 @@ size_t TubeBvh::nearest_hits(const Ray& ray, float t_min, float t_max,
     for (int i = 0; i < 8; ++i) {
       if (!entered[i] || n.child[i] == kNoChild) continue;
       const Pending c{n.child[i], lo[i]};
-      if (c.child & kLeafChild) __builtin_prefetch(stream_.data() + (c.child & ((1u << 29) - 1)));
+      if (c.child & kLeafChild) __builtin_prefetch(stream_.data() + (c.child & (kMaxStream - 1)));
       int k = found++;
       for (; k > 0 && near[k - 1].t < c.t; --k) near[k] = near[k - 1];
       near[k] = c;
@@ -466,7 +467,7 @@ bool TubeBvh::contains(const glm::vec3& point, TubeHit* where) const {
       }
       continue;
     }
-    const glm::vec3* stream = stream_.data() + (child & ((1u << 29) - 1));
+    const glm::vec3* stream = stream_.data() + (child & (kMaxStream - 1));
     const uint32_t runs = ((child >> 29) & 3) + 1;
     for (uint32_t i = 0; i < runs; ++i, stream += kRunExtra) {
       Run run;

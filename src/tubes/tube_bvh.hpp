@@ -48,7 +48,8 @@ class TubeBvh {
   };
 
   TubeBvh() = default;
-  // Builds in parallel. Throws std::bad_alloc only.
+  // Builds in parallel. Throws std::length_error when the runs' points need kMaxStream slots
+  // or more (TubeGeometry refuses such objects first), else std::bad_alloc only.
   explicit TubeBvh(const Input& input);
 
   // The crossings of `ray` (unit direction) with t_min < t < t_max, nearest first: the
@@ -89,12 +90,15 @@ class TubeBvh {
   };
   static constexpr uint32_t kNoChild = ~0u;
   static constexpr uint32_t kLeafChild = 1u << 31;
+  // A leaf child keeps its stream offset in 29 bits: the slots of all runs, kRunExtra + their
+  // segments each, stay below this.
+  static constexpr uint64_t kMaxStream = uint64_t{1} << 29;
+  static constexpr uint32_t kRunExtra = 4;  // slots of a run besides its segments
 
  private:
   // The leaves' runs in hierarchy order, each as its Run, the point before it (or its first
   // again), its segments + 1 points and the point after it (or its last again): a leaf reads
   // one stretch of memory. A leaf node's `first` is its first run's offset here.
-  static constexpr uint32_t kRunExtra = 4;  // slots of a run besides its segments
   // Adds the crossings of `ray` with the run at `run` to `list`; returns the run's slots.
   uint32_t hit_run(const glm::vec3* run, const Ray& ray, TubeHitList& list) const;
   Input input_;

@@ -150,7 +150,7 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
                            std::span<const ShadingLight> lights, std::vector<Fragment>& out) {
   std::array<TubeHit, kHitsPerQuery> buffer;
   // As many hits per query as the most transparent crossing needs to let through less than the
-  // bound: one for opaque tubes, the nearest alone being far cheaper to find than 32.
+  // bound (up to 64): one for opaque tubes, the nearest alone being far cheaper to find.
   const std::span<TubeHit> hits(buffer.data(),
                                 look.every_crossing ? kHitsPerQuery : look.hits_per_query);
   const glm::vec3 to_eye = -ray.dir;

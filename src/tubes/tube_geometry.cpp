@@ -27,6 +27,12 @@ TubeGeometry::TubeGeometry(const StreamlineObject& object, float pad)
   for (uint32_t i : selected) segments += s.length(i) - 1;
   check_memory(tube_bytes(selected.size(), segments),
                fmt::format("streamlines '{}' ({} segments)", object.name, segments));
+  if (segments + TubeBvh::kRunExtra * (segments / TubeBvh::kRunSegments + selected.size()) >=
+      TubeBvh::kMaxStream)
+    throw Error(
+        fmt::format("streamlines '{}': {} segments are more than one object's tubes hold "
+                    "(about {} million); draw a stride of them (\"stride\")",
+                    object.name, segments, TubeBvh::kMaxStream * 2 / 3 / 1000000));
   segment_points_.reserve(segments);
   for (uint32_t i : selected)
     for (uint32_t p = s.offsets[i]; p + 1 < s.offsets[i + 1]; ++p) segment_points_.push_back(p);

@@ -16,48 +16,18 @@
 #include "intermix/metrics.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
-#include "mrtrix_tracks.hpp"
+#include "streamline_bundle.hpp"
 #include "temp_dir.hpp"
 
 namespace imx {
 namespace {
 
-constexpr float kLength = 30.0f;  // the streamlines run along x from -30 to 30 mm
-constexpr float kBall = 10.0f;    // the clip ball's radius, centred at the origin
-const std::vector<float> kRowsY = {-12.0f, -4.0f, 4.0f, 12.0f};
-const std::vector<float> kRowsZ = {-6.0f, -2.0f, 2.0f, 6.0f};
-
-// A bundle of 16 straight streamlines along x (RAS in the file: LPS x and y negated), a point
-// every mm, each point valued by its RAS x.
-void write_bundle(const test::TempDir& dir) {
-  std::vector<std::vector<float>> points, values;
-  for (float y : kRowsY)
-    for (float z : kRowsZ) {
-      points.emplace_back();
-      values.emplace_back();
-      for (float x = -kLength; x <= kLength; x += 1.0f) {
-        points.back().insert(points.back().end(), {x, -y, z});
-        values.back().push_back(x);
-      }
-    }
-  test::write_mrtrix_tracks(dir / "bundle.tck", "mrtrix tracks", points, 3);
-  test::write_mrtrix_tracks(dir / "bundle.tsf", "mrtrix track scalars", values, 1);
-}
+constexpr float kBall = 10.0f;  // the clip ball's radius, centred at the origin
 
 // keep: "inside", "outside", or "" for no clip mesh.
 nlohmann::json bundle(const test::TempDir& dir, const std::string& keep,
                       const nlohmann::json& look = {}) {
-  nlohmann::json o = {
-      {"name", "bundle"},
-      {"type", "streamlines"},
-      {"radius", 1.5},
-      {"color_by", "point_value"},
-      {"value", "bundle"},
-      {"colormap", "grey"},
-      {"range", {-kLength, kLength}},
-      {"shading", {{"enabled", false}}},
-      {"source",
-       {{"file", (dir / "bundle.tck").string()}, {"values", {(dir / "bundle.tsf").string()}}}}};
+  nlohmann::json o = test::bundle_object(dir);
   if (!keep.empty()) o["clip"] = {{{"mesh", "ball"}, {"keep", keep}}};
   if (look.is_object()) o.update(look);
   return o;
@@ -91,21 +61,13 @@ Image render_scene(const nlohmann::json& camera, int size, const nlohmann::json&
   return render(parse_scene(scene.dump(), ".", "test"));
 }
 
-// From above (LPS +z), orthographic, 1 pixel per mm: column x shows world x = 50 - x - 0.5, row
-// y shows world y = y + 0.5 - 50.
-const nlohmann::json kFromAbove = {{"eye", {0, 0, 300}},
-                                   {"target", {0, 0, 0}},
-                                   {"up", {0, -1, 0}},
-                                   {"projection", "orthographic"},
-                                   {"ortho_height", 100}};
-
 TEST(StreamlineClipMesh, TubesShowOnlyOnTheSideTheBallKeeps) {
   test::TempDir dir;
-  write_bundle(dir);
-  const Image whole = render_scene(kFromAbove, 100, bundle(dir, ""), "mdvr");
+  test::write_bundle(dir);
+  const Image whole = render_scene(test::kFromAbove, 100, bundle(dir, ""), "mdvr");
   for (const char* keep : {"inside", "outside"})
     for (const char* method : {"zslab-hybrid", "mdvr", "peel", "reference"}) {
-      const Image cut = render_scene(kFromAbove, 100, bundle(dir, keep), method);
+      const Image cut = render_scene(test::kFromAbove, 100, bundle(dir, keep), method);
       // A vertical ray at distance rho from the ball's axis: under 6 mm every tube it crosses
       // (|z| <= 7.5) lies inside the ball; beyond 10.5 mm none does.
       size_t near = 0, near_wrong = 0, far = 0, far_wrong = 0;
@@ -132,7 +94,7 @@ TEST(StreamlineClipMesh, TubesShowOnlyOnTheSideTheBallKeeps) {
 
 TEST(StreamlineClipMesh, TheCutIsCappedOnTheBallInTheTubesColourThere) {
   test::TempDir dir;
-  write_bundle(dir);
+  test::write_bundle(dir);
   // Looking along +x (LPS) at the bundle: the ball keeps each tube of the rows |y| = 4 from
   // LPS x = -sqrt(100 - y^2 - z^2) on, where its cap shows the value there (RAS x = +sqrt(..)).
   // The rows |y| = 12 lie outside the ball and show nothing.
@@ -145,8 +107,8 @@ TEST(StreamlineClipMesh, TheCutIsCappedOnTheBallInTheTubesColourThere) {
   for (const char* method : {"zslab-hybrid", "mdvr", "peel", "reference"}) {
     const Image image = render_scene(from_side, 80, bundle(dir, "inside"), method);
     // 2 pixels per mm; a tube at RAS (y, z) is at pixel (40 + 2y, 40 - 2z).
-    for (float ry : kRowsY)
-      for (float z : kRowsZ) {
+    for (float ry : test::kBundleRowsY)
+      for (float z : test::kBundleRowsZ) {
         const int px = static_cast<int>(40 + 2 * ry), py = static_cast<int>(40 - 2 * z);
         const glm::vec4 c = image.at(px, py);
         if (std::abs(ry) > 10.0f) {
@@ -154,7 +116,7 @@ TEST(StreamlineClipMesh, TheCutIsCappedOnTheBallInTheTubesColourThere) {
           continue;
         }
         const float x_ras = std::sqrt(kBall * kBall - ry * ry - z * z);
-        const float cap_grey = (x_ras + kLength) / (2.0f * kLength);
+        const float cap_grey = (x_ras + test::kBundleLength) / (2.0f * test::kBundleLength);
         EXPECT_GT(c.a, 0.99f) << method << " " << ry << " " << z;
         EXPECT_NEAR(c.r, cap_grey, 0.02f) << method << " " << ry << " " << z;
         EXPECT_NEAR(c.g, c.r, 1e-3f) << "flat: the map's grey, unshaded";
@@ -168,7 +130,7 @@ TEST(StreamlineClipMesh, TheCutIsCappedOnTheBallInTheTubesColourThere) {
 
 TEST(StreamlineClipMesh, TheMethodsDrawTheSameCut) {
   test::TempDir dir;
-  write_bundle(dir);
+  test::write_bundle(dir);
   const nlohmann::json oblique = {
       {"eye", {-120, -90, 70}}, {"target", {0, 0, 0}}, {"up", {0, 0, 1}}, {"fov_deg", 30}};
   for (bool fog : {false, true})
@@ -196,7 +158,7 @@ TEST(StreamlineClipMesh, TheMethodsDrawTheSameCut) {
 
 TEST(StreamlineClipMesh, ClipNamesAClosedMeshOfTheScene) {
   test::TempDir dir;
-  write_bundle(dir);
+  test::write_bundle(dir);
   auto load = [&](const nlohmann::json& tubes, const nlohmann::json& other) {
     const nlohmann::json scene = {{"objects", {tubes, other}}};
     return parse_scene(scene.dump(), ".", "test");

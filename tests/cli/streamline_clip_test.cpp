@@ -15,32 +15,11 @@
 #include "intermix/metrics.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
-#include "mrtrix_tracks.hpp"
+#include "streamline_bundle.hpp"
 #include "temp_dir.hpp"
 
 namespace imx {
 namespace {
-
-constexpr float kLength = 30.0f;  // the streamlines run along x from -30 to 30 mm
-const std::vector<float> kRowsY = {-12.0f, -4.0f, 4.0f, 12.0f};
-const std::vector<float> kRowsZ = {-6.0f, -2.0f, 2.0f, 6.0f};
-
-// A bundle of 16 straight streamlines along x (RAS in the file, so LPS x and y are negated:
-// the file's y rows are LPS -y), a point every mm, each point valued by its RAS x.
-void write_bundle(const std::filesystem::path& tck, const std::filesystem::path& tsf) {
-  std::vector<std::vector<float>> points, values;
-  for (float y : kRowsY)
-    for (float z : kRowsZ) {
-      points.emplace_back();
-      values.emplace_back();
-      for (float x = -kLength; x <= kLength; x += 1.0f) {
-        points.back().insert(points.back().end(), {x, -y, z});
-        values.back().push_back(x);
-      }
-    }
-  test::write_mrtrix_tracks(tck, "mrtrix tracks", points, 3);
-  test::write_mrtrix_tracks(tsf, "mrtrix track scalars", values, 1);
-}
 
 // The plane the tests cut with (LPS): kept where dot(p - point, normal) >= 0. The file's RAS x
 // is LPS -x, so the plane cuts the values' range where RAS x = -point.x.
@@ -48,17 +27,7 @@ const glm::dvec3 kPoint(-5.0, 0.0, 0.0);
 const glm::dvec3 kNormal = glm::normalize(glm::dvec3(1.0, 0.4, 0.0));
 
 nlohmann::json bundle(const test::TempDir& dir, bool clipped, const nlohmann::json& look = {}) {
-  nlohmann::json o = {
-      {"name", "bundle"},
-      {"type", "streamlines"},
-      {"radius", 1.5},
-      {"color_by", "point_value"},
-      {"value", "bundle"},
-      {"colormap", "grey"},
-      {"range", {-kLength, kLength}},
-      {"shading", {{"enabled", false}}},
-      {"source",
-       {{"file", (dir / "bundle.tck").string()}, {"values", {(dir / "bundle.tsf").string()}}}}};
+  nlohmann::json o = test::bundle_object(dir);
   if (clipped)
     o["clip_planes"] = {
         {{"point", {kPoint.x, kPoint.y, kPoint.z}}, {"normal", {kNormal.x, kNormal.y, kNormal.z}}}};
@@ -77,29 +46,18 @@ Image render_scene(const nlohmann::json& camera, int size, const nlohmann::json&
   return render(parse_scene(scene.dump(), ".", "test"));
 }
 
-// From above (LPS +z), orthographic, 1 pixel per mm: image column x shows world x = 50 - x - 0.5
-// (the view's right is LPS -x), row y shows world y = y + 0.5 - 50 (up is -y).
-const nlohmann::json kFromAbove = {{"eye", {0, 0, 300}},
-                                   {"target", {0, 0, 0}},
-                                   {"up", {0, -1, 0}},
-                                   {"projection", "orthographic"},
-                                   {"ortho_height", 100}};
-glm::dvec3 world_from_above(int x, int y) {
-  return {50.0 - x - 0.5, y + 0.5 - 50.0, 0.0};
-}
-
 TEST(StreamlineClip, NoTubeShowsOnTheRemovedSideOfThePlane) {
   test::TempDir dir;
-  write_bundle(dir / "bundle.tck", dir / "bundle.tsf");
+  test::write_bundle(dir);
   for (const char* method : {"zslab-hybrid", "mdvr", "peel", "reference"}) {
     // Each method's own uncut tubes: zslab-hybrid covers silhouettes, the others do not.
-    const Image whole = render_scene(kFromAbove, 100, bundle(dir, false), method);
-    const Image cut = render_scene(kFromAbove, 100, bundle(dir, true), method);
+    const Image whole = render_scene(test::kFromAbove, 100, bundle(dir, false), method);
+    const Image cut = render_scene(test::kFromAbove, 100, bundle(dir, true), method);
     size_t removed = 0, kept = 0, kept_shown = 0, removed_shown = 0;
     for (int y = 0; y < 100; ++y)
       for (int x = 0; x < 100; ++x) {
         // The plane is vertical: a pixel's whole ray lies on one side, at this distance.
-        const double side = glm::dot(world_from_above(x, y) - kPoint, kNormal);
+        const double side = glm::dot(test::world_from_above(x, y) - kPoint, kNormal);
         if (whole.at(x, y).a < 0.9f) continue;  // tubes cover this pixel when nothing is cut
         if (side < -1.0) {
           ++removed;
@@ -118,7 +76,7 @@ TEST(StreamlineClip, NoTubeShowsOnTheRemovedSideOfThePlane) {
 
 TEST(StreamlineClip, LookingAtTheCutFaceShowsTheCapInTheTubesColourThere) {
   test::TempDir dir;
-  write_bundle(dir / "bundle.tck", dir / "bundle.tsf");
+  test::write_bundle(dir);
   // A plane across x (kept: LPS x >= -5, RAS x <= 5), seen along its normal from the removed
   // side: each tube shows a disc, its colour the value at the plane (RAS x = 5). Without caps
   // the rays would see the inside of the tubes' far ends (RAS x = -30, black).
@@ -129,13 +87,13 @@ TEST(StreamlineClip, LookingAtTheCutFaceShowsTheCapInTheTubesColourThere) {
                                    {"ortho_height", 40}};
   nlohmann::json o = bundle(dir, false);
   o["clip_planes"] = {{{"point", {-5, 0, 0}}, {"normal", {1, 0, 0}}}};
-  const float cap_grey = (5.0f + kLength) / (2.0f * kLength);
+  const float cap_grey = (5.0f + test::kBundleLength) / (2.0f * test::kBundleLength);
   for (const char* method : {"zslab-hybrid", "mdvr", "reference"}) {
     const Image image = render_scene(from_cut, 80, o, method);
     // 2 pixels per mm; the view's right is LPS -y, up +z: a tube at LPS (y, z) is at pixel
     // (40 - 2y, 40 - 2z): the file's rows at RAS y (LPS -y) at 40 + 2 RAS y.
-    for (float ry : kRowsY)
-      for (float z : kRowsZ) {
+    for (float ry : test::kBundleRowsY)
+      for (float z : test::kBundleRowsZ) {
         const int px = static_cast<int>(40 + 2 * ry), py = static_cast<int>(40 - 2 * z);
         const glm::vec4 c = image.at(px, py);
         EXPECT_GT(c.a, 0.99f) << method << " " << ry << " " << z;
@@ -148,7 +106,7 @@ TEST(StreamlineClip, LookingAtTheCutFaceShowsTheCapInTheTubesColourThere) {
 
 TEST(StreamlineClip, TheMethodsDrawTheSameCut) {
   test::TempDir dir;
-  write_bundle(dir / "bundle.tck", dir / "bundle.tsf");
+  test::write_bundle(dir);
   const nlohmann::json oblique = {
       {"eye", {-120, -90, 70}}, {"target", {0, 0, 0}}, {"up", {0, 0, 1}}, {"fov_deg", 30}};
   // The same rays in every method: silhouette coverage off everywhere, then on everywhere.

@@ -16,6 +16,7 @@
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
 #include "mrtrix_tracks.hpp"
+#include "streamline_bundle.hpp"
 #include "temp_dir.hpp"
 
 namespace imx {
@@ -51,21 +52,10 @@ nlohmann::json tube(const test::TempDir& dir, double opacity) {
           {"shading", {{"enabled", false}}}};
 }
 
-// From above (LPS +z), orthographic, 1 pixel per mm: column x shows world x = 50 - x - 0.5, row
-// y shows world y = y + 0.5 - 50.
-const nlohmann::json kFromAbove = {{"eye", {0, 0, 300}},
-                                   {"target", {0, 0, 0}},
-                                   {"up", {0, -1, 0}},
-                                   {"projection", "orthographic"},
-                                   {"ortho_height", 100}};
-glm::dvec2 world_from_above(int x, int y) {
-  return {50.0 - x - 0.5, y + 0.5 - 50.0};
-}
-
 Image render_scene(const std::vector<nlohmann::json>& objects, const nlohmann::json& csg,
                    const char* method) {
   nlohmann::json scene = {
-      {"camera", kFromAbove},
+      {"camera", test::kFromAbove},
       {"image", {{"width", 100}, {"height", 100}, {"background", {0, 0, 0, 0}}}},
       {"render", {{"method", method}, {"spp", 1}}},
       {"objects", objects}};
@@ -94,7 +84,7 @@ TEST(StreamlineCsg, ABoxMinusATubeHasAHoleWhereTheTubePasses) {
     size_t hole = 0, hole_wrong = 0, slab = 0, slab_wrong = 0;
     for (int y = 0; y < 100; ++y)
       for (int x = 0; x < 100; ++x) {
-        const glm::dvec2 p = world_from_above(x, y);
+        const glm::dvec2 p = glm::dvec2(test::world_from_above(x, y));
         if (std::abs(p.x) > 19.0 || std::abs(p.y) > 19.0) continue;  // the slab's edges
         ASSERT_GT(whole.at(x, y).a, 0.99f) << method << ": without csg the slab is whole";
         const double d = std::max(glm::length(p - axis_at(-5.0)), glm::length(p - axis_at(5.0)));
@@ -131,7 +121,7 @@ TEST(StreamlineCsg, OverlappingTubesCountTheirWindings) {
     size_t both = 0, both_wrong = 0;
     for (int y = 0; y < 100; ++y)
       for (int x = 0; x < 100; ++x) {
-        const glm::dvec2 p = world_from_above(x, y);
+        const glm::dvec2 p = glm::dvec2(test::world_from_above(x, y));
         double d = 0.0;  // the farthest of the two axes, at either face of the slab
         for (double z : {-5.0, 5.0})
           for (double shift : {0.0, 1.0})

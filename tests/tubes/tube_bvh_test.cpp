@@ -164,5 +164,39 @@ TEST(TubeBvh, ContainsFindsTheNearestSegmentWithinTheRadius) {
   }
 }
 
+TEST(TubeBvh, DegenerateInputsBuildAndAnswer) {
+  // 5,000 copies of one streamline (every box and centre the same: no split helps), repeated
+  // points (segments of no length), and a tube far from the origin.
+  std::vector<glm::vec3> points;
+  std::vector<uint32_t> segment_points;
+  for (int copy = 0; copy < 5000; ++copy) {
+    const uint32_t first = static_cast<uint32_t>(points.size());
+    for (glm::vec3 p : {glm::vec3(0, 0, 0), glm::vec3(0, 0, 0), glm::vec3(1, 0, 0),
+                        glm::vec3(2, 0, 0), glm::vec3(2, 0, 0)})
+      points.push_back(p);
+    for (uint32_t k = 0; k < 4; ++k) segment_points.push_back(first + k);
+  }
+  const uint32_t far = static_cast<uint32_t>(points.size());
+  points.push_back({1e6f, 0, 0});
+  points.push_back({1e6f + 1, 0, 0});
+  segment_points.push_back(far);
+  const TubeBvh bvh({points, segment_points, 0.25f, {}});
+  std::vector<TubeHit> hits(16);
+  // Across the copies' tube at x = 1: each copy is a tube of its own, entered and left.
+  const Ray across{{1.0f, 0.0f, -10.0f}, {0.0f, 0.0f, 1.0f}};
+  ASSERT_EQ(bvh.nearest_hits(across, 0.0f, 1e9f, hits), 16u);
+  for (const TubeHit& h : hits) EXPECT_NEAR(h.t, h.normal.z < 0 ? 9.75f : 10.25f, 1e-4f);
+  // Along the axis, through the repeated points: one entry and one exit per copy.
+  const Ray along{{-5.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}};
+  ASSERT_EQ(bvh.nearest_hits(along, 0.0f, 1e9f, hits), 16u);
+  for (const TubeHit& h : hits) EXPECT_NEAR(h.t, h.normal.x < 0 ? 4.75f : 7.25f, 1e-4f);
+  // The far tube: found at its distance, within float's precision there.
+  const Ray to_far{{1e6f + 0.5f, 0.0f, -10.0f}, {0.0f, 0.0f, 1.0f}};
+  ASSERT_EQ(bvh.nearest_hits(to_far, 0.0f, 1e9f, hits), 2u);
+  EXPECT_NEAR(hits[0].t, 9.75f, 0.1f);
+  EXPECT_TRUE(bvh.contains({1.5f, 0.2f, 0.0f}));
+  EXPECT_FALSE(bvh.contains({1.5f, 0.3f, 0.0f}));
+}
+
 }  // namespace
 }  // namespace imx

@@ -13,35 +13,13 @@
 
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
+#include "tube_rod.hpp"
 #include "tubes/tube_clip_meshes.hpp"
 #include "tubes/tube_fragments.hpp"
 #include "tubes/tube_geometry.hpp"
 
 namespace imx {
 namespace {
-
-// One straight streamline along x from -10 to 10 at y = z = 0, points every 0.5 mm, valued x.
-StreamlineObject rod(double radius, float opacity) {
-  Streamlines s;
-  std::vector<float> values;
-  for (int i = 0; i <= 40; ++i) {
-    s.points.push_back({-10.0f + 0.5f * i, 0.0f, 0.0f});
-    values.push_back(-10.0f + 0.5f * i);
-  }
-  s.offsets = {0, static_cast<uint32_t>(s.points.size())};
-  s.point_values.push_back({"x", values});
-  StreamlineObject o;
-  o.name = "rod";
-  o.radius = radius;
-  o.opacity = opacity;
-  o.shading.enabled = false;
-  o.colouring = StreamlineColouring::point_value;
-  o.value = "x";
-  o.colormap = Colormap::grey;
-  o.range = glm::dvec2(-10.0, 10.0);
-  o.streamlines = std::make_shared<const Streamlines>(std::move(s));
-  return o;
-}
 
 // The grey the rod has at x (value x over [-10, 10]).
 float grey_at(float x) {
@@ -126,7 +104,7 @@ std::vector<Fragment> fragments(const StreamlineObject& o, const std::vector<Mes
 const glm::vec3 kAlongX(1.0f, 0.0f, 0.0f);
 
 TEST(TubeClipMesh, ProbingKeepsOnlyTheTubesInside) {
-  StreamlineObject o = rod(0.5, 1.0f);
+  StreamlineObject o = test::rod(0.5, 1.0f);
   o.clip_meshes.push_back({0, true});
   const auto meshes = objects_of({box({-4, -3, -3}, {4, 3, 3})});
   for (float x : {-9.0f, -5.0f, -4.2f, 4.2f, 7.0f})
@@ -139,7 +117,7 @@ TEST(TubeClipMesh, ProbingKeepsOnlyTheTubesInside) {
 }
 
 TEST(TubeClipMesh, CuttingKeepsOnlyTheTubesOutside) {
-  StreamlineObject o = rod(0.5, 1.0f);
+  StreamlineObject o = test::rod(0.5, 1.0f);
   o.clip_meshes.push_back({0, false});
   const auto meshes = objects_of({box({-4, -3, -3}, {4, 3, 3})});
   for (float x : {-3.8f, 0.0f, 2.5f})
@@ -150,7 +128,7 @@ TEST(TubeClipMesh, CuttingKeepsOnlyTheTubesOutside) {
 
 TEST(TubeClipMesh, TheCutIsCappedOnTheMeshInTheTubesColourThere) {
   for (float opacity : {1.0f, 0.4f}) {
-    StreamlineObject o = rod(0.5, opacity);
+    StreamlineObject o = test::rod(0.5, opacity);
     o.clip_meshes.push_back({0, true});
     const auto meshes = objects_of({box({-4, -3, -3}, {4, 3, 3})});
     const float a = tube_fragment_alpha(opacity);
@@ -172,7 +150,7 @@ TEST(TubeClipMesh, TheCutIsCappedOnTheMeshInTheTubesColourThere) {
       }
     }
     // Without the clip mesh no cap: the rod's own round end at x = -10 comes first.
-    StreamlineObject whole = rod(0.5, opacity);
+    StreamlineObject whole = test::rod(0.5, opacity);
     const auto out = fragments(whole, {}, Ray{{-30.0f, 0.1f, 0.1f}, kAlongX});
     ASSERT_FALSE(out.empty());
     EXPECT_LT(out[0].t, 20.5f / kAlongX.x);
@@ -185,7 +163,7 @@ TEST(TubeClipMesh, ACapOnASphereLiesOnItsSurfaceFacingOutOfTheKeptSide) {
   const float r = 5.0f;
   const auto meshes = objects_of({icosphere({0, 0, 0}, r, 4)});
   for (bool keep_inside : {true, false}) {
-    StreamlineObject o = rod(0.6, 0.5f);
+    StreamlineObject o = test::rod(0.6, 0.5f);
     o.clip_meshes.push_back({0, keep_inside});
     for (float y : {0.0f, 0.25f, -0.45f}) {
       const Ray ray{{-30.0f, y, 0.05f}, kAlongX};
@@ -217,7 +195,7 @@ TEST(TubeClipMesh, ACapOnASphereLiesOnItsSurfaceFacingOutOfTheKeptSide) {
 }
 
 TEST(TubeClipMesh, PlanesAndMeshesKeepWhatAllOfThemKeep) {
-  StreamlineObject o = rod(0.5, 0.5f);
+  StreamlineObject o = test::rod(0.5, 0.5f);
   o.clip_planes.push_back({{0.0, 0.0, 0.0}, {1.0, 0.0, 0.0}});  // x >= 0
   o.clip_meshes.push_back({0, true});                           // inside x in [-4, 4]
   const auto meshes = objects_of({box({-4, -3, -3}, {4, 3, 3})});
@@ -229,7 +207,7 @@ TEST(TubeClipMesh, PlanesAndMeshesKeepWhatAllOfThemKeep) {
 }
 
 TEST(TubeClipMesh, ARayStartingInsideACutterIsInsideFromItsStart) {
-  StreamlineObject o = rod(0.5, 0.5f);
+  StreamlineObject o = test::rod(0.5, 0.5f);
   o.clip_meshes.push_back({0, false});
   const auto meshes = objects_of({box({-4, -3, -3}, {4, 3, 3})});
   // From x = 0, inside the box: nothing until the face x = 4, capped there, then the rod's end.
@@ -241,7 +219,7 @@ TEST(TubeClipMesh, ARayStartingInsideACutterIsInsideFromItsStart) {
 }
 
 TEST(TubeClipMesh, TwoMeshesKeepWhereBothKeep) {
-  StreamlineObject o = rod(0.5, 0.5f);
+  StreamlineObject o = test::rod(0.5, 0.5f);
   o.clip_meshes.push_back({0, true});   // inside x in [-6, 6]
   o.clip_meshes.push_back({1, false});  // outside x in [-2, 1]
   const auto meshes = objects_of({box({-6, -3, -3}, {6, 3, 3}), box({-2, -3, -3}, {1, 3, 3})});
@@ -255,7 +233,7 @@ TEST(TubeClipMesh, TwoMeshesKeepWhereBothKeep) {
 }
 
 TEST(TubeClipMesh, AnIndexOutsideTheScenesMeshesIsAnError) {
-  StreamlineObject o = rod(0.5, 1.0f);
+  StreamlineObject o = test::rod(0.5, 1.0f);
   o.clip_meshes.push_back({2, true});
   const TubeGeometry tubes(o);
   const auto meshes = objects_of({box({-4, -3, -3}, {4, 3, 3})});
@@ -263,7 +241,7 @@ TEST(TubeClipMesh, AnIndexOutsideTheScenesMeshesIsAnError) {
 }
 
 TEST(TubeClipMesh, AClipMeshOverTheMemoryBudgetIsRefusedByName) {
-  StreamlineObject o = rod(0.5, 1.0f);
+  StreamlineObject o = test::rod(0.5, 1.0f);
   o.clip_meshes.push_back({0, true});
   const auto meshes = objects_of({icosphere({0, 0, 0}, 3.0f, 4)});  // 5,120 triangles
   set_input_limits({100 * 1024, false});

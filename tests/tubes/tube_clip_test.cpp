@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <glm/glm.hpp>
 
+#include "tube_rod.hpp"
 #include "tubes/tube_cache.hpp"
 #include "tubes/tube_clip.hpp"
 #include "tubes/tube_fragments.hpp"
@@ -14,29 +15,6 @@
 
 namespace imx {
 namespace {
-
-// One straight streamline along x from -10 to 10 at y = z = 0, points every 0.5 mm, valued x.
-StreamlineObject rod(double radius, float opacity) {
-  Streamlines s;
-  std::vector<float> values;
-  for (int i = 0; i <= 40; ++i) {
-    s.points.push_back({-10.0f + 0.5f * i, 0.0f, 0.0f});
-    values.push_back(-10.0f + 0.5f * i);
-  }
-  s.offsets = {0, static_cast<uint32_t>(s.points.size())};
-  s.point_values.push_back({"x", values});
-  StreamlineObject o;
-  o.name = "rod";
-  o.radius = radius;
-  o.opacity = opacity;
-  o.shading.enabled = false;
-  o.colouring = StreamlineColouring::point_value;
-  o.value = "x";
-  o.colormap = Colormap::grey;
-  o.range = glm::dvec2(-10.0, 10.0);
-  o.streamlines = std::make_shared<const Streamlines>(std::move(s));
-  return o;
-}
 
 std::vector<Fragment> fragments(const StreamlineObject& o, const TubeGeometry& tubes,
                                 const Ray& ray) {
@@ -52,7 +30,7 @@ float grey_at(float x) {
 }
 
 TEST(TubeClip, NothingShowsOnTheRemovedSide) {
-  StreamlineObject o = rod(0.5, 1.0f);
+  StreamlineObject o = test::rod(0.5, 1.0f);
   o.clip_planes.push_back({{2.0, 0.0, 0.0}, {1.0, 0.0, 0.0}});  // keeps x >= 2
   const TubeGeometry tubes(o);
   for (float x : {-9.0f, -3.0f, 0.0f, 1.8f})
@@ -66,7 +44,7 @@ TEST(TubeClip, NothingShowsOnTheRemovedSide) {
 
 TEST(TubeClip, ACutTubeIsCappedOnThePlaneInItsColourThere) {
   for (float opacity : {1.0f, 0.4f}) {
-    StreamlineObject o = rod(0.5, opacity);
+    StreamlineObject o = test::rod(0.5, opacity);
     const float plane_x = 1.25f;
     o.clip_planes.push_back({{plane_x, 0.0, 0.0}, {1.0, 0.0, 0.0}});
     const TubeGeometry tubes(o);
@@ -106,7 +84,7 @@ TEST(TubeClip, ACutTubeIsCappedOnThePlaneInItsColourThere) {
 }
 
 TEST(TubeClip, AnObliqueRayMeetsTheCapWhereItCrossesThePlane) {
-  StreamlineObject o = rod(1.0, 1.0f);
+  StreamlineObject o = test::rod(1.0, 1.0f);
   const glm::dvec3 n = glm::normalize(glm::dvec3(1.0, 0.5, 0.25));
   o.clip_planes.push_back({{0.0, 0.0, 0.0}, n});
   const TubeGeometry tubes(o);
@@ -121,7 +99,7 @@ TEST(TubeClip, AnObliqueRayMeetsTheCapWhereItCrossesThePlane) {
 }
 
 TEST(TubeClip, TwoPlanesKeepTheSlabBetweenThemWithACapAtEach) {
-  StreamlineObject o = rod(0.5, 0.5f);
+  StreamlineObject o = test::rod(0.5, 0.5f);
   o.clip_planes.push_back({{-2.0, 0.0, 0.0}, {1.0, 0.0, 0.0}});  // x >= -2
   o.clip_planes.push_back({{3.0, 0.0, 0.0}, {-1.0, 0.0, 0.0}});  // x <= 3
   const TubeGeometry tubes(o);
@@ -175,7 +153,7 @@ TEST(TubeClip, TheCapTestIsTheDistanceToTheNearestSegment) {
 
 // A viewer's frames keep the tubes when the planes move, and the cut follows the planes.
 TEST(TubeClip, MovingAPlaneMovesTheCutNotTheTubes) {
-  StreamlineObject o = rod(0.5, 1.0f);
+  StreamlineObject o = test::rod(0.5, 1.0f);
   o.cache = make_tube_cache();
   o.clip_planes.push_back({{2.0, 0.0, 0.0}, {1.0, 0.0, 0.0}});
   const auto tubes = tube_geometry(o);
