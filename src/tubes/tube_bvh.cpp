@@ -350,7 +350,8 @@ size_t TubeBvh::bytes() const {
   return nodes_.capacity() * sizeof(WideNode) + stream_.capacity() * sizeof(glm::vec3);
 }
 
-uint32_t TubeBvh::hit_run(const glm::vec3* stream, const Ray& ray, TubeHitList& list) const {
+template <class Sink>
+uint32_t TubeBvh::hit_run(const glm::vec3* stream, const Ray& ray, Sink& list) const {
   Run run;
   std::memcpy(static_cast<void*>(&run), stream, sizeof(Run));
   const glm::vec3* p = stream + 2;
@@ -389,7 +390,8 @@ uint32_t TubeBvh::hit_run(const glm::vec3* stream, const Ray& ray, TubeHitList& 
       if (glm::dot(x, left) < 0.0f || (has_right && glm::dot(x - ba, right) >= 0.0f)) continue;
       const float along = glm::dot(x, ba);
       const float u = baba > 0.0f ? std::clamp(along / baba, 0.0f, 1.0f) : 0.0f;
-      list.add(TubeHit{t, x - u * ba, segment, u});
+      list.add(TubeHit{t, x - u * ba, segment, u},
+               TubeRunPoints{p, run.first_segment, run.segments, run.joins});
     }
   }
   return run.segments + kRunExtra;
@@ -398,10 +400,29 @@ uint32_t TubeBvh::hit_run(const glm::vec3* stream, const Ray& ray, TubeHitList& 
 size_t TubeBvh::nearest_hits(const Ray& ray, float t_min, float t_max,
                              std::span<TubeHit> out) const {
   if (out.empty() || nodes_.empty()) return 0;
+  TubeHitList list{out.data(), out.size(), 0, t_min, t_max};
+  traverse(ray, list);
+  return list.count;
+}
+
+void TubeBvh::visit_hits(const Ray& ray, TubeHitVisitor& visitor) const {
+  // The visitor's own bounds, as a TubeHitList keeps them.
+  struct Sink {
+    TubeHitVisitor& visitor;
+    float t_min;
+    float reach() const { return visitor.reach; }
+    void add(const TubeHit& hit, const TubeRunPoints& run) {
+      if (hit.t > t_min && hit.t < visitor.reach) visitor.add(hit, run);
+    }
+  } sink{visitor, visitor.t_min};
+  if (!nodes_.empty()) traverse(ray, sink);
+}
+
+template <class Sink>
+void TubeBvh::traverse(const Ray& ray, Sink& list) const {
   using f8 = float __attribute__((vector_size(32)));
   using i8 = int32_t __attribute__((vector_size(32)));
-  TubeHitList list{out.data(), out.size(), 0, t_min, t_max};
-  const float lowest = std::max(t_min, 0.0f);
+  const float lowest = std::max(list.t_min, 0.0f);
   float inv[3];
   for (int a = 0; a < 3; ++a)
     inv[a] = std::abs(ray.dir[a]) > 1e-20f ? 1.0f / ray.dir[a] : std::copysign(1e20f, ray.dir[a]);
@@ -445,7 +466,6 @@ size_t TubeBvh::nearest_hits(const Ray& ray, float t_min, float t_max,
     }
     for (int i = 0; i < found; ++i) stack[top++] = near[i];
   }
-  return list.count;
 }
 
 bool TubeBvh::contains(const glm::vec3& point, TubeHit* where) const {

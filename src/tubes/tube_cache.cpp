@@ -28,10 +28,11 @@ std::vector<double> geometry_key(const StreamlineObject& o) {
 }
 
 // Silhouette coverage works with any pad at least the one asked: a padded geometry serves pads
-// down to a quarter of its own, so that a camera moving in and out rebuilds no BVH at each step.
+// down to half its own, so that a camera moving in and out rebuilds no BVH at each step, while
+// frames pay for at most twice the pad they need.
 // Without coverage (pad 0) any serves: the true tubes are found through the padded ones.
 bool serves_pad(float built, float asked) {
-  return asked > 0.0f ? built >= asked && built <= 4.0f * asked : true;
+  return asked > 0.0f ? built >= asked && built <= 2.0f * asked : true;
 }
 
 }  // namespace

@@ -13,9 +13,6 @@ namespace imx {
 namespace {
 
 constexpr int kNeighbourWalk = 16;  // segments a covered crossing looks along each way
-// The fewest hits an opaque covered object asks per query: each padded tube is an entry and an
-// exit, and a few partly covering ones in front of a full one are common.
-constexpr size_t kCoveredHitsPerQuery = 6;
 
 // Where a ray passes closest to a segment's axis.
 struct Approach {
@@ -100,6 +97,102 @@ float widest_footprint(const CameraModel& camera, const StreamlineObject& object
   return static_cast<float>(camera.pixel_footprint(std::sqrt(far2) + object.radius));
 }
 
+// What a candidate of the padded geometry (an entry into a padded tube) makes: the true tube's
+// entry and exit, or both at the ray's closest approach to the axis when it passes the tube,
+// and the part of the pixel covered (0: none, make no fragment).
+struct CoveredCrossing {
+  float coverage = 0.0f;
+  TubeHit entry, exit;
+};
+
+// The points of a candidate's segment and its neighbours: from the run the hierarchy has at hand
+// (in cache, having just been tested) while they lie in it, else from the streamlines.
+class NeighbourPoints {
+ public:
+  NeighbourPoints(const TubeGeometry& g, const std::vector<glm::vec3>& points,
+                  const TubeRunPoints& run)
+      : g_(g), points_(points), run_(run) {}
+  // Where `segment`'s points are, or null when `segment` is not joined to `from` (its neighbour
+  // by one, already known to be of the object).
+  const glm::vec3* joined(uint32_t from, uint32_t segment) const {
+    const int64_t j = static_cast<int64_t>(segment) - run_.first_segment;
+    const int64_t i = static_cast<int64_t>(from) - run_.first_segment;
+    const int64_t n = run_.segments;
+    if (j >= 0 && j < n) return run_.points + j;
+    if (i >= 0 && i < n) {  // one past the run's ends: its joins say
+      if (j < 0) return run_.joins & 1 ? run_.points - 1 : nullptr;
+      return run_.joins & 2 ? run_.points + n : nullptr;
+    }
+    const uint32_t q = g_.first_point(segment), p = g_.first_point(from);
+    return q + 1 == p || p + 1 == q ? points_.data() + q : nullptr;
+  }
+  // A segment's first point (the second follows it).
+  const glm::vec3* of(uint32_t segment) const {
+    const int64_t j = static_cast<int64_t>(segment) - run_.first_segment;
+    return j >= 0 && j < run_.segments ? run_.points + j : points_.data() + g_.first_point(segment);
+  }
+
+ private:
+  const TubeGeometry& g_;
+  const std::vector<glm::vec3>& points_;
+  const TubeRunPoints& run_;
+};
+
+CoveredCrossing covered_crossing(const TubeLook& look, const Ray& ray, const TubeHit& candidate,
+                                 const TubeRunPoints& run) {
+  CoveredCrossing out;
+  if (glm::dot(candidate.normal, ray.dir) >= 0.0f) return out;  // the padded tube's exit
+  const TubeGeometry& g = *look.geometry;
+  const NeighbourPoints at(g, look.object->streamlines->points, run);
+  const float radius = g.radius(), reach = radius + g.pad();
+  // Joined segments share one padded surface: the ray may pass nearest to a neighbour of the
+  // segment it entered by, so look along the streamline while its segments stay within reach.
+  // The round tube is the union of its segments' capsules: it spans from the first capsule
+  // entry to the last exit.
+  uint32_t best = candidate.segment;
+  const glm::vec3* best_points = at.of(best);
+  Approach a = closest_approach(ray, best_points[0], best_points[1]);
+  float t_in = INFINITY, t_out = -INFINITY;
+  const glm::vec3 *in = best_points, *out_points = best_points;
+  // `distance`: the segment's from the ray; a capsule farther than its radius is missed.
+  auto span_of = [&](const glm::vec3* p, float distance) {
+    if (!(distance <= radius)) return;
+    const CapsuleSpan c = capsule_span(ray, p[0], p[1], radius);
+    if (!c.hit) return;
+    if (c.t_in < t_in) t_in = c.t_in, in = p;
+    if (c.t_out > t_out) t_out = c.t_out, out_points = p;
+  };
+  span_of(best_points, a.distance);
+  for (const int step : {1, -1}) {
+    uint32_t segment = candidate.segment;
+    for (int k = 0; k < kNeighbourWalk; ++k) {
+      const int64_t next = static_cast<int64_t>(segment) + step;
+      if (next < 0 || static_cast<size_t>(next) >= g.segment_count()) break;
+      const glm::vec3* p = at.joined(segment, static_cast<uint32_t>(next));
+      if (!p) break;  // another streamline
+      const Approach b = closest_approach(ray, p[0], p[1]);
+      if (!(b.distance < reach)) break;
+      segment = static_cast<uint32_t>(next);
+      span_of(p, b.distance);
+      if (b.distance < a.distance) a = b, best = segment, best_points = p;
+    }
+  }
+  const float footprint = look.footprint_at_0 + look.footprint_per_mm * std::max(a.t, 0.0f);
+  out.coverage = tube_coverage(radius, a.distance, footprint);
+  if (!(out.coverage > 0.0f)) return out;
+  // Through the tube: its entry and exit; past it: both at the closest approach.
+  if (!(t_in <= t_out)) t_in = t_out = a.t, in = out_points = best_points;
+  for (TubeHit* h : {&out.entry, &out.exit}) {
+    const bool entry = h == &out.entry;
+    const glm::vec3* p = entry ? in : out_points;
+    h->segment = best;
+    h->u = a.u;
+    h->t = entry ? t_in : t_out;
+    h->normal = radial(ray.at(h->t), p[0], p[1]);
+  }
+  return out;
+}
+
 }  // namespace
 
 bool tube_coverage_on(const RenderSettings& render, bool zslab_method) {
@@ -114,7 +207,9 @@ bool coverable(const StreamlineObject& object) {
 
 float silhouette_pad(float widest_footprint) {
   if (!(widest_footprint > 0.0f)) return 0.0f;
-  return std::exp2(std::ceil(std::log2(0.5f * widest_footprint)));
+  // Rounded up to a step of 2^(1/8), at most 9% wider than asked: a padded tube's every pixel
+  // is a candidate, so the hierarchy is kept about as tight as coverage allows.
+  return std::exp2(std::ceil(8.0f * std::log2(0.5f * widest_footprint)) / 8.0f);
 }
 
 float silhouette_pad(const CameraModel& camera, const StreamlineObject& object) {
@@ -126,7 +221,6 @@ void enable_silhouette_aa(TubeLook& look, float footprint_at_0, float footprint_
   look.silhouette_aa = true;
   look.footprint_at_0 = footprint_at_0;
   look.footprint_per_mm = footprint_per_mm;
-  look.hits_per_query = std::max(look.hits_per_query, kCoveredHitsPerQuery);
 }
 
 void enable_silhouette_aa(TubeLook& look, const CameraModel& camera) {
@@ -155,85 +249,77 @@ size_t covered_fragments_needed(const StreamlineObject& object) {
   return coverable(object) ? std::max(needed, kCoveredFragments) : needed;
 }
 
-CoveredCrossing covered_crossing(const TubeLook& look, const Ray& ray, const TubeHit& candidate) {
-  CoveredCrossing out;
-  if (glm::dot(candidate.normal, ray.dir) >= 0.0f) return out;  // the padded tube's exit
-  const std::vector<glm::vec3>& points = look.object->streamlines->points;
-  const TubeGeometry& g = *look.geometry;
-  const float radius = g.radius(), reach = radius + g.pad();
-  // Joined segments share one padded surface: the ray may pass nearest to a neighbour of the
-  // segment it entered by, so look along the streamline while its segments stay within reach.
-  // The round tube is the union of its segments' capsules: it spans from the first capsule
-  // entry to the last exit.
-  uint32_t best = candidate.segment;
-  Approach a = closest_approach(ray, points[g.first_point(best)], points[g.first_point(best) + 1]);
-  float t_in = INFINITY, t_out = -INFINITY;
-  uint32_t seg_in = best, seg_out = best;
-  // `distance`: the segment's from the ray; a capsule farther than its radius is missed.
-  auto span_of = [&](uint32_t segment, float distance) {
-    if (!(distance <= radius)) return;
-    const uint32_t q = g.first_point(segment);
-    const CapsuleSpan c = capsule_span(ray, points[q], points[q + 1], radius);
-    if (!c.hit) return;
-    if (c.t_in < t_in) t_in = c.t_in, seg_in = segment;
-    if (c.t_out > t_out) t_out = c.t_out, seg_out = segment;
-  };
-  span_of(best, a.distance);
-  for (const int step : {1, -1}) {
-    uint32_t segment = candidate.segment;
-    for (int k = 0; k < kNeighbourWalk; ++k) {
-      const int64_t next = static_cast<int64_t>(segment) + step;
-      if (next < 0 || static_cast<size_t>(next) >= g.segment_count()) break;
-      const uint32_t q = g.first_point(static_cast<uint32_t>(next));
-      if (q != g.first_point(segment) + step) break;  // another streamline
-      const Approach b = closest_approach(ray, points[q], points[q + 1]);
-      if (!(b.distance < reach)) break;
-      segment = static_cast<uint32_t>(next);
-      span_of(segment, b.distance);
-      if (b.distance < a.distance) a = b, best = segment;
+CoveredGathering::CoveredGathering(const TubeLook& look, const Ray& ray, float lo, float hi,
+                                   float t_min, float let_through, float bound)
+    : look_(look), ray_(ray), lo_(lo), hi_(hi), before_(let_through), bound_(bound) {
+  this->t_min = t_min;
+  reach = hi;  // a candidate's fragments lie at or behind its padded entry
+}
+
+void CoveredGathering::add(const TubeHit& candidate, const TubeRunPoints& run) {
+  const CoveredCrossing c = covered_crossing(look_, ray_, candidate, run);
+  if (!(c.coverage > 0.0f)) return;
+  auto kept = [&](const TubeHit& h) { return h.t >= lo_ && h.t <= hi_ && h.t < cut_t_; };
+  const bool entry = kept(c.entry), exit = kept(c.exit);
+  if (!entry && !exit) return;
+  if (candidate_count_ == kMaxCandidates) drop_candidate(kMaxCandidates - 1);
+  size_t k = candidate_count_++;
+  for (; k > 0 && candidates_[k - 1].t > candidate.t; --k) candidates_[k] = candidates_[k - 1];
+  candidates_[k] = {candidate.t, next_id_};
+  const float alpha =
+      tube_fragment_alpha(c.coverage * tube_crossing_opacity(look_, c.entry.segment));
+  for (const TubeHit* h : {entry ? &c.entry : nullptr, exit ? &c.exit : nullptr}) {
+    if (!h) continue;
+    size_t j = count_++;
+    for (; j > 0 && fragments_[j - 1].t > h->t; --j) fragments_[j] = fragments_[j - 1];
+    fragments_[j] = {h->t,      c.coverage, alpha,    h->u,
+                     h->normal, h->segment, next_id_, h == &c.entry ? 1u : 0u};
+    product_ *= 1.0f - alpha;
+  }
+  ++next_id_;
+  if (before_ * product_ < bound_) cut();
+  if (candidate_count_ == kMaxCandidates)
+    reach = std::min(reach, candidates_[kMaxCandidates - 1].t);
+}
+
+void CoveredGathering::drop_candidate(size_t k) {
+  const uint32_t id = candidates_[k].id;
+  for (; k + 1 < candidate_count_; ++k) candidates_[k] = candidates_[k + 1];
+  --candidate_count_;
+  size_t kept = 0;
+  product_ = 1.0f;
+  for (size_t j = 0; j < count_; ++j)
+    if (fragments_[j].candidate != id) {
+      product_ *= 1.0f - fragments_[j].alpha;
+      fragments_[kept++] = fragments_[j];
+    }
+  count_ = kept;
+}
+
+void CoveredGathering::cut() {
+  float through = before_;
+  for (size_t j = 0; j < count_; ++j) {
+    through *= 1.0f - fragments_[j].alpha;
+    if (through < bound_) {
+      count_ = j + 1;
+      cut_t_ = fragments_[j].t;
+      break;
     }
   }
-  const float footprint = look.footprint_at_0 + look.footprint_per_mm * std::max(a.t, 0.0f);
-  out.coverage = tube_coverage(radius, a.distance, footprint);
-  if (!(out.coverage > 0.0f)) return out;
-  // Through the tube: its entry and exit; past it: both at the closest approach.
-  if (!(t_in <= t_out)) t_in = t_out = a.t, seg_in = seg_out = best;
-  for (TubeHit* h : {&out.entry, &out.exit}) {
-    const bool entry = h == &out.entry;
-    const uint32_t q = g.first_point(entry ? seg_in : seg_out);
-    h->segment = best;
-    h->u = a.u;
-    h->t = entry ? t_in : t_out;
-    h->normal = radial(ray.at(h->t), points[q], points[q + 1]);
-  }
-  return out;
+  product_ = 1.0f;
+  for (size_t j = 0; j < count_; ++j) product_ *= 1.0f - fragments_[j].alpha;
+  // Candidates entering behind the cut have no fragment left in front of it.
+  while (candidate_count_ > 0 && candidates_[candidate_count_ - 1].t >= cut_t_) --candidate_count_;
+  reach = std::min(reach, cut_t_);
 }
 
-void sort_covered_fragments(std::vector<Fragment>& out, size_t first) {
-  // Insertion: a few dozen fragments, mostly in order already (an entry before its exit, and
-  // a second sort after a cut finds all but the last query's in place).
-  for (size_t k = first + 1; k < out.size(); ++k) {
-    const Fragment f = out[k];
-    size_t j = k;
-    for (; j > first && f.t < out[j - 1].t; --j) out[j] = out[j - 1];
-    out[j] = f;
-  }
+bool CoveredGathering::truncated() const {
+  return candidate_count_ == kMaxCandidates && candidates_[kMaxCandidates - 1].t < cut_t_;
 }
 
-float cut_covered_fragments(std::vector<Fragment>& out, size_t first, float bound,
-                            float& let_through) {
-  sort_covered_fragments(out, first);
-  float through = 1.0f;
-  for (size_t k = first; k < out.size(); ++k) {
-    through *= 1.0f - out[k].color.a;
-    if (through < bound) {
-      out.resize(k + 1);
-      let_through = through;
-      return out[k].t;
-    }
-  }
-  let_through = through;
-  return INFINITY;
+float CoveredGathering::let_through_before(float t) const {
+  float through = before_;
+  for (size_t j = 0; j < count_ && fragments_[j].t <= t; ++j) through *= 1.0f - fragments_[j].alpha;
+  return through;
 }
-
 }  // namespace imx

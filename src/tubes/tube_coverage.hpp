@@ -2,13 +2,16 @@
 // tube covers the part of each pixel its radius reaches, so thin tubes stay continuous and their
 // edges ramp instead of stepping. Connectomes are drawn without it.
 #pragma once
+#include <cmath>
 #include <cstddef>
-#include <vector>
+#include <cstdint>
+#include <span>
+
+#include <glm/vec3.hpp>
 
 #include "core/camera_model.hpp"
 #include "core/ray.hpp"
 #include "intermix/scene.hpp"
-#include "raster/fragment.hpp"
 #include "tubes/tube_fragments.hpp"
 #include "tubes/tube_geometry.hpp"
 
@@ -22,17 +25,15 @@ bool tube_coverage_on(const RenderSettings& render, bool zslab_method);
 bool coverable(const StreamlineObject& object);
 
 // The pad (mm) a TubeGeometry needs for silhouette coverage where pixels are at most
-// `widest_footprint` mm wide: half of it, rounded up to a power of two so that small camera
+// `widest_footprint` mm wide: half of it, rounded up to a power of 2^(1/8) so that small camera
 // moves keep the same geometry.
 float silhouette_pad(float widest_footprint);
 // The same for `object` seen by `camera`: the footprint at the farthest corner of its bounds.
 float silhouette_pad(const CameraModel& camera, const StreamlineObject& object);
 
 // Turns silhouette coverage on in `look`, whose geometry must have been built with at least
-// silhouette_pad(footprint at the farthest tube): each crossing's fragments take the part c of
-// the pixel the tube covers, alpha 1 - sqrt(1 - c * opacity), and a ray passing within
-// radius + footprint / 2 of an axis gets an entry and exit at its closest approach. Streamlines
-// only (a connectome's look is left as it is).
+// silhouette_pad(footprint at the farthest tube): its fragments are CoveredGathering's.
+// Streamlines only (a connectome's look is left as it is).
 void enable_silhouette_aa(TubeLook& look, float footprint_at_0, float footprint_per_mm);
 // The same with `camera`'s pixel footprint.
 void enable_silhouette_aa(TubeLook& look, const CameraModel& camera);
@@ -54,24 +55,53 @@ inline constexpr size_t kCoveredFragments = 8;
 // tube_fragments_needed(object) with coverage: at least kCoveredFragments for streamlines.
 size_t covered_fragments_needed(const StreamlineObject& object);
 
-// What a candidate of the padded geometry (an entry into a padded tube) makes: the true tube's
-// entry and exit, or both at the ray's closest approach to the axis when it passes the tube,
-// and the part of the pixel covered (0: none, make no fragment).
-struct CoveredCrossing {
-  float coverage = 0.0f;
-  TubeHit entry, exit;
+// A covered crossing's fragment: the true tube's entry or exit (both at the closest approach
+// for a ray that passes it), the part c of the pixel covered, alpha 1 - sqrt(1 - c * opacity).
+struct CoveredFragment {
+  float t, coverage, alpha, u;
+  glm::vec3 normal;  // the radial direction at t, not unit length
+  uint32_t segment;
+  uint32_t candidate;  // which candidate made it, among one gathering's
+  uint32_t entry;      // 1 for the entry, 0 for the exit
 };
-CoveredCrossing covered_crossing(const TubeLook& look, const Ray& ray, const TubeHit& candidate);
 
-// Covered crossings are found by their padded entries: sorts `out` from `first` on by depth,
-// nearest first as the methods expect.
-void sort_covered_fragments(std::vector<Fragment>& out, size_t first);
+// Gathers the covered fragments of one ray between `lo` and `hi` from a padded geometry
+// (TubeGeometry::visit_hits): each candidate, a padded tube's entry, is followed to its true
+// tube. It keeps the kMaxCandidates nearest candidates and, once what their fragments let through
+// in depth order (after `let_through` from earlier ones) falls below `bound`, stops looking behind
+// that depth: a candidate's fragments lie at or behind its padded entry. Pure, no allocation.
+class CoveredGathering final : public TubeHitVisitor {
+ public:
+  static constexpr size_t kMaxCandidates = 128;
+  CoveredGathering(const TubeLook& look, const Ray& ray, float lo, float hi, float t_min,
+                   float let_through, float bound);
+  void add(const TubeHit& candidate, const TubeRunPoints& run) override;
+  // The fragments kept, nearest first.
+  std::span<const CoveredFragment> fragments() const { return {fragments_, count_}; }
+  // Whether candidates were dropped for room while what was kept lets through at least the bound:
+  // then the next gathering starts at resume_t().
+  bool truncated() const;
+  float resume_t() const { return candidates_[kMaxCandidates - 1].t; }
+  // What the kept fragments at or in front of `t` let through, after `let_through`: all of a
+  // later gathering's lie behind resume_t().
+  float let_through_before(float t) const;
 
-// Once the shaded fragments of `out` from `first` on let through less than `bound`: sorts them
-// and drops those behind the one where, in depth order, what they let through falls below it.
-// Returns that one's depth (INFINITY when none) and sets `let_through` to what the kept let
-// through. Candidates whose padded entries lie behind it need not be asked for.
-float cut_covered_fragments(std::vector<Fragment>& out, size_t first, float bound,
-                            float& let_through);
+ private:
+  struct Candidate {
+    float t;  // the padded entry
+    uint32_t id;
+  };
+  void drop_candidate(size_t k);
+  void cut();  // lowers `reach` to where what the fragments let through falls below the bound
+  const TubeLook& look_;
+  const Ray& ray_;
+  float lo_, hi_, before_, bound_;
+  float product_ = 1.0f;  // what the kept fragments let through
+  float cut_t_ = INFINITY;
+  uint32_t next_id_ = 0;
+  size_t candidate_count_ = 0, count_ = 0;
+  Candidate candidates_[kMaxCandidates];           // by padded entry
+  CoveredFragment fragments_[2 * kMaxCandidates];  // by depth
+};
 
 }  // namespace imx

@@ -76,14 +76,31 @@ glm::vec3 base_colour(const TubeLook& look, const TubeHit& hit) {
                    [&] { return look.geometry->streamline(hit.segment); });
 }
 
-float crossing_opacity(const TubeLook& look, const TubeHit& hit) {
-  const StreamlineObject& o = *look.object;
-  if (o.group_opacity.empty() || look.group_of.empty()) return o.opacity;
-  const int32_t g = look.group_of[look.geometry->streamline(hit.segment)];
-  return g >= 0 && static_cast<size_t>(g) < o.group_opacity.size() ? o.group_opacity[g] : o.opacity;
+// Sorts the fragments of `out` from `first` on by depth and drops those behind the one where
+// what they let through, in depth order after `in_front`, falls below `bound`; returns what all
+// the kept let through.
+float cut_fragments(std::vector<Fragment>& out, size_t first, float bound, float in_front) {
+  std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(),
+            [](const Fragment& a, const Fragment& b) { return a.t < b.t; });
+  float through = in_front;
+  for (size_t k = first; k < out.size(); ++k) {
+    through *= 1.0f - out[k].color.a;
+    if (through < bound) {
+      out.resize(k + 1);
+      break;
+    }
+  }
+  return through;
 }
 
 }  // namespace
+
+float tube_crossing_opacity(const TubeLook& look, uint32_t segment) {
+  const StreamlineObject& o = *look.object;
+  if (o.group_opacity.empty() || look.group_of.empty()) return o.opacity;
+  const int32_t g = look.group_of[look.geometry->streamline(segment)];
+  return g >= 0 && static_cast<size_t>(g) < o.group_opacity.size() ? o.group_opacity[g] : o.opacity;
+}
 
 float tube_fragment_alpha(float crossing_opacity) {
   return 1.0f - std::sqrt(1.0f - std::clamp(crossing_opacity, 0.0f, 1.0f));
@@ -148,15 +165,8 @@ size_t tube_fragments_needed(const StreamlineObject& object) {
 
 void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, uint32_t object,
                            std::span<const ShadingLight> lights, std::vector<Fragment>& out) {
-  std::array<TubeHit, kHitsPerQuery> buffer;
-  // As many hits per query as the most transparent crossing needs to let through less than the
-  // bound (up to 64): one for opaque tubes, the nearest alone being far cheaper to find.
-  const std::span<TubeHit> hits(buffer.data(),
-                                look.every_crossing ? kHitsPerQuery : look.hits_per_query);
   const glm::vec3 to_eye = -ray.dir;
-  const size_t first = out.size();
-  // farthest: the deepest fragment; hidden: the nearest that alone lets through below the bound.
-  float let_through = 1.0f, farthest = 0.0f, hidden = INFINITY;
+  float let_through = 1.0f;
   // Whether a crossing behind those so far can still change a colour, or must be counted.
   auto more = [&] { return look.every_crossing || let_through >= kLetThrough; };
   // `coverage`: the part of the pixel a covered crossing covers; `facing` set for those only.
@@ -166,16 +176,12 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
     f.object = object;
     f.front_facing = facing >= 0 ? static_cast<uint32_t>(facing)
                                  : (glm::dot(h.normal, ray.dir) < 0.0f ? 1u : 0u);
-    const float alpha = tube_fragment_alpha(coverage * crossing_opacity(look, h));
-    if (look.shaded) {
-      const glm::vec3 rgb =
-          blinn_phong(look.object->shading, base_colour(look, h), h.normal, to_eye, lights);
-      f.color = glm::vec4(rgb * alpha, alpha);
-    }
+    const float alpha = tube_fragment_alpha(coverage * tube_crossing_opacity(look, h.segment));
+    const glm::vec3 rgb =
+        blinn_phong(look.object->shading, base_colour(look, h), h.normal, to_eye, lights);
+    f.color = glm::vec4(rgb * alpha, alpha);
     out.push_back(f);
     let_through *= 1.0f - alpha;
-    farthest = std::max(farthest, h.t);
-    if (1.0f - alpha < kLetThrough) hidden = std::min(hidden, h.t);
   };
   // One end of a kept piece of the ray: set by a clip plane, a clip mesh, or neither.
   struct End {
@@ -193,33 +199,45 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
     h.t = e.t;
     emit(h);
   };
+  // Covered crossings, gathered from the padded tubes in one pass while the bound allows; a
+  // gathering out of room goes on behind its farthest candidate, and the whole is then sorted
+  // and cut at the bound in depth order.
+  auto gather = [&](const End& lo, const End& hi) {
+    const size_t first = out.size();
+    const float before = let_through;
+    float t_min = lo.t, in_front = let_through;
+    bool resumed = false;
+    for (;;) {
+      CoveredGathering found(look, ray, lo.t, hi.t, t_min, in_front, kLetThrough);
+      look.geometry->visit_hits(ray, found);
+      for (const CoveredFragment& f : found.fragments())
+        emit(TubeHit{f.t, f.normal, f.segment, f.u}, f.coverage, static_cast<int>(f.entry));
+      if (!found.truncated()) break;
+      t_min = found.resume_t();
+      in_front = found.let_through_before(t_min);
+      resumed = true;
+    }
+    if (resumed) let_through = cut_fragments(out, first, kLetThrough, before);
+  };
   // The tubes between lo and hi, capped at both ends; false once what the fragments let
   // through is below the bound.
-  // Covered crossings come in the order of their padded entries, not their own: once the bound
-  // is reached, a crossing whose padded entry lies before the farthest fragment drawn (or the
-  // nearest that hides what is behind it) can still be in front of it, so those are still asked
-  // for; what lies behind a hiding fragment, or outside lo..hi, is not drawn.
   auto draw = [&](const End& lo, const End& hi) {
     if (!(lo.t < hi.t)) return true;
     cap(lo);
-    float t_min = lo.t, t_end = hi.t;
-    while (more() || (look.silhouette_aa && t_min < t_end)) {
-      if (look.silhouette_aa && !more()) {
-        t_end = std::min({t_end, farthest, hidden});
-        if (look.shaded)
-          t_end = std::min(t_end, cut_covered_fragments(out, first, kLetThrough, let_through));
-      }
-      const size_t n = look.geometry->nearest_hits(ray, t_min, t_end, hits);
-      for (size_t i = 0; i < n; ++i) {
-        if (!look.silhouette_aa) {
-          emit(hits[i]);
-        } else if (const CoveredCrossing c = covered_crossing(look, ray, hits[i]); c.coverage > 0) {
-          if (c.entry.t >= lo.t && c.entry.t <= hi.t && c.entry.t < hidden)
-            emit(c.entry, c.coverage, 1);
-          if (c.exit.t >= lo.t && c.exit.t <= hi.t && c.exit.t < hidden)
-            emit(c.exit, c.coverage, 0);
-        }
-      }
+    if (look.silhouette_aa) {
+      gather(lo, hi);
+      if (more()) cap(hi);
+      return more();
+    }
+    std::array<TubeHit, kHitsPerQuery> buffer;
+    // As many hits per query as the most transparent crossing needs to let through less than
+    // the bound (up to 64): one for opaque tubes, the nearest alone being far cheaper to find.
+    const std::span<TubeHit> hits(buffer.data(),
+                                  look.every_crossing ? kHitsPerQuery : look.hits_per_query);
+    float t_min = lo.t;
+    while (more()) {
+      const size_t n = look.geometry->nearest_hits(ray, t_min, hi.t, hits);
+      for (size_t i = 0; i < n; ++i) emit(hits[i]);
       if (n < hits.size()) {
         if (more()) cap(hi);
         break;
@@ -236,18 +254,17 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
   }
   if (!look.clip_meshes) {
     draw(lo, hi);
-  } else {
-    // Each piece the meshes keep, within what the planes keep: an end is the nearer cut's.
-    TubeClipMeshes::Pieces pieces;
-    look.clip_meshes->kept(ray, pieces);
-    for (int p = 0; p < pieces.count; ++p) {
-      const TubeClipMeshes::Piece& piece = pieces.piece[p];
-      const End piece_lo = piece.lo.t > lo.t ? End{piece.lo.t, -1, &piece.lo} : lo;
-      const End piece_hi = piece.hi.t < hi.t ? End{piece.hi.t, -1, &piece.hi} : hi;
-      if (!draw(piece_lo, piece_hi)) break;
-    }
+    return;
   }
-  if (look.silhouette_aa) sort_covered_fragments(out, first);
+  // Each piece the meshes keep, within what the planes keep: an end is the nearer cut's.
+  TubeClipMeshes::Pieces pieces;
+  look.clip_meshes->kept(ray, pieces);
+  for (int p = 0; p < pieces.count; ++p) {
+    const TubeClipMeshes::Piece& piece = pieces.piece[p];
+    const End piece_lo = piece.lo.t > lo.t ? End{piece.lo.t, -1, &piece.lo} : lo;
+    const End piece_hi = piece.hi.t < hi.t ? End{piece.hi.t, -1, &piece.hi} : hi;
+    if (!draw(piece_lo, piece_hi)) return;
+  }
 }
 
 }  // namespace imx

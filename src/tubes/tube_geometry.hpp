@@ -41,6 +41,8 @@ class TubeGeometry {
   size_t nearest_hits(const Ray& ray, float t_min, float t_max, std::span<TubeHit> out) const {
     return bvh_.nearest_hits(ray, t_min, t_max, out);
   }
+  // The hits `visitor` still wants, in no particular order (TubeBvh::visit_hits).
+  void visit_hits(const Ray& ray, TubeHitVisitor& visitor) const { bvh_.visit_hits(ray, visitor); }
 
   // Whether `point` lies inside a tube (within its radius of a segment's axis, or of a
   // connectome sphere's centre); if so and `where` is given, a hit naming the nearest such

@@ -47,8 +47,13 @@ TEST(TubeSilhouetteAa, CoverageRampsAcrossOnePixelAtTheRadius) {
   EXPECT_FLOAT_EQ(tube_coverage(1.0f, 0.75f, 0.5f), 1.0f);
   EXPECT_FLOAT_EQ(tube_coverage(1.0f, 1.25f, 0.5f), 0.0f);
   EXPECT_NEAR(tube_coverage(1.0f, 1.125f, 0.5f), 0.25f, 1e-6f);
+  // Half the footprint, rounded up to a step of 2^(1/8).
   EXPECT_FLOAT_EQ(silhouette_pad(0.5f), 0.25f);
-  EXPECT_FLOAT_EQ(silhouette_pad(0.6f), 0.5f);
+  EXPECT_FLOAT_EQ(silhouette_pad(0.6f), std::exp2(-13.0f / 8.0f));
+  for (float fp : {0.01f, 0.37f, 3.3f}) {
+    EXPECT_GE(silhouette_pad(fp), 0.5f * fp);
+    EXPECT_LE(silhouette_pad(fp), 0.5f * fp * 1.0906f);
+  }
 }
 
 TEST(TubeSilhouetteAa, ARayThroughTheAxisCrossesTheTrueRadiusAndANearMissIsPartial) {
