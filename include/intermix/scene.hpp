@@ -271,6 +271,8 @@ struct RenderSettings {
   int peel_layers = 4;                   // depth-peeling passes per polygon object (L)
   std::string peel_rest =
       "unsorted";  // peel: fragments behind layer L-1 blended unsorted, or "lost"
+  // Tube silhouettes cover their part of each pixel: on, off, or auto (on in the zSlab methods)
+  std::string tube_coverage = "auto";
   std::string interpolation = "ovi";
   double beta = 1.0;
   std::string skipping = "distance";             // empty-space skipping: none, bricks, distance

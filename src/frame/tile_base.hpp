@@ -17,6 +17,7 @@
 #include "intermix/image.hpp"
 #include "intermix/render.hpp"
 #include "raster/rasterizer.hpp"
+#include "tubes/tube_coverage.hpp"
 
 namespace imx {
 
@@ -32,7 +33,8 @@ Image render_fragment_method(const Scene& scene, const FrameSetup& frame, int sp
                              const MakeKernel& make_kernel) {
   constexpr int kTileSize = 16;
   std::vector<glm::vec2> offsets = frame_offsets(spp, options.sample_index);
-  Rasterizer raster(scene, frame.camera, frame.volumes, kTileSize);
+  Rasterizer raster(scene, frame.camera, frame.volumes, kTileSize, RasterObjects::shown,
+                    tube_coverage_on(scene.render, false));
   // The clip meshes' fragments come in rows of their own, sorted by depth whatever `order` is:
   // cutters that do not show never reach the method's fragments, and no store pass sees them.
   std::optional<Rasterizer> clip_raster;

@@ -16,6 +16,7 @@
 #include "raster/edge_function.hpp"
 #include "raster/shade_fragment.hpp"
 #include "tubes/tube_cache.hpp"
+#include "tubes/tube_coverage.hpp"
 #include "tubes/tube_fragments.hpp"
 
 namespace imx {
@@ -353,7 +354,7 @@ bool shown_plane(const PlaneObject& plane) {
 
 Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
                        std::span<const PreparedVolume> volumes, int tile_size,
-                       RasterObjects objects)
+                       RasterObjects objects, bool tube_coverage)
     : tile_size_(tile_size) {
   if (tile_size <= 0)
     throw Error(fmt::format("rasterizer: tile size {} must be positive", tile_size));
@@ -419,9 +420,15 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
       if (clip_only || !(so.opacity > 0.0f || csg_primitive)) continue;  // hidden ones cost 0
       auto tubes = std::make_unique<Impl::Tubes>();
       tubes->object = so;
-      tubes->geometry = tube_geometry(so);
+      // Coverage not for a CSG primitive: its crossings bound a region, whole or none.
+      const bool covered = tube_coverage && coverable(so) && !csg_primitive;
+      tubes->geometry = tube_geometry(so, covered ? silhouette_pad(camera, so) : 0.0f);
       tubes->look = make_tube_look(tubes->object, *tubes->geometry, scene.meshes);
       tubes->look.every_crossing = csg_primitive;
+      if (covered)
+        enable_silhouette_aa(tubes->look, camera);
+      else
+        hard_tubes_through_pad(tubes->look);
       tubes->order_index = static_cast<uint32_t>(k);
       im.tubes.push_back(std::move(tubes));
       continue;
@@ -547,6 +554,13 @@ size_t Rasterizer::triangle_count() const {
 void Rasterizer::Impl::add_tube_fragments(const TileRect& tile, std::span<const glm::vec2> offsets,
                                           SampleFragments& out) const {
   const Impl& im = *this;
+  // Several samples per pixel: each covers its share of the pixel.
+  std::vector<TubeLook> scaled;
+  const bool covered = std::any_of(im.tubes.begin(), im.tubes.end(),
+                                   [](const auto& tubes) { return tubes->look.silhouette_aa; });
+  if (covered && offsets.size() > 1)
+    for (const auto& tubes : im.tubes)
+      share_footprint(scaled.emplace_back(tubes->look), offsets.size());
   std::vector<uint32_t> starts;
   std::vector<Fragment> merged;
   starts.reserve(out.offsets.size());
@@ -559,9 +573,10 @@ void Rasterizer::Impl::add_tube_fragments(const TileRect& tile, std::span<const 
         const std::span<const Fragment> row = out.of(sample++);
         merged.insert(merged.end(), row.begin(), row.end());
         const Ray ray = im.camera.ray(x + o.x, y + o.y);
-        for (const auto& tubes : im.tubes)
-          append_tube_fragments(tubes->look, ray, std::numeric_limits<float>::infinity(),
-                                tubes->order_index, im.lights, merged);
+        for (size_t k = 0; k < im.tubes.size(); ++k)
+          append_tube_fragments(scaled.empty() ? im.tubes[k]->look : scaled[k], ray,
+                                std::numeric_limits<float>::infinity(), im.tubes[k]->order_index,
+                                im.lights, merged);
       }
   starts.push_back(static_cast<uint32_t>(merged.size()));
   out.offsets.swap(starts);

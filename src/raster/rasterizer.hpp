@@ -53,8 +53,10 @@ class Rasterizer {
   // A plane's height runs along `up` made perpendicular to its normal, its width along
   // cross(height, normal). Throws imx::Error naming the mesh, plane or order entry at fault.
   // Fragment object ids are Scene::order indices whichever `objects` are drawn.
+  // `tube_coverage`: streamline tubes with silhouette coverage (tubes/tube_coverage.hpp).
   Rasterizer(const Scene& scene, const CameraModel& camera, std::span<const PreparedVolume> volumes,
-             int tile_size, RasterObjects objects = RasterObjects::shown);
+             int tile_size, RasterObjects objects = RasterObjects::shown,
+             bool tube_coverage = false);
 
   // Fills `out` with the fragments of every sample of `tile` (a tile of the same tile_size grid).
   // Sample s of pixel (x, y) lies at image position (x + offsets[s].x, y + offsets[s].y);

@@ -114,7 +114,7 @@ RenderSettings parse_render(const JsonReader& r) {
   r.check_keys({"method", "spp", "step_mm", "reference_step_fraction", "ert_threshold", "layers",
                 "rt_layers", "peel_layers", "interpolation", "beta", "skipping", "classification",
                 "gradients", "brick_size", "k", "fragment_cap", "thickness", "slab_format",
-                "last_volume", "overflow", "sampling", "packets", "peel_rest",
+                "last_volume", "overflow", "sampling", "packets", "peel_rest", "tube_coverage",
                 // CSG, and how co-located volumes mix
                 "csg_simplify", "csg_presence_threshold", "csg_max_states", "mixing",
                 "mixing_priority", "mixing_threshold"});
@@ -136,6 +136,7 @@ RenderSettings parse_render(const JsonReader& r) {
   if (auto v = r.find("rt_layers")) s.rt_layers = v->integer(1, RenderSettings::kMaxLayers);
   if (auto v = r.find("peel_layers")) s.peel_layers = v->integer(1, 1024);
   if (auto v = r.find("peel_rest")) s.peel_rest = v->choice({"lost", "unsorted"});
+  if (auto v = r.find("tube_coverage")) s.tube_coverage = v->choice({"auto", "on", "off"});
   if (auto v = r.find("interpolation")) s.interpolation = v->choice({"ovi", "hvi", "blend"});
   if (auto v = r.find("beta")) s.beta = v->number(Range::closed(0.0, 1.0));
   if (auto v = r.find("skipping")) s.skipping = v->choice({"none", "bricks", "distance"});

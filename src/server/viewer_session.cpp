@@ -470,6 +470,9 @@ void ViewerSession::render_and_send(Snapshot& s) {
     o.spp = 1;
     // A stride of each tractogram while moving (its own tube cache keeps both geometries).
     for (StreamlineObject& so : scene.streamlines) so.stride = preview_stride(so);
+    // Tube silhouettes are covered once still: a moving frame's scale, the budget's pick, would
+    // ask each time for tubes padded to its own pixels.
+    scene.render.tube_coverage = "off";
   } else {
     if (accumulated_version_ != s.version) {
       accumulator_.reset();

@@ -13,31 +13,15 @@
 
 #include <glm/glm.hpp>
 #include "tubes/capsule.hpp"
+#include "tubes/tube_bvh_builder.hpp"
 
 namespace imx {
 namespace {
 
-constexpr int kBins = 32;
-constexpr int kMaxLeafRuns = 2;   // at most 4: a leaf child keeps its count in 2 bits
-constexpr float kRunCost = 2.0f;  // a run's test against a box visit's
-constexpr int kMedianDepth = 48;  // deeper than this, splits halve: depth stays bounded
-constexpr int kStackDepth = 128;  // kMedianDepth + log2 of 2^32 runs, with room
-constexpr size_t kParallelRuns = 4096;
+constexpr int kStackDepth = kTubeBvhMaxDepth;
 
-// Trivial, so that the builder's bin arrays cost nothing until used: start from empty().
-struct Box {
-  glm::vec3 low, high;
-  static Box empty() {
-    return {glm::vec3(std::numeric_limits<float>::max()),
-            glm::vec3(-std::numeric_limits<float>::max())};
-  }
-  void grow(const Box& b) { low = glm::min(low, b.low), high = glm::max(high, b.high); }
-  void grow(const glm::vec3& p) { low = glm::min(low, p), high = glm::max(high, p); }
-  float half_area() const {
-    const glm::vec3 e = glm::max(high - low, glm::vec3(0.0f));
-    return e.x * e.y + e.y * e.z + e.z * e.x;
-  }
-};
+using Box = TubeBox;
+using Item = TubeBvhItem;
 
 float segment_radius(const TubeBvh::Input& in, uint32_t segment) {
   return in.radii.empty() ? in.radius : in.radii[segment];
@@ -46,132 +30,6 @@ float segment_radius(const TubeBvh::Input& in, uint32_t segment) {
 bool joined(const TubeBvh::Input& in, size_t a, size_t b) {
   return in.segment_points[b] == in.segment_points[a] + 1;
 }
-
-// A run's box and index: the builder partitions these records themselves, so that each
-// level reads them in order.
-struct Item {
-  Box box;
-  uint32_t run;
-  glm::vec3 centre() const { return 0.5f * box.low + 0.5f * box.high; }  // no overflow
-};
-
-class Builder {
- public:
-  Builder(std::vector<Item>& items, std::vector<TubeBvh::Node>& nodes)
-      : items_(items), nodes_(nodes) {}
-
-  void build(uint32_t node, uint32_t begin, uint32_t end, const Box& bounds, int depth) {
-    TubeBvh::Node& n = nodes_[node];
-    for (int a = 0; a < 3; ++a) n.low[a] = bounds.low[a], n.high[a] = bounds.high[a];
-    const uint32_t count = end - begin;
-    if (count <= 1) return leaf(n, begin, count);
-    Box centroids = Box::empty();
-    for (uint32_t i = begin; i < end; ++i) centroids.grow(items_[i].centre());
-    const glm::vec3 extent = centroids.high - centroids.low;
-    const int axis =
-        extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
-    uint32_t middle = begin;
-    Box left = Box::empty(), right = Box::empty();
-    if (extent[axis] > 0.0f && depth < kMedianDepth) {
-      const Split s = best_split(begin, end, centroids, bounds);
-      if (s.axis >= 0 && count <= kMaxLeafRuns && s.cost >= kRunCost * static_cast<float>(count))
-        return leaf(n, begin, count);
-      if (s.axis >= 0) {
-        const float scale = s.bins / extent[s.axis], low = centroids.low[s.axis];
-        const auto* it =
-            std::partition(items_.data() + begin, items_.data() + end, [&](const Item& item) {
-              return bin(item.centre()[s.axis], low, scale, s.bins) < s.bin;
-            });
-        middle = static_cast<uint32_t>(it - items_.data());
-        left = s.left, right = s.right;
-      }
-    }
-    if (middle == begin || middle == end) {  // no useful split: halve by position
-      if (count <= kMaxLeafRuns) return leaf(n, begin, count);
-      middle = begin + count / 2;
-      std::nth_element(
-          items_.data() + begin, items_.data() + middle, items_.data() + end,
-          [&](const Item& x, const Item& y) { return x.centre()[axis] < y.centre()[axis]; });
-      left = right = Box::empty();
-      for (uint32_t i = begin; i < middle; ++i) left.grow(items_[i].box);
-      for (uint32_t i = middle; i < end; ++i) right.grow(items_[i].box);
-    }
-    const uint32_t child = next_.fetch_add(2);
-    n.first = child;
-    n.count = 0;
-    auto build_left = [&] { build(child, begin, middle, left, depth + 1); };
-    auto build_right = [&] { build(child + 1, middle, end, right, depth + 1); };
-    if (count > kParallelRuns) {
-      tbb::parallel_invoke(build_left, build_right);
-    } else {
-      build_left();
-      build_right();
-    }
-  }
-
-  uint32_t used() const { return next_.load(); }
-
- private:
-  struct Split {
-    int axis = -1, bin = 0, bins = kBins;
-    float cost = std::numeric_limits<float>::max();  // in units of one run's test over the node
-    Box left, right;
-  };
-
-  static int bin(float c, float low, float scale, int bins) {
-    const float x = (c - low) * scale;  // NaN- and overflow-safe: a huge box's centre is finite
-    return x >= 1.0f ? std::min(static_cast<int>(std::min(x, 1e9f)), bins - 1) : 0;
-  }
-  static void leaf(TubeBvh::Node& n, uint32_t begin, uint32_t count) {
-    n.first = begin;
-    n.count = count;
-  }
-
-  // The surface area heuristic over bins of the centroids on each axis (kBins, fewer for small
-  // nodes, where the bins' own cost would dominate); a box visit costs kRunCost runs' tests.
-  Split best_split(uint32_t begin, uint32_t end, const Box& centroids, const Box& bounds) const {
-    Split best;
-    const float node_area = std::max(bounds.half_area(), 1e-12f);
-    const int bins = std::clamp(static_cast<int>(end - begin), 4, kBins);
-    for (int axis = 0; axis < 3; ++axis) {
-      const float extent = centroids.high[axis] - centroids.low[axis];
-      if (!(extent > 0.0f)) continue;
-      const float scale = bins / extent, low = centroids.low[axis];
-      std::array<Box, kBins> bin_box;
-      std::array<uint32_t, kBins> counts;
-      for (int b = 0; b < bins; ++b) bin_box[b] = Box::empty(), counts[b] = 0;
-      for (uint32_t i = begin; i < end; ++i) {
-        const int b = bin(items_[i].centre()[axis], low, scale, bins);
-        bin_box[b].grow(items_[i].box);
-        ++counts[b];
-      }
-      std::array<float, kBins> right_cost;
-      std::array<Box, kBins> right_box;
-      Box acc = Box::empty();
-      uint32_t n = 0;
-      for (int b = bins - 1; b > 0; --b) {
-        acc.grow(bin_box[b]);
-        n += counts[b];
-        right_box[b] = acc;
-        right_cost[b] = n * acc.half_area();
-      }
-      acc = Box::empty();
-      n = 0;
-      for (int b = 1; b < bins; ++b) {
-        acc.grow(bin_box[b - 1]);
-        n += counts[b - 1];
-        if (n == 0 || n == end - begin) continue;
-        const float cost = 1.0f + kRunCost * (n * acc.half_area() + right_cost[b]) / node_area;
-        if (cost < best.cost) best = Split{axis, b, bins, cost, acc, right_box[b]};
-      }
-    }
-    return best;
-  }
-
-  std::vector<Item>& items_;
-  std::vector<TubeBvh::Node>& nodes_;
-  std::atomic<uint32_t> next_{2};  // children in pairs at even indices: one cache line
-};
 
 glm::vec3 unit(const glm::vec3& v) {
   const float length = glm::length(v);
@@ -265,10 +123,7 @@ TubeBvh::TubeBvh(const Input& input) : input_(input) {
   // The binary tree, collapsed into 8-wide nodes, each freed before the next stage grows.
   std::vector<uint32_t> at(runs.size() + 1, 0);  // run i of the tree's order: stream offset
   {
-    std::vector<Node> binary(2 * runs.size() + 2);
-    Builder builder(items, binary);
-    builder.build(0, 0, static_cast<uint32_t>(runs.size()), all, 0);
-    binary.resize(builder.used());
+    std::vector<Node> binary = build_tube_tree(items, all);
     for (size_t i = 0; i < items.size(); ++i)
       at[i + 1] = at[i] + runs[items[i].run].segments + kRunExtra;
     if (at.back() >= kMaxStream) throw std::length_error("tubes: more than 2^29 leaf points");
@@ -350,7 +205,8 @@ size_t TubeBvh::bytes() const {
   return nodes_.capacity() * sizeof(WideNode) + stream_.capacity() * sizeof(glm::vec3);
 }
 
-uint32_t TubeBvh::hit_run(const glm::vec3* stream, const Ray& ray, TubeHitList& list) const {
+template <class Sink>
+uint32_t TubeBvh::hit_run(const glm::vec3* stream, const Ray& ray, Sink& list) const {
   Run run;
   std::memcpy(static_cast<void*>(&run), stream, sizeof(Run));
   const glm::vec3* p = stream + 2;
@@ -389,7 +245,8 @@ uint32_t TubeBvh::hit_run(const glm::vec3* stream, const Ray& ray, TubeHitList& 
       if (glm::dot(x, left) < 0.0f || (has_right && glm::dot(x - ba, right) >= 0.0f)) continue;
       const float along = glm::dot(x, ba);
       const float u = baba > 0.0f ? std::clamp(along / baba, 0.0f, 1.0f) : 0.0f;
-      list.add(TubeHit{t, x - u * ba, segment, u});
+      list.add(TubeHit{t, x - u * ba, segment, u},
+               TubeRunPoints{p, run.first_segment, run.segments, run.joins});
     }
   }
   return run.segments + kRunExtra;
@@ -398,10 +255,29 @@ uint32_t TubeBvh::hit_run(const glm::vec3* stream, const Ray& ray, TubeHitList& 
 size_t TubeBvh::nearest_hits(const Ray& ray, float t_min, float t_max,
                              std::span<TubeHit> out) const {
   if (out.empty() || nodes_.empty()) return 0;
+  TubeHitList list{out.data(), out.size(), 0, t_min, t_max};
+  traverse(ray, list);
+  return list.count;
+}
+
+void TubeBvh::visit_hits(const Ray& ray, TubeHitVisitor& visitor) const {
+  // The visitor's own bounds, as a TubeHitList keeps them.
+  struct Sink {
+    TubeHitVisitor& visitor;
+    float t_min;
+    float reach() const { return visitor.reach; }
+    void add(const TubeHit& hit, const TubeRunPoints& run) {
+      if (hit.t > t_min && hit.t < visitor.reach) visitor.add(hit, run);
+    }
+  } sink{visitor, visitor.t_min};
+  if (!nodes_.empty()) traverse(ray, sink);
+}
+
+template <class Sink>
+void TubeBvh::traverse(const Ray& ray, Sink& list) const {
   using f8 = float __attribute__((vector_size(32)));
   using i8 = int32_t __attribute__((vector_size(32)));
-  TubeHitList list{out.data(), out.size(), 0, t_min, t_max};
-  const float lowest = std::max(t_min, 0.0f);
+  const float lowest = std::max(list.t_min, 0.0f);
   float inv[3];
   for (int a = 0; a < 3; ++a)
     inv[a] = std::abs(ray.dir[a]) > 1e-20f ? 1.0f / ray.dir[a] : std::copysign(1e20f, ray.dir[a]);
@@ -445,7 +321,6 @@ size_t TubeBvh::nearest_hits(const Ray& ray, float t_min, float t_max,
     }
     for (int i = 0; i < found; ++i) stack[top++] = near[i];
   }
-  return list.count;
 }
 
 bool TubeBvh::contains(const glm::vec3& point, TubeHit* where) const {

@@ -1,6 +1,7 @@
 // TubeBvh: exact ray crossings with round tubes (capsules around polyline segments, joined
 // without inner surfaces), through a bounding volume hierarchy over short runs of segments.
 #pragma once
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -20,6 +21,15 @@ struct TubeHit {
   float u = 0.0f;          // where along the segment, 0 at its first point, 1 at its second
 };
 
+// The run of joined segments a crossing was found in, as the hierarchy keeps it at hand:
+// points[0..segments] are its segments' points, points[-1] the one before (or points[0] again
+// where the tube begins; joins bit 0 says which) and points[segments + 1] the one after (bit 1).
+struct TubeRunPoints {
+  const glm::vec3* points;
+  uint32_t first_segment;
+  uint16_t segments, joins;
+};
+
 // The K nearest crossings found so far, sorted; once full, the farthest bounds the search.
 struct TubeHitList {
   TubeHit* hits;
@@ -27,12 +37,23 @@ struct TubeHitList {
   size_t count = 0;
   float t_min, t_max;
   float reach() const { return count == capacity ? hits[capacity - 1].t : t_max; }
-  void add(const TubeHit& hit) {
+  void add(const TubeHit& hit, const TubeRunPoints&) {
     if (!(hit.t > t_min) || !(hit.t < reach())) return;
     size_t i = count < capacity ? count++ : capacity - 1;
     for (; i > 0 && hits[i - 1].t > hit.t; --i) hits[i] = hits[i - 1];
     hits[i] = hit;
   }
+};
+
+// Receives a ray's crossings in no particular order (TubeBvh::visit_hits): those with
+// t_min < t < reach, where `reach` may fall as they come, so that nothing behind it is looked for.
+class TubeHitVisitor {
+ public:
+  float t_min = 0.0f, reach = INFINITY;
+  virtual void add(const TubeHit& hit, const TubeRunPoints& run) = 0;
+
+ protected:
+  ~TubeHitVisitor() = default;
 };
 
 class TubeBvh {
@@ -55,6 +76,8 @@ class TubeBvh {
   // The crossings of `ray` (unit direction) with t_min < t < t_max, nearest first: the
   // out.size() nearest of them. Returns how many were found. Pure and thread-safe.
   size_t nearest_hits(const Ray& ray, float t_min, float t_max, std::span<TubeHit> out) const;
+  // Hands `visitor` the crossings of `ray` it still wants, nearest boxes first. Thread-safe.
+  void visit_hits(const Ray& ray, TubeHitVisitor& visitor) const;
 
   // Whether `point` lies within a segment's radius of its axis; if so and `where` is given,
   // a hit naming the nearest such segment, with the normal from its axis to the point, t = 0.
@@ -99,8 +122,13 @@ class TubeBvh {
   // The leaves' runs in hierarchy order, each as its Run, the point before it (or its first
   // again), its segments + 1 points and the point after it (or its last again): a leaf reads
   // one stretch of memory. A leaf node's `first` is its first run's offset here.
-  // Adds the crossings of `ray` with the run at `run` to `list`; returns the run's slots.
-  uint32_t hit_run(const glm::vec3* run, const Ray& ray, TubeHitList& list) const;
+  // Adds the crossings of `ray` with the run at `run` to `sink` (a TubeHitList or a visitor);
+  // returns the run's slots.
+  template <class Sink>
+  uint32_t hit_run(const glm::vec3* run, const Ray& ray, Sink& sink) const;
+  // The boxes `ray` enters, nearest first, while `sink` still wants what lies in them.
+  template <class Sink>
+  void traverse(const Ray& ray, Sink& sink) const;
   Input input_;
   uint32_t collapse(const std::vector<Node>& binary, uint32_t node);
   static void set_child(WideNode& w, int i, const Node* n, uint32_t inner);

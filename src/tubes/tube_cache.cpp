@@ -27,6 +27,14 @@ std::vector<double> geometry_key(const StreamlineObject& o) {
   return key;
 }
 
+// Silhouette coverage works with any pad at least the one asked: a padded geometry serves pads
+// down to half its own, so that a camera moving in and out rebuilds no BVH at each step, while
+// frames pay for at most twice the pad they need.
+// Without coverage (pad 0) any serves: the true tubes are found through the padded ones.
+bool serves_pad(float built, float asked) {
+  return asked > 0.0f ? built >= asked && built <= 2.0f * asked : true;
+}
+
 }  // namespace
 
 int preview_stride(const StreamlineObject& object) {
@@ -36,16 +44,16 @@ int preview_stride(const StreamlineObject& object) {
   return static_cast<int>(std::min<size_t>(stride, 1 << 30));
 }
 
-std::shared_ptr<const TubeGeometry> TubeCache::geometry(const StreamlineObject& object) {
+std::shared_ptr<const TubeGeometry> TubeCache::geometry(const StreamlineObject& object, float pad) {
   std::vector<double> key = geometry_key(object);
   // The slot by what the stride lets through at most, known before anything is built.
   const size_t count = object.streamlines ? object.streamlines->count() : 0;
   const size_t stride = static_cast<size_t>(std::max(object.stride, 1));
   Entry& entry = entries_[(count + stride - 1) / stride <= kPreviewStreamlines ? 0 : 1];
   std::lock_guard lock(mutex_);
-  if (!entry.built || key != entry.key) {
+  if (!entry.built || key != entry.key || !serves_pad(entry.built->pad(), pad)) {
     entry.built.reset();  // the old BVH goes before the new one is built: one at a time in memory
-    entry.built = std::make_shared<const TubeGeometry>(object);
+    entry.built = std::make_shared<const TubeGeometry>(object, pad);
     entry.key = std::move(key);
     ++builds_;
   }
@@ -77,9 +85,9 @@ std::shared_ptr<TubeCache> make_tube_cache() {
   return std::make_shared<TubeCache>();
 }
 
-std::shared_ptr<const TubeGeometry> tube_geometry(const StreamlineObject& object) {
-  if (object.cache) return object.cache->geometry(object);
-  return std::make_shared<const TubeGeometry>(object);
+std::shared_ptr<const TubeGeometry> tube_geometry(const StreamlineObject& object, float pad) {
+  if (object.cache) return object.cache->geometry(object, pad);
+  return std::make_shared<const TubeGeometry>(object, pad);
 }
 
 std::shared_ptr<const TubeClipMeshes> tube_clip_meshes(const StreamlineObject& object,

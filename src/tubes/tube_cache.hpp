@@ -27,7 +27,9 @@ class TubeCache {
   // again only when one of them changed. Two are kept: a preview's (at most kPreviewStreamlines
   // streamlines by its stride) and a full one, so that a viewer switching between moving and
   // still frames builds neither again. Thread-safe.
-  std::shared_ptr<const TubeGeometry> geometry(const StreamlineObject& object);
+  // `pad`: TubeGeometry's; a geometry built with a pad from `pad` to 4 * `pad` serves, and any
+  // for 0 (hard_tubes_through_pad in tube_coverage.hpp draws the true tubes through it).
+  std::shared_ptr<const TubeGeometry> geometry(const StreamlineObject& object, float pad = 0.0f);
 
   // The clip meshes of `object` resolved in `meshes` (the scene's), built again only when the
   // meshes or what they keep changed; null without clip meshes.
@@ -53,7 +55,7 @@ class TubeCache {
 std::shared_ptr<TubeCache> make_tube_cache();
 
 // The geometry of `object`: from its cache, or built now when it has none.
-std::shared_ptr<const TubeGeometry> tube_geometry(const StreamlineObject& object);
+std::shared_ptr<const TubeGeometry> tube_geometry(const StreamlineObject& object, float pad = 0.0f);
 
 // The clip meshes of `object` resolved in the scene's `meshes`: from its cache, or built now
 // when it has none; null without clip meshes, and for a connectome.

@@ -11,6 +11,7 @@
 #include "intermix/error.hpp"
 #include "presets/colormap.hpp"
 #include "tubes/tube_cache.hpp"
+#include "tubes/tube_coverage.hpp"
 
 namespace imx {
 namespace {
@@ -75,14 +76,31 @@ glm::vec3 base_colour(const TubeLook& look, const TubeHit& hit) {
                    [&] { return look.geometry->streamline(hit.segment); });
 }
 
-float crossing_opacity(const TubeLook& look, const TubeHit& hit) {
-  const StreamlineObject& o = *look.object;
-  if (o.group_opacity.empty() || look.group_of.empty()) return o.opacity;
-  const int32_t g = look.group_of[look.geometry->streamline(hit.segment)];
-  return g >= 0 && static_cast<size_t>(g) < o.group_opacity.size() ? o.group_opacity[g] : o.opacity;
+// Sorts the fragments of `out` from `first` on by depth and drops those behind the one where
+// what they let through, in depth order after `in_front`, falls below `bound`; returns what all
+// the kept let through.
+float cut_fragments(std::vector<Fragment>& out, size_t first, float bound, float in_front) {
+  std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(),
+            [](const Fragment& a, const Fragment& b) { return a.t < b.t; });
+  float through = in_front;
+  for (size_t k = first; k < out.size(); ++k) {
+    through *= 1.0f - out[k].color.a;
+    if (through < bound) {
+      out.resize(k + 1);
+      break;
+    }
+  }
+  return through;
 }
 
 }  // namespace
+
+float tube_crossing_opacity(const TubeLook& look, uint32_t segment) {
+  const StreamlineObject& o = *look.object;
+  if (o.group_opacity.empty() || look.group_of.empty()) return o.opacity;
+  const int32_t g = look.group_of[look.geometry->streamline(segment)];
+  return g >= 0 && static_cast<size_t>(g) < o.group_opacity.size() ? o.group_opacity[g] : o.opacity;
+}
 
 float tube_fragment_alpha(float crossing_opacity) {
   return 1.0f - std::sqrt(1.0f - std::clamp(crossing_opacity, 0.0f, 1.0f));
@@ -147,26 +165,21 @@ size_t tube_fragments_needed(const StreamlineObject& object) {
 
 void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, uint32_t object,
                            std::span<const ShadingLight> lights, std::vector<Fragment>& out) {
-  std::array<TubeHit, kHitsPerQuery> buffer;
-  // As many hits per query as the most transparent crossing needs to let through less than the
-  // bound (up to 64): one for opaque tubes, the nearest alone being far cheaper to find.
-  const std::span<TubeHit> hits(buffer.data(),
-                                look.every_crossing ? kHitsPerQuery : look.hits_per_query);
   const glm::vec3 to_eye = -ray.dir;
   float let_through = 1.0f;
   // Whether a crossing behind those so far can still change a colour, or must be counted.
   auto more = [&] { return look.every_crossing || let_through >= kLetThrough; };
-  auto emit = [&](const TubeHit& h) {
+  // `coverage`: the part of the pixel a covered crossing covers; `facing` set for those only.
+  auto emit = [&](const TubeHit& h, float coverage = 1.0f, int facing = -1) {
     Fragment f;
     f.t = h.t;
     f.object = object;
-    f.front_facing = glm::dot(h.normal, ray.dir) < 0.0f ? 1u : 0u;
-    const float alpha = tube_fragment_alpha(crossing_opacity(look, h));
-    if (look.shaded) {
-      const glm::vec3 rgb =
-          blinn_phong(look.object->shading, base_colour(look, h), h.normal, to_eye, lights);
-      f.color = glm::vec4(rgb * alpha, alpha);
-    }
+    f.front_facing = facing >= 0 ? static_cast<uint32_t>(facing)
+                                 : (glm::dot(h.normal, ray.dir) < 0.0f ? 1u : 0u);
+    const float alpha = tube_fragment_alpha(coverage * tube_crossing_opacity(look, h.segment));
+    const glm::vec3 rgb =
+        blinn_phong(look.object->shading, base_colour(look, h), h.normal, to_eye, lights);
+    f.color = glm::vec4(rgb * alpha, alpha);
     out.push_back(f);
     let_through *= 1.0f - alpha;
   };
@@ -186,11 +199,41 @@ void append_tube_fragments(const TubeLook& look, const Ray& ray, float t_max, ui
     h.t = e.t;
     emit(h);
   };
+  // Covered crossings, gathered from the padded tubes in one pass while the bound allows; a
+  // gathering out of room goes on behind its farthest candidate, and the whole is then sorted
+  // and cut at the bound in depth order.
+  auto gather = [&](const End& lo, const End& hi) {
+    const size_t first = out.size();
+    const float before = let_through;
+    float t_min = lo.t, in_front = let_through;
+    bool resumed = false;
+    for (;;) {
+      CoveredGathering found(look, ray, lo.t, hi.t, t_min, in_front, kLetThrough);
+      look.geometry->visit_hits(ray, found);
+      for (const CoveredFragment& f : found.fragments())
+        emit(TubeHit{f.t, f.normal, f.segment, f.u}, f.coverage, static_cast<int>(f.entry));
+      if (!found.truncated()) break;
+      t_min = found.resume_t();
+      in_front = found.let_through_before(t_min);
+      resumed = true;
+    }
+    if (resumed) let_through = cut_fragments(out, first, kLetThrough, before);
+  };
   // The tubes between lo and hi, capped at both ends; false once what the fragments let
   // through is below the bound.
   auto draw = [&](const End& lo, const End& hi) {
     if (!(lo.t < hi.t)) return true;
     cap(lo);
+    if (look.silhouette_aa) {
+      gather(lo, hi);
+      if (more()) cap(hi);
+      return more();
+    }
+    std::array<TubeHit, kHitsPerQuery> buffer;
+    // As many hits per query as the most transparent crossing needs to let through less than
+    // the bound (up to 64): one for opaque tubes, the nearest alone being far cheaper to find.
+    const std::span<TubeHit> hits(buffer.data(),
+                                  look.every_crossing ? kHitsPerQuery : look.hits_per_query);
     float t_min = lo.t;
     while (more()) {
       const size_t n = look.geometry->nearest_hits(ray, t_min, hi.t, hits);

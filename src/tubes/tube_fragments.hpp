@@ -24,11 +24,14 @@ struct TubeLook {
   const float* streamline_values = nullptr;  // streamline_value colouring
   float value_low = 0.0f, value_high = 1.0f;
   std::vector<int32_t> group_of;         // per streamline: its first group, or -1 (group colouring)
-  bool shaded = true;                    // false: colour 0, for clip passes
   size_t hits_per_query = 32;            // nearest hits asked at a time (1 for opaque tubes)
   bool every_crossing = false;           // a CSG primitive: all crossings, so windings close
   std::shared_ptr<const TubeClip> clip;  // the object's clip planes; null without any
   std::shared_ptr<const TubeClipMeshes> clip_meshes;  // its clip meshes; null without any
+  // Silhouette coverage (tube_coverage.hpp): a tube covers the part of a pixel of width
+  // footprint(t) = footprint_at_0 + footprint_per_mm * t that lies within its radius.
+  bool silhouette_aa = false;
+  float footprint_at_0 = 0.0f, footprint_per_mm = 0.0f;
 };
 
 // The look of `object` drawn with `geometry`; `meshes` are the scene's, which its clip meshes
@@ -46,6 +49,9 @@ glm::vec3 streamline_colour(const TubeLook& look, uint32_t streamline, uint32_t 
 // The opacity of one surface crossing: a tube crossing is an entry and an exit, so each carries
 // the part whose square lets through what the object's per-crossing opacity does.
 float tube_fragment_alpha(float crossing_opacity);
+
+// The opacity per crossing of the tube around `segment` (its group's, or the object's).
+float tube_crossing_opacity(const TubeLook& look, uint32_t segment);
 
 // How many fragments of `object` a ray can need: past that many crossings what they let through
 // is below the bound (1/1024), so later ones change no colour by more. 1 for opaque tubes;

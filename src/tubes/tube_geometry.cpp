@@ -11,7 +11,10 @@
 
 namespace imx {
 
-TubeGeometry::TubeGeometry(const StreamlineObject& object) : streamlines_(object.streamlines) {
+TubeGeometry::TubeGeometry(const StreamlineObject& object, float pad)
+    : streamlines_(object.streamlines),
+      radius_(static_cast<float>(object.radius)),
+      pad_(object.connectome ? 0.0f : std::max(pad, 0.0f)) {
   if (object.connectome) {
     build_connectome(object);
     return;
@@ -33,7 +36,7 @@ TubeGeometry::TubeGeometry(const StreamlineObject& object) : streamlines_(object
   segment_points_.reserve(segments);
   for (uint32_t i : selected)
     for (uint32_t p = s.offsets[i]; p + 1 < s.offsets[i + 1]; ++p) segment_points_.push_back(p);
-  bvh_ = TubeBvh({s.points, segment_points_, static_cast<float>(object.radius), {}});
+  bvh_ = TubeBvh({s.points, segment_points_, radius_ + pad_, {}});
   bytes_ = segment_points_.capacity() * sizeof(uint32_t) + bvh_.bytes();
 }
 

@@ -54,7 +54,8 @@ Image render_scene(const nlohmann::json& camera, int size, const nlohmann::json&
   nlohmann::json scene = {
       {"camera", camera},
       {"image", {{"width", size}, {"height", size}, {"background", {0, 0, 0, 0}}}},
-      {"render", {{"method", method}, {"spp", 1}}},
+      // The same rays in every method: silhouette coverage (zslab's default) off.
+      {"render", {{"method", method}, {"spp", 1}, {"tube_coverage", "off"}}},
       {"objects", {object, kBallObject}}};
   if (fog) scene["objects"].push_back(kFog);
   return render(parse_scene(scene.dump(), ".", "test"));

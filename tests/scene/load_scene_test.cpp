@@ -565,6 +565,17 @@ TEST(ParseSceneErrors, OverflowIsGreedyOrTail) {
                   "render.peel_rest: \"sorted\" is not one of lost, unsorted");
 }
 
+TEST(ParseSceneErrors, TubeCoverageIsAutoOnOrOff) {
+  EXPECT_CONTAINS(parse_error(zslab_scene(R"({"tube_coverage": "yes"})")),
+                  "render.tube_coverage: \"yes\" is not one of auto, on, off");
+  EXPECT_CONTAINS(parse_error(zslab_scene(R"({"tube_coverage": true})")),
+                  "render.tube_coverage: expected a string");
+  EXPECT_EQ(parse_scene(R"({"objects": []})", ".", "test").render.tube_coverage, "auto");
+  EXPECT_EQ(parse_scene(R"({"render": {"tube_coverage": "off"}, "objects": []})", ".", "test")
+                .render.tube_coverage,
+            "off");
+}
+
 TEST(ParseSceneErrors, VolumeSettings) {
   test::TempDir dir;
   write_nrrd(small_volume(), dir.path() / "ct.nrrd");

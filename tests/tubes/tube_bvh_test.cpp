@@ -135,6 +135,37 @@ TEST(TubeBvh, CrossingsAreTheEndsOfEachTubesMergedCapsuleIntervals) {
   for (int k = 0; k < 3; ++k) EXPECT_EQ(three[k].t, all[k].t);
   EXPECT_EQ(bvh.nearest_hits(ray, all[1].t, 1e9f, later), n - 2);
   EXPECT_EQ(later[0].t, all[2].t);
+  // A visitor is handed the same crossings, each once, with its run's points at hand; one that
+  // lowers its reach to each crossing it is given still sees the nearest.
+  struct Recorder final : TubeHitVisitor {
+    const std::vector<glm::vec3>& points;
+    const std::vector<uint32_t>& segment_points;
+    bool nearest_only = false;
+    std::vector<float> seen;
+    int wrong_points = 0;
+    Recorder(const std::vector<glm::vec3>& p, const std::vector<uint32_t>& s)
+        : points(p), segment_points(s) {}
+    void add(const TubeHit& hit, const TubeRunPoints& run) override {
+      seen.push_back(hit.t);
+      const uint32_t j = hit.segment - run.first_segment, q = segment_points[hit.segment];
+      wrong_points +=
+          !(j < run.segments && run.points[j] == points[q] && run.points[j + 1] == points[q + 1]);
+      const uint32_t first = segment_points[run.first_segment];
+      wrong_points += (run.joins & 1) && run.points[-1] != points[first - 1];
+      wrong_points +=
+          (run.joins & 2) && run.points[run.segments + 1] != points[first + run.segments + 1];
+      if (nearest_only) reach = std::min(reach, hit.t);
+    }
+  } every(points, segment_points), nearest(points, segment_points);
+  bvh.visit_hits(ray, every);
+  std::sort(every.seen.begin(), every.seen.end());
+  ASSERT_EQ(every.seen.size(), n);
+  for (size_t k = 0; k < n; ++k) EXPECT_EQ(every.seen[k], all[k].t);
+  EXPECT_EQ(every.wrong_points, 0);
+  nearest.nearest_only = true;
+  bvh.visit_hits(ray, nearest);
+  EXPECT_EQ(*std::min_element(nearest.seen.begin(), nearest.seen.end()), all[0].t);
+  EXPECT_LT(nearest.seen.size(), n);  // what lies behind a reach is not looked for
 }
 
 TEST(TubeBvh, ContainsFindsTheNearestSegmentWithinTheRadius) {

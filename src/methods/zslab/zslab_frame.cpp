@@ -12,6 +12,7 @@
 #include "methods/zslab/stage_hash.hpp"
 #include "methods/zslab/zslab.hpp"
 #include "scene/stage_fields.hpp"
+#include "tubes/tube_coverage.hpp"
 #include "tubes/tube_fragments.hpp"
 #include "volume/iso_crossing.hpp"
 #include "volume/projection.hpp"
@@ -184,14 +185,17 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast, int sample_ind
                       : has_volumes ? static_cast<float>(frame.min_pitch)
                                     : -1.0f;
     // Tubes are ray-traced, not peeled: every crossing that can still show, not the first L.
-    const int peel = tubes ? static_cast<int>(std::min<size_t>(
-                                 tube_fragments_needed(scene.streamlines[ref.index]), INT_MAX))
-                           : r.peel_layers;
+    const bool covered = tubes && tube_coverage_on(r, true);
+    const StreamlineObject* so = tubes ? &scene.streamlines[ref.index] : nullptr;
+    const int peel =
+        tubes ? static_cast<int>(std::min<size_t>(
+                    covered ? covered_fragments_needed(*so) : tube_fragments_needed(*so), INT_MAX))
+              : r.peel_layers;
     group.kind = ZslabStage::Kind::surfaces;
     group.objects.push_back(static_cast<uint32_t>(k));
     group.thickness.push_back(thickness);
     group.peel.push_back(peel);
-    group.content = h.add(thickness).add(peel).value();
+    group.content = h.add(thickness).add(peel).add(covered).value();
     if (group.objects.size() >= std::min<size_t>(per_stage, kMaxRtLayers)) close_group();
   }
   close_group();
@@ -290,7 +294,9 @@ void ZslabFrame::prepare(size_t first) {
         sub.order.push_back({ObjectKind::mesh, c.mesh});
         sub.meshes.push_back(std::move(m));
       }
-    rasterizers_[k] = std::make_shared<const Rasterizer>(sub, frame.camera, frame.volumes, 16);
+    rasterizers_[k] = std::make_shared<const Rasterizer>(sub, frame.camera, frame.volumes, 16,
+                                                         RasterObjects::shown,
+                                                         tube_coverage_on(scene.render, true));
   }
 }
 
