@@ -2,7 +2,8 @@
 // (0.01 + byte / 16 mm); then 13-byte records: a control byte (bit 0: a new streamline starts
 // here) and a point as three float32, non-finite coordinates read as 0 (the readers refuse
 // them; every finite magnitude may come). Rays start near the points and aim at others. The
-// crossings must come sorted, within the asked range, each naming a segment there is.
+// crossings must come sorted, within the asked range, each naming a segment there is; a visitor
+// that lowers its reach to each crossing must be given the nearest, with its run's points.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -11,6 +12,23 @@
 #include <glm/glm.hpp>
 
 #include "harness.hpp"
+
+namespace {
+
+// Keeps the nearest crossing it is given; each must lie in range and name its run's segment.
+struct Nearest final : imx::TubeHitVisitor {
+  size_t segments = 0;
+  float nearest = INFINITY;
+  void add(const imx::TubeHit& hit, const imx::TubeRunPoints& run) override {
+    if (!(hit.t > t_min && hit.t < reach)) __builtin_trap();
+    if (hit.segment >= segments || hit.segment - run.first_segment >= run.segments)
+      __builtin_trap();
+    nearest = std::min(nearest, hit.t);
+    reach = hit.t;
+  }
+};
+
+}  // namespace
 #include "tubes/tube_bvh.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -43,6 +61,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (k > 0 && hits[k].t < hits[k - 1].t) __builtin_trap();
       if (hits[k].segment >= segment_points.size()) __builtin_trap();
     }
+    Nearest visitor;
+    visitor.segments = segment_points.size();
+    visitor.t_min = t_min;
+    visitor.reach = t_max;
+    bvh.visit_hits(ray, visitor);
+    if ((n > 0) != std::isfinite(visitor.nearest) || (n > 0 && visitor.nearest != hits[0].t))
+      __builtin_trap();
     imx::TubeHit where;
     if (bvh.contains(points[i], &where) && where.segment >= segment_points.size()) __builtin_trap();
   }

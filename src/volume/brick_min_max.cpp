@@ -1,43 +1,56 @@
 #include "volume/brick_min_max.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <type_traits>
+#include <vector>
 
 #include "core/parallel.hpp"
 
 namespace imx {
 namespace {
 
+// The ranges of the bricks of row (by, bz), all of them along x: first voxel-wise over the
+// row's 9 x 9 voxel rows (an element-wise min and max of whole rows, which the compiler
+// vectorizes), then along x over each brick's span of that. Each voxel is read about 1.27 times
+// (rows on a brick boundary belong to two), in order.
 template <class T>
-glm::vec2 scan_brick(const VoxelGrid<T>& g, glm::ivec3 lo, glm::ivec3 hi) {
-  if constexpr (std::is_floating_point_v<T>) {
-    // NaN and inf voxels are no data: left out (a brick of nothing else holds no data).
-    constexpr float inf = std::numeric_limits<float>::infinity();
-    float mn = inf, mx = -inf;
-    for (int k = lo.z; k <= hi.z; ++k)
-      for (int j = lo.y; j <= hi.y; ++j) {
-        const T* row = g.data + (static_cast<size_t>(k) * g.dims.y + j) * g.dims.x;
-        for (int i = lo.x; i <= hi.x; ++i) {
-          const float v = row[i];
-          const bool data = !no_data(v);
-          mn = data && v < mn ? v : mn;
-          mx = data && v > mx ? v : mx;
+void scan_brick_row(const VoxelGrid<T>& g, const BrickGrid& grid, int by, int bz,
+                    std::vector<T>& lo, std::vector<T>& hi, glm::vec2* out) {
+  constexpr bool kFloat = std::is_floating_point_v<T>;
+  constexpr T kHighest =
+      kFloat ? std::numeric_limits<T>::infinity() : std::numeric_limits<T>::max();
+  constexpr T kLowest = kFloat ? -kHighest : std::numeric_limits<T>::lowest();
+  const int nx = g.dims.x;
+  std::fill(lo.begin(), lo.end(), kHighest);
+  std::fill(hi.begin(), hi.end(), kLowest);
+  const glm::ivec3 first = grid.first_voxel({0, by, bz}), last = grid.last_voxel({0, by, bz});
+  for (int k = first.z; k <= last.z; ++k)
+    for (int j = first.y; j <= last.y; ++j) {
+      const T* row = g.data + (static_cast<size_t>(k) * g.dims.y + j) * nx;
+      T* l = lo.data();
+      T* h = hi.data();
+      for (int i = 0; i < nx; ++i) {
+        const T v = row[i];
+        if constexpr (kFloat) {
+          // NaN and inf voxels are no data: left out (a brick of nothing else holds no data).
+          const bool data = std::abs(v) <= std::numeric_limits<T>::max();
+          l[i] = data && v < l[i] ? v : l[i];
+          h[i] = data && v > h[i] ? v : h[i];
+        } else {
+          l[i] = v < l[i] ? v : l[i];
+          h[i] = v > h[i] ? v : h[i];
         }
       }
-    return {mn, mx};
-  } else {
-    T mn = g.data[(static_cast<size_t>(lo.z) * g.dims.y + lo.y) * g.dims.x + lo.x];
-    T mx = mn;
-    for (int k = lo.z; k <= hi.z; ++k)
-      for (int j = lo.y; j <= hi.y; ++j) {
-        const T* row = g.data + (static_cast<size_t>(k) * g.dims.y + j) * g.dims.x;
-        for (int i = lo.x; i <= hi.x; ++i) {
-          T v = row[i];
-          mn = v < mn ? v : mn;
-          mx = v > mx ? v : mx;
-        }
-      }
-    return {static_cast<float>(mn), static_cast<float>(mx)};
+    }
+  for (int bx = 0; bx < grid.dims.x; ++bx) {
+    T mn = kHighest, mx = kLowest;
+    for (int i = grid.first_voxel({bx, 0, 0}).x; i <= grid.last_voxel({bx, 0, 0}).x; ++i) {
+      mn = std::min(mn, lo[i]);
+      mx = std::max(mx, hi[i]);
+    }
+    out[bx] = {static_cast<float>(mn), static_cast<float>(mx)};
   }
 }
 
@@ -46,12 +59,13 @@ glm::vec2 scan_brick(const VoxelGrid<T>& g, glm::ivec3 lo, glm::ivec3 hi) {
 BrickMinMax::BrickMinMax(const AnyGrid& voxels, glm::ivec3 shape, int threads)
     : grid_(voxels.dims, shape), ranges_(grid_.count()) {
   voxels.visit([&](const auto& g) {
-    parallel_for(static_cast<long>(grid_.count()), threads, [&](long begin, long end) {
-      for (long n = begin; n < end; ++n) {
-        glm::ivec3 b(static_cast<int>(n % grid_.dims.x),
-                     static_cast<int>((n / grid_.dims.x) % grid_.dims.y),
-                     static_cast<int>(n / (static_cast<long>(grid_.dims.x) * grid_.dims.y)));
-        ranges_[n] = scan_brick(g, grid_.first_voxel(b), grid_.last_voxel(b));
+    using T = typename std::decay_t<decltype(g)>::value_type;
+    const long rows = static_cast<long>(grid_.dims.y) * grid_.dims.z;
+    parallel_for(rows, threads, [&](long begin, long end) {
+      std::vector<T> lo(static_cast<size_t>(g.dims.x)), hi(lo.size());
+      for (long r = begin; r < end; ++r) {
+        const int by = static_cast<int>(r % grid_.dims.y), bz = static_cast<int>(r / grid_.dims.y);
+        scan_brick_row(g, grid_, by, bz, lo, hi, &ranges_[grid_.index({0, by, bz})]);
       }
     });
   });

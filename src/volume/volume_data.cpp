@@ -2,12 +2,14 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <type_traits>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "core/math.hpp"
+#include "core/parallel.hpp"
 #include "intermix/error.hpp"
 #include "intermix/volume.hpp"
 #include "volume/volume_checks.hpp"
@@ -47,18 +49,30 @@ std::pair<double, double> VolumeData::range() const {
   return std::visit(
       [](const auto& v) {
         using T = typename std::decay_t<decltype(v)>::value_type;
-        if constexpr (std::is_floating_point_v<T>) {
-          // NaN and inf voxels are no data: the range of the others.
-          T lo = std::numeric_limits<T>::infinity(), hi = -lo;
-          for (T x : v)
-            if (std::isfinite(x)) lo = std::min(lo, x), hi = std::max(hi, x);
-          if (!(lo <= hi)) return std::pair<double, double>{0.0, 0.0};
-          return std::pair<double, double>{static_cast<double>(lo), static_cast<double>(hi)};
-        } else {
-          if (v.empty()) return std::pair<double, double>{0.0, 0.0};
-          auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-          return std::pair<double, double>{static_cast<double>(*lo), static_cast<double>(*hi)};
-        }
+        // On both cores, each block in a loop the compiler vectorizes: a 1.26 GB CT is 629 M
+        // voxels, scanned before its first image.
+        T lo = std::numeric_limits<T>::max(), hi = std::numeric_limits<T>::lowest();
+        std::mutex merge;
+        parallel_for(static_cast<long>(v.size()), 0, [&](long begin, long end) {
+          T block_lo = std::numeric_limits<T>::max(), block_hi = std::numeric_limits<T>::lowest();
+          const T* x = v.data() + begin;
+          for (long n = 0; n < end - begin; ++n) {
+            if constexpr (std::is_floating_point_v<T>) {
+              // NaN and inf voxels are no data: |x| <= max is false exactly for them.
+              const bool data = std::abs(x[n]) <= std::numeric_limits<T>::max();
+              block_lo = data && x[n] < block_lo ? x[n] : block_lo;
+              block_hi = data && x[n] > block_hi ? x[n] : block_hi;
+            } else {
+              block_lo = std::min(block_lo, x[n]);
+              block_hi = std::max(block_hi, x[n]);
+            }
+          }
+          const std::lock_guard lock(merge);
+          lo = std::min(lo, block_lo);
+          hi = std::max(hi, block_hi);
+        });
+        if (!(lo <= hi)) return std::pair<double, double>{0.0, 0.0};
+        return std::pair<double, double>{static_cast<double>(lo), static_cast<double>(hi)};
       },
       voxels);
 }
