@@ -19,6 +19,7 @@
 #include "io/streams/regular_file.hpp"
 #include "io/volume/metaimage.hpp"
 #include "io/voxels/frames.hpp"
+#include "io/voxels/mapped_voxels.hpp"
 #include "io/voxels/raw_voxels.hpp"
 #include "volume/volume_checks.hpp"
 
@@ -284,6 +285,10 @@ VoxelStorage read_voxels(const std::filesystem::path& file, std::ifstream& in, c
           "{}: expected {} bytes of voxel data ({}x{}x{} {}), found {} "
           "(truncated file?)",
           data_what, needed, dims.x, dims.y, dims.z, raw_type_name(layout.type), available));
+    // Native, uncompressed and whole: viewed in place.
+    if (!layout.big_endian && box == VoxelBox::whole(dims))
+      if (auto mapped = map_voxels(data_path, offset, layout.type, box.count()))
+        return std::move(*mapped);
     return load_raw_voxels(in, offset, layout.type, dims, box, layout.big_endian, data_what);
   }
   if (const std::string* cds = h.find("CompressedDataSize")) {

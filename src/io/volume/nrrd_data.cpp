@@ -14,6 +14,7 @@
 #include "io/streams/bzip2.hpp"
 #include "io/streams/gzip.hpp"
 #include "io/streams/regular_file.hpp"
+#include "io/voxels/mapped_voxels.hpp"
 #include "io/voxels/text_voxels.hpp"
 
 // How the data is found, following teem's reader (format.html and formatNRRD.c/read.c): in each
@@ -375,6 +376,14 @@ VoxelStorage read_nrrd_voxels(const NrrdData& data, const NrrdGrid& grid, int fr
   const uint64_t sx = grid.stride[0];
   const uint64_t base = static_cast<uint64_t>(frame) * grid.frame_stride;
   const size_t width = static_cast<size_t>(box.hi.x - box.lo.x);
+  // A whole frame of native, uncompressed voxels lying in one run of one file: viewed in place.
+  const glm::ivec3& n = grid.dims;
+  if (data.encoding == NrrdEncoding::raw && file_count == 1 && !swap && sx == 1 &&
+      box == VoxelBox::whole(n) && grid.stride[1] == static_cast<uint64_t>(n.x) &&
+      grid.stride[2] == static_cast<uint64_t>(n.x) * n.y)
+    if (auto mapped =
+            map_voxels(files[0].path, files[0].start + base * size, data.type, box.count()))
+      return std::move(*mapped);
   DataSource source(data, files);
   VoxelStorage voxels =
       load_voxels(data.type, box.count(), swap, data.header.string(), [&](std::span<uint8_t> out) {

@@ -48,6 +48,15 @@ void write_nrrd(const VolumeData& volume, const std::filesystem::path& file, boo
       "space origin: {}\n\n",
       nrrd_type_name(volume.type()), volume.dims.x, volume.dims.y, volume.dims.z, vector_text(m[0]),
       vector_text(m[1]), vector_text(m[2]), gzip ? "gzip" : "raw", vector_text(m[3]));
+  // Raw voxels start at a multiple of 64 bytes (a comment line pads the header), so that
+  // readers can map them in place, aligned (mapped_voxels.hpp).
+  if (!gzip && header.size() % 64 != 0) {
+    header.pop_back();  // the blank line that ends the header comes after the comment
+    const size_t pad = (64 - (header.size() + 3) % 64) % 64;
+    header += '#';
+    header.append(pad, ' ');
+    header += "\n\n";
+  }
   std::span<const uint8_t> bytes = std::visit(
       [](const auto& v) {
         return std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(v.data()),

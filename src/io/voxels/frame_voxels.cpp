@@ -10,6 +10,7 @@
 #include "intermix/error.hpp"
 #include "io/streams/gzip.hpp"
 #include "io/streams/regular_file.hpp"
+#include "io/voxels/mapped_voxels.hpp"
 
 namespace imx::detail {
 
@@ -53,6 +54,11 @@ VoxelStorage read_frame_voxels(const FrameLayout& l, int frame, const VoxelBox& 
     throw Error(fmt::format("{}: expected {} bytes of voxel data{}, found {}", l.what, needed,
                             of_frames, found));
   }
+  // A whole frame of native, uncompressed voxels: viewed in place.
+  if (!l.gzipped && !l.swap && box == VoxelBox::whole(l.dims))
+    if (auto mapped = map_voxels(l.file, l.offset + static_cast<uint64_t>(frame) * l.frame_bytes(),
+                                 l.type, box.count()))
+      return std::move(*mapped);
   std::ifstream in(l.file, std::ios::binary);
   if (!in) throw FileError(fmt::format("{}: cannot open file", l.what), errno);
   if (l.gzipped)
