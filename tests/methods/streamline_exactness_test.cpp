@@ -5,6 +5,7 @@
 //   (its tube silhouettes covered, render.tube_coverage auto) scores at least 3 dB above mdvr
 //   at one sample (drawn without) against the reference at 64 samples, and the reference has
 //   converged (its 16 and 64 sample images agree to 40 dB).
+// - Silhouette coverage on and off at 128^2 against 64 samples (StreamlineSilhouetteAa).
 // - The intermixing alone, at 128^2: on the reference's own rays at one sample, coverage off
 //   everywhere, zslab-hybrid at least 3 dB above mdvr. Both methods then end rays where the
 //   reference does (its ERT, 0.999): at the default 0.99 every method drops up to 1% of the
@@ -188,6 +189,33 @@ TEST(StreamlineExactness, ZslabDrawsEveryTranslucentCrossingInOrder) {
     const double db = masked_psnr(render(tract_in_brain(method, 1, {}, false, "off")), ref1, tract);
     RecordProperty(fmt::format("tract_db_{}", method), fmt::format("{:.2f}", db));
     EXPECT_GE(db, 60.0) << method;
+  }
+}
+
+// Silhouette coverage (render.tube_coverage) on the same scene: each 1-sample method, coverage
+// off and on, against the 64-sample reference drawn without it, in the band and the whole
+// image, at the reference's ERT. Recorded, and coverage must not lose.
+TEST(StreamlineSilhouetteAa, CoverageBringsOneSampleCloserToSixtyFour) {
+  SKIP_WITHOUT_SHARED_DATA(kTract, kTemplate);
+#ifdef IMX_SANITIZED
+  GTEST_SKIP() << "the reference at 64 samples per pixel, only in the release build";
+#endif
+  const double ert = ReferenceParams{}.ert;
+  const Image ref64 = render(tract_in_brain("reference", 64, ert));
+  const Scene scene = tract_in_brain("reference", 1, ert);
+  const std::vector<uint8_t> band =
+      intersection_band(first_hit_depth(scene, "t1", 0.5f), first_hit_depth(scene, "ifof"), 2);
+  for (const char* method : {"zslab-hybrid", "mdvr", "zslab"}) {
+    const Image off = render(tract_in_brain(method, 1, ert, true, "off"));
+    const Image on = render(tract_in_brain(method, 1, ert, true, "on"));
+    const double band_off = masked_psnr(off, ref64, band), band_on = masked_psnr(on, ref64, band);
+    const double all_off = psnr(off, ref64), all_on = psnr(on, ref64);
+    RecordProperty(fmt::format("band_db_vs_64spp_{}", method),
+                   fmt::format("off {:.2f}, on {:.2f}", band_off, band_on));
+    RecordProperty(fmt::format("image_db_vs_64spp_{}", method),
+                   fmt::format("off {:.2f}, on {:.2f}", all_off, all_on));
+    EXPECT_GT(band_on, band_off) << method;
+    EXPECT_GT(all_on, all_off) << method;
   }
 }
 
