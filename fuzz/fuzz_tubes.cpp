@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include "harness.hpp"
+#include "tubes/tube_bvh.hpp"
 
 namespace {
 
@@ -29,7 +30,6 @@ struct Nearest final : imx::TubeHitVisitor {
 };
 
 }  // namespace
-#include "tubes/tube_bvh.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;

@@ -4,6 +4,7 @@
 #include <poll.h>
 #include <signal.h>
 #include <sys/mman.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -12,6 +13,7 @@
 #include <chrono>
 #include <cstring>
 #include <exception>
+#include <new>
 
 #include <fmt/format.h>
 
@@ -29,7 +31,8 @@ constexpr size_t kMaxError = 2048;
 
 // The first bytes of the shared mapping: how the child ended its work.
 struct ChildReport {
-  int state = 0;  // 0: did not get there (crashed), 1: finished, 2: failed with `error`
+  int state = 0;  // 0: did not get there (crashed), 1: finished, 2: failed with `error`,
+                  // 3: out of memory
   char error[kMaxError] = {};
 };
 
@@ -52,8 +55,23 @@ class SharedMapping {
   std::byte* data_ = nullptr;
 };
 
+// The address space this process maps now (/proc/self/statm's first field, in pages), read
+// with system calls only: the child of a threaded process must not allocate before its work.
+uint64_t mapped_bytes() {
+  char text[128] = {};
+  const int fd = open("/proc/self/statm", O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return 0;
+  const ssize_t n = read(fd, text, sizeof text - 1);
+  close(fd);
+  uint64_t pages = 0;
+  for (ssize_t i = 0; i < n && text[i] >= '0' && text[i] <= '9'; ++i)
+    pages = pages * 10 + static_cast<uint64_t>(text[i] - '0');
+  return pages * static_cast<uint64_t>(sysconf(_SC_PAGESIZE));
+}
+
 [[noreturn]] void child(int output_fd, ChildReport* report, std::span<std::byte> shared,
-                        const std::function<void(std::span<std::byte>)>& work) {
+                        const std::function<void(std::span<std::byte>)>& work,
+                        uint64_t memory_limit) {
   dup2(output_fd, STDERR_FILENO);
   dup2(output_fd, STDOUT_FILENO);
   close(output_fd);
@@ -61,9 +79,16 @@ class SharedMapping {
   // (a fuzzer's, which would record the input as its own crash; a sanitizer's) must not run.
   for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP}) signal(sig, SIG_DFL);
   if (__sanitizer_set_death_callback != nullptr) __sanitizer_set_death_callback(nullptr);
+  if (memory_limit > 0) {
+    const rlim_t most = mapped_bytes() + memory_limit;
+    const rlimit limit{most, most};
+    setrlimit(RLIMIT_AS, &limit);
+  }
   try {
     work(shared);
     report->state = 1;
+  } catch (const std::bad_alloc&) {
+    report->state = 3;
   } catch (const std::exception& e) {
     std::strncpy(report->error, e.what(), kMaxError - 1);
     report->state = 2;
@@ -78,7 +103,8 @@ class SharedMapping {
 
 IsolatedResult run_isolated(size_t shared_bytes,
                             const std::function<void(std::span<std::byte>)>& work, double timeout_s,
-                            const std::function<void(std::span<const std::byte>)>& finished) {
+                            const std::function<void(std::span<const std::byte>)>& finished,
+                            uint64_t memory_limit) {
   const size_t header = (sizeof(ChildReport) + 63) / 64 * 64;
   SharedMapping mapping(header + shared_bytes);
   auto* report = new (mapping.data()) ChildReport;
@@ -95,7 +121,7 @@ IsolatedResult run_isolated(size_t shared_bytes,
   }
   if (pid == 0) {
     close(pipe_fds[0]);
-    child(pipe_fds[1], report, shared, work);
+    child(pipe_fds[1], report, shared, work, memory_limit);
   }
   close(pipe_fds[1]);
 
@@ -133,6 +159,8 @@ IsolatedResult run_isolated(size_t shared_bytes,
   } else if (report->state == 2) {
     r.end = IsolatedResult::End::failed;
     r.error = report->error;
+  } else if (report->state == 3) {
+    r.end = IsolatedResult::End::over_memory;
   } else {
     r.end = IsolatedResult::End::crashed;
     r.detail = WIFSIGNALED(status)

@@ -3,6 +3,7 @@
 // the end of the program, or of the Python interpreter that loaded intermix.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <span>
 #include <string>
@@ -10,7 +11,8 @@
 namespace imx::detail {
 
 struct IsolatedResult {
-  enum class End { finished, failed, crashed, timed_out };
+  // over_memory: the child ran out of the address space `memory_limit` gave it.
+  enum class End { finished, failed, crashed, timed_out, over_memory };
   End end = End::crashed;
   std::string error;   // failed: the imx::Error (or other exception) `work` threw
   std::string detail;  // crashed: "signal 6 (Aborted)" or "exit status 1"
@@ -22,10 +24,13 @@ struct IsolatedResult {
 // unmapped). `work` throws to fail. The child's stderr is captured, never
 // shown; a child still running after `timeout_s` is killed. The child runs only `work` and then
 // _exits: no atexit handlers, no stdio flushes, no other threads (so `work` must not wait on
-// this process's threads or locks held by them). Throws imx::Error when the process or the
-// memory cannot be made.
+// this process's threads or locks held by them). `memory_limit` bytes (0: none) bound the address
+// space the child may add to what it had at the fork: past them its allocations fail, and a
+// std::bad_alloc ends it as over_memory (a hostile stream must not decode into all of memory).
+// Throws imx::Error when the process or the memory cannot be made.
 IsolatedResult run_isolated(size_t shared_bytes,
                             const std::function<void(std::span<std::byte>)>& work, double timeout_s,
-                            const std::function<void(std::span<const std::byte>)>& finished);
+                            const std::function<void(std::span<const std::byte>)>& finished,
+                            uint64_t memory_limit = 0);
 
 }  // namespace imx::detail

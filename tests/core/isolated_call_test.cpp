@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -43,6 +44,26 @@ TEST(IsolatedCall, AnExceptionIsAFailureWithItsMessage) {
   EXPECT_EQ(r.end, IsolatedResult::End::failed);
   EXPECT_EQ(r.error, "x.dcm: cannot decode");
   EXPECT_FALSE(called);
+}
+
+// A child bounded to 64 MiB more than it had cannot take 1 GiB (a hostile stream's allocation):
+// it ends as over_memory; the same work with room finishes.
+TEST(IsolatedCall, AChildPastItsMemoryLimitEndsOverMemory) {
+#ifdef IMX_SANITIZED
+  GTEST_SKIP() << "a sanitizer's allocator reserves address space of its own";
+#endif
+  auto take = [](size_t bytes) {
+    return [bytes](std::span<std::byte> out) {
+      std::vector<char> block(bytes, 1);  // touched: really taken
+      out[0] = static_cast<std::byte>(block[bytes - 1]);
+    };
+  };
+  const IsolatedResult bounded = run_isolated(
+      16, take(size_t{1} << 30), 30.0, [](std::span<const std::byte>) {}, uint64_t{64} << 20);
+  EXPECT_EQ(bounded.end, IsolatedResult::End::over_memory);
+  const IsolatedResult room = run_isolated(
+      16, take(size_t{16} << 20), 30.0, [](std::span<const std::byte>) {}, uint64_t{256} << 20);
+  EXPECT_EQ(room.end, IsolatedResult::End::finished);
 }
 
 TEST(IsolatedCall, AnAbortOrAFaultEndsOnlyTheChild) {

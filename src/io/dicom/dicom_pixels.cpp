@@ -245,6 +245,11 @@ void decode_batch(imx_dicom_codec_decode_fn decode, std::span<const DicomFileHea
   double seconds = 120.0;
   for (const DicomFileHeader* h : files)
     seconds += static_cast<double>(decoded_room(*h)) / (4 << 20);
+  // The codecs' working memory beside the pixels Rows x Columns x frames say: a few times them
+  // and a margin, within the budget. A stream that decodes to more is corrupt (a 175-byte
+  // JPEG once asked for 23 GB).
+  const uint64_t memory_limit =
+      std::min<uint64_t>(input_limits().max_memory, (uint64_t{256} << 20) + 8 * offsets.back());
   const IsolatedResult r = run_isolated(
       offsets.back(),
       [&](std::span<std::byte> shared) {
@@ -263,7 +268,8 @@ void decode_batch(imx_dicom_codec_decode_fn decode, std::span<const DicomFileHea
           const size_t bytes = pixel_count(*files[i]) * stored_size(format.type);
           out[i] = take_decoded(shared.subspan(offsets[i], sizeof format + bytes));
         }
-      });
+      },
+      memory_limit);
   // The failing file: the child names it in its error; a crash names the one it was decoding.
   const DicomFileHeader& failed = *files[std::min(dying, files.size() - 1)];
   const std::string what = failed.file.string();
@@ -281,6 +287,11 @@ void decode_batch(imx_dicom_codec_decode_fn decode, std::span<const DicomFileHea
     case IsolatedResult::End::timed_out:
       throw Error(fmt::format("{}: the pixel data decoder did not finish in {:.0f} s ({})", what,
                               seconds, syntax));
+    case IsolatedResult::End::over_memory:
+      throw Error(fmt::format(
+          "{}: the pixel data decoder needed more than {} for this file's {}: corrupt compressed "
+          "data",
+          what, format_bytes(memory_limit), syntax));
     case IsolatedResult::End::finished:
       break;
   }

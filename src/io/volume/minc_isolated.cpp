@@ -83,7 +83,7 @@ void run_in_child(const std::filesystem::path& file, size_t bytes,
                   const std::function<void(std::span<std::byte>)>& work,
                   const std::function<void(std::span<const std::byte>)>& finished) {
   constexpr double kSeconds = 600.0;
-  const IsolatedResult r = run_isolated(bytes, work, kSeconds, finished);
+  const IsolatedResult r = run_isolated(bytes, work, kSeconds, finished, input_limits().max_memory);
   switch (r.end) {
     case IsolatedResult::End::failed:
       throw Error(r.error);
@@ -93,6 +93,9 @@ void run_in_child(const std::filesystem::path& file, size_t bytes,
     case IsolatedResult::End::timed_out:
       throw Error(fmt::format("{}: libhdf5 did not finish reading it in {:.0f} s", file.string(),
                               kSeconds));
+    case IsolatedResult::End::over_memory:
+      throw Error(fmt::format("{}: libhdf5 needed more than the memory budget of {} reading it",
+                              file.string(), format_bytes(input_limits().max_memory)));
     case IsolatedResult::End::finished:
       break;
   }
