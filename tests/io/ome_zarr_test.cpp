@@ -278,8 +278,36 @@ TEST(OmeZarr, BadFoldersAreRefused) {
                 "dtype": "|u1", "order": "C", "fill_value": 0, "compressor": null,
                 "filters": null})");
   expect_error([&] { read_ome_zarr(dir / "big.zarr"); }, {".zarray", "'shape'"});
+  dir.write("tiny.zarr/.zattrs",
+            R"({"multiscales": [{"axes": ["z", "y", "x"], "datasets": [{"path": "0"}]}]})");
+  dir.write("tiny.zarr/0/.zarray",
+            R"({"zarr_format": 2, "shape": [200, 200, 200], "chunks": [1, 1, 1],
+                "dtype": "|u1", "order": "C", "fill_value": 0, "compressor": null,
+                "filters": null})");
+  expect_error([&] { read_ome_zarr(dir / "tiny.zarr"); }, {".zarray", "'chunks'", "8000000"});
   EXPECT_TRUE(is_zarr_folder(dir / "big.zarr"));
   EXPECT_FALSE(is_zarr_folder(dir.path()));
+}
+
+// The fuzz target's seeds (a .zarray, a marker line, one chunk) decode: they reach the codecs.
+TEST(OmeZarr, FuzzSeedsDecode) {
+  const auto corpus =
+      std::filesystem::path(IMX_EXAMPLES_DIR).parent_path() / "fuzz/corpus/fuzz_zarr";
+  int seeds = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(corpus)) {
+    SCOPED_TRACE(entry.path().string());
+    const std::string input = test::read_bytes(entry.path());
+    const std::string marker = "\n@@DATA@@\n";
+    const size_t at = input.find(marker);
+    ASSERT_NE(at, std::string::npos);
+    const ZarrArray a = parse_zarray(input.substr(0, at), "x", "seed");
+    const std::string stored = input.substr(at + marker.size());
+    std::vector<uint8_t> chunk(a.chunk_bytes);
+    EXPECT_NO_THROW(decode_zarr_chunk(
+        a, {reinterpret_cast<const uint8_t*>(stored.data()), stored.size()}, chunk, "seed"));
+    ++seeds;
+  }
+  EXPECT_GE(seeds, 3);
 }
 
 }  // namespace

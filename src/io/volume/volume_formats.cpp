@@ -58,7 +58,6 @@ std::span<const VolumeFormat> volume_formats_table() {
         .extensions = {".zarr", ".ome.zarr"},
         .sniff = [](const FileProbe& p) { return p.folder && is_zarr_folder(p.path); },
         .fuzz_target = "fuzz_zarr",
-        .fuzz_seeds = "*.zarray",
         .reference = "zarr-python 2"},
        read_zarr_volume,
        read_ome_zarr_header,

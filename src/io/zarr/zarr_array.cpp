@@ -24,6 +24,9 @@ using nlohmann::json;
 constexpr uintmax_t kMaxMetadataBytes = 1 << 20;
 constexpr int kMaxJsonDepth = 32;
 constexpr size_t kMaxDimensions = 32;
+// Chunk files one volume may span: each is a file to open, so tiny chunks of a large grid would
+// take hours (a 2048^3 grid in 64^3 chunks has 32768).
+constexpr uint64_t kMaxChunksPerGrid = uint64_t{1} << 20;
 
 Error bad_field(const std::string& what, std::string_view field, const json& value,
                 std::string_view why) {
@@ -328,6 +331,13 @@ void read_zarr_block(const ZarrArray& array, std::span<const int64_t> lead,
     lead_offset += static_cast<size_t>(lead[d] % array.chunks[d]) * stride[d];
   }
   const int64_t cx = array.chunks[n - 1], cy = array.chunks[n - 2], cz = array.chunks[n - 3];
+  const uint64_t grid_chunks = static_cast<uint64_t>((X + cx - 1) / cx) * ((Y + cy - 1) / cy) *
+                               static_cast<uint64_t>((Z + cz - 1) / cz);
+  if (grid_chunks > kMaxChunksPerGrid)
+    throw Error(
+        fmt::format("{}: field 'chunks': a {}x{}x{} grid in chunks of {}x{}x{} is {} chunk "
+                    "files, more than {}",
+                    array.what, X, Y, Z, cx, cy, cz, grid_chunks, kMaxChunksPerGrid));
   std::vector<uint8_t> chunk(array.chunk_bytes);
   for (int64_t kz = 0; kz * cz < Z; ++kz)
     for (int64_t ky = 0; ky * cy < Y; ++ky)
