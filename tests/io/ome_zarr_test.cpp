@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "expect_error.hpp"
+#include "intermix/dicom.hpp"
 #include "intermix/io.hpp"
 #include "io/zarr/ome_zarr_reader.hpp"
 #include "io/zarr/zarr_array.hpp"
@@ -146,6 +147,7 @@ ref('l1.f64', a[1][...])
   expect_error([&] { read_ome_zarr(path, 2); }, {"ms.zarr", "level 2", "0 to 1"});
   // Wired in as a volume format: by folder, with its frames.
   EXPECT_TRUE(is_volume_file(path));
+  EXPECT_FALSE(is_dicom_source(path));
   EXPECT_EQ(read_volume(path).index_to_world, l0.index_to_world);
   EXPECT_EQ(read_volume_header(path).dims, l0.dims);
 }
