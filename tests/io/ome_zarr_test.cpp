@@ -269,6 +269,17 @@ TEST(OmeZarr, BadFoldersAreRefused) {
   dir.write("axes.zarr/.zattrs",
             R"({"multiscales": [{"axes": ["c", "y", "x"], "datasets": [{"path": "0"}]}]})");
   expect_error([&] { read_ome_zarr(dir / "axes.zarr"); }, {"axes", "c,y,x"});
+  // Before NGFF 0.3 there were no axes: five dimensions, t, c, z, y, x.
+  dir.write("old.zarr/.zattrs", R"({"multiscales": [{"datasets": [{"path": "0"}]}]})");
+  dir.write("old.zarr/0/.zarray",
+            R"({"zarr_format": 2, "shape": [1, 1, 2, 3, 4], "chunks": [1, 1, 2, 3, 4],
+                "dtype": "|u1", "order": "C", "fill_value": 5, "compressor": null,
+                "filters": null})");
+  EXPECT_EQ(read_ome_zarr(dir / "old.zarr").value_at(3, 2, 1), 5.0);
+  dir.write("old.zarr/0/.zarray",
+            R"({"zarr_format": 2, "shape": [2, 3, 4], "chunks": [2, 3, 4], "dtype": "|u1",
+                "order": "C", "fill_value": 5, "compressor": null, "filters": null})");
+  expect_error([&] { read_ome_zarr(dir / "old.zarr"); }, {"3 dimensions", "axes names 5"});
   dir.write("bad.zarr/.zattrs",
             R"({"multiscales": [{"axes": ["z", "y", "x"], "datasets": [{"path": "0"}]}]})");
   dir.write("bad.zarr/0/.zarray", "not json");

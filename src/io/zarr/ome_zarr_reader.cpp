@@ -73,7 +73,8 @@ Layout parse_layout(const json& attrs, const std::string& what) {
   Layout l;
   l.multiscale = attrs["multiscales"][0];
   const json& ms = l.multiscale;
-  std::vector<std::string> names = {"z", "y", "x"};
+  // No axes: NGFF 0.1 and 0.2, whose images are always 5-D.
+  std::vector<std::string> names = {"t", "c", "z", "y", "x"};
   if (ms.contains("axes")) {
     if (!ms["axes"].is_array())
       throw Error(fmt::format("{}: field 'multiscales[0].axes' is not a list", what));
