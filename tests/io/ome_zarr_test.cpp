@@ -253,8 +253,11 @@ with open('short.zarr/0/1.0.0', 'wb') as f:
     test::write_bytes(chunk, flipped);
     if (std::string(name) != "none" && std::string(name) != "blosc")
       expect_error([&] { read_ome_zarr(good); }, {"1.0.0"});
-    expect_error([&] { read_ome_zarr(dir / (std::string(name) + "_bomb.zarr")); },
-                 {"0.0.0", "expected 120"});
+    const auto bomb = dir / (std::string(name) + "_bomb.zarr");
+    if (std::string(name) == "none")
+      expect_error([&] { read_ome_zarr(bomb); }, {"0.0.0", "holds 1200 bytes, expected 120"});
+    else
+      expect_error([&] { read_ome_zarr(bomb); }, {"0.0.0", "chunk decompresses to", "120"});
   }
   expect_error([&] { read_ome_zarr(dir / "short.zarr"); }, {"1.0.0", "20 bytes, expected 120"});
 }

@@ -16,11 +16,19 @@ namespace imx::detail {
 
 namespace {
 
-Error wrong_size(const std::string& what, const char* codec, std::string_view got, size_t want) {
+Error wrong_size(const std::string& what, const char* codec, size_t got, size_t want) {
   return Error(
       fmt::format("{}: {} chunk decompresses to {} bytes, expected {} (the chunk's size "
                   "from .zarray)",
                   what, codec, got, want));
+}
+
+// A chunk bomb: the data holds more than the chunk's size, which is all that was made room for.
+Error too_large(const std::string& what, const char* codec, size_t want) {
+  return Error(
+      fmt::format("{}: {} chunk decompresses to more than {} bytes (the chunk's size "
+                  "from .zarray)",
+                  what, codec, want));
 }
 
 // zlib or gzip data (inflate detects which) into exactly `out`; one byte of scratch tells
@@ -56,7 +64,7 @@ void inflate_chunk(std::span<const uint8_t> stored, std::span<uint8_t> out, cons
     const uInt before = z.avail_out, before_in = z.avail_in;
     rc = inflate(&z, Z_NO_FLUSH);
     const size_t produced = before - z.avail_out;
-    if (full && produced > 0) throw wrong_size(what, codec, "more than that", out.size());
+    if (full && produced > 0) throw too_large(what, codec, out.size());
     out_pos += full ? 0 : produced;
     if (rc == Z_STREAM_END) break;
     if (rc == Z_NEED_DICT || rc == Z_DATA_ERROR || rc == Z_MEM_ERROR)
@@ -68,7 +76,7 @@ void inflate_chunk(std::span<const uint8_t> stored, std::span<uint8_t> out, cons
       throw Error(fmt::format("{}: corrupt {} chunk (no progress)", what, codec));
     }
   }
-  if (out_pos != out.size()) throw wrong_size(what, codec, std::to_string(out_pos), out.size());
+  if (out_pos != out.size()) throw wrong_size(what, codec, out_pos, out.size());
 }
 
 void zstd_chunk(std::span<const uint8_t> stored, std::span<uint8_t> out, const std::string& what) {
@@ -76,15 +84,15 @@ void zstd_chunk(std::span<const uint8_t> stored, std::span<uint8_t> out, const s
   if (declared == ZSTD_CONTENTSIZE_ERROR)
     throw Error(fmt::format("{}: corrupt zstd chunk (not a zstd frame)", what));
   if (declared != ZSTD_CONTENTSIZE_UNKNOWN && declared != out.size())
-    throw wrong_size(what, "zstd", std::to_string(declared), out.size());
+    throw wrong_size(what, "zstd", static_cast<size_t>(declared), out.size());
   // A destination of exactly the chunk's size: more data fails as "destination too small".
   const size_t got = ZSTD_decompress(out.data(), out.size(), stored.data(), stored.size());
   if (ZSTD_isError(got)) {
     if (ZSTD_getErrorCode(got) == ZSTD_error_dstSize_tooSmall)
-      throw wrong_size(what, "zstd", "more than that", out.size());
+      throw too_large(what, "zstd", out.size());
     throw Error(fmt::format("{}: corrupt zstd chunk ({})", what, ZSTD_getErrorName(got)));
   }
-  if (got != out.size()) throw wrong_size(what, "zstd", std::to_string(got), out.size());
+  if (got != out.size()) throw wrong_size(what, "zstd", got, out.size());
 }
 
 void blosc_chunk(std::span<const uint8_t> stored, std::span<uint8_t> out, const std::string& what) {
@@ -96,7 +104,7 @@ void blosc_chunk(std::span<const uint8_t> stored, std::span<uint8_t> out, const 
   if (cbytes > stored.size())
     throw Error(fmt::format("{}: truncated blosc chunk: its header says {} bytes, the file has {}",
                             what, cbytes, stored.size()));
-  if (nbytes != out.size()) throw wrong_size(what, "blosc", std::to_string(nbytes), out.size());
+  if (nbytes != out.size()) throw wrong_size(what, "blosc", nbytes, out.size());
   size_t valid = 0;
   if (blosc_cbuffer_validate(stored.data(), stored.size(), &valid) != 0 || valid != out.size())
     throw Error(fmt::format("{}: corrupt blosc chunk header", what));
