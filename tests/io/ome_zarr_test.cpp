@@ -204,6 +204,7 @@ TEST(OmeZarr, BadMetadataIsRefusedByField) {
   const std::filesystem::path dir = "x.zarr/0";
   const auto parse = [&](const std::string& text) { return [=] { parse_zarray(text, dir, "A"); }; };
   EXPECT_NO_THROW(parse_zarray(zarray_with("order", "\"C\""), dir, "A"));
+  EXPECT_EQ(parse_zarray(zarray_with("dimension_separator", "null"), dir, "A").separator, '.');
   expect_error(parse(zarray_with("order", "\"F\"")), {"A", "'order'", "Fortran"});
   expect_error(parse(zarray_with("compressor", R"({"id": "lzma"})")), {"'compressor'", "lzma"});
   expect_error(parse(zarray_with("filters", R"([{"id": "delta", "dtype": "<u2"}])")),

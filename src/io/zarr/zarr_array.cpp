@@ -235,7 +235,8 @@ ZarrArray parse_zarray(std::string_view text, const std::filesystem::path& dir,
     throw bad_field(what, "filters", f,
                     fmt::format("names {}: filters are not supported (only null)", id));
   }
-  if (doc.contains("dimension_separator")) {
+  // null (as older zarr writes it) is the default ".".
+  if (doc.contains("dimension_separator") && !doc["dimension_separator"].is_null()) {
     const json& s = doc["dimension_separator"];
     if (s != "." && s != "/")
       throw bad_field(what, "dimension_separator", s, "is not supported (only \".\" or \"/\")");
