@@ -49,6 +49,8 @@ json read_json(const std::filesystem::path& file) {
   if (!in) throw FileError(fmt::format("{}: cannot open file", what), errno);
   std::string text(static_cast<size_t>(size), '\0');
   in.read(text.data(), static_cast<std::streamsize>(size));
+  if (static_cast<uintmax_t>(in.gcount()) != size)
+    throw Error(fmt::format("{}: could not read the whole file", what));
   if (json_nested_deeper_than(text, 64))
     throw Error(fmt::format("{}: JSON nested deeper than 64 levels", what));
   json doc = json::parse(text, nullptr, false);
