@@ -650,7 +650,12 @@ std::vector<DicomVolume> read_dicom_frames(const std::filesystem::path& source,
 
 bool is_dicom_source(const std::filesystem::path& path) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) return true;
+  // A Zarr folder (OME-Zarr image) is not a DICOM folder.
+  if (std::filesystem::is_directory(path, ec))
+    return !std::filesystem::exists(path / ".zgroup", ec) &&
+           !std::filesystem::exists(path / ".zattrs", ec) &&
+           !std::filesystem::exists(path / ".zarray", ec) &&
+           !std::filesystem::exists(path / "zarr.json", ec);
   const std::string name = lower(path.filename().string());
   if (name == "dicomdir") return true;
   const std::string ext = lower(path.extension().string());

@@ -12,6 +12,7 @@
 #include "io/volume/nifti.hpp"
 #include "io/volume/nrrd.hpp"
 #include "io/volume/parrec.hpp"
+#include "io/zarr/ome_zarr_reader.hpp"
 
 namespace imx::detail {
 namespace {
@@ -37,10 +38,30 @@ VolumeData read_dicom_volume_region(const std::filesystem::path& file, const Vox
   return crop(read_dicom_volume(file, frame), box, file.string());
 }
 
+// An OME-Zarr image is a folder: read whole (channel 0, frame = time point) and cropped.
+VolumeData read_zarr_volume(const std::filesystem::path& dir, int frame) {
+  return read_ome_zarr(dir, 0, frame, 0);
+}
+
+VolumeData read_zarr_volume_region(const std::filesystem::path& dir, const VoxelBox& box,
+                                   int frame) {
+  return crop(read_zarr_volume(dir, frame), box, dir.string());
+}
+
 }  // namespace
 
 std::span<const VolumeFormat> volume_formats_table() {
   static const std::vector<VolumeFormat> table = {
+      // Before DICOM, whose sniff takes any other folder.
+      {{.kind = FileKind::volume,
+        .name = "OME-Zarr (NGFF 0.4, Zarr v2 folder)",
+        .extensions = {".zarr", ".ome.zarr"},
+        .sniff = [](const FileProbe& p) { return p.folder && is_zarr_folder(p.path); },
+        .fuzz_target = "fuzz_zarr",
+        .reference = "zarr-python 2"},
+       read_zarr_volume,
+       read_ome_zarr_header,
+       read_zarr_volume_region},
       {{.kind = FileKind::volume,
         .name = "DICOM",
         .extensions = {".dcm", ".dicom", ".dcm.gz"},

@@ -1,0 +1,272 @@
+#include "io/zarr/ome_zarr_reader.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <fstream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "intermix/error.hpp"
+#include "io/streams/json_depth.hpp"
+#include "io/voxels/raw_voxels.hpp"
+#include "io/zarr/zarr_array.hpp"
+
+namespace imx::detail {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr uintmax_t kMaxAttributesBytes = 4 << 20;
+
+// One resolution level: its array and where its voxels lie.
+struct Level {
+  ZarrArray array;
+  glm::dvec3 spacing{1.0}, origin{0.0};  // x, y, z
+};
+
+// What the OME layer says about the array's axes.
+struct Layout {
+  int time_axis = -1, channel_axis = -1;  // index in the array's dimensions, -1 when absent
+  size_t ndim = 3;
+  std::vector<std::string> dataset_paths;
+  json multiscale;
+};
+
+json read_json(const std::filesystem::path& file) {
+  const std::string what = file.string();
+  std::error_code ec;
+  const uintmax_t size = std::filesystem::file_size(file, ec);
+  if (ec) throw FileError(fmt::format("{}: cannot read: {}", what, ec.message()), ec.value());
+  if (size > kMaxAttributesBytes)
+    throw Error(fmt::format("{}: {} bytes, more than {} (not Zarr metadata)", what, size,
+                            kMaxAttributesBytes));
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw FileError(fmt::format("{}: cannot open file", what), errno);
+  std::string text(static_cast<size_t>(size), '\0');
+  in.read(text.data(), static_cast<std::streamsize>(size));
+  if (static_cast<uintmax_t>(in.gcount()) != size)
+    throw Error(fmt::format("{}: could not read the whole file", what));
+  if (json_nested_deeper_than(text, 64))
+    throw Error(fmt::format("{}: JSON nested deeper than 64 levels", what));
+  json doc = json::parse(text, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object())
+    throw Error(fmt::format("{}: not a JSON object", what));
+  return doc;
+}
+
+// "name" of an axis: NGFF 0.4 gives objects {"name", "type", "unit"}, 0.3 plain strings.
+std::string axis_name(const json& axis, const std::string& what) {
+  if (axis.is_string()) return axis.get<std::string>();
+  if (axis.is_object() && axis.contains("name") && axis["name"].is_string())
+    return axis["name"].get<std::string>();
+  throw Error(
+      fmt::format("{}: field 'multiscales[0].axes' holds {}, not an axis", what, axis.dump()));
+}
+
+Layout parse_layout(const json& attrs, const std::string& what) {
+  if (!attrs.contains("multiscales") || !attrs["multiscales"].is_array() ||
+      attrs["multiscales"].empty() || !attrs["multiscales"][0].is_object())
+    throw Error(fmt::format("{}: missing field 'multiscales' (not an OME-Zarr image)", what));
+  Layout l;
+  l.multiscale = attrs["multiscales"][0];
+  const json& ms = l.multiscale;
+  // No axes: NGFF 0.1 and 0.2, whose images are always 5-D.
+  std::vector<std::string> names = {"t", "c", "z", "y", "x"};
+  if (ms.contains("axes")) {
+    if (!ms["axes"].is_array())
+      throw Error(fmt::format("{}: field 'multiscales[0].axes' is not a list", what));
+    names.clear();
+    for (const json& axis : ms["axes"]) names.push_back(axis_name(axis, what));
+  }
+  std::string joined;
+  for (const std::string& n : names) joined += (joined.empty() ? "" : ",") + n;
+  const size_t n = names.size();
+  if (n < 3 || n > 5 || names[n - 3] != "z" || names[n - 2] != "y" || names[n - 1] != "x")
+    throw Error(
+        fmt::format("{}: field 'multiscales[0].axes' is [{}]: only t and c followed by "
+                    "z, y, x are read",
+                    what, joined));
+  l.ndim = n;
+  for (size_t d = 0; d + 3 < n; ++d) {
+    if (names[d] == "t" && l.time_axis < 0)
+      l.time_axis = static_cast<int>(d);
+    else if (names[d] == "c" && l.channel_axis < 0)
+      l.channel_axis = static_cast<int>(d);
+    else
+      throw Error(
+          fmt::format("{}: field 'multiscales[0].axes' is [{}]: only t and c followed by "
+                      "z, y, x are read",
+                      what, joined));
+  }
+  if (!ms.contains("datasets") || !ms["datasets"].is_array() || ms["datasets"].empty())
+    throw Error(fmt::format("{}: missing field 'multiscales[0].datasets'", what));
+  for (const json& ds : ms["datasets"]) {
+    if (!ds.is_object() || !ds.contains("path") || !ds["path"].is_string())
+      throw Error(fmt::format("{}: field 'multiscales[0].datasets' holds {} with no 'path'", what,
+                              ds.dump().substr(0, 80)));
+    const std::string path = ds["path"].get<std::string>();
+    if (path.empty() || path.find("..") != std::string::npos || path[0] == '/')
+      throw Error(
+          fmt::format("{}: dataset path '{}' is not a folder inside the image", what, path));
+    l.dataset_paths.push_back(path);
+  }
+  return l;
+}
+
+// Applies a coordinateTransformations list (scale, then translation) to `spacing` and `origin`
+// (array order: one number per axis).
+void apply_transforms(const json& list, std::vector<double>& scale, std::vector<double>& shift,
+                      const std::string& field, const std::string& what) {
+  if (!list.is_array()) throw Error(fmt::format("{}: field '{}' is not a list", what, field));
+  for (const json& t : list) {
+    const std::string type = t.is_object() && t.contains("type") && t["type"].is_string()
+                                 ? t["type"].get<std::string>()
+                                 : "";
+    if (type == "identity") continue;
+    if (type != "scale" && type != "translation")
+      throw Error(
+          fmt::format("{}: field '{}' holds transformation {}: only scale and translation "
+                      "are read",
+                      what, field, t.dump().substr(0, 80)));
+    if (!t.contains(type))
+      throw Error(
+          fmt::format("{}: field '{}': a {} with no '{}' list (a 'path' to a file is not "
+                      "read)",
+                      what, field, type, type));
+    const json& v = t[type];
+    if (!v.is_array() || v.size() != scale.size())
+      throw Error(fmt::format("{}: field '{}': {} {} must hold {} numbers", what, field, type,
+                              v.dump().substr(0, 80), scale.size()));
+    for (size_t d = 0; d < scale.size(); ++d) {
+      if (!v[d].is_number() || !std::isfinite(v[d].get<double>()))
+        throw Error(fmt::format("{}: field '{}': {} {} holds a value that is not a finite number",
+                                what, field, type, v.dump().substr(0, 80)));
+      const double x = v[d].get<double>();
+      if (type == "scale") {
+        if (x <= 0)
+          throw Error(fmt::format("{}: field '{}': scale {} must be positive", what, field,
+                                  v.dump().substr(0, 80)));
+        scale[d] *= x;
+        shift[d] *= x;
+      } else {
+        shift[d] += x;
+      }
+    }
+  }
+}
+
+Level open_level(const std::filesystem::path& dir, const json& attrs, int level,
+                 Layout* layout_out = nullptr) {
+  const std::string what = (dir / ".zattrs").string();
+  const Layout layout = parse_layout(attrs, what);
+  if (level < 0 || static_cast<size_t>(level) >= layout.dataset_paths.size())
+    throw Error(fmt::format("{}: level {} requested, the image has {} (0 to {})", dir.string(),
+                            level, layout.dataset_paths.size(), layout.dataset_paths.size() - 1));
+  Level l{read_zarray(dir / layout.dataset_paths[level])};
+  const size_t n = l.array.shape.size();
+  if (n != layout.ndim)
+    throw Error(fmt::format("{}: {} dimensions, but multiscales[0].axes names {}", l.array.what, n,
+                            layout.ndim));
+  std::vector<double> scale(n, 1.0), shift(n, 0.0);
+  const json& ds = layout.multiscale["datasets"][level];
+  if (ds.contains("coordinateTransformations"))
+    apply_transforms(ds["coordinateTransformations"], scale, shift,
+                     fmt::format("multiscales[0].datasets[{}].coordinateTransformations", level),
+                     what);
+  if (layout.multiscale.contains("coordinateTransformations"))
+    apply_transforms(layout.multiscale["coordinateTransformations"], scale, shift,
+                     "multiscales[0].coordinateTransformations", what);
+  for (int a = 0; a < 3; ++a) {
+    l.spacing[a] = scale[n - 1 - a];
+    l.origin[a] = shift[n - 1 - a];
+  }
+  if (layout_out) *layout_out = layout;
+  return l;
+}
+
+// OME-NGFF 0.4 says nothing of anatomical orientation: the x, y, z axes are taken as the index
+// axes with the file's spacing and origin, the identity direction (as NiiVue shows them).
+glm::dmat4 placement(const Level& l) {
+  glm::dmat4 m(1.0);
+  for (int a = 0; a < 3; ++a) {
+    m[a][a] = l.spacing[a];
+    m[3][a] = l.origin[a];
+  }
+  return m;
+}
+
+glm::ivec3 grid_dims(const ZarrArray& a) {
+  const size_t n = a.shape.size();
+  const glm::ivec3 dims(static_cast<int>(a.shape[n - 1]), static_cast<int>(a.shape[n - 2]),
+                        static_cast<int>(a.shape[n - 3]));
+  if (static_cast<uint64_t>(dims.x) * dims.y * dims.z > kMaxVoxels)
+    throw Error(fmt::format("{}: field 'shape': a grid of {}x{}x{} voxels, more than {}", a.what,
+                            dims.x, dims.y, dims.z, kMaxVoxels));
+  return dims;
+}
+
+json read_attrs(const std::filesystem::path& dir) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec))
+    throw Error(fmt::format("{}: not a folder (an OME-Zarr image is a folder)", dir.string()));
+  const std::filesystem::path attrs = dir / ".zattrs";
+  if (!std::filesystem::exists(attrs, ec)) {
+    if (std::filesystem::exists(dir / "zarr.json", ec))
+      throw Error(
+          fmt::format("{}: a Zarr v3 store (zarr.json): only Zarr v2 is read", dir.string()));
+    throw Error(fmt::format("{}: no .zattrs (not an OME-Zarr image)", dir.string()));
+  }
+  return read_json(attrs);
+}
+
+}  // namespace
+
+bool is_zarr_folder(const std::filesystem::path& dir) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) return false;
+  for (const char* name : {".zgroup", ".zattrs", ".zarray", "zarr.json"})
+    if (std::filesystem::exists(dir / name, ec)) return true;
+  return false;
+}
+
+VolumeHeader read_ome_zarr_header(const std::filesystem::path& dir) {
+  Layout layout;
+  const Level l = open_level(dir, read_attrs(dir), 0, &layout);
+  VolumeHeader h;
+  h.dims = grid_dims(l.array);
+  h.type = storage_type_for(l.array.type);
+  h.index_to_world = placement(l);
+  h.frames = layout.time_axis < 0 ? 1 : static_cast<int>(l.array.shape[layout.time_axis]);
+  return h;
+}
+
+VolumeData read_ome_zarr(const std::filesystem::path& dir, int level, int frame, int channel) {
+  Layout layout;
+  const Level l = open_level(dir, read_attrs(dir), level, &layout);
+  const ZarrArray& a = l.array;
+  std::vector<int64_t> lead(a.shape.size() - 3, 0);
+  const auto pick = [&](int axis, int value, const char* name) {
+    const int64_t count = axis < 0 ? 1 : a.shape[axis];
+    if (value < 0 || value >= count)
+      throw Error(fmt::format("{}: {} {} requested, the image has {} (0 to {})", dir.string(), name,
+                              value, count, count - 1));
+    if (axis >= 0) lead[axis] = value;
+  };
+  pick(layout.time_axis, frame, "frame");
+  pick(layout.channel_axis, channel, "channel");
+  VolumeData v;
+  v.dims = grid_dims(a);
+  v.index_to_world = placement(l);
+  const size_t count = static_cast<size_t>(v.dims.x) * v.dims.y * v.dims.z;
+  v.voxels = load_voxels(a.type, count, a.big_endian, a.what,
+                         [&](std::span<uint8_t> bytes) { read_zarr_block(a, lead, bytes); });
+  v.validate(a.what);
+  return v;
+}
+
+}  // namespace imx::detail
