@@ -20,7 +20,7 @@ using test::TempDir;
 
 // Every voxel of `v` equals zarr's value (as the storage type holds it: f32 for wide types).
 void expect_reference_voxels(const VolumeData& v, const std::filesystem::path& ref_file) {
-  const std::vector<double> ref = test::read_reference(ref_file);
+  const std::vector<double> ref = test::read_zarr_reference(ref_file);
   ASSERT_EQ(ref.size(), v.voxel_count()) << ref_file;
   size_t n = 0, wrong = 0;
   for (int k = 0; k < v.dims.z; ++k)

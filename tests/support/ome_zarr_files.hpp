@@ -78,7 +78,7 @@ inline bool run_zarr_python(const TempDir& dir, const std::string& snippet) {
 }
 
 // The float64 values ref() wrote.
-inline std::vector<double> read_reference(const std::filesystem::path& file) {
+inline std::vector<double> read_zarr_reference(const std::filesystem::path& file) {
   const std::string bytes = read_bytes(file);
   std::vector<double> values(bytes.size() / sizeof(double));
   std::memcpy(values.data(), bytes.data(), values.size() * sizeof(double));
