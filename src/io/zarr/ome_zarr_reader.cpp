@@ -39,18 +39,7 @@ struct Layout {
 
 json read_json(const std::filesystem::path& file) {
   const std::string what = file.string();
-  std::error_code ec;
-  const uintmax_t size = std::filesystem::file_size(file, ec);
-  if (ec) throw FileError(fmt::format("{}: cannot read: {}", what, ec.message()), ec.value());
-  if (size > kMaxAttributesBytes)
-    throw Error(fmt::format("{}: {} bytes, more than {} (not Zarr metadata)", what, size,
-                            kMaxAttributesBytes));
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open file", what), errno);
-  std::string text(static_cast<size_t>(size), '\0');
-  in.read(text.data(), static_cast<std::streamsize>(size));
-  if (static_cast<uintmax_t>(in.gcount()) != size)
-    throw Error(fmt::format("{}: could not read the whole file", what));
+  const std::string text = read_zarr_metadata(file, kMaxAttributesBytes);
   if (json_nested_deeper_than(text, 64))
     throw Error(fmt::format("{}: JSON nested deeper than 64 levels", what));
   json doc = json::parse(text, nullptr, false);

@@ -254,22 +254,26 @@ ZarrArray parse_zarray(std::string_view text, const std::filesystem::path& dir,
   return a;
 }
 
-ZarrArray read_zarray(const std::filesystem::path& dir) {
-  const std::filesystem::path file = dir / ".zarray";
+std::string read_zarr_metadata(const std::filesystem::path& file, uintmax_t max_bytes) {
   const std::string what = file.string();
   std::error_code ec;
   const uintmax_t size = std::filesystem::file_size(file, ec);
   if (ec) throw FileError(fmt::format("{}: cannot read: {}", what, ec.message()), ec.value());
-  if (size > kMaxMetadataBytes)
-    throw Error(fmt::format("{}: {} bytes, more than {} (not Zarr metadata)", what, size,
-                            kMaxMetadataBytes));
+  if (size > max_bytes)
+    throw Error(
+        fmt::format("{}: {} bytes, more than {} (not Zarr metadata)", what, size, max_bytes));
   std::ifstream in(file, std::ios::binary);
   if (!in) throw FileError(fmt::format("{}: cannot open file", what), errno);
   std::string text(static_cast<size_t>(size), '\0');
   in.read(text.data(), static_cast<std::streamsize>(size));
   if (static_cast<uintmax_t>(in.gcount()) != size)
     throw Error(fmt::format("{}: could not read the whole file", what));
-  return parse_zarray(text, dir, what);
+  return text;
+}
+
+ZarrArray read_zarray(const std::filesystem::path& dir) {
+  const std::filesystem::path file = dir / ".zarray";
+  return parse_zarray(read_zarr_metadata(file, kMaxMetadataBytes), dir, file.string());
 }
 
 void decode_zarr_chunk(const ZarrArray& array, std::span<const uint8_t> stored,

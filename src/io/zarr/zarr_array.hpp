@@ -36,6 +36,8 @@ ZarrArray parse_zarray(std::string_view text, const std::filesystem::path& dir,
 
 // parse_zarray on `dir`/.zarray.
 ZarrArray read_zarray(const std::filesystem::path& dir);
+// A Zarr metadata file's whole text, refused (naming it) past `max_bytes` or when unreadable.
+std::string read_zarr_metadata(const std::filesystem::path& file, uintmax_t max_bytes);
 
 // One chunk's decoded bytes (array.chunk_bytes, file byte order, C order): its file decoded, or
 // the fill value when the file is missing (as zarr reads it).
