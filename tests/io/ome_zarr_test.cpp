@@ -152,6 +152,29 @@ ref('l1.f64', a[1][...])
   EXPECT_EQ(read_volume_header(path).dims, l0.dims);
 }
 
+// Axis units become millimetres (microscopes write micrometres); an unknown unit is refused.
+TEST(OmeZarr, SpaceUnitsBecomeMillimetres) {
+  SKIP_WITHOUT_ZARR();
+  TempDir dir;
+  ASSERT_TRUE(test::run_zarr_python(dir, R"PY(
+for name, units in [('um.zarr', {'z': 'micrometer', 'y': 'nanometer', 'x': 'millimeter'}),
+                    ('pc.zarr', {'z': 'parsec', 'y': 'meter', 'x': 'meter'})]:
+    image(name, [np.zeros((2, 3, 4), '|u1')], scales=[[2.0, 3.0, 4.0]],
+          translations=[[5.0, 6.0, 7.0]])
+    attrs = json.load(open(name + '/.zattrs'))
+    for axis in attrs['multiscales'][0]['axes']:
+        axis['unit'] = units[axis['name']]
+    json.dump(attrs, open(name + '/.zattrs', 'w'))
+)PY"));
+  const VolumeData v = read_ome_zarr(dir / "um.zarr");
+  const glm::dvec3 spacing(4.0, 3.0e-6, 2.0e-3), origin(7.0, 6.0e-6, 5.0e-3);  // x, y, z
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(v.index_to_world[a][a], spacing[a], 1e-15) << a;
+    EXPECT_NEAR(v.index_to_world[3][a], origin[a], 1e-15) << a;
+  }
+  expect_error([&] { read_ome_zarr(dir / "pc.zarr"); }, {".zattrs", "'z'", "parsec"});
+}
+
 TEST(OmeZarr, FiveDimensionsPickFrameAndChannel) {
   SKIP_WITHOUT_ZARR();
   TempDir dir;

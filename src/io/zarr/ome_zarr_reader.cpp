@@ -35,7 +35,22 @@ struct Layout {
   size_t ndim = 3;
   std::vector<std::string> dataset_paths;
   json multiscale;
+  double mm_per_unit[3] = {1.0, 1.0, 1.0};  // x, y, z: what one unit of the axis is in mm
 };
+
+// Millimetres in one NGFF space unit (micrometres are usual for microscopes); no unit: mm.
+double millimetres_per(const std::string& unit, const std::string& axis, const std::string& what) {
+  static const std::pair<const char*, double> kUnits[] = {
+      {"angstrom", 1e-7},  {"nanometer", 1e-6},  {"micrometer", 1e-3},
+      {"millimeter", 1.0}, {"centimeter", 10.0}, {"decimeter", 100.0},
+      {"meter", 1000.0},   {"inch", 25.4},       {"foot", 304.8}};
+  for (const auto& [name, mm] : kUnits)
+    if (unit == name) return mm;
+  throw Error(
+      fmt::format("{}: axis '{}' has unit '{}': read are angstrom, nanometer, micrometer, "
+                  "millimeter, centimeter, decimeter, meter, inch and foot",
+                  what, axis, unit));
+}
 
 json read_json(const std::filesystem::path& file) {
   const std::string what = file.string();
@@ -70,7 +85,14 @@ Layout parse_layout(const json& attrs, const std::string& what) {
     if (!ms["axes"].is_array())
       throw Error(fmt::format("{}: field 'multiscales[0].axes' is not a list", what));
     names.clear();
-    for (const json& axis : ms["axes"]) names.push_back(axis_name(axis, what));
+    for (const json& axis : ms["axes"]) {
+      names.push_back(axis_name(axis, what));
+      const char* spatial[] = {"x", "y", "z"};
+      for (int a = 0; a < 3; ++a)
+        if (names.back() == spatial[a] && axis.is_object() && axis.contains("unit") &&
+            axis["unit"].is_string())
+          l.mm_per_unit[a] = millimetres_per(axis["unit"].get<std::string>(), spatial[a], what);
+    }
   }
   std::string joined;
   for (const std::string& n : names) joined += (joined.empty() ? "" : ",") + n;
@@ -171,8 +193,8 @@ Level open_level(const std::filesystem::path& dir, const json& attrs, int level,
     apply_transforms(layout.multiscale["coordinateTransformations"], scale, shift,
                      "multiscales[0].coordinateTransformations", what);
   for (int a = 0; a < 3; ++a) {
-    l.spacing[a] = scale[n - 1 - a];
-    l.origin[a] = shift[n - 1 - a];
+    l.spacing[a] = scale[n - 1 - a] * layout.mm_per_unit[a];
+    l.origin[a] = shift[n - 1 - a] * layout.mm_per_unit[a];
   }
   if (layout_out) *layout_out = layout;
   return l;
