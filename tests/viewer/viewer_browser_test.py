@@ -1022,9 +1022,11 @@ def run_streamlines(args, out, checks, cleanup, browser):
 
 
 # ---------------------------------------------------------------- test mode: MPR planes and clips
-def settled_state(watcher, since, timeout=10.0):
+def settled_state(watcher, since, timeout=30.0):
     """The watcher's last `state` once it has a final frame received after `since` (the server
-    broadcasts the state of an input before any frame that shows it, so that state is in)."""
+    broadcasts the state of an input before any frame that shows it, so that state is in).
+    30 s: under the whole suite's load (-j2 on two cores) a still frame with covered tube
+    silhouettes took more than the 10 s this waited before."""
     f = watcher.wait(lambda t, m: t >= since and m.get('type') == 'frame' and m.get('final'),
                      timeout)
     if f is None:
