@@ -933,8 +933,8 @@ def run_streamlines(args, out, checks, cleanup, browser):
     set_control(browser, 'lines', 'sl-color-by', 'fixed', ('change',))
     browser.wait_for("Boolean(document.querySelector('.object[data-name=\"lines\"] .sl-color'))",
                      timeout=5, what='the colour control of fixed colouring')
+    t0 = time.monotonic()  # before the change: the watcher may get its final frame first
     set_control(browser, 'lines', 'sl-color', '#ff0000', ('input',))
-    t0 = time.monotonic()
     wait_converged(browser, 20, 'after fixed red')
     st = settled_state(watcher, t0)
     red = tints(browser)
@@ -976,8 +976,8 @@ def run_streamlines(args, out, checks, cleanup, browser):
                  f"{away['red']} at z = {point2[2] if point2 else None}")
     browser.evaluate("viewer.setLayout('1x1')")
     wait_converged(browser, 20, 'back to the 3-D view alone')
-    set_control(browser, 'lines', 'sl-stride', '10')
     t0 = time.monotonic()
+    set_control(browser, 'lines', 'sl-stride', '10')
     wait_converged(browser, 20, 'after stride 10')
     st = settled_state(watcher, t0)
     strided = tints(browser)
@@ -987,13 +987,13 @@ def run_streamlines(args, out, checks, cleanup, browser):
                  f"{strided['drawn']} drawn pixels (was {red['drawn']})",
                  f"state stride {o.get('stride')}")
     opacity_sel = '.object[data-name="lines"] .row input[type=range]'  # the first: opacity
+    t0 = time.monotonic()
     ok = browser.evaluate(f"""(() => {{ const e = document.querySelector({json.dumps(opacity_sel)});
       if (!e) return false; e.value = '0.3';
       for (const t of ['input', 'change']) e.dispatchEvent(new Event(t, {{bubbles: true}}));
       return true; }})()""")
     if not ok:
         raise Failure('no opacity slider for the streamlines')
-    t0 = time.monotonic()
     wait_converged(browser, 20, 'after opacity 0.3')
     st = settled_state(watcher, t0)
     faint = tints(browser)
@@ -1005,8 +1005,8 @@ def run_streamlines(args, out, checks, cleanup, browser):
     snap(browser, 'sl_faint')
     # A sphere region at the crosshair (8 mm above the lines' centre, 10 mm radius): only the
     # streamlines within 6 mm of x = 0 pass through it.
-    set_control(browser, 'lines', 'sl-region-on', True, ('change',))
     t0 = time.monotonic()
+    set_control(browser, 'lines', 'sl-region-on', True, ('change',))
     wait_converged(browser, 20, 'after the sphere region')
     st = settled_state(watcher, t0)
     regions = (state_object(st, 'lines') or {}).get('regions') or []
