@@ -1,7 +1,8 @@
 // intermix convert IN -o OUT: any volume intermix reads (a DICOM series too), written as
 // NIfTI, NRRD or MetaImage, so its geometry can be checked in another tool. A multi-frame (4-D)
 // source becomes a 4-D NIfTI as dcm2niix writes it, with .bval/.bvec for diffusion and a JSON
-// sidecar of the frame labels; --frame K writes one frame.
+// sidecar of the frame labels; --frame K writes one frame. An output ending in .zarr is an
+// OME-Zarr pyramid, written slab by slab, so that a volume larger than memory converts too.
 #include <cstdio>
 #include <optional>
 #include <variant>
@@ -12,10 +13,13 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "core/progress_bar.hpp"
 #include "intermix/dicom.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "io/streams/atomic_file.hpp"
+#include "io/voxels/raw_voxels.hpp"
+#include "io/zarr/ome_zarr_writer.hpp"
 
 namespace imx::cli {
 
@@ -119,6 +123,49 @@ bool is_nifti(const std::string& output) {
   return sidecar(output, "") != output;
 }
 
+// IN -o OUT.zarr: one frame of a volume as an OME-Zarr pyramid. A volume one process can hold is
+// read once; a larger one slab by slab, by region.
+void write_pyramid(const std::string& input, const std::string& output, int frame, int chunk,
+                   const DicomReadOptions* dicom) {
+  std::error_code ec;
+  if (std::filesystem::equivalent(input, output, ec))
+    throw Error(fmt::format("{}: is the input; name another output", output));
+  VolumeHeader header;
+  std::shared_ptr<const VolumeData> whole;
+  if (dicom) {
+    DicomVolume d = read_dicom(input, *dicom);
+    print_notes(d.notes);
+    whole = std::make_shared<VolumeData>(std::move(d.volume));
+  } else {
+    header = read_volume_header(input);
+    if (frame >= header.frames)
+      throw Error(
+          fmt::format("{}: frame {} requested, the file has {}", input, frame, header.frames));
+    if (header.frames > 1 && !quiet())
+      std::fprintf(stderr, "intermix: note: %s: frame %d of %d (name another with --frame K)\n",
+                   input.c_str(), frame, header.frames);
+    try {
+      detail::require_holdable(header, input);
+      whole = std::make_shared<VolumeData>(read_volume(input, frame));
+    } catch (const VolumeTooLarge&) {  // read slab by slab below
+    }
+  }
+  if (whole) header = {whole->dims, whole->type(), whole->index_to_world, 1, {}};
+  const auto read_box = [&](const VoxelBox& box) {
+    return whole ? crop(*whole, box, input) : read_volume_region(input, box, frame);
+  };
+  ProgressBar bar("convert", show_progress());
+  detail::OmeZarrWriteOptions options;
+  options.chunk = chunk;
+  options.progress = [&bar](double f) { bar.update(f); };
+  detail::write_ome_zarr(header, read_box, output, options);
+  bar.finish();
+  if (!quiet())
+    std::fprintf(stderr, "intermix: %s %dx%dx%d %s -> %s (%d levels, %d^3 chunks)\n", input.c_str(),
+                 header.dims.x, header.dims.y, header.dims.z, voxel_type_name(header.type),
+                 output.c_str(), detail::ome_zarr_level_count(header.dims, chunk), chunk);
+}
+
 }  // namespace
 
 Command add_convert(CLI::App& app) {
@@ -127,13 +174,17 @@ Command add_convert(CLI::App& app) {
     std::optional<double> slice_spacing;
     std::optional<int> frame;
     bool raw = false;
+    int chunk = 64;
   };
   auto o = std::make_shared<Options>();
   app.add_option("input", o->input,
                  "volume file (.nrrd, .nhdr, .nii, .nii.gz, .hdr/.img, .mgh, .mgz, .mha, .mhd), "
                  "DICOM file, DICOMDIR or folder")
       ->required();
-  app.add_option("-o,--output", o->output, "output file: .nii.gz, .nii, .nrrd or .mha")->required();
+  app.add_option("-o,--output", o->output,
+                 "output file: .nii.gz, .nii, .nrrd or .mha; or a folder .zarr (an OME-Zarr "
+                 "pyramid, for volumes larger than memory)")
+      ->required();
   app.add_option("--series", o->series, "DICOM: the series number or SeriesInstanceUID");
   app.add_option("--units", o->units, "DICOM PET: 'suv' for standardized uptake values")
       ->check(CLI::IsMember({"suv"}));
@@ -146,7 +197,23 @@ Command add_convert(CLI::App& app) {
                  "as a 4-D NIfTI")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--raw", o->raw, "write uncompressed voxels (NRRD, MetaImage)");
+  app.add_option("--chunk", o->chunk, "OME-Zarr: chunk edge in voxels (default: 64)")
+      ->check(CLI::Range(8, 512));
   return [o]() {
+    if (o->output.ends_with(".zarr")) {
+      const bool dicom = is_dicom_source(o->input);
+      if (!dicom && (!o->series.empty() || !o->units.empty() || o->slice_spacing))
+        throw Error(
+            fmt::format("{}: --series, --units and --slice-spacing apply to DICOM only", o->input));
+      DicomReadOptions options;
+      options.series = o->series;
+      options.units = o->units;
+      options.slice_spacing_mm = o->slice_spacing;
+      options.frame = o->frame.value_or(0);
+      write_pyramid(o->input, o->output, o->frame.value_or(0), o->chunk,
+                    dicom ? &options : nullptr);
+      return 0;
+    }
     if (!can_write_volume(o->output))
       throw Error(fmt::format("{}: unknown output format (supported: .nii.gz, .nii, .nrrd, .mha)",
                               o->output));

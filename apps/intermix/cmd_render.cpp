@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iterator>
+#include <optional>
 #include <regex>
 
 #include <fmt/format.h>
@@ -14,6 +15,7 @@
 #include "commands.hpp"
 #include "core/parallel.hpp"
 #include "core/progress_bar.hpp"
+#include "dist/bricked_render.hpp"
 #include "dist/distributed_render.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
@@ -33,6 +35,7 @@ struct Options : SceneOptions {
   bool colorbar = false;
   bool distributed = false;
   std::string partition = "auto", report;
+  int bricks = 0;  // 0: bricks only for a volume too large to hold
 };
 
 // The scene of the inputs; --save-scene writes a built one, which renders the same image again.
@@ -42,10 +45,24 @@ Scene load_inputs(const Options& o, const std::vector<std::string>& overrides) {
   return std::move(document).take_scene();
 }
 
-// Loads, renders and writes one image, printing its notes and time.
+// Loads, renders and writes one image, printing its notes and time. A scene with a volume too
+// large to hold whole (or any, with --bricks N) is rendered brick by brick.
 void render_one(const Options& o, const std::vector<std::string>& overrides,
                 const std::string& output) {
-  Scene scene = load_inputs(o, overrides);
+  std::optional<SceneDocument> outline;
+  Scene whole;
+  if (o.bricks > 0) {
+    outline.emplace(load_scene_outline(o.in, overrides));
+  } else {
+    try {
+      whole = load_inputs(o, overrides);
+    } catch (const VolumeTooLarge& e) {
+      if (!quiet()) std::fprintf(stderr, "intermix: note: %s: rendering in bricks\n", e.what());
+      outline.emplace(load_scene_outline(o.in, overrides));
+    }
+  }
+  if (outline) save_built_scene(o.in, *outline);
+  const Scene& scene = outline ? outline->scene() : whole;
   print_notes(scene.notes);
   RenderOptions options;
   options.method = o.method;
@@ -55,8 +72,22 @@ void render_one(const Options& o, const std::vector<std::string>& overrides,
   options.progress = [&bar](double f) { bar.update(f); };
   auto start = std::chrono::steady_clock::now();
   Image image;
+  std::string method;
   try {
-    image = render(scene, options);
+    if (outline) {
+      const int parts = o.bricks > 0 ? o.bricks : bricks_needed(scene);
+      if (!o.method.empty() && !o.method.starts_with("zslab") && o.method != "auto" && !quiet())
+        std::fprintf(stderr, "intermix: note: --method %s: a render in bricks uses zslab\n",
+                     o.method.c_str());
+      image = render_in_bricks(*outline, parts, options);
+      method = fmt::format("zslab in {} bricks", parts);
+    } else {
+      image = render(scene, options);
+      const ResolvedMethod resolved = resolve_method(scene, o.method);
+      method = resolved.reason.empty()
+                   ? resolved.name
+                   : fmt::format("{} (auto: {})", resolved.name, resolved.reason);
+    }
   } catch (const Error& e) {
     throw Error(fmt::format("{}: {}", o.scene, e.what()));  // what the method refused
   }
@@ -73,10 +104,6 @@ void render_one(const Options& o, const std::vector<std::string>& overrides,
                    drawn, wanted);
   }
   write_png(image, output, o.linear);
-  const ResolvedMethod resolved = resolve_method(scene, o.method);
-  const std::string method = resolved.reason.empty()
-                                 ? resolved.name
-                                 : fmt::format("{} (auto: {})", resolved.name, resolved.reason);
   if (!quiet())
     std::fprintf(stderr, "intermix: %s: %dx%d with %s on %d threads in %.3f s -> %s\n",
                  o.scene.c_str(), image.width(), image.height(), method.c_str(),
@@ -145,6 +172,10 @@ Command add_render(CLI::App& app) {
   app.add_option("--frame-object", o->frame_object,
                  "with --frame-range: the volume object whose frames run (default: the scene's "
                  "only volume)");
+  app.add_option("--bricks", o->bricks,
+                 "render in N bricks, loading one at a time (default: only a volume too large to "
+                 "hold whole, past 2^31 voxels or half the memory budget, in as many as it needs)")
+      ->check(CLI::Range(1, 4096));
   app.add_option("--report", o->report,
                  "with --distributed: write timings, bytes exchanged and memory per rank (JSON)");
   return [o]() {
@@ -153,6 +184,8 @@ Command add_render(CLI::App& app) {
     if (!o->distributed && (o->report.size() || o->partition != "auto"))
       throw Error("--partition and --report apply only with --distributed");
     if (o->distributed && o->colorbar) throw Error("--colorbar does not apply with --distributed");
+    if (o->distributed && o->bricks > 0)
+      throw Error("--bricks does not apply with --distributed (use --partition bricks)");
     if (o->distributed && !o->frame_range.empty())
       throw Error("--frame-range does not apply with --distributed");
     if (o->distributed && !o->in.is_scene_file())

@@ -49,6 +49,19 @@ SceneDocument load_scene_inputs(const SceneInputs& in, const std::vector<std::st
   return scene_from_files(files, in.view.empty() ? "anterior" : in.view, overrides);
 }
 
+SceneDocument load_scene_outline(const SceneInputs& in, const std::vector<std::string>& overrides) {
+  const auto one_voxel = [](const std::string&, const VolumeHeader&) {
+    return VoxelBox{glm::ivec3(0), glm::ivec3(1)};
+  };
+  if (in.is_scene_file()) {
+    SceneDocument document = SceneDocument::load(in.inputs[0], overrides, one_voxel);
+    document.write_out_choices();
+    return document;
+  }
+  const std::vector<std::filesystem::path> files(in.inputs.begin(), in.inputs.end());
+  return scene_from_files(files, in.view.empty() ? "anterior" : in.view, overrides, one_voxel);
+}
+
 void save_built_scene(const SceneInputs& in, const SceneDocument& document) {
   if (in.save_scene.empty()) return;
   const std::string text = document.text();

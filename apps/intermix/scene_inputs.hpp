@@ -27,6 +27,10 @@ std::vector<std::string> input_overrides(const SceneInputs& in, std::vector<std:
 // The scene file loaded, or the scene built from the input files.
 SceneDocument load_scene_inputs(const SceneInputs& in, const std::vector<std::string>& overrides);
 
+// The same read with one-voxel regions, its automatic choices written out: what a render in
+// bricks plans from (dist/bricked_render.hpp).
+SceneDocument load_scene_outline(const SceneInputs& in, const std::vector<std::string>& overrides);
+
 // With --save-scene (a scene built from files): writes `document`, which renders the same again.
 void save_built_scene(const SceneInputs& in, const SceneDocument& document);
 

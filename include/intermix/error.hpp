@@ -31,6 +31,13 @@ class OutOfMemory : public Error {
   explicit OutOfMemory(const std::string& message) : Error(message) {}
 };
 
+// A volume whose grid one process cannot hold at once (more than 2^31 voxels, or more bytes
+// than half the memory budget): `intermix render` then renders it brick by brick.
+class VolumeTooLarge : public OutOfMemory {
+ public:
+  explicit VolumeTooLarge(const std::string& message) : OutOfMemory(message) {}
+};
+
 // Thrown by render() when RenderOptions::cancel was set: not a failure, the frame is dropped.
 class Cancelled : public Error {
  public:

@@ -5,8 +5,8 @@
 
 #include <fmt/format.h>
 
-#include "intermix/error.hpp"
 #include "core/edit_distance.hpp"
+#include "intermix/error.hpp"
 
 namespace imx::scene_json {
 namespace {
@@ -58,6 +58,11 @@ JsonReader JsonReader::child(const nlohmann::json& value, std::string path) cons
 void JsonReader::fail_file(std::string_view message, int code) const {
   if (path_.empty()) throw FileError(fmt::format("{}: {}", origin_, message), code);
   throw FileError(fmt::format("{}: {}: {}", origin_, path_, message), code);
+}
+
+void JsonReader::fail_too_large(std::string_view message) const {
+  if (path_.empty()) throw VolumeTooLarge(fmt::format("{}: {}", origin_, message));
+  throw VolumeTooLarge(fmt::format("{}: {}: {}", origin_, path_, message));
 }
 
 void JsonReader::fail(std::string_view message) const {

@@ -60,15 +60,19 @@ class JsonReader {
   [[noreturn]] void fail(std::string_view message) const;
   // The same as imx::FileError with `code` (errno): a file the value names cannot be read.
   [[noreturn]] void fail_file(std::string_view message, int code = 0) const;
+  // The same as imx::VolumeTooLarge.
+  [[noreturn]] void fail_too_large(std::string_view message) const;
   // Runs `read`, which reads the file this value names, and returns what it returns; what it
-  // throws becomes this value's error: a FileError keeps its errno, running out of memory names
-  // `what` and the budget.
+  // throws becomes this value's error: a FileError keeps its errno, a VolumeTooLarge its type
+  // (a render may go on in bricks), running out of memory names `what` and the budget.
   template <class Read>
   auto reading(const std::string& what, Read&& read) const -> decltype(read()) {
     try {
       return read();
     } catch (const FileError& e) {
       fail_file(e.what(), e.code());
+    } catch (const VolumeTooLarge& e) {
+      fail_too_large(e.what());
     } catch (const std::bad_alloc&) {
       fail(out_of_memory_message(what));
     } catch (const std::exception& e) {

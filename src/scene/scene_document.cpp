@@ -37,9 +37,10 @@ SceneDocument SceneDocument::from_text(const std::string& text, const std::strin
 
 SceneDocument::SceneDocument(nlohmann::json json, std::string origin,
                              std::filesystem::path base_dir, GivenData given,
-                             std::filesystem::path file)
+                             std::filesystem::path file, VolumeRegionChooser region)
     : origin_(std::move(origin)), file_(std::move(file)) {
   context_.base_dir = std::move(base_dir);
+  context_.region = std::move(region);
   context_.given_volumes = std::move(given.volumes);
   context_.given_meshes = std::move(given.meshes);
   context_.given_streamlines = std::move(given.streamlines);

@@ -36,9 +36,11 @@ class SceneDocument {
   static SceneDocument from_text(const std::string& text, const std::string& origin,
                                  const std::filesystem::path& base_dir,
                                  const std::vector<std::string>& overrides = {});
-  // A document already in JSON form. Throws imx::Error as the loader does.
+  // A document already in JSON form; with `region`, as load's. Throws imx::Error as the loader
+  // does.
   SceneDocument(nlohmann::json json, std::string origin, std::filesystem::path base_dir,
-                GivenData given = {}, std::filesystem::path file = {});
+                GivenData given = {}, std::filesystem::path file = {},
+                VolumeRegionChooser region = {});
 
   const nlohmann::json& json() const { return json_; }
   const Scene& scene() const { return scene_; }

@@ -174,7 +174,8 @@ const std::vector<glm::vec3>& mesh_palette() {
 }
 
 SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
-                               const std::string& view, const std::vector<std::string>& overrides) {
+                               const std::string& view, const std::vector<std::string>& overrides,
+                               const VolumeRegionChooser& region) {
   if (files.empty()) throw Error(fmt::format("{}: no files given", kOrigin));
   Json objects = Json::array();
   std::set<std::string> taken;
@@ -263,7 +264,7 @@ SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
                    {"objects", std::move(objects)}};
   for (const std::string& assignment : overrides)
     scene_json::apply_override(document, assignment, kOrigin);
-  SceneDocument read(std::move(document), kOrigin, ".");
+  SceneDocument read(std::move(document), kOrigin, ".", {}, {}, region);
   mark_label_maps(read);
   read.write_out_choices();  // the framed camera, each automatic transfer function
   return read;

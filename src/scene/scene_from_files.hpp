@@ -16,13 +16,15 @@
 namespace imx {
 
 // The document is the scene file for these inputs, every choice explicit (relative paths are
-// made absolute). `view` is a patient direction (camera_framing.hpp); `overrides` are --set assignments applied
-// to the built document before it is read ("image.width=256", "objects.FLAIR.style=mip").
-// Throws imx::Error naming a file that is neither a volume nor a mesh intermix reads, and every
-// error load_scene gives, with "scene from files" as the document's name.
+// made absolute). `view` is a patient direction (camera_framing.hpp); `overrides` are --set
+// assignments applied to the built document before it is read ("image.width=256",
+// "objects.FLAIR.style=mip"). Throws imx::Error naming a file that is neither a volume nor a mesh
+// intermix reads, and every error load_scene gives, with "scene from files" as the document's name.
+// With `region`, volumes are read by region as load_scene's (the plan of a render in bricks).
 SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
-                            const std::string& view = "anterior",
-                            const std::vector<std::string>& overrides = {});
+                               const std::string& view = "anterior",
+                               const std::vector<std::string>& overrides = {},
+                               const VolumeRegionChooser& region = {});
 
 // The colours meshes of a scene from files get, in order (then again from the first).
 const std::vector<glm::vec3>& mesh_palette();

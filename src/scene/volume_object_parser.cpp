@@ -15,8 +15,10 @@
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
+#include "io/voxels/raw_voxels.hpp"
 #include "scene/automatic_look.hpp"
 #include "scene/label_map_parser.hpp"
+#include "scene/look_sample.hpp"
 #include "scene/scene_parsers.hpp"
 #include "scene/world_space.hpp"
 
@@ -32,6 +34,8 @@ constexpr int kDefaultPhantomSize = 128;
 struct SourceFacts {
   std::optional<glm::dvec2> window;
   std::string modality, units;
+  // With context.region: the voxels an automatic look is chosen from (look_sample.hpp).
+  std::function<VolumeData()> look_sample;
 };
 
 std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, SceneContext& context,
@@ -80,7 +84,10 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     if (auto v = src.find("size")) size = v->integer(8, 1024);
     key = fmt::format("phantom:{}:{}", name, size);
     what = fmt::format("phantom '{}' of size {}", name, size);
-    load = [name, size] { return make_phantom(name, size); };
+    load = [name, size, what] {
+      detail::require_holdable(phantom_header(name, size), what);
+      return make_phantom(name, size);
+    };
     header = [name, size] { return phantom_header(name, size); };
     load_box = [name, size](const VoxelBox& box) { return make_phantom_region(name, size, box); };
   } else {
@@ -128,8 +135,11 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
       const int k = frame.value_or(0);
       if (frame) key += fmt::format(":frame={}", k);
       load = [path, k, key, named = frame.has_value(), &context] {
-        // The header is cheap next to the voxels; it says how many frames there are.
-        const int frames = read_volume_header(path).frames;
+        // The header is cheap next to the voxels; it says how many frames there are, and
+        // whether the grid can be held whole (else the caller may render it in bricks).
+        const VolumeHeader h = read_volume_header(path);
+        detail::require_holdable(h, path.string());
+        const int frames = h.frames;
         context.frame_counts[key] = frames;
         if (!named && frames > 1)
           context.notes.push_back(
@@ -158,6 +168,7 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
         load_box = [whole, what](const VoxelBox& b) { return crop(*whole, b, what); };
       }
       VolumeHeader h = header();
+      facts.look_sample = [h, load_box] { return look_sample(h, load_box); };
       box = context.region(object, h);
       placed.source_dims = h.dims;
       if (box != VoxelBox::whole(h.dims)) {
@@ -216,7 +227,8 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   glm::dmat4 transform(1.0);
   std::optional<std::filesystem::path> field;  // a displacement field warps the data instead
   if (auto t = r.find("transform"))
-    if (field = displacement_field_of(*t, context); !field) transform = parse_transform(*t, context);
+    if (field = displacement_field_of(*t, context); !field)
+      transform = parse_transform(*t, context);
   // Style "labels" is dvr through a label map (label_map_parser.hpp): the TF is not used.
   const bool labels = r.has("style") && r.get("style").json() == "labels";
   if (labels) {
@@ -246,10 +258,6 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
     r.fail("missing required key 'iso_value' (the style is iso)");
   std::optional<Shading> preset_shading;  // a preset's own, when the volume gives none
   const bool automatic = !r.has("transfer_function") && v.style != VolumeStyle::iso && !labels;
-  if (automatic && context.region)
-    r.fail(
-        "missing required key 'transfer_function': a render by region (distributed) needs it "
-        "given, as the automatic one depends on every voxel");
   if (auto tf = r.find("transfer_function")) {
     ParsedTransferFunction parsed = parse_transfer_function(*tf, context);
     v.transfer_function = std::move(parsed.transfer_function);
@@ -271,8 +279,12 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
     if (v.units.size() > 16) u->fail("a units label has at most 16 characters");
   }
   if (automatic) {
-    // Chosen from the voxels, and parsed as the file would spell it (automatic_look.hpp).
-    const AutomaticLook look = automatic_look(*v.data, facts.modality, facts.units);
+    // Chosen from the voxels, and parsed as the file would spell it (automatic_look.hpp); read
+    // by region, from slices of the whole, the same for every region.
+    const AutomaticLook look =
+        context.region ? automatic_look(r.get("source").reading(v.name, facts.look_sample),
+                                        facts.modality, facts.units)
+                       : automatic_look(*v.data, facts.modality, facts.units);
     const JsonReader tf(look.transfer_function, r.origin(), r.path() + ".transfer_function");
     ParsedTransferFunction parsed = parse_transfer_function(tf, context);
     v.transfer_function = std::move(parsed.transfer_function);
@@ -286,7 +298,8 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   }
   if (!r.has("shading") && preset_shading) v.shading = *preset_shading;
   if (labels) {
-    r.get("source").reading(v.name, [&] { check_label_voxels(*v.data, "volume '" + v.name + "'"); });
+    r.get("source").reading(v.name,
+                            [&] { check_label_voxels(*v.data, "volume '" + v.name + "'"); });
     v.labels = parse_label_map(r, context, v.frame, parse_visible(r));
   }
   // Hidden: every alpha 0, so it adds nothing anywhere, while planes still sample its data.

@@ -230,21 +230,33 @@ TEST(AutomaticLook, AFileSceneDrawsALabelMapInThePalette) {
   EXPECT_TRUE(doc.scene().volumes[1].labels->palette_unlisted);
 }
 
-TEST(AutomaticLook, ARenderByRegionNeedsTheTransferFunctionGiven) {
-  const std::string text = R"({"camera": {"eye": [0, -500, 0]}, "objects": [{"name": "ct",
-      "type": "volume", "source": {"phantom": "ct-head", "size": 32}}]})";
+TEST(AutomaticLook, EveryRegionChoosesTheSameLookFromSlicesOfTheWhole) {
+  const std::string text = R"({"camera": {"eye": [0, -500, 0]}, "objects": [{"name": "s",
+      "type": "volume", "source": {"phantom": "shells", "size": 48}}]})";
   const auto file = std::filesystem::temp_directory_path() / "imx_region_auto_tf.json";
   { std::ofstream(file) << text; }
-  try {
-    load_scene(file, {},
-               [](const std::string&, const VolumeHeader& h) { return VoxelBox::whole(h.dims); });
-    FAIL() << "accepted";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("objects[0]: missing required key 'transfer_function': a "
-                                         "render by region"),
-              std::string::npos)
-        << e.what();
+  // A brick of the bottom slices (mostly background) and one through the middle: their own
+  // voxels would choose different ramps.
+  auto points_of = [&](int z0, int z1) {
+    const Scene s = load_scene(file, {}, [&](const std::string&, const VolumeHeader& h) {
+      return VoxelBox{{0, 0, z0}, {h.dims.x, h.dims.y, z1}};
+    });
+    EXPECT_EQ(s.volumes[0].data->dims.z, z1 - z0);
+    return s.volumes[0].transfer_function.points;
+  };
+  const std::vector<TfPoint> bottom = points_of(0, 6), middle = points_of(20, 28);
+  ASSERT_EQ(bottom.size(), middle.size());
+  ASSERT_GE(bottom.size(), 2u);
+  for (size_t i = 0; i < bottom.size(); ++i) {
+    EXPECT_EQ(bottom[i].value, middle[i].value);
+    EXPECT_EQ(bottom[i].rgba, middle[i].rgba);
   }
+  // The control: the bottom brick's own voxels choose another ramp.
+  const Scene whole = load_scene(file);
+  VolumeData bottom_voxels = crop(*whole.volumes[0].data, {{0, 0, 0}, {48, 48, 6}}, "bottom");
+  const AutomaticLook own = automatic_look(bottom_voxels, "", "");
+  EXPECT_NE(own.transfer_function.dump(),
+            automatic_look(*whole.volumes[0].data, "", "").transfer_function.dump());
   std::filesystem::remove(file);
 }
 

@@ -165,9 +165,10 @@ glm::ivec3 parse_dims(const Header& h, int ndims, size_t& count) {
     if (!n || *n <= 0 || *n > static_cast<long long>(kMaxVoxels))
       throw h.bad("DimSize", value, "must be positive integers");
     dims[a] = static_cast<int>(*n);
+    // Compared before multiplying: 2^40 times a size up to 2^31 would overflow.
+    if (static_cast<double>(count) * static_cast<double>(*n) > static_cast<double>(kMaxGridVoxels))
+      throw h.bad("DimSize", value, fmt::format("gives more than {} voxels", kMaxGridVoxels));
     count *= static_cast<size_t>(*n);
-    if (count > kMaxVoxels)
-      throw h.bad("DimSize", value, fmt::format("gives more than {} voxels", kMaxVoxels));
   }
   return dims;
 }
@@ -241,6 +242,7 @@ VoxelStorage read_voxels(const std::filesystem::path& file, std::ifstream& in, c
                          const Layout& layout, const VoxelBox& box) {
   const std::string& what = h.what;
   const glm::ivec3 dims = layout.header.dims;
+  require_loadable_box(box, what);
   const std::string& data_name = h.require("ElementDataFile");
   std::filesystem::path data_path = file;
   std::streamoff start = h.data_offset;

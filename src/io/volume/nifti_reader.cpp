@@ -173,9 +173,9 @@ Layout parse_layout(const fs::path& file) {
   const glm::ivec3 dims(static_cast<int>(h.dim[1]), static_cast<int>(h.dim[2]),
                         static_cast<int>(h.dim[3]));
   // In double: three int32 sizes can overflow a uint64 product back into range.
-  if (static_cast<double>(dims.x) * dims.y * dims.z > static_cast<double>(kMaxVoxels))
+  if (static_cast<double>(dims.x) * dims.y * dims.z > static_cast<double>(kMaxGridVoxels))
     throw Error(fmt::format("{}: dimensions {}x{}x{} give more than {} voxels", what, dims.x,
-                            dims.y, dims.z, kMaxVoxels));
+                            dims.y, dims.z, kMaxGridVoxels));
 
   // Frames lie along the one dimension beyond the third that is larger than 1: time (dim[4])
   // or components (dim[5], dim[4] being 1), or any other alone. Two such dimensions would need

@@ -365,6 +365,7 @@ class DataSource {
 
 VoxelStorage read_nrrd_voxels(const NrrdData& data, const NrrdGrid& grid, int frame,
                               const VoxelBox& box) {
+  require_loadable_box(box, data.header.string());
   const size_t file_count = std::max<size_t>(data.files.size(), 1);
   std::vector<DataFile> files;
   files.reserve(file_count);

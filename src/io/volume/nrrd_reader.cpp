@@ -452,13 +452,12 @@ Axes parse_axes(const Header& h, const std::string& what) {
   } else {
     check_kinds_3d(h, what);
   }
-  size_t count = 1;
-  for (int c = 0; c < 3; ++c) {
-    count *= static_cast<size_t>(ax.sizes[ax.at(c)]);
-    if (count > kMaxVoxels)
-      throw Error(fmt::format("{}: field 'sizes' '{}' gives more than {} voxels", what,
-                              shown(sizes), kMaxVoxels));
-  }
+  // In double: three sizes up to 2^31 can overflow a size_t product back into range.
+  double count = 1;
+  for (int c = 0; c < 3; ++c) count *= static_cast<double>(ax.sizes[ax.at(c)]);
+  if (count > static_cast<double>(kMaxGridVoxels))
+    throw Error(fmt::format("{}: field 'sizes' '{}' gives more than {} voxels", what, shown(sizes),
+                            kMaxGridVoxels));
   return ax;
 }
 

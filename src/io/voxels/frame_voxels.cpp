@@ -36,6 +36,7 @@ VoxelStorage read_frame_voxels(const FrameLayout& l, int frame, const VoxelBox& 
   // slices, and frame k's box is the box moved by k * dims.z slices: the region readers' seeks
   // and streaming skips then serve any frame, and the gzip path's check of the whole stream
   // (its length and its checksum) covers every frame.
+  require_loadable_box(box, l.what);
   const glm::ivec3 stacked(l.dims.x, l.dims.y, l.dims.z * l.frames);
   const glm::ivec3 shift(0, 0, l.dims.z * frame);
   const VoxelBox moved{box.lo + shift, box.hi + shift};

@@ -18,6 +18,27 @@ namespace imx::detail {
 static_assert(std::endian::native == std::endian::little,
               "the volume readers and writers assume a little-endian host");
 
+void require_loadable_box(const VoxelBox& box, const std::string& what) {
+  if (box.count() > kMaxVoxels)
+    throw VolumeTooLarge(fmt::format(
+        "{}: {}x{}x{} voxels are more than the {} one volume holds in memory; intermix render "
+        "renders such a grid in bricks, and intermix convert -o X.zarr builds its pyramid",
+        what, box.hi.x - box.lo.x, box.hi.y - box.lo.y, box.hi.z - box.lo.z, kMaxVoxels));
+}
+
+void require_holdable(const VolumeHeader& header, const std::string& what) {
+  const VoxelBox whole = VoxelBox::whole(header.dims);
+  require_loadable_box(whole, what);
+  const size_t bytes = header.type == VoxelType::u8 ? 1 : header.type == VoxelType::f32 ? 4 : 2;
+  const uint64_t share = input_limits().max_memory / 2;
+  if (whole.count() * bytes > share)
+    throw VolumeTooLarge(fmt::format(
+        "{}: {}x{}x{} {} voxels ({}) are more than half the memory budget ({}, --max-memory); "
+        "intermix render renders such a grid in bricks",
+        what, header.dims.x, header.dims.y, header.dims.z, voxel_type_name(header.type),
+        format_bytes(whole.count() * bytes), format_bytes(share)));
+}
+
 size_t raw_type_size(RawType type) {
   switch (type) {
     case RawType::i8:

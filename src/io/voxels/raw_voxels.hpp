@@ -21,8 +21,18 @@ const char* raw_type_name(RawType type);
 // value within range, with 24-bit precision, which is enough for rendering).
 VoxelType storage_type_for(RawType type);
 
-// The most voxels a file may declare: larger headers are corrupt or not for this renderer.
+// The most voxels one volume in memory holds (the kernels address a grid with 32-bit lanes),
+// and what a file may declare where its grid is only read whole.
 inline constexpr size_t kMaxVoxels = size_t{1} << 31;
+// The most voxels a grid read in regions may declare (NRRD, NIfTI, MetaImage, OME-Zarr): grids
+// past kMaxVoxels are rendered in bricks (docs/big_data.md); larger headers are corrupt.
+inline constexpr size_t kMaxGridVoxels = size_t{1} << 40;
+
+// Throws imx::VolumeTooLarge naming `what` when `box` holds more than one volume in memory may.
+void require_loadable_box(const VoxelBox& box, const std::string& what);
+// Throws imx::VolumeTooLarge naming `what` unless a process can hold the grid `header` describes
+// whole: at most kMaxVoxels voxels, and at most half the memory budget in its storage type.
+void require_holdable(const VolumeHeader& header, const std::string& what);
 
 // Voxel storage for `count` elements of `type` in the file. `fill` must write exactly the
 // bytes it is given (count * raw_type_size), in file order, or throw. When the file type is

@@ -201,23 +201,53 @@ Level open_level(const std::filesystem::path& dir, const json& attrs, int level,
 }
 
 // OME-NGFF 0.4 says nothing of anatomical orientation: the x, y, z axes are taken as the index
-// axes with the file's spacing and origin, the identity direction (as NiiVue shows them).
-glm::dmat4 placement(const Level& l) {
+// axes with the file's spacing and origin, the identity direction (as NiiVue shows them). A file
+// intermix wrote from an oriented grid (a flip, an oblique or tilted grid) keeps that grid's
+// whole matrix under "intermix": each level is placed by it through NGFF's scale and
+// translation of the level against level 0's.
+glm::dmat4 placement(const std::filesystem::path& dir, const json& attrs, const Level& l) {
   glm::dmat4 m(1.0);
   for (int a = 0; a < 3; ++a) {
     m[a][a] = l.spacing[a];
     m[3][a] = l.origin[a];
   }
-  return m;
+  const auto own = attrs.find("intermix");
+  if (own == attrs.end()) return m;
+  const std::string what = (dir / ".zattrs").string();
+  const json* rows =
+      own->is_object() && own->contains("index_to_world") ? &(*own)["index_to_world"] : nullptr;
+  glm::dmat4 oriented(1.0);
+  bool valid = rows && rows->is_array() && rows->size() == 4;
+  for (int r = 0; valid && r < 4; ++r) {
+    const json& row = (*rows)[r];
+    valid = row.is_array() && row.size() == 4;
+    for (int c = 0; valid && c < 4; ++c) {
+      valid = row[c].is_number();
+      if (valid) oriented[c][r] = row[c].get<double>();
+    }
+  }
+  if (!valid || oriented[0][3] != 0.0 || oriented[1][3] != 0.0 || oriented[2][3] != 0.0 ||
+      oriented[3][3] != 1.0)
+    throw Error(
+        fmt::format("{}: field 'intermix.index_to_world' is not 4 rows of 4 numbers "
+                    "ending 0 0 0 1",
+                    what));
+  const Level first = open_level(dir, attrs, 0);
+  glm::dmat4 to_first(1.0);
+  for (int a = 0; a < 3; ++a) {
+    to_first[a][a] = l.spacing[a] / first.spacing[a];
+    to_first[3][a] = (l.origin[a] - first.origin[a]) / first.spacing[a];
+  }
+  return oriented * to_first;
 }
 
 glm::ivec3 grid_dims(const ZarrArray& a) {
   const size_t n = a.shape.size();
   const glm::ivec3 dims(static_cast<int>(a.shape[n - 1]), static_cast<int>(a.shape[n - 2]),
                         static_cast<int>(a.shape[n - 3]));
-  if (static_cast<uint64_t>(dims.x) * dims.y * dims.z > kMaxVoxels)
+  if (static_cast<double>(dims.x) * dims.y * dims.z > static_cast<double>(kMaxGridVoxels))
     throw Error(fmt::format("{}: field 'shape': a grid of {}x{}x{} voxels, more than {}", a.what,
-                            dims.x, dims.y, dims.z, kMaxVoxels));
+                            dims.x, dims.y, dims.z, kMaxGridVoxels));
   return dims;
 }
 
@@ -247,18 +277,20 @@ bool is_zarr_folder(const std::filesystem::path& dir) {
 
 VolumeHeader read_ome_zarr_header(const std::filesystem::path& dir) {
   Layout layout;
-  const Level l = open_level(dir, read_attrs(dir), 0, &layout);
+  const json attrs = read_attrs(dir);
+  const Level l = open_level(dir, attrs, 0, &layout);
   VolumeHeader h;
   h.dims = grid_dims(l.array);
   h.type = storage_type_for(l.array.type);
-  h.index_to_world = placement(l);
+  h.index_to_world = placement(dir, attrs, l);
   h.frames = layout.time_axis < 0 ? 1 : static_cast<int>(l.array.shape[layout.time_axis]);
   return h;
 }
 
 VolumeData read_ome_zarr(const std::filesystem::path& dir, int level, int frame, int channel) {
   Layout layout;
-  const Level l = open_level(dir, read_attrs(dir), level, &layout);
+  const json attrs = read_attrs(dir);
+  const Level l = open_level(dir, attrs, level, &layout);
   const ZarrArray& a = l.array;
   std::vector<int64_t> lead(a.shape.size() - 3, 0);
   const auto pick = [&](int axis, int value, const char* name) {
@@ -272,7 +304,8 @@ VolumeData read_ome_zarr(const std::filesystem::path& dir, int level, int frame,
   pick(layout.channel_axis, channel, "channel");
   VolumeData v;
   v.dims = grid_dims(a);
-  v.index_to_world = placement(l);
+  v.index_to_world = placement(dir, attrs, l);
+  require_loadable_box(VoxelBox::whole(v.dims), a.what);
   const size_t count = static_cast<size_t>(v.dims.x) * v.dims.y * v.dims.z;
   v.voxels = load_voxels(a.type, count, a.big_endian, a.what,
                          [&](std::span<uint8_t> bytes) { read_zarr_block(a, lead, bytes); });

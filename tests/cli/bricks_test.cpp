@@ -1,0 +1,141 @@
+// Volumes too large to hold whole: `render` renders them brick by brick (also when --bricks N
+// asks), and `convert -o X.zarr` writes an OME-Zarr pyramid slab by slab, which reads back equal.
+#include <algorithm>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include "cli_runner.hpp"
+#include "intermix/image.hpp"
+#include "intermix/io.hpp"
+#include "intermix/metrics.hpp"
+#include "io/zarr/ome_zarr_reader.hpp"
+#include "ome_zarr_files.hpp"
+#include "shared_data.hpp"
+#include "temp_dir.hpp"
+
+namespace imx {
+namespace {
+
+namespace fs = std::filesystem;
+using test::run_cli;
+
+const char* kSmall = " --width 64 --height 64 -o ";
+
+// run_cli without --quiet: the notes and the summary line are what is checked.
+test::CliResult run_loud(const std::string& args) {
+  return test::run_shell(std::string(IMX_CLI_PATH) + " " + args + " 2>&1");
+}
+
+fs::path write_phantom(const test::TempDir& dir) {
+  const fs::path nrrd = dir / "head.nrrd";
+  const test::CliResult made = run_cli("phantom ct-head --size 96 --raw -o " + nrrd.string());
+  EXPECT_EQ(made.exit_code, 0) << made.output;
+  return nrrd;
+}
+
+TEST(CliBricks, AFrameInBricksIsTheWholeFrame) {
+  test::TempDir dir;
+  const std::string nrrd = write_phantom(dir).string();
+  const fs::path whole = dir / "whole.png", four = dir / "four.png", budget = dir / "budget.png";
+  const fs::path scene = dir / "scene.json";
+  // The scene a render in bricks chose (its camera frames the whole grid, as the visible part
+  // would need every voxel), rendered whole.
+  test::CliResult r = run_loud("render " + nrrd + " --bricks 4 --save-scene " + scene.string() +
+                               kSmall + four.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(test::contains(r.output, "zslab in 4 bricks")) << r.output;
+  r = run_cli("render " + scene.string() + " --method zslab" + kSmall + whole.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // 1.3 MB of voxels against a 1 MiB budget: past half of it, so rendered in bricks unasked.
+  r = run_loud("--max-memory 1M render " + nrrd + kSmall + budget.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(test::contains(r.output, "more than half the memory budget")) << r.output;
+  EXPECT_TRUE(test::contains(r.output, "rendering in bricks")) << r.output;
+  const Image reference = read_png(whole);
+  // Bricks cut where their neighbours begin, so a sample is never counted twice or missed:
+  // measured 62.4 and 70.3 dB; bricks that also render their aprons give 56 dB (test_dist's
+  // LocalComposite), the wrong camera of an outline 19 dB.
+  EXPECT_GE(psnr(reference, read_png(four)), 59.0);
+  EXPECT_GE(psnr(reference, read_png(budget)), 59.0);
+}
+
+TEST(CliBricks, ConvertWritesAPyramidThatReadsBackEqual) {
+  SKIP_WITHOUT_ZARR();
+  test::TempDir dir;
+  const fs::path nrrd = write_phantom(dir);
+  const fs::path zarr = dir / "head.zarr";
+  // A small budget: the volume is read slab by slab, by region.
+  test::CliResult r =
+      run_cli("--max-memory 1M convert " + nrrd.string() + " --chunk 16 -o " + zarr.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const VolumeData source = read_volume(nrrd), level0 = read_volume(zarr);
+  EXPECT_EQ(level0.dims, source.dims);
+  ASSERT_EQ(level0.type(), source.type());
+  const auto& a = std::get<VoxelBuffer<int16_t>>(level0.voxels);
+  const auto& b = std::get<VoxelBuffer<int16_t>>(source.voxels);
+  EXPECT_TRUE(std::equal(a.data(), a.data() + a.size(), b.data()));
+  for (int c = 0; c < 4; ++c)
+    for (int r4 = 0; r4 < 4; ++r4)
+      EXPECT_NEAR(level0.index_to_world[c][r4], source.index_to_world[c][r4], 1e-9) << c << r4;
+  // zarr-python reads every level; level 1 is the 2x2x2 means of level 0 (edges repeated),
+  // rounded half away from zero.
+  ASSERT_TRUE(test::run_zarr_python(dir, R"PY(
+g = zarr.open('head.zarr', mode='r')
+a = g['0'][...].astype('f8')
+pad = [(0, s % 2) for s in a.shape]
+p = np.pad(a, pad, mode='edge')
+m = p.reshape(p.shape[0] // 2, 2, p.shape[1] // 2, 2, p.shape[2] // 2, 2).mean(axis=(1, 3, 5))
+want = np.sign(m) * np.floor(np.abs(m) + 0.5)
+got = g['1'][...].astype('f8')
+assert got.shape == want.shape, (got.shape, want.shape)
+assert np.array_equal(got, want), np.abs(got - want).max()
+assert len(g.attrs['multiscales'][0]['datasets']) == len([k for k in g.array_keys()])
+print(len(g.attrs['multiscales'][0]['datasets']))
+)PY"));
+  // A second convert to the same folder is refused and leaves it as it was.
+  r = run_cli("convert " + nrrd.string() + " -o " + zarr.string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(test::contains(r.output, "exists")) << r.output;
+}
+
+TEST(CliBricks, AnObliqueGridKeepsItsPlacementInEveryLevel) {
+  const fs::path flair = test::shared_data("FLAIR.nii.gz");
+  SKIP_WITHOUT_SHARED_DATA(flair);
+  test::TempDir dir;
+  const fs::path zarr = dir / "flair.zarr";
+  const test::CliResult r = run_cli("convert " + flair.string() + " -o " + zarr.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const VolumeData source = read_volume(flair);
+  const VolumeHeader level0 = read_volume_header(zarr);
+  EXPECT_EQ(level0.dims, source.dims);
+  for (int c = 0; c < 4; ++c)
+    for (int row = 0; row < 4; ++row)
+      EXPECT_NEAR(level0.index_to_world[c][row], source.index_to_world[c][row], 1e-9);
+  // Level 1's voxel (0, 0, 0) averages voxels 0..1 of level 0 along each axis: its centre is
+  // level 0's index (0.5, 0.5, 0.5), wherever the oblique axes point.
+  const VolumeData level1 = detail::read_ome_zarr(zarr, 1);
+  const glm::dvec4 want = source.index_to_world * glm::dvec4(0.5, 0.5, 0.5, 1.0);
+  const glm::dvec4 got = level1.index_to_world * glm::dvec4(0.0, 0.0, 0.0, 1.0);
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(got[a], want[a], 1e-9) << a;
+  EXPECT_NEAR(glm::length(glm::dvec3(level1.index_to_world[0])),
+              2 * glm::length(glm::dvec3(source.index_to_world[0])), 1e-9);
+}
+
+TEST(CliBricks, AFailedConvertLeavesNothing) {
+  test::TempDir dir;
+  const fs::path nrrd = write_phantom(dir);
+  // Cut the data short: the slabs past the cut cannot be read.
+  fs::resize_file(nrrd, fs::file_size(nrrd) / 2);
+  const test::CliResult r =
+      run_cli("--max-memory 1M convert " + nrrd.string() + " -o " + (dir / "cut.zarr").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_TRUE(test::contains(r.output, "head.nrrd")) << r.output;
+  for (const auto& entry : fs::directory_iterator(dir.path()))
+    EXPECT_EQ(entry.path().string().find("cut.zarr"), std::string::npos) << entry.path();
+}
+
+}  // namespace
+}  // namespace imx
