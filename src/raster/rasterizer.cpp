@@ -85,6 +85,13 @@ struct RasterTriangle {
   uint32_t source = 0;  // a mesh's triangle index, or a plane's index into Impl::sources
 };
 
+// A mesh vertex as its triangles' setup needs it, made once per vertex.
+struct VertexSetup {
+  glm::dvec3 cam{0.0};   // camera space
+  int32_t x = 0, y = 0;  // snapped image position, where every clip plane has it inside
+  uint32_t inside = 0;   // bit i: inside clip plane i
+};
+
 FixedPoint corner_of(const RasterTriangle& rt, int i) {
   return {rt.x[i], rt.y[i]};
 }
@@ -93,9 +100,10 @@ struct FixedBounds {
   int64_t min_x, min_y, max_x, max_y;
 };
 
-FixedBounds bounds_of(const RasterTriangle& rt) {
-  return {std::min({rt.x[0], rt.x[1], rt.x[2]}), std::min({rt.y[0], rt.y[1], rt.y[2]}),
-          std::max({rt.x[0], rt.x[1], rt.x[2]}), std::max({rt.y[0], rt.y[1], rt.y[2]})};
+inline FixedBounds bounds_of(const RasterTriangle& rt) {
+  return {
+      std::min(rt.x[0], std::min(rt.x[1], rt.x[2])), std::min(rt.y[0], std::min(rt.y[1], rt.y[2])),
+      std::max(rt.x[0], std::max(rt.x[1], rt.x[2])), std::max(rt.y[0], std::max(rt.y[1], rt.y[2]))};
 }
 
 // The pixel span [lo, hi] whose samples (at fixed-point offsets [o_lo, o_hi]) can fall in
@@ -137,12 +145,16 @@ struct Rasterizer::Impl {
                    SourceTriangle& src) const;
   // Triangle `t` of mesh object `object`, set up as make_source does from the same numbers.
   bool mesh_source(uint32_t object, uint32_t t, SourceTriangle& src) const;
+  VertexSetup setup_vertex(const glm::dvec3& cam) const;
+  FixedPoint snap(const glm::dvec3& cam) const;
   // Appends the clipped, snapped pieces of a camera-space triangle that are on screen.
-  void add_pieces(const std::array<glm::dvec3, 3>& cam, uint32_t source,
+  void add_pieces(const std::array<const VertexSetup*, 3>& v, uint32_t source,
                   std::vector<RasterTriangle>& out) const;
+  void add_fan(const FixedPoint* fixed, int n, uint32_t source,
+               std::vector<RasterTriangle>& out) const;
   void add_triangle(const std::array<glm::dvec3, 3>& world, const std::array<glm::dvec3, 3>& cam,
                     uint32_t object);
-  void add_mesh(const std::string& name, uint32_t object, std::vector<glm::dvec3>& cam_positions);
+  void add_mesh(const std::string& name, uint32_t object, std::vector<VertexSetup>& vertices);
   // The object whose clipped triangles include `item`.
   uint32_t object_of(uint32_t item) const {
     auto it = std::upper_bound(objects.begin(), objects.end(), item,
@@ -296,36 +308,53 @@ bool Rasterizer::Impl::mesh_source(uint32_t object, uint32_t t, SourceTriangle& 
                      obj.has_colors ? &colors : nullptr, object, src);
 }
 
-void Rasterizer::Impl::add_pieces(const std::array<glm::dvec3, 3>& cam, uint32_t source,
+FixedPoint Rasterizer::Impl::snap(const glm::dvec3& cam) const {
+  const double guard = static_cast<double>(std::max(width, height));
+  glm::dvec2 q = camera.project_camera(cam);
+  // Clipping leaves points on the guard band up to rounding; the clamp bounds the integers.
+  q.x = std::clamp(q.x, -guard - 1.0, width + guard + 1.0);
+  q.y = std::clamp(q.y, -guard - 1.0, height + guard + 1.0);
+  return snap_to_subpixel(q);
+}
+
+VertexSetup Rasterizer::Impl::setup_vertex(const glm::dvec3& cam) const {
+  VertexSetup v;
+  v.cam = cam;
+  for (size_t i = 0; i < clip_planes.size(); ++i)
+    v.inside |= clip_distance(clip_planes[i], cam) >= 0.0 ? 1u << i : 0u;
+  if (v.inside == (1u << clip_planes.size()) - 1) {
+    const FixedPoint f = snap(cam);
+    v.x = static_cast<int32_t>(f.x);
+    v.y = static_cast<int32_t>(f.y);
+  }
+  return v;
+}
+
+void Rasterizer::Impl::add_pieces(const std::array<const VertexSetup*, 3>& v, uint32_t source,
                                   std::vector<RasterTriangle>& out) const {
   // Trivial accept/reject before paying for the clipper.
-  bool all_inside = true;
-  for (const ClipPlaneEq& plane : clip_planes) {
-    int inside = 0;
-    for (const glm::dvec3& p : cam) inside += clip_distance(plane, p) >= 0.0 ? 1 : 0;
-    if (inside == 0) return;
-    all_inside = all_inside && inside == 3;
+  const uint32_t all = (1u << clip_planes.size()) - 1;
+  if ((v[0]->inside | v[1]->inside | v[2]->inside) != all) return;  // all outside one plane
+  if ((v[0]->inside & v[1]->inside & v[2]->inside) == all) {
+    const FixedPoint fixed[3] = {{v[0]->x, v[0]->y}, {v[1]->x, v[1]->y}, {v[2]->x, v[2]->y}};
+    add_fan(fixed, 3, source, out);
+    return;
   }
   ClipPolygon poly;
   poly.n = 3;
-  std::copy(cam.begin(), cam.end(), poly.v.begin());
-  if (!all_inside)
-    for (const ClipPlaneEq& plane : clip_planes) {
-      clip_polygon(poly, plane);
-      if (poly.n < 3) return;
-    }
-
-  std::array<FixedPoint, ClipPolygon::kCapacity> fixed;
-  const double guard = static_cast<double>(std::max(width, height));
-  for (int i = 0; i < poly.n; ++i) {
-    glm::dvec2 q = camera.project_camera(poly.v[i]);
-    // Clipping leaves points on the guard band up to rounding; the clamp bounds the integers.
-    q.x = std::clamp(q.x, -guard - 1.0, width + guard + 1.0);
-    q.y = std::clamp(q.y, -guard - 1.0, height + guard + 1.0);
-    fixed[i] = snap_to_subpixel(q);
+  for (int i = 0; i < 3; ++i) poly.v[i] = v[i]->cam;
+  for (const ClipPlaneEq& plane : clip_planes) {
+    clip_polygon(poly, plane);
+    if (poly.n < 3) return;
   }
+  std::array<FixedPoint, ClipPolygon::kCapacity> fixed;
+  for (int i = 0; i < poly.n; ++i) fixed[i] = snap(poly.v[i]);
+  add_fan(fixed.data(), poly.n, source, out);
+}
 
-  for (int i = 1; i + 1 < poly.n; ++i) {  // fan: the shared diagonals are exact in fixed point
+void Rasterizer::Impl::add_fan(const FixedPoint* fixed, int n, uint32_t source,
+                               std::vector<RasterTriangle>& out) const {
+  for (int i = 1; i + 1 < n; ++i) {  // fan: the shared diagonals are exact in fixed point
     const FixedPoint corners[3] = {fixed[0], fixed[i], fixed[i + 1]};
     TriangleEdges edges;
     if (!setup_triangle_edges(corners, edges)) continue;
@@ -349,19 +378,20 @@ void Rasterizer::Impl::add_triangle(const std::array<glm::dvec3, 3>& world,
   SourceTriangle src;
   if (!make_source(world, cam, nullptr, nullptr, object, src)) return;
   const size_t before = triangles.size();
-  add_pieces(cam, static_cast<uint32_t>(sources.size()), triangles);
+  const VertexSetup v[3] = {setup_vertex(cam[0]), setup_vertex(cam[1]), setup_vertex(cam[2])};
+  add_pieces({&v[0], &v[1], &v[2]}, static_cast<uint32_t>(sources.size()), triangles);
   if (triangles.size() > before) sources.push_back(src);
 }
 
 void Rasterizer::Impl::add_mesh(const std::string& name, uint32_t object,
-                                std::vector<glm::dvec3>& cam_positions) {
+                                std::vector<VertexSetup>& vertices) {
   const Mesh& mesh = *objects[object].mesh;
   const size_t n_vertices = mesh.positions.size(), n = mesh.triangles.size();
-  // One transform per vertex: shared edges then clip and project bit-identically.
-  cam_positions.resize(n_vertices);
+  // One transform and projection per vertex: shared edges then clip and snap bit-identically.
+  vertices.resize(n_vertices);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n_vertices), [&](const auto& r) {
     for (size_t i = r.begin(); i != r.end(); ++i)
-      cam_positions[i] = camera.to_camera(glm::dvec3(mesh.positions[i]));
+      vertices[i] = setup_vertex(camera.to_camera(glm::dvec3(mesh.positions[i])));
   });
   // Blocks of chunks set up in parallel, appended in triangle order: the pieces in flight stay
   // a block's worth, whatever the mesh's size.
@@ -374,21 +404,17 @@ void Rasterizer::Impl::add_mesh(const std::string& name, uint32_t object,
       std::vector<RasterTriangle>& out = pieces[c];
       out.clear();
       first_bad[c] = SIZE_MAX;
-      SourceTriangle src;
       for (size_t t = b0 + c * kChunk; t < std::min(b1, b0 + (c + 1) * kChunk); ++t) {
         const glm::uvec3& tri = mesh.triangles[t];
         if (std::max({tri.x, tri.y, tri.z}) >= n_vertices) {
           first_bad[c] = t;
           return;
         }
-        const std::array<glm::dvec3, 3> cam = {cam_positions[tri.x], cam_positions[tri.y],
-                                               cam_positions[tri.z]};
-        // The shading attributes are not needed here; the geometry decides what shows.
-        if (!make_source({glm::dvec3(mesh.positions[tri.x]), glm::dvec3(mesh.positions[tri.y]),
-                          glm::dvec3(mesh.positions[tri.z])},
-                         cam, nullptr, nullptr, object, src))
-          continue;
-        add_pieces(cam, static_cast<uint32_t>(t), out);
+        const std::array<const VertexSetup*, 3> v = {&vertices[tri.x], &vertices[tri.y],
+                                                     &vertices[tri.z]};
+        // Not make_source here: the rare triangle it refuses (degenerate, edge-on) is refused
+        // per tile instead, its covered samples left as holes, so the fragments are the same.
+        add_pieces(v, static_cast<uint32_t>(t), out);
       }
     });
     for (size_t c = 0; c < chunks; ++c)
@@ -536,7 +562,7 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
   std::vector<bool> mesh_seen(scene.meshes.size(), false), plane_seen(scene.planes.size(), false);
   const std::vector<bool> clips = clip_meshes(scene), shown = shown_meshes(scene);
   const bool clip_only = objects == RasterObjects::clip;
-  std::vector<glm::dvec3> cam_positions;
+  std::vector<VertexSetup> mesh_vertices;
   // One piece per mesh triangle in the usual case: the clipped ones may grow the vector once.
   size_t expected = 2 * scene.planes.size();
   for (const MeshObject& mo : scene.meshes) expected += mo.mesh ? mo.mesh->triangles.size() : 0;
@@ -602,7 +628,7 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
       info.mesh = mo.mesh;
       info.raster_begin = static_cast<uint32_t>(im.triangles.size());
       im.objects.push_back(info);
-      im.add_mesh(mo.name, object, cam_positions);
+      im.add_mesh(mo.name, object, mesh_vertices);
     } else {
       plane_seen[ref.index] = true;
       const PlaneObject& pl = scene.planes[ref.index];
@@ -661,7 +687,7 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
   for (size_t i = 0; i < plane_seen.size(); ++i)
     if (!plane_seen[i])
       throw Error(fmt::format("plane '{}': missing from the scene order", scene.planes[i].name));
-  cam_positions = {};  // freed before the bins grow
+  mesh_vertices = {};  // freed before the bins grow
   im.build_bins();
   impl_ = std::move(impl);
 }
@@ -743,8 +769,8 @@ void Rasterizer::rasterize(const TileRect& tile, std::span<const glm::vec2> offs
   // Calls fn(sample index, triangle, offset index) for every sample the edges of a triangle
   // of this tile cover, in triangle (= scene) order.
   std::array<int64_t, kMaxSamples> d0, d1, d2;  // per-sample edge function increments
-  auto for_each_covered = [&](auto&& fn) {
-    for (uint32_t item : items) {
+  auto for_each_covered = [&](std::span<const uint32_t> of, auto&& fn) {
+    for (uint32_t item : of) {
       const RasterTriangle& rt = im.triangles[item];
       const FixedBounds bounds = bounds_of(rt);
       int64_t x0, x1, y0, y1;
@@ -789,9 +815,14 @@ void Rasterizer::rasterize(const TileRect& tile, std::span<const glm::vec2> offs
   std::vector<uint32_t>& start = out.offsets;
   std::vector<Fragment>& frags = out.fragments;
   start.assign(total_samples + 1, 0u);
-  for_each_covered([&](size_t sample, uint32_t, const RasterTriangle&, int64_t, int64_t, size_t) {
-    ++start[sample];
-  });
+  // Most of a dense mesh's triangles cover no sample: the fill pass visits only those that do.
+  std::vector<uint32_t>& hits = out.hits;
+  hits.clear();
+  for_each_covered(
+      items, [&](size_t sample, uint32_t item, const RasterTriangle&, int64_t, int64_t, size_t) {
+        ++start[sample];
+        if (hits.empty() || hits.back() != item) hits.push_back(item);
+      });
   uint32_t running = 0;
   for (size_t s = 0; s <= total_samples; ++s) {
     uint32_t c = start[s];
@@ -804,26 +835,24 @@ void Rasterizer::rasterize(const TileRect& tile, std::span<const glm::vec2> offs
   uint32_t current = UINT32_MAX;
   SourceTriangle mesh_src;
   const SourceTriangle* src_of_current = nullptr;
-  for_each_covered(
-      [&](size_t sample, uint32_t item, const RasterTriangle& rt, int64_t x, int64_t y, size_t s) {
-        if (item != current) {
-          current = item;
-          const uint32_t object = im.object_of(item);
-          if (im.objects[object].mesh) {
-            im.mesh_source(object, rt.source, mesh_src);
-            src_of_current = &mesh_src;
-          } else {
-            src_of_current = &im.sources[rt.source];
-          }
-        }
-        const SourceTriangle& src = *src_of_current;
-        Fragment& f = frags[start[sample]++];
-        if (!im.make_fragment(src, im.objects[src.object], static_cast<double>(x) + offsets[s].x,
-                              static_cast<double>(y) + offsets[s].y, f)) {
-          f.object = kHole;
-          holes = true;
-        }
-      });
+  for_each_covered(hits, [&](size_t sample, uint32_t item, const RasterTriangle& rt, int64_t x,
+                             int64_t y, size_t s) {
+    if (item != current) {
+      current = item;
+      const uint32_t object = im.object_of(item);
+      if (im.objects[object].mesh)
+        src_of_current = im.mesh_source(object, rt.source, mesh_src) ? &mesh_src : nullptr;
+      else
+        src_of_current = &im.sources[rt.source];
+    }
+    Fragment& f = frags[start[sample]++];
+    if (!src_of_current || !im.make_fragment(*src_of_current, im.objects[src_of_current->object],
+                                             static_cast<double>(x) + offsets[s].x,
+                                             static_cast<double>(y) + offsets[s].y, f)) {
+      f.object = kHole;
+      holes = true;
+    }
+  });
   // start[s] now holds the end of sample s, i.e. the beginning of s + 1.
   for (size_t s = total_samples; s > 0; --s) start[s] = start[s - 1];
   start[0] = 0;
