@@ -111,11 +111,19 @@ void compute_vertex_normals(Mesh& mesh, double crease_deg, std::vector<uint32_t>
   // Two corners at one place join when their faces share an edge there (the same other end)
   // and meet at no more than the crease angle; sorting by the other end finds the pairs in
   // O(k log k) for k corners, however many faces a hostile fan puts around one vertex. Joins
-  // stay within a place, so places are grouped in parallel.
+  // stay within a place, so places are grouped in parallel. Then one output vertex per
+  // (welded vertex, group), numbered in order of its first corner: a group lies at one place,
+  // so each place finds its first corners alone; the output triangles hold, per corner, that
+  // first corner until the numbering below.
   const double cos_crease = std::cos(std::clamp(crease_deg, 0.0, 180.0) * std::numbers::pi / 180.0);
   Groups groups(n_corners);
+  Mesh out;
+  out.triangles.resize(n_tri);
+  auto out_at = [&](uint32_t c) -> uint32_t& { return out.triangles[c / 3][c % 3]; };
+  std::vector<uint8_t> is_first(n_corners, 0);
   in_parallel(n_places, [&](size_t v0, size_t v1) {
-    std::vector<std::pair<uint32_t, uint32_t>> ends;  // (other end's place, corner)
+    std::vector<std::pair<uint32_t, uint32_t>> ends;             // (other end's place, corner)
+    std::vector<std::tuple<uint32_t, uint32_t, uint32_t>> keys;  // (welded vertex, root, corner)
     for (size_t v = v0; v < v1; ++v) {
       ends.clear();
       for (uint32_t i = offsets[v]; i < offsets[v + 1]; ++i) {
@@ -129,19 +137,7 @@ void compute_vertex_normals(Mesh& mesh, double crease_deg, std::vector<uint32_t>
         if (ends[i].first == ends[i - 1].first &&
             glm::dot(face[ends[i].second / 3], face[ends[i - 1].second / 3]) >= cos_crease - 1e-12)
           groups.join(ends[i].second, ends[i - 1].second);
-    }
-  });
 
-  // One output vertex per (welded vertex, group), numbered in order of its first corner. A
-  // group lies at one place, so each place finds its first corners alone; the output triangles
-  // hold, per corner, that first corner until the numbering below.
-  Mesh out;
-  out.triangles.resize(n_tri);
-  auto out_at = [&](uint32_t c) -> uint32_t& { return out.triangles[c / 3][c % 3]; };
-  std::vector<uint8_t> is_first(n_corners, 0);
-  in_parallel(n_places, [&](size_t v0, size_t v1) {
-    std::vector<std::tuple<uint32_t, uint32_t, uint32_t>> keys;  // (welded vertex, root, corner)
-    for (size_t v = v0; v < v1; ++v) {
       keys.clear();
       for (uint32_t i = offsets[v]; i < offsets[v + 1]; ++i)
         if (const uint32_t c = corners[i]; !degenerate(c))

@@ -21,7 +21,17 @@ template <size_t N>
 struct Keyed {
   std::array<uint32_t, N> bits;
   uint32_t index;
-  bool operator<(const Keyed& o) const { return bits != o.bits ? bits < o.bits : index < o.index; }
+  // Word by word: std::array's own comparisons call memcmp, which dominated the sort.
+  bool same_bits(const Keyed& o) const {
+    for (size_t i = 0; i < N; ++i)
+      if (bits[i] != o.bits[i]) return false;
+    return true;
+  }
+  bool operator<(const Keyed& o) const {
+    for (size_t i = 0; i < N; ++i)
+      if (bits[i] != o.bits[i]) return bits[i] < o.bits[i];
+    return index < o.index;
+  }
 };
 
 template <size_t N>
@@ -44,9 +54,9 @@ Weld weld(std::span<const glm::vec3> positions, std::span<const glm::vec3> color
     // Each vertex points at the first (lowest) input vertex of its run of equal bits.
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n), [&](const auto& r) {
       size_t run = r.begin();
-      while (run > 0 && keys[run - 1].bits == keys[r.begin()].bits) --run;
+      while (run > 0 && keys[run - 1].same_bits(keys[r.begin()])) --run;
       for (size_t j = r.begin(); j != r.end(); ++j) {
-        if (keys[j].bits != keys[run].bits) run = j;
+        if (!keys[j].same_bits(keys[run])) run = j;
         out.id[keys[j].index] = keys[run].index;
       }
     });
