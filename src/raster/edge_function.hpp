@@ -35,10 +35,15 @@ struct TriangleEdges {
   }
 };
 
+// Twice the signed area of triangle p[0..2]: positive when it winds counter-clockwise.
+inline int64_t twice_area(const FixedPoint (&p)[3]) {
+  return (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+}
+
 // Sets up the edges of triangle p[0..2] in either winding; false when its snapped area is zero.
 // Coordinates must stay below 2^29 in magnitude so that the sums of products fit in 64 bits.
 inline bool setup_triangle_edges(const FixedPoint (&p)[3], TriangleEdges& out) {
-  int64_t area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+  const int64_t area = twice_area(p);
   if (area == 0) return false;
   // Positive area: walk 0 -> 1 -> 2; negative: 0 -> 2 -> 1, so the inside is always E >= 0.
   const int order[3] = {0, area > 0 ? 1 : 2, area > 0 ? 2 : 1};

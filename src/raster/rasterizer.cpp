@@ -2,11 +2,17 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "core/blinn_phong.hpp"
 #include "core/math.hpp"
@@ -48,6 +54,9 @@ struct ObjectInfo {
   Material material;
   bool has_normals = false;
   bool has_colors = false;  // per-vertex colours scale the material colour
+  // Its triangles' setup is made again per tile from the mesh, not stored per triangle.
+  std::shared_ptr<const Mesh> mesh;
+  uint32_t raster_begin = 0;  // its clipped triangles start at this index of Impl::triangles
   // Plane.
   glm::vec3 plane_color{1.0f};
   float plane_opacity = 1.0f;
@@ -70,12 +79,33 @@ struct SourceTriangle {
   uint32_t front_facing = 0;
 };
 
-// One clipped triangle in fixed-point image space.
+// One clipped triangle: fixed-point image corners (guard-banded, so they fit 32 bits); its edges
+// and bounds are set up again where used, which costs less than storing them for 10 M triangles.
 struct RasterTriangle {
-  TriangleEdges edges;
-  int64_t min_x, min_y, max_x, max_y;  // fixed-point bounding box
-  uint32_t source = 0;                 // index into Impl::sources
+  int32_t x[3], y[3];
+  uint32_t source = 0;  // a mesh's triangle index, or a plane's index into Impl::sources
 };
+
+// A mesh vertex as its triangles' setup needs it, made once per vertex (12 bytes: the camera
+// position is made again for the few triangles the clipper cuts).
+struct VertexSetup {
+  int32_t x = 0, y = 0;  // snapped image position, where every clip plane has it inside
+  uint32_t inside = 0;   // bit i: inside clip plane i
+};
+
+FixedPoint corner_of(const RasterTriangle& rt, int i) {
+  return {rt.x[i], rt.y[i]};
+}
+
+struct FixedBounds {
+  int64_t min_x, min_y, max_x, max_y;
+};
+
+inline FixedBounds bounds_of(const RasterTriangle& rt) {
+  return {
+      std::min(rt.x[0], std::min(rt.x[1], rt.x[2])), std::min(rt.y[0], std::min(rt.y[1], rt.y[2])),
+      std::max(rt.x[0], std::max(rt.x[1], rt.x[2])), std::max(rt.y[0], std::max(rt.y[1], rt.y[2]))};
+}
 
 // The pixel span [lo, hi] whose samples (at fixed-point offsets [o_lo, o_hi]) can fall in
 // the fixed-point interval [min, max].
@@ -109,9 +139,31 @@ struct Rasterizer::Impl {
 
   explicit Impl(const CameraModel& c) : camera(c) {}
 
+  // The plane and shading of a triangle; false when it shows nothing (degenerate, edge-on).
+  bool make_source(const std::array<glm::dvec3, 3>& world, const std::array<glm::dvec3, 3>& cam,
+                   const std::array<glm::vec3, 3>* vertex_normals,
+                   const std::array<glm::vec3, 3>* vertex_colors, uint32_t object,
+                   SourceTriangle& src) const;
+  // Triangle `t` of mesh object `object`, set up as make_source does from the same numbers.
+  bool mesh_source(uint32_t object, uint32_t t, SourceTriangle& src) const;
+  VertexSetup setup_vertex(const glm::dvec3& cam) const;
+  FixedPoint snap(const glm::dvec3& cam) const;
+  // Appends the clipped, snapped pieces of a camera-space triangle that are on screen;
+  // `cam_of(i)` gives corner i in camera space, asked only where the clipper cuts.
+  template <class CamOf>
+  void add_pieces(const std::array<const VertexSetup*, 3>& v, const CamOf& cam_of, uint32_t source,
+                  std::vector<RasterTriangle>& out) const;
+  void add_fan(const FixedPoint* fixed, int n, uint32_t source,
+               std::vector<RasterTriangle>& out) const;
   void add_triangle(const std::array<glm::dvec3, 3>& world, const std::array<glm::dvec3, 3>& cam,
-                    const std::array<glm::vec3, 3>* vertex_normals,
-                    const std::array<glm::vec3, 3>* vertex_colors, uint32_t object);
+                    uint32_t object);
+  void add_mesh(const std::string& name, uint32_t object, std::vector<VertexSetup>& vertices);
+  // The object whose clipped triangles include `item`.
+  uint32_t object_of(uint32_t item) const {
+    auto it = std::upper_bound(objects.begin(), objects.end(), item,
+                               [](uint32_t i, const ObjectInfo& o) { return i < o.raster_begin; });
+    return static_cast<uint32_t>(it - objects.begin()) - 1;
+  }
   void build_bins();
   void add_tube_fragments(const TileRect& tile, std::span<const glm::vec2> offsets,
                           SampleFragments& out) const;
@@ -210,29 +262,28 @@ struct Rasterizer::Impl {
   }
 };
 
-void Rasterizer::Impl::add_triangle(const std::array<glm::dvec3, 3>& world,
-                                    const std::array<glm::dvec3, 3>& cam,
-                                    const std::array<glm::vec3, 3>* vertex_normals,
-                                    const std::array<glm::vec3, 3>* vertex_colors,
-                                    uint32_t object) {
+bool Rasterizer::Impl::make_source(const std::array<glm::dvec3, 3>& world,
+                                   const std::array<glm::dvec3, 3>& cam,
+                                   const std::array<glm::vec3, 3>* vertex_normals,
+                                   const std::array<glm::vec3, 3>* vertex_colors, uint32_t object,
+                                   SourceTriangle& src) const {
   glm::dvec3 n_world = glm::cross(world[1] - world[0], world[2] - world[0]);
   double len = glm::length(n_world);
-  if (!(len > 0.0) || !std::isfinite(len)) return;  // degenerate or non-finite: nothing to see
+  if (!(len > 0.0) || !std::isfinite(len)) return false;  // degenerate or non-finite
   n_world /= len;
 
-  SourceTriangle src;
   // Rotating the world normal keeps its orientation; camera space is left-handed, so a cross
   // product of camera-space edges would flip it.
   src.normal = glm::dvec3(glm::dot(n_world, camera.right()), glm::dot(n_world, camera.up()),
                           glm::dot(n_world, camera.forward()));
   src.offset = glm::dot(src.normal, cam[0]);
-  if (camera.perspective() ? src.offset == 0.0 : src.normal.z == 0.0) return;  // seen edge-on
+  if (camera.perspective() ? src.offset == 0.0 : src.normal.z == 0.0) return false;  // edge-on
   src.front_facing = (camera.perspective() ? src.offset < 0.0 : src.normal.z < 0.0) ? 1u : 0u;
   src.corner = cam[0];
   glm::dvec3 e1 = cam[1] - cam[0], e2 = cam[2] - cam[0];
   double d00 = glm::dot(e1, e1), d01 = glm::dot(e1, e2), d11 = glm::dot(e2, e2);
   double den = d00 * d11 - d01 * d01;
-  if (!(den > 0.0)) return;
+  if (!(den > 0.0)) return false;
   src.dual1 = glm::vec3((d11 * e1 - d01 * e2) / den);
   src.dual2 = glm::vec3((d00 * e2 - d01 * e1) / den);
   if (vertex_normals)
@@ -241,78 +292,201 @@ void Rasterizer::Impl::add_triangle(const std::array<glm::dvec3, 3>& world,
     src.normals.fill(glm::vec3(n_world));
   if (vertex_colors) src.colors = *vertex_colors;
   src.object = object;
+  return true;
+}
 
+bool Rasterizer::Impl::mesh_source(uint32_t object, uint32_t t, SourceTriangle& src) const {
+  const ObjectInfo& obj = objects[object];
+  const Mesh& mesh = *obj.mesh;
+  const glm::uvec3& tri = mesh.triangles[t];
+  std::array<glm::dvec3, 3> world, cam;
+  std::array<glm::vec3, 3> normals, colors;
+  for (int c = 0; c < 3; ++c) {
+    world[c] = glm::dvec3(mesh.positions[tri[c]]);
+    cam[c] = camera.to_camera(world[c]);
+    if (obj.has_normals) normals[c] = mesh.normals[tri[c]];
+    if (obj.has_colors) colors[c] = mesh.colors[tri[c]];
+  }
+  return make_source(world, cam, obj.has_normals ? &normals : nullptr,
+                     obj.has_colors ? &colors : nullptr, object, src);
+}
+
+FixedPoint Rasterizer::Impl::snap(const glm::dvec3& cam) const {
+  const double guard = static_cast<double>(std::max(width, height));
+  glm::dvec2 q = camera.project_camera(cam);
+  // Clipping leaves points on the guard band up to rounding; the clamp bounds the integers.
+  q.x = std::clamp(q.x, -guard - 1.0, width + guard + 1.0);
+  q.y = std::clamp(q.y, -guard - 1.0, height + guard + 1.0);
+  return snap_to_subpixel(q);
+}
+
+VertexSetup Rasterizer::Impl::setup_vertex(const glm::dvec3& cam) const {
+  VertexSetup v;
+  for (size_t i = 0; i < clip_planes.size(); ++i)
+    v.inside |= clip_distance(clip_planes[i], cam) >= 0.0 ? 1u << i : 0u;
+  if (v.inside == (1u << clip_planes.size()) - 1) {
+    const FixedPoint f = snap(cam);
+    v.x = static_cast<int32_t>(f.x);
+    v.y = static_cast<int32_t>(f.y);
+  }
+  return v;
+}
+
+template <class CamOf>
+void Rasterizer::Impl::add_pieces(const std::array<const VertexSetup*, 3>& v, const CamOf& cam_of,
+                                  uint32_t source, std::vector<RasterTriangle>& out) const {
   // Trivial accept/reject before paying for the clipper.
-  bool all_inside = true;
-  for (const ClipPlaneEq& plane : clip_planes) {
-    int inside = 0;
-    for (const glm::dvec3& p : cam) inside += clip_distance(plane, p) >= 0.0 ? 1 : 0;
-    if (inside == 0) return;
-    all_inside = all_inside && inside == 3;
+  const uint32_t all = (1u << clip_planes.size()) - 1;
+  if ((v[0]->inside | v[1]->inside | v[2]->inside) != all) return;  // all outside one plane
+  if ((v[0]->inside & v[1]->inside & v[2]->inside) == all) {
+    const FixedPoint fixed[3] = {{v[0]->x, v[0]->y}, {v[1]->x, v[1]->y}, {v[2]->x, v[2]->y}};
+    add_fan(fixed, 3, source, out);
+    return;
   }
   ClipPolygon poly;
   poly.n = 3;
-  std::copy(cam.begin(), cam.end(), poly.v.begin());
-  if (!all_inside)
-    for (const ClipPlaneEq& plane : clip_planes) {
-      clip_polygon(poly, plane);
-      if (poly.n < 3) return;
-    }
-
+  for (int i = 0; i < 3; ++i) poly.v[i] = cam_of(i);
+  for (const ClipPlaneEq& plane : clip_planes) {
+    clip_polygon(poly, plane);
+    if (poly.n < 3) return;
+  }
   std::array<FixedPoint, ClipPolygon::kCapacity> fixed;
-  const double guard = static_cast<double>(std::max(width, height));
-  for (int i = 0; i < poly.n; ++i) {
-    glm::dvec2 q = camera.project_camera(poly.v[i]);
-    // Clipping leaves points on the guard band up to rounding; the clamp bounds the integers.
-    q.x = std::clamp(q.x, -guard - 1.0, width + guard + 1.0);
-    q.y = std::clamp(q.y, -guard - 1.0, height + guard + 1.0);
-    fixed[i] = snap_to_subpixel(q);
-  }
+  for (int i = 0; i < poly.n; ++i) fixed[i] = snap(poly.v[i]);
+  add_fan(fixed.data(), poly.n, source, out);
+}
 
-  const uint32_t source_index = static_cast<uint32_t>(sources.size());
-  bool used = false;
-  for (int i = 1; i + 1 < poly.n; ++i) {  // fan: the shared diagonals are exact in fixed point
+void Rasterizer::Impl::add_fan(const FixedPoint* fixed, int n, uint32_t source,
+                               std::vector<RasterTriangle>& out) const {
+  for (int i = 1; i + 1 < n; ++i) {  // fan: the shared diagonals are exact in fixed point
     const FixedPoint corners[3] = {fixed[0], fixed[i], fixed[i + 1]};
+    if (twice_area(corners) == 0) continue;  // setup_triangle_edges would refuse it
     RasterTriangle rt;
-    if (!setup_triangle_edges(corners, rt.edges)) continue;
-    rt.min_x = std::min({corners[0].x, corners[1].x, corners[2].x});
-    rt.max_x = std::max({corners[0].x, corners[1].x, corners[2].x});
-    rt.min_y = std::min({corners[0].y, corners[1].y, corners[2].y});
-    rt.max_y = std::max({corners[0].y, corners[1].y, corners[2].y});
+    for (int c = 0; c < 3; ++c) {
+      rt.x[c] = static_cast<int32_t>(corners[c].x);
+      rt.y[c] = static_cast<int32_t>(corners[c].y);
+    }
+    const FixedBounds b = bounds_of(rt);
     int64_t x0, x1, y0, y1;
-    pixel_span(rt.min_x, rt.max_x, 0, kSubpixelScale, x0, x1);
-    pixel_span(rt.min_y, rt.max_y, 0, kSubpixelScale, y0, y1);
+    pixel_span(b.min_x, b.max_x, 0, kSubpixelScale, x0, x1);
+    pixel_span(b.min_y, b.max_y, 0, kSubpixelScale, y0, y1);
     if (x1 < 0 || y1 < 0 || x0 >= width || y0 >= height) continue;  // off screen
-    rt.source = source_index;
-    triangles.push_back(rt);
-    used = true;
+    rt.source = source;
+    out.push_back(rt);
   }
-  if (used) sources.push_back(src);
+}
+
+void Rasterizer::Impl::add_triangle(const std::array<glm::dvec3, 3>& world,
+                                    const std::array<glm::dvec3, 3>& cam, uint32_t object) {
+  SourceTriangle src;
+  if (!make_source(world, cam, nullptr, nullptr, object, src)) return;
+  const size_t before = triangles.size();
+  const VertexSetup v[3] = {setup_vertex(cam[0]), setup_vertex(cam[1]), setup_vertex(cam[2])};
+  add_pieces(
+      {&v[0], &v[1], &v[2]}, [&](int i) { return cam[i]; }, static_cast<uint32_t>(sources.size()),
+      triangles);
+  if (triangles.size() > before) sources.push_back(src);
+}
+
+void Rasterizer::Impl::add_mesh(const std::string& name, uint32_t object,
+                                std::vector<VertexSetup>& vertices) {
+  const Mesh& mesh = *objects[object].mesh;
+  const size_t n_vertices = mesh.positions.size(), n = mesh.triangles.size();
+  // One transform and projection per vertex: shared edges then clip and snap bit-identically.
+  vertices.resize(n_vertices);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n_vertices), [&](const auto& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i)
+      vertices[i] = setup_vertex(camera.to_camera(glm::dvec3(mesh.positions[i])));
+  });
+  // Blocks of chunks set up in parallel, appended in triangle order: the pieces in flight stay
+  // a block's worth, whatever the mesh's size.
+  constexpr size_t kChunk = size_t{1} << 14, kBlock = 64 * kChunk;
+  std::vector<std::vector<RasterTriangle>> pieces(kBlock / kChunk);
+  std::vector<size_t> first_bad(pieces.size());
+  for (size_t b0 = 0; b0 < n; b0 += kBlock) {
+    const size_t b1 = std::min(n, b0 + kBlock), chunks = (b1 - b0 + kChunk - 1) / kChunk;
+    tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
+      std::vector<RasterTriangle>& out = pieces[c];
+      out.clear();
+      first_bad[c] = SIZE_MAX;
+      for (size_t t = b0 + c * kChunk; t < std::min(b1, b0 + (c + 1) * kChunk); ++t) {
+        const glm::uvec3& tri = mesh.triangles[t];
+        if (std::max({tri.x, tri.y, tri.z}) >= n_vertices) {
+          first_bad[c] = t;
+          return;
+        }
+        const std::array<const VertexSetup*, 3> v = {&vertices[tri.x], &vertices[tri.y],
+                                                     &vertices[tri.z]};
+        // Not make_source here: the rare triangle it refuses (degenerate, edge-on) is refused
+        // per tile instead, its covered samples left as holes, so the fragments are the same.
+        add_pieces(
+            v, [&](int i) { return camera.to_camera(glm::dvec3(mesh.positions[tri[i]])); },
+            static_cast<uint32_t>(t), out);
+      }
+    });
+    for (size_t c = 0; c < chunks; ++c)
+      if (first_bad[c] != SIZE_MAX) {
+        const glm::uvec3& tri = mesh.triangles[first_bad[c]];
+        const uint32_t bad = tri.x >= n_vertices ? tri.x : tri.y >= n_vertices ? tri.y : tri.z;
+        throw Error(fmt::format("mesh '{}': triangle {} refers to vertex {} of {}", name,
+                                first_bad[c], bad, n_vertices));
+      }
+    std::vector<size_t> at(chunks + 1, triangles.size());
+    for (size_t c = 0; c < chunks; ++c) at[c + 1] = at[c] + pieces[c].size();
+    triangles.resize(at[chunks]);
+    tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
+      std::copy(pieces[c].begin(), pieces[c].end(), triangles.begin() + at[c]);
+    });
+  }
 }
 
 void Rasterizer::Impl::build_bins() {
   const size_t tile_count = static_cast<size_t>(tiles_x) * tiles_y;
-  bin_offsets.assign(tile_count + 1, 0);
-  // Two passes, count then fill, keep every bin in triangle (= scene) order.
+  // A shift for the usual power-of-two tiles: a division per corner was a tenth of the bins.
+  const bool power_of_two = (tile_size & (tile_size - 1)) == 0;
+  const int shift = std::countr_zero(static_cast<unsigned>(tile_size));
+  auto tile_of = [&](int64_t pixel) {
+    return static_cast<int>(power_of_two ? pixel >> shift : pixel / tile_size);
+  };
   auto for_each_tile_of = [&](const RasterTriangle& rt, auto&& fn) {
+    const FixedBounds bounds = bounds_of(rt);
     int64_t x0, x1, y0, y1;
-    pixel_span(rt.min_x, rt.max_x, 0, kSubpixelScale, x0, x1);
-    pixel_span(rt.min_y, rt.max_y, 0, kSubpixelScale, y0, y1);
-    int tx0 = static_cast<int>(std::max<int64_t>(x0, 0) / tile_size);
-    int tx1 = static_cast<int>(std::min<int64_t>(x1, width - 1) / tile_size);
-    int ty0 = static_cast<int>(std::max<int64_t>(y0, 0) / tile_size);
-    int ty1 = static_cast<int>(std::min<int64_t>(y1, height - 1) / tile_size);
+    pixel_span(bounds.min_x, bounds.max_x, 0, kSubpixelScale, x0, x1);
+    pixel_span(bounds.min_y, bounds.max_y, 0, kSubpixelScale, y0, y1);
+    const int tx0 = tile_of(std::max<int64_t>(x0, 0)),
+              tx1 = tile_of(std::min<int64_t>(x1, width - 1));
+    const int ty0 = tile_of(std::max<int64_t>(y0, 0)),
+              ty1 = tile_of(std::min<int64_t>(y1, height - 1));
     for (int ty = ty0; ty <= ty1; ++ty)
       for (int tx = tx0; tx <= tx1; ++tx) fn(static_cast<size_t>(ty) * tiles_x + tx);
   };
-  for (const RasterTriangle& rt : triangles)
-    for_each_tile_of(rt, [&](size_t b) { ++bin_offsets[b + 1]; });
-  for (size_t b = 0; b < tile_count; ++b) bin_offsets[b + 1] += bin_offsets[b];
+  // Chunks of triangles count, then fill, in parallel; chunk c's items of a bin go after those
+  // of chunks before it, so every bin stays in triangle (= scene) order.
+  const size_t n = triangles.size();
+  const size_t chunks = std::clamp<size_t>(n / (size_t{1 << 16} + tile_count), 1, 16);
+  const size_t per_chunk = (n + chunks - 1) / chunks;
+  std::vector<uint32_t> cursor(chunks * tile_count, 0);
+  tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
+    uint32_t* count = cursor.data() + c * tile_count;
+    for (size_t i = c * per_chunk; i < std::min(n, (c + 1) * per_chunk); ++i)
+      for_each_tile_of(triangles[i], [&](size_t b) { ++count[b]; });
+  });
+  bin_offsets.assign(tile_count + 1, 0);
+  for (size_t b = 0; b < tile_count; ++b) {
+    uint32_t at = bin_offsets[b];
+    for (size_t c = 0; c < chunks; ++c) {
+      const uint32_t count = cursor[c * tile_count + b];
+      cursor[c * tile_count + b] = at;
+      at += count;
+    }
+    bin_offsets[b + 1] = at;
+  }
   bin_items.resize(bin_offsets[tile_count]);
-  std::vector<uint32_t> cursor(bin_offsets.begin(), bin_offsets.end() - 1);
-  for (size_t i = 0; i < triangles.size(); ++i)
-    for_each_tile_of(triangles[i],
-                     [&](size_t b) { bin_items[cursor[b]++] = static_cast<uint32_t>(i); });
+  tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
+    uint32_t* next = cursor.data() + c * tile_count;
+    for (size_t i = c * per_chunk; i < std::min(n, (c + 1) * per_chunk); ++i)
+      for_each_tile_of(triangles[i],
+                       [&](size_t b) { bin_items[next[b]++] = static_cast<uint32_t>(i); });
+  });
 }
 
 namespace {
@@ -397,11 +571,14 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
 
   for (const Light& light : scene.lights) im.lights.push_back(resolve_light(light));
 
-  auto to_camera = [&](const glm::vec3& p) { return camera.to_camera(glm::dvec3(p)); };
   std::vector<bool> mesh_seen(scene.meshes.size(), false), plane_seen(scene.planes.size(), false);
   const std::vector<bool> clips = clip_meshes(scene), shown = shown_meshes(scene);
   const bool clip_only = objects == RasterObjects::clip;
-  std::vector<glm::dvec3> cam_positions;
+  std::vector<VertexSetup> mesh_vertices;
+  // One piece per mesh triangle in the usual case: the clipped ones may grow the vector once.
+  size_t expected = 2 * scene.planes.size();
+  for (const MeshObject& mo : scene.meshes) expected += mo.mesh ? mo.mesh->triangles.size() : 0;
+  im.triangles.reserve(expected);
   for (size_t k = 0; k < scene.order.size(); ++k) {
     const ObjectRef& ref = scene.order[k];
     if (ref.kind == ObjectKind::volume) continue;
@@ -460,29 +637,10 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
       info.material = mo.material;
       info.has_normals = has_normals;
       info.has_colors = has_colors;
+      info.mesh = mo.mesh;
+      info.raster_begin = static_cast<uint32_t>(im.triangles.size());
       im.objects.push_back(info);
-      // One transform per vertex: shared edges then clip and project bit-identically.
-      cam_positions.resize(mesh.positions.size());
-      std::transform(mesh.positions.begin(), mesh.positions.end(), cam_positions.begin(),
-                     to_camera);
-      for (size_t t = 0; t < mesh.triangles.size(); ++t) {
-        const glm::uvec3& tri = mesh.triangles[t];
-        for (int c = 0; c < 3; ++c)
-          if (tri[c] >= mesh.positions.size())
-            throw Error(fmt::format("mesh '{}': triangle {} refers to vertex {} of {}", mo.name, t,
-                                    tri[c], mesh.positions.size()));
-        std::array<glm::dvec3, 3> world = {glm::dvec3(mesh.positions[tri[0]]),
-                                           glm::dvec3(mesh.positions[tri[1]]),
-                                           glm::dvec3(mesh.positions[tri[2]])};
-        std::array<glm::dvec3, 3> cam = {cam_positions[tri[0]], cam_positions[tri[1]],
-                                         cam_positions[tri[2]]};
-        std::array<glm::vec3, 3> normals, colors;
-        if (has_normals)
-          normals = {mesh.normals[tri[0]], mesh.normals[tri[1]], mesh.normals[tri[2]]};
-        if (has_colors) colors = {mesh.colors[tri[0]], mesh.colors[tri[1]], mesh.colors[tri[2]]};
-        im.add_triangle(world, cam, has_normals ? &normals : nullptr,
-                        has_colors ? &colors : nullptr, object);
-      }
+      im.add_mesh(mo.name, object, mesh_vertices);
     } else {
       plane_seen[ref.index] = true;
       const PlaneObject& pl = scene.planes[ref.index];
@@ -516,6 +674,7 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
       info.is_plane = true;
       info.plane_color = pl.color;
       info.plane_opacity = pl.opacity;
+      info.raster_begin = static_cast<uint32_t>(im.triangles.size());
       im.objects.push_back(info);
       // Height along `up` made perpendicular to the normal, width along height x normal, so
       // (width, height, normal) is right-handed and the triangles wind around the normal.
@@ -530,10 +689,8 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
                                            pl.center + hu + hv, pl.center - hu + hv};
       std::array<glm::dvec3, 4> cam;
       for (int c = 0; c < 4; ++c) cam[c] = camera.to_camera(corners[c]);
-      im.add_triangle({corners[0], corners[1], corners[2]}, {cam[0], cam[1], cam[2]}, nullptr,
-                      nullptr, object);
-      im.add_triangle({corners[0], corners[2], corners[3]}, {cam[0], cam[2], cam[3]}, nullptr,
-                      nullptr, object);
+      im.add_triangle({corners[0], corners[1], corners[2]}, {cam[0], cam[1], cam[2]}, object);
+      im.add_triangle({corners[0], corners[2], corners[3]}, {cam[0], cam[2], cam[3]}, object);
     }
   }
   for (size_t i = 0; i < mesh_seen.size(); ++i)
@@ -542,6 +699,7 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
   for (size_t i = 0; i < plane_seen.size(); ++i)
     if (!plane_seen[i])
       throw Error(fmt::format("plane '{}': missing from the scene order", scene.planes[i].name));
+  mesh_vertices = {};  // freed before the bins grow
   im.build_bins();
   impl_ = std::move(impl);
 }
@@ -623,18 +781,21 @@ void Rasterizer::rasterize(const TileRect& tile, std::span<const glm::vec2> offs
   // Calls fn(sample index, triangle, offset index) for every sample the edges of a triangle
   // of this tile cover, in triangle (= scene) order.
   std::array<int64_t, kMaxSamples> d0, d1, d2;  // per-sample edge function increments
-  auto for_each_covered = [&](auto&& fn) {
-    for (uint32_t item : items) {
+  auto for_each_covered = [&](std::span<const uint32_t> of, auto&& fn) {
+    for (uint32_t item : of) {
       const RasterTriangle& rt = im.triangles[item];
-      const TriangleEdges& e = rt.edges;
+      const FixedBounds bounds = bounds_of(rt);
       int64_t x0, x1, y0, y1;
-      pixel_span(rt.min_x, rt.max_x, ox_lo, ox_hi, x0, x1);
-      pixel_span(rt.min_y, rt.max_y, oy_lo, oy_hi, y0, y1);
+      pixel_span(bounds.min_x, bounds.max_x, ox_lo, ox_hi, x0, x1);
+      pixel_span(bounds.min_y, bounds.max_y, oy_lo, oy_hi, y0, y1);
       x0 = std::max<int64_t>(x0, tile.x0);
       x1 = std::min<int64_t>(x1, tile.x1 - 1);
       y0 = std::max<int64_t>(y0, tile.y0);
       y1 = std::min<int64_t>(y1, tile.y1 - 1);
       if (x0 > x1 || y0 > y1) continue;
+      const FixedPoint corners[3] = {corner_of(rt, 0), corner_of(rt, 1), corner_of(rt, 2)};
+      TriangleEdges e;
+      if (!setup_triangle_edges(corners, e)) continue;  // never: the setup kept non-zero areas
       // E(pixel corner + offset) = E(pixel corner) + d[s], exactly, in integers.
       int64_t max0 = INT64_MIN, max1 = INT64_MIN, max2 = INT64_MIN;
       for (size_t s = 0; s < sample_count; ++s) {
@@ -655,7 +816,7 @@ void Rasterizer::rasterize(const TileRect& tile, std::span<const glm::vec2> offs
           const size_t base =
               (static_cast<size_t>(y - tile.y0) * tw + (x - tile.x0)) * sample_count;
           for (size_t s = 0; s < sample_count; ++s)
-            if (((e0 + d0[s]) | (e1 + d1[s]) | (e2 + d2[s])) >= 0) fn(base + s, rt, x, y, s);
+            if (((e0 + d0[s]) | (e1 + d1[s]) | (e2 + d2[s])) >= 0) fn(base + s, item, rt, x, y, s);
         }
     }
   };
@@ -666,8 +827,14 @@ void Rasterizer::rasterize(const TileRect& tile, std::span<const glm::vec2> offs
   std::vector<uint32_t>& start = out.offsets;
   std::vector<Fragment>& frags = out.fragments;
   start.assign(total_samples + 1, 0u);
+  // Most of a dense mesh's triangles cover no sample: the fill pass visits only those that do.
+  std::vector<uint32_t>& hits = out.hits;
+  hits.clear();
   for_each_covered(
-      [&](size_t sample, const RasterTriangle&, int64_t, int64_t, size_t) { ++start[sample]; });
+      items, [&](size_t sample, uint32_t item, const RasterTriangle&, int64_t, int64_t, size_t) {
+        ++start[sample];
+        if (hits.empty() || hits.back() != item) hits.push_back(item);
+      });
   uint32_t running = 0;
   for (size_t s = 0; s <= total_samples; ++s) {
     uint32_t c = start[s];
@@ -676,11 +843,24 @@ void Rasterizer::rasterize(const TileRect& tile, std::span<const glm::vec2> offs
   }
   frags.resize(running);
   bool holes = false;
-  for_each_covered([&](size_t sample, const RasterTriangle& rt, int64_t x, int64_t y, size_t s) {
-    const SourceTriangle& src = im.sources[rt.source];
+  // A mesh triangle's setup is made once per tile it covers samples of, when it first does.
+  uint32_t current = UINT32_MAX;
+  SourceTriangle mesh_src;
+  const SourceTriangle* src_of_current = nullptr;
+  for_each_covered(hits, [&](size_t sample, uint32_t item, const RasterTriangle& rt, int64_t x,
+                             int64_t y, size_t s) {
+    if (item != current) {
+      current = item;
+      const uint32_t object = im.object_of(item);
+      if (im.objects[object].mesh)
+        src_of_current = im.mesh_source(object, rt.source, mesh_src) ? &mesh_src : nullptr;
+      else
+        src_of_current = &im.sources[rt.source];
+    }
     Fragment& f = frags[start[sample]++];
-    if (!im.make_fragment(src, im.objects[src.object], static_cast<double>(x) + offsets[s].x,
-                          static_cast<double>(y) + offsets[s].y, f)) {
+    if (!src_of_current || !im.make_fragment(*src_of_current, im.objects[src_of_current->object],
+                                             static_cast<double>(x) + offsets[s].x,
+                                             static_cast<double>(y) + offsets[s].y, f)) {
       f.object = kHole;
       holes = true;
     }

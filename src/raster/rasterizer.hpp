@@ -21,6 +21,7 @@ namespace imx {
 struct SampleFragments {
   std::vector<uint32_t> offsets;
   std::vector<Fragment> fragments;
+  std::vector<uint32_t> hits;  // scratch: the tile's triangles that cover a sample
 
   std::span<const Fragment> of(size_t sample) const {
     return {fragments.data() + offsets[sample], fragments.data() + offsets[sample + 1]};
@@ -68,7 +69,8 @@ class Rasterizer {
                  FragmentOrder order = FragmentOrder::depth) const;
 
   int tile_size() const { return tile_size_; }
-  // Triangles after near-plane and guard-band clipping that overlap the image.
+  // Triangles after near-plane and guard-band clipping that overlap the image (a mesh's
+  // degenerate or edge-on triangles included: they make no fragments).
   size_t triangle_count() const;
 
  private:

@@ -226,7 +226,11 @@ MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context) {
     for (int row = 0; row < 4; ++row) key += fmt::format(" {}", transform[c][row]);
   context.used.insert(key);
   auto [it, fresh] = context.placed_meshes.try_emplace(key);
-  if (fresh) it->second = std::make_shared<const Mesh>(transform_mesh(*mesh, transform));
+  // The identity places the mesh as it is: no second copy of a large mesh.
+  if (fresh)
+    it->second = transform == glm::dmat4(1.0)
+                     ? mesh
+                     : std::make_shared<const Mesh>(transform_mesh(*mesh, transform));
   m.mesh = it->second;
   return m;
 }

@@ -1,6 +1,7 @@
 #include "io/mesh/ply_reader.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cctype>
 #include <charconv>
@@ -15,6 +16,8 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <glm/glm.hpp>
 
 #include "core/colour.hpp"
@@ -80,6 +83,9 @@ class BodyReader {
   bool read(Type type, double& out) {
     return format_ == Format::ascii ? read_text(out) : read_binary(type, out);
   }
+
+  size_t pos() const { return pos_; }
+  void skip_to(size_t pos) { pos_ = pos; }
 
  private:
   bool read_text(double& out) {
@@ -156,14 +162,19 @@ class PlyParser {
   explicit PlyParser(const std::filesystem::path& file) : file_(file) {}
 
   Mesh parse() {
-    std::ifstream in(file_, std::ios::binary);
+    std::ifstream in(file_, std::ios::binary | std::ios::ate);
     if (!in) fail("cannot open the file");
-    data_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    data_.resize(static_cast<size_t>(in.tellg()));
+    in.seekg(0);
+    if (!in.read(data_.data(), static_cast<std::streamsize>(data_.size())))
+      fail("cannot read the file");
     size_t body = parse_header();
     BodyReader reader(data_, body, format_);
     Mesh mesh;
     bool has_normals = false, has_colors = false;
-    for (const Element& e : elements_) read_element(reader, e, mesh, has_normals, has_colors);
+    for (const Element& e : elements_)
+      if (!read_triangles_in_parallel(reader, e, mesh))
+        read_element(reader, e, mesh, has_normals, has_colors);
     for (const glm::uvec3& t : mesh.triangles)
       if (t.x >= mesh.positions.size() || t.y >= mesh.positions.size() ||
           t.z >= mesh.positions.size())
@@ -281,6 +292,10 @@ class PlyParser {
       has_colors = r >= 0 && g >= 0 && b >= 0;  // an alpha channel is read past, not used
       // Each vertex needs at least one byte or character: bound the allocation by the file.
       if (e.count > data_.size()) fail("the vertex count exceeds the file size");
+      if (read_vertices_in_parallel(reader, e, mesh, {x, y, z},
+                                    has_normals ? glm::ivec3(nx, ny, nz) : glm::ivec3(-1),
+                                    has_colors ? glm::ivec3(r, g, b) : glm::ivec3(-1)))
+        return;
       mesh.positions.reserve(e.count);
       if (has_colors) mesh.colors.reserve(e.count);
     }
@@ -314,21 +329,115 @@ class PlyParser {
         if (static_cast<int>(i) == indices) add_polygon(list, mesh, e, k);
       }
       if (is_vertex) {
-        glm::dvec3 pos(scalars[x], scalars[y], scalars[z]);
-        if (!std::isfinite(pos.x) || !std::isfinite(pos.y) || !std::isfinite(pos.z))
+        VertexValues v;
+        if (!vertex_values(scalars.data(), e, {x, y, z},
+                           has_normals ? glm::ivec3(nx, ny, nz) : glm::ivec3(-1),
+                           has_colors ? glm::ivec3(r, g, b) : glm::ivec3(-1), v))
           fail(fmt::format("vertex {} has a non-finite coordinate", k));
-        mesh.positions.emplace_back(pos);
-        if (has_normals) {
-          glm::dvec3 n(scalars[nx], scalars[ny], scalars[nz]);
-          double len = glm::length(n);
-          mesh.normals.emplace_back(std::isfinite(len) && len > 0.0 ? n / len : glm::dvec3(0.0));
-        }
-        if (has_colors)
-          mesh.colors.emplace_back(channel(scalars[r], e.properties[r].type),
-                                   channel(scalars[g], e.properties[g].type),
-                                   channel(scalars[b], e.properties[b].type));
+        mesh.positions.push_back(v.position);
+        if (has_normals) mesh.normals.push_back(v.normal);
+        if (has_colors) mesh.colors.push_back(v.color);
       }
     }
+  }
+
+  struct VertexValues {
+    glm::vec3 position, normal, color;
+  };
+
+  // One vertex's position, unit normal and linear colour from its property values (normal and
+  // colour where their indices are not -1); false for a non-finite position.
+  static bool vertex_values(const double* scalars, const Element& e, glm::ivec3 xyz,
+                            glm::ivec3 normal, glm::ivec3 rgb, VertexValues& out) {
+    glm::dvec3 pos(scalars[xyz.x], scalars[xyz.y], scalars[xyz.z]);
+    if (!std::isfinite(pos.x) || !std::isfinite(pos.y) || !std::isfinite(pos.z)) return false;
+    out.position = glm::vec3(pos);
+    if (normal.x >= 0) {
+      glm::dvec3 n(scalars[normal.x], scalars[normal.y], scalars[normal.z]);
+      double len = glm::length(n);
+      out.normal = glm::vec3(std::isfinite(len) && len > 0.0 ? n / len : glm::dvec3(0.0));
+    }
+    if (rgb.x >= 0)
+      out.color = glm::vec3(channel(scalars[rgb.x], e.properties[rgb.x].type),
+                            channel(scalars[rgb.y], e.properties[rgb.y].type),
+                            channel(scalars[rgb.z], e.properties[rgb.z].type));
+    return true;
+  }
+
+  // Binary vertices without lists have one size each: read on every core. False (nothing
+  // read) where the element does not qualify or its data ends early, for the one-core path
+  // and its messages.
+  bool read_vertices_in_parallel(BodyReader& reader, const Element& e, Mesh& mesh, glm::ivec3 xyz,
+                                 glm::ivec3 normal, glm::ivec3 rgb) {
+    if (format_ == Format::ascii) return false;
+    size_t stride = 0;
+    for (const Property& p : e.properties) {
+      if (p.is_list) return false;
+      stride += type_size(p.type);
+    }
+    const size_t begin = reader.pos();
+    if (e.count > (data_.size() - begin) / stride) return false;
+    const size_t n = static_cast<size_t>(e.count);
+    mesh.positions.resize(n);
+    if (normal.x >= 0) mesh.normals.resize(n);
+    if (rgb.x >= 0) mesh.colors.resize(n);
+    std::atomic<size_t> first_bad{SIZE_MAX};
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n), [&](const auto& range) {
+      std::vector<double> scalars(e.properties.size());
+      BodyReader at(data_, begin + range.begin() * stride, format_);
+      for (size_t k = range.begin(); k != range.end(); ++k) {
+        for (size_t i = 0; i < e.properties.size(); ++i) at.read(e.properties[i].type, scalars[i]);
+        VertexValues v;
+        if (!vertex_values(scalars.data(), e, xyz, normal, rgb, v)) {
+          for (size_t seen = first_bad; k < seen && !first_bad.compare_exchange_weak(seen, k);) {
+          }
+          return;
+        }
+        mesh.positions[k] = v.position;
+        if (normal.x >= 0) mesh.normals[k] = v.normal;
+        if (rgb.x >= 0) mesh.colors[k] = v.color;
+      }
+    });
+    if (first_bad != SIZE_MAX)
+      fail(fmt::format("vertex {} has a non-finite coordinate", first_bad.load()));
+    reader.skip_to(begin + n * stride);
+    return true;
+  }
+
+  // Binary faces that are all triangles, with no other property, have one size each: read on
+  // every core. False (nothing read) otherwise, or on any bad value, for the one-core path.
+  bool read_triangles_in_parallel(BodyReader& reader, const Element& e, Mesh& mesh) {
+    if (format_ == Format::ascii || e.name != "face" || e.properties.size() != 1) return false;
+    const Property& p = e.properties[0];
+    if (!p.is_list || (p.name != "vertex_indices" && p.name != "vertex_index")) return false;
+    const size_t stride = type_size(p.count_type) + 3 * type_size(p.type);
+    const size_t begin = reader.pos();
+    if (e.count > (data_.size() - begin) / stride) return false;
+    const size_t n = static_cast<size_t>(e.count), before = mesh.triangles.size();
+    mesh.triangles.resize(before + n);
+    std::atomic<bool> irregular{false};
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n), [&](const auto& range) {
+      BodyReader at(data_, begin + range.begin() * stride, format_);
+      for (size_t k = range.begin(); k != range.end(); ++k) {
+        double count = 0.0, v[3];
+        at.read(p.count_type, count);
+        for (double& value : v) at.read(p.type, value);
+        for (double value : v)
+          if (!(value >= 0.0) || value != std::floor(value) || value > 4294967295.0) count = -1.0;
+        if (count != 3.0) {
+          irregular = true;
+          return;
+        }
+        mesh.triangles[before + k] = {static_cast<uint32_t>(v[0]), static_cast<uint32_t>(v[1]),
+                                      static_cast<uint32_t>(v[2])};
+      }
+    });
+    if (irregular) {
+      mesh.triangles.resize(before);
+      return false;
+    }
+    reader.skip_to(begin + n * stride);
+    return true;
   }
 
   // A polygon as a triangle fan; points and lines are dropped.
