@@ -290,7 +290,7 @@ TEST(OmeZarr, BadFoldersAreRefused) {
   TempDir dir;
   expect_error([&] { read_ome_zarr(dir / "none.zarr"); }, {"none.zarr", "not a folder"});
   dir.write("v3.zarr/zarr.json", "{}");
-  expect_error([&] { read_ome_zarr(dir / "v3.zarr"); }, {"v3.zarr", "Zarr v3"});
+  expect_error([&] { read_ome_zarr(dir / "v3.zarr"); }, {"v3.zarr", "zarr_format", "not 3"});
   dir.write("plain.zarr/.zattrs", "{}");
   expect_error([&] { read_ome_zarr(dir / "plain.zarr"); }, {".zattrs", "multiscales"});
   dir.write("axes.zarr/.zattrs",
