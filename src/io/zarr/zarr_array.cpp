@@ -168,6 +168,32 @@ void decode_zarr_chunk(const ZarrArray& array, std::span<const uint8_t> stored,
   decode_zarr_chain(array.codecs, stored, out, array.chunks, raw_type_size(array.type), what);
 }
 
+size_t decode_zarr_file(const ZarrArray& array, std::span<const uint8_t> file, size_t max_chunks,
+                        const std::string& what) {
+  std::vector<uint8_t> chunk(array.chunk_bytes);
+  if (!array.shard) {
+    if (max_chunks == 0) return 0;
+    decode_zarr_chunk(array, file, chunk, what);
+    return 1;
+  }
+  const ZarrShard& shard = *array.shard;
+  if (file.size() < shard.index_bytes())
+    throw Error(fmt::format("{}: shard file of {} bytes, shorter than its {}-byte index", what,
+                            file.size(), shard.index_bytes()));
+  const size_t index_bytes = static_cast<size_t>(shard.index_bytes());
+  const auto index = shard.index_at_start ? file.first(index_bytes) : file.last(index_bytes);
+  const std::vector<ZarrShardEntry> entries =
+      parse_zarr_shard_index(shard, index, file.size(), most_stored(array.chunk_bytes), what);
+  size_t decoded = 0;
+  for (const ZarrShardEntry& e : entries) {
+    if (e.missing) continue;
+    if (decoded == max_chunks) break;
+    decode_zarr_chunk(array, file.subspan(e.offset, e.nbytes), chunk, what);
+    ++decoded;
+  }
+  return decoded;
+}
+
 void read_zarr_block(const ZarrArray& array, std::span<const int64_t> lead,
                      std::span<uint8_t> out) {
   const size_t n = array.shape.size();

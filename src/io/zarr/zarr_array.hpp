@@ -72,6 +72,12 @@ std::string read_zarr_metadata(const std::filesystem::path& file, uintmax_t max_
 void decode_zarr_chunk(const ZarrArray& array, std::span<const uint8_t> stored,
                        std::span<uint8_t> out, const std::string& what);
 
+// Decodes the chunks one stored file holds, from memory (`file`: a chunk file, or a whole shard
+// with its index), at most `max_chunks` of them, each into a buffer of array.chunk_bytes: the
+// path from bytes to voxels without the folder, for fuzzing and seed checks. The chunks decoded.
+size_t decode_zarr_file(const ZarrArray& array, std::span<const uint8_t> file, size_t max_chunks,
+                        const std::string& what);
+
 // Copies the whole grid of the last three dimensions of `array` at `lead` (the indices of the
 // dimensions before them: time, channel) into `out` (x fastest, file byte order), reading each
 // chunk that grid touches once.
