@@ -15,7 +15,9 @@
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
+#include "io/zarr/ome_zarr_reader.hpp"
 #include "scene/automatic_look.hpp"
+#include "scene/channel_look.hpp"
 #include "scene/label_map_parser.hpp"
 #include "scene/scene_parsers.hpp"
 #include "scene/world_space.hpp"
@@ -32,6 +34,7 @@ constexpr int kDefaultPhantomSize = 128;
 struct SourceFacts {
   std::optional<glm::dvec2> window;
   std::string modality, units;
+  std::optional<detail::OmeChannel> channel;  // an OME-Zarr channel's colour and window
 };
 
 std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, SceneContext& context,
@@ -46,7 +49,8 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     if (it == context.given_volumes.end()) id.fail(id.text() + " is not a volume of this scene");
     return it->second;
   }
-  src.check_keys({"phantom", "size", "file", "series", "units", "slice_spacing_mm", "frame"});
+  src.check_keys(
+      {"phantom", "size", "file", "series", "units", "slice_spacing_mm", "frame", "channel"});
   const bool phantom = src.has("phantom"), file = src.has("file");
   if (phantom == file)
     src.fail(phantom ? "give either \"phantom\" or \"file\", not both"
@@ -66,6 +70,12 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
   if (auto v = src.find("frame")) {
     if (phantom) v->fail("phantoms have one frame");
     frame = v->integer(0, 1 << 20);
+  }
+  std::optional<int> channel;  // of a multi-channel OME-Zarr image
+  std::optional<JsonReader> channel_reader = src.find("channel");
+  if (channel_reader) {
+    if (phantom) channel_reader->fail("phantoms have one channel");
+    channel = channel_reader->integer(0, 1 << 20);
   }
   if (phantom) {
     refuse_dicom_keys();
@@ -96,6 +106,8 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     key = "file:" + (ec ? path : canonical).string();
     what = path.string();
     if (is_dicom_source(path)) {
+      if (channel_reader)
+        channel_reader->fail("only OME-Zarr images (a .zarr folder) have channels");
       DicomReadOptions options;
       if (auto v = src.find("series")) {
         options.series = v->json().is_number_integer() ? std::to_string(v->json().get<long long>())
@@ -123,7 +135,35 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
         context.modalities[key] = {d.series.modality, d.units};
         return std::move(d.volume);
       };
+    } else if (detail::is_zarr_folder(path)) {
+      refuse_dicom_keys();
+      const std::vector<detail::OmeChannel> channels =
+          culprit.reading(what, [&] { return detail::read_ome_zarr_channels(path); });
+      const int count = static_cast<int>(channels.size());
+      if (channel && *channel >= count)
+        channel_reader->fail(fmt::format("channel {} requested: {} has {} (0 to {})", *channel,
+                                         path.filename().string(), count, count - 1));
+      const int c = channel.value_or(0), k = frame.value_or(0);
+      // A channel the file describes (or one of several) is drawn in its own colour and window.
+      if (channel || count > 1 || channels[0].listed) facts.channel = channels[c];
+      key += fmt::format(":channel={}:frame={}", c, k);
+      load = [path, k, c, key, named = frame.has_value(), &context] {
+        const int frames = read_volume_header(path).frames;
+        context.frame_counts[key] = frames;
+        if (!named && frames > 1)
+          context.notes.push_back(
+              fmt::format("{}: frame 0 of {} (name another with \"source\": {{\"frame\": K}})",
+                          path.string(), frames));
+        return detail::read_ome_zarr(path, 0, k, c);
+      };
+      header = [path] { return read_volume_header(path); };
+      load_box = [path, k, c](const VoxelBox& box) {
+        return crop(detail::read_ome_zarr(path, 0, k, c), box, path.string());
+      };
     } else {
+      if (channel_reader)
+        channel_reader->fail(
+            "only OME-Zarr images (a .zarr folder) have channels: give \"frame\" for a 4-D file");
       refuse_dicom_keys();
       const int k = frame.value_or(0);
       if (frame) key += fmt::format(":frame={}", k);
@@ -265,6 +305,7 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   v.data = load_volume_source(r.get("source"), context, facts, v.name, v);
   if (field) v.data = warped_volume(r.get("transform").get("file"), v.data, *field, context);
   v.display_window = facts.window;
+  if (facts.channel && facts.channel->window) v.display_window = facts.channel->window;
   v.units = facts.units;
   if (auto u = r.find("units")) {  // a label for colour bars and readouts ("t", "z", "%")
     v.units = u->string();
@@ -272,7 +313,8 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   }
   if (automatic) {
     // Chosen from the voxels, and parsed as the file would spell it (automatic_look.hpp).
-    const AutomaticLook look = automatic_look(*v.data, facts.modality, facts.units);
+    const AutomaticLook look = facts.channel ? channel_look(*facts.channel, *v.data)
+                                             : automatic_look(*v.data, facts.modality, facts.units);
     const JsonReader tf(look.transfer_function, r.origin(), r.path() + ".transfer_function");
     ParsedTransferFunction parsed = parse_transfer_function(tf, context);
     v.transfer_function = std::move(parsed.transfer_function);
@@ -286,7 +328,8 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   }
   if (!r.has("shading") && preset_shading) v.shading = *preset_shading;
   if (labels) {
-    r.get("source").reading(v.name, [&] { check_label_voxels(*v.data, "volume '" + v.name + "'"); });
+    r.get("source").reading(v.name,
+                            [&] { check_label_voxels(*v.data, "volume '" + v.name + "'"); });
     v.labels = parse_label_map(r, context, v.frame, parse_visible(r));
   }
   // Hidden: every alpha 0, so it adds nothing anywhere, while planes still sample its data.

@@ -59,6 +59,7 @@ std::vector<OmeChannel> parse_ome_channels(const json& omero, int count, const s
     const std::string field = fmt::format("omero.channels[{}]", c);
     if (!o.is_object()) throw Error(fmt::format("{}: field '{}' is not an object", what, field));
     OmeChannel& ch = channels[c];
+    ch.listed = true;
     if (o.contains("label") && o["label"].is_string() && !o["label"].get<std::string>().empty())
       ch.label = o["label"].get<std::string>();
     if (o.contains("color")) ch.srgb = parse_colour(o["color"], field + ".color", what);

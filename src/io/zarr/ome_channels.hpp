@@ -17,6 +17,7 @@ struct OmeChannel {
   std::optional<glm::dvec2> window;  // window.start, window.end (the display range)
   std::optional<glm::dvec2> range;   // window.min, window.max (the data's range)
   bool active = true;
+  bool listed = false;  // omero.channels has an entry for it
 };
 
 // `count` channels: what `omero` (null when absent) says of each, defaults for the rest. Refuses
