@@ -80,10 +80,13 @@ TEST(CliOmeZarrChannels, EachChannelRendersInItsColourAndWindow) {
       test::run_cli("render " + (dir / "dim.ome.zarr").string() + size + (dir / "dim.png").string())
           .exit_code,
       0);
-  const Classes dim = classify(read_png(dir / "dim.png"));
+  const Image dim_image = read_png(dir / "dim.png");
+  const Classes dim = classify(dim_image);
   EXPECT_EQ(dim.count[0], 0);
-  EXPECT_EQ(dim.count[1], c.count[1]);
-  EXPECT_GE(dim.dark, c.dark + c.count[0]);
+  EXPECT_GT(dim.count[2], dim.count[1]);
+  // Every lit pixel is green or blue (but for a few at their bands' edges).
+  const int lit = dim_image.width() * dim_image.height() - dim.dark;
+  EXPECT_LE(lit, (dim.count[1] + dim.count[2]) * 11 / 10) << lit;
 }
 
 TEST(CliOmeZarrChannels, SceneChannelPicksOneAndIsValidated) {
