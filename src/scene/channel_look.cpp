@@ -14,17 +14,25 @@ constexpr double kTopOpacity = 0.5;
 
 }  // namespace
 
-AutomaticLook channel_look(const detail::OmeChannel& channel, const VolumeData& data) {
+glm::dvec2 channel_window(const detail::OmeChannel& channel, const VolumeData& data,
+                          const char** from) {
+  const char* which = "its window";
   glm::dvec2 window;
-  const char* from = "its window";
   if (channel.window) {
     window = *channel.window;
   } else if (channel.range && channel.range->y > channel.range->x) {
-    window = *channel.range, from = "its range (no window)";
+    window = *channel.range, which = "its range (no window)";
   } else {
     const auto [lo, hi] = data.range();
-    window = {lo, hi > lo ? hi : lo + 1.0}, from = "the voxels' range";
+    window = {lo, hi > lo ? hi : lo + 1.0}, which = "the voxels' range";
   }
+  if (from) *from = which;
+  return window;
+}
+
+AutomaticLook channel_look(const detail::OmeChannel& channel, const VolumeData& data) {
+  const char* from = nullptr;
+  const glm::dvec2 window = channel_window(channel, data, &from);
   const glm::dvec3 c(srgb_decode(channel.srgb.r), srgb_decode(channel.srgb.g),
                      srgb_decode(channel.srgb.b));
   const nlohmann::json points =

@@ -12,4 +12,9 @@ namespace imx {
 // transfer function colours are linear. No window: the range omero gives, else the voxels'.
 AutomaticLook channel_look(const detail::OmeChannel& channel, const VolumeData& data);
 
+// The value range a channel is shown over: its window, else its range, else the voxels'. `from`
+// gets which, for a note.
+glm::dvec2 channel_window(const detail::OmeChannel& channel, const VolumeData& data,
+                          const char** from = nullptr);
+
 }  // namespace imx

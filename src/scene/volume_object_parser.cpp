@@ -17,6 +17,7 @@
 #include "intermix/limits.hpp"
 #include "io/zarr/ome_zarr_reader.hpp"
 #include "scene/automatic_look.hpp"
+#include "scene/channel_blend.hpp"
 #include "scene/channel_look.hpp"
 #include "scene/label_map_parser.hpp"
 #include "scene/scene_parsers.hpp"
@@ -49,8 +50,8 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     if (it == context.given_volumes.end()) id.fail(id.text() + " is not a volume of this scene");
     return it->second;
   }
-  src.check_keys(
-      {"phantom", "size", "file", "series", "units", "slice_spacing_mm", "frame", "channel"});
+  src.check_keys({"phantom", "size", "file", "series", "units", "slice_spacing_mm", "frame",
+                  "channel", "channels"});
   const bool phantom = src.has("phantom"), file = src.has("file");
   if (phantom == file)
     src.fail(phantom ? "give either \"phantom\" or \"file\", not both"
@@ -76,6 +77,14 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
   if (channel_reader) {
     if (phantom) channel_reader->fail("phantoms have one channel");
     channel = channel_reader->integer(0, 1 << 20);
+  }
+  std::optional<ChannelBlend> blend;  // all of its channels blended into one colour volume
+  std::optional<JsonReader> blend_reader = src.find("channels");
+  if (blend_reader) {
+    if (phantom) blend_reader->fail("phantoms have one channel");
+    if (channel_reader)
+      blend_reader->fail("give \"channel\" (one) or \"channels\" (blended), not both");
+    blend = blend_reader->choice({"add", "max"}) == "add" ? ChannelBlend::add : ChannelBlend::max;
   }
   if (phantom) {
     refuse_dicom_keys();
@@ -106,8 +115,8 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     key = "file:" + (ec ? path : canonical).string();
     what = path.string();
     if (is_dicom_source(path)) {
-      if (channel_reader)
-        channel_reader->fail("only OME-Zarr images (a .zarr folder) have channels");
+      for (const auto& r : {channel_reader, blend_reader})
+        if (r) r->fail("only OME-Zarr images (a .zarr folder) have channels");
       DicomReadOptions options;
       if (auto v = src.find("series")) {
         options.series = v->json().is_number_integer() ? std::to_string(v->json().get<long long>())
@@ -145,25 +154,44 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
                                          path.filename().string(), count, count - 1));
       const int c = channel.value_or(0), k = frame.value_or(0);
       // A channel the file describes (or one of several) is drawn in its own colour and window.
-      if (channel || count > 1 || channels[0].listed) facts.channel = channels[c];
-      key += fmt::format(":channel={}:frame={}", c, k);
-      load = [path, k, c, key, named = frame.has_value(), &context] {
+      if (!blend && (channel || count > 1 || channels[0].listed)) facts.channel = channels[c];
+      key += blend ? fmt::format(":channels={}:frame={}", blend_reader->string(), k)
+                   : fmt::format(":channel={}:frame={}", c, k);
+      // One channel, or (blended) the active ones, every one when none is.
+      const auto read = [path, k, c, blend, channels]() -> VolumeData {
+        if (!blend) return detail::read_ome_zarr(path, 0, k, c);
+        std::vector<VolumeData> grids;
+        std::vector<detail::OmeChannel> looks;
+        const bool any = std::any_of(channels.begin(), channels.end(),
+                                     [](const detail::OmeChannel& o) { return o.active; });
+        for (size_t n = 0; n < channels.size(); ++n)
+          if (channels[n].active || !any) {
+            grids.push_back(detail::read_ome_zarr(path, 0, k, static_cast<int>(n)));
+            looks.push_back(channels[n]);
+          }
+        return blend_channels(grids, looks, *blend, path.string());
+      };
+      load = [path, read, key, named = frame.has_value(), &context] {
         const int frames = read_volume_header(path).frames;
         context.frame_counts[key] = frames;
         if (!named && frames > 1)
           context.notes.push_back(
               fmt::format("{}: frame 0 of {} (name another with \"source\": {{\"frame\": K}})",
                           path.string(), frames));
-        return detail::read_ome_zarr(path, 0, k, c);
+        return read();
       };
-      header = [path] { return read_volume_header(path); };
-      load_box = [path, k, c](const VoxelBox& box) {
-        return crop(detail::read_ome_zarr(path, 0, k, c), box, path.string());
+      header = [path, blend] {
+        VolumeHeader h = read_volume_header(path);
+        if (blend) h.type = VoxelType::u8;  // the blend's scalar
+        return h;
       };
+      load_box = [path, read](const VoxelBox& box) { return crop(read(), box, path.string()); };
     } else {
-      if (channel_reader)
-        channel_reader->fail(
-            "only OME-Zarr images (a .zarr folder) have channels: give \"frame\" for a 4-D file");
+      for (const auto& r : {channel_reader, blend_reader})
+        if (r)
+          r->fail(
+              "only OME-Zarr images (a .zarr folder) have channels: give \"frame\" for a 4-D "
+              "file");
       refuse_dicom_keys();
       const int k = frame.value_or(0);
       if (frame) key += fmt::format(":frame={}", k);

@@ -1,5 +1,5 @@
 // A multi-channel OME-Zarr image: `intermix render` draws each channel as its own volume in its
-// OME colour and window, and a scene's "channel" picks one.
+// OME colour and window, a scene's "channel" picks one and "channels" blends them all.
 #include <filesystem>
 #include <string>
 
@@ -113,6 +113,22 @@ TEST(CliOmeZarrChannels, SceneChannelPicksOneAndIsValidated) {
   EXPECT_TRUE(test::contains(bad.output, "channel 3 requested")) << bad.output;
   EXPECT_TRUE(test::contains(bad.output, "0 to 2")) << bad.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "bad.png"));
+  // Every channel blended by maximum into one colour volume: the three bands as before.
+  test::write_bytes(dir / "max.json", scene(R"({"file": "ch.ome.zarr", "channels": "max"})"));
+  ASSERT_EQ(
+      test::run_cli("render " + (dir / "max.json").string() + " -o " + (dir / "max.png").string())
+          .exit_code,
+      0);
+  const Classes m = classify(read_png(dir / "max.png"));
+  EXPECT_GT(m.count[1], 20);
+  EXPECT_GT(m.count[2], m.count[1]);
+  EXPECT_GT(m.count[0], m.count[2]);
+  test::write_bytes(dir / "both.json",
+                    scene(R"({"file": "ch.ome.zarr", "channels": "add", "channel": 1})"));
+  const test::CliResult both = test::run_cli("render " + (dir / "both.json").string() + " -o " +
+                                             (dir / "both.png").string());
+  EXPECT_NE(both.exit_code, 0);
+  EXPECT_TRUE(test::contains(both.output, "not both")) << both.output;
   test::write_bytes(dir / "phantom.json", scene(R"({"phantom": "ct-head", "channel": 0})"));
   const test::CliResult phantom = test::run_cli("render " + (dir / "phantom.json").string() +
                                                 " -o " + (dir / "p.png").string());

@@ -323,6 +323,7 @@ omero = {'channels': [
     {'color': 'FF8000'}]}
 image3('ch.zarr', [d], axes='czyx', omero=omero)
 image3('bad.zarr', [d], axes='czyx', omero={'channels': [{'color': 'red'}]})
+image3('one.zarr', [d[0]], omero={'channels': [{'label': 'only'}, {'label': 'extra'}]})
 )PY"));
   const std::vector<OmeChannel> ch = read_ome_zarr_channels(dir / "ch.zarr");
   ASSERT_EQ(ch.size(), 3u);
@@ -335,6 +336,10 @@ image3('bad.zarr', [d], axes='czyx', omero={'channels': [{'color': 'red'}]})
   EXPECT_EQ(ch[2].label, "channel 2");
   EXPECT_NEAR(ch[2].srgb.g, 128.0f / 255.0f, 1e-6f);
   EXPECT_FALSE(ch[2].window.has_value());
+  // No channel axis: one channel; entries past it describe nothing and are left unread.
+  const std::vector<OmeChannel> one = read_ome_zarr_channels(dir / "one.zarr");
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_EQ(one[0].label, "only");
   expect_error([&] { read_ome_zarr_channels(dir / "bad.zarr"); },
                {"zarr.json", "omero.channels[0].color", "red"});
 }

@@ -1,5 +1,6 @@
 #include "io/zarr/ome_channels.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -51,10 +52,9 @@ std::vector<OmeChannel> parse_ome_channels(const json& omero, int count, const s
   if (!omero.is_object() || !omero.contains("channels")) return channels;
   const json& list = omero["channels"];
   if (!list.is_array()) throw Error(fmt::format("{}: field 'omero.channels' is not a list", what));
-  if (list.size() > static_cast<size_t>(count))
-    throw Error(fmt::format("{}: field 'omero.channels' lists {} channels, the image has {}", what,
-                            list.size(), count));
-  for (size_t c = 0; c < list.size(); ++c) {
+  // Writers list channels for images without a channel axis too: entries past `count` describe
+  // nothing this image holds, so they are left unread rather than refusing the image.
+  for (size_t c = 0; c < std::min(list.size(), channels.size()); ++c) {
     const json& o = list[c];
     const std::string field = fmt::format("omero.channels[{}]", c);
     if (!o.is_object()) throw Error(fmt::format("{}: field '{}' is not an object", what, field));

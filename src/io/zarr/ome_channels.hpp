@@ -20,9 +20,9 @@ struct OmeChannel {
   bool listed = false;  // omero.channels has an entry for it
 };
 
-// `count` channels: what `omero` (null when absent) says of each, defaults for the rest. Refuses
-// (imx::Error naming `what` and the field) a colour that is not six hex digits, a window that is
-// not numbers with start below end, and more channels listed than `count`.
+// `count` channels: what `omero` (null when absent) says of each, defaults for the rest (entries
+// past `count` are left unread). Refuses (imx::Error naming `what` and the field) a colour that
+// is not six hex digits and a window that is not numbers with start below end.
 std::vector<OmeChannel> parse_ome_channels(const nlohmann::json& omero, int count,
                                            const std::string& what);
 

@@ -13,6 +13,9 @@ std::vector<ZarrShardEntry> parse_zarr_shard_index(const ZarrShard& shard,
   if (index.size() != shard.index_bytes())
     throw Error(fmt::format("{}: shard index of {} bytes, expected {}", what, index.size(),
                             shard.index_bytes()));
+  if (file_bytes < shard.index_bytes())
+    throw Error(fmt::format("{}: shard file of {} bytes, shorter than its {}-byte index", what,
+                            file_bytes, shard.index_bytes()));
   std::span<const uint8_t> data = index;
   for (int k = 0; k < shard.index_checksums; ++k) data = strip_crc32c(data, what + " (index)");
   // Outside the index: the bytes inner chunks may lie in.
