@@ -284,7 +284,8 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   glm::dmat4 transform(1.0);
   std::optional<std::filesystem::path> field;  // a displacement field warps the data instead
   if (auto t = r.find("transform"))
-    if (field = displacement_field_of(*t, context); !field) transform = parse_transform(*t, context);
+    if (field = displacement_field_of(*t, context); !field)
+      transform = parse_transform(*t, context);
   // Style "labels" is dvr through a label map (label_map_parser.hpp): the TF is not used.
   const bool labels = r.has("style") && r.get("style").json() == "labels";
   if (labels) {
