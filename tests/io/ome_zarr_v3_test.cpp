@@ -281,6 +281,10 @@ TEST(OmeZarrV3, BadMetadataIsRefusedByField) {
   const std::string index = R"([{"name": "bytes", "configuration": {"endian": "little"}}])";
   EXPECT_NO_THROW(parse_zarr_json_array(sharded("[1, 5, 3]", index), dir, "A"));
   expect_error(parse(sharded("[2, 2, 3]", index)), {"chunk_shape", "does not divide"});
+  // A shard of 2^30 inner chunks: its index (16 GiB) is refused before it is sized.
+  nlohmann::json huge = nlohmann::json::parse(sharded("[1, 1, 1]", index));
+  huge["chunk_grid"]["configuration"]["chunk_shape"] = {1024, 1024, 1024};
+  expect_error(parse(huge.dump()), {"chunk_shape", "more than 1048576 inner chunks"});
   expect_error(parse(sharded("[1, 5, 3]", R"([{"name": "bytes", "configuration": {"endian":
       "little"}}, {"name": "gzip"}])")),
                {"index_codecs", "fixed size"});
