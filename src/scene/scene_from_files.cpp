@@ -11,6 +11,7 @@
 #include "io/overlay/volume_overlay.hpp"
 #include "io/streamlines/streamline_formats.hpp"
 #include "io/voxels/nifti_header.hpp"
+#include "io/zarr/ome_zarr_reader.hpp"
 
 #include <set>
 #include <system_error>
@@ -58,13 +59,14 @@ Json color_json(const glm::vec3& c) {
 // Volumes that are segmentations become label volumes: a 3D Slicer .seg.nrrd through its own
 // segment fields, any other label map (looks_like_label_map) in the default palette (a saved
 // scene shows the choice). A volume the user's overrides gave a transfer function or a style
-// stays as it is.
+// stays as it is, and so does a channel of an OME-Zarr image.
 void mark_label_maps(SceneDocument& read) {
   const Json& objects = read.json()["objects"];
   std::vector<size_t> labels;
   for (size_t k = 0; k < objects.size(); ++k) {
     const Json& o = objects[k];
     if (o["type"] != "volume" || o.contains("transfer_function") || o.contains("style")) continue;
+    if (o["source"].contains("channel")) continue;  // microscopy: its channel's colour and window
     const ObjectRef ref = read.scene().order[k];
     if (looks_like_label_map(*read.scene().volumes[static_cast<size_t>(ref.index)].data))
       labels.push_back(k);
@@ -163,6 +165,25 @@ std::optional<Json> vertex_volume_overlay(const std::filesystem::path& file,
       overlay, detail::volume_as_overlay(read_volume(absolute, 0), vertices, file.string()));
 }
 
+// A multi-channel OME-Zarr image: one volume per active channel (every channel when none is),
+// named by its label, each drawn in its colour and window (channel_look.hpp); else nullopt.
+std::optional<Json> channel_objects(const std::filesystem::path& file,
+                                    const std::filesystem::path& absolute,
+                                    std::set<std::string>& taken) {
+  if (!detail::is_zarr_folder(file)) return std::nullopt;
+  const std::vector<detail::OmeChannel> channels = detail::read_ome_zarr_channels(absolute);
+  if (channels.size() < 2) return std::nullopt;
+  const bool any_active = std::any_of(channels.begin(), channels.end(),
+                                      [](const detail::OmeChannel& c) { return c.active; });
+  Json objects = Json::array();
+  for (size_t c = 0; c < channels.size(); ++c)
+    if (channels[c].active || !any_active)
+      objects.push_back({{"name", object_name(channels[c].label, taken)},
+                         {"type", "volume"},
+                         {"source", {{"file", absolute.string()}, {"channel", c}}}});
+  return objects;
+}
+
 }  // namespace
 
 const std::vector<glm::vec3>& mesh_palette() {
@@ -241,6 +262,10 @@ SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
       objects.push_back({{"name", object_name(file, taken)},
                          {"type", "connectome"},
                          {"source", {{"file", absolute.string()}}}});
+      continue;
+    }
+    if (std::optional<Json> channels = channel_objects(file, absolute, taken)) {
+      for (Json& object : *channels) objects.push_back(std::move(object));
       continue;
     }
     Json object = {{"name", object_name(file, taken)}};

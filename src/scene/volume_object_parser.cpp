@@ -16,7 +16,10 @@
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
 #include "io/voxels/raw_voxels.hpp"
+#include "io/zarr/ome_zarr_reader.hpp"
 #include "scene/automatic_look.hpp"
+#include "scene/channel_blend.hpp"
+#include "scene/channel_look.hpp"
 #include "scene/label_map_parser.hpp"
 #include "scene/look_sample.hpp"
 #include "scene/scene_parsers.hpp"
@@ -36,6 +39,7 @@ struct SourceFacts {
   std::string modality, units;
   // With context.region: the voxels an automatic look is chosen from (look_sample.hpp).
   std::function<VolumeData()> look_sample;
+  std::optional<detail::OmeChannel> channel;  // an OME-Zarr channel's colour and window
 };
 
 std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, SceneContext& context,
@@ -50,7 +54,8 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     if (it == context.given_volumes.end()) id.fail(id.text() + " is not a volume of this scene");
     return it->second;
   }
-  src.check_keys({"phantom", "size", "file", "series", "units", "slice_spacing_mm", "frame"});
+  src.check_keys({"phantom", "size", "file", "series", "units", "slice_spacing_mm", "frame",
+                  "channel", "channels"});
   const bool phantom = src.has("phantom"), file = src.has("file");
   if (phantom == file)
     src.fail(phantom ? "give either \"phantom\" or \"file\", not both"
@@ -70,6 +75,20 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
   if (auto v = src.find("frame")) {
     if (phantom) v->fail("phantoms have one frame");
     frame = v->integer(0, 1 << 20);
+  }
+  std::optional<int> channel;  // of a multi-channel OME-Zarr image
+  std::optional<JsonReader> channel_reader = src.find("channel");
+  if (channel_reader) {
+    if (phantom) channel_reader->fail("phantoms have one channel");
+    channel = channel_reader->integer(0, 1 << 20);
+  }
+  std::optional<ChannelBlend> blend;  // all of its channels blended into one colour volume
+  std::optional<JsonReader> blend_reader = src.find("channels");
+  if (blend_reader) {
+    if (phantom) blend_reader->fail("phantoms have one channel");
+    if (channel_reader)
+      blend_reader->fail("give \"channel\" (one) or \"channels\" (blended), not both");
+    blend = blend_reader->choice({"add", "max"}) == "add" ? ChannelBlend::add : ChannelBlend::max;
   }
   if (phantom) {
     refuse_dicom_keys();
@@ -103,6 +122,8 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     key = "file:" + (ec ? path : canonical).string();
     what = path.string();
     if (is_dicom_source(path)) {
+      for (const auto& r : {channel_reader, blend_reader})
+        if (r) r->fail("only OME-Zarr images (a .zarr folder) have channels");
       DicomReadOptions options;
       if (auto v = src.find("series")) {
         options.series = v->json().is_number_integer() ? std::to_string(v->json().get<long long>())
@@ -130,7 +151,54 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
         context.modalities[key] = {d.series.modality, d.units};
         return std::move(d.volume);
       };
+    } else if (detail::is_zarr_folder(path)) {
+      refuse_dicom_keys();
+      const std::vector<detail::OmeChannel> channels =
+          culprit.reading(what, [&] { return detail::read_ome_zarr_channels(path); });
+      const int count = static_cast<int>(channels.size());
+      if (channel && *channel >= count)
+        channel_reader->fail(fmt::format("channel {} requested: {} has {} (0 to {})", *channel,
+                                         path.filename().string(), count, count - 1));
+      const int c = channel.value_or(0), k = frame.value_or(0);
+      // A channel the file describes (or one of several) is drawn in its own colour and window.
+      if (!blend && (channel || count > 1 || channels[0].listed)) facts.channel = channels[c];
+      key += blend ? fmt::format(":channels={}:frame={}", blend_reader->string(), k)
+                   : fmt::format(":channel={}:frame={}", c, k);
+      // One channel, or (blended) the active ones, every one when none is.
+      const auto read = [path, k, c, blend, channels]() -> VolumeData {
+        if (!blend) return detail::read_ome_zarr(path, 0, k, c);
+        std::vector<VolumeData> grids;
+        std::vector<detail::OmeChannel> looks;
+        const bool any = std::any_of(channels.begin(), channels.end(),
+                                     [](const detail::OmeChannel& o) { return o.active; });
+        for (size_t n = 0; n < channels.size(); ++n)
+          if (channels[n].active || !any) {
+            grids.push_back(detail::read_ome_zarr(path, 0, k, static_cast<int>(n)));
+            looks.push_back(channels[n]);
+          }
+        return blend_channels(grids, looks, *blend, path.string());
+      };
+      load = [path, read, key, named = frame.has_value(), &context] {
+        const int frames = read_volume_header(path).frames;
+        context.frame_counts[key] = frames;
+        if (!named && frames > 1)
+          context.notes.push_back(
+              fmt::format("{}: frame 0 of {} (name another with \"source\": {{\"frame\": K}})",
+                          path.string(), frames));
+        return read();
+      };
+      header = [path, blend] {
+        VolumeHeader h = read_volume_header(path);
+        if (blend) h.type = VoxelType::u8;  // the blend's scalar
+        return h;
+      };
+      load_box = [path, read](const VoxelBox& box) { return crop(read(), box, path.string()); };
     } else {
+      for (const auto& r : {channel_reader, blend_reader})
+        if (r)
+          r->fail(
+              "only OME-Zarr images (a .zarr folder) have channels: give \"frame\" for a 4-D "
+              "file");
       refuse_dicom_keys();
       const int k = frame.value_or(0);
       if (frame) key += fmt::format(":frame={}", k);
@@ -273,6 +341,7 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   v.data = load_volume_source(r.get("source"), context, facts, v.name, v);
   if (field) v.data = warped_volume(r.get("transform").get("file"), v.data, *field, context);
   v.display_window = facts.window;
+  if (facts.channel && facts.channel->window) v.display_window = facts.channel->window;
   v.units = facts.units;
   if (auto u = r.find("units")) {  // a label for colour bars and readouts ("t", "z", "%")
     v.units = u->string();
@@ -281,10 +350,11 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   if (automatic) {
     // Chosen from the voxels, and parsed as the file would spell it (automatic_look.hpp); read
     // by region, from slices of the whole, the same for every region.
-    const AutomaticLook look =
-        context.region ? automatic_look(r.get("source").reading(v.name, facts.look_sample),
-                                        facts.modality, facts.units)
-                       : automatic_look(*v.data, facts.modality, facts.units);
+    std::optional<VolumeData> sample;
+    if (context.region) sample = r.get("source").reading(v.name, facts.look_sample);
+    const VolumeData& looked = sample ? *sample : *v.data;
+    const AutomaticLook look = facts.channel ? channel_look(*facts.channel, looked)
+                                             : automatic_look(looked, facts.modality, facts.units);
     const JsonReader tf(look.transfer_function, r.origin(), r.path() + ".transfer_function");
     ParsedTransferFunction parsed = parse_transfer_function(tf, context);
     v.transfer_function = std::move(parsed.transfer_function);

@@ -290,7 +290,7 @@ TEST(OmeZarr, BadFoldersAreRefused) {
   TempDir dir;
   expect_error([&] { read_ome_zarr(dir / "none.zarr"); }, {"none.zarr", "not a folder"});
   dir.write("v3.zarr/zarr.json", "{}");
-  expect_error([&] { read_ome_zarr(dir / "v3.zarr"); }, {"v3.zarr", "Zarr v3"});
+  expect_error([&] { read_ome_zarr(dir / "v3.zarr"); }, {"v3.zarr", "zarr_format", "not 3"});
   dir.write("plain.zarr/.zattrs", "{}");
   expect_error([&] { read_ome_zarr(dir / "plain.zarr"); }, {".zattrs", "multiscales"});
   dir.write("axes.zarr/.zattrs",
@@ -329,25 +329,35 @@ TEST(OmeZarr, BadFoldersAreRefused) {
   EXPECT_FALSE(is_zarr_folder(dir.path()));
 }
 
-// The fuzz target's seeds (a .zarray, a marker line, one chunk) decode: they reach the codecs.
+// The fuzz target's seeds (metadata, a marker line, one stored file) decode: they reach the
+// codecs, and the v3 ones the shard index.
 TEST(OmeZarr, FuzzSeedsDecode) {
   const auto corpus =
       std::filesystem::path(IMX_EXAMPLES_DIR).parent_path() / "fuzz/corpus/fuzz_zarr";
-  int seeds = 0;
+  int seeds = 0, v3 = 0, shards = 0;
   for (const auto& entry : std::filesystem::directory_iterator(corpus)) {
     SCOPED_TRACE(entry.path().string());
     const std::string input = test::read_bytes(entry.path());
     const std::string marker = "\n@@DATA@@\n";
     const size_t at = input.find(marker);
     ASSERT_NE(at, std::string::npos);
-    const ZarrArray a = parse_zarray(input.substr(0, at), "x", "seed");
+    const std::string head = input.substr(0, at);
+    const bool is_v3 = head.find("\"node_type\"") != std::string::npos;
+    const ZarrArray a =
+        is_v3 ? parse_zarr_json_array(head, "x", "seed") : parse_zarray(head, "x", "seed");
     const std::string stored = input.substr(at + marker.size());
-    std::vector<uint8_t> chunk(a.chunk_bytes);
-    EXPECT_NO_THROW(decode_zarr_chunk(
-        a, {reinterpret_cast<const uint8_t*>(stored.data()), stored.size()}, chunk, "seed"));
+    size_t chunks = 0;
+    EXPECT_NO_THROW(
+        chunks = decode_zarr_file(
+            a, {reinterpret_cast<const uint8_t*>(stored.data()), stored.size()}, 8, "seed"));
+    EXPECT_GE(chunks, 1u);
     ++seeds;
+    v3 += is_v3;
+    shards += a.shard.has_value();
   }
-  EXPECT_GE(seeds, 3);
+  EXPECT_GE(seeds, 7);
+  EXPECT_GE(v3, 4);
+  EXPECT_GE(shards, 2);
 }
 
 }  // namespace

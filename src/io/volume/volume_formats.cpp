@@ -38,7 +38,8 @@ VolumeData read_dicom_volume_region(const std::filesystem::path& file, const Vox
   return crop(read_dicom_volume(file, frame), box, file.string());
 }
 
-// An OME-Zarr image is a folder: read whole (channel 0, frame = time point) and cropped.
+// An OME-Zarr image is a folder: read whole (channel 0, frame = time point) and cropped; a scene's
+// "source": {"channel": C} reads another (volume_object_parser.cpp).
 VolumeData read_zarr_volume(const std::filesystem::path& dir, int frame) {
   return read_ome_zarr(dir, 0, frame, 0);
 }
@@ -54,11 +55,11 @@ std::span<const VolumeFormat> volume_formats_table() {
   static const std::vector<VolumeFormat> table = {
       // Before DICOM, whose sniff takes any other folder.
       {{.kind = FileKind::volume,
-        .name = "OME-Zarr (NGFF 0.4, Zarr v2 folder)",
+        .name = "OME-Zarr (NGFF 0.4 / 0.5, Zarr v2 / v3 folder)",
         .extensions = {".zarr", ".ome.zarr"},
         .sniff = [](const FileProbe& p) { return p.folder && is_zarr_folder(p.path); },
         .fuzz_target = "fuzz_zarr",
-        .reference = "zarr-python 2"},
+        .reference = "zarr-python 2; v3 spec fixtures"},
        read_zarr_volume,
        read_ome_zarr_header,
        read_zarr_volume_region},

@@ -13,6 +13,7 @@
 #include "intermix/error.hpp"
 #include "io/streams/json_depth.hpp"
 #include "io/voxels/raw_voxels.hpp"
+#include "io/zarr/ome_channels.hpp"
 #include "io/zarr/zarr_array.hpp"
 
 namespace imx::detail {
@@ -29,11 +30,17 @@ struct Level {
   glm::dvec3 spacing{1.0}, origin{0.0};  // x, y, z
 };
 
+// An image's OME metadata (multiscales, omero) and the file it came from.
+struct Attrs {
+  json doc;
+  std::string what;
+};
+
 // What the OME layer says about the array's axes.
 struct Layout {
   int time_axis = -1, channel_axis = -1;  // index in the array's dimensions, -1 when absent
   size_t ndim = 3;
-  std::vector<std::string> dataset_paths;
+  std::vector<std::string> dataset_paths, axis_names;
   json multiscale;
   double mm_per_unit[3] = {1.0, 1.0, 1.0};  // x, y, z: what one unit of the axis is in mm
 };
@@ -103,6 +110,7 @@ Layout parse_layout(const json& attrs, const std::string& what) {
                     "z, y, x are read",
                     what, joined));
   l.ndim = n;
+  l.axis_names = names;
   for (size_t d = 0; d + 3 < n; ++d) {
     if (names[d] == "t" && l.time_axis < 0)
       l.time_axis = static_cast<int>(d);
@@ -171,18 +179,24 @@ void apply_transforms(const json& list, std::vector<double>& scale, std::vector<
   }
 }
 
-Level open_level(const std::filesystem::path& dir, const json& attrs, int level,
+Level open_level(const std::filesystem::path& dir, const Attrs& attrs, int level,
                  Layout* layout_out = nullptr) {
-  const std::string what = (dir / ".zattrs").string();
-  const Layout layout = parse_layout(attrs, what);
+  const std::string& what = attrs.what;
+  const Layout layout = parse_layout(attrs.doc, what);
   if (level < 0 || static_cast<size_t>(level) >= layout.dataset_paths.size())
     throw Error(fmt::format("{}: level {} requested, the image has {} (0 to {})", dir.string(),
                             level, layout.dataset_paths.size(), layout.dataset_paths.size() - 1));
-  Level l{read_zarray(dir / layout.dataset_paths[level])};
+  Level l{read_zarr_array(dir / layout.dataset_paths[level])};
   const size_t n = l.array.shape.size();
   if (n != layout.ndim)
     throw Error(fmt::format("{}: {} dimensions, but multiscales[0].axes names {}", l.array.what, n,
                             layout.ndim));
+  // NGFF 0.5: a v3 array's dimension_names are the axes' names.
+  for (size_t d = 0; d < l.array.dimension_names.size(); ++d)
+    if (l.array.dimension_names[d] != layout.axis_names[d])
+      throw Error(fmt::format(
+          "{}: field 'dimension_names' names dimension {} '{}', multiscales[0].axes names it '{}'",
+          l.array.what, d, l.array.dimension_names[d], layout.axis_names[d]));
   std::vector<double> scale(n, 1.0), shift(n, 0.0);
   const json& ds = layout.multiscale["datasets"][level];
   if (ds.contains("coordinateTransformations"))
@@ -251,18 +265,30 @@ glm::ivec3 grid_dims(const ZarrArray& a) {
   return dims;
 }
 
-json read_attrs(const std::filesystem::path& dir) {
+// The image's OME attributes and the file holding them: NGFF 0.4's .zattrs (Zarr v2), or NGFF
+// 0.5's zarr.json (Zarr v3) group "attributes"."ome", whose multiscales and omero are 0.4's.
+Attrs read_attrs(const std::filesystem::path& dir) {
   std::error_code ec;
   if (!std::filesystem::is_directory(dir, ec))
     throw Error(fmt::format("{}: not a folder (an OME-Zarr image is a folder)", dir.string()));
-  const std::filesystem::path attrs = dir / ".zattrs";
-  if (!std::filesystem::exists(attrs, ec)) {
-    if (std::filesystem::exists(dir / "zarr.json", ec))
-      throw Error(
-          fmt::format("{}: a Zarr v3 store (zarr.json): only Zarr v2 is read", dir.string()));
-    throw Error(fmt::format("{}: no .zattrs (not an OME-Zarr image)", dir.string()));
-  }
-  return read_json(attrs);
+  const std::filesystem::path v2 = dir / ".zattrs", v3 = dir / "zarr.json";
+  if (std::filesystem::exists(v2, ec)) return {read_json(v2), v2.string()};
+  if (!std::filesystem::exists(v3, ec))
+    throw Error(fmt::format("{}: no .zattrs or zarr.json (not an OME-Zarr image)", dir.string()));
+  const std::string what = v3.string();
+  const json doc = read_json(v3);
+  if (doc.value("zarr_format", json()) != 3)
+    throw Error(fmt::format("{}: field 'zarr_format' is not 3", what));
+  if (doc.value("node_type", json()) != "group")
+    throw Error(fmt::format(
+        "{}: field 'node_type' is {}: an OME-Zarr image is a group (its levels are arrays)", what,
+        doc.value("node_type", json()).dump().substr(0, 40)));
+  const json attributes = doc.value("attributes", json::object());
+  const json ome = attributes.is_object() ? attributes.value("ome", json()) : json();
+  if (!ome.is_object())
+    throw Error(
+        fmt::format("{}: missing field 'attributes.ome' (not an OME-Zarr 0.5 image)", what));
+  return {ome, what};
 }
 
 }  // namespace
@@ -311,6 +337,15 @@ VolumeData read_ome_zarr(const std::filesystem::path& dir, int level, int frame,
                          [&](std::span<uint8_t> bytes) { read_zarr_block(a, lead, bytes); });
   v.validate(a.what);
   return v;
+}
+
+std::vector<OmeChannel> read_ome_zarr_channels(const std::filesystem::path& dir) {
+  const Attrs attrs = read_attrs(dir);
+  Layout layout;
+  const Level l = open_level(dir, attrs, 0, &layout);
+  const int count =
+      layout.channel_axis < 0 ? 1 : static_cast<int>(l.array.shape[layout.channel_axis]);
+  return parse_ome_channels(attrs.doc.value("omero", json()), count, attrs.what);
 }
 
 }  // namespace imx::detail

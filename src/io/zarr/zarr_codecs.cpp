@@ -19,7 +19,7 @@ namespace {
 Error wrong_size(const std::string& what, const char* codec, size_t got, size_t want) {
   return Error(
       fmt::format("{}: {} chunk decompresses to {} bytes, expected {} (the chunk's size "
-                  "from .zarray)",
+                  "from its metadata)",
                   what, codec, got, want));
 }
 
@@ -27,7 +27,7 @@ Error wrong_size(const std::string& what, const char* codec, size_t got, size_t 
 Error too_large(const std::string& what, const char* codec, size_t want) {
   return Error(
       fmt::format("{}: {} chunk decompresses to more than {} bytes (the chunk's size "
-                  "from .zarray)",
+                  "from its metadata)",
                   what, codec, want));
 }
 
@@ -139,7 +139,7 @@ void decode_zarr_chunk(ZarrCompressor compressor, std::span<const uint8_t> store
       if (stored.size() != out.size())
         throw Error(
             fmt::format("{}: uncompressed chunk holds {} bytes, expected {} (the chunk's "
-                        "size from .zarray)",
+                        "size from its metadata)",
                         what, stored.size(), out.size()));
       if (!out.empty()) std::memcpy(out.data(), stored.data(), out.size());
       return;

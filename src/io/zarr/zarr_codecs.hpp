@@ -1,5 +1,5 @@
-// The compressors of Zarr v2 chunks (numcodecs' zlib, gzip, blosc, zstd): one chunk's stored
-// bytes decoded into a buffer of exactly the size the array's metadata gives it.
+// The compressors of Zarr chunks (numcodecs' zlib, gzip, blosc, zstd; v3's gzip, zstd, blosc): one
+// chunk's stored bytes decoded into a buffer of exactly the size the array's metadata gives it.
 #pragma once
 #include <cstdint>
 #include <span>
