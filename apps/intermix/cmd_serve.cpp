@@ -74,7 +74,18 @@ Command add_serve(CLI::App& app) {
   add_scene_options(app, *o, kSizeOption | kThreadsOption | kSetOption);
   return [o]() {
     const std::vector<std::string> overrides = input_overrides(o->in, o->with_size());
-    SceneDocument document = load_scene_inputs(o->in, overrides);
+    // A volume too large to hold: its OME-Zarr pyramid's finest level that fits.
+    SceneDocument document = [&] {
+      try {
+        return load_scene_inputs(o->in, overrides);
+      } catch (const VolumeTooLarge& e) {
+        if (o->in.is_scene_file())
+          throw Error(std::string(e.what()) +
+                      "; the viewer shows an OME-Zarr pyramid's level that fits with \"source\": "
+                      "{\"level\": \"auto\"} (intermix convert X -o X.zarr builds one)");
+        return load_scene_inputs(o->in, overrides, true);
+      }
+    }();
     print_notes(document.scene().notes);  // what loading chose; later parses read no file again
     // A scene from files: saved in the current folder as scene.viewer-N.json.
     std::filesystem::path saves_beside = "scene.json";

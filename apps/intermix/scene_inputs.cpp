@@ -43,10 +43,12 @@ std::vector<std::string> input_overrides(const SceneInputs& in,
   return overrides;
 }
 
-SceneDocument load_scene_inputs(const SceneInputs& in, const std::vector<std::string>& overrides) {
+SceneDocument load_scene_inputs(const SceneInputs& in, const std::vector<std::string>& overrides,
+                                bool coarse_levels) {
   if (in.is_scene_file()) return SceneDocument::load(in.inputs[0], overrides);
   const std::vector<std::filesystem::path> files(in.inputs.begin(), in.inputs.end());
-  return scene_from_files(files, in.view.empty() ? "anterior" : in.view, overrides);
+  return scene_from_files(files, in.view.empty() ? "anterior" : in.view, overrides, {},
+                          coarse_levels);
 }
 
 SceneDocument load_scene_outline(const SceneInputs& in, const std::vector<std::string>& overrides) {

@@ -24,8 +24,10 @@ void add_scene_inputs(CLI::App& app, SceneInputs& in);
 // `overrides` with, for a scene file, --view's camera; refuses --save-scene with a scene file.
 std::vector<std::string> input_overrides(const SceneInputs& in, std::vector<std::string> overrides);
 
-// The scene file loaded, or the scene built from the input files.
-SceneDocument load_scene_inputs(const SceneInputs& in, const std::vector<std::string>& overrides);
+// The scene file loaded, or the scene built from the input files (with `coarse_levels`, OME-Zarr
+// images at the finest level that fits in memory: scene_from_files).
+SceneDocument load_scene_inputs(const SceneInputs& in, const std::vector<std::string>& overrides,
+                                bool coarse_levels = false);
 
 // The same read with one-voxel regions, its automatic choices written out: what a render in
 // bricks plans from (dist/bricked_render.hpp).

@@ -196,7 +196,7 @@ const std::vector<glm::vec3>& mesh_palette() {
 
 SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
                                const std::string& view, const std::vector<std::string>& overrides,
-                               const VolumeRegionChooser& region) {
+                               const VolumeRegionChooser& region, bool coarse_levels) {
   if (files.empty()) throw Error(fmt::format("{}: no files given", kOrigin));
   Json objects = Json::array();
   std::set<std::string> taken;
@@ -284,6 +284,10 @@ SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
     }
     objects.push_back(std::move(object));
   }
+  if (coarse_levels)
+    for (Json& o : objects)
+      if (o["type"] == "volume" && detail::is_zarr_folder(o["source"]["file"].get<std::string>()))
+        o["source"]["level"] = "auto";
   Json document = {{"camera", {{"view", view}}},
                    {"image", {{"width", 512}, {"height", 512}}},
                    {"objects", std::move(objects)}};

@@ -42,6 +42,42 @@ struct SourceFacts {
   std::optional<detail::OmeChannel> channel;  // an OME-Zarr channel's colour and window
 };
 
+// An OME-Zarr source's resolution level: "level" K (0, the default: full resolution), or "auto":
+// the finest level one process can hold whole (require_holdable), with a note.
+int zarr_level(const JsonReader& src, const std::filesystem::path& path, bool blended,
+               SceneContext& context) {
+  const std::optional<JsonReader> asked = src.find("level");
+  if (!asked) return 0;
+  const int levels =
+      asked->reading(path.string(), [&] { return detail::read_ome_zarr_level_count(path); });
+  if (!asked->json().is_string()) {
+    const int level = asked->integer(0, 1 << 10);
+    if (level >= levels)
+      asked->fail(fmt::format("level {} requested: {} has {} (0 to {})", level,
+                              path.filename().string(), levels, levels - 1));
+    return level;
+  }
+  asked->choice({"auto"});
+  for (int level = 0; level < levels; ++level) {
+    VolumeHeader h = asked->reading(path.string(),
+                                    [&] { return detail::read_ome_zarr_header(path, level); });
+    if (blended) h.type = VoxelType::u8;
+    try {
+      detail::require_holdable(h, path.string());
+    } catch (const VolumeTooLarge&) {
+      continue;
+    }
+    if (level > 0)
+      context.notes.push_back(fmt::format(
+          "{}: level {} of {} ({}x{}x{}), the finest that fits in memory; intermix render renders "
+          "level 0 in bricks",
+          path.string(), level, levels, h.dims.x, h.dims.y, h.dims.z));
+    return level;
+  }
+  asked->fail_too_large(
+      fmt::format("no level of {} fits in memory ({} levels)", path.filename().string(), levels));
+}
+
 std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, SceneContext& context,
                                                      SourceFacts& facts, const std::string& object,
                                                      VolumeObject& placed) {
@@ -55,7 +91,7 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     return it->second;
   }
   src.check_keys({"phantom", "size", "file", "series", "units", "slice_spacing_mm", "frame",
-                  "channel", "channels"});
+                  "channel", "channels", "level"});
   const bool phantom = src.has("phantom"), file = src.has("file");
   if (phantom == file)
     src.fail(phantom ? "give either \"phantom\" or \"file\", not both"
@@ -92,6 +128,7 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
   }
   if (phantom) {
     refuse_dicom_keys();
+    if (auto v = src.find("level")) v->fail("phantoms have one resolution level");
     JsonReader name_reader = src.get("phantom");
     std::string name = name_reader.string();
     std::vector<std::string> names = phantom_names();
@@ -121,6 +158,9 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
     key = "file:" + (ec ? path : canonical).string();
     what = path.string();
+    if (!detail::is_zarr_folder(path))
+      if (auto v = src.find("level"))
+        v->fail("only OME-Zarr images (a .zarr folder) have resolution levels");
     if (is_dicom_source(path)) {
       for (const auto& r : {channel_reader, blend_reader})
         if (r) r->fail("only OME-Zarr images (a .zarr folder) have channels");
@@ -160,26 +200,35 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
         channel_reader->fail(fmt::format("channel {} requested: {} has {} (0 to {})", *channel,
                                          path.filename().string(), count, count - 1));
       const int c = channel.value_or(0), k = frame.value_or(0);
+      const int level = zarr_level(src, path, blend.has_value(), context);
+      if (level > 0) key += fmt::format(":level={}", level);
       // A channel the file describes (or one of several) is drawn in its own colour and window.
       if (!blend && (channel || count > 1 || channels[0].listed)) facts.channel = channels[c];
       key += blend ? fmt::format(":channels={}:frame={}", blend_reader->string(), k)
                    : fmt::format(":channel={}:frame={}", c, k);
       // One channel, or (blended) the active ones, every one when none is.
-      const auto read = [path, k, c, blend, channels]() -> VolumeData {
-        if (!blend) return detail::read_ome_zarr(path, 0, k, c);
+      const auto read = [path, level, k, c, blend, channels]() -> VolumeData {
+        if (!blend) return detail::read_ome_zarr(path, level, k, c);
         std::vector<VolumeData> grids;
         std::vector<detail::OmeChannel> looks;
         const bool any = std::any_of(channels.begin(), channels.end(),
                                      [](const detail::OmeChannel& o) { return o.active; });
         for (size_t n = 0; n < channels.size(); ++n)
           if (channels[n].active || !any) {
-            grids.push_back(detail::read_ome_zarr(path, 0, k, static_cast<int>(n)));
+            grids.push_back(detail::read_ome_zarr(path, level, k, static_cast<int>(n)));
             looks.push_back(channels[n]);
           }
         return blend_channels(grids, looks, *blend, path.string());
       };
-      load = [path, read, key, named = frame.has_value(), &context] {
-        const int frames = read_volume_header(path).frames;
+      header = [path, level, blend] {
+        VolumeHeader h = detail::read_ome_zarr_header(path, level);
+        if (blend) h.type = VoxelType::u8;  // the blend's scalar
+        return h;
+      };
+      load = [path, read, header, key, named = frame.has_value(), &context] {
+        const VolumeHeader h = header();
+        detail::require_holdable(h, path.string());
+        const int frames = h.frames;
         context.frame_counts[key] = frames;
         if (!named && frames > 1)
           context.notes.push_back(
@@ -187,12 +236,10 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
                           path.string(), frames));
         return read();
       };
-      header = [path, blend] {
-        VolumeHeader h = read_volume_header(path);
-        if (blend) h.type = VoxelType::u8;  // the blend's scalar
-        return h;
+      load_box = [path, read, level, k, c, blend](const VoxelBox& box) {
+        return blend ? crop(read(), box, path.string())
+                     : detail::read_ome_zarr_region(path, box, level, k, c);
       };
-      load_box = [path, read](const VoxelBox& box) { return crop(read(), box, path.string()); };
     } else {
       for (const auto& r : {channel_reader, blend_reader})
         if (r)

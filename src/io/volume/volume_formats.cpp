@@ -46,7 +46,7 @@ VolumeData read_zarr_volume(const std::filesystem::path& dir, int frame) {
 
 VolumeData read_zarr_volume_region(const std::filesystem::path& dir, const VoxelBox& box,
                                    int frame) {
-  return crop(read_zarr_volume(dir, frame), box, dir.string());
+  return read_ome_zarr_region(dir, box, 0, frame, 0);
 }
 
 }  // namespace
@@ -61,7 +61,7 @@ std::span<const VolumeFormat> volume_formats_table() {
         .fuzz_target = "fuzz_zarr",
         .reference = "zarr-python 2; v3 spec fixtures"},
        read_zarr_volume,
-       read_ome_zarr_header,
+       [](const std::filesystem::path& dir) { return read_ome_zarr_header(dir); },
        read_zarr_volume_region},
       {{.kind = FileKind::volume,
         .name = "DICOM",

@@ -15,6 +15,7 @@
 #include "io/voxels/raw_voxels.hpp"
 #include "io/zarr/ome_channels.hpp"
 #include "io/zarr/zarr_array.hpp"
+#include "volume/volume_checks.hpp"
 
 namespace imx::detail {
 
@@ -219,15 +220,15 @@ Level open_level(const std::filesystem::path& dir, const Attrs& attrs, int level
 // intermix wrote from an oriented grid (a flip, an oblique or tilted grid) keeps that grid's
 // whole matrix under "intermix": each level is placed by it through NGFF's scale and
 // translation of the level against level 0's.
-glm::dmat4 placement(const std::filesystem::path& dir, const json& attrs, const Level& l) {
+glm::dmat4 placement(const std::filesystem::path& dir, const Attrs& attrs, const Level& l) {
   glm::dmat4 m(1.0);
   for (int a = 0; a < 3; ++a) {
     m[a][a] = l.spacing[a];
     m[3][a] = l.origin[a];
   }
-  const auto own = attrs.find("intermix");
-  if (own == attrs.end()) return m;
-  const std::string what = (dir / ".zattrs").string();
+  const auto own = attrs.doc.find("intermix");
+  if (own == attrs.doc.end()) return m;
+  const std::string& what = attrs.what;
   const json* rows =
       own->is_object() && own->contains("index_to_world") ? &(*own)["index_to_world"] : nullptr;
   glm::dmat4 oriented(1.0);
@@ -301,10 +302,10 @@ bool is_zarr_folder(const std::filesystem::path& dir) {
   return false;
 }
 
-VolumeHeader read_ome_zarr_header(const std::filesystem::path& dir) {
+VolumeHeader read_ome_zarr_header(const std::filesystem::path& dir, int level) {
   Layout layout;
-  const json attrs = read_attrs(dir);
-  const Level l = open_level(dir, attrs, 0, &layout);
+  const Attrs attrs = read_attrs(dir);
+  const Level l = open_level(dir, attrs, level, &layout);
   VolumeHeader h;
   h.dims = grid_dims(l.array);
   h.type = storage_type_for(l.array.type);
@@ -313,9 +314,20 @@ VolumeHeader read_ome_zarr_header(const std::filesystem::path& dir) {
   return h;
 }
 
-VolumeData read_ome_zarr(const std::filesystem::path& dir, int level, int frame, int channel) {
+int read_ome_zarr_level_count(const std::filesystem::path& dir) {
   Layout layout;
-  const json attrs = read_attrs(dir);
+  open_level(dir, read_attrs(dir), 0, &layout);
+  return static_cast<int>(layout.dataset_paths.size());
+}
+
+VolumeData read_ome_zarr(const std::filesystem::path& dir, int level, int frame, int channel) {
+  return read_ome_zarr_region(dir, {}, level, frame, channel);
+}
+
+VolumeData read_ome_zarr_region(const std::filesystem::path& dir, const VoxelBox& asked,
+                                int level, int frame, int channel) {
+  Layout layout;
+  const Attrs attrs = read_attrs(dir);
   const Level l = open_level(dir, attrs, level, &layout);
   const ZarrArray& a = l.array;
   std::vector<int64_t> lead(a.shape.size() - 3, 0);
@@ -328,13 +340,16 @@ VolumeData read_ome_zarr(const std::filesystem::path& dir, int level, int frame,
   };
   pick(layout.time_axis, frame, "frame");
   pick(layout.channel_axis, channel, "channel");
+  const glm::ivec3 dims = grid_dims(a);
+  // An empty box (read_ome_zarr's): the whole grid.
+  const VoxelBox box = asked.empty() ? VoxelBox::whole(dims) : asked;
+  require_box_inside(dims, box, dir.string());
+  require_loadable_box(box, a.what);
   VolumeData v;
-  v.dims = grid_dims(a);
-  v.index_to_world = placement(dir, attrs, l);
-  require_loadable_box(VoxelBox::whole(v.dims), a.what);
-  const size_t count = static_cast<size_t>(v.dims.x) * v.dims.y * v.dims.z;
-  v.voxels = load_voxels(a.type, count, a.big_endian, a.what,
-                         [&](std::span<uint8_t> bytes) { read_zarr_block(a, lead, bytes); });
+  v.dims = box.size();
+  v.index_to_world = box_index_to_world(placement(dir, attrs, l), box.lo);
+  v.voxels = load_voxels(a.type, box.count(), a.big_endian, a.what,
+                         [&](std::span<uint8_t> bytes) { read_zarr_block(a, lead, box, bytes); });
   v.validate(a.what);
   return v;
 }

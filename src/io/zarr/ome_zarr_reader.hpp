@@ -19,9 +19,14 @@ bool is_zarr_folder(const std::filesystem::path& dir);
 // file and field for anything not read (Fortran order, filters, other codecs).
 VolumeData read_ome_zarr(const std::filesystem::path& dir, int level = 0, int frame = 0,
                          int channel = 0);
+// The voxels of `box` (inside the level's grid) of the same: only the chunks it touches are read.
+VolumeData read_ome_zarr_region(const std::filesystem::path& dir, const VoxelBox& box,
+                                int level = 0, int frame = 0, int channel = 0);
 
-// Level 0's grid, type and placement; frames counts its time points.
-VolumeHeader read_ome_zarr_header(const std::filesystem::path& dir);
+// Level `level`'s grid, type and placement; frames counts its time points.
+VolumeHeader read_ome_zarr_header(const std::filesystem::path& dir, int level = 0);
+// How many resolution levels the image has (multiscales[0].datasets).
+int read_ome_zarr_level_count(const std::filesystem::path& dir);
 
 // One entry per channel of the image (one when it has no channel axis): its omero metadata.
 std::vector<OmeChannel> read_ome_zarr_channels(const std::filesystem::path& dir);

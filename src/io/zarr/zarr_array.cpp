@@ -194,15 +194,15 @@ size_t decode_zarr_file(const ZarrArray& array, std::span<const uint8_t> file, s
   return decoded;
 }
 
-void read_zarr_block(const ZarrArray& array, std::span<const int64_t> lead,
+void read_zarr_block(const ZarrArray& array, std::span<const int64_t> lead, const VoxelBox& box,
                      std::span<uint8_t> out) {
   const size_t n = array.shape.size();
   if (n < 3 || lead.size() != n - 3)
     throw Error(fmt::format("{}: internal: {} leading indices for {} dimensions", array.what,
                             lead.size(), n));
   const size_t item = raw_type_size(array.type);
-  const int64_t X = array.shape[n - 1], Y = array.shape[n - 2], Z = array.shape[n - 3];
-  if (out.size() != static_cast<size_t>(X) * Y * Z * item)
+  const int64_t X = box.hi.x - box.lo.x, Y = box.hi.y - box.lo.y, Z = box.hi.z - box.lo.z;
+  if (out.size() != box.count() * item)
     throw Error(fmt::format("{}: internal: block buffer of {} bytes", array.what, out.size()));
   // Element strides of one chunk, C order.
   std::vector<size_t> stride(n, 1);
@@ -215,8 +215,12 @@ void read_zarr_block(const ZarrArray& array, std::span<const int64_t> lead,
     lead_offset += static_cast<size_t>(lead[d] % array.chunks[d]) * stride[d];
   }
   const int64_t cx = array.chunks[n - 1], cy = array.chunks[n - 2], cz = array.chunks[n - 3];
-  const uint64_t grid_chunks = static_cast<uint64_t>((X + cx - 1) / cx) * ((Y + cy - 1) / cy) *
-                               static_cast<uint64_t>((Z + cz - 1) / cz);
+  // The chunks the box touches: [first, last] per axis.
+  const glm::i64vec3 first(box.lo.x / cx, box.lo.y / cy, box.lo.z / cz);
+  const glm::i64vec3 last((box.hi.x - 1) / cx, (box.hi.y - 1) / cy, (box.hi.z - 1) / cz);
+  const uint64_t grid_chunks = static_cast<uint64_t>(last.x - first.x + 1) *
+                               static_cast<uint64_t>(last.y - first.y + 1) *
+                               static_cast<uint64_t>(last.z - first.z + 1);
   if (grid_chunks > kMaxChunksPerGrid)
     throw Error(
         fmt::format("{}: field 'chunks': a {}x{}x{} grid in chunks of {}x{}x{} is {} chunk "
@@ -224,22 +228,25 @@ void read_zarr_block(const ZarrArray& array, std::span<const int64_t> lead,
                     array.what, X, Y, Z, cx, cy, cz, grid_chunks, kMaxChunksPerGrid));
   ChunkReader reader(array);
   std::vector<uint8_t> chunk(array.chunk_bytes);
-  for (int64_t kz = 0; kz * cz < Z; ++kz)
-    for (int64_t ky = 0; ky * cy < Y; ++ky)
-      for (int64_t kx = 0; kx * cx < X; ++kx) {
+  for (int64_t kz = first.z; kz <= last.z; ++kz)
+    for (int64_t ky = first.y; ky <= last.y; ++ky)
+      for (int64_t kx = first.x; kx <= last.x; ++kx) {
         index[n - 3] = kz, index[n - 2] = ky, index[n - 1] = kx;
         reader.read(index, chunk);
-        // Edge chunks are stored full-size: only the part inside the shape is copied.
-        const int64_t z0 = kz * cz, y0 = ky * cy, x0 = kx * cx;
-        const int64_t nz = std::min(cz, Z - z0), ny = std::min(cy, Y - y0),
-                      nx = std::min(cx, X - x0);
-        for (int64_t z = 0; z < nz; ++z)
-          for (int64_t y = 0; y < ny; ++y) {
-            const size_t src = lead_offset + static_cast<size_t>(z) * stride[n - 3] +
-                               static_cast<size_t>(y) * stride[n - 2];
-            const size_t dst = (static_cast<size_t>(z0 + z) * Y + (y0 + y)) * X + x0;
+        // The chunk's part inside the box (edge chunks are stored full-size, past the shape).
+        const int64_t z0 = std::max<int64_t>(kz * cz, box.lo.z), z1 = std::min((kz + 1) * cz, int64_t{box.hi.z});
+        const int64_t y0 = std::max<int64_t>(ky * cy, box.lo.y), y1 = std::min((ky + 1) * cy, int64_t{box.hi.y});
+        const int64_t x0 = std::max<int64_t>(kx * cx, box.lo.x), x1 = std::min((kx + 1) * cx, int64_t{box.hi.x});
+        for (int64_t z = z0; z < z1; ++z)
+          for (int64_t y = y0; y < y1; ++y) {
+            const size_t src = lead_offset + static_cast<size_t>(z - kz * cz) * stride[n - 3] +
+                               static_cast<size_t>(y - ky * cy) * stride[n - 2] +
+                               static_cast<size_t>(x0 - kx * cx);
+            const size_t dst =
+                (static_cast<size_t>(z - box.lo.z) * Y + static_cast<size_t>(y - box.lo.y)) * X +
+                static_cast<size_t>(x0 - box.lo.x);
             std::memcpy(out.data() + dst * item, chunk.data() + src * item,
-                        static_cast<size_t>(nx) * item);
+                        static_cast<size_t>(x1 - x0) * item);
           }
       }
 }

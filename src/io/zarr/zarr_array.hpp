@@ -78,9 +78,10 @@ void decode_zarr_chunk(const ZarrArray& array, std::span<const uint8_t> stored,
 size_t decode_zarr_file(const ZarrArray& array, std::span<const uint8_t> file, size_t max_chunks,
                         const std::string& what);
 
-// Copies the whole grid of the last three dimensions of `array` at `lead` (the indices of the
-// dimensions before them: time, channel) into `out` (x fastest, file byte order), reading each
-// chunk that grid touches once.
-void read_zarr_block(const ZarrArray& array, std::span<const int64_t> lead, std::span<uint8_t> out);
+// Copies the box `box` (x, y, z: the last three dimensions, inside them) of `array` at `lead`
+// (the indices of the dimensions before them: time, channel) into `out` (x fastest, file byte
+// order), reading each chunk the box touches once, and no other.
+void read_zarr_block(const ZarrArray& array, std::span<const int64_t> lead, const VoxelBox& box,
+                     std::span<uint8_t> out);
 
 }  // namespace imx::detail
