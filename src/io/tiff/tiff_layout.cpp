@@ -7,7 +7,6 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
-#include "io/registry/tiff_sniff.hpp"
 #include "io/tiff/imagej_description.hpp"
 #include "io/tiff/ome_xml.hpp"
 #include "io/voxels/frame_voxels.hpp"
