@@ -119,8 +119,10 @@ tifffile.imwrite('half.tif', np.zeros((2, 8, 9), '<f2'))
 tifffile.imwrite('bits.tif', np.zeros((8, 9), bool))
 tifffile.imwrite('white.tif', np.zeros((8, 9), '|u1'), photometric='miniswhite')
 tifffile.imwrite('ome_size.ome.tif', np.zeros((2, 8, 9), '<u2'), metadata={'axes': 'ZYX'})
+tifffile.imwrite('ome_z.ome.tif', np.zeros((2, 8, 9), '<u2'), metadata={'axes': 'ZYX'})
 tifffile.imwrite('ij_pages.tif', np.zeros((4, 8, 9), '<u2'), imagej=True)
 for name, old, new in [('ome_size.ome.tif', b'SizeX="9"', b'SizeX="7"'),
+                       ('ome_z.ome.tif', b'SizeZ="2"', b'SizeZ="3"'),
                        ('ij_pages.tif', b'images=4', b'images=8')]:
     with open(name, 'rb') as f:
         b = f.read()
@@ -138,6 +140,7 @@ for name, old, new in [('ome_size.ome.tif', b'SizeX="9"', b'SizeX="7"'),
   expect_error([&] { read_tiff(dir / "white.tif"); }, {"white.tif", "MinIsWhite"});
   expect_error([&] { read_tiff_header(dir / "ome_size.ome.tif"); },
                {"ome_size.ome.tif", "page 0", "9 x 8", "7 x 8"});
+  expect_error([&] { read_tiff(dir / "ome_z.ome.tif"); }, {"ome_z.ome.tif", "no page", "z=2"});
   expect_error([&] { read_tiff(dir / "ij_pages.tif"); }, {"ij_pages.tif", "images=8", "4 pages"});
 }
 
