@@ -2,6 +2,7 @@
 #   PkgConfig::IMX_SPNG    spng, through pkg-config
 #   intermix_dep::nifti    niftiio and znz (libnifti2-dev)
 #   intermix_dep::zarr_codecs  zstd and blosc (libzstd-dev, libblosc-dev): OME-Zarr chunks
+#   intermix_dep::tiff     libtiff (libtiff-dev): TIFF stacks, OME-TIFF and BigTIFF volumes
 #   intermix_dep::gdcm     GDCM's parser (libgdcm-dev; its CMake package on Debian 12 names
 #                          tools that are not installed, so the libraries are found one by one):
 #                          DSED and Common only, which do not load GDCM's tag dictionary
@@ -49,5 +50,6 @@ endfunction()
 
 _imx_import_libraries(intermix_dep::nifti libnifti2-dev niftiio znz)
 _imx_import_libraries(intermix_dep::zarr_codecs "libzstd-dev, libblosc-dev" zstd blosc)
+_imx_import_libraries(intermix_dep::tiff libtiff-dev tiff)
 _imx_import_libraries(intermix_dep::gdcm libgdcm-dev gdcmDSED gdcmCommon)
 _imx_import_libraries(intermix_dep::gdcm_codecs libgdcm-dev gdcmMSFF gdcmDSED gdcmIOD gdcmDICT gdcmCommon)

@@ -24,6 +24,7 @@
 #include "io/dicom/dicom_series.hpp"
 #include "io/dicom/dicom_suv.hpp"
 #include "io/dicom/dicom_volumes.hpp"
+#include "io/registry/tiff_sniff.hpp"
 #include "io/voxels/frames.hpp"
 
 namespace imx {
@@ -650,9 +651,9 @@ std::vector<DicomVolume> read_dicom_frames(const std::filesystem::path& source,
 
 bool is_dicom_source(const std::filesystem::path& path) {
   std::error_code ec;
-  // A Zarr folder (OME-Zarr image) is not a DICOM folder.
+  // A Zarr folder (OME-Zarr image) or a TIFF stack is not a DICOM folder.
   if (std::filesystem::is_directory(path, ec))
-    return !std::filesystem::exists(path / ".zgroup", ec) &&
+    return !detail::is_tiff_folder(path) && !std::filesystem::exists(path / ".zgroup", ec) &&
            !std::filesystem::exists(path / ".zattrs", ec) &&
            !std::filesystem::exists(path / ".zarray", ec) &&
            !std::filesystem::exists(path / "zarr.json", ec);

@@ -4,6 +4,8 @@
 #include <vector>
 
 #include "intermix/dicom.hpp"
+#include "io/registry/tiff_sniff.hpp"
+#include "io/tiff/tiff_reader.hpp"
 #include "io/volume/afni.hpp"
 #include "io/volume/metaimage.hpp"
 #include "io/volume/mgh.hpp"
@@ -49,6 +51,16 @@ VolumeData read_zarr_volume_region(const std::filesystem::path& dir, const Voxel
   return read_ome_zarr_region(dir, box, 0, frame, 0);
 }
 
+// A TIFF's frame is its time point (OME-TIFF, ImageJ hyperstacks), channel 0.
+VolumeData read_tiff_volume(const std::filesystem::path& path, int frame) {
+  return read_tiff(path, frame, 0);
+}
+
+VolumeData read_tiff_volume_region(const std::filesystem::path& path, const VoxelBox& box,
+                                   int frame) {
+  return read_tiff_region(path, box, frame, 0);
+}
+
 }  // namespace
 
 std::span<const VolumeFormat> volume_formats_table() {
@@ -63,6 +75,21 @@ std::span<const VolumeFormat> volume_formats_table() {
        read_zarr_volume,
        [](const std::filesystem::path& dir) { return read_ome_zarr_header(dir); },
        read_zarr_volume_region},
+      // Also before DICOM: a folder whose files are all .tif/.tiff is a stack of slices.
+      {{.kind = FileKind::volume,
+        .name = "TIFF stack, OME-TIFF, BigTIFF (file or folder)",
+        .extensions = {".tif", ".tiff", ".ome.tif", ".ome.tiff"},
+        .sniff =
+            [](const FileProbe& p) {
+              if (p.folder) return is_tiff_folder(p.path);
+              return !p.name.ends_with(".gz") && is_tiff_head(p.head);
+            },
+        .fuzz_target = "fuzz_tiff",
+        .fuzz_seeds = "*.tif *.tiff",
+        .reference = "tifffile"},
+       read_tiff_volume,
+       read_tiff_header,
+       read_tiff_volume_region},
       {{.kind = FileKind::volume,
         .name = "DICOM",
         .extensions = {".dcm", ".dicom", ".dcm.gz"},

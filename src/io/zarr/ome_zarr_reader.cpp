@@ -12,6 +12,7 @@
 
 #include "intermix/error.hpp"
 #include "io/streams/json_depth.hpp"
+#include "io/voxels/length_units.hpp"
 #include "io/voxels/raw_voxels.hpp"
 #include "io/zarr/ome_channels.hpp"
 #include "io/zarr/zarr_array.hpp"
@@ -48,16 +49,9 @@ struct Layout {
 
 // Millimetres in one NGFF space unit (micrometres are usual for microscopes); no unit: mm.
 double millimetres_per(const std::string& unit, const std::string& axis, const std::string& what) {
-  static const std::pair<const char*, double> kUnits[] = {
-      {"angstrom", 1e-7},  {"nanometer", 1e-6},  {"micrometer", 1e-3},
-      {"millimeter", 1.0}, {"centimeter", 10.0}, {"decimeter", 100.0},
-      {"meter", 1000.0},   {"inch", 25.4},       {"foot", 304.8}};
-  for (const auto& [name, mm] : kUnits)
-    if (unit == name) return mm;
-  throw Error(
-      fmt::format("{}: axis '{}' has unit '{}': read are angstrom, nanometer, micrometer, "
-                  "millimeter, centimeter, decimeter, meter, inch and foot",
-                  what, axis, unit));
+  if (const std::optional<double> mm = millimetres_per_unit(unit)) return *mm;
+  throw Error(fmt::format("{}: axis '{}' has unit '{}': read are {}", what, axis, unit,
+                          length_units_read()));
 }
 
 json read_json(const std::filesystem::path& file) {
