@@ -37,9 +37,12 @@ glm::dvec2 resolution_spacing(const TiffPage& page) {
 }
 
 void check_grid(TiffLayout& l, int64_t x, int64_t y, int64_t z, const std::string& field) {
-  if (x < 1 || y < 1 || z < 1 || static_cast<uint64_t>(x) * y * z > kMaxVoxels)
+  // Past kMaxVoxels a grid is read by region (a render in bricks); in double: no overflow.
+  if (x < 1 || y < 1 || z < 1 || x > INT32_MAX || y > INT32_MAX || z > INT32_MAX ||
+      static_cast<double>(x) * static_cast<double>(y) * static_cast<double>(z) >
+          static_cast<double>(kMaxGridVoxels))
     throw Error(fmt::format("{}: {}: a grid of {} x {} x {} voxels (at most {} are read)", l.what,
-                            field, x, y, z, kMaxVoxels));
+                            field, x, y, z, kMaxGridVoxels));
   l.dims = glm::ivec3(static_cast<int>(x), static_cast<int>(y), static_cast<int>(z));
 }
 

@@ -40,6 +40,7 @@ const TiffPage& open_plane(const TiffLayout& l, const TiffPlane& plane,
 
 // The voxels of `box` of one channel and time point, slice by slice.
 VoxelStorage read_box(const TiffLayout& l, const VoxelBox& box, int frame, int channel) {
+  require_loadable_box(box, l.what);
   const size_t element = raw_type_size(l.type);
   const auto rows = static_cast<uint32_t>(box.size().y);
   const size_t width = static_cast<size_t>(box.size().x) * element;

@@ -39,15 +39,6 @@ glm::ivec3 half_of(glm::ivec3 dims) {
   return (dims + 1) / 2;
 }
 
-// Level voxel i covers voxels s*i .. s*i + s - 1 of level 0 (s = 2^level): its centre lies at
-// level-0 index s*i + (s - 1)/2.
-glm::dmat4 level_index_to_world(const glm::dmat4& index_to_world, int level) {
-  const double s = std::ldexp(1.0, level);
-  glm::dmat4 to_level0(s);
-  to_level0[3] = glm::dvec4(glm::dvec3((s - 1.0) / 2.0), 1.0);
-  return index_to_world * to_level0;
-}
-
 bool axis_aligned(const glm::dmat4& m) {
   for (int c = 0; c < 3; ++c)
     for (int r = 0; r < 3; ++r)
@@ -62,11 +53,17 @@ void write_text(const std::filesystem::path& file, const std::string& text) {
   if (!out) throw Error(fmt::format("{}: cannot write", file.string()));
 }
 
-Json level_transformations(const glm::dmat4& m) {
+// NGFF's placement of a level: level voxel i covers voxels s*i .. s*i + s - 1 of level 0
+// (s = 2^level), so its centre lies at level-0 index s*i + (s - 1)/2, along axes taken as x, y,
+// z (NGFF has no orientation; "intermix" keeps an oriented grid's matrix, which the reader
+// places each level by through these same numbers).
+Json level_transformations(const glm::dmat4& m, int level) {
+  const double s = std::ldexp(1.0, level);
   Json scale = Json::array(), translation = Json::array();
   for (int axis = 2; axis >= 0; --axis) {  // z, y, x
-    scale.push_back(glm::length(glm::dvec3(m[axis])));
-    translation.push_back(m[3][axis]);
+    const double spacing = glm::length(glm::dvec3(m[axis]));
+    scale.push_back(s * spacing);
+    translation.push_back(m[3][axis] + (s - 1.0) / 2.0 * spacing);
   }
   return Json::array({{{"type", "scale"}, {"scale", scale}},
                       {{"type", "translation"}, {"translation", translation}}});
@@ -92,9 +89,9 @@ void write_metadata(const VolumeHeader& header, const std::filesystem::path& dir
         {"filters", nullptr},
         {"dimension_separator", "."}};
     write_text(array / ".zarray", zarray.dump(1) + "\n");
-    datasets.push_back({{"path", std::to_string(level)},
-                        {"coordinateTransformations", level_transformations(level_index_to_world(
-                                                          header.index_to_world, level))}});
+    datasets.push_back(
+        {{"path", std::to_string(level)},
+         {"coordinateTransformations", level_transformations(header.index_to_world, level)}});
   }
   Json axes = Json::array();
   for (const char* axis : {"z", "y", "x"})
