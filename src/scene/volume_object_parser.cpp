@@ -42,6 +42,19 @@ struct SourceFacts {
   std::optional<detail::OmeChannel> channel;  // an OME-Zarr channel's colour and window
 };
 
+// What a file source's header says before its voxels are read (it is cheap next to them): the
+// grid can be held whole (else VolumeTooLarge: the caller may render it in bricks), and how many
+// frames there are, noted when the source names none.
+void check_header(const VolumeHeader& h, const std::filesystem::path& path, const std::string& key,
+                  bool named, SceneContext& context) {
+  detail::require_holdable(h, path.string());
+  context.frame_counts[key] = h.frames;
+  if (!named && h.frames > 1)
+    context.notes.push_back(
+        fmt::format("{}: frame 0 of {} (name another with \"source\": {{\"frame\": K}})",
+                    path.string(), h.frames));
+}
+
 // An OME-Zarr source's resolution level: "level" K (0, the default: full resolution), or "auto":
 // the finest level one process can hold whole (require_holdable), with a note.
 int zarr_level(const JsonReader& src, const std::filesystem::path& path, bool blended,
@@ -59,8 +72,8 @@ int zarr_level(const JsonReader& src, const std::filesystem::path& path, bool bl
   }
   asked->choice({"auto"});
   for (int level = 0; level < levels; ++level) {
-    VolumeHeader h = asked->reading(path.string(),
-                                    [&] { return detail::read_ome_zarr_header(path, level); });
+    VolumeHeader h =
+        asked->reading(path.string(), [&] { return detail::read_ome_zarr_header(path, level); });
     if (blended) h.type = VoxelType::u8;
     try {
       detail::require_holdable(h, path.string());
@@ -226,14 +239,7 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
         return h;
       };
       load = [path, read, header, key, named = frame.has_value(), &context] {
-        const VolumeHeader h = header();
-        detail::require_holdable(h, path.string());
-        const int frames = h.frames;
-        context.frame_counts[key] = frames;
-        if (!named && frames > 1)
-          context.notes.push_back(
-              fmt::format("{}: frame 0 of {} (name another with \"source\": {{\"frame\": K}})",
-                          path.string(), frames));
+        check_header(header(), path, key, named, context);
         return read();
       };
       load_box = [path, read, level, k, c, blend](const VoxelBox& box) {
@@ -250,16 +256,7 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
       const int k = frame.value_or(0);
       if (frame) key += fmt::format(":frame={}", k);
       load = [path, k, key, named = frame.has_value(), &context] {
-        // The header is cheap next to the voxels; it says how many frames there are, and
-        // whether the grid can be held whole (else the caller may render it in bricks).
-        const VolumeHeader h = read_volume_header(path);
-        detail::require_holdable(h, path.string());
-        const int frames = h.frames;
-        context.frame_counts[key] = frames;
-        if (!named && frames > 1)
-          context.notes.push_back(
-              fmt::format("{}: frame 0 of {} (name another with \"source\": {{\"frame\": K}})",
-                          path.string(), frames));
+        check_header(read_volume_header(path), path, key, named, context);
         return read_volume(path, k);
       };
       header = [path] { return read_volume_header(path); };
