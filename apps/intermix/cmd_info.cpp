@@ -14,6 +14,7 @@
 #include "intermix/formats.hpp"
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
+#include "io/zarr/ome_zarr_reader.hpp"
 #include "presets/colormap.hpp"
 #include "presets/volume_presets.hpp"
 #include "presets/window_presets.hpp"
@@ -24,9 +25,12 @@ namespace imx::cli {
 
 namespace {
 
-nlohmann::json describe(const VolumeData& v) {
-  auto [lo, hi] = v.range();
-  glm::dvec3 s = v.spacing();
+// A volume's grid and placement, from its header (a volume too large to hold: its voxels'
+// range is then not read).
+nlohmann::json describe_grid(const VolumeHeader& v) {
+  const glm::dvec3 s(glm::length(glm::dvec3(v.index_to_world[0])),
+                     glm::length(glm::dvec3(v.index_to_world[1])),
+                     glm::length(glm::dvec3(v.index_to_world[2])));
   nlohmann::json rows = nlohmann::json::array();
   for (int r = 0; r < 4; ++r)
     rows.push_back({v.index_to_world[0][r], v.index_to_world[1][r], v.index_to_world[2][r],
@@ -41,11 +45,17 @@ nlohmann::json describe(const VolumeData& v) {
   }
   return {{"kind", "volume"},
           {"dims", {v.dims.x, v.dims.y, v.dims.z}},
-          {"type", voxel_type_name(v.type())},
+          {"type", voxel_type_name(v.type)},
           {"spacing_mm", {s.x, s.y, s.z}},
           {"index_to_world", rows},
-          {"world_bounds_mm", {{lo_w.x, lo_w.y, lo_w.z}, {hi_w.x, hi_w.y, hi_w.z}}},
-          {"range", {lo, hi}}};
+          {"world_bounds_mm", {{lo_w.x, lo_w.y, lo_w.z}, {hi_w.x, hi_w.y, hi_w.z}}}};
+}
+
+nlohmann::json describe(const VolumeData& v) {
+  nlohmann::json j = describe_grid({v.dims, v.type(), v.index_to_world, 1, {}});
+  auto [lo, hi] = v.range();
+  j["range"] = {lo, hi};
+  return j;
 }
 
 // The frames of a multi-frame source, with their labels; nothing for a single frame.
@@ -272,7 +282,13 @@ Command add_info(CLI::App& app) {
       throw Error(needs_message(o->file, identified));
     } else if (is_volume_file(o->file)) {
       const VolumeHeader header = read_volume_header(o->file);
-      j = describe(read_volume(o->file, o->frame));
+      try {
+        j = describe(read_volume(o->file, o->frame));
+      } catch (const VolumeTooLarge&) {
+        j = describe_grid(header);
+        j["note"] = "too large to hold whole: intermix render renders it in bricks";
+      }
+      if (detail::is_zarr_folder(o->file)) j["levels"] = detail::read_ome_zarr_level_count(o->file);
       add_frames(j, o->frame, header.frames, header.frame_labels);
       j["file"] = o->file;
     } else if (is_mesh_file(o->file)) {

@@ -54,6 +54,11 @@ TEST(CliBricks, AFrameInBricksIsTheWholeFrame) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(test::contains(r.output, "more than half the memory budget")) << r.output;
   EXPECT_TRUE(test::contains(r.output, "rendering in bricks")) << r.output;
+  // info describes such a volume from its header.
+  r = run_cli("--max-memory 1M info " + nrrd);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(test::contains(r.output, "[80,96,68]")) << r.output;
+  EXPECT_TRUE(test::contains(r.output, "too large to hold whole")) << r.output;
   const Image reference = read_png(whole);
   // Bricks cut where their neighbours begin, so a sample is never counted twice or missed:
   // measured 62.4 and 70.3 dB; bricks that also render their aprons give 56 dB (test_dist's
