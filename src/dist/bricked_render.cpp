@@ -28,8 +28,7 @@ int bricks_needed(const Scene& outline) {
   return static_cast<int>(std::ceil(parts * 1.05));
 }
 
-Image render_in_bricks(const SceneDocument& outline, int bricks, const RenderOptions& options,
-                       const std::function<void(int, int)>& on_part) {
+Image render_in_bricks(const SceneDocument& outline, int bricks, const RenderOptions& options) {
   const Scene& scene = outline.scene();
   const Partition partition = plan_partition(scene, bricks, PartitionMode::bricks);
   const int spp = options.spp > 0 ? options.spp : std::max(scene.render.spp, 1);
@@ -39,7 +38,6 @@ Image render_in_bricks(const SceneDocument& outline, int bricks, const RenderOpt
   const IntermixSettings mix = zslab_params(scene.render).mix;
   ZtBuffer frame;
   for (int k = 0; k < bricks; ++k) {
-    if (on_part) on_part(k, bricks);
     RenderOptions part_options = options;
     if (options.progress)
       part_options.progress = [&, k](double f) { options.progress((k + f) / bricks); };

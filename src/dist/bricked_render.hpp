@@ -5,9 +5,6 @@
 // into the frame's by the intermix kernel and then let go: memory holds one brick, not the
 // volume (docs/big_data.md, "Volumes larger than memory").
 #pragma once
-#include <functional>
-#include <string>
-
 #include "intermix/image.hpp"
 #include "intermix/render.hpp"
 #include "scene/scene_document.hpp"
@@ -21,9 +18,7 @@ int bricks_needed(const Scene& outline);
 // The frame of `outline` (a scene document read with one-voxel regions, its automatic choices
 // written out: placements, source_dims and transfer functions, no voxels) rendered with zslab
 // in `bricks` parts, each loaded from the sources by region, with options.spp (0: the scene's),
-// options.threads and options.progress (over all parts). `on_part(k, bricks)` is told as each part
-// starts loading.
-Image render_in_bricks(const SceneDocument& outline, int bricks, const RenderOptions& options,
-                       const std::function<void(int, int)>& on_part = {});
+// options.threads and options.progress (over all parts).
+Image render_in_bricks(const SceneDocument& outline, int bricks, const RenderOptions& options);
 
 }  // namespace imx
