@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <exception>
 #include <fstream>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
@@ -226,29 +228,43 @@ void read_zarr_block(const ZarrArray& array, std::span<const int64_t> lead, cons
         fmt::format("{}: field 'chunks': a {}x{}x{} grid in chunks of {}x{}x{} is {} chunk "
                     "reads, more than {}",
                     array.what, X, Y, Z, cx, cy, cz, grid_chunks, kMaxChunksPerGrid));
-  ChunkReader reader(array);
-  std::vector<uint8_t> chunk(array.chunk_bytes);
-  for (int64_t kz = first.z; kz <= last.z; ++kz)
-    for (int64_t ky = first.y; ky <= last.y; ++ky)
-      for (int64_t kx = first.x; kx <= last.x; ++kx) {
-        index[n - 3] = kz, index[n - 2] = ky, index[n - 1] = kx;
-        reader.read(index, chunk);
-        // The chunk's part inside the box (edge chunks are stored full-size, past the shape).
-        const int64_t z0 = std::max<int64_t>(kz * cz, box.lo.z), z1 = std::min((kz + 1) * cz, int64_t{box.hi.z});
-        const int64_t y0 = std::max<int64_t>(ky * cy, box.lo.y), y1 = std::min((ky + 1) * cy, int64_t{box.hi.y});
-        const int64_t x0 = std::max<int64_t>(kx * cx, box.lo.x), x1 = std::min((kx + 1) * cx, int64_t{box.hi.x});
-        for (int64_t z = z0; z < z1; ++z)
-          for (int64_t y = y0; y < y1; ++y) {
-            const size_t src = lead_offset + static_cast<size_t>(z - kz * cz) * stride[n - 3] +
-                               static_cast<size_t>(y - ky * cy) * stride[n - 2] +
-                               static_cast<size_t>(x0 - kx * cx);
-            const size_t dst =
-                (static_cast<size_t>(z - box.lo.z) * Y + static_cast<size_t>(y - box.lo.y)) * X +
-                static_cast<size_t>(x0 - box.lo.x);
-            std::memcpy(out.data() + dst * item, chunk.data() + src * item,
-                        static_cast<size_t>(x1 - x0) * item);
-          }
-      }
+  // Each layer of chunks along z is read by one task, on every core; the error of the first
+  // layer that fails is the one thrown, whatever the order the tasks ran in.
+  std::vector<std::exception_ptr> failed(static_cast<size_t>(last.z - first.z + 1));
+  tbb::parallel_for(first.z, last.z + 1, [&](int64_t kz) {
+    try {
+      ChunkReader reader(array);
+      std::vector<uint8_t> chunk(array.chunk_bytes);
+      std::vector<int64_t> at = index;
+      for (int64_t ky = first.y; ky <= last.y; ++ky)
+        for (int64_t kx = first.x; kx <= last.x; ++kx) {
+          at[n - 3] = kz, at[n - 2] = ky, at[n - 1] = kx;
+          reader.read(at, chunk);
+          // The chunk's part inside the box (edge chunks are stored full-size, past the shape).
+          const int64_t z0 = std::max<int64_t>(kz * cz, box.lo.z);
+          const int64_t z1 = std::min<int64_t>((kz + 1) * cz, box.hi.z);
+          const int64_t y0 = std::max<int64_t>(ky * cy, box.lo.y);
+          const int64_t y1 = std::min<int64_t>((ky + 1) * cy, box.hi.y);
+          const int64_t x0 = std::max<int64_t>(kx * cx, box.lo.x);
+          const int64_t x1 = std::min<int64_t>((kx + 1) * cx, box.hi.x);
+          for (int64_t z = z0; z < z1; ++z)
+            for (int64_t y = y0; y < y1; ++y) {
+              const size_t src = lead_offset + static_cast<size_t>(z - kz * cz) * stride[n - 3] +
+                                 static_cast<size_t>(y - ky * cy) * stride[n - 2] +
+                                 static_cast<size_t>(x0 - kx * cx);
+              const size_t dst =
+                  (static_cast<size_t>(z - box.lo.z) * Y + static_cast<size_t>(y - box.lo.y)) * X +
+                  static_cast<size_t>(x0 - box.lo.x);
+              std::memcpy(out.data() + dst * item, chunk.data() + src * item,
+                          static_cast<size_t>(x1 - x0) * item);
+            }
+        }
+    } catch (...) {
+      failed[static_cast<size_t>(kz - first.z)] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& e : failed)
+    if (e) std::rethrow_exception(e);
 }
 
 }  // namespace imx::detail
