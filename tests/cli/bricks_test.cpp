@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "cli_runner.hpp"
+#include "intermix/error.hpp"
 #include "intermix/image.hpp"
 #include "intermix/io.hpp"
 #include "intermix/metrics.hpp"
@@ -136,6 +137,18 @@ TEST(CliBricks, AnObliqueGridKeepsItsPlacementInEveryLevel) {
   for (int a = 0; a < 3; ++a) EXPECT_NEAR(got[a], want[a], 1e-9) << a;
   EXPECT_NEAR(glm::length(glm::dvec3(level1.index_to_world[0])),
               2 * glm::length(glm::dvec3(source.index_to_world[0])), 1e-9);
+  // A matrix that is not 4 rows of 4 numbers ending 0 0 0 1 is refused by name.
+  std::string attrs = test::read_bytes(zarr / ".zattrs");
+  const size_t at = attrs.find("\"index_to_world\"");
+  ASSERT_NE(at, std::string::npos) << attrs;
+  attrs.replace(at, std::string("\"index_to_world\"").size(), "\"index_to_world\": 7, \"x\"");
+  test::write_bytes(zarr / ".zattrs", attrs);
+  try {
+    read_volume_header(zarr);
+    ADD_FAILURE() << "accepted a broken matrix";
+  } catch (const Error& e) {
+    EXPECT_TRUE(test::contains(e.what(), "field 'intermix.index_to_world'")) << e.what();
+  }
 }
 
 TEST(CliBricks, AFailedConvertLeavesNothing) {
