@@ -288,7 +288,18 @@ Command add_info(CLI::App& app) {
         j = describe_grid(header);
         j["note"] = "too large to hold whole: intermix render renders it in bricks";
       }
-      if (detail::is_zarr_folder(o->file)) j["levels"] = detail::read_ome_zarr_level_count(o->file);
+      if (detail::is_zarr_folder(o->file)) {
+        j["levels"] = detail::read_ome_zarr_level_count(o->file);
+        // Each channel as a scene names it ("channel": K) and how OME says to show it.
+        nlohmann::json channels = nlohmann::json::array();
+        for (const detail::OmeChannel& c : detail::read_ome_zarr_channels(o->file)) {
+          nlohmann::json one = {
+              {"label", c.label}, {"color", {c.srgb.r, c.srgb.g, c.srgb.b}}, {"active", c.active}};
+          if (c.window) one["window"] = {c.window->x, c.window->y};
+          channels.push_back(one);
+        }
+        if (channels.size() > 1) j["channels"] = channels;
+      }
       add_frames(j, o->frame, header.frames, header.frame_labels);
       j["file"] = o->file;
     } else if (is_mesh_file(o->file)) {

@@ -69,6 +69,11 @@ TEST(CliOmeZarrChannels, EachChannelRendersInItsColourAndWindow) {
   const std::string scene = test::read_bytes(dir / "ch.json");
   for (const char* name : {"\"Red\"", "\"Green\"", "\"Blue\"", "\"channel\": 2"})
     EXPECT_TRUE(test::contains(scene, name)) << name << "\n" << scene;
+  // info lists the channels as a scene names them.
+  const test::CliResult info = test::run_cli("info " + (dir / "ch.ome.zarr").string());
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_TRUE(test::contains(info.output, R"("label":"Green")")) << info.output;
+  EXPECT_TRUE(test::contains(info.output, R"("window":[100.0,1000.0])")) << info.output;
   const Classes c = classify(read_png(dir / "ch.png"));
   // Band widths 15, 6 and 9 voxels: red the widest, green the narrowest, green between the two.
   EXPECT_GT(c.count[1], 20);
