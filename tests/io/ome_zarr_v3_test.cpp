@@ -12,6 +12,7 @@
 #include "io/zarr/ome_zarr_reader.hpp"
 #include "io/zarr/zarr_array.hpp"
 #include "ome_zarr_v3_files.hpp"
+#include "reference_voxels.hpp"
 #include "temp_dir.hpp"
 
 namespace imx::detail {
@@ -26,21 +27,7 @@ std::string numbered(const char* stem, int n, const char* ext) {
 }
 
 void expect_voxels(const VolumeData& v, const std::filesystem::path& ref_file) {
-  const std::vector<double> ref = test::read_zarr_reference(ref_file);
-  ASSERT_EQ(ref.size(), v.voxel_count()) << ref_file;
-  size_t n = 0, wrong = 0;
-  for (int k = 0; k < v.dims.z; ++k)
-    for (int j = 0; j < v.dims.y; ++j)
-      for (int i = 0; i < v.dims.x; ++i, ++n) {
-        double want = ref[n];
-        if (v.type() == VoxelType::f32) want = static_cast<float>(want);
-        const double got = v.value_at(i, j, k);
-        const bool same = std::isnan(want) ? std::isnan(got) : got == want;
-        if (!same && wrong++ < 5)
-          ADD_FAILURE() << ref_file << " voxel " << i << "," << j << "," << k << ": " << got
-                        << ", written " << want;
-      }
-  EXPECT_EQ(wrong, 0u) << ref_file;
+  test::expect_reference_voxels(v, ref_file, "the writer");
 }
 
 TEST(OmeZarrV3, Crc32cHasItsCheckValue) {

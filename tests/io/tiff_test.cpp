@@ -14,6 +14,7 @@
 #include "io/registry/tiff_sniff.hpp"
 #include "io/tiff/tiff_layout.hpp"
 #include "io/tiff/tiff_reader.hpp"
+#include "reference_voxels.hpp"
 #include "temp_dir.hpp"
 #include "tifffile_files.hpp"
 
@@ -23,25 +24,8 @@ namespace {
 using test::expect_error;
 using test::TempDir;
 
-// Every voxel of `v` equals tifffile's value (as the storage type holds it: f32 for wide types).
 void expect_reference_voxels(const VolumeData& v, const std::filesystem::path& ref_file) {
-  const std::vector<double> ref = test::read_tifffile_reference(ref_file);
-  ASSERT_EQ(ref.size(), v.voxel_count()) << ref_file;
-  size_t n = 0, wrong = 0;
-  for (int k = 0; k < v.dims.z; ++k)
-    for (int j = 0; j < v.dims.y; ++j)
-      for (int i = 0; i < v.dims.x; ++i, ++n) {
-        double want = ref[n];
-        // Doubles beyond float's range become its largest (raw_voxels.hpp), as in every reader.
-        if (v.type() == VoxelType::f32 && std::isfinite(want))
-          want = static_cast<float>(std::clamp(want, -double{FLT_MAX}, double{FLT_MAX}));
-        const double got = v.value_at(i, j, k);
-        const bool same = std::isnan(want) ? std::isnan(got) : got == want;
-        if (!same && wrong++ < 5)
-          ADD_FAILURE() << ref_file << " voxel " << i << "," << j << "," << k << ": " << got
-                        << ", tifffile reads " << want;
-      }
-  EXPECT_EQ(wrong, 0u) << ref_file;
+  test::expect_reference_voxels(v, ref_file, "tifffile");
 }
 
 void expect_spacing(const VolumeData& v, glm::dvec3 mm) {

@@ -77,14 +77,6 @@ inline bool run_zarr_python(const TempDir& dir, const std::string& snippet) {
   return false;
 }
 
-// The float64 values ref() wrote.
-inline std::vector<double> read_zarr_reference(const std::filesystem::path& file) {
-  const std::string bytes = read_bytes(file);
-  std::vector<double> values(bytes.size() / sizeof(double));
-  std::memcpy(values.data(), bytes.data(), values.size() * sizeof(double));
-  return values;
-}
-
 }  // namespace imx::test
 
 // Skips the running test where zarr-python is missing.

@@ -68,14 +68,6 @@ inline bool run_tifffile_python(const TempDir& dir, const std::string& snippet) 
   return false;
 }
 
-// The float64 values ref() wrote.
-inline std::vector<double> read_tifffile_reference(const std::filesystem::path& file) {
-  const std::string bytes = read_bytes(file);
-  std::vector<double> values(bytes.size() / sizeof(double));
-  std::memcpy(values.data(), bytes.data(), values.size() * sizeof(double));
-  return values;
-}
-
 }  // namespace imx::test
 
 // Skips the running test where tifffile is missing.
