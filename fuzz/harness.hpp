@@ -18,6 +18,8 @@
 #include <system_error>
 #include <variant>
 
+#include <tbb/global_control.h>
+
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
 #include "intermix/mesh.hpp"
@@ -28,6 +30,10 @@ namespace imx::fuzz {
 // A memory budget well below libFuzzer's -malloc_limit_mb (2048): an input that asks for more must
 // be refused by intermix's own check (--max-memory's), never reach the allocator.
 inline const bool kBudgetSet = (set_input_limits({uint64_t{768} << 20, false}), true);
+
+// One worker thread: the readers' parallel loops (TBB) then take the same path on every run, so a
+// fuzz run with a fixed seed and input count explores the same way twice (scripts/fuzz --ci).
+inline const tbb::global_control kOneThread(tbb::global_control::max_allowed_parallelism, 1);
 
 // The folder the harness writes its inputs to: $IMX_FUZZ_TMP, else /dev/shm (no disk writes),
 // else $TMPDIR, else /tmp; one subfolder per process, removed at exit.
@@ -45,7 +51,12 @@ class ScratchDir {
     else
       base = "/tmp";
     remove_stale(base);
-    dir_ = base / ("imx-fuzz-" + std::to_string(::getpid()));
+    // $IMX_FUZZ_DIR: this exact folder (scripts/fuzz --ci, one process per target), so that
+    // paths in messages, and the code that formats them, do not change with the process id.
+    if (const char* fixed = std::getenv("IMX_FUZZ_DIR"); fixed != nullptr && *fixed != '\0')
+      dir_ = fixed;
+    else
+      dir_ = base / ("imx-fuzz-" + std::to_string(::getpid()));
     fs::create_directories(dir_);
   }
   ~ScratchDir() {
@@ -68,7 +79,10 @@ class ScratchDir {
     std::ofstream out(p, std::ios::binary | std::ios::trunc);
     if (size > 0) out.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
     out.close();
-    if (!out) std::abort();  // the harness itself is broken: a full /dev/shm, say
+    if (!out) {  // the harness itself is broken: a full /dev/shm, say
+      std::fprintf(stderr, "fuzz: cannot write %s: %s\n", p.c_str(), std::strerror(errno));
+      std::abort();
+    }
     return p;
   }
   std::filesystem::path write(const std::string& name, std::string_view data) const {

@@ -28,6 +28,7 @@
 #include "io/streams/base64.hpp"
 #include "io/streams/gzip.hpp"
 #include "io/streams/header_text.hpp"
+#include "io/streams/xml_parser.hpp"
 
 namespace imx::detail {
 namespace {
@@ -618,8 +619,7 @@ void parse_gifti(Parser& p, const std::filesystem::path& file) {
   auto fail = [&](const std::string& why) {
     throw Error(fmt::format("{}: {}", file.string(), why));
   };
-  std::unique_ptr<std::remove_pointer_t<XML_Parser>, decltype(&XML_ParserFree)> xml(
-      XML_ParserCreate(nullptr), &XML_ParserFree);
+  const XmlParser xml = make_xml_parser();
   if (!xml) fail("cannot start the XML parser");
   p.xml = xml.get();
   XML_SetUserData(p.xml, &p);

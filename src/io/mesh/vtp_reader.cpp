@@ -23,6 +23,7 @@
 #include "io/streams/base64.hpp"
 #include "io/streams/byte_cursor.hpp"
 #include "io/streams/header_text.hpp"
+#include "io/streams/xml_parser.hpp"
 
 namespace imx::detail {
 namespace {
@@ -540,8 +541,7 @@ PolyDataFile read_vtp(const std::filesystem::path& file, bool keep_lines) {
   p.what = what;
   p.text_limit = bytes.size();
   p.keep_lines = keep_lines;
-  std::unique_ptr<std::remove_pointer_t<XML_Parser>, decltype(&XML_ParserFree)> xml(
-      XML_ParserCreate(nullptr), &XML_ParserFree);
+  const XmlParser xml = make_xml_parser();
   if (!xml) throw Error(fmt::format("{}: cannot start the XML parser", what));
   p.xml = xml.get();
   XML_SetUserData(p.xml, &p);

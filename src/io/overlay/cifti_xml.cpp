@@ -13,6 +13,7 @@
 
 #include "intermix/error.hpp"
 #include "io/streams/header_text.hpp"
+#include "io/streams/xml_parser.hpp"
 
 namespace imx::detail {
 namespace {
@@ -223,8 +224,7 @@ CiftiXml parse_cifti_xml(std::string_view xml_text, const std::string& what) {
   };
   if (xml_text.size() > static_cast<size_t>(INT_MAX)) fail("larger than 2 GB");
   Parser p;
-  std::unique_ptr<std::remove_pointer_t<XML_Parser>, decltype(&XML_ParserFree)> xml(
-      XML_ParserCreate(nullptr), &XML_ParserFree);
+  const XmlParser xml = make_xml_parser();
   if (!xml) fail("cannot start the XML parser");
   p.xml = xml.get();
   XML_SetUserData(p.xml, &p);

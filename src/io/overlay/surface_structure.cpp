@@ -15,6 +15,7 @@
 #include "intermix/error.hpp"
 #include "io/overlay/cifti.hpp"
 #include "io/streams/header_text.hpp"
+#include "io/streams/xml_parser.hpp"
 
 namespace imx::detail {
 namespace {
@@ -71,8 +72,7 @@ std::optional<std::string> gifti_structure(const std::filesystem::path& surface)
   std::ifstream in(surface, std::ios::binary);
   if (!in) return std::nullopt;
   MetaScan scan;
-  std::unique_ptr<std::remove_pointer_t<XML_Parser>, decltype(&XML_ParserFree)> xml(
-      XML_ParserCreate(nullptr), &XML_ParserFree);
+  const XmlParser xml = make_xml_parser();
   if (!xml) return std::nullopt;
   scan.xml = xml.get();
   XML_SetUserData(scan.xml, &scan);

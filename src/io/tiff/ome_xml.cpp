@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
+#include "io/streams/xml_parser.hpp"
 
 namespace imx::detail {
 
@@ -151,8 +152,7 @@ OmePixels parse_ome_xml(std::string_view xml, const std::string& what) {
                             kMaxOmeXmlBytes));
   Parser p;
   p.what = what;
-  std::unique_ptr<std::remove_pointer_t<XML_Parser>, decltype(&XML_ParserFree)> parser(
-      XML_ParserCreate(nullptr), &XML_ParserFree);
+  const XmlParser parser = make_xml_parser();
   if (!parser) throw Error(fmt::format("{}: cannot start the XML parser", what));
   p.xml = parser.get();
   XML_SetUserData(p.xml, &p);
