@@ -240,6 +240,13 @@ TEST_F(PolyDataFiles, DamagedFilesAreRefused) {
   corrupt.replace(corrupt.find("NumberOfPoints=\"60\""), 19, "NumberOfPoints=\"61\"");
   test::write_bytes(dir / "points.vtp", corrupt);
   test::expect_error([&] { read_mesh_file(dir / "points.vtp"); }, {"NumberOfPoints 61"});
+  // A count whose product with 3 (or 48 bytes) wraps around: refused by the count, not by the
+  // allocator.
+  test::write_bytes(dir / "huge.vtk",
+                    "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\n"
+                    "POINTS 6148914691236517206 float\n0 0 0 1 1 1\n");
+  test::expect_error([&] { read_mesh_file(dir / "huge.vtk"); },
+                     {"huge.vtk", "count 6148914691236517206 is more than intermix reads"});
 }
 
 }  // namespace

@@ -174,6 +174,10 @@ std::vector<uint64_t> counts(const LegacyReader& in, const std::vector<std::stri
   for (size_t i = 1; i <= n; ++i) {
     std::optional<uint64_t> c = count_word(words[i]);
     if (!c) in.fail(fmt::format("'{}': '{}' is not a count", shown(line), shown(words[i])));
+    // Bounded here, so that counts times components cannot wrap around.
+    if (*c > kMaxValues)
+      in.fail(fmt::format("'{}': count {} is more than intermix reads ({})", shown(line), *c,
+                          kMaxValues));
     out.push_back(*c);
   }
   return out;
