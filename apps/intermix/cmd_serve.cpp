@@ -7,7 +7,9 @@
 
 #include "commands.hpp"
 #include "core/parallel.hpp"
+#include "dist/bricked_render.hpp"
 #include "intermix/limits.hpp"
+#include "intermix/render.hpp"
 #include "scene/reading_planes.hpp"
 #include "scene_inputs.hpp"
 #include "server/http_server.hpp"
@@ -33,6 +35,32 @@ std::string default_web_dir() {
     if (fs::is_regular_file(installed / "index.html", ec)) return installed.string();
   }
   return IMX_WEB_DIR;
+}
+
+// Frames at full resolution of a scene shown at coarse pyramid levels (SessionOptions::
+// full_resolution): the document's OME-Zarr sources at "level": "auto" back at level 0, rendered
+// in bricks as `intermix render` renders a volume too large to hold.
+decltype(server::SessionOptions::full_resolution) full_resolution_frames(const SceneDocument& shown,
+                                                                         int threads) {
+  return
+      [origin = shown.origin(), base_dir = shown.base_dir(), threads](
+          const nlohmann::json& document, int width, int height, const std::atomic<bool>& cancel) {
+        nlohmann::json json = document;
+        for (nlohmann::json& object : json["objects"]) {
+          const auto source = object.find("source");
+          if (source != object.end() && source->is_object() &&
+              source->value("level", nlohmann::json()) == "auto")
+            source->erase("level");
+        }
+        json["image"]["width"] = width;
+        json["image"]["height"] = height;
+        const SceneDocument outline = outline_of(std::move(json), origin, base_dir);
+        RenderOptions options;
+        options.spp = document["render"].value("spp", 0);
+        options.threads = threads;
+        options.cancel = &cancel;
+        return render_in_bricks(outline, bricks_needed(outline.scene()), options);
+      };
 }
 
 }  // namespace
@@ -75,6 +103,7 @@ Command add_serve(CLI::App& app) {
   return [o]() {
     const std::vector<std::string> overrides = input_overrides(o->in, o->with_size());
     // A volume too large to hold: its OME-Zarr pyramid's finest level that fits.
+    bool coarse = false;
     SceneDocument document = [&] {
       try {
         return load_scene_inputs(o->in, overrides);
@@ -83,6 +112,7 @@ Command add_serve(CLI::App& app) {
           throw Error(std::string(e.what()) +
                       "; the viewer shows an OME-Zarr pyramid's level that fits with \"source\": "
                       "{\"level\": \"auto\"} (intermix convert X -o X.zarr builds one)");
+        coarse = true;
         return load_scene_inputs(o->in, overrides, true);
       }
     }();
@@ -98,15 +128,16 @@ Command add_serve(CLI::App& app) {
       });
     }
     save_built_scene(o->in, document);
-    server::ViewerState state = server::viewer_state(std::move(document), saves_beside);
     server::SessionOptions session_options;
+    if (coarse) session_options.full_resolution = full_resolution_frames(document, o->threads);
+    server::ViewerState state = server::viewer_state(std::move(document), saves_beside);
     session_options.method = o->method;
     session_options.spp = o->spp;
     session_options.threads = o->threads;
     session_options.moving_budget_ms = o->budget_ms;
     session_options.max_image_side = o->max_image_side;
     session_options.log = !quiet();
-    server::ViewerSession session(std::move(state), session_options);
+    server::ViewerSession session(std::move(state), std::move(session_options));
     server::ServerOptions server_options;
     server_options.bind = o->bind;
     server_options.port = static_cast<uint16_t>(o->port);

@@ -51,10 +51,16 @@ SceneDocument load_scene_inputs(const SceneInputs& in, const std::vector<std::st
                           coarse_levels);
 }
 
+namespace {
+
+// What an outline reads of each volume: one voxel, for its header and placement.
+VoxelBox one_voxel(const std::string&, const VolumeHeader&) {
+  return VoxelBox{glm::ivec3(0), glm::ivec3(1)};
+}
+
+}  // namespace
+
 SceneDocument load_scene_outline(const SceneInputs& in, const std::vector<std::string>& overrides) {
-  const auto one_voxel = [](const std::string&, const VolumeHeader&) {
-    return VoxelBox{glm::ivec3(0), glm::ivec3(1)};
-  };
   if (in.is_scene_file()) {
     SceneDocument document = SceneDocument::load(in.inputs[0], overrides, one_voxel);
     document.write_out_choices();
@@ -62,6 +68,13 @@ SceneDocument load_scene_outline(const SceneInputs& in, const std::vector<std::s
   }
   const std::vector<std::filesystem::path> files(in.inputs.begin(), in.inputs.end());
   return scene_from_files(files, in.view.empty() ? "anterior" : in.view, overrides, one_voxel);
+}
+
+SceneDocument outline_of(nlohmann::json json, std::string origin, std::filesystem::path base_dir) {
+  SceneDocument document(std::move(json), std::move(origin), std::move(base_dir), {}, {},
+                         one_voxel);
+  document.write_out_choices();
+  return document;
 }
 
 void save_built_scene(const SceneInputs& in, const SceneDocument& document) {

@@ -1,6 +1,7 @@
 // What render and serve take as their scene: one scene file, or volume files, DICOM folders and
 // mesh files to build one from (scene/scene_from_files.hpp), with --view and --save-scene.
 #pragma once
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,10 @@ SceneDocument load_scene_inputs(const SceneInputs& in, const std::vector<std::st
 // The same read with one-voxel regions, its automatic choices written out: what a render in
 // bricks plans from (dist/bricked_render.hpp).
 SceneDocument load_scene_outline(const SceneInputs& in, const std::vector<std::string>& overrides);
+
+// The outline of a document's JSON (as load_scene_outline reads a file) that came from `origin`,
+// its files relative to `base_dir`.
+SceneDocument outline_of(nlohmann::json json, std::string origin, std::filesystem::path base_dir);
 
 // With --save-scene (a scene built from files): writes `document`, which renders the same again.
 void save_built_scene(const SceneInputs& in, const SceneDocument& document);

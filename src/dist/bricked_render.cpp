@@ -9,6 +9,7 @@
 #include "dist/slab_message.hpp"
 #include "intermix/limits.hpp"
 #include "io/voxels/raw_voxels.hpp"
+#include "methods/cancellable.hpp"
 #include "methods/zslab/zslab.hpp"
 
 namespace imx {
@@ -41,6 +42,7 @@ Image render_in_bricks(const SceneDocument& outline, int bricks, const RenderOpt
     RenderOptions part_options = options;
     if (options.progress)
       part_options.progress = [&, k](double f) { options.progress((k + f) / bricks); };
+    part_options = cancellable(part_options);  // throws Cancelled between bricks, and in them
     ZtBuffer arrays;
     {
       // The part's voxels live only while it renders.

@@ -18,7 +18,8 @@ int bricks_needed(const Scene& outline);
 // The frame of `outline` (a scene document read with one-voxel regions, its automatic choices
 // written out: placements, source_dims and transfer functions, no voxels) rendered with zslab
 // in `bricks` parts, each loaded from the sources by region, with options.spp (0: the scene's),
-// options.threads and options.progress (over all parts).
+// options.threads and options.progress (over all parts); throws imx::Cancelled once
+// options.cancel is set (checked between bricks and as each renders).
 Image render_in_bricks(const SceneDocument& outline, int bricks, const RenderOptions& options);
 
 }  // namespace imx

@@ -28,13 +28,15 @@ double voxels_of(const VolumeObject& v) {
   return static_cast<double>(v.source_dims.x) * v.source_dims.y * v.source_dims.z;
 }
 
-// The volume index each plane samples, by Scene::planes index (-1: none).
+// Per volume, the planes (order indices) that sample it. A hidden plane (opacity 0, as the
+// viewer's reading planes are in 3-D) samples nothing, so it does not keep its volume whole.
 std::vector<std::vector<size_t>> planes_by_volume(const Scene& scene) {
   std::vector<std::vector<size_t>> by(scene.volumes.size());
   for (size_t k = 0; k < scene.order.size(); ++k)
     if (scene.order[k].kind == ObjectKind::plane) {
-      int v = scene.planes[scene.order[k].index].volume;
-      if (v >= 0) by[static_cast<size_t>(v)].push_back(k);
+      const PlaneObject& plane = scene.planes[scene.order[k].index];
+      if (plane.volume >= 0 && plane.opacity > 0.0f)
+        by[static_cast<size_t>(plane.volume)].push_back(k);
     }
   return by;
 }

@@ -185,6 +185,8 @@ struct ViewerSession::Snapshot {
   uint64_t version = 0;
   std::vector<std::pair<const ClientSink*, long long>> seqs;  // each client's latest input
   std::vector<std::weak_ptr<ClientSink>> screenshot_to;
+  bool full_resolution = false;  // the converged still frame's full-resolution successor
+  Json document;                 // for it: the saved document
 };
 
 ViewerSession::ViewerSession(ViewerState state, SessionOptions options)
@@ -414,7 +416,9 @@ bool ViewerSession::take_work(std::unique_lock<std::mutex>& lock, Snapshot& out)
         moving_ && rendered_version_ != version_ && failed_version_ != version_;
     const bool need_still = !moving_ && failed_version_ != version_ &&
                             (accumulated_version_ != version_ || accumulator_.samples() < spp_);
-    if (shot || need_moving || need_still) {
+    const bool need_full = options_.full_resolution && !moving_ && !need_still &&
+                           failed_version_ != version_ && full_resolution_version_ != version_;
+    if (shot || need_moving || need_still || need_full) {
       out.scene = state_.scene();  // shares voxels and meshes: the Renderer knows them by identity
       if (viewport_) std::tie(out.scene.image.width, out.scene.image.height) = *viewport_;
       out.method = method_;
@@ -423,6 +427,8 @@ bool ViewerSession::take_work(std::unique_lock<std::mutex>& lock, Snapshot& out)
       out.version = version_;
       for (const Client& c : clients_) out.seqs.emplace_back(c.id, c.seq);
       if (shot) out.screenshot_to = std::exchange(screenshot_requests_, {});
+      out.full_resolution = !shot && need_full;
+      if (out.full_resolution) out.document = saved_document();
       cancel_ = false;
       return true;
     }
@@ -448,6 +454,8 @@ void ViewerSession::render_loop() {
     lock.unlock();
     if (!snapshot.screenshot_to.empty())
       screenshot(snapshot.screenshot_to, snapshot);
+    else if (snapshot.full_resolution)
+      render_full_resolution(snapshot);
     else
       render_and_send(snapshot);
     lock.lock();
@@ -536,6 +544,7 @@ void ViewerSession::render_and_send(Snapshot& s) {
                 {"stages", stats.stages},
                 {"stages_run", stats.stages_run},
                 {"scale", scale}};
+  if (options_.full_resolution) frame["full_resolution"] = false;  // coarse levels, refining
   std::lock_guard lock(mutex_);
   // A still frame overtaken by input during its encoding is not worth sending.
   if (!s.moving && version_ != s.version) {
@@ -544,6 +553,58 @@ void ViewerSession::render_and_send(Snapshot& s) {
   }
   rendered_version_ = s.version;
   last_good_method_ = s.method;  // a later method that fails falls back to this one
+  send_to_clients(std::move(frame), std::move(encoded), s);
+  ++(s.moving ? counters_.moving_frames : counters_.still_frames);
+}
+
+void ViewerSession::render_full_resolution(const Snapshot& s) {
+  const auto t0 = Clock::now();
+  Image image;
+  try {
+    image =
+        options_.full_resolution(s.document, s.scene.image.width, s.scene.image.height, cancel_);
+  } catch (const Cancelled&) {
+    std::lock_guard lock(mutex_);
+    ++counters_.frames_cancelled;
+    return;
+  } catch (const std::exception& e) {
+    std::lock_guard lock(mutex_);
+    full_resolution_version_ = s.version;  // the coarse frame stays; not tried again
+    broadcast_text(text_of(
+        Json{{"type", "error"}, {"message", fmt::format("full resolution: {}", e.what())}}));
+    return;
+  }
+  const double render_ms = ms_since(t0);
+  const auto t1 = Clock::now();
+  std::string encoded = encode_png(image, "frame", false, kStillPngLevel);
+  Json frame = {{"type", "frame"},
+                {"seq", 0},
+                {"width", image.width()},
+                {"height", image.height()},
+                {"format", "png"},
+                {"samples", s.spp},
+                {"spp", s.spp},
+                {"final", true},
+                {"full_resolution", true},
+                {"render_ms", render_ms},
+                {"encode_ms", ms_since(t1)},
+                {"stages", 0},
+                {"stages_run", 0},
+                {"scale", 1.0}};
+  if (options_.log)
+    std::fprintf(stderr, "intermix serve: full resolution in %.1f s\n", render_ms / 1000.0);
+  std::lock_guard lock(mutex_);
+  if (version_ != s.version) {
+    ++counters_.frames_cancelled;
+    return;
+  }
+  full_resolution_version_ = s.version;
+  full_resolution_image_ = std::move(image);
+  send_to_clients(std::move(frame), std::move(encoded), s);
+  ++counters_.full_resolution_frames;
+}
+
+void ViewerSession::send_to_clients(Json frame, std::string encoded, const Snapshot& s) {
   // Every client now, with the latest of its inputs this frame shows (0: none; a client may
   // have joined since the snapshot).
   for (const Client& c : clients_)
@@ -558,7 +619,6 @@ void ViewerSession::render_and_send(Snapshot& s) {
   last_frame_text_ = frame.dump();
   last_frame_image_ = std::move(encoded);
   ++counters_.frames_sent;
-  ++(s.moving ? counters_.moving_frames : counters_.still_frames);
 }
 
 void ViewerSession::screenshot(const std::vector<std::weak_ptr<ClientSink>>& to,
@@ -568,7 +628,9 @@ void ViewerSession::screenshot(const std::vector<std::weak_ptr<ClientSink>>& to,
   try {
     // The converged frame when there is one; else the whole spp frame at once.
     Image image;
-    if (accumulated_version_ == s.version && accumulator_.samples() >= s.spp) {
+    if (full_resolution_version_ == s.version && full_resolution_image_.width() > 0) {
+      image = full_resolution_image_;
+    } else if (accumulated_version_ == s.version && accumulator_.samples() >= s.spp) {
       image = accumulator_.mean();
     } else {
       RenderOptions o;

@@ -1,7 +1,9 @@
 // ViewerSession: one scene shown to any number of clients. Client messages (docs/viewer.md,
 // protocol) edit the shared ViewerState; a render thread turns the latest state into frames:
 // reduced-resolution JPEG frames while the user moves, then full-resolution PNG frames that
-// accumulate one jittered sample each until the target spp. New input cancels a frame in flight.
+// accumulate one jittered sample each until the target spp, and then, for a scene shown at a
+// coarse level of a pyramid, one frame at full resolution (SessionOptions::full_resolution).
+// New input cancels a frame in flight.
 // The session knows nothing of the network: clients are ClientSinks (http_server.cpp's WebSocket
 // connections, or a test's recorder).
 #pragma once
@@ -9,6 +11,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -51,6 +54,13 @@ struct SessionOptions {
   // A "moving" input followed by silence this long counts as released (a client gone mid-drag).
   double release_after_ms = 400.0;
   bool log = true;  // one line per client and per latency report on stderr
+  // For a scene whose volumes are shown at a coarse pyramid level (too large to hold at full
+  // resolution): renders `document` (the session's saved document) at full resolution at
+  // `width`×`height`, polling `cancel` (throws imx::Cancelled once it is set). Called when a
+  // still frame has converged; its frame replaces it. Empty: still frames are the last.
+  std::function<Image(const nlohmann::json& document, int width, int height,
+                      const std::atomic<bool>& cancel)>
+      full_resolution;
 };
 
 // The most bytes one client message may have (the WebSocket layer refuses longer ones first).
@@ -91,6 +101,7 @@ class ViewerSession {
     int frames_cancelled = 0;
     int moving_frames = 0;
     int still_frames = 0;
+    int full_resolution_frames = 0;
   };
   Counters counters() const;
   std::string method() const;
@@ -109,6 +120,10 @@ class ViewerSession {
   void render_loop();
   bool take_work(std::unique_lock<std::mutex>& lock, Snapshot& out);
   void render_and_send(Snapshot& snapshot);
+  void render_full_resolution(const Snapshot& snapshot);
+  // Sends a frame to every client, each with its latest input the frame shows, and keeps it for
+  // clients that join. Holds mutex_.
+  void send_to_clients(nlohmann::json frame, std::string encoded, const Snapshot& snapshot);
   void screenshot(const std::vector<std::weak_ptr<ClientSink>>& to, const Snapshot& snapshot);
   void handle(const std::shared_ptr<ClientSink>& client, const nlohmann::json& message);
   void input_applied(const ClientSink* client, const nlohmann::json& message);
@@ -149,6 +164,8 @@ class ViewerSession {
   Renderer renderer_;
   Accumulator accumulator_;
   uint64_t accumulated_version_ = 0;
+  uint64_t full_resolution_version_ = 0;  // the version whose full-resolution frame was sent
+  Image full_resolution_image_;           // that frame, for screenshots
   ResolutionControl resolution_;
   std::thread thread_;
 };

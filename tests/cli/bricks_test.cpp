@@ -4,8 +4,10 @@
 #include <filesystem>
 #include <string>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
 #include "intermix/error.hpp"
@@ -61,6 +63,41 @@ TEST(CliBricks, AFrameInBricksIsTheWholeFrame) {
   // LocalComposite), the wrong camera of an outline 19 dB.
   EXPECT_GE(psnr(reference, read_png(four)), 59.0);
   EXPECT_GE(psnr(reference, read_png(budget)), 59.0);
+}
+
+// `serve` opens a pyramid too large to hold at its coarse level, then refines: after the
+// converged still frame comes one rendered in bricks at full resolution, which equals the
+// served scene rendered whole at level 0 up to the bricks' seams (bench/viewer-frames is the
+// client).
+TEST(CliBricks, TheViewerRefinesACoarseLevelToFullResolution) {
+  test::TempDir dir;
+  const fs::path nrrd = write_phantom(dir), zarr = dir / "head.zarr";
+  test::CliResult r = run_cli("convert " + nrrd.string() + " --chunk 16 -o " + zarr.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const fs::path still = dir / "still.png", full = dir / "full.png", whole = dir / "whole.png";
+  const fs::path served = dir / "served.json", level0 = dir / "level0.json";
+  const fs::path client = fs::path(IMX_BENCH_SCENES_DIR).parent_path() / "viewer-frames";
+  r = test::run_shell(fmt::format(
+      "/usr/bin/python3 {} --size 64x64 --timeout 300 --save-still {} --save-full {} -- {} "
+      "--max-memory 1M serve {} --spp 4 --save-scene {} 2>&1",
+      client.string(), still.string(), full.string(), IMX_CLI_PATH, zarr.string(),
+      served.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(test::contains(r.output, "full_resolution_s")) << r.output;
+  // The served scene at level 0, held whole (no budget), at the frames' size.
+  nlohmann::json scene = nlohmann::json::parse(test::read_bytes(served));
+  ASSERT_EQ(scene["objects"][0]["source"]["level"], "auto");
+  scene["objects"][0]["source"].erase("level");
+  scene["image"] = {{"width", 64}, {"height", 64}};
+  test::write_bytes(level0, scene.dump());
+  r = run_cli("render " + level0.string() + " --method zslab --spp 4 -o " + whole.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const Image reference = read_png(whole);
+  // Measured: 70.3 dB for the full-resolution frame (bricks' seams), 28.6 dB for level 1.
+  const double full_db = psnr(reference, read_png(full));
+  const double coarse_db = psnr(reference, read_png(still));
+  EXPECT_GE(full_db, 59.0);
+  EXPECT_LT(coarse_db, full_db - 10.0) << full_db << " dB against " << coarse_db;
 }
 
 TEST(CliBricks, InfoDescribesAGridPastWhatOneVolumeHoldsFromItsHeader) {

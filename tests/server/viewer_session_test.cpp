@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include <functional>
 #include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -424,6 +426,72 @@ TEST(ViewerSession, SlicesAndProbesAnswerTheReadingViews) {
                                   "width": 8, "height": 8, "mm_per_pixel": 1})");
   EXPECT_NE(client->wait_type("error").json["message"].get<std::string>().find("slice: view"),
             std::string::npos);
+}
+
+// A scene shown at coarse pyramid levels: once its still frame has converged, the session asks
+// for the frame at full resolution (SessionOptions::full_resolution) with the saved document,
+// sends it as the final frame, and asks again only after an input; an input while it renders
+// cancels it.
+TEST(ViewerSession, AConvergedCoarseFrameIsFollowedByTheFullResolutionFrame) {
+  TempDir dir;
+  SessionOptions options = quiet_options(4);
+  std::mutex seen_mutex;
+  Json seen;
+  std::atomic<int> calls{0};
+  std::atomic<bool> hold_next{false}, holding{false};
+  options.full_resolution = [&](const Json& document, int width, int height,
+                                const std::atomic<bool>& cancel) {
+    ++calls;
+    {
+      std::lock_guard lock(seen_mutex);
+      seen = document;
+    }
+    if (hold_next.exchange(false)) {  // a long render, until the input cancels it
+      holding = true;
+      for (int i = 0; i < 6000 && !cancel; ++i) std::this_thread::sleep_for(10ms);
+      holding = false;
+      if (cancel) throw Cancelled();
+    }
+    Image image(width, height);
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) image.at(x, y) = glm::vec4(1, 0, 0, 1);
+    return image;
+  };
+  ViewerSession session(load_viewer_state(small_fusion(dir)), options);
+  auto client = std::make_shared<Recorder>();
+  session.add_client(client);
+  const auto coarse = client->wait_final();
+  EXPECT_EQ(coarse.json["samples"], 4);
+  EXPECT_EQ(coarse.json["full_resolution"], false);
+  const auto full = client->wait_for([](const Json& j) { return j["full_resolution"] == true; });
+  EXPECT_EQ(full.json["final"], true);
+  EXPECT_EQ(full.json["width"], kSize);
+  const Image shown = decode(full.image, dir);
+  EXPECT_NEAR(shown.at(kSize / 2, kSize / 2).r, 1.0f, 1e-3);
+  EXPECT_NEAR(shown.at(kSize / 2, kSize / 2).g, 0.0f, 1e-3);
+  {
+    std::lock_guard lock(seen_mutex);
+    EXPECT_EQ(seen["render"]["spp"], 4);
+    EXPECT_EQ(seen["objects"].size(), 3u);
+  }
+  ASSERT_TRUE(session.wait_idle(60s));
+  EXPECT_EQ(calls, 1);  // idle: not asked again
+  EXPECT_EQ(session.counters().full_resolution_frames, 1);
+
+  hold_next = true;
+  session.on_message(client, camera_message(1, false, -300).dump());
+  for (int i = 0; i < 6000 && !holding; ++i) std::this_thread::sleep_for(10ms);
+  ASSERT_TRUE(holding);
+  session.on_message(client, camera_message(2, false, -250).dump());
+  const auto second =
+      client->wait_for([](const Json& j) { return j["full_resolution"] == true && j["seq"] == 2; });
+  EXPECT_EQ(second.json["final"], true);
+  ASSERT_TRUE(session.wait_idle(60s));
+  EXPECT_EQ(calls, 3);
+  EXPECT_EQ(session.counters().full_resolution_frames, 2);
+  EXPECT_GE(session.counters().frames_cancelled, 1);
+  std::lock_guard lock(seen_mutex);
+  EXPECT_DOUBLE_EQ(seen["camera"]["eye"][0].get<double>(), -250.0);
 }
 
 }  // namespace

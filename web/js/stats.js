@@ -62,6 +62,9 @@ export function updateStatus() {
     parts.push(`frame ${fmt(f.render_ms)} ms`, `encode ${fmt(f.encode_ms)} ms`,
                `${f.samples}/${f.spp} spp`, `stages ${f.stages_run}/${f.stages}`,
                `scale ${fmt(f.scale, 2)}`, f.format);
+    // A volume too large to hold: shown at a pyramid level until the full-resolution frame.
+    if (f.full_resolution !== undefined)
+      parts.push(f.full_resolution ? 'full resolution' : 'coarse level, refining');
   }
   parts.push(`${fmt(S.movingFps, 0)} fps moving`);
   const last = stats.latencies.slice(-50);
