@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <map>
 #include <optional>
+#include <unordered_set>
 
 #include <fmt/format.h>
 
@@ -46,16 +47,17 @@ int64_t whole_number(const std::string& text, const std::string& field, const st
 
 std::vector<NrrdKeyValue> nrrd_key_values(std::string_view header, const std::string& what) {
   std::vector<NrrdKeyValue> out;
+  std::unordered_set<std::string_view> keys;  // duplicates found in linear time
   const std::vector<std::string_view> rows = lines(header);
+  keys.reserve(rows.size());
   for (size_t n = 1; n < rows.size(); ++n) {  // line 1 is the magic
     if (rows[n].empty()) break;               // the end of an attached header
     const size_t sep = rows[n].find(":=");
     if (rows[n].front() == '#' || sep == std::string_view::npos) continue;
-    NrrdKeyValue kv{std::string(rows[n].substr(0, sep)), unescape(rows[n].substr(sep + 2)),
-                    static_cast<int>(n + 1)};
-    if (std::any_of(out.begin(), out.end(), [&](const NrrdKeyValue& o) { return o.key == kv.key; }))
-      throw Error(fmt::format("{}: line {}: field '{}' is given twice", what, kv.line, kv.key));
-    out.push_back(std::move(kv));
+    const std::string_view key = rows[n].substr(0, sep);  // a view into `header`
+    if (!keys.insert(key).second)
+      throw Error(fmt::format("{}: line {}: field '{}' is given twice", what, n + 1, key));
+    out.push_back({std::string(key), unescape(rows[n].substr(sep + 2)), static_cast<int>(n + 1)});
   }
   return out;
 }
