@@ -499,6 +499,10 @@ TEST(DicomErrors, PresentButUnusableValuesAreQuotedNotTakenForMissing) {
              {"ImageOrientationPatient (0020,0037) is present but unusable: '0\\0\\0\\0\\1\\0'"});
   // A value that is not text is shown escaped.
   error_with([](Slice& s) { s.slope = std::string("1\x01", 2); }, {"'1\\x01'"});
+  // A usable slope that makes the stored values too large for a float: refused, not +-inf.
+  for (const char* slope : {"1e38", "-1e38"})
+    error_with([&](Slice& s) { s.slope = slope; },
+               {"s", ".dcm: RescaleSlope (0028,1053)", "beyond what a float holds"});
 }
 
 TEST(DicomErrors, TheListingNamesTheFilesThatReadingWouldRefuse) {

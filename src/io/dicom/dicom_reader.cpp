@@ -547,6 +547,14 @@ DicomVolume to_volume(detail::AcquiredSeries& a, const DicomReadOptions& options
       const detail::DicomFrame& f = a.stack.frames[s];
       const float x = rescaled(a.stored.ranges[s].lo, f.slope, f.intercept),
                   y = rescaled(a.stored.ranges[s].hi, f.slope, f.intercept);
+      // The decoder's finiteness check is not on this path: the range's ends stand for it.
+      if (!std::isfinite(x) || !std::isfinite(y))
+        throw Error(fmt::format(
+            "{}: RescaleSlope (0028,1053) {:g} and RescaleIntercept (0028,1052) {:g} make its "
+            "stored values {}..{} {:g}..{:g}, beyond what a float holds",
+            f.file.string(), f.slope, f.intercept, a.stored.ranges[s].lo, a.stored.ranges[s].hi,
+            static_cast<double>(f.slope) * a.stored.ranges[s].lo + f.intercept,
+            static_cast<double>(f.slope) * a.stored.ranges[s].hi + f.intercept));
       ranges[s] = {std::min(x, y), std::max(x, y)};
     }
   } else {
