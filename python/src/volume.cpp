@@ -212,6 +212,23 @@ py::array frame_of(const py::array& ijk, const py::handle& frame_argument) {
   return ijk.attr("__getitem__")(index);
 }
 
+// A float64 value past float32's range would become inf in the float32 copy, which reads as "no
+// data": refused instead, naming the first such voxel. Infinities given as such stay no data.
+// `given` and `copy` are the (k, j, i) arrays.
+void require_float32_range(const py::module_& np, const py::array& given, const py::array& copy,
+                           const std::string& shape) {
+  const py::object overflowed = np.attr("isinf")(copy);
+  if (!overflowed.attr("any")().cast<bool>()) return;
+  const py::object lost = np.attr("logical_and")(overflowed, np.attr("isfinite")(given));
+  if (!lost.attr("any")().cast<bool>()) return;
+  const py::tuple at = np.attr("unravel_index")(np.attr("argmax")(lost), given.attr("shape"));
+  const double value = given[at].cast<double>();
+  throw py::value_error(fmt::format(
+      "Volume: array of shape {}: value {:g} at voxel (i, j, k) = ({}, {}, {}) is beyond "
+      "float32's range (+-3.4e38), which intermix holds floats in; scale the values first",
+      shape, value, at[2].cast<long>(), at[1].cast<long>(), at[0].cast<long>()));
+}
+
 std::shared_ptr<PyVolume> make_volume(const ArrayParameter& given,
                                       const OptionalArrayParameter& affine_argument,
                                       const OptionalTextParameter& space_argument,
@@ -296,7 +313,10 @@ std::shared_ptr<PyVolume> make_volume(const ArrayParameter& given,
           static_cast<double>(copy_bytes) / (1 << 20));
       if (PyErr_WarnEx(PyExc_UserWarning, message.c_str(), 1) < 0) throw py::error_already_set();
     }
+    const py::array given = kji;
     kji = np.attr("ascontiguousarray")(kji, py::arg("dtype") = target);
+    if (given.dtype().kind() == 'f' && given.dtype().itemsize() > 4)
+      require_float32_range(np, given, kji, shape);
   }
   auto v = std::make_shared<PyVolume>();
   v->id = next_source_id("volume");

@@ -186,6 +186,17 @@ def test_volume_errors():
     masked[1, 2, 3] = np.nan
     masked[0, 0, 0] = -np.inf
     assert intermix.Volume(masked, axes="kji").range == (1.0, 1.0)
+    # A float64 beyond float32's range would become inf, that is no data: refused, naming it.
+    huge = np.ones((4, 4, 4))
+    huge[1, 2, 3] = 1e300
+    huge[0, 0, 0] = np.inf  # given as inf: still no data
+    with pytest.warns(UserWarning, match="float64"):
+        with pytest.raises(ValueError, match=r"1e\+300 at voxel \(i, j, k\) = \(3, 2, 1\)"):
+            intermix.Volume(huge, axes="kji")
+    given_inf = np.ones((4, 4, 4))
+    given_inf[0, 0, 0] = np.inf
+    with pytest.warns(UserWarning, match="float64"):
+        assert intermix.Volume(given_inf, axes="kji").range == (1.0, 1.0)
     with pytest.raises(ValueError, match="singular"):
         intermix.Volume(np.zeros((4, 4, 4)), np.diag([1.0, 0.0, 1.0, 1.0]), axes="kji")
     with pytest.raises(TypeError, match="not supported"):
