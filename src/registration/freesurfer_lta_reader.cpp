@@ -49,6 +49,18 @@ glm::dmat4 vox2ras(const VolumeGeometry& g, const std::string& block, const std:
     return glm::dvec3(it->second[0], it->second[1], it->second[2]);
   };
   const glm::dvec3 dims = field("volume"), size = field("voxelsize");
+  // Checked here, so that a degenerate grid is named rather than found as a singular matrix.
+  if (!(size.x > 0.0 && size.y > 0.0 && size.z > 0.0))
+    throw Error(
+        fmt::format("{}: {} volume info: voxelsize {:g} {:g} {:g}: each size must be a "
+                    "positive number of mm",
+                    what, block, size.x, size.y, size.z));
+  for (const char* axis : {"xras", "yras", "zras"}) {
+    const glm::dvec3 d = field(axis);
+    if (!(glm::length(d) > 1e-6))
+      throw Error(fmt::format("{}: {} volume info: {} {:g} {:g} {:g} is not a direction", what,
+                              block, axis, d.x, d.y, d.z));
+  }
   const glm::dmat3 directions(field("xras"), field("yras"), field("zras"));
   glm::dmat3 axes = directions;
   for (int a = 0; a < 3; ++a) axes[a] *= size[a];

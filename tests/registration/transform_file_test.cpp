@@ -238,6 +238,13 @@ TEST(FreeSurferLta, RasToRasAndVoxToVox) {
                {"v.lta", "src volume info"});
   expect_error([&] { parse_transform_file(test::lta_text(2, vox, src, dst), "v.lta"); },
                {"transform type 2"});
+  // A degenerate grid is named, not found later as a "non-finite entry" of a singular matrix.
+  const std::string flat = test::lta_volume_block(src_dims, glm::dvec3(0), lia, src_c);
+  expect_error([&] { parse_transform_file(test::lta_text(0, vox, flat, dst), "v.lta"); },
+               {"v.lta", "src volume info: voxelsize 0 0 0", "positive"});
+  const std::string no_axis = test::lta_volume_block(dst_dims, dst_size, glm::dmat3(0.0), dst_c);
+  expect_error([&] { parse_transform_file(test::lta_text(0, vox, src, no_axis), "v.lta"); },
+               {"v.lta", "dst volume info: xras 0 0 0 is not a direction"});
 }
 
 TEST(AfniAff12, BaseToSourceInLps) {
