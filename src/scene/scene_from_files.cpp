@@ -91,6 +91,11 @@ Json automatic_coloring(Json overlay, const detail::VertexOverlay& read) {
   std::vector<double> values;
   for (double v : read.values)
     if (std::isfinite(v)) values.push_back(v);
+  if (values.empty() && !read.values.empty())
+    throw Error(
+        fmt::format("{}: none of its {} values is a number (all are NaN or infinite): "
+                    "nothing to colour the surface by",
+                    overlay["file"].get<std::string>(), read.values.size()));
   if (values.empty()) return overlay;  // the loader names what is missing
   auto quantile = [](std::vector<double> v, double q) {
     const auto at = v.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));

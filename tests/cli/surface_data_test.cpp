@@ -91,5 +91,19 @@ TEST(CliSurfaceData, AThreeDimensionalImageAfterASurfaceStaysAVolume) {
       2u);
 }
 
+// An overlay with no value that is a number has nothing to colour by: one line that says so,
+// not a request for a transfer function (issue 48).
+TEST(CliSurfaceData, AnOverlayOfOnlyNanIsNamedAsSuch) {
+  test::TempDir dir;
+  write_surface(dir / "lh.pial");
+  test::write_freesurfer_curv(dir / "lh.nan", std::vector<float>(42, std::nanf("")));
+  const test::CliResult r = test::run_cli(
+      fmt::format("render {} {} -o {} --width 32 --height 32", (dir / "lh.pial").string(),
+                  (dir / "lh.nan").string(), (dir / "nan.png").string()));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_TRUE(test::contains(r.output, "lh.nan: none of its 42 values is a number")) << r.output;
+  EXPECT_FALSE(test::contains(r.output, "transfer_function")) << r.output;
+}
+
 }  // namespace
 }  // namespace imx
