@@ -6,6 +6,11 @@
 #include <exception>
 #include <map>
 #include <new>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "core/library_output.hpp"
 #include "core/parallel.hpp"
@@ -42,15 +47,26 @@ uint64_t parse_byte_size(const std::string& text) {
   return std::isfinite(bytes) && bytes >= 1.0 && bytes < 1.8e19 ? static_cast<uint64_t>(bytes) : 0;
 }
 
-// Runs a command; an error is one line on stderr and a non-zero status.
-int run_command(const Command& command) {
+// The positional arguments a command was given (its input files, mostly): what a message with
+// no file of its own names.
+std::string inputs_of(const CLI::App& command) {
+  std::vector<std::string> words;
+  for (const CLI::Option* o : command.get_options())
+    if (o->get_positional())
+      for (const std::string& r : o->results()) words.push_back(r);
+  return words.empty() ? command.get_name() : fmt::format("{}", fmt::join(words, " "));
+}
+
+// Runs a command; an error is one line on stderr and a non-zero status. Running out of memory
+// where no reader caught it names the command's inputs.
+int run_command(const Command& command, const std::string& inputs) {
   try {
     return command();
   } catch (const Error& e) {
     std::fprintf(stderr, "%s: error: %s\n", program, e.what());
     return 1;
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "%s: error: %s\n", program, out_of_memory_message(program).c_str());
+    std::fprintf(stderr, "%s: error: %s\n", program, out_of_memory_message(inputs).c_str());
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s: unexpected error: %s\n", program, e.what());
@@ -120,7 +136,8 @@ int run_program(const char* name, const char* description, std::span<const Subco
   if (!max_memory.empty()) limits.max_memory = parse_byte_size(max_memory);
   limits.allow_external_data = allow_external_data;
   set_input_limits(limits);
-  const int status = run_command(commands.at(app.get_subcommands().front()));
+  CLI::App* command = app.get_subcommands().front();
+  const int status = run_command(commands.at(command), inputs_of(*command));
   // Libraries' own words come last, and only when asked for.
   if (verbose)
     for (const std::string& line : detail::take_library_output())

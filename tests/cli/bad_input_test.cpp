@@ -198,6 +198,24 @@ TEST(CliBadInput, OutOfMemoryNamesTheInputAndTheBudget) {
   EXPECT_FALSE(std::filesystem::exists(dir / "out.png"));
 }
 
+// Running out of memory where no reader catches it (here: rendering a volume file under a
+// small address space) names the command's inputs, once: not "intermix: error: intermix:".
+TEST(CliBadInput, OutOfMemoryOutsideAReaderNamesTheInputs) {
+#ifdef IMX_SANITIZED
+  GTEST_SKIP() << "AddressSanitizer cannot start under an address-space limit";
+#endif
+  TempDir dir;
+  const std::string volume = (dir / "head.nii.gz").string();
+  ASSERT_EQ(run_cli("phantom ct-head --size 256 -o " + volume).exit_code, 0);
+  const CliResult r =
+      run_cli("render " + volume + " --width 64 --height 64 -o " + (dir / "out.png").string(),
+              "ulimit -v 100000; ");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find(volume + ": out of memory"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("error: intermix:"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.png"));
+}
+
 TEST(CliBadInput, APngClaimingHugeDimensionsIsRefusedBeforeDecoding) {
   TempDir dir;
   // Signature, IHDR for 65536 x 32768 RGBA, a 10-byte IDAT and IEND, 69 bytes in all (CRCs of
