@@ -9,13 +9,17 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <deque>
 #include <fstream>
+#include <list>
 #include <map>
+#include <optional>
 #include <random>
 #include <sstream>
+#include <utility>
 
 #include <fmt/format.h>
 #include <boost/asio/ip/tcp.hpp>
@@ -279,32 +283,54 @@ class WebSocketClient : public ClientSink, public std::enable_shared_from_this<W
   bool joined_ = false;
 };
 
+class HttpConnection;
+
+// The connections waiting for a request (half-open ones, idle keep-alives), oldest first: when
+// the descriptors run out, the oldest is closed for the next connection (HttpServer::Impl).
+// Only the server's one network thread touches it.
+using WaitingConnections = std::list<std::weak_ptr<HttpConnection>>;
+
 // One TCP connection's HTTP requests, until it upgrades to a WebSocket or closes.
 class HttpConnection : public std::enable_shared_from_this<HttpConnection> {
  public:
   HttpConnection(tcp::socket socket, ViewerSession& session,
                  const std::map<std::string, PageFile>& page, const ServerOptions& options,
-                 const Access& access, Totals& totals)
+                 const Access& access, Totals& totals, WaitingConnections& waiting)
       : stream_(std::move(socket)),
         session_(session),
         page_(page),
         options_(options),
         access_(access),
-        totals_(totals) {}
+        totals_(totals),
+        waiting_(waiting) {}
+  ~HttpConnection() { stop_waiting(); }
 
   void read() {
     parser_.emplace();
     parser_->header_limit(kMaxHeaderBytes);
     parser_->body_limit(kMaxBodyBytes);
     stream_.expires_after(kRequestTimeout);  // the whole request, however slowly it comes
+    if (!in_waiting_) in_waiting_ = waiting_.insert(waiting_.end(), weak_from_this());
     http::async_read(stream_, buffer_, *parser_,
                      [self = shared_from_this()](beast::error_code ec, size_t) {
+                       self->stop_waiting();
                        if (ec) return self->fail(ec);
                        self->answer(self->parser_->release());
                      });
   }
 
+  // Closes the connection, whose request has not come, to free its descriptor.
+  void evict() {
+    stop_waiting();
+    beast::error_code ec;
+    stream_.socket().close(ec);
+  }
+
  private:
+  void stop_waiting() {
+    if (in_waiting_) waiting_.erase(*std::exchange(in_waiting_, std::nullopt));
+  }
+
   void fail(beast::error_code ec) {
     // A request over the limits gets its answer; timeouts and closed connections just end.
     if (ec == http::error::header_limit || ec == http::error::body_limit)
@@ -402,7 +428,9 @@ class HttpConnection : public std::enable_shared_from_this<HttpConnection> {
   const ServerOptions& options_;
   const Access& access_;
   Totals& totals_;
-  std::string csp_, set_cookie_;  // of the response being made
+  WaitingConnections& waiting_;
+  std::optional<WaitingConnections::iterator> in_waiting_;  // while a request is awaited
+  std::string csp_, set_cookie_;                            // of the response being made
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;
 };
@@ -432,8 +460,13 @@ struct HttpServer::Impl {
     acceptor.async_accept(asio::make_strand(io), [this](beast::error_code ec, tcp::socket socket) {
       if (ec == asio::error::operation_aborted) return;
       if (ec) {
-        // Out of file descriptors (EMFILE, ENFILE) or memory: the connection stays pending and
-        // accepting again at once would spin. Shed the backlog, then pause.
+        // Out of file descriptors: the connection that has waited longest for its request is
+        // closed, and the pending one accepted in its place (issue 48: 1,100 half-open
+        // connections otherwise shut out every client).
+        if ((ec == asio::error::no_descriptors || ec.value() == ENFILE) && evict_oldest())
+          return accept();
+        // None waiting (or out of memory): the connection stays pending and accepting again at
+        // once would spin. Shed the backlog, then pause.
         shed();
         retry.expires_after(kAcceptRetry);
         retry.async_wait([this](beast::error_code e) {
@@ -441,10 +474,25 @@ struct HttpServer::Impl {
         });
         return;
       }
-      std::make_shared<HttpConnection>(std::move(socket), session, page, options, access, totals)
+      std::make_shared<HttpConnection>(std::move(socket), session, page, options, access, totals,
+                                       waiting)
           ->read();
       accept();
     });
+  }
+
+  // Closes the connection that has waited longest for a request; false when none waits.
+  bool evict_oldest() {
+    while (!waiting.empty()) {
+      const std::shared_ptr<HttpConnection> oldest = waiting.front().lock();
+      if (!oldest) {
+        waiting.pop_front();
+        continue;
+      }
+      oldest->evict();  // leaves the list
+      return true;
+    }
+    return false;
   }
 
   // Accepts and closes the pending connections in the descriptor the reserve frees, so that the
@@ -463,7 +511,8 @@ struct HttpServer::Impl {
   ServerOptions options;
   std::map<std::string, PageFile> page;
   Access access;
-  Totals totals;  // before io: the handlers io destroys last still count down
+  Totals totals;               // before io: the handlers io destroys last still count down
+  WaitingConnections waiting;  // before io: connections leave it as io destroys them
   asio::io_context io{1};
   tcp::acceptor acceptor;
   asio::steady_timer retry;  // the accept loop's pause

@@ -514,8 +514,9 @@ class FileLimit {
 };
 
 // Idle connections that take every file descriptor: the accept loop used to retry EMFILE at
-// once (a CPU at 100 %) and serve nobody. Now it pauses, sheds the backlog through a reserve
-// descriptor, and serves the next client as soon as descriptors are free.
+// once (a CPU at 100 %) and serve nobody. Now it closes the connection that has waited longest
+// for a request (or, with none, sheds the backlog through a reserve descriptor and pauses), and
+// serves the next client as soon as descriptors are free.
 TEST(HttpServer, OutOfFileDescriptorsTheServerNeitherSpinsNorStops) {
 #ifdef IMX_SANITIZED
   GTEST_SKIP() << "the sanitizers check memory through a pipe, which fails with no descriptor "
@@ -538,11 +539,13 @@ TEST(HttpServer, OutOfFileDescriptorsTheServerNeitherSpinsNorStops) {
     for (const int fd : flood)
       ASSERT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
     std::this_thread::sleep_for(200ms);
-    const int probe = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
-    const int error = errno;
-    EXPECT_EQ(probe, -1) << "descriptors left: the server did not run out";
-    EXPECT_EQ(error, EMFILE);
-    if (probe >= 0) ::close(probe);
+    // The server ran into the limit: at most the descriptor of the last connection it closed
+    // for a pending one is left (connections waiting for a request make room for new ones).
+    std::vector<int> left;
+    for (int fd; (fd = ::open("/dev/null", O_RDONLY | O_CLOEXEC)) >= 0;) left.push_back(fd);
+    EXPECT_EQ(errno, EMFILE);
+    EXPECT_LE(left.size(), 1u) << "descriptors left: the server did not run out";
+    for (const int fd : left) ::close(fd);
     // Within kRequestTimeout: the server still holds its idle connections and has none left.
     const double cpu0 = s.cpu_seconds();
     std::this_thread::sleep_for(1s);
@@ -552,6 +555,52 @@ TEST(HttpServer, OutOfFileDescriptorsTheServerNeitherSpinsNorStops) {
     EXPECT_EQ(get(s.port(), "/?token=" + Served::token()).result(), http::status::ok);
     EXPECT_LT(Clock::now() - t0, 1s);
   }
+}
+
+// Half-open connections that hold every descriptor the server may have, and stay open: the
+// server closes the one that has waited longest for its request and accepts the next, so a
+// client that sends its request is served within a second while the flood is still held
+// (issue 48: 11 of 30 requests were served with 1,100 such connections).
+TEST(HttpServer, AClientIsServedWhileHalfOpenConnectionsHoldEveryDescriptor) {
+#ifdef IMX_SANITIZED
+  GTEST_SKIP() << "the sanitizers check memory through a pipe, which fails with no descriptor "
+                  "left: every vptr check of the render thread then reports a false error";
+#endif
+  Served s;
+  ASSERT_EQ(get(s.port(), "/?token=" + Served::token()).result(), http::status::ok);
+  // Every socket of this side exists before the limit: only the server's accepts run out.
+  std::vector<int> flood(40);
+  for (int& fd : flood) fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  const int client = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  const int lowest_free = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
+  ASSERT_GE(lowest_free, 0);
+  ::close(lowest_free);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(s.port());
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  std::string reply;
+  {
+    FileLimit limit(static_cast<rlim_t>(lowest_free) + 8);  // the server may accept 8 at most
+    for (const int fd : flood)
+      ASSERT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+    std::this_thread::sleep_for(300ms);
+    const auto t0 = Clock::now();
+    ASSERT_EQ(::connect(client, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+    const std::string request =
+        "GET /?token=" + Served::token() + " HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
+    ASSERT_EQ(::send(client, request.data(), request.size(), 0),
+              static_cast<ssize_t>(request.size()));
+    timeval wait{2, 0};
+    ::setsockopt(client, SOL_SOCKET, SO_RCVTIMEO, &wait, sizeof wait);
+    char buffer[64] = {};
+    const ssize_t n = ::recv(client, buffer, sizeof buffer - 1, 0);
+    if (n > 0) reply.assign(buffer, static_cast<size_t>(n));
+    EXPECT_LT(Clock::now() - t0, 1s);
+  }
+  EXPECT_EQ(reply.rfind("HTTP/1.1 200", 0), 0u) << "reply: '" << reply << "'";
+  ::close(client);
+  for (const int fd : flood) ::close(fd);
 }
 
 }  // namespace
