@@ -472,7 +472,7 @@ TEST(HttpServer, ConnectionsWithoutACompleteRequestAreClosed) {
     address.sin_family = AF_INET;
     address.sin_port = htons(s.port());
     address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    EXPECT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+    EXPECT_EQ(::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
     const timeval wait{5, 0};
     ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &wait, sizeof wait);
     return fd;
@@ -513,6 +513,23 @@ class FileLimit {
   rlimit saved_{};
 };
 
+// The loopback address of the server's port.
+sockaddr_in loopback(uint16_t port) {
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(port);
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  return address;
+}
+
+// The descriptor the next open would get: a limit above it by N leaves N to open.
+int lowest_free_descriptor() {
+  const int fd = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
+  EXPECT_GE(fd, 0);
+  ::close(fd);
+  return fd;
+}
+
 // Idle connections that take every file descriptor: the accept loop used to retry EMFILE at
 // once (a CPU at 100 %) and serve nobody. Now it closes the connection that has waited longest
 // for a request (or, with none, sheds the backlog through a reserve descriptor and pauses), and
@@ -527,17 +544,12 @@ TEST(HttpServer, OutOfFileDescriptorsTheServerNeitherSpinsNorStops) {
   // The flood's sockets exist before the limit: only the server's accepts run out.
   std::vector<int> flood(40);
   for (int& fd : flood) fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  const int lowest_free = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
-  ASSERT_GE(lowest_free, 0);
-  ::close(lowest_free);
+  const int lowest_free = lowest_free_descriptor();
   {
     FileLimit limit(static_cast<rlim_t>(lowest_free) + 8);  // the server may accept 8 at most
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_port = htons(s.port());
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    const sockaddr_in address = loopback(s.port());
     for (const int fd : flood)
-      ASSERT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+      ASSERT_EQ(::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
     std::this_thread::sleep_for(200ms);
     // The server ran into the limit: at most the descriptor of the last connection it closed
     // for a pending one is left (connections waiting for a request make room for new ones).
@@ -572,21 +584,16 @@ TEST(HttpServer, AClientIsServedWhileHalfOpenConnectionsHoldEveryDescriptor) {
   std::vector<int> flood(40);
   for (int& fd : flood) fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
   const int client = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  const int lowest_free = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
-  ASSERT_GE(lowest_free, 0);
-  ::close(lowest_free);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(s.port());
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  const int lowest_free = lowest_free_descriptor();
+  const sockaddr_in address = loopback(s.port());
   std::string reply;
   {
     FileLimit limit(static_cast<rlim_t>(lowest_free) + 8);  // the server may accept 8 at most
     for (const int fd : flood)
-      ASSERT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+      ASSERT_EQ(::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
     std::this_thread::sleep_for(300ms);
     const auto t0 = Clock::now();
-    ASSERT_EQ(::connect(client, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+    ASSERT_EQ(::connect(client, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
     const std::string request =
         "GET /?token=" + Served::token() + " HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
     ASSERT_EQ(::send(client, request.data(), request.size(), 0),
