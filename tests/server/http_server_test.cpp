@@ -462,16 +462,30 @@ TEST(HttpServer, AClientThatDoesNotReadItsRepliesIsDropped) {
   EXPECT_EQ(s.load().queued_messages, 0u);
 }
 
+// The loopback address of the server's port.
+sockaddr_in loopback(uint16_t port) {
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(port);
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  return address;
+}
+
+// The descriptor the next open would get: a limit above it by N leaves N to open.
+int lowest_free_descriptor() {
+  const int fd = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
+  EXPECT_GE(fd, 0);
+  ::close(fd);
+  return fd;
+}
+
 // An idle connection, or one that sends its request slowly, is closed after kRequestTimeout
 // (it used to be held 30 s, each holding a file descriptor).
 TEST(HttpServer, ConnectionsWithoutACompleteRequestAreClosed) {
   Served s;
   auto connect = [&] {
     const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_port = htons(s.port());
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    const sockaddr_in address = loopback(s.port());
     EXPECT_EQ(::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
     const timeval wait{5, 0};
     ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &wait, sizeof wait);
@@ -512,23 +526,6 @@ class FileLimit {
  private:
   rlimit saved_{};
 };
-
-// The loopback address of the server's port.
-sockaddr_in loopback(uint16_t port) {
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(port);
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  return address;
-}
-
-// The descriptor the next open would get: a limit above it by N leaves N to open.
-int lowest_free_descriptor() {
-  const int fd = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
-  EXPECT_GE(fd, 0);
-  ::close(fd);
-  return fd;
-}
 
 // Idle connections that take every file descriptor: the accept loop used to retry EMFILE at
 // once (a CPU at 100 %) and serve nobody. Now it closes the connection that has waited longest
