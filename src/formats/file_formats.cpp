@@ -12,8 +12,8 @@
 #include "io/mesh/mesh_formats.hpp"
 #include "io/overlay/overlay_formats.hpp"
 #include "io/streamlines/streamline_formats.hpp"
-#include "io/volume/volume_formats.hpp"
 #include "io/streams/regular_file.hpp"
+#include "io/volume/volume_formats.hpp"
 #include "labels/label_table_formats.hpp"
 #include "registration/transform_formats.hpp"
 

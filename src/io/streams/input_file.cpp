@@ -72,7 +72,10 @@ void InputFd::reset() {
   fd_ = -1;
 }
 
-InputFd open_input(const std::filesystem::path& file, std::string_view what) {
+namespace {
+
+// The guarded open; `record`: note the file as an input (not for sniffing a neighbour's bytes).
+InputFd open_checked(const std::filesystem::path& file, std::string_view what, bool record) {
   const std::string name = name_of(file, what);
   if (file.empty()) throw FileError(fmt::format("{}: no such file", name), ENOENT);
   // O_NONBLOCK: opening a FIFO with no writer, or a device, must not wait.
@@ -88,8 +91,14 @@ InputFd open_input(const std::filesystem::path& file, std::string_view what) {
   if (!S_ISREG(st.st_mode)) refuse_kind(name, st.st_mode);
   const int flags = ::fcntl(fd, F_GETFL);  // reads of a regular file then block as usual
   if (flags >= 0) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
-  note_input(st, file);
+  if (record) note_input(st, file);
   return InputFd(guard.release(), static_cast<uint64_t>(st.st_size));
+}
+
+}  // namespace
+
+InputFd open_input(const std::filesystem::path& file, std::string_view what) {
+  return open_checked(file, what, true);
 }
 
 std::filesystem::path path_of_open(const InputFd& fd, const std::filesystem::path& file) {
@@ -115,7 +124,8 @@ std::ifstream open_input_stream(const std::filesystem::path& file, std::string_v
 
 std::ifstream try_open_input_stream(const std::filesystem::path& file) {
   try {
-    return open_input_stream(file);
+    const InputFd fd = open_checked(file, {}, false);
+    return std::ifstream(path_of_open(fd, file), std::ios::binary);
   } catch (const Error&) {
     return std::ifstream();
   }

@@ -46,7 +46,8 @@ std::ifstream open_input_stream(const std::filesystem::path& file, std::string_v
                                 std::ios::openmode mode = std::ios::binary);
 
 // For sniffing a file's first bytes: open_input_stream, or a stream that is not open (every read
-// fails) when the file cannot be opened or is no regular file; never blocks.
+// fails) when the file cannot be opened or is no regular file; never blocks. A file only sniffed
+// (a folder's other files) is not recorded as an input.
 std::ifstream try_open_input_stream(const std::filesystem::path& file);
 
 // A path that reads the file `fd` has open (/proc/self/fd/N), for a library that opens by name
