@@ -200,6 +200,7 @@ TEST(InputGuard, EveryRegistryReaderRefusesAFifoDeviceFolderAndLinkLoopFast) {
     }
   }
   EXPECT_EQ(cases, readers.size() * 4);
+  RecordProperty("cases", static_cast<int>(cases));
 }
 
 // The read_* entry points that choose by name and content, and the files a file names.
