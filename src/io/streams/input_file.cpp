@@ -34,6 +34,27 @@ std::string name_of(const std::filesystem::path& file, std::string_view what) {
   throw FileError(fmt::format("{}: cannot open the file: {}", name, std::strerror(err)), err);
 }
 
+// The guarded open; `record`: note the file as an input (not for sniffing a neighbour's bytes).
+InputFd open_checked(const std::filesystem::path& file, std::string_view what, bool record) {
+  const std::string name = name_of(file, what);
+  if (file.empty()) throw FileError(fmt::format("{}: no such file", name), ENOENT);
+  // O_NONBLOCK: opening a FIFO with no writer, or a device, must not wait.
+  int fd;
+  do fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+  while (fd < 0 && errno == EINTR);
+  if (fd < 0) refuse_open(file, name, errno);
+  InputFd guard(fd, 0);
+  struct stat st {};
+  if (::fstat(fd, &st) != 0)
+    throw FileError(fmt::format("{}: cannot look at the file: {}", name, std::strerror(errno)),
+                    errno);
+  if (!S_ISREG(st.st_mode)) refuse_kind(name, st.st_mode);
+  const int flags = ::fcntl(fd, F_GETFL);  // reads of a regular file then block as usual
+  if (flags >= 0) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+  if (record) note_input(st, file);
+  return InputFd(guard.release(), static_cast<uint64_t>(st.st_size));
+}
+
 }  // namespace
 
 std::string not_regular_reason(unsigned mode) {
@@ -71,31 +92,6 @@ void InputFd::reset() {
   if (fd_ >= 0) ::close(fd_);
   fd_ = -1;
 }
-
-namespace {
-
-// The guarded open; `record`: note the file as an input (not for sniffing a neighbour's bytes).
-InputFd open_checked(const std::filesystem::path& file, std::string_view what, bool record) {
-  const std::string name = name_of(file, what);
-  if (file.empty()) throw FileError(fmt::format("{}: no such file", name), ENOENT);
-  // O_NONBLOCK: opening a FIFO with no writer, or a device, must not wait.
-  int fd;
-  do fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
-  while (fd < 0 && errno == EINTR);
-  if (fd < 0) refuse_open(file, name, errno);
-  InputFd guard(fd, 0);
-  struct stat st {};
-  if (::fstat(fd, &st) != 0)
-    throw FileError(fmt::format("{}: cannot look at the file: {}", name, std::strerror(errno)),
-                    errno);
-  if (!S_ISREG(st.st_mode)) refuse_kind(name, st.st_mode);
-  const int flags = ::fcntl(fd, F_GETFL);  // reads of a regular file then block as usual
-  if (flags >= 0) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
-  if (record) note_input(st, file);
-  return InputFd(guard.release(), static_cast<uint64_t>(st.st_size));
-}
-
-}  // namespace
 
 InputFd open_input(const std::filesystem::path& file, std::string_view what) {
   return open_checked(file, what, true);
