@@ -27,6 +27,7 @@
 #include "intermix/renderer.hpp"
 #include "intermix/scene.hpp"
 #include "io/streams/atomic_file.hpp"
+#include "io/streams/input_file.hpp"
 #include "lab_commands.hpp"
 #include "probes/first_hit_depth.hpp"
 
@@ -380,7 +381,7 @@ Command add_eval(CLI::App& app) {
                                 (dir / s.name).string(), ec.message()));
       // The scene's own description, read from its file (the Scene keeps none).
       try {
-        std::ifstream in(files[k]);
+        std::ifstream in = try_open_input_stream(files[k]);
         nlohmann::json j = nlohmann::json::parse(in);
         if (j.contains("description") && j["description"].is_string())
           s.description = j["description"];

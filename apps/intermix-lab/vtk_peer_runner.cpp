@@ -19,6 +19,7 @@
 
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
+#include "io/streams/input_file.hpp"
 #include "scene/overrides.hpp"
 
 namespace imx::cli {
@@ -125,7 +126,7 @@ std::string last_lines(const std::string& text, size_t count) {
 }
 
 std::string read_text(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
+  std::ifstream in = try_open_input_stream(file);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 

@@ -25,6 +25,8 @@ PyObject* os_error_type(int code) {
       return PyExc_IsADirectoryError;
     case ENOTDIR:
       return PyExc_NotADirectoryError;
+    case EEXIST:  // an output that names an input of this process
+      return PyExc_FileExistsError;
     case EACCES:
     case EPERM:
       return PyExc_PermissionError;

@@ -199,3 +199,23 @@ def test_images_with_nan_are_refused_by_name():
     all_nan = np.full((4, 4, 4), np.nan, np.float32)
     with pytest.raises(ValueError, match=r"compare: a: 64 of the image's 64 values"):
         intermix.compare(all_nan, zeros)
+
+
+def test_writers_refuse_to_replace_an_input(tmp_path):
+    """An output naming a file this process read (by any link to it) is refused, the file kept."""
+    path = tmp_path / "v.nrrd"
+    volume = intermix.Volume(blob_volume(), np.eye(4), axes="kji")
+    intermix.write_volume(volume, path)
+    intermix.read_volume(path)
+    before = path.read_bytes()
+    link = tmp_path / "link.nrrd"
+    link.symlink_to(path.name)
+    for target in (path, link):
+        with pytest.raises(FileExistsError) as e:
+            intermix.write_volume(volume, target)
+        assert str(e.value) == (
+            f"{target}: is an input of this command ({path}); choose another output")
+    with pytest.raises(FileExistsError, match="is an input of this command"):
+        intermix.write_png(np.zeros((4, 4, 4), np.float32), path)
+    assert path.read_bytes() == before
+    intermix.write_volume(volume, tmp_path / "copy.nrrd")  # any other name is written

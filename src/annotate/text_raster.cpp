@@ -11,6 +11,7 @@
 #include FT_FREETYPE_H
 
 #include "intermix/error.hpp"
+#include "io/streams/input_file.hpp"
 
 namespace imx {
 
@@ -41,7 +42,10 @@ struct TextRaster::Face {
 TextRaster::TextRaster(const std::filesystem::path& font, int pixel_height)
     : face_(std::make_unique<Face>()), pixel_height_(pixel_height) {
   if (FT_Init_FreeType(&face_->library) != 0) throw Error("FreeType failed to start");
-  if (const FT_Error e = FT_New_Face(face_->library, font.c_str(), 0, &face_->face); e != 0)
+  const InputFd fd = open_input(font);  // FreeType opens by name: the checked file's name
+  if (const FT_Error e =
+          FT_New_Face(face_->library, path_of_open(fd, font).c_str(), 0, &face_->face);
+      e != 0)
     throw Error(fmt::format("{}: FreeType cannot open it as a font (error {})", font.string(), e));
   if (FT_Set_Pixel_Sizes(face_->face, 0, static_cast<FT_UInt>(std::clamp(pixel_height, 4, 256))) !=
       0)

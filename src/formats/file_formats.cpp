@@ -12,6 +12,7 @@
 #include "io/mesh/mesh_formats.hpp"
 #include "io/overlay/overlay_formats.hpp"
 #include "io/streamlines/streamline_formats.hpp"
+#include "io/streams/regular_file.hpp"
 #include "io/volume/volume_formats.hpp"
 #include "labels/label_table_formats.hpp"
 #include "registration/transform_formats.hpp"
@@ -116,6 +117,10 @@ std::string unknown_format_message(const std::filesystem::path& file) {
 
 IdentifiedFile identify_file(const std::filesystem::path& file) {
   const detail::FileProbe probe = detail::probe_file(file);
+  // A FIFO, device or link loop is said as such, not taken for a format by its name alone.
+  std::error_code ec;
+  if (!probe.folder && std::filesystem::exists(std::filesystem::symlink_status(file, ec)))
+    require_regular_file(file);
   const auto found = [](const auto* row) {
     return IdentifiedFile{detail::file_kind_name(row->info.kind), std::string(row->info.name),
                           std::string(row->info.needs)};

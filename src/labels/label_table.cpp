@@ -9,6 +9,7 @@
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/labels.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 #include "labels/colour_table_readers.hpp"
 #include "labels/label_table_formats.hpp"
@@ -25,8 +26,7 @@ constexpr size_t kMaxNrrdHeaderBytes = size_t{4} << 20;
 // The file's first `limit` bytes; with `whole`, an error when it is longer.
 std::string read_head(const std::filesystem::path& file, size_t limit, bool whole) {
   require_regular_file(file);
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open it for reading", file.string()), errno);
+  std::ifstream in = open_input_stream(file, file.string());
   std::string text(limit + 1, '\0');
   in.read(text.data(), static_cast<std::streamsize>(text.size()));
   if (in.bad()) throw Error(fmt::format("{}: reading failed", file.string()));

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 
 namespace imx {
@@ -20,8 +21,7 @@ std::string read_text_file(const std::filesystem::path& file, size_t max_bytes) 
   if (size > max_bytes)
     throw Error(fmt::format("{}: {} bytes is more than the {} this kind of file may have",
                             file.string(), size, max_bytes));
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open it for reading", file.string()), errno);
+  std::ifstream in = open_input_stream(file, file.string());
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw Error(fmt::format("{}: reading failed", file.string()));

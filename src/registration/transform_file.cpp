@@ -12,6 +12,7 @@
 
 #include "core/math.hpp"
 #include "intermix/error.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 #include "registration/transform_formats.hpp"
 #include "registration/transform_readers.hpp"
@@ -116,8 +117,7 @@ FileTransform read_transform_file(const std::filesystem::path& file,
   if (!ec && size > kMaxTransformFileBytes)
     throw Error(fmt::format("{}: {} bytes; a linear transform file is at most {} bytes", what, size,
                             kMaxTransformFileBytes));
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open the file", what), errno);
+  std::ifstream in = open_input_stream(file, what);
   std::string bytes(kMaxTransformFileBytes + 1, '\0');
   in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   bytes.resize(static_cast<size_t>(std::max<std::streamsize>(in.gcount(), 0)));

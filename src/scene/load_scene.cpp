@@ -10,6 +10,7 @@
 
 #include "intermix/error.hpp"
 #include "intermix/scene.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 #include "scene/mesh_overlay.hpp"
 #include "scene/scene_document.hpp"
@@ -151,8 +152,7 @@ nlohmann::json scene_json::parse_scene_json(const std::string& json_text,
 
 std::string scene_json::read_scene_file(const std::filesystem::path& file) {
   require_regular_file(file);
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open the file", file.string()), errno);
+  std::ifstream in = open_input_stream(file, file.string());
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();

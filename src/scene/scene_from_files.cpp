@@ -10,6 +10,7 @@
 #include "io/overlay/vertex_overlay.hpp"
 #include "io/overlay/volume_overlay.hpp"
 #include "io/streamlines/streamline_formats.hpp"
+#include "io/streams/regular_file.hpp"
 #include "io/voxels/nifti_header.hpp"
 #include "io/zarr/ome_zarr_reader.hpp"
 
@@ -211,8 +212,15 @@ SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
   size_t last_nodes = SIZE_MAX;  // a BrainNet .edge: edges of the .node object just before it
   for (const std::filesystem::path& file : files) {
     std::error_code ec;
-    if (!std::filesystem::exists(file, ec))
-      throw FileError(fmt::format("{}: no such file or folder", file.string()), ENOENT);
+    if (!std::filesystem::is_directory(file, ec)) {
+      // Each file is told apart by its bytes below: a FIFO or device must be refused first.
+      try {
+        require_regular_file(file);
+      } catch (const FileError& e) {
+        if (e.code() != ENOENT) throw;
+        throw FileError(fmt::format("{}: no such file or folder", file.string()), ENOENT);
+      }
+    }
     const std::filesystem::path absolute = std::filesystem::absolute(file, ec).lexically_normal();
     // Surface data in volume containers: CIFTI-2, FreeSurfer's per-vertex NIfTI and MGH files.
     if (!is_dicom_source(file) && detail::is_cifti(file)) {

@@ -31,6 +31,7 @@
 #include <boost/beast/websocket.hpp>
 
 #include "intermix/error.hpp"
+#include "io/streams/input_file.hpp"
 #include "server/request_guard.hpp"
 
 namespace imx::server {
@@ -103,7 +104,7 @@ std::map<std::string, PageFile> read_page(const std::filesystem::path& dir) {
                              file.string()));
   };
   const auto read = [&](const std::filesystem::path& file) {
-    std::ifstream in(file, std::ios::binary);
+    std::ifstream in = try_open_input_stream(file);
     if (!in) throw unreadable(file);
     std::ostringstream text;
     text << in.rdbuf();

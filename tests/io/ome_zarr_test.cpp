@@ -274,7 +274,7 @@ with open('short.zarr/0/1.0.0', 'wb') as f:
 
 TEST(OmeZarr, BadFoldersAreRefused) {
   TempDir dir;
-  expect_error([&] { read_ome_zarr(dir / "none.zarr"); }, {"none.zarr", "not a folder"});
+  expect_error([&] { read_ome_zarr(dir / "none.zarr"); }, {"none.zarr", "no such file or folder"});
   dir.write("v3.zarr/zarr.json", "{}");
   expect_error([&] { read_ome_zarr(dir / "v3.zarr"); }, {"v3.zarr", "zarr_format", "not 3"});
   dir.write("plain.zarr/.zattrs", "{}");

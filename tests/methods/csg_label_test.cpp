@@ -35,7 +35,8 @@ void write_labels(const std::filesystem::path& file) {
 }
 
 Scene load(const test::TempDir& dir, const Json& table, const Json& csg) {
-  write_labels(dir.path() / "seg.nrrd");
+  // Written once per folder: a file this process has read is never written over (issue 48).
+  if (!std::filesystem::exists(dir.path() / "seg.nrrd")) write_labels(dir.path() / "seg.nrrd");
   Json scene = {{"camera", {{"eye", {0, -200, 0}}, {"target", {0, 0, 0}}, {"up", {0, 0, 1}}}},
                 {"image", {{"width", 40}, {"height", 40}}},
                 {"render", {{"method", "csg"}}},

@@ -9,6 +9,7 @@
 
 #include "intermix/error.hpp"
 #include "io/streams/gzip.hpp"
+#include "io/streams/input_file.hpp"
 
 namespace imx::detail {
 
@@ -20,7 +21,7 @@ bool is_gzip_file(const std::filesystem::path& file) {
   // which a folder scan must not inflate to find out).
   const std::string inner = std::filesystem::path(name.substr(0, name.size() - 3)).extension();
   if (!inner.empty() && inner != ".dcm" && inner != ".dicom" && inner != ".ima") return false;
-  std::ifstream in(file, std::ios::binary);
+  std::ifstream in = try_open_input_stream(file);
   unsigned char magic[2] = {};
   in.read(reinterpret_cast<char*>(magic), 2);
   return in.gcount() == 2 && magic[0] == 0x1f && magic[1] == 0x8b;

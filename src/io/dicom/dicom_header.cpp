@@ -14,6 +14,7 @@
 #include "io/dicom/dicom_structure.hpp"
 #include "io/dicom/dicom_tags.hpp"
 #include "io/dicom/siemens_csa.hpp"
+#include "io/streams/input_file.hpp"
 
 namespace imx::detail {
 
@@ -370,7 +371,7 @@ void split_into_tiles(const gdcm::DataSet& ds, DicomFileHeader& h) {
 }  // namespace
 
 bool looks_like_dicom(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
+  std::ifstream in = try_open_input_stream(file);
   char head[132] = {};
   in.read(head, sizeof head);
   const std::streamsize got = in.gcount();
@@ -383,7 +384,7 @@ bool well_formed_file_meta(const std::filesystem::path& file) {
   std::error_code ec;
   const uintmax_t size = std::filesystem::file_size(file, ec);
   if (ec) return false;
-  std::ifstream in(file, std::ios::binary);
+  std::ifstream in = try_open_input_stream(file);
   std::vector<unsigned char> head(static_cast<size_t>(std::min<uintmax_t>(size, kMaxMetaBytes)));
   in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
   if (in.gcount() != static_cast<std::streamsize>(head.size())) return false;
@@ -446,7 +447,7 @@ double required_slice_spacing(const DicomFileHeader& h, const char* use) {
 std::optional<uint32_t> value_length_before(const std::filesystem::path& file, size_t value_at,
                                             bool big_endian) {
   if (value_at < 8) return std::nullopt;
-  std::ifstream in(file, std::ios::binary);
+  std::ifstream in = try_open_input_stream(file);
   in.seekg(static_cast<std::streamoff>(value_at - 4));
   unsigned char b[4];
   if (!in.read(reinterpret_cast<char*>(b), 4)) return std::nullopt;
@@ -564,8 +565,9 @@ std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& fi
   if (!well_formed_file_meta(file)) throw Error(broken);
   if (std::string fault = check_dicom_structure(file); !fault.empty())
     throw Error(fmt::format("{}: {}", broken, fault));
+  const InputFd fd = open_input(file);  // GDCM opens by name: the checked file's name
   gdcm::Reader reader;
-  reader.SetFileName(file.c_str());
+  reader.SetFileName(path_of_open(fd, file).c_str());
   // The pixel data is skipped, not read: the stream then stops just after its element header.
   std::set<gdcm::Tag> skip{gdcm::Tag(0x7fe0, 0x0010)};
   bool ok = false;

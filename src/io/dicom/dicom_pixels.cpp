@@ -23,6 +23,7 @@
 #include "intermix/limits.hpp"
 #include "io/dicom/dicom_codec_plugin.hpp"
 #include "io/dicom/dicom_tags.hpp"
+#include "io/streams/input_file.hpp"
 #include "volume/colour_grid.hpp"
 
 namespace imx::detail {
@@ -130,7 +131,7 @@ bool read_native(const DicomFileHeader& h, size_t count, RawPixels& raw) {
   std::error_code ec;
   const uintmax_t size = std::filesystem::file_size(h.file, ec);
   if (ec || size < h.pixel_bytes) return false;
-  std::ifstream in(h.file, std::ios::binary);
+  std::ifstream in = try_open_input_stream(h.file);
   in.seekg(static_cast<std::streamoff>(size - h.pixel_bytes));
   std::vector<char>& buffer = scratch_buffer();
   buffer.resize(bytes);
@@ -190,8 +191,9 @@ void decode_with_plugin(imx_dicom_codec_decode_fn decode, const DicomFileHeader&
   const std::string what = header.file.string();
   imx_dicom_codec_format decoded{};
   char message[512];
+  const InputFd fd = open_input(header.file, what);  // GDCM opens the checked file by this name
   const int32_t status =
-      decode(header.file.c_str(), static_cast<uint32_t>(header.stored_columns),
+      decode(path_of_open(fd, header.file).c_str(), static_cast<uint32_t>(header.stored_columns),
              static_cast<uint32_t>(header.stored_rows), static_cast<uint32_t>(header.stored_frames),
              out.data() + sizeof(DecodedFormat), out.size() - sizeof(DecodedFormat), &decoded,
              message, sizeof message);
@@ -441,7 +443,7 @@ DecodedFrames decode_rgb_frames(const DicomFileHeader& header) {
     throw Error(fmt::format("{}: the pixel data holds {} bytes, {} RGB frames of {}x{} need {}",
                             what, header.pixel_bytes, header.stored_frames, header.stored_columns,
                             header.stored_rows, bytes));
-  std::ifstream in(header.file, std::ios::binary);
+  std::ifstream in = open_input_stream(header.file, what);
   in.seekg(static_cast<std::streamoff>(size - header.pixel_bytes));
   std::vector<uint8_t> stored(bytes);
   in.read(reinterpret_cast<char*>(stored.data()), static_cast<std::streamsize>(bytes));
@@ -615,7 +617,7 @@ StoredRange reduce_to_bits_stored(Stored type, std::byte* bytes, size_t count, i
 // is now.
 class PixelFile {
  public:
-  explicit PixelFile(const DicomFileHeader& h) : fd_(::open(h.file.c_str(), O_RDONLY | O_CLOEXEC)) {
+  explicit PixelFile(const DicomFileHeader& h) : fd_(open_fd(h.file)) {
     struct stat st {};
     ok_ = fd_ >= 0 && ::fstat(fd_, &st) == 0 && st.st_size >= 0 &&
           static_cast<uint64_t>(st.st_size) >= h.pixel_bytes;
@@ -625,6 +627,14 @@ class PixelFile {
     if (fd_ >= 0) ::close(fd_);
   }
   PixelFile(const PixelFile&) = delete;
+  // The guarded open's descriptor, -1 when it refuses the file (read_native then says why).
+  static int open_fd(const std::filesystem::path& file) {
+    try {
+      return open_input(file).release();
+    } catch (const Error&) {
+      return -1;
+    }
+  }
   PixelFile& operator=(const PixelFile&) = delete;
 
   // Bytes [from, from + bytes) of the pixel data into dst, in pieces of `piece` bytes, each

@@ -25,6 +25,7 @@
 #include "io/dicom/dicom_suv.hpp"
 #include "io/dicom/dicom_volumes.hpp"
 #include "io/registry/tiff_sniff.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/voxels/frames.hpp"
 
 namespace imx {
@@ -671,7 +672,7 @@ bool is_dicom_source(const std::filesystem::path& path) {
   if (ext == ".dcm" || ext == ".dicom") return true;
   if (name.size() > 7 && name.compare(name.size() - 7, 7, ".dcm.gz") == 0) return true;
   if (!std::filesystem::is_regular_file(path, ec)) return false;
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in = try_open_input_stream(path);
   char head[132] = {};
   in.read(head, sizeof head);
   return in.gcount() == 132 && std::memcmp(head + 128, "DICM", 4) == 0;

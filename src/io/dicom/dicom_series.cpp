@@ -13,6 +13,8 @@
 #include "intermix/error.hpp"
 #include "io/dicom/dicom_structure.hpp"
 #include "io/dicom/dicom_tags.hpp"
+#include "io/streams/input_file.hpp"
+#include "io/streams/regular_file.hpp"
 
 namespace imx::detail {
 
@@ -30,8 +32,14 @@ bool is_dicomdir(const std::filesystem::path& file) {
   if (!looks_like_dicom(file) || !well_formed_file_meta(file) ||
       !check_dicom_structure(file).empty())
     return false;
+  InputFd fd;
+  try {
+    fd = open_input(file);
+  } catch (const Error&) {
+    return false;
+  }
   gdcm::Reader reader;
-  reader.SetFileName(file.c_str());
+  reader.SetFileName(path_of_open(fd, file).c_str());
   std::set<gdcm::Tag> skip;
   try {
     if (!reader.ReadUpToTag(gdcm::Tag(0x0004, 0x1220), skip)) return false;
@@ -97,14 +105,18 @@ std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& sou
   const std::string what = source.string();
   std::error_code ec;
   fs::file_status status = fs::status(source, ec);
-  if (ec || !fs::exists(status))
-    throw FileError(fmt::format("{}: no such file or folder", what), ENOENT);
   std::vector<DicomFileHeader> headers;
   auto inflated = std::make_shared<InflatedDicomFiles>();  // .dcm.gz files, inflated
-  bool folder = fs::is_directory(status);
+  bool folder = !ec && fs::is_directory(status);
   if (!folder) {
-    if (!fs::is_regular_file(status))
-      throw FileError(fmt::format("{}: not a regular file or folder", what));
+    // A file, then: the guarded open says what else it is (a FIFO, a device, a link loop).
+    try {
+      require_regular_file(source);
+    } catch (const FileError& e) {
+      if (e.code() == ENOENT)
+        throw FileError(fmt::format("{}: no such file or folder", what), ENOENT);
+      throw;
+    }
     if (is_dicomdir(source)) {
       folder = true;  // its records often name paths that moved: the folder is the truth
     } else {

@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include "io/streams/input_file.hpp"
+
 namespace imx::detail {
 
 namespace {
@@ -260,7 +262,7 @@ std::string check_dicom_structure(const std::filesystem::path& file) {
   std::error_code ec;
   const uintmax_t size = std::filesystem::file_size(file, ec);
   if (ec) return "cannot read its size";
-  std::ifstream in(file, std::ios::binary);
+  std::ifstream in = try_open_input_stream(file);
   if (!in) return "cannot open it";
   char head[132] = {};
   in.read(head, sizeof head);

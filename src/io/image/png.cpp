@@ -16,6 +16,7 @@
 #include "intermix/limits.hpp"
 #include "io/streams/atomic_file.hpp"
 #include "io/streams/gzip.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 
 namespace imx {
@@ -107,15 +108,10 @@ void write_png(const Image& image, const std::filesystem::path& file, bool linea
 
 Image read_png(const std::filesystem::path& file, bool linear) {
   const std::string what = file.string();
-  require_regular_file(file);
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(file.c_str(), "rb"), std::fclose);
-  if (!f) {
-    std::error_code ec;
-    const int code = errno;
-    if (!std::filesystem::exists(file, ec))
-      throw FileError(fmt::format("{}: no such file", what), ENOENT);
-    throw FileError(fmt::format("{}: cannot open file", what), code);
-  }
+  InputFd fd = open_input(file, what);
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(::fdopen(fd.get(), "rb"), std::fclose);
+  if (!f) throw FileError(fmt::format("{}: cannot open file", what), errno);
+  fd.release();  // the FILE closes it
   SpngContext ctx(spng_ctx_new(0), spng_ctx_free);
   if (!ctx) throw Error(fmt::format("{}: out of memory for the PNG decoder", what));
   spng_set_image_limits(ctx.get(), kMaxPngSide, kMaxPngSide);

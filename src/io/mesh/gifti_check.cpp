@@ -28,6 +28,7 @@
 #include "io/streams/base64.hpp"
 #include "io/streams/gzip.hpp"
 #include "io/streams/header_text.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/xml_parser.hpp"
 
 namespace imx::detail {
@@ -661,8 +662,7 @@ void parse_gifti(Parser& p, const std::filesystem::path& file) {
       p.xml, [](void* u, const char*, int, const char*, int, const char*, const char*, const char*,
                 const char*) { static_cast<Parser*>(u)->fail("the file declares XML entities"); });
 
-  std::ifstream in(file, std::ios::binary);
-  if (!in) fail("cannot open the file");
+  std::ifstream in = open_input_stream(file);
   in.seekg(0, std::ios::end);
   p.file_size = static_cast<uint64_t>(std::max<std::streamoff>(0, in.tellg()));
   in.seekg(0);

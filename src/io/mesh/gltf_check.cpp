@@ -11,6 +11,7 @@
 
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
+#include "io/streams/input_file.hpp"
 
 namespace imx::detail {
 namespace {
@@ -30,11 +31,10 @@ uint32_t le32(const std::string& bytes, size_t at) {
 }
 
 GltfFile read_gltf(const std::filesystem::path& file, const std::string& what) {
-  std::error_code ec;
-  const uintmax_t size = std::filesystem::file_size(file, ec);
-  if (ec) throw Error(fmt::format("{}: cannot read its size: {}", what, ec.message()));
+  const InputFd fd = open_input(file, what);
+  const uint64_t size = fd.size();
   check_memory(size, what);
-  std::ifstream in(file, std::ios::binary);
+  std::ifstream in(path_of_open(fd, file), std::ios::binary);
   std::string bytes(static_cast<size_t>(size), '\0');
   in.read(bytes.data(), static_cast<std::streamsize>(size));
   if (static_cast<uintmax_t>(in.gcount()) != size)

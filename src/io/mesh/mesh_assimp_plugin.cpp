@@ -9,6 +9,7 @@
 
 #include "intermix/error.hpp"
 #include "io/registry/plugin_loader.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 #include "mesh_assimp/mesh_assimp_abi.h"
 
@@ -92,6 +93,8 @@ std::vector<std::string> mesh_plugin_paths() {
 }
 
 Mesh import_mesh_with_plugin(const std::filesystem::path& file, bool srgb_colors) {
+  // assimp opens by name and picks its reader by the extension: the guard checks the file first.
+  open_input(file);
   const MeshPlugin& plugin = mesh_plugin(file);
   void* scene = nullptr;
   imx_mesh_assimp_counts counts{};

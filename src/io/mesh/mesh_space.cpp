@@ -7,6 +7,7 @@
 #include <string>
 
 #include "io/streams/header_text.hpp"
+#include "io/streams/input_file.hpp"
 
 namespace imx {
 
@@ -19,7 +20,7 @@ namespace {
 
 // The first `limit` bytes of the file (fewer when it is shorter).
 std::string read_head(const std::filesystem::path& file, size_t limit) {
-  std::ifstream in(file, std::ios::binary);
+  std::ifstream in = try_open_input_stream(file);
   std::string out(limit, '\0');
   in.read(out.data(), static_cast<std::streamsize>(limit));
   out.resize(static_cast<size_t>(std::max<std::streamsize>(in.gcount(), 0)));

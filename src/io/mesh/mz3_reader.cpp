@@ -18,6 +18,7 @@
 #include "io/streams/byte_cursor.hpp"
 #include "io/streams/file_head.hpp"
 #include "io/streams/gzip.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 
 namespace imx::detail {
@@ -118,9 +119,7 @@ Contents read_raw(const std::filesystem::path& file, const std::string& what) {
 // or, with scalars, layers up to the memory budget, which deflate's ratio to the compressed
 // size also bounds.
 Contents read_gzip(const std::filesystem::path& file, const std::string& what) {
-  require_regular_file(file);
-  std::ifstream in(file, std::ios::binary | std::ios::ate);
-  if (!in) throw FileError(fmt::format("{}: cannot open the file", what), errno);
+  std::ifstream in = open_input_stream(file, what, std::ios::binary | std::ios::ate);
   const auto compressed = static_cast<uint64_t>(std::max<std::streamoff>(0, in.tellg()));
   in.seekg(0);
   GzipStream stream(in, what);

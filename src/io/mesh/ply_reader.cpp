@@ -22,6 +22,7 @@
 
 #include "core/colour.hpp"
 #include "intermix/error.hpp"
+#include "io/streams/input_file.hpp"
 
 namespace imx::detail {
 namespace {
@@ -162,8 +163,7 @@ class PlyParser {
   explicit PlyParser(const std::filesystem::path& file) : file_(file) {}
 
   Mesh parse() {
-    std::ifstream in(file_, std::ios::binary | std::ios::ate);
-    if (!in) fail("cannot open the file");
+    std::ifstream in = open_input_stream(file_, {}, std::ios::binary | std::ios::ate);
     data_.resize(static_cast<size_t>(in.tellg()));
     in.seekg(0);
     if (!in.read(data_.data(), static_cast<std::streamsize>(data_.size())))

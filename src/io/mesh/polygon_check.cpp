@@ -9,6 +9,7 @@
 
 #include "intermix/error.hpp"
 #include "io/streams/header_text.hpp"
+#include "io/streams/input_file.hpp"
 
 namespace imx::detail {
 namespace {
@@ -30,7 +31,7 @@ bool parse_count(std::string_view word, uint64_t& v) {
 }  // namespace
 
 void check_obj_polygons(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
+  std::ifstream in = open_input_stream(file);
   std::string line;
   for (size_t number = 1; std::getline(in, line); ++number) {
     // assimp's OBJ parser takes a NUL for the end of its buffer and reads on past it.
@@ -67,7 +68,7 @@ bool is_off_keyword(std::string_view k) {
 
 void check_off(const std::filesystem::path& file) {
   const std::string what = file.string();
-  std::ifstream in(file, std::ios::binary);
+  std::ifstream in = open_input_stream(file, what);
   std::string line;
   size_t line_number = 0, at = 0;
   // The next line with a word on it. assimp reads a vertex or a face per line and has no

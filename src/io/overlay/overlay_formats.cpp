@@ -12,6 +12,7 @@
 #include "io/mesh/mz3.hpp"
 #include "io/overlay/cifti.hpp"
 #include "io/streams/byte_cursor.hpp"
+#include "io/streams/input_file.hpp"
 
 namespace imx::detail {
 namespace {
@@ -37,7 +38,7 @@ bool mz3_values_head(const FileProbe& probe) {
 // GIfTI is XML: a surface names NIFTI_INTENT_POINTSET; func, shape and label files do not.
 bool gifti_data(const FileProbe& probe) {
   if (!probe.name.ends_with(".gii")) return false;
-  std::ifstream in(probe.path, std::ios::binary);
+  std::ifstream in = try_open_input_stream(probe.path);
   if (!in) return false;
   const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   return text.find("NIFTI_INTENT_POINTSET") == std::string::npos;

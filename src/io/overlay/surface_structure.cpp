@@ -15,6 +15,7 @@
 #include "intermix/error.hpp"
 #include "io/overlay/cifti.hpp"
 #include "io/streams/header_text.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/xml_parser.hpp"
 
 namespace imx::detail {
@@ -69,7 +70,7 @@ struct MetaScan {
 std::optional<std::string> gifti_structure(const std::filesystem::path& surface) {
   const std::string ext = lower(surface.extension().string());
   if (ext != ".gii") return std::nullopt;
-  std::ifstream in(surface, std::ios::binary);
+  std::ifstream in = try_open_input_stream(surface);
   if (!in) return std::nullopt;
   MetaScan scan;
   const XmlParser xml = make_xml_parser();

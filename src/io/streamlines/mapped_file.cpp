@@ -10,14 +10,13 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 
 namespace imx::detail {
 
 MappedFile::MappedFile(const std::filesystem::path& file) {
-  require_regular_file(file);
-  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw FileError(fmt::format("{}: cannot open the file", file.string()), errno);
+  const int fd = open_input(file).release();
   struct stat info {};
   if (::fstat(fd, &info) != 0) {
     const int code = errno;

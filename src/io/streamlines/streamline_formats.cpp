@@ -19,6 +19,7 @@
 #include "io/streamlines/tt.hpp"
 #include "io/streamlines/vtk_streamlines.hpp"
 #include "io/streams/inflated_file.hpp"
+#include "io/streams/input_file.hpp"
 
 namespace imx::detail {
 namespace {
@@ -39,7 +40,7 @@ bool tsf_head(const FileProbe& probe) {
 bool vtk_lines_only(const FileProbe& probe) {
   if (probe.folder) return false;
   if (probe.head.starts_with("# vtk DataFile")) {
-    std::ifstream in(probe.path, std::ios::binary);
+    std::ifstream in = try_open_input_stream(probe.path);
     std::string carry, chunk(1 << 20, '\0');
     bool lines = false;
     while (in) {
@@ -53,7 +54,7 @@ bool vtk_lines_only(const FileProbe& probe) {
     return lines;
   }
   if (!probe.name.ends_with(".vtp")) return false;
-  std::ifstream in(probe.path, std::ios::binary);
+  std::ifstream in = try_open_input_stream(probe.path);
   std::string text(4096, '\0');
   in.read(text.data(), static_cast<std::streamsize>(text.size()));
   text.resize(static_cast<size_t>(in.gcount()));

@@ -22,6 +22,7 @@
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
 #include "io/streamlines/trx.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/json_depth.hpp"
 #include "io/streams/regular_file.hpp"
 #include "io/streams/zip_archive.hpp"
@@ -208,8 +209,8 @@ class FolderSource final : public Source {
   void open(const Member& m) override {
     const std::filesystem::path file =
         resolve_data_file(folder_ / "header.json", m.name, "TRX member");
-    in_ = std::ifstream(file, std::ios::binary);
-    if (!in_) throw FileError(fmt::format("{}: cannot open member '{}'", what_, m.name), errno);
+    in_ = open_input_stream(file,
+                            fmt::format("{} (member '{}' of {})", file.string(), m.name, what_));
     member_ = &m;
     read_ = 0;
   }

@@ -19,6 +19,7 @@
 #include "io/streamlines/tt.hpp"
 #include "io/streams/byte_cursor.hpp"
 #include "io/streams/gzip.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 
 namespace imx::detail {
@@ -31,9 +32,7 @@ constexpr double kCoordinateUnit = 32.0;  // track coordinates are in 1/32 voxel
 // the file's size and no more than the memory budget. The gzip trailer's size (ISIZE) sizes the
 // first block, so that a well-formed file is inflated into one allocation.
 std::string tt_bytes(const std::filesystem::path& file, const std::string& what) {
-  require_regular_file(file);
-  std::ifstream in(file, std::ios::binary | std::ios::ate);
-  if (!in) throw FileError(fmt::format("{}: cannot open the file", what), errno);
+  std::ifstream in = open_input_stream(file, what, std::ios::binary | std::ios::ate);
   const auto compressed = static_cast<uint64_t>(std::max<std::streamoff>(0, in.tellg()));
   std::array<unsigned char, 4> trailer{};
   if (compressed >= 18) {

@@ -13,6 +13,7 @@
 #include "intermix/limits.hpp"
 #include "io/mesh/polydata.hpp"
 #include "io/streams/header_text.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 
 namespace imx::detail {
@@ -21,8 +22,7 @@ namespace {
 // Legacy (true) or XML (false), by the file's first bytes.
 bool is_legacy(const std::filesystem::path& file, const std::string& what) {
   require_regular_file(file);
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open the file", what), errno);
+  std::ifstream in = open_input_stream(file, what);
   std::string head(256, '\0');
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<size_t>(in.gcount()));

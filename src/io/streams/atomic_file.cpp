@@ -17,6 +17,7 @@
 
 #include "core/hash.hpp"
 #include "intermix/error.hpp"
+#include "io/streams/input_identity.hpp"
 
 namespace imx {
 
@@ -192,6 +193,7 @@ void remove_quietly(const std::filesystem::path& p) {
 void write_file_atomically(const std::filesystem::path& file,
                            const std::function<void(std::ostream&)>& write) {
   require_regular_or_new_file(file);  // renaming over a device or FIFO would replace it
+  refuse_output_over_input(file);     // nor may an output replace what this command read
   install_signal_handler_once();
   Temporary tmp = create_temporary(file);
   try {

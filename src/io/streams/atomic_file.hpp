@@ -9,7 +9,9 @@ namespace imx {
 // Calls `write` with a binary stream on a new temporary file in `file`'s folder, then renames
 // it over `file`, so readers never see a half-written file. When `write` throws or any I/O
 // step fails, the temporary file is removed and the error (an imx::Error naming `file`)
-// propagates; an existing `file` is then left untouched.
+// propagates; an existing `file` is then left untouched. A `file` that is one of the inputs
+// this process opened (the same file once links are resolved: input_identity.hpp) is refused
+// before anything is written.
 //
 // Interruption: the first call installs (once per process) a handler for SIGINT, SIGTERM and
 // SIGHUP that unlinks every temporary still alive in any thread, then lets the signal take

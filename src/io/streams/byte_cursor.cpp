@@ -8,6 +8,7 @@
 
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 
 namespace imx::detail {
@@ -18,8 +19,7 @@ std::string read_file_bytes(const std::filesystem::path& file) {
   const uintmax_t size = std::filesystem::file_size(file, ec);
   if (ec) throw FileError(fmt::format("{}: cannot read the file size", file.string()), ec.value());
   check_memory(size, file.string());
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open the file", file.string()), errno);
+  std::ifstream in = open_input_stream(file, file.string());
   std::string bytes(static_cast<size_t>(size), '\0');
   in.read(bytes.data(), static_cast<std::streamsize>(size));
   if (static_cast<uintmax_t>(in.gcount()) != size)

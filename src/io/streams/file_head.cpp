@@ -9,12 +9,12 @@
 
 #include "intermix/error.hpp"
 #include "io/streams/gzip.hpp"
+#include "io/streams/input_file.hpp"
 
 namespace imx::detail {
 
 FileHead read_file_head(const std::filesystem::path& file, size_t size, const std::string& what) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open file", what), errno);
+  std::ifstream in = open_input_stream(file, what);
   FileHead head;
   char magic[2] = {0, 0};
   in.read(magic, 2);

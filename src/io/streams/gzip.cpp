@@ -13,6 +13,7 @@
 #include <zlib.h>
 
 #include "intermix/error.hpp"
+#include "io/streams/input_file.hpp"
 
 namespace imx::detail {
 
@@ -145,8 +146,7 @@ void gzip(std::span<const uint8_t> data, std::ostream& out, int level, const std
 
 void gunzip_file(const std::filesystem::path& gz, const std::filesystem::path& out,
                  uint64_t max_bytes, const std::string& what, const std::string& too_large) {
-  std::ifstream in(gz, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open the file", what), errno);
+  std::ifstream in = open_input_stream(gz, what);
   std::ofstream file(out, std::ios::binary);
   if (!file) throw FileError(fmt::format("{}: cannot write its inflated copy", what), errno);
   GzipStream stream(in, what);

@@ -7,6 +7,7 @@
 
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
+#include "io/streams/input_file.hpp"
 
 namespace imx {
 namespace {
@@ -42,13 +43,7 @@ std::filesystem::file_type type_of(const std::filesystem::path& file, const std:
 }  // namespace
 
 void require_regular_file(const std::filesystem::path& file, const std::string& what) {
-  const std::string name = what.empty() ? file.string() : what;
-  const std::filesystem::file_type type = type_of(file, name);
-  if (type == std::filesystem::file_type::not_found)
-    throw FileError(fmt::format("{}: no such file", name), ENOENT);
-  if (type != std::filesystem::file_type::regular)
-    throw FileError(fmt::format("{}: {}", name, kind_of(type)),
-                    type == std::filesystem::file_type::directory ? EISDIR : 0);
+  open_input(file, what);  // the guarded open: checked on the descriptor, never blocking
 }
 
 std::filesystem::path resolve_data_file(const std::filesystem::path& header,

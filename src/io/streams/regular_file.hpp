@@ -8,7 +8,8 @@ namespace imx {
 
 // Throws imx::Error naming `file` unless it exists and is a regular file once symbolic links are
 // followed: "no such file", "is a directory", "is a FIFO (named pipe)", a device or socket, or a
-// symbolic link loop, each said as such.
+// symbolic link loop, each said as such. It is open_input (input_file.hpp) and a close: the
+// check is on an open descriptor, never blocks, and records the file as an input.
 // `what` names the file in the message when given (e.g. "x.raw (data file of x.nhdr)").
 void require_regular_file(const std::filesystem::path& file, const std::string& what = {});
 

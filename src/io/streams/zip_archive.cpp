@@ -15,6 +15,7 @@
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
 #include "io/streams/gzip.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 
 namespace imx::detail {
@@ -56,11 +57,9 @@ struct ZipArchive::Inflater {
 
 ZipArchive::ZipArchive(const std::filesystem::path& file, std::string what)
     : what_(std::move(what)) {
-  require_regular_file(file, what_);
-  std::error_code ec;
-  archive_bytes_ = std::filesystem::file_size(file, ec);
-  if (ec) throw FileError(fmt::format("{}: cannot read its size", what_), ec.value());
-  in_.open(file, std::ios::binary);
+  const InputFd fd = open_input(file, what_);
+  archive_bytes_ = fd.size();
+  in_.open(path_of_open(fd, file), std::ios::binary);
   if (!in_) throw FileError(fmt::format("{}: cannot open file", what_), errno);
   if (archive_bytes_ < kEndBytes) fail("not a zip archive (too short for its directory)");
 

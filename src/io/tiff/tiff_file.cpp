@@ -11,6 +11,7 @@
 #include "core/library_output.hpp"
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
+#include "io/streams/input_file.hpp"
 
 namespace imx::detail {
 
@@ -103,6 +104,7 @@ struct TiffFile::Handle {
 TiffFile::TiffFile(const std::filesystem::path& file)
     : handle_(std::make_unique<Handle>()), what_(file.string()) {
   handle_->what = what_;
+  InputFd fd = open_input(file, what_);  // libtiff reads the checked descriptor
   TIFFOpenOptions* options = TIFFOpenOptionsAlloc();
   TIFFOpenOptionsSetErrorHandlerExtR(options, &Handle::on_error, handle_.get());
   TIFFOpenOptionsSetWarningHandlerExtR(options, &Handle::on_warning, handle_.get());
@@ -110,8 +112,9 @@ TiffFile::TiffFile(const std::filesystem::path& file)
   TIFFOpenOptionsSetMaxSingleMemAlloc(
       options, static_cast<tmsize_t>(std::min<uint64_t>(input_limits().max_memory, INT64_MAX)));
   // "m": read, never map: a file truncated while mapped would end the process (SIGBUS).
-  handle_->tif = TIFFOpenExt(what_.c_str(), "rm", options);
+  handle_->tif = TIFFFdOpenExt(fd.get(), what_.c_str(), "rm", options);
   TIFFOpenOptionsFree(options);
+  if (handle_->tif) fd.release();  // TIFFClose closes it
   if (!handle_->tif)
     throw Error(fmt::format("{}: not a readable TIFF file: {}", what_, handle_->take_error()));
   for (int directory = 0;; ++directory) {

@@ -16,6 +16,7 @@
 #include "io/streams/file_head.hpp"
 #include "io/streams/gzip.hpp"
 #include "io/streams/header_text.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 #include "io/volume/afni.hpp"
 #include "io/volume/afni_attributes.hpp"
@@ -66,6 +67,7 @@ AfniFiles afni_files(const fs::path& given) {
     const size_t stem = name.size() - 5;
     const bool upper = name[stem + 1] == 'H';
     f.head = given;
+    require_regular_file(given, f.what);  // the HEAD named is checked before its BRIK is looked for
     const fs::path plain = sibling(stem, upper ? ".BRIK" : ".brik");
     f.brik = plain;
     if (!fs::exists(plain)) f.brik = sibling(stem, upper ? ".BRIK.gz" : ".brik.gz");
@@ -111,8 +113,7 @@ std::string read_head_text(const AfniFiles& f) {
     throw Error(fmt::format("{}: {} bytes, more than the {} an AFNI HEAD may hold", what, size,
                             kMaxHeadBytes));
   check_memory(size, what);
-  std::ifstream in(f.head, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open file", what), errno);
+  std::ifstream in = open_input_stream(f.head, what);
   std::string text(static_cast<size_t>(size), '\0');
   in.read(text.data(), static_cast<std::streamsize>(size));
   if (static_cast<uintmax_t>(in.gcount()) != size)
@@ -365,8 +366,7 @@ VoxelStorage read_gzip_brik(const FrameLayout& l, int frame, const VoxelBox& box
   const uintmax_t size = fs::file_size(l.file, ec);
   if (ec) throw Error(fmt::format("{}: cannot read its size: {}", l.what, ec.message()));
   check_inflatable(static_cast<size_t>(total), static_cast<size_t>(size), l.what);
-  std::ifstream in(l.file, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open file", l.what), errno);
+  std::ifstream in = open_input_stream(l.file, l.what);
   GzipStream stream(in, l.what);
   uint64_t at = 0;
   auto short_data = [&] {

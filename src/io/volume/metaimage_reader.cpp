@@ -16,6 +16,7 @@
 #include "intermix/error.hpp"
 #include "io/streams/gzip.hpp"
 #include "io/streams/header_text.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 #include "io/volume/metaimage.hpp"
 #include "io/voxels/frames.hpp"
@@ -253,9 +254,7 @@ VoxelStorage read_voxels(const std::filesystem::path& file, std::ifstream& in, c
                   "lists several files; only LOCAL or one data file is supported");
     data_path = resolve_data_file(file, data_name, "field 'ElementDataFile'");
     data_what = fmt::format("{} (data file of {})", data_path.string(), what);
-    in.close();
-    in.open(data_path, std::ios::binary);
-    if (!in) throw FileError(fmt::format("{}: cannot open the data file", data_what), errno);
+    in = open_input_stream(data_path, data_what);
     start = 0;
   } else if (start < 0) {
     throw Error(fmt::format("{}: the header ends at 'ElementDataFile = LOCAL' with no data", what));
@@ -310,8 +309,7 @@ VoxelStorage read_voxels(const std::filesystem::path& file, std::ifstream& in, c
 }
 
 std::ifstream open_header(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open file", file.string()), errno);
+  std::ifstream in = open_input_stream(file, file.string());
   return in;
 }
 

@@ -16,6 +16,7 @@
 #include "intermix/error.hpp"
 #include "io/streams/file_head.hpp"
 #include "io/streams/gzip.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/volume/mgh.hpp"
 #include "io/voxels/frame_voxels.hpp"
 #include "io/voxels/frames.hpp"
@@ -83,8 +84,7 @@ glm::dmat4 vox2ras_lps(const std::array<double, 3>& size, const std::array<doubl
 // The footer's TR in ms (0 when the file has no footer), found after every frame's data.
 float footer_tr(const std::filesystem::path& file, bool gzipped, uint64_t data_end,
                 const std::string& what) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open file", what), errno);
+  std::ifstream in = open_input_stream(file, what);
   std::string tr(4, '\0');
   auto* out = reinterpret_cast<uint8_t*>(tr.data());
   size_t got = 0;

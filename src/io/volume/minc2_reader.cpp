@@ -22,6 +22,7 @@
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
 #include "io/streams/header_text.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 #include "io/volume/minc.hpp"
 #include "io/volume/minc_hdf5_plugin.hpp"
@@ -427,17 +428,14 @@ VoxelStorage read_box(const Hdf5File& file, const Layout& l, int frame, const Vo
 template <class F>
 auto with_minc_file(const fs::path& file, F&& use) {
   const Context c{file.string()};
-  require_regular_file(file);
-  std::error_code ec;
-  const uintmax_t size = fs::file_size(file, ec);
-  if (ec) throw FileError(fmt::format("{}: cannot read its size", c.what), ec.value());
+  const InputFd fd = open_input(file, c.what);  // HDF5 then opens this descriptor's file
+  const uint64_t size = fd.size();
   if (size > kMaxMincBytes)
     c.fail("", fmt::format("{} bytes is more than a MINC file intermix reads ({} at most)", size,
                            kMaxMincBytes));
   std::string head(8, '\0');
   {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw FileError(fmt::format("{}: cannot open file", c.what), errno);
+    std::ifstream in(path_of_open(fd, file), std::ios::binary);
     in.read(head.data(), 8);
     head.resize(static_cast<size_t>(in.gcount()));
   }
@@ -447,7 +445,7 @@ auto with_minc_file(const fs::path& file, F&& use) {
            "with 'mincconvert -2 in.mnc out.mnc', or load it with nibabel and save it as "
            "NIfTI");
   if (head != kHdf5Signature) c.fail("", "does not start with HDF5's signature: not a MINC-2 file");
-  const Hdf5File h(file);
+  const Hdf5File h(file, path_of_open(fd, file));
   return use(h, c);
 }
 

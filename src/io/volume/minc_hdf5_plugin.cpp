@@ -111,10 +111,11 @@ std::vector<std::string> minc_plugin_paths() {
   return plugin_paths(kPlace);
 }
 
-Hdf5File::Hdf5File(const std::filesystem::path& file)
+Hdf5File::Hdf5File(const std::filesystem::path& file, const std::filesystem::path& open_as)
     : name_(file.string()), plugin_(&minc_plugin(name_)) {
   Message error;
-  if (!succeeded(plugin_->open(name_.c_str(), &file_, error.text, sizeof error.text), name_, error))
+  const std::string path = open_as.empty() ? name_ : open_as.string();
+  if (!succeeded(plugin_->open(path.c_str(), &file_, error.text, sizeof error.text), name_, error))
     throw Error(fmt::format("{}: HDF5 could not open it", name_));
 }
 

@@ -39,7 +39,8 @@ struct MincPlugin;  // the plugin's functions
 class Hdf5File {
  public:
   // The caller has checked the file's size and HDF5 signature: libhdf5 parses what it is given.
-  explicit Hdf5File(const std::filesystem::path& file);
+  // `open_as` (a /proc/self/fd path of the guarded open) is what HDF5 opens; `file` names it.
+  explicit Hdf5File(const std::filesystem::path& file, const std::filesystem::path& open_as = {});
   ~Hdf5File();
   Hdf5File(const Hdf5File&) = delete;
   Hdf5File& operator=(const Hdf5File&) = delete;

@@ -14,6 +14,7 @@
 
 #include "intermix/error.hpp"
 #include "io/streams/gzip.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 #include "io/volume/mrtrix.hpp"
 #include "io/volume/mrtrix_header.hpp"
@@ -69,8 +70,7 @@ VoxelStorage read_voxels(const MrtrixStorage& s, int frame, const VoxelBox& box)
                     "found {} (truncated file?)",
                     s.what, s.bytes(), s.dim[0], s.dim[1], s.dim[2], s.dim[3],
                     raw_type_name(s.type), s.offset, size > s.offset ? size - s.offset : 0));
-  std::ifstream in(s.file, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open file", s.what), errno);
+  std::ifstream in = open_input_stream(s.file, s.what);
   std::optional<GzipStream> gz;
   const uint64_t start = s.offset + first * esize;
   auto short_data = [&] {

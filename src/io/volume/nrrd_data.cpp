@@ -13,6 +13,7 @@
 #include "intermix/error.hpp"
 #include "io/streams/bzip2.hpp"
 #include "io/streams/gzip.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 #include "io/voxels/mapped_voxels.hpp"
 #include "io/voxels/text_voxels.hpp"
@@ -71,8 +72,7 @@ struct DataFile {
 
 // The data's bytes (after a header, else in a data file) as something to read from.
 std::ifstream open_data(const DataFile& f) {
-  std::ifstream in(f.path, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open the data file", f.what), errno);
+  std::ifstream in = open_input_stream(f.path, f.what);
   return in;
 }
 

@@ -18,6 +18,7 @@
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "io/streams/header_text.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/volume/nrrd.hpp"
 #include "io/volume/nrrd_data.hpp"
 #include "io/volume/nrrd_dwmri.hpp"
@@ -818,8 +819,7 @@ Layout parse_layout(std::istream& in, const std::filesystem::path& file) {
 }
 
 std::ifstream open_header(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open file", file.string()), errno);
+  std::ifstream in = open_input_stream(file, file.string());
   return in;
 }
 

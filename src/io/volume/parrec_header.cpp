@@ -16,6 +16,7 @@
 
 #include "intermix/error.hpp"
 #include "io/streams/header_text.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 #include "io/volume/parrec.hpp"
 #include "io/volume/parrec_header.hpp"
@@ -240,8 +241,7 @@ ParHeader parse_par(const fs::path& file, const std::string& what) {
   if (size > kMaxParBytes)
     throw Error(fmt::format("{}: {} bytes is more than a PAR header holds ({} at most)", what, size,
                             kMaxParBytes));
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open file", what), errno);
+  std::ifstream in = open_input_stream(file, what);
   std::string text(static_cast<size_t>(size), '\0');
   in.read(text.data(), static_cast<std::streamsize>(size));
   text.resize(static_cast<size_t>(in.gcount()));

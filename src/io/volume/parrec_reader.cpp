@@ -14,6 +14,7 @@
 
 #include "intermix/error.hpp"
 #include "io/streams/header_text.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 #include "io/volume/parrec.hpp"
 #include "io/volume/parrec_header.hpp"
@@ -267,8 +268,7 @@ Layout parse_layout(const fs::path& file) {
 // that slice's rescale slope and intercept.
 VoxelStorage read_box(const Layout& l, int frame, const VoxelBox& box) {
   const glm::ivec3 dims = l.header.dims, size = box.size();
-  std::ifstream in(l.rec, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open file", l.rec_what), errno);
+  std::ifstream in = open_input_stream(l.rec, l.rec_what);
   const uint64_t slice_bytes = static_cast<uint64_t>(dims.x) * dims.y * l.bytes_per_pixel;
   const size_t row_bytes = static_cast<size_t>(dims.x) * l.bytes_per_pixel;
   std::vector<uint8_t> rows(row_bytes * static_cast<size_t>(size.y));

@@ -9,6 +9,7 @@
 
 #include "intermix/error.hpp"
 #include "io/streams/gzip.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 #include "io/voxels/mapped_voxels.hpp"
 
@@ -60,8 +61,7 @@ VoxelStorage read_frame_voxels(const FrameLayout& l, int frame, const VoxelBox& 
     if (auto mapped = map_voxels(l.file, l.offset + static_cast<uint64_t>(frame) * l.frame_bytes(),
                                  l.type, box.count()))
       return std::move(*mapped);
-  std::ifstream in(l.file, std::ios::binary);
-  if (!in) throw FileError(fmt::format("{}: cannot open file", l.what), errno);
+  std::ifstream in = open_input_stream(l.file, l.what);
   if (l.gzipped)
     return load_gzip_voxels(in, static_cast<size_t>(l.offset), l.type, stacked, moved, l.swap,
                             l.what);

@@ -6,6 +6,9 @@
 
 #include <memory>
 
+#include "intermix/error.hpp"
+#include "io/streams/input_file.hpp"
+
 namespace imx::detail {
 namespace {
 
@@ -13,13 +16,16 @@ template <class T>
 std::optional<VoxelStorage> map_as(const std::filesystem::path& path, uint64_t offset,
                                    uint64_t count) {
   if (offset % alignof(T) != 0 || count == 0) return std::nullopt;
-  std::error_code ec;
-  const uint64_t size = std::filesystem::file_size(path, ec);
+  InputFd file;
+  try {
+    file = open_input(path);
+  } catch (const Error&) {
+    return std::nullopt;  // the caller reads the file the usual way, and says what is wrong
+  }
+  const uint64_t size = file.size();
   const uint64_t bytes = count * sizeof(T);
-  if (ec || bytes / sizeof(T) != count || offset > size || size - offset < bytes)
-    return std::nullopt;
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return std::nullopt;
+  if (bytes / sizeof(T) != count || offset > size || size - offset < bytes) return std::nullopt;
+  const int fd = file.release();
   const auto page = static_cast<uint64_t>(::sysconf(_SC_PAGESIZE));
   const uint64_t start = offset / page * page, length = offset - start + bytes;
   void* mapped = ::mmap(nullptr, length, PROT_READ, MAP_PRIVATE, fd, static_cast<off_t>(start));

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "intermix/error.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/streams/json_depth.hpp"
 #include "io/voxels/length_units.hpp"
 #include "io/voxels/raw_voxels.hpp"
@@ -264,8 +265,7 @@ glm::ivec3 grid_dims(const ZarrArray& a) {
 // 0.5's zarr.json (Zarr v3) group "attributes"."ome", whose multiscales and omero are 0.4's.
 Attrs read_attrs(const std::filesystem::path& dir) {
   std::error_code ec;
-  if (!std::filesystem::is_directory(dir, ec))
-    throw Error(fmt::format("{}: not a folder (an OME-Zarr image is a folder)", dir.string()));
+  require_input_folder(dir);  // "is a FIFO (named pipe), not a folder", a link loop, ...
   const std::filesystem::path v2 = dir / ".zattrs", v3 = dir / "zarr.json";
   if (std::filesystem::exists(v2, ec)) return {read_json(v2), v2.string()};
   if (!std::filesystem::exists(v3, ec))
@@ -318,8 +318,8 @@ VolumeData read_ome_zarr(const std::filesystem::path& dir, int level, int frame,
   return read_ome_zarr_region(dir, {}, level, frame, channel);
 }
 
-VolumeData read_ome_zarr_region(const std::filesystem::path& dir, const VoxelBox& asked,
-                                int level, int frame, int channel) {
+VolumeData read_ome_zarr_region(const std::filesystem::path& dir, const VoxelBox& asked, int level,
+                                int frame, int channel) {
   Layout layout;
   const Attrs attrs = read_attrs(dir);
   const Level l = open_level(dir, attrs, level, &layout);

@@ -11,6 +11,7 @@
 
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
+#include "io/streams/input_file.hpp"
 #include "io/zarr/zarr_metadata_fields.hpp"
 #include "io/zarr/zarr_shard.hpp"
 
@@ -85,16 +86,16 @@ class ChunkReader {
   // Opens `file` into `in`: its size, or nullopt when there is no such file.
   static std::optional<uint64_t> open(const std::filesystem::path& file, std::ifstream& in) {
     const std::string what = file.string();
-    std::error_code ec;
-    const auto status = std::filesystem::status(file, ec);
-    if (status.type() == std::filesystem::file_type::not_found) return std::nullopt;
-    if (ec || status.type() != std::filesystem::file_type::regular)
-      throw Error(fmt::format("{}: chunk is not a readable file", what));
-    const uintmax_t size = std::filesystem::file_size(file, ec);
-    if (ec) throw FileError(fmt::format("{}: cannot read: {}", what, ec.message()), ec.value());
-    in.open(file, std::ios::binary);
+    InputFd fd;
+    try {
+      fd = open_input(file, fmt::format("{} (chunk file)", what));
+    } catch (const FileError& e) {
+      if (e.code() == ENOENT) return std::nullopt;  // a chunk zarr never wrote
+      throw;
+    }
+    in.open(path_of_open(fd, file), std::ios::binary);
     if (!in) throw FileError(fmt::format("{}: cannot open chunk file", what), errno);
-    return size;
+    return fd.size();
   }
 
   void open_shard(const std::filesystem::path& file) {
@@ -140,13 +141,12 @@ std::filesystem::path ZarrArray::chunk_file(std::span<const int64_t> index) cons
 
 std::string read_zarr_metadata(const std::filesystem::path& file, uintmax_t max_bytes) {
   const std::string what = file.string();
-  std::error_code ec;
-  const uintmax_t size = std::filesystem::file_size(file, ec);
-  if (ec) throw FileError(fmt::format("{}: cannot read: {}", what, ec.message()), ec.value());
+  const InputFd fd = open_input(file, what);
+  const uint64_t size = fd.size();
   if (size > max_bytes)
     throw Error(
         fmt::format("{}: {} bytes, more than {} (not Zarr metadata)", what, size, max_bytes));
-  std::ifstream in(file, std::ios::binary);
+  std::ifstream in(path_of_open(fd, file), std::ios::binary);
   if (!in) throw FileError(fmt::format("{}: cannot open file", what), errno);
   std::string text(static_cast<size_t>(size), '\0');
   in.read(text.data(), static_cast<std::streamsize>(size));
