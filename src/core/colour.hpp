@@ -32,10 +32,25 @@ inline glm::vec4 display_to_linear(const glm::vec4& display) {
   return {display_to_linear(glm::vec3(display)), display.a};
 }
 
+// The display value srgb_decode takes back to `linear` exactly, where one exists (as for every
+// value decoded from one): so that a colour handed back to a user and given again is the same
+// float. Searches a few floats about srgb_encode's answer; else that answer.
+inline float srgb_encode_exact(float linear) {
+  const float e = srgb_encode(linear);
+  float below = e, above = e;
+  for (int i = 0; i < 8 && srgb_decode(e) != linear; ++i) {
+    below = std::nextafter(below, 0.0f);
+    above = std::nextafter(above, 1.0f);
+    if (srgb_decode(below) == linear) return below;
+    if (srgb_decode(above) == linear) return above;
+  }
+  return e;
+}
+
 // A linear colour as the display colour that shows it: how a colour goes back to a user (the
-// viewer's lists, a 2-D view's pixels), so that what was given is what comes back.
+// viewer's lists and edits, Python's Mesh.colors), so that what was given is what comes back.
 inline glm::vec3 linear_to_display(const glm::vec3& linear) {
-  return {srgb_encode(linear.r), srgb_encode(linear.g), srgb_encode(linear.b)};
+  return {srgb_encode_exact(linear.r), srgb_encode_exact(linear.g), srgb_encode_exact(linear.b)};
 }
 
 // Premultiplied colour over an opaque or translucent straight background.
