@@ -33,7 +33,7 @@ inline glm::vec4 display_to_linear(const glm::vec4& display) {
 }
 
 // The display value srgb_decode takes back to `linear` exactly, where one exists (as for every
-// value decoded from one): so that a colour handed back to a user and given again is the same
+// value decoded from one): a colour handed back to a user and given again decodes to the same
 // float. Searches a few floats about srgb_encode's answer; else that answer.
 inline float srgb_encode_exact(float linear) {
   const float e = srgb_encode(linear);
