@@ -17,6 +17,7 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "core/colour.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "io/streams/input_file.hpp"
@@ -130,13 +131,15 @@ std::string read_text(const std::filesystem::path& file) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-// A transfer function's points with alphas per 1 mm of material (VTK's unit distance).
+// A transfer function's points with alphas per 1 mm of material (VTK's unit distance), in
+// display colours as scene files give them (the loader decoded them to linear).
 nlohmann::json peer_points(const TransferFunction& tf) {
   nlohmann::json points = nlohmann::json::array();
   for (const TfPoint& p : tf.points) {
     const double alpha =
         1.0 - std::pow(1.0 - std::clamp<double>(p.rgba.a, 0.0, 1.0), 1.0 / tf.unit_distance);
-    points.push_back({p.value, p.rgba.r, p.rgba.g, p.rgba.b, alpha});
+    const glm::vec3 c = linear_to_display(glm::vec3(p.rgba));
+    points.push_back({p.value, c.r, c.g, c.b, alpha});
   }
   return points;
 }

@@ -14,7 +14,7 @@ namespace imx {
 struct LabelEntry {
   int32_t value = 0;
   std::string name;
-  glm::vec3 color{1.0f};  // straight RGB in [0, 1]
+  glm::vec3 color{1.0f};  // straight linear RGB in [0, 1]: tables' display colours, decoded
   float opacity = 1.0f;   // of unit_distance mm of the tissue, in [0, 1]
   bool visible = true;
 };
@@ -35,8 +35,8 @@ struct LabelMap {
   std::string source;          // the table's file or "inline": for messages and the viewer
 };
 
-// The default palette's colour of label `value` (never 0): 24 distinct colours in turn, chosen so
-// that neighbouring values differ in hue and lightness (docs/segmentations_overlays.md).
+// The default palette's colour of label `value` (never 0), decoded to linear: 24 distinct display
+// colours in turn, neighbouring values differing in hue and lightness (docs/colour.md).
 glm::vec3 default_label_color(int32_t value);
 
 // Reads a colour table file, by its content: FreeSurfer's LUT text (`No. Name R G B A`, A is

@@ -19,7 +19,7 @@ struct StreamlineValues {
 struct StreamlineGroup {
   std::string name;
   std::vector<uint32_t> members;   // streamline indices, ascending
-  std::optional<glm::vec3> color;  // linear RGB in [0, 1]
+  std::optional<glm::vec3> color;  // linear RGB in [0, 1], decoded from the file's display colour
 };
 
 // Streamline i runs through points[offsets[i] .. offsets[i + 1]).

@@ -8,6 +8,7 @@
 
 #include "arguments.hpp"
 #include "bindings.hpp"
+#include "core/colour.hpp"
 #include "core/limits.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
@@ -92,8 +93,10 @@ std::shared_ptr<PyMesh> make_mesh(const ArrayParameter& vertices, const ArrayPar
       for (int c = 0; c < 3; ++c)
         if (!(mesh.colors[i][c] >= 0.0f && mesh.colors[i][c] <= 1.0f))
           throw py::value_error(
-              fmt::format("Mesh: colors[{}] = ({:g}, {:g}, {:g}) is not linear RGB in [0, 1]", i,
+              fmt::format("Mesh: colors[{}] = ({:g}, {:g}, {:g}) is not RGB in [0, 1]", i,
                           mesh.colors[i].x, mesh.colors[i].y, mesh.colors[i].z));
+    // Display colours, as a mesh file's: decoded once here (core/colour.hpp).
+    for (glm::vec3& c : mesh.colors) c = display_to_linear(c);
   }
   if (!normals.is_none()) {
     mesh.normals = vec3_rows(normals, "normals", n);
@@ -128,7 +131,8 @@ Mesh(vertices, triangles, normals=None, colors=None, *, space="LPS", crease_angl
 vertices: (N, 3) floats; triangles: (M, 3) integer vertex indices, counter-clockwise seen from
 outside; normals: (N, 3) per-vertex normals (shading only), or None to compute them as for mesh
 files (angle-weighted, vertices split at edges sharper than crease_angle_deg, which may change
-the vertex count); colors: (N, 3) linear RGB in [0, 1] per vertex, scaling the material colour.
+the vertex count); colors: (N, 3) display (sRGB) RGB in [0, 1] per vertex, as mesh files and
+scene files give colours, scaling the material colour.
 space: "LPS" or "RAS" (x and y negated into LPS). The arrays are copied (float32, uint32).
 Raises ValueError for bad shapes, indices or non-finite values.
 )doc")
@@ -158,9 +162,18 @@ Raises ValueError for bad shapes, indices or non-finite values.
           "colors",
           [](const PyMesh& p) -> py::object {
             if (p.mesh->colors.empty()) return py::none();
-            return rows_view(p.mesh, p.mesh->colors.data(), p.mesh->colors.size(), "float32");
+            // A copy in display colours, as they were given (the mesh holds them linear).
+            py::array_t<float> out(
+                {static_cast<py::ssize_t>(p.mesh->colors.size()), py::ssize_t{3}});
+            auto rows = out.mutable_unchecked<2>();
+            for (size_t i = 0; i < p.mesh->colors.size(); ++i) {
+              const glm::vec3 c = linear_to_display(p.mesh->colors[i]);
+              for (int k = 0; k < 3; ++k) rows(static_cast<py::ssize_t>(i), k) = c[k];
+            }
+            out.attr("flags").attr("writeable") = false;
+            return out;
           },
-          "(N, 3) float32 linear RGB per vertex, or None.")
+          "(N, 3) float32 display (sRGB) RGB per vertex, as given, or None (read-only copy).")
       .def("__repr__", [](const PyMesh& p) {
         return fmt::format("<intermix.Mesh {} vertices, {} triangles{}{}>",
                            p.mesh->positions.size(), p.mesh->triangles.size(),

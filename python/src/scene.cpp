@@ -473,7 +473,7 @@ radius      tube radius, mm
 colouring   the scene's "color_by": "direction" (|dx|, |dy|, |dz| of each segment, the default),
             "streamline_direction", "fixed" (`color`; the default when color is given),
             "point_value" / "streamline_value" (`value` through `colormap`), "group" (TRX)
-color       linear RGB for "fixed" and for groups without a colour
+color       a display (sRGB) colour for "fixed" and for groups without a colour
 value       the name of the values to colour by; without `colouring`, point_value or
             streamline_value as the tractogram holds it
 colormap    "viridis" (the default), "hot", "gray", ... ; `range=[lo, hi]` maps the values

@@ -123,7 +123,7 @@ def test_mesh_errors():
         intermix.Mesh(np.zeros((3, 2)), [[0, 1, 2]])
     with pytest.raises(ValueError, match="not a finite position"):
         intermix.Mesh([[0, 0, 0], [1, 0, 0], [0, np.inf, 0]], [[0, 1, 2]])
-    with pytest.raises(ValueError, match="not linear RGB"):
+    with pytest.raises(ValueError, match="is not RGB in"):
         intermix.Mesh(np.eye(3), [[0, 1, 2]], colors=np.full((3, 3), 2.0))
 
 

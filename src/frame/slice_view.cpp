@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
+#include "core/colour.hpp"
 #include "core/math.hpp"
 #include "intermix/error.hpp"
 #include "raster/shade_fragment.hpp"
@@ -55,7 +56,8 @@ glm::vec4 slice_pixel(const std::vector<SliceLayer>& layers, const glm::vec3& wo
       continue;
     }
     if (l.base) {
-      rgb = glm::vec3(window_level(value, l.centre, l.width));
+      // The window gives a display grey, as on an MPR plane's grey colour map.
+      rgb = display_to_linear(glm::vec3(window_level(value, l.centre, l.width)));
       covered = 1.0f;
     } else {
       const glm::vec4 c = l.volume->lut.lookup(value);

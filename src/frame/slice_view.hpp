@@ -40,7 +40,7 @@ struct SliceView {
 SliceView slice_view(SliceAxis axis, const glm::dvec3& point, int width, int height,
                      double mm_per_pixel);
 
-// The view's image (premultiplied RGBA, display values: no colour encoding to apply): black where
+// The view's image (premultiplied linear RGBA, sRGB-encoded on output as a render): black where
 // no volume is; the first volume in `shown` (indices into scene.volumes) in grey through
 // windows[i]; each further one blended over it in its transfer function's colour, with the
 // function's alpha relative to its largest as the weight (at most 0.7). NaN and inf voxels show

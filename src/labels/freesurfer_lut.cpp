@@ -1,6 +1,7 @@
 // FreeSurfer's colour LUT text: `No. Name R G B A` per row, A the transparency.
 #include <fmt/format.h>
 
+#include "core/colour.hpp"
 #include "intermix/error.hpp"
 #include "labels/colour_table_readers.hpp"
 #include "labels/label_text.hpp"
@@ -29,7 +30,7 @@ std::vector<LabelEntry> parse_freesurfer_lut(std::string_view text, const std::s
     LabelEntry e;
     e.value = static_cast<int32_t>(value);
     e.name = std::string(t[1]);
-    e.color = glm::vec3(c[0], c[1], c[2]) / 255.0f;
+    e.color = display_to_linear(glm::vec3(c[0], c[1], c[2]) / 255.0f);  // as FreeSurfer shows it
     e.opacity = 1.0f - static_cast<float>(c[3]) / 255.0f;  // A is transparency: 0 is opaque
     e.visible = value != 0;                                // label 0 is background
     entries.push_back(std::move(e));

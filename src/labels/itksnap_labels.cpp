@@ -1,6 +1,7 @@
 // ITK-SNAP's label description file: `IDX R G B A VIS MSH "name"` per row.
 #include <fmt/format.h>
 
+#include "core/colour.hpp"
 #include "intermix/error.hpp"
 #include "labels/colour_table_readers.hpp"
 #include "labels/label_text.hpp"
@@ -46,7 +47,7 @@ std::vector<LabelEntry> parse_itksnap_labels(std::string_view text, const std::s
     LabelEntry e;
     e.value = static_cast<int32_t>(value);
     e.name = std::string(row.substr(open + 1, close - open - 1));
-    e.color = glm::vec3(c[0], c[1], c[2]) / 255.0f;
+    e.color = display_to_linear(glm::vec3(c[0], c[1], c[2]) / 255.0f);  // as ITK-SNAP shows it
     e.opacity = static_cast<float>(alpha);
     e.visible = vis == 1 && value != 0;  // label 0 ("Clear Label") is background
     entries.push_back(std::move(e));

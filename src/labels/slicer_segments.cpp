@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "core/colour.hpp"
 #include "intermix/error.hpp"
 #include "labels/colour_table_readers.hpp"
 #include "labels/label_text.hpp"
@@ -125,7 +126,7 @@ std::vector<LabelEntry> parse_slicer_segments(const std::vector<NrrdKeyValue>& f
           std::max({c[0], c[1], c[2]}) > 1.0)
         throw Error(
             fmt::format("{}: {}_Color = '{}' is not three numbers in [0, 1]", what, seg, *s.color));
-      e.color = glm::vec3(c[0], c[1], c[2]);
+      e.color = display_to_linear(glm::vec3(c[0], c[1], c[2]));  // as Slicer shows it
     } else {
       e.color = default_label_color(e.value);  // Slicer generates one too
     }

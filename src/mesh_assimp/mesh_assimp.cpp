@@ -94,8 +94,7 @@ void collect(const aiScene& scene, bool srgb_colors, const Sink& sink,
           glm::vec3 color(1.0f);
           if (mesh.HasVertexColors(0)) {
             const aiColor4D& c = mesh.mColors[0][v];
-            color = srgb_colors ? glm::vec3(imx::srgb_decode(c.r), imx::srgb_decode(c.g),
-                                            imx::srgb_decode(c.b))
+            color = srgb_colors ? imx::display_to_linear(glm::vec3(c.r, c.g, c.b))
                                 : glm::clamp(glm::vec3(c.r, c.g, c.b), 0.0f, 1.0f);
             if (!imx::all_finite(color)) color = glm::vec3(1.0f);
           }

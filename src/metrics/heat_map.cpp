@@ -5,6 +5,7 @@
 
 #include <glm/common.hpp>
 
+#include "core/colour.hpp"
 #include "core/parallel.hpp"
 #include "intermix/error.hpp"
 #include "intermix/metrics.hpp"
@@ -34,7 +35,7 @@ Image error_heat_map(const Image& a, const Image& b, double scale) {
       float e = std::max({diff.r, diff.g, diff.b});
       glm::vec3 c = heat_colour(float(std::clamp(e * scale, 0.0, 1.0)));
       // The image is linear, so decode the display colour for write_png to show it as built.
-      heat_map.data()[i] = {srgb_decode(c.r), srgb_decode(c.g), srgb_decode(c.b), 1.0f};
+      heat_map.data()[i] = glm::vec4(display_to_linear(c), 1.0f);
     }
   });
   return heat_map;

@@ -1,6 +1,7 @@
 // Colour maps: a value t in [0, 1] to linear RGB. The one place that names them (scene files'
 // "colormap" on planes and transfer functions, colour bars). Pure and allocation-free, for
-// per-pixel code. Where each comes from: scripts/gen-colormap-tables.
+// per-pixel code. Where each comes from: scripts/gen-colormap-tables. Every map is defined by
+// display (sRGB) colours and decoded (core/colour.hpp): the tables when generated, grey here.
 #pragma once
 #include <algorithm>
 #include <array>
@@ -9,6 +10,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/colour.hpp"
 #include "intermix/scene.hpp"
 #include "presets/colormap_tables.hpp"
 
@@ -35,11 +37,12 @@ inline bool colormap_is_diverging(Colormap map) {
   return map == Colormap::cold_hot;
 }
 
-// The colour of `t` (clamped to [0, 1]; NaN gives the first entry): grey is (t, t, t); the
-// others interpolate linearly between their 256 entries, entry i sitting at t = i / 255.
+// The colour of `t` (clamped to [0, 1]; NaN gives the first entry): grey is the display grey
+// (t, t, t), so a window's middle shows as mid-grey (128) as in every viewer; the others
+// interpolate linearly between their 256 entries, entry i sitting at t = i / 255.
 inline glm::vec3 colormap_rgb(Colormap map, float t) {
   t = t > 0.0f ? std::min(t, 1.0f) : 0.0f;
-  if (map == Colormap::grey) return glm::vec3(t);
+  if (map == Colormap::grey) return glm::vec3(srgb_decode(t));
   static constexpr const detail::ColormapEntry* kTables[] = {
       nullptr,      detail::kHot,     detail::kInferno,   detail::kViridis,      detail::kPlasma,
       detail::kJet, detail::kColdHot, detail::kRedYellow, detail::kBlueLightblue};

@@ -8,6 +8,7 @@
 #include <glm/vec4.hpp>
 #include <nlohmann/json.hpp>
 
+#include "core/colour.hpp"
 #include "intermix/error.hpp"
 #include "presets/text_file.hpp"
 #include "presets/tf_merge.hpp"
@@ -136,6 +137,8 @@ ParaviewColormap read_paraview_colormap(const std::filesystem::path& file,
     out.notes.push_back(fmt::format("{}: '{}' colours are interpolated in RGB, not {}",
                                     file.string(), out.name, cs->get<std::string>()));
   out.transfer_function = merge_opacity_and_color(opacity, color);
+  // ParaView's colours are display colours, as ParaView shows them at each merged point.
+  for (TfPoint& point : out.transfer_function.points) point.rgba = display_to_linear(point.rgba);
   return out;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/colour.hpp"
 #include "presets/tf_merge.hpp"
 
 namespace imx {
@@ -52,6 +53,9 @@ bool gradient_opacity_is_trivial(const SlicerVolumeProperty& p) {
 
 TransferFunction to_transfer_function(const SlicerVolumeProperty& p) {
   TransferFunction tf = merge_opacity_and_color(p.scalar_opacity, p.color);
+  // Slicer's colours are display colours: decoded after the merge, so that each merged point
+  // is the colour Slicer shows at its value.
+  for (TfPoint& point : tf.points) point.rgba = display_to_linear(point.rgba);
   tf.unit_distance = 1.0;
   return tf;
 }

@@ -208,13 +208,11 @@ struct Rasterizer::Impl {
         float value = 0.0f;
         if (!sample_plane_volume(*obj.volume, glm::vec3(camera.to_world(hit)), value)) return false;
         if (!plane_value_shown(value, obj.threshold, obj.symmetric)) return false;
-        grey = window_level(value, obj.window_centre, obj.window_width);
-        // Grey keeps its original arithmetic, so grey planes render the same bytes as before.
-        if (obj.colormap != Colormap::grey) {
-          f.color = shade_plane_fragment(obj.plane_color, obj.plane_opacity,
-                                         colormap_rgb(obj.colormap, grey));
-          return true;
-        }
+        // The window's grey level through the plane's colour map (grey: a display grey).
+        f.color = shade_plane_fragment(
+            obj.plane_color, obj.plane_opacity,
+            colormap_rgb(obj.colormap, window_level(value, obj.window_centre, obj.window_width)));
+        return true;
       }
       f.color = shade_plane_fragment(obj.plane_color, obj.plane_opacity, grey);
       return true;

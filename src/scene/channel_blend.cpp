@@ -27,8 +27,7 @@ VolumeData blend_channels(std::span<const VolumeData> volumes,
       throw Error(fmt::format("{}: channel {} is {}x{}x{}, channel 0 {}x{}x{}", what, c, v.dims.x,
                               v.dims.y, v.dims.z, first.dims.x, first.dims.y, first.dims.z));
     const glm::dvec2 w = channel_window(looks[c], v);
-    const glm::vec3 colour(srgb_decode(looks[c].srgb.r), srgb_decode(looks[c].srgb.g),
-                           srgb_decode(looks[c].srgb.b));
+    const glm::vec3 colour = display_to_linear(glm::vec3(looks[c].srgb));
     std::visit(
         [&](const auto& voxels) {
           for (size_t i = 0; i < count; ++i) {

@@ -33,8 +33,8 @@ glm::dvec2 channel_window(const detail::OmeChannel& channel, const VolumeData& d
 AutomaticLook channel_look(const detail::OmeChannel& channel, const VolumeData& data) {
   const char* from = nullptr;
   const glm::dvec2 window = channel_window(channel, data, &from);
-  const glm::dvec3 c(srgb_decode(channel.srgb.r), srgb_decode(channel.srgb.g),
-                     srgb_decode(channel.srgb.b));
+  // The channel's display colour as given: the scene loader decodes it like any point's.
+  const glm::dvec3 c(channel.srgb);
   const nlohmann::json points =
       nlohmann::json::array({nlohmann::json::array({window.x, c.r, c.g, c.b, 0.0}),
                              nlohmann::json::array({window.y, c.r, c.g, c.b, kTopOpacity})});

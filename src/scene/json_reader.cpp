@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "core/colour.hpp"
 #include "core/edit_distance.hpp"
 #include "intermix/error.hpp"
 
@@ -203,7 +204,7 @@ glm::dvec3 JsonReader::direction() const {
 }
 
 glm::vec3 JsonReader::color() const {
-  return glm::vec3(vec3(Range::closed(0.0, 1.0)));
+  return display_to_linear(glm::vec3(vec3(Range::closed(0.0, 1.0))));
 }
 
 }  // namespace imx::scene_json

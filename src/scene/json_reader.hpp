@@ -113,7 +113,7 @@ class JsonReader {
   glm::dvec2 vec2(Range range = Range::any()) const;
   // A non-zero vector, normalized.
   glm::dvec3 direction() const;
-  // Three numbers in [0, 1].
+  // A colour as scene files give it: three display (sRGB) numbers in [0, 1], returned linear.
   glm::vec3 color() const;
 
  private:

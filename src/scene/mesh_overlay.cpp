@@ -185,8 +185,7 @@ std::shared_ptr<const Mesh> apply_overlay(const JsonReader& overlay,
     if (read.labels) {
       coloring.labels = true;
       for (const detail::OverlayLabel& l : read.table)
-        coloring.table.emplace(l.key, glm::vec4(srgb_decode(l.rgba.r), srgb_decode(l.rgba.g),
-                                                srgb_decode(l.rgba.b), l.rgba.a));
+        coloring.table.emplace(l.key, display_to_linear(l.rgba));
       if (auto v = overlay.find("color")) {
         if (read.members.empty()) v->fail("\"color\" applies to a .label file's vertices");
         const glm::vec3 c = v->color();

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <glm/glm.hpp>
 
+#include "core/colour.hpp"
 #include "scene/scene_parsers.hpp"
 #include "scene/world_space.hpp"
 
@@ -40,8 +41,7 @@ std::vector<std::vector<std::string>> parse_mixing_priority(const JsonReader& r)
 
 }  // namespace
 
-Camera parse_camera(const JsonReader& r, std::optional<PatientView>* framed_view,
-                    MeshSpace space) {
+Camera parse_camera(const JsonReader& r, std::optional<PatientView>* framed_view, MeshSpace space) {
   r.check_keys({"eye", "target", "up", "fov_deg", "projection", "ortho_height", "view"});
   Camera cam;
   if (auto v = r.find("view")) {
@@ -86,6 +86,8 @@ ImageSettings parse_image(const JsonReader& r) {
       image.background[static_cast<int>(i)] =
           static_cast<float>(v->at(i).number(Range::closed(0.0, 1.0)));
     if (v->json().size() == 3) image.background.a = 1.0f;
+    // A display colour like every other; its alpha stays as given.
+    image.background = display_to_linear(image.background);
   }
   return image;
 }

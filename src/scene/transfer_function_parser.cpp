@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "core/colour.hpp"
 #include "core/edit_distance.hpp"
 #include "intermix/error.hpp"
 #include "presets/colormap.hpp"
@@ -36,6 +37,7 @@ TransferFunction parse_points(const JsonReader& points) {
           fmt::format("value {} is below the previous point's {} (points must be sorted "
                       "by value)",
                       point.value, tf.points.back().value));
+    point.rgba = display_to_linear(point.rgba);  // display colours; opacity as given
     tf.points.push_back(point);
   }
   return tf;

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "core/colour.hpp"
 #include "frame/slice_view.hpp"
 #include "intermix/io.hpp"
 #include "scene/json_reader.hpp"
@@ -91,7 +92,7 @@ SliceAnswer answer_slice(const ViewerState& state, ReadingWindows& windows, cons
       segments.push_back(Json::array({std::round(s.x * 100) / 100, std::round(s.y * 100) / 100,
                                       std::round(s.z * 100) / 100, std::round(s.w * 100) / 100}));
     if (segments.empty()) continue;
-    const glm::vec3 c = m.material.color;
+    const glm::vec3 c = linear_to_display(m.material.color);  // the page strokes display colours
     outlines.push_back({{"name", m.name},
                         {"color", Json::array({c.r, c.g, c.b})},
                         {"segments", std::move(segments)}});
@@ -105,8 +106,8 @@ SliceAnswer answer_slice(const ViewerState& state, ReadingWindows& windows, cons
                {"height", height},
                {"outlines", std::move(outlines)}};
   if (message.contains("seq")) text["seq"] = message["seq"];
-  // Display values already: no sRGB encoding on top.
-  return {text.dump(), encode_png(image, "slice", true, 1)};
+  // Linear like a render, so the PNG's sRGB is what `render` writes for the same plane.
+  return {text.dump(), encode_png(image, "slice", false, 1)};
 }
 
 Json answer_probe(const ViewerState& state, const Json& message) {

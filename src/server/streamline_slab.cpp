@@ -36,7 +36,7 @@ bool clip_to_box(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& lo,
   return true;
 }
 
-// `colour` (display values) over the pixel with `alpha`: premultiplied "over".
+// `colour` (linear) over the pixel with `alpha`: premultiplied "over".
 void blend(Image& image, int x, int y, const glm::vec3& colour, float alpha) {
   glm::vec4& px = image.at(x, y);
   px = glm::vec4(colour * alpha, alpha) + px * (1.0f - alpha);
@@ -123,9 +123,9 @@ size_t draw_streamline_slab(Image& image, const SliceView& view, const Streamlin
       const glm::dvec2 q0 = view.pixel(glm::dvec3(s.points[piece.point]));
       const glm::dvec2 q1 = view.pixel(glm::dvec3(s.points[piece.point + 1]));
       const float mid = static_cast<float>(0.5 * (piece.t0 + piece.t1));
-      const glm::vec3 linear =
+      // Linear, as the slice it is drawn over (encoded when the view is written).
+      const glm::vec3 colour =
           glm::clamp(streamline_colour(look, piece.streamline, piece.point, mid), 0.0f, 1.0f);
-      const glm::vec3 colour = glm::pow(linear, glm::vec3(1.0f / 2.2f));  // as mesh outlines
       draw_line(image, q0 + (q1 - q0) * piece.t0, q0 + (q1 - q0) * piece.t1, width, colour, alpha);
     }
   return drawn;

@@ -12,7 +12,7 @@ namespace imx::server {
 // The slab a reading view shows streamlines from when the page names none, in mm.
 inline constexpr double kDefaultStreamlineSlab = 2.0;
 
-// Draws over `image` (the view's, display values) the segments of the streamlines `object`
+// Draws over `image` (the view's, linear like a render) the segments of the streamlines `object`
 // draws (its stride, minimum length and regions) clipped to |distance from the view's plane| <=
 // slab / 2: lines `line_px` pixels wide in the object's colouring (as its tubes have it, before
 // lighting), over the slice with the object's opacity. Draws at most `max_segments` segments;

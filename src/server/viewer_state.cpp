@@ -20,6 +20,7 @@
 
 #include "annotate/colour_bar.hpp"
 #include "annotate/scene_colour_bars.hpp"
+#include "core/colour.hpp"
 #include "core/edit_distance.hpp"
 #include "intermix/error.hpp"
 #include "presets/colormap.hpp"
@@ -72,10 +73,13 @@ Json camera_json(const Camera& c) {
           {"ortho_height", c.ortho_height}};
 }
 
+// Points as scene files give them: display colours (the loader decoded them), opacity as is.
 Json points_json(const TransferFunction& tf) {
   Json points = Json::array();
-  for (const TfPoint& p : tf.points)
-    points.push_back({p.value, tidy(p.rgba.r), tidy(p.rgba.g), tidy(p.rgba.b), tidy(p.rgba.a)});
+  for (const TfPoint& p : tf.points) {
+    const glm::vec3 c = linear_to_display(glm::vec3(p.rgba));
+    points.push_back({p.value, tidy(c.r), tidy(c.g), tidy(c.b), tidy(p.rgba.a)});
+  }
   return points;
 }
 
@@ -340,7 +344,8 @@ void edit_streamline_object(const JsonReader& r, const StreamlineObject& s, Json
         {"direction", "streamline_direction", "fixed", "point_value", "streamline_value", "group"});
   if (r.has("color_by") || r.has("color")) object["color_by"] = colouring;
   if (auto v = r.find("color")) {
-    const glm::vec3 c = v->color();
+    // Written as given: the document holds display colours, the loader decodes them.
+    const glm::vec3 c(v->vec3(Range::closed(0.0, 1.0)));
     object["color"] = Json::array({tidy(c.r), tidy(c.g), tidy(c.b)});
   }
   const bool by_value = colouring == "point_value" || colouring == "streamline_value";
@@ -536,7 +541,8 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
 void describe_streamlines(const StreamlineObject& s, Json& o) {
   o["name"] = s.name;
   o["color_by"] = colouring_name(s.colouring);
-  o["color"] = Json::array({tidy(s.color.r), tidy(s.color.g), tidy(s.color.b)});
+  const glm::vec3 shown = linear_to_display(s.color);  // as the scene file gives it
+  o["color"] = Json::array({tidy(shown.r), tidy(shown.g), tidy(shown.b)});
   o["value"] = s.value;
   o["colormap"] = std::string(colormap_name(s.colormap));
   o["range"] = s.range ? Json::array({s.range->x, s.range->y}) : Json(nullptr);
@@ -708,14 +714,16 @@ nlohmann::json describe_state(const ViewerState& state) {
     objects.push_back(std::move(o));
   }
   // The planes' colour bars, as `render --colorbar` draws them (the page draws the volumes' own
-  // from their transfer functions as they are edited): 64 straight RGBA samples from lo to hi.
+  // from their transfer functions as they are edited): 64 straight RGBA samples from lo to hi,
+  // display colours as the page paints them.
   Json bars = Json::array();
   for (const ColourBar& bar : distinct_colour_bars(scene_colour_bars(scene))) {
     if (bar.shown_by.empty()) continue;
     Json colours = Json::array();
     for (int i = 0; i < 64; ++i) {
       const glm::vec4 c = bar.colour(bar.lo + (bar.hi - bar.lo) * i / 63.0);
-      colours.push_back({tidy(c.r), tidy(c.g), tidy(c.b), tidy(c.a)});
+      const glm::vec3 d = linear_to_display(glm::vec3(c));
+      colours.push_back({tidy(d.r), tidy(d.g), tidy(d.b), tidy(c.a)});
     }
     bars.push_back({{"name", bar.name},
                     {"units", bar.units},

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/colour.hpp"
 #include "volume/label_classifier.hpp"
 
 namespace imx {
@@ -45,7 +46,8 @@ glm::vec3 default_label_color(int32_t value) {
     default:
       break;
   }
-  return glm::vec3(static_cast<float>(r), static_cast<float>(g), static_cast<float>(b));
+  return display_to_linear(
+      glm::vec3(static_cast<float>(r), static_cast<float>(g), static_cast<float>(b)));
 }
 
 LabelLooks::LabelLooks(const LabelMap& map)

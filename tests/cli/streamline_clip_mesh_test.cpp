@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
+#include "core/colour.hpp"
 #include "expect_error.hpp"
 #include "intermix/error.hpp"
 #include "intermix/metrics.hpp"
@@ -118,11 +119,12 @@ TEST(StreamlineClipMesh, TheCutIsCappedOnTheBallInTheTubesColourThere) {
         const float x_ras = std::sqrt(kBall * kBall - ry * ry - z * z);
         const float cap_grey = (x_ras + test::kBundleLength) / (2.0f * test::kBundleLength);
         EXPECT_GT(c.a, 0.99f) << method << " " << ry << " " << z;
-        EXPECT_NEAR(c.r, cap_grey, 0.02f) << method << " " << ry << " " << z;
+        // The map's grey is a display grey (docs/colour.md): compared as the PNG shows it.
+        EXPECT_NEAR(srgb_encode(c.r), cap_grey, 0.02f) << method << " " << ry << " " << z;
         EXPECT_NEAR(c.g, c.r, 1e-3f) << "flat: the map's grey, unshaded";
         // Without the ball no such disc: the tube's near end (grey 1) or nothing.
         const glm::vec4 w = whole.at(px, py);
-        EXPECT_TRUE(w.a < 0.5f || std::abs(w.r - cap_grey) > 0.1f) << ry << " " << z;
+        EXPECT_TRUE(w.a < 0.5f || std::abs(srgb_encode(w.r) - cap_grey) > 0.1f) << ry << " " << z;
       }
     EXPECT_LT(image.at(40, 40).a, 0.01f) << method << ": between the tubes the ball shows nothing";
   }
@@ -142,8 +144,9 @@ TEST(StreamlineClipMesh, TheMethodsDrawTheSameCut) {
             render_scene(oblique, 96, bundle(dir, keep, look), "reference", fog);
         const Image whole = render_scene(oblique, 96, bundle(dir, "", look), "reference", fog);
         const double unclipped = psnr(reference, whole);
+        // The cut changes the picture more than any method may differ from the reference.
         if (!fog) {
-          EXPECT_LT(unclipped, 33.0) << keep << ": the cut changes the picture";
+          EXPECT_LT(unclipped, 35.0) << keep << ": the cut changes the picture";
         }
         for (const char* method : {"zslab-hybrid", "mdvr", "peel"}) {
           const Image image = render_scene(oblique, 96, bundle(dir, keep, look), method, fog);

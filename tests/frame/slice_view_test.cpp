@@ -1,6 +1,7 @@
 // The 2-D reading views: each axis shows the patient as radiologists read it, pixels sample the
 // voxels they lie on, the base volume is windowed grey, overlays colour it, meshes outline.
 #include "frame/slice_view.hpp"
+#include "core/colour.hpp"
 #include "intermix/error.hpp"
 
 #include <cmath>
@@ -36,9 +37,10 @@ Scene ramp_scene() {
   return s;
 }
 
-// The value a pixel shows through the window [0, 1000]: grey * 1000.
+// The value a pixel shows through the window [0, 1000]: its display grey * 1000 (the view is
+// linear like a render, the window's grey a display grey: docs/colour.md).
 double shown_value(const Image& image, int x, int y) {
-  return image.at(x, y).r * 1000.0;
+  return srgb_encode(image.at(x, y).r) * 1000.0;
 }
 
 TEST(SliceView, EachAxisShowsThePatientAsRadiologistsReadIt) {

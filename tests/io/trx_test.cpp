@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/colour.hpp"
 #include "intermix/error.hpp"
 #include "io/streamlines/trx.hpp"
 #include "shared_data.hpp"
@@ -337,8 +338,11 @@ void expect_reference(const Streamlines& s, const Records& r, const std::string&
         EXPECT_EQ(std::vector<double>(g->members.begin(), g->members.end()), values)
             << what << ": " << key;
       } else {
+        // The file's display colour (Python's value), decoded once as it is read.
         ASSERT_TRUE(g->color.has_value()) << what << ": " << key;
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR((*g->color)[c], values[c], 1e-6) << what << key;
+        for (int c = 0; c < 3; ++c)
+          EXPECT_NEAR((*g->color)[c], srgb_decode(static_cast<float>(values[c])), 1e-6)
+              << what << key;
       }
     }
   }

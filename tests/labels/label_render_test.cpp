@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/camera_model.hpp"
+#include "core/colour.hpp"
 #include "intermix/io.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
@@ -25,6 +26,11 @@ namespace {
 const glm::vec3 kCsf = glm::vec3(40, 80, 230) / 255.0f;
 const glm::vec3 kGm = glm::vec3(205, 62, 78) / 255.0f;
 const glm::vec3 kWm = glm::vec3(245, 245, 245) / 255.0f;
+// The same as the image holds them: display colours decoded (docs/colour.md), where light and
+// anti-aliasing blend them.
+const glm::vec3 kCsfLinear = display_to_linear(kCsf);
+const glm::vec3 kGmLinear = display_to_linear(kGm);
+const glm::vec3 kWmLinear = display_to_linear(kWm);
 constexpr int kSide = 64;
 
 // Three tissues as nested spheres about the centre (WM r < 14, GM to 20, CSF to 26 voxels),
@@ -109,11 +115,11 @@ BoundaryCount csf_wm_boundary(const Scene& scene, const Image& image) {
       if (std::abs(glm::length(p) - 20.0) > 1.0 || p.y < 2.0) continue;
       const glm::vec3 c(image.at(x, y));
       ++n.pixels;
-      const float g = glm::length(c - kGm);
-      if (g < glm::length(c - kCsf) && g < glm::length(c - kWm)) ++n.grey;
-      const glm::vec3 d = kWm - kCsf;
-      const float u = std::clamp(glm::dot(c - kCsf, d) / glm::dot(d, d), 0.0f, 1.0f);
-      if (glm::length(c - (kCsf + u * d)) > 0.02f) ++n.invented;
+      const float g = glm::length(c - kGmLinear);
+      if (g < glm::length(c - kCsfLinear) && g < glm::length(c - kWmLinear)) ++n.grey;
+      const glm::vec3 d = kWmLinear - kCsfLinear;
+      const float u = std::clamp(glm::dot(c - kCsfLinear, d) / glm::dot(d, d), 0.0f, 1.0f);
+      if (glm::length(c - (kCsfLinear + u * d)) > 0.02f) ++n.invented;
     }
   return n;
 }
@@ -153,7 +159,7 @@ TEST(LabelRender, NearestInterpolationShowsTheVoxelsBlocks) {
   o.method = "mdvr";
   const Image image = render(scene, o);
   const CameraModel camera(scene.camera, image.width(), image.height());
-  const glm::vec3 colours[4] = {glm::vec3(0.0f), kCsf, kGm, kWm};
+  const glm::vec3 colours[4] = {glm::vec3(0.0f), kCsfLinear, kGmLinear, kWmLinear};
   const double c = 0.5 * (kSide - 1);
   int checked = 0, wrong = 0;
   for (int y = 0; y < image.height(); ++y)
@@ -191,7 +197,7 @@ TEST(LabelRender, AnMprPlaneDrawsTheTablesColours) {
   EXPECT_EQ(n.grey, 0);
   EXPECT_EQ(n.invented, 0);
   // The centre is white matter; the corners are outside every label: the plane is transparent.
-  EXPECT_LT(glm::length(glm::vec3(image.at(80, 80)) - kWm), 1e-3f);
+  EXPECT_LT(glm::length(glm::vec3(image.at(80, 80)) - kWmLinear), 1e-3f);
   EXPECT_EQ(glm::vec3(image.at(2, 2)), glm::vec3(0.0f));
 }
 

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "core/colour.hpp"
 #include "expect_error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/labels.hpp"
@@ -43,11 +44,11 @@ TEST(FreeSurferLut, ReadsRowsWithTransparencyAndBackgroundHidden) {
   EXPECT_FALSE(entry(t, 0).visible);  // background
   const LabelEntry& wm = entry(t, 2);
   EXPECT_EQ(wm.name, "Left-Cerebral-White-Matter");
-  EXPECT_FLOAT_EQ(wm.color.r, 245.0f / 255.0f);
-  EXPECT_FLOAT_EQ(wm.opacity, 1.0f);  // A = 0: opaque
+  EXPECT_FLOAT_EQ(wm.color.r, srgb_decode(245.0f / 255.0f));  // display bytes, decoded
+  EXPECT_FLOAT_EQ(wm.opacity, 1.0f);                          // A = 0: opaque
   EXPECT_TRUE(wm.visible);
   const LabelEntry& lv = entry(t, 4);
-  EXPECT_FLOAT_EQ(lv.color.g, 18.0f / 255.0f);
+  EXPECT_FLOAT_EQ(lv.color.g, srgb_decode(18.0f / 255.0f));
   EXPECT_FLOAT_EQ(lv.opacity, 0.8f);  // A = 51 of 255 transparent
   EXPECT_FLOAT_EQ(entry(t, 1000).opacity, 0.0f);
 }
@@ -81,8 +82,8 @@ TEST(ItkSnapLabels, ReadsRowsWithOpacityVisibilityAndQuotedNames) {
   EXPECT_EQ(entry(t, 1).name, "Left ventricle");
   EXPECT_EQ(entry(t, 1).color, glm::vec3(1.0f, 0.0f, 0.0f));
   EXPECT_FLOAT_EQ(entry(t, 5).opacity, 0.5f);
-  EXPECT_FALSE(entry(t, 5).visible);  // VIS 0
-  EXPECT_FLOAT_EQ(entry(t, 5).color.g, 128.0f / 255.0f);
+  EXPECT_FALSE(entry(t, 5).visible);                                   // VIS 0
+  EXPECT_FLOAT_EQ(entry(t, 5).color.g, srgb_decode(128.0f / 255.0f));  // display bytes, decoded
   expect_error([&] { read_label_table(dir.write("bad.txt", "1 2 3 4 1 1 \"x\"\n")); },
                {"bad.txt: line 1", "6 numbers"});
   expect_error([&] { read_label_table(dir.write("vis.txt", "1 2 3 4 1 2 1 \"x\"\n")); },
@@ -129,7 +130,7 @@ TEST(SlicerSegmentation, ReadsTheSegmentsOfEachLayer) {
   std::vector<LabelEntry> t = read_label_table(one);
   ASSERT_EQ(t.size(), 2u);
   EXPECT_EQ(entry(t, 1).name, "liver");
-  EXPECT_EQ(entry(t, 1).color, glm::vec3(0.5f, 0.25f, 1.0f));
+  EXPECT_EQ(entry(t, 1).color, display_to_linear(glm::vec3(0.5f, 0.25f, 1.0f)));  // decoded
   EXPECT_EQ(entry(t, 2).name, "right kidney");
   // Overlapping segments: two layers, label 1 in each.
   const auto two = dir.write("two.seg.nrrd", seg_nrrd(2, segment(0, "liver", "0 1 0", 1, 0) +

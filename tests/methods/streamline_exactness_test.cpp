@@ -22,6 +22,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "core/colour.hpp"
 #include "intermix/band_metrics.hpp"
 #include "intermix/io.hpp"
 #include "intermix/metrics.hpp"
@@ -47,6 +48,9 @@ Scene tract_in_brain(const std::string& method, int spp, std::optional<double> e
                      double fov_deg = kFovDeg) {
   // The brain faintly opaque (half its light gone about 20 mm in), so the tract, 1 mm thick
   // and a third opaque per crossing, passes in and out of the depth where the brain reaches 0.5.
+  // Its colours are the linear ones the measure was made with, given as the display colours
+  // that decode to them (docs/colour.md), so that the scene renders as it did.
+  const auto d = [](float linear) { return srgb_encode_exact(linear); };
   const nlohmann::json scene = {
       {"camera",
        {{"eye", {-400, -60, 120}},
@@ -63,8 +67,8 @@ Scene tract_in_brain(const std::string& method, int spp, std::optional<double> e
          {"transfer_function",
           {{"points",
             {{0, 0, 0, 0, 0},
-             {40, 0.6, 0.5, 0.4, 0},
-             {90, 0.9, 0.8, 0.7, 0.02},
+             {40, d(0.6f), d(0.5f), d(0.4f), 0},
+             {90, d(0.9f), d(0.8f), d(0.7f), 0.02},
              {255, 1, 1, 1, 0.05}}}}}},
         {{"name", "ifof"},
          {"type", "streamlines"},

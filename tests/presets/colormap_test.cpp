@@ -12,9 +12,10 @@ float linear(float srgb) {
   return srgb <= 0.04045f ? srgb / 12.92f : std::pow((srgb + 0.055f) / 1.055f, 2.4f);
 }
 
-TEST(Colormap, GreyIsTheWindowedValueItself) {
+// Grey is the display grey of the windowed value (docs/colour.md): t shows as t * 255.
+TEST(Colormap, GreyIsTheDisplayGreyOfTheWindowedValue) {
   for (float t : {0.0f, 0.1f, 0.5f, 0.999f, 1.0f})
-    EXPECT_EQ(colormap_rgb(Colormap::grey, t), glm::vec3(t));
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(colormap_rgb(Colormap::grey, t)[c], linear(t), 1e-6);
   EXPECT_EQ(colormap_rgb(Colormap::grey, -1.0f), glm::vec3(0.0f));
   EXPECT_EQ(colormap_rgb(Colormap::grey, 2.0f), glm::vec3(1.0f));
 }

@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/colour.hpp"
 #include "expect_error.hpp"
 #include "presets/paraview_colormap.hpp"
 #include "temp_dir.hpp"
@@ -40,7 +41,8 @@ TEST(ParaviewColormap, RoundTripOfAWrittenFile) {
   EXPECT_EQ(tf.points[1].value, 0.0);
   EXPECT_EQ(tf.points[1].rgba, glm::vec4(0, 1, 0, 0.8f / 3.0f));
   EXPECT_EQ(tf.points[2].value, 20.0);
-  EXPECT_FLOAT_EQ(tf.points[2].rgba.g, 1.0f / 3.0f);
+  // ParaView's colours are display colours: each merged point decoded (docs/colour.md).
+  EXPECT_FLOAT_EQ(tf.points[2].rgba.g, srgb_decode(1.0f / 3.0f));
   EXPECT_FLOAT_EQ(tf.points[2].rgba.a, 0.8f);
   EXPECT_FLOAT_EQ(evaluate_transfer_function(tf, 25.0).a, 0.6f);
 
@@ -49,7 +51,9 @@ TEST(ParaviewColormap, RoundTripOfAWrittenFile) {
   ASSERT_EQ(ramp.notes.size(), 1u);
   EXPECT_CONTAINS(ramp.notes[0], "opacity ramps linearly from 0 at 0 to 1 at 100");
   EXPECT_FLOAT_EQ(evaluate_transfer_function(ramp.transfer_function, 25.0).a, 0.25f);
-  EXPECT_FLOAT_EQ(evaluate_transfer_function(ramp.transfer_function, 50.0).g, 0.25f);
+  // Between two points the colour blends in linear light: half of 0.5 decoded.
+  EXPECT_FLOAT_EQ(evaluate_transfer_function(ramp.transfer_function, 50.0).g,
+                  0.5f * srgb_decode(0.5f));
   EXPECT_EQ(ramp.transfer_function.unit_distance, 1.0);
 }
 

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/colour.hpp"
 #include "presets/slicer_volume_property.hpp"
 #include "presets/volume_presets.hpp"
 #include "shared_data.hpp"
@@ -103,7 +105,8 @@ TEST(VolumePresets, SlicerNamesFindTheSamePresetIgnoringCase) {
   EXPECT_FALSE(find_volume_preset(""));
 }
 
-// CT-Bone's numbers as the presets file has them: checked without the shared data folder.
+// CT-Bone's numbers as the presets file has them: checked without the shared data folder. Its
+// colours are display colours, decoded at each merged point (docs/colour.md); opacity as given.
 TEST(VolumePresets, CtBoneMergesToSlicersPointsExactly) {
   SlicerVolumeProperty p = *find_volume_preset("ct-bone");
   TransferFunction tf = to_transfer_function(p);
@@ -116,12 +119,14 @@ TEST(VolumePresets, CtBoneMergesToSlicersPointsExactly) {
                             {1, 1, 1, 0.705882f}};
   for (int i = 0; i < 4; ++i) {
     EXPECT_EQ(tf.points[i].value, values[i]);
-    for (int c = 0; c < 4; ++c) EXPECT_FLOAT_EQ(tf.points[i].rgba[c], rgba[i][c]) << i << c;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_FLOAT_EQ(tf.points[i].rgba[c], srgb_decode(rgba[i][c])) << i << c;
+    EXPECT_FLOAT_EQ(tf.points[i].rgba.a, rgba[i][3]) << i;
   }
-  // Linear between: half way from -16.4458 to 641.385.
+  // Linear between (in linear light): half way from -16.4458 to 641.385.
   glm::vec4 mid = evaluate_transfer_function(tf, 0.5 * (-16.4458 + 641.385));
   EXPECT_NEAR(mid.a, 0.5 * 0.715686, 1e-6);
-  EXPECT_NEAR(mid.r, 0.5 * (0.729412 + 0.905882), 1e-6);
+  EXPECT_NEAR(mid.r, 0.5 * (srgb_decode(0.729412f) + srgb_decode(0.905882f)), 1e-6);
   Shading s = to_shading(p);
   EXPECT_TRUE(s.enabled);
   EXPECT_FLOAT_EQ(s.ambient, 0.1f);
@@ -145,7 +150,7 @@ TEST(VolumePresets, ColourAndOpacityAtDifferentValuesMergeAtTheirUnion) {
   for (double v : want) EXPECT_EQ(tf.points[i++].value, v);
   // -488 is a colour point only: its opacity is the opacity function's there (0, below 152.19).
   glm::vec4 at = evaluate_transfer_function(tf, -488.0);
-  EXPECT_FLOAT_EQ(at.r, 0.3f);
+  EXPECT_FLOAT_EQ(at.r, srgb_decode(0.3f));
   EXPECT_FLOAT_EQ(at.g, 1.0f);
   EXPECT_FLOAT_EQ(at.a, 0.0f);
   // 953 lies beyond the opacity's last point (952, 0.2): opacity stays 0.2.
@@ -160,7 +165,9 @@ TEST(VolumePresets, OnlyUctSkullHasAGradientOpacityThatMatters) {
 }
 
 // Every preset of Slicer's file: the same set of names, shading, and merged points that give
-// Slicer's colour and opacity at every original control point and half way between neighbours.
+// Slicer's opacity at every original control point and half way between neighbours, and its
+// colour, decoded, at every control point; half way, the decoded neighbours' mean (colours
+// blend in linear light between points, docs/colour.md).
 TEST(VolumePresets, EveryPresetInSlicersFileEvaluatesToItsFunctions) {
   const auto file = test::shared_data("slicer-volume-rendering-presets.xml");
   SKIP_WITHOUT_SHARED_DATA(file);
@@ -185,16 +192,25 @@ TEST(VolumePresets, EveryPresetInSlicersFileEvaluatesToItsFunctions) {
     std::sort(xs.begin(), xs.end());
     xs.erase(std::unique(xs.begin(), xs.end()), xs.end());
     EXPECT_EQ(tf.points.size(), xs.size());
-    std::vector<double> probes = xs;
-    for (size_t i = 0; i + 1 < xs.size(); ++i) probes.push_back(0.5 * (xs[i] + xs[i + 1]));
-    probes.push_back(xs.front() - 100.0);
-    probes.push_back(xs.back() + 100.0);
-    for (double x : probes) {
+    // Probes and the points whose colours the TF blends there (equal for a point or an end).
+    std::vector<std::array<double, 3>> probes;
+    for (double x : xs) probes.push_back({x, x, x});
+    for (size_t i = 0; i + 1 < xs.size(); ++i)
+      probes.push_back({0.5 * (xs[i] + xs[i + 1]), xs[i], xs[i + 1]});
+    probes.push_back({xs.front() - 100.0, xs.front(), xs.front()});
+    probes.push_back({xs.back() + 100.0, xs.back(), xs.back()});
+    for (const auto& [x, left, right] : probes) {
       glm::vec4 got = evaluate_transfer_function(tf, x);
       // float colours and interpolation weights: a few float ulps of a value in [0, 1]
       EXPECT_NEAR(got.a, slicer_at(opacity, 2, 1, x), 2e-6) << "opacity at " << x;
-      for (int c = 0; c < 3; ++c)
-        EXPECT_NEAR(got[c], slicer_at(color, 4, 1 + c, x), 2e-6) << "colour " << c << " at " << x;
+      for (int c = 0; c < 3; ++c) {
+        const auto decoded = [&](double at) {
+          return srgb_decode(
+              static_cast<float>(slicer_at(color, 4, 1 + static_cast<size_t>(c), at)));
+        };
+        EXPECT_NEAR(got[c], 0.5 * (decoded(left) + decoded(right)), 2e-6)
+            << "colour " << c << " at " << x;
+      }
     }
   }
 }

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "core/colour.hpp"
 #include "expect_error.hpp"
 #include "presets/volume_presets.hpp"
 #include "presets/vp_file.hpp"
@@ -53,7 +54,7 @@ TEST(VpFile, SlicersSampleFileReads) {
   EXPECT_EQ(tf.points.size(), 7u);  // opacity's values are all colour values too
   glm::vec4 at = evaluate_transfer_function(tf, 58.1764717102051);
   EXPECT_FLOAT_EQ(at.r, 1.0f);
-  EXPECT_FLOAT_EQ(at.g, 0.333333333333333f);
+  EXPECT_FLOAT_EQ(at.g, srgb_decode(0.333333333333333f));     // a display colour, decoded
   EXPECT_NEAR(at.a, (58.1764717102051 - 13.0) / 90.0, 1e-6);  // on the 13 -> 103 ramp
   EXPECT_FLOAT_EQ(evaluate_transfer_function(tf, 0.0).a, 0.0f);
 }

@@ -6,6 +6,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "core/colour.hpp"
 #include "presets/colormap.hpp"
 #include "raster/rasterizer.hpp"
 #include "raster_test_util.hpp"
@@ -78,10 +79,13 @@ TEST(PlaneColormap, PixelIsTheMapsEntryTimesColourAndOpacity) {
 }
 
 // Grey is the same arithmetic as before colour maps: the same bytes.
-TEST(PlaneColormap, GreyIsTheWindowedValueTimesColourBitForBit) {
+// Grey is the windowed value's display grey (docs/colour.md), times the plane's colour.
+TEST(PlaneColormap, GreyIsTheWindowedValuesDisplayGreyTimesColour) {
   Fragment f = centre_fragment(70.0f, Colormap::grey, {40.0, 100.0});
-  const float grey = std::clamp((70.0f - (40.0f - 0.5f * 100.0f)) / 100.0f, 0.0f, 1.0f);
-  EXPECT_EQ(f.color, glm::vec4(grey * 0.8f * glm::vec3(1.0f, 0.5f, 0.25f), 0.8f));
+  const float grey =
+      srgb_decode(std::clamp((70.0f - (40.0f - 0.5f * 100.0f)) / 100.0f, 0.0f, 1.0f));
+  const glm::vec4 want(grey * 0.8f * glm::vec3(1.0f, 0.5f, 0.25f), 0.8f);
+  for (int c = 0; c < 4; ++c) EXPECT_NEAR(f.color[c], want[c], 1e-6f) << c;
 }
 
 // A threshold leaves no fragment below it (|value| below it when symmetric), so what lies behind

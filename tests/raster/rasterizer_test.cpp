@@ -7,6 +7,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/blinn_phong.hpp"
+#include "core/colour.hpp"
 #include "intermix/error.hpp"
 #include "raster/rasterizer.hpp"
 #include "raster_test_util.hpp"
@@ -435,7 +436,9 @@ TEST(Rasterizer, MprPlaneShowsTheWindowedVolumeValueAndNothingOutsideTheGrid) {
         if (std::abs(wx) < 6.9 && std::abs(wz) < 6.9) {
           ASSERT_EQ(frags.size(), 1u);
           double value = 10.0 * (wx + 7.0) / 2.0 + 3.0 * 4.5 + (wz + 7.0) / 2.0;
-          double grey = std::clamp((value - (40.0 - 50.0)) / 100.0, 0.0, 1.0);
+          // The window's display grey, decoded (docs/colour.md).
+          double grey = srgb_decode(
+              static_cast<float>(std::clamp((value - (40.0 - 50.0)) / 100.0, 0.0, 1.0)));
           EXPECT_NEAR(frags[0].color.r, grey * 1.0 * 0.8, 1e-4);
           EXPECT_NEAR(frags[0].color.g, grey * 0.5 * 0.8, 1e-4);
           EXPECT_NEAR(frags[0].color.b, grey * 0.25 * 0.8, 1e-4);

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "core/colour.hpp"
 #include "intermix/io.hpp"
 #include "intermix/scene.hpp"
 #include "io/mesh/mesh_topology.hpp"
@@ -176,7 +177,7 @@ TEST(CsgScene, MeshInterior) {
                 R"("interior": {"color": [1, 0.5, 0], "opacity": 0.25, "unit_distance": 2})") +
           ", " + mesh_json("brick", R"("primitive": "box", "size": 20)", R"("interior": {})")));
   ASSERT_TRUE(s.meshes[0].interior);
-  EXPECT_EQ(s.meshes[0].interior->color, glm::vec3(1, 0.5f, 0));
+  EXPECT_EQ(s.meshes[0].interior->color, glm::vec3(1, srgb_decode(0.5f), 0));  // display, decoded
   EXPECT_EQ(s.meshes[0].interior->opacity, 0.25f);
   EXPECT_EQ(s.meshes[0].interior->unit_distance, 2.0);
   ASSERT_TRUE(s.meshes[1].interior);  // defaults

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/colour.hpp"
 #include "intermix/io.hpp"
 #include "intermix/scene.hpp"
 #include "mesh_checks.hpp"
@@ -63,7 +64,9 @@ TEST(ParseScene, SceneWideSettings) {
   EXPECT_EQ(s.camera.ortho_height, 150.0);
   EXPECT_EQ(s.image.width, 320);
   EXPECT_EQ(s.image.height, 200);
-  EXPECT_EQ(s.image.background, glm::vec4(0.1f, 0.2f, 0.3f, 1.0f));
+  // A display colour, decoded; alpha as given (docs/colour.md).
+  EXPECT_EQ(s.image.background,
+            glm::vec4(srgb_decode(0.1f), srgb_decode(0.2f), srgb_decode(0.3f), 1.0f));
   ASSERT_EQ(s.lights.size(), 2u);
   EXPECT_EQ(s.lights[0].type, LightType::directional);
   EXPECT_EQ(s.lights[0].direction, glm::dvec3(0, 0, -1));
@@ -240,7 +243,7 @@ TEST(LoadScene, VolumeObjectsShareTheirSourceAndApplyTheTransform) {
   EXPECT_EQ(a.style, VolumeStyle::dvr);
   ASSERT_EQ(a.transfer_function.points.size(), 2u);
   EXPECT_EQ(a.transfer_function.points[1].value, 50.0);
-  EXPECT_EQ(a.transfer_function.points[1].rgba, glm::vec4(1, 0.5f, 0, 0.25f));
+  EXPECT_EQ(a.transfer_function.points[1].rgba, glm::vec4(1, srgb_decode(0.5f), 0, 0.25f));
   EXPECT_EQ(a.transfer_function.unit_distance, 2.0);
   EXPECT_TRUE(a.shading.enabled);
   EXPECT_EQ(a.shading.diffuse, 0.5f);

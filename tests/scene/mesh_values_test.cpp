@@ -49,18 +49,20 @@ double trilinear(const std::vector<float>& v, glm::ivec3 dims, const glm::dmat4&
   return sum;
 }
 
-// A piecewise-linear colour through points (value, r, g, b), constant beyond the ends.
+// A piecewise-linear colour through points (value, r, g, b), constant beyond the ends: the
+// points' display colours decoded, blended in linear light between them (docs/colour.md).
 glm::dvec3 ramp(const std::vector<std::array<double, 4>>& points, double value) {
-  if (value <= points.front()[0]) return {points.front()[1], points.front()[2], points.front()[3]};
+  const auto at = [&](size_t k) {
+    return glm::dvec3(
+        display_to_linear(glm::vec3(glm::dvec3(points[k][1], points[k][2], points[k][3]))));
+  };
+  if (value <= points.front()[0]) return at(0);
   for (size_t k = 1; k < points.size(); ++k)
     if (value <= points[k][0]) {
       const double t = (value - points[k - 1][0]) / (points[k][0] - points[k - 1][0]);
-      glm::dvec3 out;
-      for (int c = 0; c < 3; ++c)
-        out[c] = points[k - 1][c + 1] + t * (points[k][c + 1] - points[k - 1][c + 1]);
-      return out;
+      return at(k - 1) + t * (at(k) - at(k - 1));
     }
-  return {points.back()[1], points.back()[2], points.back()[3]};
+  return at(points.size() - 1);
 }
 
 json tf_json(const std::vector<std::array<double, 4>>& points) {
@@ -229,7 +231,7 @@ TEST(MeshValues, CurvatureOverlayThroughATransferFunctionWithThreshold) {
     for (int c = 0; c < 3; ++c) ASSERT_NEAR(mesh.colors[i][c], want[c], 1e-6) << i;
   }
   EXPECT_GT(below, 0);
-  EXPECT_EQ(scene.meshes[0].material.color, glm::vec3(0.5f));
+  EXPECT_EQ(scene.meshes[0].material.color, glm::vec3(srgb_decode(0.5f)));  // display, decoded
 }
 
 TEST(MeshValues, AnOverlayFileAfterItsSurfaceColoursItInASceneFromFiles) {

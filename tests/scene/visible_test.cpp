@@ -2,6 +2,7 @@
 // (a mesh's and its interior's opacity, a plane's opacity, a volume's alphas become 0).
 #include <gtest/gtest.h>
 
+#include "core/colour.hpp"
 #include "intermix/scene.hpp"
 #include "scene_fixture.hpp"
 
@@ -41,7 +42,7 @@ TEST(Visible, HiddenObjectsShowNothingButKeepTheirData) {
   const TransferFunction& tf = s.volumes[0].transfer_function;
   ASSERT_EQ(tf.points.size(), 2u);
   for (const TfPoint& p : tf.points) EXPECT_EQ(p.rgba.a, 0.0f);
-  EXPECT_EQ(tf.points[0].rgba.g, 0.5f);  // colours stay
+  EXPECT_EQ(tf.points[0].rgba.g, srgb_decode(0.5f));  // colours stay (decoded, docs/colour.md)
   ASSERT_NE(s.volumes[0].data, nullptr);
   EXPECT_EQ(s.meshes[0].material.opacity, 0.0f);
   EXPECT_EQ(s.meshes[0].interior->opacity, 0.0f);

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/colour.hpp"
 #include "presets/colormap.hpp"
 #include "tubes/connectome_primitives.hpp"
 #include "tubes/tube_fragments.hpp"
@@ -36,8 +37,9 @@ TEST(ConnectomePrimitives, NiiVuesRulesForSizeColourAndThreshold) {
   EXPECT_EQ(p.hidden_nodes, 1u);
   EXPECT_FLOAT_EQ(p.spheres[0].radius, 1.0f * look.node_scale);
   EXPECT_FLOAT_EQ(p.spheres[1].radius, 2.0f * look.node_scale);
-  EXPECT_NEAR(p.spheres[0].color.r, (2.0f - 1.0f) / (4.0f - 1.0f), 1e-6f);
-  EXPECT_NEAR(p.spheres[1].color.r, (3.0f - 1.0f) / (4.0f - 1.0f), 1e-6f);
+  // The grey map gives display greys, decoded (docs/colour.md).
+  EXPECT_NEAR(p.spheres[0].color.r, srgb_decode((2.0f - 1.0f) / (4.0f - 1.0f)), 1e-6f);
+  EXPECT_NEAR(p.spheres[1].color.r, srgb_decode((3.0f - 1.0f) / (4.0f - 1.0f)), 1e-6f);
   // Negative: |value| through the negative map.
   const glm::vec3 hot = colormap_rgb(Colormap::hot, (3.0f - 1.0f) / 3.0f);
   EXPECT_NEAR(glm::length(p.spheres[2].color - hot), 0.0f, 1e-6f);
@@ -48,7 +50,7 @@ TEST(ConnectomePrimitives, NiiVuesRulesForSizeColourAndThreshold) {
   EXPECT_FLOAT_EQ(p.tubes[1].radius, 5.0f);
   const glm::vec3 jet = colormap_rgb(Colormap::jet, (3.0f - 2.0f) / 4.0f);
   EXPECT_NEAR(glm::length(p.tubes[0].color - jet), 0.0f, 1e-6f);
-  EXPECT_NEAR(p.tubes[1].color.r, (5.0f - 2.0f) / 4.0f, 1e-6f);
+  EXPECT_NEAR(p.tubes[1].color.r, srgb_decode((5.0f - 2.0f) / 4.0f), 1e-6f);
   EXPECT_FLOAT_EQ(p.largest_radius, 6.0f);
   // Above the top: the top colour; an empty range: the top colour too.
   EXPECT_FLOAT_EQ(connectome_map_position(9.0f, 2.0f, 6.0f), 1.0f);
@@ -129,7 +131,7 @@ TEST(ConnectomeTubes, FragmentsCarryThePrimitivesColourAndOpacity) {
   std::vector<Fragment> out;
   append_tube_fragments(tube_look, Ray{{0, 0, 50}, {0, 0, -1}}, 1e9f, 3, {}, out);
   ASSERT_EQ(out.size(), 2u);  // in and out of the sphere
-  const float a = tube_fragment_alpha(0.4f), grey = 1.0f / 4.0f;
+  const float a = tube_fragment_alpha(0.4f), grey = srgb_decode(1.0f / 4.0f);  // a display grey
   for (const Fragment& f : out) {
     EXPECT_EQ(f.object, 3u);
     EXPECT_NEAR(f.color.a, a, 1e-6f);

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <glm/glm.hpp>
 
+#include "core/colour.hpp"
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
 #include "tube_rod.hpp"
@@ -21,9 +22,10 @@
 namespace imx {
 namespace {
 
-// The grey the rod has at x (value x over [-10, 10]).
+// The grey the rod has at x (value x over [-10, 10]), linear: the grey map gives display greys
+// (docs/colour.md).
 float grey_at(float x) {
-  return (x + 10.0f) / 20.0f;
+  return srgb_decode((x + 10.0f) / 20.0f);
 }
 
 // Turns every triangle of a mesh that is convex around `centre` to face away from it.

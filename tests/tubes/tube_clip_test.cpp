@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <glm/glm.hpp>
 
+#include "core/colour.hpp"
 #include "tube_rod.hpp"
 #include "tubes/tube_cache.hpp"
 #include "tubes/tube_clip.hpp"
@@ -24,9 +25,10 @@ std::vector<Fragment> fragments(const StreamlineObject& o, const TubeGeometry& t
   return out;
 }
 
-// The grey the rod has at x (value x over [-10, 10]).
+// The grey the rod has at x (value x over [-10, 10]), linear: the grey map gives display greys
+// (docs/colour.md).
 float grey_at(float x) {
-  return (x + 10.0f) / 20.0f;
+  return srgb_decode((x + 10.0f) / 20.0f);
 }
 
 TEST(TubeClip, NothingShowsOnTheRemovedSide) {

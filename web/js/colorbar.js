@@ -6,6 +6,10 @@ import {S} from './state.js';
 
 const BAR_W = 12, BAR_H = 140, GAP = 64;
 
+// The sRGB curve (src/core/colour.hpp): colours are display values, light adds linearly.
+const srgbDecode = (v) => v <= 0.04045 ? v / 12.92 : Math.pow((v + 0.055) / 1.055, 2.4);
+const srgbEncode = (v) => v <= 0.0031308 ? 12.92 * v : 1.055 * Math.pow(v, 1 / 2.4) - 0.055;
+
 // The TF's colour and opacity at `v` (linear between its points).
 function tfAt(tf, v) {
   if (v <= tf[0][0]) return tf[0].slice(1);
@@ -100,7 +104,8 @@ export function drawColorBars() {
     const x = c.clientWidth - 40 - k * GAP, y = 24;
     for (let t = 0; t < BAR_H; ++t) {
       const [cr, cg, cb, w] = b.colour(1 - t / (BAR_H - 1));
-      const s = (v) => Math.round(255 * Math.pow(Math.max(0, Math.min(1, v * w)), 1 / 2.2));
+      // Display colours (as scene files give them) over black with weight w, in linear light.
+      const s = (v) => Math.round(255 * srgbEncode(Math.max(0, Math.min(1, srgbDecode(v) * w))));
       g.fillStyle = `rgb(${s(cr)},${s(cg)},${s(cb)})`;
       g.fillRect(x, y + t, BAR_W, 1);
     }

@@ -113,7 +113,8 @@ function drawOverlay(axis) {
   const r = window.devicePixelRatio || 1;
   g.lineWidth = 1.5 * r;
   for (const m of a.outlines || []) {
-    g.strokeStyle = `rgb(${m.color.map((c) => Math.round(255 * Math.pow(c, 1 / 2.2))).join(',')})`;
+    // Display colours, as the mesh's material gives them.
+    g.strokeStyle = `rgb(${m.color.map((c) => Math.round(255 * c)).join(',')})`;
     g.beginPath();
     for (const s of m.segments) {
       g.moveTo(s[0], s[1]);

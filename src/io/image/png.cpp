@@ -153,8 +153,8 @@ Image read_png(const std::filesystem::path& file, bool linear) {
       }
     }
     float a = ch[3];
-    glm::vec3 rgb = linear ? glm::vec3(ch[0], ch[1], ch[2])
-                           : glm::vec3(srgb_decode(ch[0]), srgb_decode(ch[1]), srgb_decode(ch[2]));
+    const glm::vec3 stored(ch[0], ch[1], ch[2]);
+    const glm::vec3 rgb = linear ? stored : display_to_linear(stored);
     image.data()[i] = glm::vec4(rgb * a, a);
   }
   return image;

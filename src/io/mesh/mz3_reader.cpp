@@ -304,11 +304,11 @@ PolyDataFile read_mz3_mesh(const std::filesystem::path& file) {
   }
   if (h.has(kRgba)) {
     mesh.colors.resize(static_cast<size_t>(n));
+    const auto byte = [&](size_t v, size_t k) {
+      return static_cast<float>(static_cast<uint8_t>(s.rgba[4 * v + k])) / 255.0f;
+    };
     for (size_t v = 0; v < mesh.colors.size(); ++v)
-      for (int k = 0; k < 3; ++k)
-        mesh.colors[v][k] = srgb_decode(
-            static_cast<float>(static_cast<uint8_t>(s.rgba[4 * v + static_cast<size_t>(k)])) /
-            255.0f);
+      mesh.colors[v] = display_to_linear(glm::vec3(byte(v, 0), byte(v, 1), byte(v, 2)));
   }
   for (uint64_t layer = 0; layer < s.layers; ++layer)
     out.point_data.push_back({layer_name(h, layer), 1, scalar_layer(s, h, layer, what)});

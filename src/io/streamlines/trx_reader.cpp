@@ -19,6 +19,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "core/colour.hpp"
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
 #include "io/streamlines/trx.hpp"
@@ -652,7 +653,7 @@ void TrxReader::read_colors(Streamlines& out) {
     }
     // Integer colours are bytes; float colours are 0..1 unless a value says bytes.
     const float scale = (!is_float(a.dtype->type) || top > 1.0f) ? 1.0f / 255.0f : 1.0f;
-    g->color = glm::vec3(rgb[0], rgb[1], rgb[2]) * scale;
+    g->color = display_to_linear(glm::vec3(rgb[0], rgb[1], rgb[2]) * scale);  // a display colour
   }
   if (!unused.empty())
     notes_.push_back(
