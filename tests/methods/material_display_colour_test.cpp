@@ -1,6 +1,7 @@
 // What you give is what you see (docs/colour.md): a mesh's material colour, as the scene file
 // gives it, is the colour of its pixels in the PNG (within 1/255) where it is opaque and unlit,
 // and where it is lit head-on at full diffuse with no ambient or specular part.
+#include <filesystem>
 #include <string>
 
 #include <fmt/format.h>
@@ -32,8 +33,10 @@ glm::ivec3 centre_bytes(const test::TempDir& dir, const Scene& scene, const char
   RenderOptions options;
   options.method = method;
   options.threads = 1;
-  write_png(render(scene, options), dir / "out.png");
-  const Image png = read_png(dir / "out.png", true);  // the stored bytes
+  // A file per render: one read by this process is an input, which no later write replaces.
+  const std::filesystem::path out = dir / fmt::format("out-{}.png", method);
+  write_png(render(scene, options), out);
+  const Image png = read_png(out, true);  // the stored bytes
   return glm::ivec3(glm::round(glm::vec3(png.at(8, 8)) * 255.0f));
 }
 

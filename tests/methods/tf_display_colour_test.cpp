@@ -2,6 +2,7 @@
 // its transfer function's colour, as the scene file gives it, in the PNG (within 1/255), by every
 // method, from explicit points and from a 3D Slicer preset's colour alike.
 #include <cmath>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -41,8 +42,10 @@ glm::ivec3 centre_bytes(const test::TempDir& dir, const Scene& scene, const char
   RenderOptions options;
   options.method = method;
   options.threads = 1;
-  write_png(render(scene, options), dir / "out.png");
-  const Image png = read_png(dir / "out.png", true);  // the stored bytes
+  // A file per render: one read by this process is an input, which no later write replaces.
+  const std::filesystem::path out = dir / fmt::format("out-{}.png", method);
+  write_png(render(scene, options), out);
+  const Image png = read_png(out, true);  // the stored bytes
   return glm::ivec3(glm::round(glm::vec3(png.at(8, 8)) * 255.0f));
 }
 
