@@ -56,7 +56,7 @@ decltype(server::SessionOptions::full_resolution) full_resolution_frames(const S
         json["image"]["height"] = height;
         const SceneDocument outline = outline_of(std::move(json), origin, base_dir);
         RenderOptions options;
-        options.spp = document["render"].value("spp", 0);
+        options.spp = document.contains("render") ? document["render"].value("spp", 0) : 0;
         options.threads = threads;
         options.cancel = &cancel;
         return render_in_bricks(outline, bricks_needed(outline.scene()), options);
