@@ -72,6 +72,25 @@ TEST(MeshHardening, OffIsReadALineAVertexAndALineAFace) {
   EXPECT_EQ(read_mesh(dir / "comment.off").triangles.size(), 1u);
 }
 
+// assimp's OFF reader takes a face of 0 corners off its count but not off its face array: a
+// file of such faces crashed it (found by fuzz_mesh, CI's deterministic run); more than 9 it
+// refuses as "zero indices". Both are named before assimp sees the file.
+TEST(MeshHardening, OffFacesOfZeroOrMoreThanNineCornersAreNamed) {
+  TempDir dir;
+  const std::string square = "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n";
+  write_bytes(dir / "zero.off", square + "3 0 1 2\n0 0  2\n");
+  expect_error([&] { read_mesh(dir / "zero.off"); },
+               {"zero.off", "line 8", "face 1 has 0 corners"});
+  std::string ten = "OFF\n10 1 0\n";
+  for (int i = 0; i < 10; ++i) ten += fmt::format("{} {} 0\n", i, i % 3);
+  write_bytes(dir / "ten.off", ten + "10 0 1 2 3 4 5 6 7 8 9\n");
+  expect_error([&] { read_mesh(dir / "ten.off"); }, {"ten.off", "face 0 has 10 corners", "1 to 9"});
+  std::string nine = "OFF\n9 1 0\n";
+  for (int i = 0; i < 9; ++i) nine += fmt::format("{} {} 0\n", i, i % 3);
+  write_bytes(dir / "nine.off", nine + "9 0 1 2 3 4 5 6 7 8\n");
+  EXPECT_EQ(read_mesh(dir / "nine.off").triangles.size(), 7u);
+}
+
 TEST(MeshHardening, PolygonsWithTooManyCornersAreRefused) {
   TempDir dir;
   std::string obj;

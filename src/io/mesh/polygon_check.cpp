@@ -125,9 +125,13 @@ void check_off(const std::filesystem::path& file) {
           fmt::format("{}: line {}: face {}'s corner count '{}' is not a non-negative "
                       "integer",
                       what, line_number, f, shown(w)));
-    if (corners > kMaxPolygonCorners)
-      throw Error(fmt::format("{}: face {} has {} corners (at most {})", what, f, corners,
-                              kMaxPolygonCorners));
+    // assimp's OFF reader takes a face of 0 corners off its count but not off its face array (a
+    // crash, found by fuzz_mesh), and refuses more than 9 as "zero indices": both named here.
+    if (corners == 0 || corners > kMaxOffCorners)
+      throw Error(
+          fmt::format("{}: line {}: face {} has {} corners; an OFF face is read with 1 to "
+                      "{} (split larger polygons)",
+                      what, line_number, f, corners, kMaxOffCorners));
     // A face is one line: its indices, then anything (a face colour) that assimp skips.
     for (uint64_t c = 0; c < corners; ++c) {
       uint64_t index = 0;

@@ -7,6 +7,8 @@ namespace imx::detail {
 
 // At most this many corners in one polygon.
 inline constexpr size_t kMaxPolygonCorners = 1024;
+// The most corners assimp's OFF reader takes in a face.
+inline constexpr size_t kMaxOffCorners = 9;
 
 // Throws imx::Error naming the file and line when an OBJ face has more than kMaxPolygonCorners
 // corners, a line holds a NUL byte, or an mtllib names an absolute path (assimp would look for
