@@ -463,7 +463,8 @@ TEST(ViewerSession, AConvergedCoarseFrameIsFollowedByTheFullResolutionFrame) {
   const auto coarse = client->wait_final();
   EXPECT_EQ(coarse.json["samples"], 4);
   EXPECT_EQ(coarse.json["full_resolution"], false);
-  const auto full = client->wait_for([](const Json& j) { return j["full_resolution"] == true; });
+  const auto full =
+      client->wait_for([](const Json& j) { return j.value("full_resolution", false); });
   EXPECT_EQ(full.json["final"], true);
   EXPECT_EQ(full.json["width"], kSize);
   const Image shown = decode(full.image, dir);
@@ -483,8 +484,8 @@ TEST(ViewerSession, AConvergedCoarseFrameIsFollowedByTheFullResolutionFrame) {
   for (int i = 0; i < 6000 && !holding; ++i) std::this_thread::sleep_for(10ms);
   ASSERT_TRUE(holding);
   session.on_message(client, camera_message(2, false, -250).dump());
-  const auto second =
-      client->wait_for([](const Json& j) { return j["full_resolution"] == true && j["seq"] == 2; });
+  const auto second = client->wait_for(
+      [](const Json& j) { return j.value("full_resolution", false) && j.value("seq", 0) == 2; });
   EXPECT_EQ(second.json["final"], true);
   ASSERT_TRUE(session.wait_idle(60s));
   EXPECT_EQ(calls, 3);
