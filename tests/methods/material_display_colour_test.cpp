@@ -10,6 +10,7 @@
 #include "intermix/io.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "png_centre.hpp"
 #include "temp_dir.hpp"
 
 namespace imx {
@@ -29,23 +30,12 @@ Scene box_scene(const glm::ivec3& given, const std::string& shading) {
   return parse_scene(text, {}, "scene.json");
 }
 
-glm::ivec3 centre_bytes(const test::TempDir& dir, const Scene& scene, const char* method) {
-  RenderOptions options;
-  options.method = method;
-  options.threads = 1;
-  // A file per render: one read by this process is an input, which no later write replaces.
-  const std::filesystem::path out = dir / fmt::format("out-{}.png", method);
-  write_png(render(scene, options), out);
-  const Image png = read_png(out, true);  // the stored bytes
-  return glm::ivec3(glm::round(glm::vec3(png.at(8, 8)) * 255.0f));
-}
-
 TEST(MaterialDisplayColour, AnUnlitMeshShowsItsMaterialColour) {
   test::TempDir dir;
   const glm::ivec3 given(204, 153, 51);
   const Scene scene = box_scene(given, R"({"enabled": false})");
   for (const char* method : {"reference", "peel", "zslab"}) {
-    const glm::ivec3 got = centre_bytes(dir, scene, method);
+    const glm::ivec3 got = test::centre_png_bytes(dir, scene, method);
     for (int ch = 0; ch < 3; ++ch)
       EXPECT_NEAR(got[ch], given[ch], 1) << method << " channel " << ch;
   }
@@ -56,7 +46,7 @@ TEST(MaterialDisplayColour, AMeshLitHeadOnAtFullDiffuseShowsItsMaterialColour) {
   const glm::ivec3 given(40, 220, 60);
   const Scene scene =
       box_scene(given, R"({"ambient": 0, "diffuse": 1, "specular": 0, "shininess": 1})");
-  const glm::ivec3 got = centre_bytes(dir, scene, "reference");
+  const glm::ivec3 got = test::centre_png_bytes(dir, scene, "reference");
   for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(got[ch], given[ch], 1) << "channel " << ch;
 }
 

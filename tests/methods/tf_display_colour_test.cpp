@@ -14,6 +14,7 @@
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
 #include "intermix/volume.hpp"
+#include "png_centre.hpp"
 #include "temp_dir.hpp"
 
 namespace imx {
@@ -37,18 +38,6 @@ void write_volume(const test::TempDir& dir, float value) {
   write_nrrd(v, dir / "one.nrrd");
 }
 
-// The centre pixel's bytes in the PNG the render writes.
-glm::ivec3 centre_bytes(const test::TempDir& dir, const Scene& scene, const char* method) {
-  RenderOptions options;
-  options.method = method;
-  options.threads = 1;
-  // A file per render: one read by this process is an input, which no later write replaces.
-  const std::filesystem::path out = dir / fmt::format("out-{}.png", method);
-  write_png(render(scene, options), out);
-  const Image png = read_png(out, true);  // the stored bytes
-  return glm::ivec3(glm::round(glm::vec3(png.at(8, 8)) * 255.0f));
-}
-
 TEST(TfDisplayColour, AnOpaqueUnshadedVolumeShowsItsPointsColour) {
   test::TempDir dir;
   write_volume(dir, 7.0f);
@@ -59,7 +48,7 @@ TEST(TfDisplayColour, AnOpaqueUnshadedVolumeShowsItsPointsColour) {
   const Scene scene = parse_scene(scene_text(tf), dir.path(), "scene.json");
   ASSERT_FALSE(scene.volumes.at(0).shading.enabled);
   for (const char* method : {"reference", "mdvr", "zslab", "dfb"}) {
-    const glm::ivec3 got = centre_bytes(dir, scene, method);
+    const glm::ivec3 got = test::centre_png_bytes(dir, scene, method);
     for (int ch = 0; ch < 3; ++ch)
       EXPECT_NEAR(got[ch], given[ch], 1) << method << " channel " << ch;
   }
@@ -75,7 +64,7 @@ TEST(TfDisplayColour, AnOpaqueUnshadedVolumeShowsASlicerPresetsColour) {
   scene.volumes.at(0).shading.enabled = false;
   const glm::ivec3 given(231, 208, 141);  // Slicer's CT-Bone colour there, in bytes
   for (const char* method : {"reference", "mdvr"}) {
-    const glm::ivec3 got = centre_bytes(dir, scene, method);
+    const glm::ivec3 got = test::centre_png_bytes(dir, scene, method);
     for (int ch = 0; ch < 3; ++ch)
       EXPECT_NEAR(got[ch], given[ch], 1) << method << " channel " << ch;
   }

@@ -471,6 +471,20 @@ sockaddr_in loopback(uint16_t port) {
   return address;
 }
 
+// Why the descriptor-exhaustion tests do not run under ASan/UBSan (their checks are real there;
+// the sanitizers' own reports break once no descriptor is left).
+constexpr const char* kSanitizersNeedDescriptors =
+    "the sanitizers check memory through a pipe, which fails with no descriptor left: every "
+    "vptr check of the render thread then reports a false error";
+
+// `n` unconnected TCP sockets, made before a lowered limit so that only the server's accepts
+// run out.
+std::vector<int> sockets(int n) {
+  std::vector<int> out(static_cast<size_t>(n));
+  for (int& fd : out) fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  return out;
+}
+
 // The descriptor the next open would get: a limit above it by N leaves N to open.
 int lowest_free_descriptor() {
   const int fd = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
@@ -533,14 +547,11 @@ class FileLimit {
 // serves the next client as soon as descriptors are free.
 TEST(HttpServer, OutOfFileDescriptorsTheServerNeitherSpinsNorStops) {
 #ifdef IMX_SANITIZED
-  GTEST_SKIP() << "the sanitizers check memory through a pipe, which fails with no descriptor "
-                  "left: every vptr check of the render thread then reports a false error";
+  GTEST_SKIP() << kSanitizersNeedDescriptors;
 #endif
   Served s;
   ASSERT_EQ(get(s.port(), "/?token=" + Served::token()).result(), http::status::ok);
-  // The flood's sockets exist before the limit: only the server's accepts run out.
-  std::vector<int> flood(40);
-  for (int& fd : flood) fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  const std::vector<int> flood = sockets(40);
   const int lowest_free = lowest_free_descriptor();
   {
     FileLimit limit(static_cast<rlim_t>(lowest_free) + 8);  // the server may accept 8 at most
@@ -572,14 +583,11 @@ TEST(HttpServer, OutOfFileDescriptorsTheServerNeitherSpinsNorStops) {
 // (issue 48: 11 of 30 requests were served with 1,100 such connections).
 TEST(HttpServer, AClientIsServedWhileHalfOpenConnectionsHoldEveryDescriptor) {
 #ifdef IMX_SANITIZED
-  GTEST_SKIP() << "the sanitizers check memory through a pipe, which fails with no descriptor "
-                  "left: every vptr check of the render thread then reports a false error";
+  GTEST_SKIP() << kSanitizersNeedDescriptors;
 #endif
   Served s;
   ASSERT_EQ(get(s.port(), "/?token=" + Served::token()).result(), http::status::ok);
-  // Every socket of this side exists before the limit: only the server's accepts run out.
-  std::vector<int> flood(40);
-  for (int& fd : flood) fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  const std::vector<int> flood = sockets(40);
   const int client = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
   const int lowest_free = lowest_free_descriptor();
   const sockaddr_in address = loopback(s.port());
