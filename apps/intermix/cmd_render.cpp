@@ -33,6 +33,7 @@ struct Options : SceneOptions {
   std::string frame_range, frame_object;
   bool linear = false;
   bool colorbar = false;
+  std::string colorbar_position = "top-right";
   bool distributed = false;
   std::string partition = "auto", report;
   int bricks = 0;  // 0: bricks only for a volume too large to hold
@@ -95,7 +96,9 @@ void render_one(const Options& o, const std::vector<std::string>& overrides,
   bar.finish();
   if (o.colorbar) {
     const std::vector<ColourBar> bars = scene_colour_bars(scene);
-    const size_t drawn = draw_colour_bars(image, bars).size();
+    const ColourBarStyle style{*find_colour_bar_position(o.colorbar_position), 1.0,
+                               glm::vec3(scene.image.background)};
+    const size_t drawn = draw_colour_bars(image, bars, style).size();
     const size_t wanted = distinct_colour_bars(bars).size();
     if (drawn < wanted && !quiet())
       std::fprintf(stderr,
@@ -157,6 +160,10 @@ Command add_render(CLI::App& app) {
   app.add_flag("--colorbar", o->colorbar,
                "draw a colour bar (name, units, ticks) for each visible colour-mapped object: "
                "volumes' transfer functions, planes with a colour map or threshold");
+  app.add_option("--colorbar-position", o->colorbar_position,
+                 "where --colorbar draws the bars: top-right (default), top-left, bottom-right, "
+                 "bottom-left, or outside (beside the image, on a canvas widened to fit them)")
+      ->check(CLI::IsMember(colour_bar_position_names()));
   std::string no_mpi;
   const bool mpi = distributed_available(&no_mpi);
   app.add_flag("--distributed", o->distributed,

@@ -1,4 +1,4 @@
-// intermix: the program for users (render, serve, info, convert, phantom, compare). Measurement
+// intermix: the program for users (render, serve, info, convert, phantom, compare, figure). Measurement
 // (eval, bench, zfight, band, csg) is intermix-lab's.
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +15,8 @@ int main(int argc, char** argv) {
        add_convert},
       {"phantom", "write a built-in phantom volume as NRRD, MetaImage or NIfTI", add_phantom},
       {"compare", "PSNR, SSIM and error fractions between two PNG images", add_compare},
+      {"figure", "a figure for a paper: ortho, mosaic or glass-brain panels of a map over anatomy",
+       add_figure},
   };
   const int status =
       run_program("intermix", "intermix: renders volumes, meshes and planes into one correct image",

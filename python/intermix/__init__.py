@@ -15,7 +15,7 @@ Scene (from_file, from_files, from_dict, set, set_view, add_volume, add_mesh, ad
 add_streamlines, to_dict, render), Volume, Mesh, Streamlines (tractograms from files, nibabel
 or DIPY), Renderer (stage reuse), read_volume, read_mesh, write_volume, phantom, compare,
 to_uint8, write_png, read_png, available_methods, set_max_memory; one-line figures: orbit,
-stat_map, glass_brain, tracts_over_anatomy (and their *_scene). Errors: ValueError (a scene
+stat_map, ortho, mosaic, glass_brain, tracts_over_anatomy (and their *_scene, figure_scene). Errors: ValueError (a scene
 or value at fault), OSError (a file that cannot be read or written), MemoryError (an input over
 the memory budget, or more than the machine gives), RuntimeError (a render that failed), each
 with the library's one-line message. docs/python.md has the details.
@@ -50,10 +50,13 @@ from ._intermix import (
     write_volume,
 )
 from ._figures import (
+    figure_scene,
     glass_brain,
     glass_brain_scene,
     orbit,
     orbit_cameras,
+    mosaic,
+    ortho,
     stat_map,
     stat_map_scene,
     threshold_tf,
@@ -74,11 +77,14 @@ __all__ = [
     "default_spp",
     "encode_png",
     "error_heat_map",
+    "figure_scene",
     "glass_brain",
     "glass_brain_scene",
     "max_memory",
+    "mosaic",
     "orbit",
     "orbit_cameras",
+    "ortho",
     "phantom",
     "phantom_names",
     "read_mesh",

@@ -11,6 +11,7 @@ __version__: str
 PathLike = Union[str, os.PathLike[str]]
 Space = Literal["LPS", "RAS"]
 View = Literal["anterior", "posterior", "left", "right", "superior", "inferior"]
+ColourBarPosition = Literal["top-right", "top-left", "bottom-right", "bottom-left", "outside"]
 Colouring = Literal[
     "direction", "streamline_direction", "fixed", "point_value", "streamline_value", "group"
 ]
@@ -188,7 +189,21 @@ class Scene:
         spp: Optional[int] = None,
         threads: Optional[int] = None,
         view: Optional[View] = None,
-        colorbar: bool = False,
+        colorbar: Union[bool, ColourBarPosition] = False,
+    ) -> Image: ...
+    def figure(
+        self,
+        kind: Literal["ortho", "mosaic", "glass"] = "ortho",
+        cut: Optional[Sequence[float]] = None,
+        axis: Literal["axial", "coronal", "sagittal"] = "axial",
+        cuts: Optional[Sequence[float]] = None,
+        slices: int = 7,
+        columns: int = 0,
+        height: int = 256,
+        colorbar: bool = True,
+        annotate: bool = True,
+        crosshair: bool = True,
+        plot_abs: bool = True,
     ) -> Image: ...
     def _repr_png_(self) -> bytes: ...
 
@@ -265,21 +280,36 @@ def threshold_tf(
 ) -> dict[str, Any]: ...
 def stat_map_scene(
     anatomy: Any, stat: Any, threshold: float = 3.0, *, vmax: Optional[float] = None,
-    symmetric: bool = True, view: View = "left", width: int = 512, height: int = 512,
+    symmetric: bool = True, view: Optional[View] = None, width: int = 512, height: int = 512,
 ) -> Scene: ...
 def stat_map(
     anatomy: Any, stat: Any, threshold: float = 3.0, *, vmax: Optional[float] = None,
-    symmetric: bool = True, view: View = "left", width: int = 512, height: int = 512,
+    symmetric: bool = True, view: Optional[View] = None, width: int = 512, height: int = 512,
     method: Optional[str] = None, spp: Optional[int] = None,
+    colorbar: Union[bool, ColourBarPosition] = False,
+) -> Image: ...
+def figure_scene(
+    anatomy: Any, stat: Any = None, threshold: float = 3.0, *, vmax: Optional[float] = None,
+    symmetric: bool = True,
+) -> Scene: ...
+def ortho(
+    anatomy: Any, stat: Any = None, threshold: float = 3.0, *, vmax: Optional[float] = None,
+    symmetric: bool = True, cut_coords: Optional[Sequence[float]] = None, height: int = 256,
+    colorbar: bool = True, annotate: bool = True, crosshair: bool = True,
+) -> Image: ...
+def mosaic(
+    anatomy: Any, stat: Any = None, threshold: float = 3.0, *, vmax: Optional[float] = None,
+    symmetric: bool = True, axis: str = "z", cut_coords: Union[int, Sequence[float]] = 7,
+    columns: int = 0, height: int = 256, colorbar: bool = True, annotate: bool = True,
 ) -> Image: ...
 def glass_brain_scene(
-    stat: Any, threshold: Optional[float] = None, *, vmax: Optional[float] = None,
-    plot_abs: bool = True, view: View = "left", width: int = 512, height: int = 512,
+    stat: Any, threshold: Optional[float] = None, *, anatomy: Any = None,
+    vmax: Optional[float] = None,
 ) -> Scene: ...
 def glass_brain(
-    stat: Any, threshold: Optional[float] = None, *, vmax: Optional[float] = None,
-    plot_abs: bool = True, view: View = "left", width: int = 512, height: int = 512,
-    method: Optional[str] = None, spp: Optional[int] = None,
+    stat: Any, threshold: Optional[float] = None, *, anatomy: Any = None,
+    vmax: Optional[float] = None, plot_abs: bool = True, height: int = 256,
+    colorbar: bool = True, annotate: bool = True,
 ) -> Image: ...
 def tracts_over_anatomy_scene(
     tracts: Any, anatomy: Any, *, view: View = "left", radius: float = 0.5,
@@ -292,6 +322,7 @@ def tracts_over_anatomy(
     colouring: Optional[Colouring] = None, color: Optional[Sequence[float]] = None,
     value: Optional[str] = None, colormap: Optional[str] = None, opacity: float = 1.0,
     width: int = 512, height: int = 512, method: Optional[str] = None, spp: Optional[int] = None,
+    colorbar: Union[bool, ColourBarPosition] = False,
 ) -> Image: ...
 def orbit_cameras(
     camera: Mapping[str, Any], frames: int = 36, degrees: float = 360.0

@@ -1,4 +1,4 @@
-"""One-line figures: orbit, stat_map, glass_brain, tracts_over_anatomy. Each builds a scene in the scene-file schema
+"""One-line figures: orbit, stat_map, ortho, mosaic, glass_brain, tracts_over_anatomy. Each builds a scene in the scene-file schema
 (the *_scene functions return it, so it can be inspected, saved and changed) and renders it; no
 drawing happens here that the engine does not do.
 """
@@ -8,7 +8,7 @@ import sys
 
 import numpy as _np
 
-from ._intermix import Renderer, Scene, Streamlines, Volume, read_volume, write_png
+from ._intermix import Renderer, Scene, Streamlines, Volume, _anatomy_box, read_volume, write_png
 
 
 # ---- sources ----
@@ -50,22 +50,34 @@ def threshold_tf(threshold, vmax, symmetric=True, opacity=0.8, colormap=None):
 
 # ---- stat_map ----
 
-def stat_map_scene(anatomy, stat, threshold=3.0, *, vmax=None, symmetric=True, view="left",
+def stat_map_scene(anatomy, stat, threshold=3.0, *, vmax=None, symmetric=True, view=None,
                    width=512, height=512):
     """The scene intermix.stat_map renders, as a Scene: the anatomy cut by three orthogonal
-    planes (axial, coronal, sagittal: grey, each windowed to the anatomy's own or robust range)
-    through the map's peak (squares the size of the anatomy's longest side), and the map as a volume showing only |value| >= threshold, coloured
-    from the threshold to vmax (default: the map's largest magnitude), hot for positive values
-    and cold for negative ones (symmetric), seen from `view`."""
+    planes (axial, coronal, sagittal) through the map's peak, each as large as the anatomy's box
+    (its voxels above the background, _anatomy_box) and grey through the anatomy's reading
+    window (its own, else its 2nd to 98th percentile), and the map as a volume showing only
+    |value| >= threshold, coloured from the threshold to vmax (default: the map's largest
+    magnitude), hot for positive values and cold for negative ones (symmetric). The camera
+    frames what shows, from `view` (default: the side of the peak's hemisphere)."""
     anatomy = _volume(anatomy, "stat_map: anatomy")
     stat = _volume(stat, "stat_map: stat")
     peak = _peak_world(stat)
     top = float(vmax) if vmax is not None else _peak_magnitude(stat)
-    planes = [("axial", [0, 0, 1]), ("coronal", [0, 1, 0]), ("sagittal", [1, 0, 0])]
+    lo, hi = (_np.array(corner) for corner in _anatomy_box(anatomy))
+    centre, extent = (lo + hi) / 2, hi - lo
+    if view is None:  # LPS: +x is the patient's left
+        view = "left" if peak[0] > centre[0] else "right"
     objects = [{"name": "anatomy", "type": "volume", "source": anatomy, "visible": False}]
-    side = _largest_side(anatomy)
-    objects += [{"name": name, "type": "plane", "volume": "anatomy", "center": peak,
-                 "normal": normal, "size": side} for name, normal in planes]
+    # Each plane: through the peak along its normal, the box's extent across it.
+    for name, axis, up, size in (("axial", 2, [0, -1, 0], [extent[0], extent[1]]),
+                                 ("coronal", 1, [0, 0, 1], [extent[0], extent[2]]),
+                                 ("sagittal", 0, [0, 0, 1], [extent[1], extent[2]])):
+        normal = [0.0, 0.0, 0.0]
+        normal[axis] = 1.0
+        at = [float(v) for v in centre]
+        at[axis] = min(max(peak[axis], lo[axis]), hi[axis])
+        objects.append({"name": name, "type": "plane", "volume": "anatomy", "center": at,
+                        "normal": normal, "up": up, "size": [float(v) for v in size]})
     objects.append({"name": "stat", "type": "volume", "source": stat,
                     "transfer_function": threshold_tf(threshold, top, symmetric)})
     return Scene.from_dict({
@@ -92,49 +104,125 @@ def _peak_world(volume):
     return [float(v) for v in (volume.lps_affine @ [i, j, k, 1.0])[:3]]
 
 
-def stat_map(anatomy, stat, threshold=3.0, *, vmax=None, symmetric=True, view="left",
-             width=512, height=512, method=None, spp=None):
-    """A statistical map over an anatomical image in one call, as nilearn's plot_stat_map shows
-    it, in 3-D: stat_map_scene(...) rendered. `anatomy` and `stat` are Volumes, nibabel images
-    or file paths. Returns an intermix.Image (image.to_uint8() for display)."""
+def _colorbar_position(colorbar, function):
+    """A one-liner's colorbar= as Scene.render takes it: True puts the bars beside the image."""
+    if colorbar is True:
+        return "outside"
+    if colorbar is False or colorbar is None or isinstance(colorbar, str):
+        return colorbar
+    raise TypeError(f"{function}: colorbar must be True, False or a position, "
+                    f"got {type(colorbar).__name__}")
+
+
+def stat_map(anatomy, stat, threshold=3.0, *, vmax=None, symmetric=True, view=None,
+             width=512, height=512, method=None, spp=None, colorbar=False):
+    """A statistical map over an anatomical image in one call, in 3-D: stat_map_scene(...)
+    rendered. `anatomy` and `stat` are Volumes, nibabel images or file paths. colorbar=True
+    draws the map's colour bar beside the image (which grows to the right; or a position:
+    "top-right", ...). Returns an intermix.Image (image.to_uint8() for display)."""
     scene = stat_map_scene(anatomy, stat, threshold, vmax=vmax, symmetric=symmetric, view=view,
                            width=width, height=height)
-    return scene.render(method=method, spp=spp)
+    return scene.render(method=method, spp=spp,
+                        colorbar=_colorbar_position(colorbar, "stat_map"))
 
 
-# ---- glass_brain ----
+# ---- 2-D figures: ortho, mosaic, glass_brain ----
 
-def glass_brain_scene(stat, threshold=None, *, vmax=None, plot_abs=True, view="left",
-                      width=512, height=512):
-    """The scene intermix.glass_brain renders: a maximum intensity projection (style "mip") of
-    the map on a white background. With plot_abs (the default, as nilearn's) the projection is
-    of |value| (a float32 copy of the map), else of the values themselves (the largest, so
-    negative values do not show). Values below `threshold` (default: none) are transparent,
-    values from the threshold to vmax are coloured hot. No brain outline is drawn: intermix
-    has none."""
+# nilearn's display modes as axes: x cuts are sagittal, y coronal, z axial.
+_AXES = {"x": "sagittal", "y": "coronal", "z": "axial", "sagittal": "sagittal",
+         "coronal": "coronal", "axial": "axial"}
+
+
+def _map_name(source):
+    """A map's name in figures (its colour bar's title): its file's name without extensions,
+    as `intermix figure` names it, else "stat"."""
+    if isinstance(source, (str, os.PathLike)):
+        name = os.path.basename(os.fspath(source))
+        for _ in range(2):
+            name = os.path.splitext(name)[0]
+        return name or "stat"
+    return "stat"
+
+
+def figure_scene(anatomy, stat=None, threshold=3.0, *, vmax=None, symmetric=True):
+    """The scene intermix.ortho and intermix.mosaic draw: the anatomy (grey through its reading
+    window) and, when given, the map coloured from the threshold to vmax as stat_map colours
+    it. Scene.figure(...) draws it."""
+    objects = [{"name": "anatomy", "type": "volume", "source": _volume(anatomy, "anatomy")}]
+    if stat is not None:
+        name = _map_name(stat)
+        stat = _volume(stat, "stat")
+        top = float(vmax) if vmax is not None else _peak_magnitude(stat)
+        objects.append({"name": name, "type": "volume", "source": stat,
+                        "transfer_function": threshold_tf(threshold, top, symmetric)})
+    return Scene.from_dict({"objects": objects})
+
+
+def _ras_to_lps(point):
+    x, y, z = (float(v) for v in point)
+    return [-x, -y, z]
+
+
+def ortho(anatomy, stat=None, threshold=3.0, *, vmax=None, symmetric=True, cut_coords=None,
+          height=256, colorbar=True, annotate=True, crosshair=True):
+    """Three cuts (sagittal, coronal, axial) through `cut_coords` (RAS mm, as nilearn's; default:
+    the map's peak, else the anatomy's centre), as nilearn's plot_stat_map (or plot_anat without
+    a map) draws them: the anatomy in grey, the map above |threshold| in cold-hot colours,
+    the crosshair, orientation letters, each cut's coordinate and the colour bar beside the
+    panels. Returns an intermix.Image; `intermix figure ortho` draws the same."""
+    scene = figure_scene(anatomy, stat, threshold, vmax=vmax, symmetric=symmetric)
+    cut = None if cut_coords is None else _ras_to_lps(cut_coords)
+    return scene.figure("ortho", cut=cut, height=height, colorbar=colorbar, annotate=annotate,
+                        crosshair=crosshair)
+
+
+def mosaic(anatomy, stat=None, threshold=3.0, *, vmax=None, symmetric=True, axis="z",
+           cut_coords=7, columns=0, height=256, colorbar=True, annotate=True):
+    """Cuts along one axis ("x"/"sagittal", "y"/"coronal", "z"/"axial"), as nilearn's
+    display_mode="x"/"y"/"z" and mosaic draw them: `cut_coords` an int (that many cuts spread
+    over where the map shows, else over the anatomy) or the cuts' RAS coordinates along the
+    axis; `columns` panels per row (0: one row up to 8). Returns an intermix.Image; `intermix
+    figure mosaic` draws the same."""
+    if axis not in _AXES:
+        raise ValueError(f"mosaic: axis '{axis}' is not one of {', '.join(_AXES)}")
+    axis = _AXES[axis]
+    scene = figure_scene(anatomy, stat, threshold, vmax=vmax, symmetric=symmetric)
+    if isinstance(cut_coords, (int, _np.integer)) and not isinstance(cut_coords, bool):
+        return scene.figure("mosaic", axis=axis, slices=int(cut_coords), columns=columns,
+                            height=height, colorbar=colorbar, annotate=annotate)
+    sign = 1.0 if axis == "axial" else -1.0  # RAS to LPS along x and y
+    cuts = [sign * float(c) for c in cut_coords]
+    return scene.figure("mosaic", axis=axis, cuts=cuts, columns=columns, height=height,
+                        colorbar=colorbar, annotate=annotate)
+
+
+def glass_brain_scene(stat, threshold=None, *, anatomy=None, vmax=None):
+    """The scene intermix.glass_brain draws: the anatomy when given (its outline), then the map
+    coloured hot from the threshold (default: 0, every value above it) to vmax (default: its
+    largest magnitude)."""
+    name = _map_name(stat)
     stat = _volume(stat, "glass_brain: stat")
-    if plot_abs:
-        magnitude = _np.abs(stat.voxels.astype(_np.float32))
-        stat = Volume(magnitude, stat.lps_affine, axes="kji")
     top = float(vmax) if vmax is not None else _peak_magnitude(stat)
     low = 0.0 if threshold is None else float(threshold)
-    tf = threshold_tf(low, top, symmetric=False, opacity=1.0)
-    return Scene.from_dict({
-        "camera": {"view": view},
-        "image": {"width": width, "height": height, "background": [1, 1, 1]},
-        "objects": [{"name": "stat", "type": "volume", "source": stat, "style": "mip",
-                     "transfer_function": tf}],
-    })
+    objects = []
+    if anatomy is not None:
+        objects.append({"name": "anatomy", "type": "volume",
+                        "source": _volume(anatomy, "glass_brain: anatomy")})
+    objects.append({"name": name, "type": "volume", "source": stat,
+                    "transfer_function": threshold_tf(low, top, symmetric=False, opacity=1.0)})
+    return Scene.from_dict({"objects": objects})
 
 
-def glass_brain(stat, threshold=None, *, vmax=None, plot_abs=True, view="left", width=512,
-                height=512, method=None, spp=None):
-    """A glass-brain view of a statistical map in one call: glass_brain_scene(...) rendered (a
-    maximum intensity projection, hot colours on white; nilearn's plot_glass_brain without
-    the brain outline). Returns an intermix.Image."""
-    scene = glass_brain_scene(stat, threshold, vmax=vmax, plot_abs=plot_abs, view=view,
-                              width=width, height=height)
-    return scene.render(method=method, spp=spp)
+def glass_brain(stat, threshold=None, *, anatomy=None, vmax=None, plot_abs=True, height=256,
+                colorbar=True, annotate=True):
+    """A glass brain in one call, as nilearn's plot_glass_brain: three projections (sagittal,
+    coronal, axial) of the map's largest |value| (plot_abs, the default; else its largest
+    value) in hot colours on white, over the outline of `anatomy` (a Volume, nibabel image or
+    path: its voxels above the background, seen the same way) when given, with the colour bar
+    beside them. Returns an intermix.Image; `intermix figure glass` draws the same."""
+    scene = glass_brain_scene(stat, threshold, anatomy=anatomy, vmax=vmax)
+    return scene.figure("glass", plot_abs=plot_abs, height=height, colorbar=colorbar,
+                        annotate=annotate)
 
 
 # ---- tracts_over_anatomy ----
@@ -197,18 +285,20 @@ def tracts_over_anatomy_scene(tracts, anatomy, *, view="left", radius=0.5, colou
 
 def tracts_over_anatomy(tracts, anatomy, *, view="left", radius=0.5, colouring=None, color=None,
                         value=None, colormap=None, opacity=1.0, width=512, height=512,
-                        method=None, spp=None):
+                        method=None, spp=None, colorbar=False):
     """A tractogram over an anatomical image in one call: tracts_over_anatomy_scene(...)
     rendered (tubes coloured by direction in front of an anatomical slice, seen from `view`).
     `tracts` is a file path (.trk, .tck, .trx, .tt.gz, .vtk), an intermix.Streamlines, a
     nibabel Tractogram or ArraySequence or a list of (n, 3) RAS arrays; `anatomy` a file
-    path, a nibabel image or a Volume. Returns an intermix.Image (image.to_uint8() for
+    path, a nibabel image or a Volume. colorbar=True draws the tracts' colour bar (when they
+    are coloured by a value) beside the image. Returns an intermix.Image (image.to_uint8() for
     display)."""
     scene = tracts_over_anatomy_scene(tracts, anatomy, view=view, radius=radius,
                                       colouring=colouring, color=color, value=value,
                                       colormap=colormap, opacity=opacity, width=width,
                                       height=height)
-    return scene.render(method=method, spp=spp)
+    return scene.render(method=method, spp=spp,
+                        colorbar=_colorbar_position(colorbar, "tracts_over_anatomy"))
 
 
 # ---- orbit ----

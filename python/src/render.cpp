@@ -122,7 +122,9 @@ Image render_image(const Scene& scene, const RenderRequest& request, PyRenderer*
       },
       cancel);
   // As `intermix render --colorbar`: one bar per visible colour-mapped object, after the render.
-  if (request.colorbar) draw_colour_bars(image, scene_colour_bars(frame));
+  if (request.colorbar)
+    draw_colour_bars(image, scene_colour_bars(frame),
+                     {*request.colorbar, 1.0, glm::vec3(frame.image.background)});
   return image;
 }
 
@@ -132,6 +134,20 @@ RendererStats stats_of(PyRenderer& r) {
 }
 
 }  // namespace
+
+std::optional<ColourBarPosition> colour_bar_argument(const py::handle& value,
+                                                     const Argument& argument) {
+  if (value.is_none()) return std::nullopt;
+  if (py::isinstance<py::str>(value)) {
+    const std::string name = text(value, argument);
+    if (std::optional<ColourBarPosition> p = find_colour_bar_position(name)) return p;
+    throw py::value_error(fmt::format("{}: {} '{}' is not one of {}", argument.function,
+                                      argument.name, name,
+                                      fmt::join(colour_bar_position_names(), ", ")));
+  }
+  if (!flag(value, argument)) return std::nullopt;
+  return ColourBarPosition::top_right;
+}
 
 RenderRequest render_request(std::string_view function, const py::handle& method,
                              const py::handle& width, const py::handle& height,

@@ -5,6 +5,8 @@
 #include <string>
 #include <string_view>
 
+#include "annotate/colour_bar.hpp"
+#include "arguments.hpp"
 #include "bindings.hpp"
 #include "intermix/renderer.hpp"
 #include "intermix/scene.hpp"
@@ -16,12 +18,18 @@ struct RenderRequest {
   std::optional<std::string> method;
   std::optional<int> width, height, spp, threads;
   std::string function = "render";  // names the call in errors: "Scene.render"
-  bool colorbar = false;            // draw the scene's colour bars into the image
+  // Draw the scene's colour bars there (into a corner, or beside the image on a wider canvas).
+  std::optional<ColourBarPosition> colorbar;
 };
 
 // A render call's arguments, checked (TypeError, ValueError naming `function` and the
 // argument): method a str, width and height in [1, 16384] as the scene's image, spp a perfect
 // square in [1, 1024], threads in [0, 1024]; None keeps the scene's own.
+// colorbar=: False or None (no bars), True (the top-right corner) or a position's name
+// ("outside", ...: colour_bar.hpp); TypeError or ValueError naming the argument otherwise.
+std::optional<ColourBarPosition> colour_bar_argument(const py::handle& value,
+                                                     const Argument& argument);
+
 RenderRequest render_request(std::string_view function, const py::handle& method,
                              const py::handle& width, const py::handle& height,
                              const py::handle& spp, const py::handle& threads);

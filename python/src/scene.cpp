@@ -544,10 +544,10 @@ center, normal, up, size, volume, window, colormap, color, opacity.
           [](const PyScene& s, const OptionalTextParameter& method,
              const OptionalIntParameter& width, const OptionalIntParameter& height,
              const OptionalIntParameter& spp, const OptionalIntParameter& threads,
-             const OptionalTextParameter& view_argument, const FlagParameter& colorbar) {
+             const OptionalTextParameter& view_argument, const py::object& colorbar) {
             RenderRequest request =
                 render_request("Scene.render", method, width, height, spp, threads);
-            request.colorbar = flag(colorbar, {"Scene.render", "colorbar"});
+            request.colorbar = colour_bar_argument(colorbar, {"Scene.render", "colorbar"});
             const std::optional<std::string> view =
                 optional_text(view_argument, {"Scene.render", "view"});
             if (!view) return render_scene(s.scene(), request, nullptr);
@@ -571,8 +571,10 @@ within reach of the best image for the scene's content; intermix.available_metho
 square) to the scene's render.spp, else the method's default, and `threads` to all cores.
 `view` ("left", "anterior", ...: see set_view) renders with a camera framing the objects from
 that direction, leaving the scene's own camera as it is. `colorbar=True` draws a colour bar
-for each visible colour-mapped object into the image, as `intermix render --colorbar` does
-(FreeType and a DejaVu font; $IMX_FONT names another).
+for each visible colour-mapped object into the image's top-right corner, as `intermix render
+--colorbar` does (FreeType and a DejaVu font; $IMX_FONT names another); a position
+("top-left", "bottom-right", "bottom-left", or "outside": beside the image, which grows to the
+right) puts them there.
 
 The GIL is released while rendering (other Python threads run, and may render too), and Ctrl-C
 cancels the render with KeyboardInterrupt. Raises ValueError for bad arguments and RuntimeError

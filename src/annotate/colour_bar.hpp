@@ -1,9 +1,12 @@
 // Colour bars drawn into a rendered image (intermix render --colorbar): one per colour-mapped
 // object, with its name, units and ticks. Composited after the render, never in its kernels.
 #pragma once
+#include <array>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/vec4.hpp>
@@ -51,12 +54,33 @@ std::vector<double> colour_bar_ticks(double lo, double hi);
 // A tick's label: as many decimals as the tick step needs, no "-0".
 std::string tick_label(double value, double step);
 
-// Draws `bars` side by side from the image's right edge inwards, in a translucent dark panel with
-// white text, sized for the image (text about height / 36 px, 10 to 28). Bars equal but for
-// shown_by are drawn once (distinct_colour_bars). Returns where each drawn bar lies. Bars that
-// do not fit in the image are left out.
+// Where bars go: into a corner of the image, over a translucent dark backdrop with white text,
+// or beside it, on a canvas extended to the right to fit them, over the background with text
+// that contrasts with it (figures' default: the bars never cover the objects).
+enum class ColourBarPosition { top_right, top_left, bottom_right, bottom_left, outside };
+inline constexpr std::array<ColourBarPosition, 5> kColourBarPositions = {
+    ColourBarPosition::top_right, ColourBarPosition::top_left, ColourBarPosition::bottom_right,
+    ColourBarPosition::bottom_left, ColourBarPosition::outside};
+// "top-right", "top-left", "bottom-right", "bottom-left", "outside".
+std::optional<ColourBarPosition> find_colour_bar_position(std::string_view name);
+const char* colour_bar_position_name(ColourBarPosition position);
+std::vector<std::string> colour_bar_position_names();  // in kColourBarPositions' order
+
+struct ColourBarStyle {
+  ColourBarPosition position = ColourBarPosition::top_right;
+  double scale = 1.0;  // of the text and strip sizes for the image (colour_bar_text_size)
+  // The extended canvas's colour (straight linear RGB, opaque), for `outside`.
+  glm::vec3 background{0.0f};
+};
+
+// Draws `bars` side by side, the first nearest the image's edge, sized for the image (text about
+// height / 36 px, 10 to 28, times the style's scale). Bars equal but for shown_by are drawn once
+// (distinct_colour_bars). With `outside` the image grows to the right by the bars' width. Returns
+// where each drawn bar lies. Bars that do not fit in the image's height (or, in a corner, its
+// width) are left out.
 std::vector<ColourBarPlacement> draw_colour_bars(Image& image, std::span<const ColourBar> bars,
-                                                 const TextRaster& text);
+                                                 const TextRaster& text,
+                                                 const ColourBarStyle& style = {});
 
 // The bars draw_colour_bars draws at most: `bars` with repeats (equal name, units, range and
 // colours, as three planes through one map give) joined into one, their shown_by listed, and
@@ -66,8 +90,9 @@ std::vector<ColourBar> distinct_colour_bars(std::span<const ColourBar> bars);
 // A bar's title: "name", "name (units)", "name (units) on shown_by".
 std::string colour_bar_title(const ColourBar& bar);
 
-// The same with the annotation font (find_font) at the size for the image.
-std::vector<ColourBarPlacement> draw_colour_bars(Image& image, std::span<const ColourBar> bars);
+// The same with the annotation font (find_font) at the size for the image and style.
+std::vector<ColourBarPlacement> draw_colour_bars(Image& image, std::span<const ColourBar> bars,
+                                                 const ColourBarStyle& style = {});
 
 // The text size draw_colour_bars uses for an image `height` pixels high.
 int colour_bar_text_size(int height);

@@ -25,7 +25,14 @@ struct SliceLayer {
   bool base;            // grey through the window, else the TF's colour over what is below
   float centre, width;  // the window
   float alpha_scale;    // 1 / the TF's largest alpha
+  float fixed_weight;   // an overlay's weight wherever it shows; negative: by its opacity
 };
+
+// How much of an overlay's colour covers what is below it.
+float overlay_weight(const SliceLayer& l, float alpha) {
+  if (l.fixed_weight >= 0.0f) return alpha > 0.0f ? l.fixed_weight : 0.0f;
+  return std::min(kMaxOverlayWeight, alpha * l.alpha_scale * kMaxOverlayWeight);
+}
 
 // The colour of one pixel: pure, no allocation.
 glm::vec4 slice_pixel(const std::vector<SliceLayer>& layers, const glm::vec3& world) {
@@ -40,7 +47,8 @@ glm::vec4 slice_pixel(const std::vector<SliceLayer>& layers, const glm::vec3& wo
     const glm::vec3 inside = glm::clamp(p, glm::vec3(0.0f), glm::vec3(dims - 1));
     if (l.volume->labels.active()) {  // a label map: its labels' colours, hidden ones nothing
       const glm::vec4 c = table_look(*l.volume, inside);
-      const float w = c.a > 0.0f ? (l.base ? 1.0f : kMaxOverlayWeight) : 0.0f;
+      const float shown = l.fixed_weight >= 0.0f ? l.fixed_weight : kMaxOverlayWeight;
+      const float w = c.a > 0.0f ? (l.base ? 1.0f : shown) : 0.0f;
       rgb = rgb * (1.0f - w) + glm::vec3(c) * w;
       covered = std::max(covered, w);
       continue;
@@ -49,8 +57,7 @@ glm::vec4 slice_pixel(const std::vector<SliceLayer>& layers, const glm::vec3& wo
     if (!std::isfinite(value)) continue;
     if (l.volume->colours.active()) {  // a colour volume: its colours; over others, its opacity
       const glm::vec4 c = table_look(*l.volume, inside);
-      const float w =
-          l.base ? 1.0f : std::min(kMaxOverlayWeight, c.a * l.alpha_scale * kMaxOverlayWeight);
+      const float w = l.base ? 1.0f : overlay_weight(l, c.a);
       rgb = rgb * (1.0f - w) + glm::vec3(c) * w;
       covered = std::max(covered, w);
       continue;
@@ -61,7 +68,7 @@ glm::vec4 slice_pixel(const std::vector<SliceLayer>& layers, const glm::vec3& wo
       covered = 1.0f;
     } else {
       const glm::vec4 c = l.volume->lut.lookup(value);
-      const float w = std::min(kMaxOverlayWeight, c.a * l.alpha_scale * kMaxOverlayWeight);
+      const float w = overlay_weight(l, c.a);
       rgb = rgb * (1.0f - w) + glm::vec3(c) * w;
       covered = std::max(covered, w);
     }
@@ -109,7 +116,7 @@ SliceView slice_view(SliceAxis axis, const glm::dvec3& point, int width, int hei
 }
 
 Image render_slice(const Scene& scene, const SliceView& view, const std::vector<int>& shown,
-                   const std::vector<glm::dvec2>& windows) {
+                   const std::vector<glm::dvec2>& windows, std::optional<float> overlay_weight) {
   if (view.width < 1 || view.height < 1 || view.width > kMaxSliceSide ||
       view.height > kMaxSliceSide)
     throw Error(fmt::format("slice: {} x {} pixels; a view takes 1 to {} a side", view.width,
@@ -122,7 +129,7 @@ Image render_slice(const Scene& scene, const SliceView& view, const std::vector<
     const glm::dvec2 w = windows.at(static_cast<size_t>(shown[k]));
     const float top = prepared[k].lut.max_opacity();
     layers.push_back({&prepared[k], k == 0, static_cast<float>(w.x), static_cast<float>(w.y),
-                      top > 0.0f ? 1.0f / top : 0.0f});
+                      top > 0.0f ? 1.0f / top : 0.0f, overlay_weight.value_or(-1.0f)});
   }
   Image image(view.width, view.height);
   tbb::parallel_for(0, view.height, [&](int y) {

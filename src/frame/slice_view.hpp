@@ -43,10 +43,12 @@ SliceView slice_view(SliceAxis axis, const glm::dvec3& point, int width, int hei
 // The view's image (premultiplied linear RGBA, sRGB-encoded on output as a render): black where
 // no volume is; the first volume in `shown` (indices into scene.volumes) in grey through
 // windows[i]; each further one blended over it in its transfer function's colour, with the
-// function's alpha relative to its largest as the weight (at most 0.7). NaN and inf voxels show
-// nothing. Throws imx::Error for a view over 4096 pixels a side.
+// function's alpha relative to its largest as the weight (at most 0.7), or `overlay_weight`
+// wherever it shows (figures: 1, opaque). NaN and inf voxels show nothing. Throws imx::Error for
+// a view over 4096 pixels a side.
 Image render_slice(const Scene& scene, const SliceView& view, const std::vector<int>& shown,
-                   const std::vector<glm::dvec2>& windows);
+                   const std::vector<glm::dvec2>& windows,
+                   std::optional<float> overlay_weight = std::nullopt);
 
 // Where a mesh crosses the view's plane, as segments in the view's pixel coordinates
 // [x0, y0, x1, y1], at most `max_segments` of them.

@@ -6,10 +6,11 @@
 #include <fmt/ranges.h>
 #include <glm/glm.hpp>
 
+#include "core/edit_distance.hpp"
 #include "core/math.hpp"
 #include "presets/colormap.hpp"
 #include "presets/window_presets.hpp"
-#include "core/edit_distance.hpp"
+#include "scene/reading_planes.hpp"
 #include "scene/scene_parsers.hpp"
 #include "scene/world_space.hpp"
 
@@ -99,8 +100,8 @@ PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
   }
   if (auto v = r.find("window"))
     p.window = parse_window(*v);
-  else if (volume != nullptr && volume->display_window && volume->display_window->y > 0.0)
-    p.window = *volume->display_window;  // the source's own window (DICOM WindowCenter/Width)
+  else if (volume != nullptr && volume->data)
+    p.window = reading_window(*volume);  // the source's own (DICOM), else its robust range
   if (auto v = r.find("colormap")) p.colormap = parse_colormap(*v);
   for (const char* key : {"threshold", "symmetric"})
     if (r.has(key) && volume == nullptr)

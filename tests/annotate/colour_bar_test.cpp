@@ -94,7 +94,8 @@ int check_strip(const Rgba8& png, const ColourBarPlacement& p,
 }
 
 TEST(ColourBar, StripColoursAreTheObjectsColoursAtEachRowsValue) {
-  ASSERT_TRUE(have_font()) << "no font for colour bars: scripts/install-deps installs fonts-dejavu-core";
+  ASSERT_TRUE(have_font())
+      << "no font for colour bars: scripts/install-deps installs fonts-dejavu-core";
   const Scene scene = overlay_scene();
   const std::vector<ColourBar> bars = scene_colour_bars(scene);
   ASSERT_EQ(bars.size(), 2u);
@@ -131,7 +132,8 @@ TEST(ColourBar, StripColoursAreTheObjectsColoursAtEachRowsValue) {
 }
 
 TEST(ColourBar, TickLabelsAreDrawnInTheirBoxes) {
-  ASSERT_TRUE(have_font()) << "no font for colour bars: scripts/install-deps installs fonts-dejavu-core";
+  ASSERT_TRUE(have_font())
+      << "no font for colour bars: scripts/install-deps installs fonts-dejavu-core";
   const Scene scene = overlay_scene();
   const std::vector<ColourBar> bars = scene_colour_bars(scene);
   Image image(512, 512, kBackground);
@@ -161,7 +163,8 @@ TEST(ColourBar, TickLabelsAreDrawnInTheirBoxes) {
 }
 
 TEST(ColourBar, EqualBarsAreDrawnOnce) {
-  ASSERT_TRUE(have_font()) << "no font for colour bars: scripts/install-deps installs fonts-dejavu-core";
+  ASSERT_TRUE(have_font())
+      << "no font for colour bars: scripts/install-deps installs fonts-dejavu-core";
   Scene scene = overlay_scene();
   for (int i = 1; i <= 2; ++i) {  // coronal and sagittal planes through the same map
     scene.planes.push_back(scene.planes[0]);
@@ -252,8 +255,59 @@ TEST(TextRaster, FontSearchAndBadFontsFailWithOneLine) {
   }
 }
 
+TEST(ColourBar, OutsideTheImageTheCanvasGrowsAndTheImageIsKept) {
+  ASSERT_TRUE(have_font())
+      << "no font for colour bars: scripts/install-deps installs fonts-dejavu-core";
+  const std::vector<ColourBar> bars = scene_colour_bars(overlay_scene());
+  Image image(300, 256, kBackground);
+  image.at(299, 0) = glm::vec4(1.0f, 0.0f, 0.0f, 1.0f);  // the corner bars would cover
+  const glm::vec3 white(1.0f);
+  const std::vector<ColourBarPlacement> placed =
+      draw_colour_bars(image, bars, ColourBarStyle{ColourBarPosition::outside, 1.0, white});
+  ASSERT_EQ(placed.size(), 2u);
+  ASSERT_GT(image.width(), 300);
+  EXPECT_EQ(image.height(), 256);
+  for (int y = 0; y < 256; ++y)
+    for (int x = 0; x < 300; ++x)
+      ASSERT_EQ(image.at(x, y), x == 299 && y == 0 ? glm::vec4(1, 0, 0, 1) : kBackground);
+  for (const ColourBarPlacement& p : placed) {
+    EXPECT_GE(p.x0, 300);
+    EXPECT_LE(p.x1, image.width());
+  }
+  EXPECT_LT(placed[0].x0, placed[1].x0);  // outwards from the image
+  // On white, the text is dark: some label pixels are near black.
+  int dark = 0;
+  for (const ColourBarPlacement::Tick& t : placed[0].ticks)
+    for (int y = t.label_y0; y < t.label_y1; ++y)
+      for (int x = t.label_x0; x < t.label_x1; ++x) dark += image.at(x, y).r < 0.2f;
+  EXPECT_GT(dark, 4);
+}
+
+TEST(ColourBar, ACornerPutsTheBarsThere) {
+  ASSERT_TRUE(have_font())
+      << "no font for colour bars: scripts/install-deps installs fonts-dejavu-core";
+  const std::vector<ColourBar> bars = scene_colour_bars(overlay_scene());
+  for (ColourBarPosition corner : {ColourBarPosition::top_left, ColourBarPosition::bottom_left,
+                                   ColourBarPosition::bottom_right}) {
+    Image image(512, 512, kBackground);
+    const std::vector<ColourBarPlacement> placed =
+        draw_colour_bars(image, bars, ColourBarStyle{corner});
+    ASSERT_EQ(placed.size(), 2u) << colour_bar_position_name(corner);
+    EXPECT_EQ(image.width(), 512);
+    const bool left = corner != ColourBarPosition::bottom_right;
+    const bool bottom = corner != ColourBarPosition::top_left;
+    for (const ColourBarPlacement& p : placed) {
+      EXPECT_EQ(p.x1 < 256, left) << colour_bar_position_name(corner);
+      EXPECT_EQ(p.y0 > 256, bottom) << colour_bar_position_name(corner);
+    }
+    EXPECT_EQ(find_colour_bar_position(colour_bar_position_name(corner)), corner);
+  }
+  EXPECT_FALSE(find_colour_bar_position("middle"));
+}
+
 TEST(TextRaster, TextHasInkAndWidthGrowsWithIt) {
-  ASSERT_TRUE(have_font()) << "no font for colour bars: scripts/install-deps installs fonts-dejavu-core";
+  ASSERT_TRUE(have_font())
+      << "no font for colour bars: scripts/install-deps installs fonts-dejavu-core";
   const TextRaster text(find_font(), 14);
   const TextBitmap one = text.render("8"), three = text.render("888");
   EXPECT_GT(three.width, 2 * one.width);

@@ -52,5 +52,42 @@ TEST(CliColorbar, MissingFontAndDistributedAreOneLineErrors) {
       << d.output;
 }
 
+TEST(CliColorbar, OutsideWidensTheImageAndKeepsTheRender) {
+  TempDir dir;
+  const std::string scene = write_overlay_scene(dir.path()).string();
+  const std::string plain = (dir / "plain.png").string(), bars = (dir / "bars.png").string();
+  ASSERT_EQ(run_cli("render " + scene + " -o " + plain).exit_code, 0);
+  CliResult r = run_cli("render " + scene + " --colorbar --colorbar-position outside -o " + bars);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const Image p = read_png(plain), c = read_png(bars);
+  ASSERT_GT(c.width(), p.width());
+  for (int y = 0; y < p.height(); ++y)
+    for (int x = 0; x < p.width(); ++x) ASSERT_EQ(p.at(x, y), c.at(x, y)) << x << "," << y;
+  CliResult bad = run_cli("render " + scene + " --colorbar-position middle -o " + bars);
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("middle"), std::string::npos) << bad.output;
+}
+
+// intermix figure: the map's threshold against its values, in one line naming the file.
+TEST(CliFigure, AThresholdAboveTheMapIsOneLine) {
+  TempDir dir;
+  const std::string anatomy = (dir / "head.nrrd").string(), map = (dir / "map.nrrd").string();
+  ASSERT_EQ(run_cli("phantom ct-head --size 24 -o " + anatomy).exit_code, 0);
+  ASSERT_EQ(run_cli("phantom pet --size 24 -o " + map).exit_code, 0);
+  const std::string out = (dir / "f.png").string();
+  CliResult r = run_cli("figure ortho " + anatomy + " " + map + " --threshold 1e9 -o " + out);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find(map + ": threshold 1e+09 is not below the map's largest value"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  CliResult ok =
+      run_cli("figure mosaic " + anatomy + " " + map + " --threshold 0.5 --slices 3 -o " + out);
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_GT(read_png(out).width(), read_png(out).height());
+  CliResult cut = run_cli("figure ortho " + anatomy + " --cut 1,2 -o " + out);
+  EXPECT_NE(cut.exit_code, 0);
+}
+
 }  // namespace
 }  // namespace imx::test

@@ -2,6 +2,8 @@
 // colour maps.
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -11,9 +13,11 @@
 #include "presets/slicer_volume_property.hpp"
 #include "presets/tf_adjust.hpp"
 #include "presets/volume_presets.hpp"
+#include "scene/reading_planes.hpp"
 #include "scene/scene_parsers.hpp"
 #include "scene_fixture.hpp"
 #include "temp_dir.hpp"
+#include "volume/value_sample.hpp"
 
 namespace imx {
 namespace {
@@ -220,7 +224,8 @@ TEST(PlanePresets, WindowByNameOrAsCentreAndWidth) {
   EXPECT_EQ(parse(plane_scene(R"(, "window": "CT-Lung")")).planes[0].window,
             glm::dvec2(-500, 1400));
   EXPECT_EQ(parse(plane_scene(R"(, "window": [10, 20])")).planes[0].window, glm::dvec2(10, 20));
-  EXPECT_EQ(parse(plane_scene("")).planes[0].window, glm::dvec2(40, 400));  // the old default
+  const Scene no_window = parse(plane_scene(""));  // the volume's reading window
+  EXPECT_EQ(no_window.planes[0].window, reading_window(no_window.volumes[0]));
   std::string e = parse_error(plane_scene(R"(, "window": "ct-brian")"));
   EXPECT_CONTAINS(e,
                   "objects[1].window: \"ct-brian\" is not a window preset (did you mean "
@@ -244,7 +249,17 @@ TEST(PlanePresets, WindowDefaultsToTheVolumesDisplayWindow) {
   EXPECT_EQ(scene_json::parse_plane_object(r, scene, types).window, glm::dvec2(400, 1000));
   plane.erase("window");
   scene.volumes[0].display_window.reset();
-  EXPECT_EQ(scene_json::parse_plane_object(r, scene, types).window, glm::dvec2(40, 400));
+  // Without one: the volume's robust range, its 2nd to 98th percentile.
+  constexpr std::array<double, 2> kRobust = {0.02, 0.98};
+  const std::vector<double> q = value_percentiles(*scene.volumes[0].data, kRobust);
+  ASSERT_LT(q[0], q[1]);
+  EXPECT_EQ(scene_json::parse_plane_object(r, scene, types).window,
+            glm::dvec2(0.5 * (q[0] + q[1]), q[1] - q[0]));
+  // A plane without a volume keeps the soft-tissue default.
+  nlohmann::json free_plane = {
+      {"name", "q"}, {"type", "plane"}, {"center", {0, 0, 0}}, {"normal", {0, 0, 1}}, {"size", 10}};
+  scene_json::JsonReader f(free_plane, "scene.json", "objects[2]");
+  EXPECT_EQ(scene_json::parse_plane_object(f, scene, types).window, glm::dvec2(40, 400));
 }
 
 TEST(PlanePresets, ColormapByName) {
