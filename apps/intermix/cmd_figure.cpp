@@ -17,11 +17,12 @@ namespace imx::cli {
 namespace {
 
 struct Options {
-  std::string kind, anatomy, map, output, axis = "axial", colormap;
+  std::string kind, anatomy, map, output, axis = "axial", colormap, label_table;
   std::optional<double> threshold, vmax;
   std::vector<double> cut, cuts;
   int slices = 7, columns = 0, height = 256;
   bool no_colorbar = false, no_annotate = false, no_crosshair = false, positive = false;
+  bool labels = false;
 };
 
 // RAS mm, as MNI coordinates and nilearn's cut_coords are given, to the scene's LPS.
@@ -59,13 +60,20 @@ int run_figure(const Options& o) {
   const bool glass = kind == FigureKind::glass;
   nlohmann::json objects = nlohmann::json::array();
   objects.push_back({{"name", "anatomy"}, {"type", "volume"}, {"source", {{"file", o.anatomy}}}});
-  if (!o.map.empty())
-    objects.push_back({{"name", std::filesystem::path(o.map).stem().stem().string()},
-                       {"type", "volume"},
-                       {"source", {{"file", o.map}}}});
+  const bool labels = o.labels || !o.label_table.empty();
+  if (labels && glass)
+    throw Error("--labels: a glass brain projects a map's values; labels show in ortho and mosaic");
+  if (!o.map.empty()) {
+    nlohmann::json map = {{"name", std::filesystem::path(o.map).stem().stem().string()},
+                          {"type", "volume"},
+                          {"source", {{"file", o.map}}}};
+    if (labels) map["style"] = "labels";  // its table's colours (or the palette), and a legend
+    if (!o.label_table.empty()) map["labels"] = {{"file", o.label_table}};
+    objects.push_back(map);
+  }
   Scene scene = parse_scene(nlohmann::json{{"objects", objects}}.dump(),
                             std::filesystem::current_path(), "intermix figure");
-  if (scene.volumes.size() > 1 || glass) {
+  if ((scene.volumes.size() > 1 && !labels) || glass) {
     Options named = o;
     if (named.map.empty()) named.map = o.anatomy;  // a glass brain of one volume: the map
     colour_the_map(scene.volumes.back(), named, glass);
@@ -115,6 +123,12 @@ Command add_figure(CLI::App& app) {
   app.add_option("--vmax", o->vmax, "the top of the map's colours (default: its largest |value|)");
   app.add_option("--colormap", o->colormap,
                  "the map's colour map (default cold-hot, or hot for --positive and glass)");
+  app.add_flag("--labels", o->labels,
+               "the map is a label map (a segmentation): drawn in the default palette, with a "
+               "legend of the labels it holds");
+  app.add_option("--label-table", o->label_table,
+                 "the label map's colour table (FreeSurfer LUT, ITK-SNAP, Slicer .seg.nrrd): its "
+                 "names and colours; implies --labels");
   app.add_flag("--positive", o->positive,
                "one-sided: only values above the threshold (glass: project the largest value, "
                "not the largest magnitude)");

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "annotate/keys.hpp"
 #include "annotate/scene_colour_bars.hpp"
 #include "commands.hpp"
 #include "core/parallel.hpp"
@@ -96,15 +97,16 @@ void render_one(const Options& o, const std::vector<std::string>& overrides,
   bar.finish();
   if (o.colorbar) {
     const std::vector<ColourBar> bars = scene_colour_bars(scene);
+    const std::vector<Legend> legends = scene_legends(scene);
     const ColourBarStyle style{*find_colour_bar_position(o.colorbar_position), 1.0,
                                glm::vec3(scene.image.background)};
-    const size_t drawn = draw_colour_bars(image, bars, style).size();
-    const size_t wanted = distinct_colour_bars(bars).size();
-    if (drawn < wanted && !quiet())
+    const KeyPlacements drawn = draw_keys(image, bars, legends, style);
+    const size_t wanted = distinct_colour_bars(bars).size() + legends.size();
+    if (drawn.bars.size() + drawn.legends.size() < wanted && !quiet())
       std::fprintf(stderr,
-                   "intermix: note: %zu of %zu colour bars drawn: no room for more in the "
-                   "image\n",
-                   drawn, wanted);
+                   "intermix: note: %zu of %zu colour bars and legends drawn: no room for more "
+                   "in the image\n",
+                   drawn.bars.size() + drawn.legends.size(), wanted);
   }
   write_png(image, output, o.linear);
   if (!quiet())
@@ -159,7 +161,8 @@ Command add_render(CLI::App& app) {
   app.add_flag("--linear", o->linear, "write linear instead of sRGB-encoded colour");
   app.add_flag("--colorbar", o->colorbar,
                "draw a colour bar (name, units, ticks) for each visible colour-mapped object: "
-               "volumes' transfer functions, planes with a colour map or threshold");
+               "volumes' transfer functions, planes with a colour map or threshold; and a legend "
+               "(names and colours) for each label map and tractogram coloured by group");
   app.add_option("--colorbar-position", o->colorbar_position,
                  "where --colorbar draws the bars: top-right (default), top-left, bottom-right, "
                  "bottom-left, or outside (beside the image, on a canvas widened to fit them)")

@@ -15,7 +15,7 @@
 #include <fmt/ranges.h>
 #include <pybind11/stl.h>
 
-#include "annotate/colour_bar.hpp"
+#include "annotate/keys.hpp"
 #include "annotate/scene_colour_bars.hpp"
 
 #include "arguments.hpp"
@@ -121,10 +121,10 @@ Image render_image(const Scene& scene, const RenderRequest& request, PyRenderer*
         ++renderer->frames;
       },
       cancel);
-  // As `intermix render --colorbar`: one bar per visible colour-mapped object, after the render.
+  // As `intermix render --colorbar`: colour bars and legends of the visible objects, after it.
   if (request.colorbar)
-    draw_colour_bars(image, scene_colour_bars(frame),
-                     {*request.colorbar, 1.0, glm::vec3(frame.image.background)});
+    draw_keys(image, scene_colour_bars(frame), scene_legends(frame),
+              {*request.colorbar, 1.0, glm::vec3(frame.image.background)});
   return image;
 }
 

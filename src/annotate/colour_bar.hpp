@@ -1,16 +1,14 @@
 // Colour bars drawn into a rendered image (intermix render --colorbar): one per colour-mapped
 // object, with its name, units and ticks. Composited after the render, never in its kernels.
 #pragma once
-#include <array>
 #include <functional>
-#include <optional>
 #include <span>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include <glm/vec4.hpp>
 
+#include "annotate/key.hpp"
 #include "annotate/text_raster.hpp"
 #include "intermix/image.hpp"
 
@@ -54,30 +52,10 @@ std::vector<double> colour_bar_ticks(double lo, double hi);
 // A tick's label: as many decimals as the tick step needs, no "-0".
 std::string tick_label(double value, double step);
 
-// Where bars go: into a corner of the image, over a translucent dark backdrop with white text,
-// or beside it, on a canvas extended to the right to fit them, over the background with text
-// that contrasts with it (figures' default: the bars never cover the objects).
-enum class ColourBarPosition { top_right, top_left, bottom_right, bottom_left, outside };
-inline constexpr std::array<ColourBarPosition, 5> kColourBarPositions = {
-    ColourBarPosition::top_right, ColourBarPosition::top_left, ColourBarPosition::bottom_right,
-    ColourBarPosition::bottom_left, ColourBarPosition::outside};
-// "top-right", "top-left", "bottom-right", "bottom-left", "outside".
-std::optional<ColourBarPosition> find_colour_bar_position(std::string_view name);
-const char* colour_bar_position_name(ColourBarPosition position);
-std::vector<std::string> colour_bar_position_names();  // in kColourBarPositions' order
-
-struct ColourBarStyle {
-  ColourBarPosition position = ColourBarPosition::top_right;
-  double scale = 1.0;  // of the text and strip sizes for the image (colour_bar_text_size)
-  // The extended canvas's colour (straight linear RGB, opaque), for `outside`.
-  glm::vec3 background{0.0f};
-};
-
-// Draws `bars` side by side, the first nearest the image's edge, sized for the image (text about
-// height / 36 px, 10 to 28, times the style's scale). Bars equal but for shown_by are drawn once
-// (distinct_colour_bars). With `outside` the image grows to the right by the bars' width. Returns
-// where each drawn bar lies. Bars that do not fit in the image's height (or, in a corner, its
-// width) are left out.
+// Draws `bars` as draw_keys (keys.hpp) draws them, without legends: side by side, the first
+// nearest the image's edge, sized for the image (text about height / 36 px, 10 to 28, times the
+// style's scale), bars equal but for shown_by once (distinct_colour_bars). Returns where each
+// drawn bar lies.
 std::vector<ColourBarPlacement> draw_colour_bars(Image& image, std::span<const ColourBar> bars,
                                                  const TextRaster& text,
                                                  const ColourBarStyle& style = {});
@@ -96,5 +74,9 @@ std::vector<ColourBarPlacement> draw_colour_bars(Image& image, std::span<const C
 
 // The text size draw_colour_bars uses for an image `height` pixels high.
 int colour_bar_text_size(int height);
+
+// One bar as a key for an image `height` pixels high; drawing it records where in *placed.
+Key colour_bar_key(const ColourBar& bar, const TextRaster& text, int image_height,
+                   ColourBarPlacement* placed);
 
 }  // namespace imx

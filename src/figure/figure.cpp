@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
+#include "annotate/keys.hpp"
 #include "annotate/scene_colour_bars.hpp"
 #include "annotate/text_raster.hpp"
 #include "core/colour.hpp"
@@ -46,9 +47,16 @@ const VolumeObject* first_overlay(const Scene& scene) {
 
 std::vector<PanelSpec> ortho_panels(const Scene& scene, const FigureOptions& o,
                                     const WorldBox& box) {
-  glm::dvec3 point = o.cut                  ? *o.cut
-                     : first_overlay(scene) ? peak_point(*first_overlay(scene))
-                                            : box_centre(box);
+  glm::dvec3 point = box_centre(box);
+  if (o.cut) {
+    point = *o.cut;
+  } else if (const VolumeObject* overlay = first_overlay(scene)) {
+    // A map's peak; a label map's labelled voxels' centre (its peak is any labelled voxel).
+    if (!overlay->labels)
+      point = peak_point(*overlay);
+    else if (auto labelled = voxel_box(*overlay, [](double v) { return v != 0.0; }))
+      point = box_centre(*labelled);
+  }
   point = glm::clamp(point, box.lo, box.hi);
   std::vector<PanelSpec> panels;
   for (SliceAxis a : {SliceAxis::sagittal, SliceAxis::coronal, SliceAxis::axial}) {
@@ -255,10 +263,16 @@ Figure render_figure(const Scene& scene, const FigureOptions& o) {
   }
   if (o.colorbar) {
     std::vector<ColourBar> bars;
-    for (size_t i = glass ? scene.volumes.size() - 1 : 1; i < scene.volumes.size(); ++i)
+    std::vector<Legend> legends;
+    for (size_t i = glass ? scene.volumes.size() - 1 : 1; i < scene.volumes.size(); ++i) {
       if (std::optional<ColourBar> bar = volume_colour_bar(scene.volumes[i])) bars.push_back(*bar);
+      if (std::optional<Legend> legend = label_legend(scene.volumes[i]))
+        legends.push_back(std::move(*legend));
+    }
     const ColourBarStyle style{ColourBarPosition::outside, 1.0, background};
-    figure.bars = draw_colour_bars(figure.image, bars, style);
+    const KeyPlacements keys = draw_keys(figure.image, bars, legends, style);
+    figure.bars = keys.bars;
+    figure.legends = keys.legends;
   }
   return figure;
 }

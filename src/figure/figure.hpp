@@ -1,8 +1,9 @@
 // Figures for papers, as nilearn draws them, from a scene's volumes: orthogonal cuts through a
 // point, a mosaic of cuts along one axis, and a glass brain of three projections; each panel
-// with orientation letters and its cut coordinate, the colour bars beside the panels. The first
-// volume is the anatomy (grey, through its reading window), the others overlays in their
-// transfer functions' colours, as the viewer's reading views show them (slice_view.hpp).
+// with orientation letters and its cut coordinate, the colour bars and legends beside the
+// panels. The first volume is the anatomy (grey, through its reading window), the others
+// overlays in their transfer functions' colours, as the viewer's reading views show them
+// (slice_view.hpp).
 #pragma once
 #include <optional>
 #include <string>
@@ -11,6 +12,7 @@
 #include <glm/vec3.hpp>
 
 #include "annotate/colour_bar.hpp"
+#include "annotate/legend.hpp"
 #include "frame/slice_view.hpp"
 #include "intermix/image.hpp"
 #include "intermix/scene.hpp"
@@ -50,6 +52,7 @@ struct Figure {
   Image image;  // premultiplied linear RGBA, opaque
   std::vector<FigurePanel> panels;
   std::vector<ColourBarPlacement> bars;
+  std::vector<LegendPlacement> legends;  // of overlays that are label maps
 };
 
 // The figure of `scene` (at least one volume). Glass: with one volume it is the map and no

@@ -296,6 +296,37 @@ TEST(Figure, TheColourBarStandsBesideThePanels) {
   EXPECT_TRUE(render_figure(figure_scene(false), o).bars.empty());
 }
 
+TEST(Figure, ALabelMapOverlayHasALegendAndIsCutThroughItsLabels) {
+  Scene scene = figure_scene();
+  VolumeObject& labels = scene.volumes[1];
+  VolumeData d = *labels.data;  // the map's voxels above 4 become label 17, the rest 0
+  const VoxelBuffer<float>& values = std::get<VoxelBuffer<float>>(d.voxels);
+  std::vector<float> v(values.data(), values.data() + values.size());
+  for (float& x : v) x = x > 4.0f ? 17.0f : 0.0f;
+  d.voxels = std::move(v);
+  labels.data = std::make_shared<const VolumeData>(std::move(d));
+  auto map = std::make_shared<LabelMap>();
+  map->entries = {{17, "amygdala", glm::vec3(0.9f, 0.7f, 0.1f), 1.0f, true}};
+  map->palette_unlisted = false;
+  labels.labels = map;
+  FigureOptions o = plain(FigureKind::ortho);
+  o.colorbar = true;
+  const Figure f = render_figure(scene, o);
+  ASSERT_EQ(f.legends.size(), 1u);
+  ASSERT_EQ(f.legends[0].rows.size(), 1u);
+  EXPECT_EQ(f.legends[0].rows[0].name, "amygdala");
+  EXPECT_EQ(glm::vec3(f.image.at(f.legends[0].rows[0].swatch_x0, f.legends[0].rows[0].swatch_y0)),
+            glm::vec3(0.9f, 0.7f, 0.1f));
+  // The cuts pass through the labelled voxels' centre: the peak, the blob being symmetric.
+  const glm::dvec3 centre = f.panels[2].view.world(0.5 * f.panels[2].view.width, 0.0);
+  EXPECT_NEAR(centre.z, world_of(kPeak).z, 1e-9);
+  // The label's colour where it is, opaque.
+  const glm::dvec2 at = f.panels[2].view.pixel(world_of(kPeak));
+  const glm::vec3 shown(
+      f.image.at(f.panels[2].x + static_cast<int>(at.x), f.panels[2].y + static_cast<int>(at.y)));
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(shown[c], glm::vec3(0.9f, 0.7f, 0.1f)[c], 1e-5);
+}
+
 TEST(Figure, OrientationLettersFollowTheViews) {
   const SliceView axial = slice_view(SliceAxis::axial, {}, 8, 8, 1.0);
   EXPECT_STREQ(orientation_letter(axial.right), "L");
