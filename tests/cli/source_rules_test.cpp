@@ -62,5 +62,37 @@ TEST(SourceRules, EveryFileOverFiveHundredLinesIsExplainedWithItsLength) {
         << path << " is listed in docs/architecture.md but no longer over " << kMaxLines;
 }
 
+// docs/architecture.md's library table against CMakeLists.txt: every imx_module() has its row,
+// naming its folder, and every row's library is still a module.
+TEST(SourceRules, EveryModuleHasItsRowInTheLibraryTable) {
+  const std::string cmake = test::read_bytes(kRoot / "CMakeLists.txt");
+  const std::regex module(R"(\nimx_module\((imx_\w+) (\S+))");
+  std::map<std::string, std::string> modules;  // library -> folder under src/
+  for (auto it = std::sregex_iterator(cmake.begin(), cmake.end(), module);
+       it != std::sregex_iterator(); ++it)
+    modules[(*it)[1]] = (*it)[2];
+  ASSERT_GT(modules.size(), 10u);
+  std::istringstream doc(test::read_bytes(kRoot / "docs/architecture.md"));
+  const std::regex row(R"(^\| `(imx_\w+)` \| ([^|]+) \|)");
+  std::map<std::string, std::string> rows;
+  for (std::string line; std::getline(doc, line);) {
+    std::smatch m;
+    if (std::regex_search(line, m, row)) rows[m[1]] = m[2];
+  }
+  for (const auto& [library, folder] : modules) {
+    const auto it = rows.find(library);
+    if (it == rows.end()) {
+      ADD_FAILURE() << library << " (src/" << folder
+                    << ") has no row in docs/architecture.md's library table";
+      continue;
+    }
+    EXPECT_NE(it->second.find("`src/" + folder + "`"), std::string::npos)
+        << library << "'s row does not name its folder src/" << folder;
+  }
+  for (const auto& [library, folder] : rows)
+    if (library != "imx_io")  // the INTERFACE library of every io layer
+      EXPECT_TRUE(modules.count(library)) << library << " has a row but is no imx_module";
+}
+
 }  // namespace
 }  // namespace imx
