@@ -24,6 +24,7 @@
 #include "scene/look_sample.hpp"
 #include "scene/scene_parsers.hpp"
 #include "scene/world_space.hpp"
+#include "volume/compact_voxels.hpp"
 
 namespace imx::scene_json {
 namespace {
@@ -53,6 +54,25 @@ void check_header(const VolumeHeader& h, const std::filesystem::path& path, cons
     context.notes.push_back(
         fmt::format("{}: frame 0 of {} (name another with \"source\": {{\"frame\": K}})",
                     path.string(), h.frames));
+}
+
+// Whole-number float voxels (CT resampled to float32) held as int16 or uint16: the same values at
+// half the bytes per sample. The copy's peak holds the float and the integer voxels at once, 1.5
+// times the floats: up to 768 MiB of floats that stays within the big-data rule (docs/big_data.md:
+// resident memory at most 1.25 times the voxels' bytes plus 200 MB), and within the budget.
+constexpr uint64_t kMostCompactedBytes = uint64_t{768} << 20;
+
+void hold_compactly(VolumeData& volume, const std::string& what, std::vector<std::string>& notes) {
+  if (volume.type() != VoxelType::f32) return;
+  const uint64_t bytes = volume.voxel_count() * sizeof(float);
+  if (bytes > kMostCompactedBytes || bytes + bytes / 2 > input_limits().max_memory) return;
+  std::optional<VoxelStorage> compact = compact_integer_voxels(volume);
+  if (!compact) return;
+  volume.voxels = std::move(*compact);
+  notes.push_back(
+      fmt::format("{}: its float32 voxels are whole numbers: held as {} (the same "
+                  "values, half the memory)",
+                  what, volume.type() == VoxelType::i16 ? "int16" : "uint16"));
 }
 
 // An OME-Zarr source's resolution level: "level" K (0, the default: full resolution), or "auto":
@@ -307,6 +327,7 @@ std::shared_ptr<const VolumeData> load_volume_source(const JsonReader& src, Scen
     if (const size_t missing = non_finite_count(volume); missing > 0)
       context.notes.push_back(fmt::format("{}: {} of {} voxels are NaN or infinite: no data", what,
                                           missing, volume.voxel_count()));
+    hold_compactly(volume, what, context.notes);
     return std::make_shared<const VolumeData>(std::move(volume));
   });
   context.volumes.emplace(key, data);
