@@ -122,6 +122,48 @@ TEST(MeshHardening, ObjEndingsReadAsTheFileSays) {
   expect_error([&] { read_mesh(dir / "one-line.obj"); }, {"one-line.obj"});
 }
 
+// What assimp would say in its own words (or read past the end) is named by intermix first.
+TEST(MeshHardening, ObjWithoutFacesOrWithMissingVerticesIsNamed) {
+  TempDir dir;
+  write_bytes(dir / "points.obj", kTriangle);
+  expect_error([&] { read_mesh(dir / "points.obj"); }, {"points.obj", "3 vertices and no faces"});
+  write_bytes(dir / "empty.obj", "# nothing\n");
+  expect_error([&] { read_mesh(dir / "empty.obj"); }, {"empty.obj", "no vertices"});
+  write_bytes(dir / "far.obj", kTriangle + "f 1 2 3\nf 1/1 2//2 9\n");
+  expect_error([&] { read_mesh(dir / "far.obj"); }, {"far.obj", "line 5", "vertex 9", "has 3"});
+  write_bytes(dir / "back.obj", kTriangle + "f -1 -2 -4\n");
+  expect_error([&] { read_mesh(dir / "back.obj"); }, {"back.obj", "line 4", "-4"});
+  write_bytes(dir / "relative.obj", kTriangle + "f -3 -2 -1\n");
+  EXPECT_EQ(read_mesh(dir / "relative.obj").triangles.size(), 1u);
+}
+
+TEST(MeshHardening, StlCountsThatLieAreNamed) {
+  TempDir dir;
+  const auto binary = [](uint32_t count, size_t triangles) {
+    std::string s(80, ' ');
+    s.append(reinterpret_cast<const char*>(&count), 4);
+    for (size_t t = 0; t < triangles; ++t) {
+      float v[12] = {0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0};
+      s.append(reinterpret_cast<const char*>(v), sizeof v);
+      s.append(2, '\0');
+    }
+    return s;
+  };
+  write_bytes(dir / "one.stl", binary(1, 1));
+  EXPECT_EQ(read_mesh(dir / "one.stl").triangles.size(), 1u);
+  write_bytes(dir / "lies.stl", binary(1000, 2));
+  expect_error([&] { read_mesh(dir / "lies.stl"); },
+               {"lies.stl", "1000 triangles needs 50084 bytes", "has 184"});
+  write_bytes(dir / "none.stl", binary(0, 0));
+  expect_error([&] { read_mesh(dir / "none.stl"); }, {"none.stl", "0 triangles"});
+  write_bytes(dir / "short.stl", "tiny");
+  expect_error([&] { read_mesh(dir / "short.stl"); }, {"short.stl", "4 bytes"});
+  write_bytes(dir / "half.stl",
+              "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\n"
+              "endfacet\nendsolid x\n");
+  expect_error([&] { read_mesh(dir / "half.stl"); }, {"half.stl", "2 vertices, not 3"});
+}
+
 TEST(MeshHardening, GlbChunksLongerThanTheFileAreRefused) {
   TempDir dir;
   // 12-byte header (length 20), then a JSON chunk header claiming 0xFFFFFFF0 bytes.

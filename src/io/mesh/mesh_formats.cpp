@@ -12,6 +12,7 @@
 #include "io/mesh/ply_reader.hpp"
 #include "io/mesh/polydata.hpp"
 #include "io/mesh/polygon_check.hpp"
+#include "io/mesh/stl_check.hpp"
 
 namespace imx::detail {
 namespace {
@@ -68,6 +69,7 @@ MeshContent obj(const std::filesystem::path& file) {
 }
 
 MeshContent stl(const std::filesystem::path& file) {
+  check_stl(file);
   Mesh mesh = import_mesh_with_plugin(file, true);
   mesh.normals.clear();  // STL's normals are per facet: as vertex normals they keep it faceted
   return {std::move(mesh), {}, header_space(file, ".stl"), {}};

@@ -33,6 +33,9 @@ bool parse_count(std::string_view word, uint64_t& v) {
 void check_obj_polygons(const std::filesystem::path& file) {
   std::ifstream in = open_input_stream(file);
   std::string line;
+  uint64_t vertices = 0, faces = 0;
+  size_t highest_line = 0;  // the line of the face naming the highest positive vertex index
+  uint64_t highest = 0;     // that index
   for (size_t number = 1; std::getline(in, line); ++number) {
     // assimp's OBJ parser takes a NUL for the end of its buffer and reads on past it.
     if (line.find('\0') != std::string::npos)
@@ -49,13 +52,40 @@ void check_obj_polygons(const std::filesystem::path& file) {
             "to the OBJ's folder",
             file.string(), number, shown(name)));
     }
+    if (keyword == "v") ++vertices;
     if (keyword != "f") continue;
+    ++faces;
     size_t corners = 0;
-    while (!next_word(line, at).empty()) ++corners;
+    for (std::string_view corner = next_word(line, at); !corner.empty();
+         corner = next_word(line, at)) {
+      ++corners;
+      // The vertex index before any '/': 1-based, or negative counting back from the last vertex.
+      const std::string_view index = corner.substr(0, corner.find('/'));
+      int64_t i = 0;
+      auto [end, ec] = std::from_chars(index.data(), index.data() + index.size(), i);
+      if (ec != std::errc() || end != index.data() + index.size()) continue;  // '\' and the like
+      if (i == 0 || (i < 0 && static_cast<uint64_t>(-i) > vertices))
+        throw Error(fmt::format("{}: line {}: face corner {} names vertex {} of the {} before it",
+                                file.string(), number, shown(corner), i, vertices));
+      if (i > 0 && static_cast<uint64_t>(i) > highest) {
+        highest = static_cast<uint64_t>(i);
+        highest_line = number;
+      }
+    }
     if (corners > kMaxPolygonCorners)
       throw Error(fmt::format("{}: line {}: a face with {} corners (at most {})", file.string(),
                               number, corners, kMaxPolygonCorners));
   }
+  if (vertices == 0)
+    throw Error(fmt::format("{}: no vertices ('v' lines): not an OBJ mesh", file.string()));
+  if (faces == 0)
+    throw Error(
+        fmt::format("{}: {} vertices and no faces ('f' lines): a point cloud, not a "
+                    "surface",
+                    file.string(), vertices));
+  if (highest > vertices)
+    throw Error(fmt::format("{}: line {}: a face names vertex {}; the file has {}", file.string(),
+                            highest_line, highest, vertices));
 }
 
 // OFF's keyword: [ST][C][N][4]OFF (texture coordinates, colours, normals, homogeneous

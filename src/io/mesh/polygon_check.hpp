@@ -11,8 +11,9 @@ inline constexpr size_t kMaxPolygonCorners = 1024;
 inline constexpr size_t kMaxOffCorners = 9;
 
 // Throws imx::Error naming the file and line when an OBJ face has more than kMaxPolygonCorners
-// corners, a line holds a NUL byte, or an mtllib names an absolute path (assimp would look for
-// it inside the OBJ's folder).
+// corners or names a vertex the file does not have, a line holds a NUL byte, an mtllib names an
+// absolute path (assimp would look for it inside the OBJ's folder), or the file has no vertices
+// or no faces (assimp's own words for these are its internals').
 void check_obj_polygons(const std::filesystem::path& file);
 
 // Throws imx::Error naming the file and face for an OFF file whose counts, corner counts or
