@@ -57,6 +57,8 @@ class BuildWithCMake(build_py):
             sys.exit(f"setup.py: expected one _intermix*.so in {source}, found {modules}")
         for name in PACKAGE_FILES + tuple(modules):
             shutil.copy2(os.path.join(source, name), os.path.join(target, name))
+        # Scene.show's page
+        shutil.copytree(os.path.join(source, "web"), os.path.join(target, "web"), dirs_exist_ok=True)
 
 
 class BinaryDistribution(Distribution):

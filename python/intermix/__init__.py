@@ -12,10 +12,11 @@
     intermix.write_png(image, "ct.png")
 
 Scene (from_file, from_files, from_dict, set, set_view, add_volume, add_mesh, add_plane,
-add_streamlines, to_dict, render), Volume, Mesh, Streamlines (tractograms from files, nibabel
-or DIPY), Renderer (stage reuse), read_volume, read_mesh, write_volume, phantom, compare,
-to_uint8, write_png, read_png, available_methods, set_max_memory; one-line figures: orbit,
-stat_map, ortho, mosaic, glass_brain, tracts_over_anatomy (and their *_scene, figure_scene). Errors: ValueError (a scene
+add_streamlines, to_dict, render, figure, show: the viewer in a notebook cell, a View), Volume,
+Mesh, Streamlines (tractograms from files, nibabel or DIPY), Renderer (stage reuse),
+read_volume, read_mesh, write_volume, phantom, compare, to_uint8, write_png, read_png,
+available_methods, set_max_memory; one-line figures: orbit, stat_map, ortho, mosaic,
+glass_brain, tracts_over_anatomy (and their *_scene, figure_scene). Errors: ValueError (a scene
 or value at fault), OSError (a file that cannot be read or written), MemoryError (an input over
 the memory budget, or more than the machine gives), RuntimeError (a render that failed), each
 with the library's one-line message. docs/python.md has the details.
@@ -30,6 +31,7 @@ from ._intermix import (
     RendererStats,
     Scene,
     Streamlines,
+    View,
     Volume,
     _set_image_type,
     available_methods,
@@ -71,6 +73,7 @@ __all__ = [
     "RendererStats",
     "Scene",
     "Streamlines",
+    "View",
     "Volume",
     "available_methods",
     "compare",

@@ -24,6 +24,7 @@ void bind_scene(py::module_& m);
 void bind_render(py::module_& m);
 void bind_image(py::module_& m);
 void bind_figure(py::module_& m);  // after bind_scene: a method of Scene
+void bind_view(py::module_& m);    // after bind_scene: Scene.show
 
 // An exception whose message goes to Python as RuntimeError: a render that failed.
 class RenderFailure : public std::runtime_error {

@@ -15,6 +15,7 @@
 #include "scene/camera_framing.hpp"
 #include "scene/overrides.hpp"
 #include "scene/scene_from_files.hpp"
+#include "server/viewer_session.hpp"
 
 namespace imx::python {
 namespace {
@@ -250,6 +251,31 @@ void PyScene::rebuild(nlohmann::json document, GivenSources sources) {
   keep_named_sources(document, sources);
   sources_ = std::move(sources);
   keep_notes();
+  push();
+}
+
+void PyScene::attach(const std::shared_ptr<server::ViewerSession>& session, uint64_t seen) {
+  views_.links.push_back({session, seen});
+}
+
+void PyScene::pull() const {
+  std::erase_if(views_.links, [](const ViewLinks::Link& l) { return l.session.expired(); });
+  for (ViewLinks::Link& link : views_.links) {
+    const std::shared_ptr<server::ViewerSession> session = link.session.lock();
+    auto [document, version] = session->document();
+    if (version == link.seen) continue;
+    document_ = std::move(document);
+    link.seen = version;
+    for (ViewLinks::Link& other : views_.links)
+      if (&other != &link)
+        if (const auto s = other.session.lock()) other.seen = s->replace_document(document_);
+  }
+}
+
+void PyScene::push() {
+  std::erase_if(views_.links, [](const ViewLinks::Link& l) { return l.session.expired(); });
+  for (ViewLinks::Link& link : views_.links)
+    if (const auto session = link.session.lock()) link.seen = session->replace_document(document_);
 }
 
 void PyScene::keep_notes() {
@@ -262,6 +288,7 @@ void PyScene::set(const std::string& path, const py::handle& value) {
 }
 
 void PyScene::set(const std::vector<std::pair<std::string, py::object>>& assignments) {
+  pull();
   GivenSources sources = sources_;
   nlohmann::json document = document_.json();
   for (const auto& [path, value] : assignments) {
@@ -279,6 +306,7 @@ void PyScene::look_from(const std::string& view) {
   if (!find_patient_view(view))
     throw py::value_error(fmt::format("{}: view '{}' is not one of {}", origin_, view,
                                       fmt::join(patient_view_names(), ", ")));
+  pull();
   nlohmann::json document = document_.json();
   nlohmann::json camera = nlohmann::json::object();
   const auto old = document.find("camera");
@@ -292,6 +320,7 @@ void PyScene::look_from(const std::string& view) {
 
 void PyScene::add(const std::string& name, const std::string& type, const py::object& source,
                   const py::dict& fields) {
+  pull();
   const nlohmann::json& current = document_.json();
   auto objects = current.find("objects");
   const size_t index =

@@ -10,7 +10,26 @@
 #include "intermix/scene.hpp"
 #include "scene/scene_document.hpp"
 
+namespace imx::server {
+class ViewerSession;
+}
+
 namespace imx::python {
+
+// The notebook views (Scene.show) a Scene is shown in, each with the document count it last
+// agreed on. A copy of a Scene (a render with another view) is not shown: its links start empty.
+class ViewLinks {
+ public:
+  ViewLinks() = default;
+  ViewLinks(const ViewLinks&) {}
+  ViewLinks& operator=(const ViewLinks&) { return *this; }
+
+  struct Link {
+    std::weak_ptr<server::ViewerSession> session;
+    uint64_t seen = 0;
+  };
+  std::vector<Link> links;
+};
 
 // Every change (set, add_*) is a SceneDocument edit: the whole document is parsed again by the
 // scene loader, with its own errors, and replaces the current one only when it parses. Sources
@@ -25,9 +44,22 @@ class PyScene {
   // A document already parsed (a scene built from files), with no Python sources.
   explicit PyScene(SceneDocument document);
 
-  const Scene& scene() const { return document_.scene(); }
-  const nlohmann::json& document() const { return document_.json(); }
+  // Both first take in what a page showing this scene changed (pull).
+  const Scene& scene() const {
+    pull();
+    return document_.scene();
+  }
+  const nlohmann::json& document() const {
+    pull();
+    return document_.json();
+  }
   const GivenSources& sources() const { return sources_; }
+  const SceneDocument& scene_document() const {
+    pull();
+    return document_;
+  }
+  // Shows this scene's edits in `session`'s pages, and their edits here (Scene.show).
+  void attach(const std::shared_ptr<server::ViewerSession>& session, uint64_t seen);
   const std::string& origin() const { return origin_; }
   const std::filesystem::path& file() const { return file_; }
   const std::filesystem::path& base_dir() const { return document_.base_dir(); }
@@ -47,12 +79,18 @@ class PyScene {
  private:
   void rebuild(nlohmann::json document, GivenSources sources);
   void keep_notes();
+  // The document a page changed last, if one did since this scene last agreed with it; the
+  // other pages then show it too. With the GIL held, as every change of a scene.
+  void pull() const;
+  // This scene's document to every page showing it.
+  void push();
 
   GivenSources sources_;
   std::string origin_;
   std::filesystem::path file_;
-  SceneDocument document_;
+  mutable SceneDocument document_;
   std::vector<std::string> notes_;
+  mutable ViewLinks views_;
 };
 
 }  // namespace imx::python

@@ -19,7 +19,8 @@ with tempfile.TemporaryDirectory() as prefix:
                    check=True, stdout=subprocess.DEVNULL)
     site = subprocess.run([sys.executable, os.path.join(here, "..", "install_dir.py"), prefix],
                           check=True, capture_output=True, text=True).stdout.strip()
-    for name in ("__init__.py", "__init__.pyi", "py.typed", "_images.py", "_figures.py"):
+    for name in ("__init__.py", "__init__.pyi", "py.typed", "_images.py", "_figures.py",
+                 "web/index.html"):  # the page Scene.show serves
         assert os.path.isfile(os.path.join(site, "intermix", name)), name
     everything = [os.path.relpath(os.path.join(d, f), prefix)
                   for d, _, files in os.walk(prefix) for f in files]
@@ -32,6 +33,7 @@ with tempfile.TemporaryDirectory() as prefix:
             "s = intermix.Scene.from_dict({'image': {'width': 8, 'height': 8}, 'objects': ["
             "{'name': 'c', 'type': 'volume', 'source': intermix.phantom('cube', 16), "
             "'transfer_function': {'points': [[0, 0, 0, 0, 0], [255, 1, 1, 1, 1]]}}]}); "
+            "v = s.show(); assert 'iframe' in v._repr_html_(); v.close(); "
             "print(intermix.__file__, s.render(method='mdvr').shape)")
     subprocess.run([sys.executable, "-c", code, os.path.realpath(prefix)], check=True, env=env,
                    cwd=prefix)

@@ -451,7 +451,7 @@ struct HttpServer::Impl {
         options(std::move(o)),
         acceptor(io),
         retry(io),
-        signals(io, SIGINT, SIGTERM),
+        signals(io),
         reserve(::open("/dev/null", O_RDONLY | O_CLOEXEC)) {}
   ~Impl() {
     if (reserve >= 0) ::close(reserve);
@@ -562,9 +562,13 @@ HttpServer::Load HttpServer::load() const {
 
 void HttpServer::run() {
   Impl& s = *impl_;
-  s.signals.async_wait([&s](beast::error_code ec, int) {
-    if (!ec) s.io.stop();
-  });
+  if (s.options.stop_on_signals) {
+    s.signals.add(SIGINT);
+    s.signals.add(SIGTERM);
+    s.signals.async_wait([&s](beast::error_code ec, int) {
+      if (!ec) s.io.stop();
+    });
+  }
   s.accept();
   s.io.run();
 }

@@ -25,6 +25,9 @@ struct ServerOptions {
   // A client whose socket has not taken one whole message (or a page response) within this
   // long has stopped reading: it is dropped instead of holding its queue (docs/viewer.md).
   std::chrono::milliseconds write_timeout{10000};
+  // SIGINT and SIGTERM stop run(): a program's own server. A server inside another program (the
+  // Python package's notebook views) leaves the signals to it.
+  bool stop_on_signals = true;
 };
 
 // A connection that has not sent a complete HTTP request within this long is closed: idle and

@@ -287,6 +287,7 @@ void ViewerSession::handle(const std::shared_ptr<ClientSink>& client, const Json
   if (type == "camera" || type == "edit") {
     std::lock_guard lock(mutex_);
     apply_edit(state_, message);
+    ++document_version_;
     input_applied(client.get(), message);
   } else if (type == "slice") {
     // Rendered here, on the network thread: a 2-D view takes milliseconds, not a frame's time.
@@ -360,6 +361,26 @@ void ViewerSession::handle(const std::shared_ptr<ClientSink>& client, const Json
                    "95th percentile %.1f ms\n",
                    latencies_.size(), percentile(latencies_, 0.5), percentile(latencies_, 0.95));
   }
+}
+
+std::pair<SceneDocument, uint64_t> ViewerSession::document() const {
+  std::lock_guard lock(mutex_);
+  return {state_.document, document_version_};
+}
+
+uint64_t ViewerSession::replace_document(SceneDocument document) {
+  std::filesystem::path file;
+  {
+    std::lock_guard lock(mutex_);
+    file = state_.file;
+  }
+  ViewerState next = viewer_state(std::move(document), file);  // parsed outside the lock
+  std::lock_guard lock(mutex_);
+  next.initial_camera = state_.initial_camera;
+  state_ = std::move(next);
+  ++document_version_;
+  input_applied(nullptr, Json::object());
+  return document_version_;
 }
 
 // After an input changed the state (caller holds the lock): remember the client's seq, restart

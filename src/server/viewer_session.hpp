@@ -82,6 +82,15 @@ class ViewerSession {
   ViewerSession(const ViewerSession&) = delete;
   ViewerSession& operator=(const ViewerSession&) = delete;
 
+  // The document shown now, and a count that grows with every change of it (a page's camera or
+  // edit message, replace_document): what a program sharing the scene reads back (the Python
+  // package's Scene behind a notebook view).
+  std::pair<SceneDocument, uint64_t> document() const;
+  // Shows `document` instead, as a page's edit does (every client gets the new state and
+  // frames), keeping "reset view"'s camera. Throws imx::Error as viewer_state does, changing
+  // nothing. Returns the new count.
+  uint64_t replace_document(SceneDocument document);
+
   // Sends `hello` and the latest frame to a new client; it gets every frame and state from now.
   void add_client(const std::shared_ptr<ClientSink>& client);
   void remove_client(const ClientSink* client);
@@ -145,7 +154,8 @@ class ViewerSession {
   nlohmann::json histograms_, tf_presets_;       // sent in every hello
   ReadingWindows reading_windows_;               // the 2-D views' windows, per voxel array
   std::vector<Client> clients_;
-  uint64_t version_ = 1;  // grows with every change of what the image shows
+  uint64_t version_ = 1;           // grows with every change of what the image shows
+  uint64_t document_version_ = 1;  // grows with every change of state_.document
   uint64_t rendered_version_ = 0;
   uint64_t failed_version_ = 0;  // a version whose frame failed is not rendered again
   bool moving_ = false;
