@@ -23,6 +23,7 @@ void bind_streamlines(py::module_& m);
 void bind_scene(py::module_& m);
 void bind_render(py::module_& m);
 void bind_image(py::module_& m);
+void bind_movie(py::module_& m);
 
 // An exception whose message goes to Python as RuntimeError: a render that failed.
 class RenderFailure : public std::runtime_error {

@@ -14,5 +14,6 @@ PYBIND11_MODULE(_intermix, m) {
   imx::python::bind_scene(m);
   imx::python::bind_render(m);
   imx::python::bind_image(m);
+  imx::python::bind_movie(m);
   imx::python::explain_mismatched_calls(m);  // last: it routes the functions bound above
 }

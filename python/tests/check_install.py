@@ -19,7 +19,8 @@ with tempfile.TemporaryDirectory() as prefix:
                    check=True, stdout=subprocess.DEVNULL)
     site = subprocess.run([sys.executable, os.path.join(here, "..", "install_dir.py"), prefix],
                           check=True, capture_output=True, text=True).stdout.strip()
-    for name in ("__init__.py", "__init__.pyi", "py.typed", "_images.py", "_figures.py"):
+    for name in ("__init__.py", "__init__.pyi", "py.typed", "_images.py", "_figures.py",
+                 "_movies.py"):
         assert os.path.isfile(os.path.join(site, "intermix", name)), name
     everything = [os.path.relpath(os.path.join(d, f), prefix)
                   for d, _, files in os.walk(prefix) for f in files]
