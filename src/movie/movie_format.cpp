@@ -13,15 +13,26 @@ const std::vector<MovieFormat>& movie_formats() {
   // H.264 and VP9 at qualities where a render's frames come back near 40 dB PSNR; yuv420p is what
   // browsers and players decode everywhere. FFV1 codes the RGB bytes themselves.
   static const std::vector<MovieFormat> formats = {
-      {".mp4", "H.264", "mp4", "libx264", "yuv420p", "crf=18:preset=medium", false, true,
+      {".mp4", "H.264", "mp4", "libx264", "yuv420p", "crf=16:preset=medium", false, true,
        "plays everywhere (browsers, slides, phones)"},
       {".webm", "VP9", "webm", "libvpx-vp9", "yuv420p",
-       "crf=24:b=0:deadline=good:cpu-used=4:row-mt=1", false, true,
+       "crf=20:b=0:deadline=good:cpu-used=4:row-mt=1", false, true,
        "for web pages; smaller than H.264 at the same quality"},
       {".mkv", "FFV1", "matroska", "ffv1", "bgr0", "level=3:g=1:slicecrc=1", true, false,
        "lossless RGB, any size: for measurement and editing"},
   };
   return formats;
+}
+
+std::string movie_formats_markdown() {
+  std::string out =
+      "| name | codec | FFmpeg encoder | pixels | settings | for |\n"
+      "|---|---|---|---|---|---|\n";
+  for (const MovieFormat& f : movie_formats())
+    out += fmt::format("| `{}` | {}{} | `{}` | {}{} | `{}` | {} |\n", f.extension, f.codec,
+                       f.lossless ? " (lossless)" : "", f.encoder, f.pixel_format,
+                       f.even_size ? " (even width and height)" : "", f.options, f.use);
+  return out;
 }
 
 const MovieFormat* find_movie_format(const std::filesystem::path& file) {

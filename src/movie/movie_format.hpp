@@ -21,6 +21,10 @@ struct MovieFormat {
 // Every movie format, in the order listings show them (.mp4, .webm, .mkv).
 const std::vector<MovieFormat>& movie_formats();
 
+// The formats as a Markdown table (extension, codec, encoder, pixel format, settings, use): what
+// docs/figures.md shows between its movie-formats markers (a test checks it).
+std::string movie_formats_markdown();
+
 // The format `file`'s extension names (case-insensitive), or null.
 const MovieFormat* find_movie_format(const std::filesystem::path& file);
 

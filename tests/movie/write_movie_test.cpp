@@ -153,5 +153,18 @@ TEST(WriteMovie, AFrameIsTheImageOverBlack) {
   EXPECT_EQ(rgb[4], 0);
 }
 
+// docs/figures.md's table of movie formats is the one the code has.
+TEST(MovieFormats, TheDocsTableIsTheCodes) {
+  const std::string docs = test::read_bytes(std::filesystem::path(IMX_EXAMPLES_DIR).parent_path() /
+                                            "docs" / "figures.md");
+  const std::string begin = "<!-- movie-formats:begin -->\n", end = "<!-- movie-formats:end -->";
+  const size_t b = docs.find(begin), e = docs.find(end);
+  ASSERT_TRUE(b != std::string::npos && e != std::string::npos && b < e)
+      << "docs/figures.md has no movie-formats markers";
+  EXPECT_EQ(docs.substr(b + begin.size(), e - b - begin.size()), movie_formats_markdown())
+      << "docs/figures.md's movie table differs from movie_formats(): paste the expected text "
+         "between its markers";
+}
+
 }  // namespace
 }  // namespace imx
