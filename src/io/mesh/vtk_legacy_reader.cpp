@@ -138,6 +138,49 @@ class LegacyReader {
     return out;
   }
 
+  // `n` strings of a string array for `field`: in ASCII a line each, with %XX escapes (VTK's
+  // encoding of spaces and other special bytes); in BINARY each after its length, big-endian in
+  // 1, 2, 4 or 8 bytes as its top two bits say.
+  std::vector<std::string> strings(uint64_t n, const std::string& field) {
+    if (n > bytes_.size() - pos_ + 1)  // each string takes a byte at least
+      fail(fmt::format("{}: {} strings are more than the rest of the file holds", field, n));
+    std::vector<std::string> out;
+    for (uint64_t i = 0; i < n; ++i) {
+      if (binary) {
+        if (pos_ >= bytes_.size()) fail(fmt::format("{}: the file ends in string {}", field, i));
+        const auto first = static_cast<uint8_t>(bytes_[pos_]);
+        const int size = first >> 6 == 3 ? 1 : first >> 6 == 2 ? 2 : first >> 6 == 1 ? 4 : 8;
+        if (bytes_.size() - pos_ < static_cast<size_t>(size))
+          fail(fmt::format("{}: the file ends in string {}'s length", field, i));
+        uint64_t length = first & 0x3f;
+        for (int b = 1; b < size; ++b)
+          length = (length << 8) | static_cast<uint8_t>(bytes_[pos_ + static_cast<size_t>(b)]);
+        pos_ += static_cast<size_t>(size);
+        if (length > bytes_.size() - pos_)
+          fail(fmt::format("{}: string {} claims {} bytes, more than the rest of the file", field,
+                           i, length));
+        out.emplace_back(bytes_, pos_, static_cast<size_t>(length));
+        pos_ += static_cast<size_t>(length);
+        continue;
+      }
+      if (pos_ >= bytes_.size()) fail(fmt::format("{}: the file ends before string {}", field, i));
+      const std::string_view l = trim(raw_line("a string"));
+      std::string text;
+      for (size_t c = 0; c < l.size(); ++c) {
+        int code = 0;
+        if (l[c] == '%' && c + 2 < l.size() &&
+            std::from_chars(l.data() + c + 1, l.data() + c + 3, code, 16).ptr == l.data() + c + 3) {
+          text += static_cast<char>(code);
+          c += 2;
+        } else {
+          text += l[c];
+        }
+      }
+      out.push_back(std::move(text));
+    }
+    return out;
+  }
+
  private:
   static double binary_value(ByteCursor& in, int bytes, bool is_float, bool is_signed) {
     if (is_float) return bytes == 4 ? in.read<float>("a value") : in.read<double>("a value");
@@ -323,9 +366,23 @@ std::optional<std::string_view> read_attributes(LegacyReader& in, uint64_t n, bo
         const std::vector<uint64_t> ac = counts(in, {aw[0], aw[1], aw[2]}, 2, *l);
         if (ac[0] < 1 || ac[0] > 64)
           in.fail(fmt::format("FIELD {}: '{}' has {} components", name, shown(*l), ac[0]));
-        if (aw[3] == "string" || aw[3] == "utf8_string")
-          in.fail(fmt::format("FIELD {}: '{}' is a string array, which intermix does not read",
-                              name, shown(*l)));
+        if (aw[3] == "string" || aw[3] == "utf8_string") {
+          const std::vector<std::string> strings =
+              in.strings(ac[0] * ac[1], "FIELD array " + std::string(aw[0]));
+          // 3D Slicer's coordinate system, as in a VTP's field data (vtp_reader.cpp).
+          if (aw[0] == "SPACE" && strings.size() == 1) {
+            if (strings[0] != "LPS" && strings[0] != "RAS")
+              in.fail(
+                  fmt::format("FIELD {}: SPACE is '{}', not LPS or RAS", name, shown(strings[0])));
+            const MeshSpace space = strings[0] == "RAS" ? MeshSpace::ras : MeshSpace::lps;
+            if (out.space && *out.space != space)
+              in.fail(fmt::format("FIELD {}: SPACE is {}, but the title line says SPACE={}", name,
+                                  strings[0], mesh_space_name(*out.space)));
+            out.space = space;
+          }
+          skip_metadata(in);
+          continue;
+        }
         const bool kept = keep && ac[1] == n;
         std::vector<double> v =
             in.values(aw[3], ac[0] * ac[1], "FIELD array " + std::string(aw[0]), kept);
@@ -413,9 +470,12 @@ PolyDataFile read_vtk_legacy(const std::filesystem::path& file, bool keep_lines)
                              point_data || !keep_lines ? nullptr : &cell_arrays);
       continue;
     } else if (key == "FIELD" || key == "METADATA") {
-      PolyDataFile ignored;  // the dataset's own field data: read past, then the next section
+      // The dataset's own field data: its SPACE (3D Slicer's), then the next section.
+      PolyDataFile field;
+      field.space = out.space;
       in.unread(*line);
-      line = read_attributes(in, 0, false, ignored);
+      line = read_attributes(in, 0, false, field);
+      out.space = field.space;
       continue;
     } else {
       in.fail(fmt::format("'{}' is not a polydata section intermix reads", shown(*line)));
