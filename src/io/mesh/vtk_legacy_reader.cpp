@@ -15,6 +15,7 @@
 #include "intermix/limits.hpp"
 #include "io/mesh/mesh_space.hpp"
 #include "io/mesh/polydata.hpp"
+#include "io/mesh/vtk_strings.hpp"
 #include "io/streams/byte_cursor.hpp"
 #include "io/streams/header_text.hpp"
 
@@ -138,45 +139,17 @@ class LegacyReader {
     return out;
   }
 
-  // `n` strings of a string array for `field`: in ASCII a line each, with %XX escapes (VTK's
-  // encoding of spaces and other special bytes); in BINARY each after its length, big-endian in
-  // 1, 2, 4 or 8 bytes as its top two bits say.
+  // `n` strings of a string array for `field`: in ASCII a line each (vtk_strings.hpp).
   std::vector<std::string> strings(uint64_t n, const std::string& field) {
     if (n > bytes_.size() - pos_ + 1)  // each string takes a byte at least
       fail(fmt::format("{}: {} strings are more than the rest of the file holds", field, n));
     std::vector<std::string> out;
     for (uint64_t i = 0; i < n; ++i) {
-      if (binary) {
-        if (pos_ >= bytes_.size()) fail(fmt::format("{}: the file ends in string {}", field, i));
-        const auto first = static_cast<uint8_t>(bytes_[pos_]);
-        const int size = first >> 6 == 3 ? 1 : first >> 6 == 2 ? 2 : first >> 6 == 1 ? 4 : 8;
-        if (bytes_.size() - pos_ < static_cast<size_t>(size))
-          fail(fmt::format("{}: the file ends in string {}'s length", field, i));
-        uint64_t length = first & 0x3f;
-        for (int b = 1; b < size; ++b)
-          length = (length << 8) | static_cast<uint8_t>(bytes_[pos_ + static_cast<size_t>(b)]);
-        pos_ += static_cast<size_t>(size);
-        if (length > bytes_.size() - pos_)
-          fail(fmt::format("{}: string {} claims {} bytes, more than the rest of the file", field,
-                           i, length));
-        out.emplace_back(bytes_, pos_, static_cast<size_t>(length));
-        pos_ += static_cast<size_t>(length);
-        continue;
-      }
       if (pos_ >= bytes_.size()) fail(fmt::format("{}: the file ends before string {}", field, i));
-      const std::string_view l = trim(raw_line("a string"));
-      std::string text;
-      for (size_t c = 0; c < l.size(); ++c) {
-        int code = 0;
-        if (l[c] == '%' && c + 2 < l.size() &&
-            std::from_chars(l.data() + c + 1, l.data() + c + 3, code, 16).ptr == l.data() + c + 3) {
-          text += static_cast<char>(code);
-          c += 2;
-        } else {
-          text += l[c];
-        }
-      }
-      out.push_back(std::move(text));
+      std::optional<std::string> s = binary ? read_vtk_binary_string(bytes_, pos_)
+                                            : unescape_vtk_string(trim(raw_line("a string")));
+      if (!s) fail(fmt::format("{}: the file ends inside string {}", field, i));
+      out.push_back(std::move(*s));
     }
     return out;
   }
