@@ -35,13 +35,14 @@ void bind_movie(py::module_& m) {
         if (frames.size() == 0)
           throw py::value_error("write_movie: images is empty; a movie needs at least one frame");
         const Image first = array_to_image(frames[0], "write_movie: images[0]");
-        write_movie(file, first.width(), first.height(), static_cast<int>(frames.size()),
-                    [&](int k, const std::function<void(double)>&) {
-                      return k == 0 ? first
-                                    : array_to_image(frames[static_cast<size_t>(k)],
-                                                     fmt::format("write_movie: images[{}]", k));
-                    },
-                    options);
+        write_movie(
+            file, first.width(), first.height(), static_cast<int>(frames.size()),
+            [&](int k, const std::function<void(double)>&) {
+              return k == 0 ? first
+                            : array_to_image(frames[static_cast<size_t>(k)],
+                                             fmt::format("write_movie: images[{}]", k));
+            },
+            options);
       },
       py::arg("images"), py::arg("path"), py::arg("fps"),
       "Writes a sequence of (H, W, 4) images as a movie (see intermix.write_movie).");
