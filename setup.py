@@ -18,7 +18,8 @@ from setuptools.command.build_py import build_py
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 WORK = os.path.join(HERE, "build-pip")
-PACKAGE_FILES = ("__init__.py", "__init__.pyi", "py.typed", "_images.py", "_figures.py")
+PACKAGE_FILES = ("__init__.py", "__init__.pyi", "py.typed", "_images.py", "_figures.py",
+                 "_movies.py")
 
 
 def cmake_version():

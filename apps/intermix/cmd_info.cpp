@@ -77,7 +77,7 @@ nlohmann::json describe(const MeshFile& file) {
     hi = glm::max(hi, p);
   }
   const char* from = "default (no header names one)";
-  if (file.info.space_source == MeshSpaceSource::header) from = "header (SPACE= comment)";
+  if (file.info.space_source == MeshSpaceSource::header) from = "header (SPACE= comment or field)";
   if (file.info.space_source == MeshSpaceSource::format) from = "format (GIfTI is RAS)";
   if (file.info.space_source == MeshSpaceSource::option) from = "option";
   return {{"kind", "mesh"},

@@ -22,6 +22,8 @@
 #include "intermix/io.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "movie/movie_format.hpp"
+#include "render_movie.hpp"
 #include "scene_inputs.hpp"
 
 namespace imx::cli {
@@ -38,6 +40,7 @@ struct Options : SceneOptions {
   bool distributed = false;
   std::string partition = "auto", report;
   int bricks = 0;  // 0: bricks only for a volume too large to hold
+  MovieShot movie;
 };
 
 // The scene of the inputs; --save-scene writes a built one, which renders the same image again.
@@ -153,7 +156,10 @@ int render_frames(const Options& o, const std::vector<std::string>& overrides) {
 Command add_render(CLI::App& app) {
   auto o = std::make_shared<Options>();
   add_scene_inputs(app, o->in);
-  app.add_option("-o,--output", o->output, "output PNG")->required();
+  app.add_option("-o,--output", o->output,
+                 "output PNG; with --orbit or --sweep a movie: .mp4 (H.264), .webm (VP9) or .mkv "
+                 "(FFV1, lossless)")
+      ->required();
   app.add_option("--method", o->method,
                  "rendering method (default: the scene's, else auto: the fastest within reach of "
                  "the best image for the scene's content)");
@@ -188,6 +194,7 @@ Command add_render(CLI::App& app) {
       ->check(CLI::Range(1, 4096));
   app.add_option("--report", o->report,
                  "with --distributed: write timings, bytes exchanged and memory per rank (JSON)");
+  add_movie_options(app, o->movie);
   return [o]() {
     o->scene = o->in.label();
     const std::vector<std::string> overrides = input_overrides(o->in, o->with_size());
@@ -200,6 +207,27 @@ Command add_render(CLI::App& app) {
       throw Error("--frame-range does not apply with --distributed");
     if (o->distributed && !o->in.is_scene_file())
       throw Error("--distributed renders a scene file; write one with --save-scene first");
+    if (o->movie.wanted()) {
+      for (const auto& [given, name] :
+           {std::pair{o->distributed, "--distributed"},
+            std::pair{!o->frame_range.empty(), "--frame-range"},
+            std::pair{o->bricks > 0, "--bricks"}, std::pair{o->linear, "--linear"}})
+        if (given)
+          throw Error(fmt::format("{} does not apply to a movie (--orbit, --sweep)", name));
+      RenderOptions options;
+      options.method = o->method;
+      options.spp = o->spp;
+      options.threads = o->threads;
+      return render_movie(o->in, overrides, o->movie, options, o->colorbar, o->output);
+    }
+    if (o->movie.frames > 0) throw Error("--frames applies only with --sweep");
+    if (o->movie.fps != 24.0 || o->movie.degrees != 360.0)
+      throw Error("--fps and --orbit-degrees apply only to a movie (--orbit, --sweep)");
+    if (find_movie_format(o->output))
+      throw Error(
+          fmt::format("{}: a movie needs --orbit N or --sweep AXIS; without them render "
+                      "writes one PNG",
+                      o->output));
     if (o->distributed) {
       DistributedRequest request;
       request.scene = o->scene;

@@ -15,11 +15,12 @@ Scene (from_file, from_files, from_dict, set, set_view, add_volume, add_mesh, ad
 add_streamlines, to_dict, render, figure, show: the viewer in a notebook cell, a View), Volume,
 Mesh, Streamlines (tractograms from files, nibabel or DIPY), Renderer (stage reuse),
 read_volume, read_mesh, write_volume, phantom, compare, to_uint8, write_png, read_png,
-available_methods, set_max_memory; one-line figures: orbit, stat_map, ortho, mosaic,
-glass_brain, tracts_over_anatomy (and their *_scene, figure_scene). Errors: ValueError (a scene
-or value at fault), OSError (a file that cannot be read or written), MemoryError (an input over
-the memory budget, or more than the machine gives), RuntimeError (a render that failed), each
-with the library's one-line message. docs/python.md has the details.
+write_movie, read_movie, available_methods, set_max_memory; one-line figures: orbit (to MP4,
+WebM, GIF or PNG frames), stat_map, ortho, mosaic, glass_brain, tracts_over_anatomy (and their
+*_scene, figure_scene). Errors: ValueError (a scene or value at fault), OSError (a file that
+cannot be read or written), MemoryError (an input over the memory budget, or more than the
+machine gives), RuntimeError (a render that failed), each with the library's one-line message.
+docs/python.md has the details.
 """
 
 import numpy as _np
@@ -65,6 +66,7 @@ from ._figures import (
     tracts_over_anatomy,
     tracts_over_anatomy_scene,
 )
+from ._movies import read_movie, write_movie
 
 __all__ = [
     "Image",
@@ -91,6 +93,7 @@ __all__ = [
     "phantom",
     "phantom_names",
     "read_mesh",
+    "read_movie",
     "read_png",
     "read_volume",
     "read_volume_info",
@@ -101,6 +104,7 @@ __all__ = [
     "to_uint8",
     "tracts_over_anatomy",
     "tracts_over_anatomy_scene",
+    "write_movie",
     "write_png",
     "write_volume",
 ]

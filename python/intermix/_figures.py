@@ -9,6 +9,7 @@ import sys
 import numpy as _np
 
 from ._intermix import Renderer, Scene, Streamlines, Volume, _anatomy_box, read_volume, write_png
+from ._movies import check_movie, is_movie_path, write_movie
 
 
 # ---- sources ----
@@ -353,9 +354,11 @@ def orbit(scene, frames=36, path=None, *, degrees=360.0, method=None, width=None
     target (a turntable), with a progress bar on stderr (progress=False for none), and returns
     them as a list of intermix.Image. The scene is not changed.
 
-    `path`: None (only return them), NAME.gif (an animated GIF, `frame_ms` per frame, looping;
-    needs Pillow, Debian's python3-pil), or a PNG name: NAME.png writes NAME-000.png,
-    NAME-001.png, ... and a name holding {} (frame-{:03d}.png) is formatted with the index."""
+    `path`: None (only return them), a movie (NAME.mp4: H.264, NAME.webm: VP9, NAME.mkv: lossless
+    FFV1; `frame_ms` per frame, through the encoder of `intermix render --orbit`, see
+    write_movie), NAME.gif (an animated GIF, `frame_ms` per frame, looping; needs Pillow,
+    Debian's python3-pil), or a PNG name: NAME.png writes NAME-000.png, NAME-001.png, ... and a
+    name holding {} (frame-{:03d}.png) is formatted with the index."""
     if not isinstance(scene, Scene):
         raise TypeError(f"orbit: scene must be an intermix.Scene, got {type(scene).__name__}")
     if isinstance(frames, bool) or not isinstance(frames, (int, _np.integer)) or frames < 1:
@@ -369,10 +372,25 @@ def orbit(scene, frames=36, path=None, *, degrees=360.0, method=None, width=None
         turning.set("camera", camera)
         images.append(renderer.render(turning, method=method, width=width, height=height,
                                       spp=spp))
+        if n == 0 and isinstance(writer, _MovieWriter):
+            writer.check(images[0])  # a movie's size errors come after one frame, not all
         bar.update(n + 1)
     if writer is not None:
         writer(images)
     return images
+
+
+class _MovieWriter:
+    """Writes the frames as a movie; check() refuses what the encoder would, after one frame."""
+
+    def __init__(self, path, fps):
+        self.path, self.fps = path, fps
+
+    def check(self, image):
+        check_movie(self.path, image.shape[1], image.shape[0], self.fps)
+
+    def __call__(self, images):
+        write_movie(images, self.path, self.fps)
 
 
 def _frame_writer(path, frame_ms):
@@ -380,6 +398,12 @@ def _frame_writer(path, frame_ms):
     frame is rendered."""
     path = os.fspath(path)
     lower = path.lower()
+    if is_movie_path(path):
+        if isinstance(frame_ms, bool) or not isinstance(frame_ms, (int, float, _np.number)) \
+                or not 1000.0 / 240 <= frame_ms <= 1000.0:
+            raise ValueError(f"orbit: frame_ms must be a number in [{1000 / 240:.3g}, 1000] "
+                             f"for a movie, got {frame_ms!r}")
+        return _MovieWriter(path, 1000.0 / float(frame_ms))
     if lower.endswith(".gif"):
         try:
             from PIL import Image as PilImage
@@ -402,4 +426,5 @@ def _frame_writer(path, frame_ms):
                 write_png(image, pattern.format(n))
 
         return write_pngs
-    raise ValueError(f"orbit: path '{path}' is not a .gif or .png name")
+    raise ValueError(f"orbit: path '{path}' is not a movie (.mp4, .webm, .mkv), .gif or .png "
+                     f"name")

@@ -25,6 +25,7 @@ void bind_render(py::module_& m);
 void bind_image(py::module_& m);
 void bind_figure(py::module_& m);  // after bind_scene: a method of Scene
 void bind_view(py::module_& m);    // after bind_scene: Scene.show
+void bind_movie(py::module_& m);
 
 // An exception whose message goes to Python as RuntimeError: a render that failed.
 class RenderFailure : public std::runtime_error {

@@ -16,5 +16,6 @@ PYBIND11_MODULE(_intermix, m) {
   imx::python::bind_image(m);
   imx::python::bind_figure(m);
   imx::python::bind_view(m);
+  imx::python::bind_movie(m);
   imx::python::explain_mismatched_calls(m);  // last: it routes the functions bound above
 }

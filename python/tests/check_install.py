@@ -20,7 +20,7 @@ with tempfile.TemporaryDirectory() as prefix:
     site = subprocess.run([sys.executable, os.path.join(here, "..", "install_dir.py"), prefix],
                           check=True, capture_output=True, text=True).stdout.strip()
     for name in ("__init__.py", "__init__.pyi", "py.typed", "_images.py", "_figures.py",
-                 "web/index.html"):  # the page Scene.show serves
+                 "_movies.py", "web/index.html"):  # web: the page Scene.show serves
         assert os.path.isfile(os.path.join(site, "intermix", name)), name
     everything = [os.path.relpath(os.path.join(d, f), prefix)
                   for d, _, files in os.walk(prefix) for f in files]

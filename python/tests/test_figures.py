@@ -49,8 +49,8 @@ def test_orbit_frames_are_the_cameras_turned_by_hand(tmp_path, capsys):
         assert os.path.exists(tmp_path / f"spin-{n}.png")
     assert not np.array_equal(images[0], images[1])
     assert scene.camera["eye"] == (0, -500, 0), "the scene is not changed"
-    with pytest.raises(ValueError, match="not a .gif or .png"):
-        intermix.orbit(scene, frames=2, path=tmp_path / "spin.mp4")
+    with pytest.raises(ValueError, match=r"not a movie \(.mp4, .webm, .mkv\), .gif or .png"):
+        intermix.orbit(scene, frames=2, path=tmp_path / "spin.avi")
 
 
 def test_orbit_writes_a_gif_with_a_progress_bar(tmp_path, capsys):

@@ -83,6 +83,7 @@ Scene scene_json::parse_scene_document(const nlohmann::json& root, const std::st
 
   context.used.clear();
   context.automatic_looks.clear();
+  context.mesh_space_candidates.clear();
   for (size_t i = 0; i < objects.size(); ++i)
     if (kinds[i] == "volume")
       scene.volumes.push_back(scene_json::parse_volume_object(objects[i], context));
@@ -129,6 +130,10 @@ Scene scene_json::parse_scene_document(const nlohmann::json& root, const std::st
           "from {:.0f} mm",
           centre.x, centre.y, centre.z, glm::length(scene.camera.eye - scene.camera.target)));
   }
+  for (std::string& note :
+       scene_json::mirrored_mesh_notes(context.mesh_space_candidates, scene.volumes))
+    context.notes.push_back(std::move(note));
+  context.mesh_space_candidates.clear();
   // A CSG scene is meant for the csg method unless it asks for another (CSG.md §4.2).
   if (scene.csg && !(render && render->has("method"))) scene.render.method = "csg";
   scene.notes = std::move(context.notes);

@@ -173,6 +173,37 @@ std::shared_ptr<const Mesh> load_mesh_source(const JsonReader& src, const std::s
   return mesh;
 }
 
+// A mesh from a file whose source gives no "space": its space is checked against the volumes
+// once the scene is read (mesh_space_evidence.hpp).
+void add_space_candidate(const JsonReader& src, const std::string& name,
+                         const std::shared_ptr<const Mesh>& mesh, const glm::dmat4& transform,
+                         SceneContext& context) {
+  const MeshFile* file = mesh_file_of(mesh);
+  if (file == nullptr || !src.has("file") || src.has("space")) return;
+  const MeshFileInfo& info = file->info;
+  MeshSpaceCandidate c;
+  c.name = name;
+  c.file = context.resolve_file(src.get("file")).filename().string();
+  c.mesh = mesh;
+  c.transform = transform;
+  c.read_as = info.space;
+  switch (info.space_source) {
+    case MeshSpaceSource::assumed:
+      c.read_as = context.world_space;
+      c.why = "it names no space, so the scene's";
+      break;
+    case MeshSpaceSource::header:
+      c.why = fmt::format("it says SPACE={}", mesh_space_name(info.space));
+      break;
+    case MeshSpaceSource::format:
+      c.why = "its format's coordinates are RAS";
+      break;
+    case MeshSpaceSource::option:
+      return;
+  }
+  context.mesh_space_candidates.push_back(std::move(c));
+}
+
 Material parse_material(const JsonReader& r) {
   r.check_keys({"color", "opacity", "shading"});
   Material m;
@@ -212,6 +243,7 @@ MeshObject parse_mesh_object(const JsonReader& r, SceneContext& context) {
     if (m.interior) m.interior->opacity = 0.0f;
   }
   std::shared_ptr<const Mesh> mesh = load_mesh_source(r.get("source"), m.name, context);
+  add_space_candidate(r.get("source"), m.name, mesh, transform, context);
   // Values on the mesh colour its vertices before it is placed ("color_by" comes after every
   // object is read: apply_color_by).
   if (auto v = r.find("overlay")) {

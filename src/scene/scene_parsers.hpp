@@ -15,6 +15,7 @@
 #include "intermix/scene.hpp"
 #include "scene/camera_framing.hpp"
 #include "scene/json_reader.hpp"
+#include "scene/mesh_space_evidence.hpp"
 
 namespace imx::scene_json {
 
@@ -54,6 +55,9 @@ struct SceneContext {
   // The scene's "space": points, directions and inline transforms it gives are RAS when ras
   // (world_space.hpp turns them into LPS); also the space of mesh files that say none.
   MeshSpace world_space = MeshSpace::lps;
+  // Mesh objects whose file's space the document did not give: checked against the volumes
+  // once every object is read (mesh_space_evidence.hpp).
+  std::vector<MeshSpaceCandidate> mesh_space_candidates = {};
 
   // A "file" value resolved against base_dir; throws naming the resolved path when missing.
   std::filesystem::path resolve_file(const JsonReader& file) const;

@@ -1,11 +1,12 @@
 // The libraries only some inputs need are plugins opened on first use
 // (src/io/registry/plugin_loader.hpp): assimp (with draco and minizip) for OBJ, STL, OFF and glTF
-// meshes, libhdf5 for MINC-2, Open MPI for --distributed. Start-up, a NIfTI or DICOM conversion and
-// a volume render map none of them (the dynamic loader's own report, LD_DEBUG=files, says what was
-// mapped); a mesh of an assimp format maps the mesh plugin and reads as before, a MINC-2 file the
-// MINC plugin, a distributed render the MPI plugin; a plugin that cannot be loaded is one error
-// naming the paths tried (and the mesh file). The DICOM test uses ../shared/data/dicom/ts (skipped
-// without it), the MINC test h5py (/usr/bin/python3) to write its file.
+// meshes, libhdf5 for MINC-2, Open MPI for --distributed, FFmpeg for movies. Start-up, a NIfTI or
+// DICOM conversion and a volume render map none of them (the dynamic loader's own report,
+// LD_DEBUG=files, says what was mapped); a mesh of an assimp format maps the mesh plugin and reads
+// as before, a MINC-2 file the MINC plugin, a distributed render the MPI plugin, a movie the movie
+// plugin; a plugin that cannot be loaded is one error naming the paths tried (and the mesh file).
+// The DICOM test uses ../shared/data/dicom/ts (skipped without it), the MINC test h5py
+// (/usr/bin/python3) to write its file.
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -30,7 +31,8 @@ void expect_no_plugin_libraries(const test::CliResult& r) {
   ASSERT_TRUE(contains(r.output, "libc.so.6")) << r.output.substr(0, 2000);
   for (const char* library :
        {"libassimp", "libdraco", "libminizip", "libimx_mesh_assimp", "libmpi", "libopen-rte",
-        "libopen-pal", "libhwloc", "libevent", "libimx_mpi", "libhdf5", "libimx_minc_hdf5"})
+        "libopen-pal", "libhwloc", "libevent", "libimx_mpi", "libhdf5", "libimx_minc_hdf5",
+        "libavcodec", "libavformat", "libswscale", "libx264", "libimx_movie_ffmpeg"})
     EXPECT_FALSE(contains(r.output, library)) << library;
 }
 
@@ -176,6 +178,20 @@ fs::path write_sphere_scene(const TempDir& dir) {
                           scene.string(), (dir / "s.png").string()));
   EXPECT_EQ(r.exit_code, 0) << r.output;
   return scene;
+}
+
+TEST(StartUpLibraries, AMovieLoadsTheMoviePlugin) {
+  TempDir dir;
+  ASSERT_EQ(
+      run_cli(fmt::format("phantom sphere --size 16 -o {}", (dir / "s.nii").string())).exit_code,
+      0);
+  const test::CliResult r = run_cli(fmt::format("render {} --orbit 2 --width 16 --height 16 -o {}",
+                                                (dir / "s.nii").string(), (dir / "s.mp4").string()),
+                                    "LD_DEBUG=files ");
+  ASSERT_EQ(r.exit_code, 0) << r.output.substr(r.output.size() > 4000 ? r.output.size() - 4000 : 0);
+  EXPECT_TRUE(fs::exists(dir / "s.mp4"));
+  EXPECT_TRUE(contains(r.output, "libimx_movie_ffmpeg.so"));
+  EXPECT_TRUE(contains(r.output, "libavcodec.so"));
 }
 
 TEST(StartUpLibraries, DistributedRenderLoadsTheMpiPlugin) {

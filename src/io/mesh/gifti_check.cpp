@@ -559,6 +559,10 @@ struct Parser {
     }
     stack.emplace_back(name);
     if (std::strcmp(name, "Label") == 0) start_label(attrs);
+    // The vertices' coordinate systems (nibabel's GiftiCoordSystem), read by gifti_reader.
+    if (std::strcmp(name, "CoordinateSystemTransformMatrix") == 0 && checked >= 0 &&
+        checked == pointset && surface.coordinate_systems.size() < 16)
+      surface.coordinate_systems.emplace_back();
     if (depth == 2 && std::strcmp(name, "DataArray") == 0) {
       checked = -1;
       decoder.reset();
@@ -597,6 +601,18 @@ struct Parser {
   void text(std::string_view s) {
     if (fault.empty() && label && !stack.empty() && stack.back() == "Label") {
       if (label->name.size() <= 4096) label->name += s;
+      return;
+    }
+    if (fault.empty() && stack.size() >= 2 &&
+        stack[stack.size() - 2] == "CoordinateSystemTransformMatrix" && checked >= 0 &&
+        checked == pointset && !surface.coordinate_systems.empty()) {
+      GiftiCoordinateSystem& c = surface.coordinate_systems.back();
+      std::string* field = stack.back() == "DataSpace"          ? &c.data_space
+                           : stack.back() == "TransformedSpace" ? &c.transformed_space
+                                                                : &c.matrix;
+      if (field->size() + s.size() > 4096)
+        return fail(fmt::format("{}: <{}> is over 4096 bytes", where(), stack.back()));
+      *field += s;
       return;
     }
     if (!fault.empty() || data_depth == 0 || depth != data_depth || !decoder) return;

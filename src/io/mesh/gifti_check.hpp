@@ -49,9 +49,18 @@ struct GiftiArray {
   std::vector<uint8_t> bytes;  // rows * 3 values of `type`
 };
 
-// The first NIFTI_INTENT_POINTSET (floating-point) and NIFTI_INTENT_TRIANGLE (integer) arrays.
+// One CoordinateSystemTransformMatrix of a data array: the space its values are in (DataSpace),
+// another space (TransformedSpace) and the 4x4 map between them (MatrixData, row after row), as
+// the file spells them (NIFTI_XFORM_UNKNOWN, _SCANNER_ANAT, _ALIGNED_ANAT, _TALAIRACH, _MNI_152).
+struct GiftiCoordinateSystem {
+  std::string data_space, transformed_space, matrix;  // the elements' text, trimmed
+};
+
+// The first NIFTI_INTENT_POINTSET (floating-point) and NIFTI_INTENT_TRIANGLE (integer) arrays,
+// and the POINTSET's coordinate systems in the file's order.
 struct GiftiSurface {
   GiftiArray points, triangles;
+  std::vector<GiftiCoordinateSystem> coordinate_systems;
 };
 
 // One entry of a GIfTI LabelTable: Key (Index in older files; Key where both), Red, Green, Blue,

@@ -41,7 +41,9 @@ MeshContent freesurfer(const std::filesystem::path& file) {
 }
 
 MeshContent gifti(const std::filesystem::path& file) {
-  return {read_gifti(file), {}, std::nullopt, {}};
+  std::vector<std::string> notes;
+  Mesh mesh = read_gifti(file, &notes);
+  return {std::move(mesh), {}, std::nullopt, std::move(notes)};
 }
 
 MeshContent polydata(PolyDataFile poly) {

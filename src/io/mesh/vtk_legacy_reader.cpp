@@ -15,6 +15,7 @@
 #include "intermix/limits.hpp"
 #include "io/mesh/mesh_space.hpp"
 #include "io/mesh/polydata.hpp"
+#include "io/mesh/vtk_strings.hpp"
 #include "io/streams/byte_cursor.hpp"
 #include "io/streams/header_text.hpp"
 
@@ -134,6 +135,21 @@ class LegacyReader {
         fail(fmt::format("{}: value {} '{:g}' is not an integer", field, i, v));
       if (keep) out.push_back(v);
       pos_ = end;
+    }
+    return out;
+  }
+
+  // `n` strings of a string array for `field`: in ASCII a line each (vtk_strings.hpp).
+  std::vector<std::string> strings(uint64_t n, const std::string& field) {
+    if (n > bytes_.size() - pos_ + 1)  // each string takes a byte at least
+      fail(fmt::format("{}: {} strings are more than the rest of the file holds", field, n));
+    std::vector<std::string> out;
+    for (uint64_t i = 0; i < n; ++i) {
+      if (pos_ >= bytes_.size()) fail(fmt::format("{}: the file ends before string {}", field, i));
+      std::optional<std::string> s = binary ? read_vtk_binary_string(bytes_, pos_)
+                                            : unescape_vtk_string(trim(raw_line("a string")));
+      if (!s) fail(fmt::format("{}: the file ends inside string {}", field, i));
+      out.push_back(std::move(*s));
     }
     return out;
   }
@@ -323,9 +339,23 @@ std::optional<std::string_view> read_attributes(LegacyReader& in, uint64_t n, bo
         const std::vector<uint64_t> ac = counts(in, {aw[0], aw[1], aw[2]}, 2, *l);
         if (ac[0] < 1 || ac[0] > 64)
           in.fail(fmt::format("FIELD {}: '{}' has {} components", name, shown(*l), ac[0]));
-        if (aw[3] == "string" || aw[3] == "utf8_string")
-          in.fail(fmt::format("FIELD {}: '{}' is a string array, which intermix does not read",
-                              name, shown(*l)));
+        if (aw[3] == "string" || aw[3] == "utf8_string") {
+          const std::vector<std::string> strings =
+              in.strings(ac[0] * ac[1], "FIELD array " + std::string(aw[0]));
+          // 3D Slicer's coordinate system, as in a VTP's field data (vtp_reader.cpp).
+          if (aw[0] == "SPACE" && strings.size() == 1) {
+            if (strings[0] != "LPS" && strings[0] != "RAS")
+              in.fail(
+                  fmt::format("FIELD {}: SPACE is '{}', not LPS or RAS", name, shown(strings[0])));
+            const MeshSpace space = strings[0] == "RAS" ? MeshSpace::ras : MeshSpace::lps;
+            if (out.space && *out.space != space)
+              in.fail(fmt::format("FIELD {}: SPACE is {}, but the title line says SPACE={}", name,
+                                  strings[0], mesh_space_name(*out.space)));
+            out.space = space;
+          }
+          skip_metadata(in);
+          continue;
+        }
         const bool kept = keep && ac[1] == n;
         std::vector<double> v =
             in.values(aw[3], ac[0] * ac[1], "FIELD array " + std::string(aw[0]), kept);
@@ -413,9 +443,12 @@ PolyDataFile read_vtk_legacy(const std::filesystem::path& file, bool keep_lines)
                              point_data || !keep_lines ? nullptr : &cell_arrays);
       continue;
     } else if (key == "FIELD" || key == "METADATA") {
-      PolyDataFile ignored;  // the dataset's own field data: read past, then the next section
+      // The dataset's own field data: its SPACE (3D Slicer's), then the next section.
+      PolyDataFile field;
+      field.space = out.space;
       in.unread(*line);
-      line = read_attributes(in, 0, false, ignored);
+      line = read_attributes(in, 0, false, field);
+      out.space = field.space;
       continue;
     } else {
       in.fail(fmt::format("'{}' is not a polydata section intermix reads", shown(*line)));
