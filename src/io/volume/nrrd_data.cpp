@@ -13,6 +13,7 @@
 #include "intermix/error.hpp"
 #include "io/streams/bzip2.hpp"
 #include "io/streams/gzip.hpp"
+#include "io/streams/inflate_charge.hpp"
 #include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 #include "io/voxels/mapped_voxels.hpp"
@@ -134,10 +135,12 @@ DataFile survey(const NrrdData& d, size_t index, uint64_t elements) {
     }
     case NrrdEncoding::gzip:
       check_inflatable(f.bytes + skip, after(start), f.what);
+      refuse_compressed_claim(f.bytes, f.elements > kMaxVoxels, f.what, "gzip voxel data");
       f.start = start;
       break;
     case NrrdEncoding::bzip2:
       check_bzip2_inflatable(f.bytes + skip, after(start), f.what);
+      refuse_compressed_claim(f.bytes, f.elements > kMaxVoxels, f.what, "bzip2 voxel data");
       f.start = start;
       break;
     case NrrdEncoding::ascii:
