@@ -22,6 +22,8 @@
 #include "intermix/dicom.hpp"
 #include "intermix/io.hpp"
 #include "io/dicom/dicom_suv.hpp"
+#include "io/dicom/dicom_tags.hpp"
+#include "linear_time.hpp"
 #include "temp_dir.hpp"
 
 namespace imx {
@@ -904,6 +906,26 @@ TEST(DicomVolumes, ImagesWithoutPositionsAreStackedAsOneVolume) {
   placed.position = glm::dvec3(0, 0, 7);
   write_slice(dir / "p3.dcm", placed);
   expect_error([&] { read_dicom(dir.path()); }, {"no ImagePositionPatient"});
+}
+
+// A DICOM text value's padding is trimmed in linear time (issue 48, item 3): the leading spaces
+// of a value were erased one at a time, each moving the rest of the value, so that 256 KiB of
+// them took far longer than 16 values of 16 KiB. Values are read whole from a file of any size;
+// 256 KiB is far more than any real one.
+TEST(DicomTags, TextValuesAreTrimmedInLinearTime) {
+  auto data_set = [](size_t padding) {
+    gdcm::DataSet ds;
+    put_text(ds, 0x0028, 0x1053, gdcm::VR::DS, std::string(padding, ' ') + "1.5\\2.5");
+    return ds;
+  };
+  const gdcm::DataSet full = data_set(size_t{256} << 10), part = data_set(size_t{16} << 10);
+  auto read = [&](const std::string& which) {
+    const std::vector<double> v =
+        detail::tag_numbers(which == "full" ? full : part, 0x0028, 0x1053);
+    EXPECT_EQ(v, (std::vector<double>{1.5, 2.5}));
+  };
+  EXPECT_LE(test::growth_over_linear(read, "full", "part"), test::kMaxGrowthOverLinear)
+      << "time(n) / (16 time(n/16))";
 }
 
 }  // namespace
