@@ -702,7 +702,10 @@ PolyDataFile read_vtp(const std::filesystem::path& file, bool keep_lines) {
       if (d.components != r.components)
         throw Error(
             fmt::format("{}: point data '{}' changes its components", piece_what, shown(r.name)));
-      d.values.insert(d.values.end(), v.begin(), v.end());
+      if (d.values.empty())
+        d.values = std::move(v);  // no second copy while both are held
+      else
+        d.values.insert(d.values.end(), v.begin(), v.end());
     }
     if (normals.size() == piece.points && (k == 0 || !out.mesh.normals.empty()))
       out.mesh.normals.insert(out.mesh.normals.end(), normals.begin(), normals.end());
