@@ -76,9 +76,12 @@ class StrictBuilder final : public nlohmann::json_sax<Json> {
     return dom_.key(k);
   }
 
-  // Throws the parse_error, as nlohmann::json::parse does.
+  // Throws the error as nlohmann::json::parse does, of its own type (parse_error, or
+  // out_of_range for a number beyond a double): the DOM builder would throw it as its base.
   bool parse_error(std::size_t position, const std::string& token,
                    const nlohmann::detail::exception& e) override {
+    if (const auto* p = dynamic_cast<const Json::parse_error*>(&e)) throw *p;
+    if (const auto* o = dynamic_cast<const Json::out_of_range*>(&e)) throw *o;
     return dom_.parse_error(position, token, e);
   }
 

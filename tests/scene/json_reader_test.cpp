@@ -54,6 +54,15 @@ TEST(JsonReader, LongValuesAreShortenedInMessages) {
   EXPECT_LT(msg.size(), 120u);
 }
 
+// Malformed text and numbers beyond a double are nlohmann's own exceptions, of their own types,
+// as nlohmann::json::parse throws them: callers name them differently.
+TEST(StrictJson, ParseErrorsKeepTheirTypes) {
+  EXPECT_THROW(parse_strict_json("{", "m"), nlohmann::json::parse_error);
+  EXPECT_THROW(parse_strict_json("[1, 2e400]", "m"), nlohmann::json::out_of_range);
+  test::expect_error([] { parse_strict_json(R"({"a": {"b": 1, "b": 2}})", "m"); },
+                     {"m: a: key 'b' appears twice in the same object"});
+}
+
 // Scene JSON through the strict parser (duplicate keys, depth) at 4 MiB against a sixteenth
 // (issue 48, item 3): one object of many keys, and an array of many small objects.
 TEST(StrictJson, IsReadInLinearTime) {
