@@ -127,25 +127,36 @@ def write_bombs(folder):
     struct.pack_into(">7i", mgh, 0, 1, 1024, 1024, 1024, 1, 0, 0)  # uchar, 1 frame
     put("gzip.mgz", gzip_of_zeros_after(bytes(mgh), GIB),
         "MGH: 1 GiB of gzip voxels")
+    def ome_zarr(name, shape, chunks, files):
+        zarr = os.path.join(folder, name)
+        os.makedirs(os.path.join(zarr, "0"))
+        with open(os.path.join(zarr, ".zattrs"), "w") as f:
+            json.dump({"multiscales": [{"version": "0.4", "axes": [
+                {"name": a, "type": "space"} for a in "zyx"], "datasets": [
+                {"path": "0", "coordinateTransformations": [{"type": "scale",
+                                                             "scale": [1, 1, 1]}]}]}]}, f)
+        with open(os.path.join(zarr, ".zgroup"), "w") as f:
+            json.dump({"zarr_format": 2}, f)
+        with open(os.path.join(zarr, "0", ".zarray"), "w") as f:
+            json.dump({"zarr_format": 2, "shape": shape, "chunks": chunks, "dtype": "|u1",
+                       "order": "C", "fill_value": 0, "compressor": {"id": "gzip", "level": 1},
+                       "filters": None}, f)
+        for chunk, data in files.items():
+            with open(os.path.join(zarr, "0", chunk), "wb") as f:
+                f.write(data)
+        return zarr
+
     # OME-Zarr: a chunk of 64^3 bytes whose gzip stream inflates to 128 MiB (in a file no
     # larger than an honest chunk may be).
-    zarr = os.path.join(folder, "chunk.zarr")
-    os.makedirs(os.path.join(zarr, "0"))
-    with open(os.path.join(zarr, ".zattrs"), "w") as f:
-        json.dump({"multiscales": [{"version": "0.4", "axes": [
-            {"name": a, "type": "space"} for a in "zyx"], "datasets": [
-            {"path": "0", "coordinateTransformations": [{"type": "scale",
-                                                         "scale": [1, 1, 1]}]}]}]}, f)
-    with open(os.path.join(zarr, ".zgroup"), "w") as f:
-        json.dump({"zarr_format": 2}, f)
-    with open(os.path.join(zarr, "0", ".zarray"), "w") as f:
-        json.dump({"zarr_format": 2, "shape": [64, 64, 64], "chunks": [64, 64, 64],
-                   "dtype": "|u1", "order": "C", "fill_value": 0,
-                   "compressor": {"id": "gzip", "level": 1}, "filters": None}, f)
-    with open(os.path.join(zarr, "0", "0.0.0"), "wb") as f:
-        f.write(deflated_zeros(128 << 20, 31))
+    zarr = ome_zarr("chunk.zarr", [64, 64, 64], [64, 64, 64],
+                    {"0.0.0": deflated_zeros(128 << 20, 31)})
     out.append((zarr, "OME-Zarr: a 256 KiB chunk whose gzip data inflates to 128 MiB",
                 render(zarr)))
+    # OME-Zarr: two layers of honest 128 MiB chunks, each within the budget, decoded at once.
+    layer = deflated_zeros(128 << 20, 31)
+    zarr = ome_zarr("layers.zarr", [256, 1024, 1024], [128, 1024, 1024],
+                    {"0.0.0": layer, "1.0.0": layer})
+    out.append((zarr, "OME-Zarr: two layers of 128 MiB chunks in 260 KB", render(zarr)))
     # TRX: positions of 1 GiB of zeros, deflated, the directory telling the truth.
     n, v = 1, GIB // 12
     header = json.dumps({"DIMENSIONS": [1, 1, 1], "NB_STREAMLINES": n, "NB_VERTICES": v,
