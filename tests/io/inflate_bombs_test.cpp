@@ -164,6 +164,34 @@ TEST(InflateBombs, CompressedVolumesClaimingMoreThanTheBudgetAreRefusedBeforeRea
   expect_claim_refused(dir / "bz.nrrd", "bzip2 voxel data");
 }
 
+TEST(InflateBombs, AFrameOfCompressedFourDDataIsClaimedByItself) {
+  // 8 frames of 64^3 uint16 (512 KiB each, 4 MiB in all) under a 2 MiB budget: one frame is
+  // what a whole read keeps, so a frame reads though all of them would not fit.
+  LimitsGuard guard;
+  TempDir dir;
+  const std::string frame(size_t{64} * 64 * 64 * 2, '\0');
+  std::string frames;
+  for (int f = 0; f < 8; ++f) frames += frame;
+  write_bytes(dir / "dwi.nrrd",
+              "NRRD0004\ntype: uint16\ndimension: 4\nsizes: 64 64 64 8\nkinds: domain domain "
+              "domain list\nspace: left-posterior-superior\nspace directions: (1,0,0) (0,1,0) "
+              "(0,0,1) none\nendian: little\nencoding: gzip\n\n" +
+                  test::gzipped(frames));
+  VolumeData one;
+  one.dims = glm::ivec3(64);
+  one.voxels = std::vector<uint16_t>(size_t{64} * 64 * 64, 0);
+  write_nifti_frames(std::vector<VolumeData>(8, one), dir / "bold.nii.gz");
+  set_input_limits({2 * kMiB, false});
+  for (const char* name : {"dwi.nrrd", "bold.nii.gz"}) {
+    SCOPED_TRACE(name);
+    EXPECT_EQ(read_volume(dir / name, 5).dims, glm::ivec3(64));
+  }
+  set_input_limits({kMiB / 2, false});  // half of it is less than a frame
+  expect_error([&] { read_volume(dir / "dwi.nrrd", 5); },
+               {"dwi.nrrd", "gzip voxel data of one frame claims 512.0 KiB",
+                "half the memory budget of 512.0 KiB"});
+}
+
 TEST(InflateBombs, ACompressedGridOfMoreVoxelsThanOneVolumeHoldsIsRefusedNotBricked) {
   // 2048^3 uint8 under the default budget: more voxels than a volume in memory holds, which an
   // uncompressed file renders in bricks. Only the header is written: nothing is inflated.

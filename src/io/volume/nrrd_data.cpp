@@ -135,12 +135,10 @@ DataFile survey(const NrrdData& d, size_t index, uint64_t elements) {
     }
     case NrrdEncoding::gzip:
       check_inflatable(f.bytes + skip, after(start), f.what);
-      refuse_compressed_claim(f.bytes, f.elements > kMaxVoxels, f.what, "gzip voxel data");
       f.start = start;
       break;
     case NrrdEncoding::bzip2:
       check_bzip2_inflatable(f.bytes + skip, after(start), f.what);
-      refuse_compressed_claim(f.bytes, f.elements > kMaxVoxels, f.what, "bzip2 voxel data");
       f.start = start;
       break;
     case NrrdEncoding::ascii:
@@ -368,12 +366,21 @@ class DataSource {
 
 VoxelStorage read_nrrd_voxels(const NrrdData& data, const NrrdGrid& grid, int frame,
                               const VoxelBox& box) {
-  require_loadable_box(box, data.header.string());
   const size_t file_count = std::max<size_t>(data.files.size(), 1);
   std::vector<DataFile> files;
   files.reserve(file_count);
   for (size_t i = 0; i < file_count; ++i)
     files.push_back(survey(data, i, data.elements / file_count));
+  // Before the box's own limits: compressed data has no bricks to fall back on, so one frame of
+  // it must be one a whole read may take.
+  if (data.encoding == NrrdEncoding::gzip || data.encoding == NrrdEncoding::bzip2) {
+    const uint64_t frame_voxels = VoxelBox::whole(grid.dims).count();
+    refuse_compressed_claim(
+        frame_voxels * raw_type_size(data.type), frame_voxels > kMaxVoxels, data.header.string(),
+        fmt::format("{} voxel data{}", data.encoding == NrrdEncoding::gzip ? "gzip" : "bzip2",
+                    grid.frames > 1 ? " of one frame" : ""));
+  }
+  require_loadable_box(box, data.header.string());
 
   const size_t size = raw_type_size(data.type);
   const bool swap = data.big_endian && data.encoding != NrrdEncoding::ascii;
