@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <span>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -21,8 +23,10 @@
 #include "expect_error.hpp"
 #include "intermix/dicom.hpp"
 #include "intermix/io.hpp"
+#include "intermix/limits.hpp"
 #include "io/dicom/dicom_suv.hpp"
 #include "io/dicom/dicom_tags.hpp"
+#include "io/streams/gzip.hpp"
 #include "linear_time.hpp"
 #include "temp_dir.hpp"
 
@@ -869,6 +873,23 @@ TEST(DicomVolumes, GzipCompressedFilesReadAsTheirContentAndErrorsNameThem) {
   } catch (const std::exception& e) {
     EXPECT_EQ(std::string(e.what()).find("intermix-dcmgz"), std::string::npos) << e.what();
   }
+}
+
+// A .dcm.gz is inflated to a temporary file no larger than the memory budget (it could not be
+// read past it): 8 MiB of zeros in 8 KB under a 4 MiB budget were written out whole, up to
+// 4 GiB whatever the budget (issue 48, item 2).
+TEST(DicomVolumes, AGzipFileIsInflatedNoFurtherThanTheBudget) {
+  TempDir dir;
+  const std::string zeros(size_t{8} << 20, '\0');
+  std::ostringstream packed;
+  detail::gzip(std::span(reinterpret_cast<const uint8_t*>(zeros.data()), zeros.size()), packed, 9,
+               "test");
+  test::write_bytes(dir / "big.dcm.gz", packed.str());
+  set_input_limits({uint64_t{4} << 20, false});
+  const std::string message = expect_error([&] { read_dicom(dir / "big.dcm.gz"); },
+                                           {"big.dcm.gz", "memory budget of 4.0 MiB"});
+  set_input_limits({});
+  EXPECT_EQ(message.find("not a DICOM file"), std::string::npos) << message;
 }
 
 }  // namespace
