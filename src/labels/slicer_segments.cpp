@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <map>
 #include <optional>
+#include <unordered_map>
 #include <unordered_set>
 
 #include <fmt/format.h>
@@ -89,6 +90,7 @@ std::vector<LabelEntry> parse_slicer_segments(const std::vector<NrrdKeyValue>& f
   const bool legacy = !segments.begin()->second.label_value && !segments.begin()->second.layer;
   std::vector<int> per_layer(static_cast<size_t>(layers), 0);
   std::vector<LabelEntry> out;
+  std::unordered_map<int32_t, size_t> by_value;  // the layer's labels, checked in linear time
   int64_t expected = 0;
   for (const auto& [n, s] : segments) {
     const std::string seg = fmt::format("Segment{}", n);
@@ -130,10 +132,9 @@ std::vector<LabelEntry> parse_slicer_segments(const std::vector<NrrdKeyValue>& f
     } else {
       e.color = default_label_color(e.value);  // Slicer generates one too
     }
-    for (const LabelEntry& o : out)
-      if (o.value == e.value)
-        throw Error(fmt::format("{}: {} and '{}' both have label {} in layer {}", what, seg, o.name,
-                                e.value, layer));
+    if (auto [it, fresh] = by_value.try_emplace(e.value, out.size()); !fresh)
+      throw Error(fmt::format("{}: {} and '{}' both have label {} in layer {}", what, seg,
+                              out[it->second].name, e.value, layer));
     out.push_back(std::move(e));
   }
   for (int k = 0; k < layers; ++k)

@@ -235,6 +235,23 @@ TEST(CliBadInput, APngClaimingHugeDimensionsIsRefusedBeforeDecoding) {
   EXPECT_NE(r.output.find("cannot inflate to that much"), std::string::npos) << r.output;
 }
 
+// A compressed volume whose claim the budget cannot hold whole is refused before it is read,
+// in one line naming the file, the claim and the budget: it was rendered in bricks, each brick
+// inflating the whole stream again (an 8 MB .nii.gz claiming 8 GiB ran on past 90 s).
+TEST(CliBadInput, ACompressedVolumeOverTheBudgetIsRefusedNotBricked) {
+  TempDir dir;
+  const std::string volume = (dir / "head.nii.gz").string();
+  ASSERT_EQ(run_cli("phantom ct-head --size 128 -o " + volume).exit_code, 0);  // 2.4 MiB
+  const CliResult r = run_cli("--max-memory 4M render " + volume + " --width 32 --height 32 -o " +
+                              (dir / "out.png").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  for (const char* part : {"head.nii.gz", "gzip voxel data claims 2.4 MiB",
+                           "half the memory budget of 4.0 MiB", "decompress the file"})
+    EXPECT_NE(r.output.find(part), std::string::npos) << part << " missing from: " << r.output;
+  EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << "more than one line: " << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.png"));
+}
+
 TEST(CliBadInput, RangeErrorsPrintShortBounds) {
   CliResult r = run_cli("compare a.png b.png --scale 1e400");
   EXPECT_NE(r.exit_code, 0);

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <span>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -21,7 +23,11 @@
 #include "expect_error.hpp"
 #include "intermix/dicom.hpp"
 #include "intermix/io.hpp"
+#include "intermix/limits.hpp"
 #include "io/dicom/dicom_suv.hpp"
+#include "io/dicom/dicom_tags.hpp"
+#include "io/streams/gzip.hpp"
+#include "linear_time.hpp"
 #include "temp_dir.hpp"
 
 namespace imx {
@@ -869,6 +875,23 @@ TEST(DicomVolumes, GzipCompressedFilesReadAsTheirContentAndErrorsNameThem) {
   }
 }
 
+// A .dcm.gz is inflated to a temporary file no larger than the memory budget (it could not be
+// read past it): 8 MiB of zeros in 8 KB under a 4 MiB budget were written out whole, up to
+// 4 GiB whatever the budget (issue 48, item 2).
+TEST(DicomVolumes, AGzipFileIsInflatedNoFurtherThanTheBudget) {
+  TempDir dir;
+  const std::string zeros(size_t{8} << 20, '\0');
+  std::ostringstream packed;
+  detail::gzip(std::span(reinterpret_cast<const uint8_t*>(zeros.data()), zeros.size()), packed, 9,
+               "test");
+  test::write_bytes(dir / "big.dcm.gz", packed.str());
+  set_input_limits({uint64_t{4} << 20, false});
+  const std::string message = expect_error([&] { read_dicom(dir / "big.dcm.gz"); },
+                                           {"big.dcm.gz", "memory budget of 4.0 MiB"});
+  set_input_limits({});
+  EXPECT_EQ(message.find("not a DICOM file"), std::string::npos) << message;
+}
+
 }  // namespace
 }  // namespace imx
 
@@ -904,6 +927,26 @@ TEST(DicomVolumes, ImagesWithoutPositionsAreStackedAsOneVolume) {
   placed.position = glm::dvec3(0, 0, 7);
   write_slice(dir / "p3.dcm", placed);
   expect_error([&] { read_dicom(dir.path()); }, {"no ImagePositionPatient"});
+}
+
+// A DICOM text value's padding is trimmed in linear time (issue 48, item 3): the leading spaces
+// of a value were erased one at a time, each moving the rest of the value, so that 256 KiB of
+// them took far longer than 16 values of 16 KiB. Values are read whole from a file of any size;
+// 256 KiB is far more than any real one.
+TEST(DicomTags, TextValuesAreTrimmedInLinearTime) {
+  auto data_set = [](size_t padding) {
+    gdcm::DataSet ds;
+    put_text(ds, 0x0028, 0x1053, gdcm::VR::DS, std::string(padding, ' ') + "1.5\\2.5");
+    return ds;
+  };
+  const gdcm::DataSet full = data_set(size_t{256} << 10), part = data_set(size_t{16} << 10);
+  auto read = [&](const std::string& which) {
+    const std::vector<double> v =
+        detail::tag_numbers(which == "full" ? full : part, 0x0028, 0x1053);
+    EXPECT_EQ(v, (std::vector<double>{1.5, 2.5}));
+  };
+  EXPECT_LE(test::growth_over_linear(read, "full", "part"), test::kMaxGrowthOverLinear)
+      << "time(n) / (16 time(n/16))";
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "intermix/labels.hpp"
 #include "io/streams/header_text.hpp"
 #include "labels/colour_table_readers.hpp"
+#include "linear_time.hpp"
 #include "temp_dir.hpp"
 
 namespace imx {
@@ -232,6 +233,57 @@ TEST(SlicerSegments, KeysAreReadInLinearTime) {
   };
   const double ratio = seconds(full, 1) / seconds(part, 16);
   EXPECT_LE(ratio, 4.0) << "time(n) / (16 time(n/16))";
+}
+
+// A .seg.nrrd header at its size limit (4 MiB: read_slicer_segments reads no more) lists some
+// 50,000 segments; their labels were checked for duplicates against every earlier segment, 28
+// times the time of 16 headers of a sixteenth (issue 48, item 3). Now a hash map: linear.
+TEST(SlicerSegments, SegmentsAreCheckedInLinearTime) {
+  auto header = [](size_t bytes) {
+    std::string h = "NRRD0004\n";
+    for (int n = 0;; ++n) {
+      const std::string segment = fmt::format(
+          "Segment{0}_Name:=s{0}\nSegment{0}_LabelValue:={1}\nSegment{0}_Layer:=0\n", n, n + 1);
+      if (h.size() + segment.size() > bytes) return h;
+      h += segment;
+    }
+  };
+  constexpr size_t kLimit = size_t{4} << 20;
+  const std::string full = header(kLimit), part = header(kLimit / 16);
+  auto parse = [](const std::string& h) {
+    const auto fields = labels_detail::nrrd_key_values(h, "s.seg.nrrd");
+    EXPECT_FALSE(labels_detail::parse_slicer_segments(fields, 1, 0, "s.seg.nrrd").empty());
+  };
+  EXPECT_LE(test::growth_over_linear(parse, full, part, 3), test::kMaxGrowthOverLinear)
+      << "time(n) / (16 time(n/16))";
+}
+
+// FreeSurfer LUTs and ITK-SNAP label files at the 16 MiB a colour table may have (some 500,000
+// rows) against a sixteenth, rows and the duplicate check (validate_label_entries) together.
+TEST(LabelEntries, TextTablesAreReadInLinearTime) {
+  constexpr size_t kLimit = size_t{16} << 20;
+  auto table = [](size_t bytes, bool itksnap) {
+    std::string t = "# a colour table\n";
+    for (int n = 1;; ++n) {
+      const std::string row = itksnap ? fmt::format("{} 10 20 30 1 1 1 \"label {}\"\n", n, n)
+                                      : fmt::format("{} label_{} 10 20 30 0\n", n, n);
+      if (t.size() + row.size() > bytes) return t;
+      t += row;
+    }
+  };
+  for (bool itksnap : {false, true}) {
+    SCOPED_TRACE(itksnap ? "ITK-SNAP" : "FreeSurfer LUT");
+    auto parse = [&](const std::string& text) {
+      const std::vector<LabelEntry> entries =
+          itksnap ? labels_detail::parse_itksnap_labels(text, "t.txt")
+                  : labels_detail::parse_freesurfer_lut(text, "t.txt");
+      validate_label_entries(entries, "t.txt");
+    };
+    EXPECT_LE(
+        test::growth_over_linear(parse, table(kLimit, itksnap), table(kLimit / 16, itksnap), 3),
+        test::kMaxGrowthOverLinear)
+        << "time(n) / (16 time(n/16))";
+  }
 }
 
 }  // namespace

@@ -3,13 +3,18 @@
 // voxel), AFNI (base to source, LPS); the ITK classes' parameter conventions on hand-worked
 // points; and one clear line for each kind of bad file.
 #include <cmath>
+#include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "expect_error.hpp"
 #include "intermix/io.hpp"
+#include "linear_time.hpp"
 #include "registration/transform_file.hpp"
+#include "registration/transform_readers.hpp"
 #include "registration_files.hpp"
 #include "temp_dir.hpp"
 
@@ -352,6 +357,46 @@ TEST(BadTransformFiles, OneClearLineEach) {
   expect_error([&] { read_transform_file(dir.path()); }, {"directory"});
   const auto big = dir.write("big.tfm", std::string(kMaxTransformFileBytes + 1, '#'));
   expect_error([&] { read_transform_file(big); }, {"big.tfm", "at most"});
+}
+
+// Every transform format's text at the 1 MiB a transform file may have against a sixteenth of
+// it (issue 48, item 3): an ITK composite of many affines, an LTA whose volume info repeats its
+// fields, an AFNI and an FSL matrix after many comment or blank lines.
+TEST(TransformFile, EveryFormatIsReadInLinearTime) {
+  constexpr size_t kLimit = kMaxTransformFileBytes;
+  const std::string lta_head =
+      "type      = 1 # LINEAR_RAS_TO_RAS\nnxforms   = 1\nmean      = 0 0 0\nsigma     = 1\n"
+      "1 4 4\n1 0 0 2\n0 1 0 3\n0 0 1 4\n0 0 0 1\nsrc volume info\nvalid = 1\n"
+      "dst volume info\nvalid = 1\n";
+  const std::string affine = "1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n";
+  struct Case {
+    const char* name;
+    std::string head, unit, tail;
+    std::function<void(const std::string&)> parse;
+  };
+  const std::vector<Case> cases = {
+      {"ITK composite",
+       "#Insight Transform File V1.0\n#Transform 0\nTransform: CompositeTransform_double_3\n",
+       "#Transform 1\nTransform: AffineTransform_double_3_3\nParameters: 1 0 0 0 1 0 0 0 1 0.5 0 "
+       "0\nFixedParameters: 0 0 0\n",
+       "", [](const std::string& t) { parse_transform_file(t, "t.tfm"); }},
+      {"FreeSurfer LTA", lta_head, "volume = 256 256 256\nvoxelsize = 1 1 1\n", "",
+       [](const std::string& t) { detail::read_lta(t, "t.lta"); }},
+      {"AFNI", "", "# 3dAllineate matrix, a comment line\n", "1 0 0 0 0 1 0 0 0 0 1 0\n",
+       [](const std::string& t) { detail::read_afni_aff12(t, "t.aff12.1D"); }},
+      {"FSL", "", "   \n", affine,
+       [](const std::string& t) { detail::read_fsl_matrix(t, "t.mat"); }},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    auto text = [&](size_t bytes) {
+      return test::repeated_to(c.head, c.unit, bytes - c.tail.size()) + c.tail;
+    };
+    const std::string full = text(kLimit), part = text(kLimit / 16);
+    ASSERT_NO_THROW(c.parse(full));
+    EXPECT_LE(test::growth_over_linear(c.parse, full, part), test::kMaxGrowthOverLinear)
+        << "time(n) / (16 time(n/16))";
+  }
 }
 
 }  // namespace

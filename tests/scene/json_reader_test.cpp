@@ -2,10 +2,14 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "expect_error.hpp"
+#include "linear_time.hpp"
+#include "scene/strict_json.hpp"
 
 namespace imx::scene_json {
 namespace {
@@ -48,6 +52,37 @@ TEST(JsonReader, LongValuesAreShortenedInMessages) {
   std::string msg = error_of([&] { r.string(); });
   EXPECT_CONTAINS(msg, "...");
   EXPECT_LT(msg.size(), 120u);
+}
+
+// Malformed text and numbers beyond a double are nlohmann's own exceptions, of their own types,
+// as nlohmann::json::parse throws them: callers name them differently.
+TEST(StrictJson, ParseErrorsKeepTheirTypes) {
+  EXPECT_THROW(parse_strict_json("{", "m"), nlohmann::json::parse_error);
+  EXPECT_THROW(parse_strict_json("[1, 2e400]", "m"), nlohmann::json::out_of_range);
+  test::expect_error([] { parse_strict_json(R"({"a": {"b": 1, "b": 2}})", "m"); },
+                     {"m: a: key 'b' appears twice in the same object"});
+}
+
+// Scene JSON through the strict parser (duplicate keys, depth) at 4 MiB against a sixteenth
+// (issue 48, item 3): one object of many keys, and an array of many small objects.
+TEST(StrictJson, IsReadInLinearTime) {
+  constexpr size_t kBytes = size_t{4} << 20;
+  const auto keys = [](size_t bytes) {
+    int key = 0;
+    std::string s = "{";
+    while (s.size() + 40 < bytes) s += fmt::format("\"key_{}\": [1, 2.5, \"x\"], ", key++);
+    return s + "\"last\": 0}";
+  };
+  const auto objects = [](size_t bytes) {
+    return test::repeated_to("[", "{\"a\": 1, \"b\": {\"c\": [true, null]}}, ", bytes - 4) + "{}]";
+  };
+  const auto parse = [](const std::string& text) { parse_strict_json(text, "scene.json"); };
+  EXPECT_LE(test::growth_over_linear(parse, keys(kBytes), keys(kBytes / 16)),
+            test::kMaxGrowthOverLinear)
+      << "keys: time(n) / (16 time(n/16))";
+  EXPECT_LE(test::growth_over_linear(parse, objects(kBytes), objects(kBytes / 16)),
+            test::kMaxGrowthOverLinear)
+      << "objects: time(n) / (16 time(n/16))";
 }
 
 }  // namespace

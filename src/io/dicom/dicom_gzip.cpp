@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
+#include "intermix/limits.hpp"
 #include "io/streams/gzip.hpp"
 #include "io/streams/input_file.hpp"
 
@@ -38,7 +39,15 @@ std::filesystem::path InflatedDicomFiles::add(const std::filesystem::path& gz) {
   std::string stem = gz.filename().string();
   stem.resize(stem.size() - 3);  // without .gz
   const std::filesystem::path out = folder_ / fmt::format("{}_{}", names_.size(), stem);
-  gunzip_file(gz, out, kMaxInflatedDicomBytes, what, "not a DICOM file");
+  // A DICOM file is read into memory up to its pixels, and its pixels are charged whole: one
+  // that inflates past the budget could never be read, and is not written out.
+  const uint64_t budget = input_limits().max_memory;
+  if (budget < kMaxInflatedDicomBytes)
+    gunzip_file(gz, out, budget, what,
+                fmt::format("more than the memory budget of {} (raise it with --max-memory)",
+                            format_bytes(budget)));
+  else
+    gunzip_file(gz, out, kMaxInflatedDicomBytes, what, "not a DICOM file");
   names_.emplace_back(out.string(), what);
   return out;
 }

@@ -58,7 +58,7 @@ std::optional<std::string> tag_text(const gdcm::DataSet& ds, uint16_t group, uin
   if (bv == nullptr) return std::nullopt;
   std::string s(bv->GetPointer(), bv->GetLength());
   while (!s.empty() && (s.back() == ' ' || s.back() == '\0')) s.pop_back();
-  while (!s.empty() && s.front() == ' ') s.erase(s.begin());
+  s.erase(0, std::min(s.size(), s.find_first_not_of(' ')));  // at once: linear in the padding
   if (s.empty()) return std::nullopt;
   return s;
 }

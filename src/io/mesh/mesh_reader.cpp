@@ -81,7 +81,11 @@ MeshFile read_mesh_file(const std::filesystem::path& file, const MeshReadOptions
   info.file_normals = mesh.normals.size() == mesh.positions.size();
   info.file_vertices = mesh.positions.size();
   if (!info.file_normals) {
-    detail::compute_vertex_normals(mesh, options.crease_angle_deg, &out.file_vertex);
+    try {
+      detail::compute_vertex_normals(mesh, options.crease_angle_deg, &out.file_vertex);
+    } catch (const OutOfMemory& e) {  // the budget's refusal names the mesh, not the file
+      throw OutOfMemory(fmt::format("{}: {}", file.string(), e.what()));
+    }
   } else {
     out.file_vertex.resize(mesh.positions.size());
     for (size_t i = 0; i < out.file_vertex.size(); ++i)

@@ -1,6 +1,5 @@
 // XML PolyData (.vtp), read with expat; the appended data after the XML is read by offset.
 #include <expat.h>
-#include <zlib.h>
 
 #include <algorithm>
 #include <array>
@@ -17,12 +16,13 @@
 #include <glm/glm.hpp>
 
 #include "intermix/error.hpp"
-#include "intermix/limits.hpp"
 #include "io/mesh/mesh_space.hpp"
 #include "io/mesh/polydata.hpp"
 #include "io/streams/base64.hpp"
+#include "io/streams/bounded_inflate.hpp"
 #include "io/streams/byte_cursor.hpp"
 #include "io/streams/header_text.hpp"
+#include "io/streams/inflate_charge.hpp"
 #include "io/streams/xml_parser.hpp"
 
 namespace imx::detail {
@@ -291,7 +291,8 @@ struct Parser {
 };
 
 // The value bytes of one array, decompressed: from base64 text (format binary) or the appended
-// data (raw or base64).
+// data (raw or base64). Each array's bytes are charged to the file's InflateCharge before they
+// are allocated: arrays whose offsets all name one compressed block cost once each.
 class Decoder {
  public:
   Decoder(const Parser& p, std::string_view appended, bool appended_base64, std::string what)
@@ -302,7 +303,7 @@ class Decoder {
         appended_base64_(appended_base64),
         what_(std::move(what)) {}
 
-  std::string bytes(const ArrayRef& r) const {
+  std::string bytes(const ArrayRef& r, InflateCharge& charge) const {
     const std::string field = fmt::format("data array '{}' ({})", shown(r.name), r.section);
     std::optional<ByteSource> source;
     if (r.format == "binary") {
@@ -316,7 +317,7 @@ class Decoder {
       source.emplace(appended_.substr(static_cast<size_t>(r.offset)), appended_base64_);
     }
     try {
-      return compressed_ ? inflate_blocks(*source, field) : plain(*source, field);
+      return compressed_ ? inflate_blocks(*source, field, charge) : plain(*source, field, charge);
     } catch (const Error& e) {
       const std::string m = e.what();
       if (m.starts_with(what_)) throw;
@@ -339,17 +340,18 @@ class Decoder {
     return header_bytes_ == 8 ? c.read<uint64_t>("a header") : c.read<uint32_t>("a header");
   }
 
-  std::string plain(ByteSource& s, const std::string& field) const {
+  std::string plain(ByteSource& s, const std::string& field, InflateCharge& charge) const {
     const uint64_t n = header(s, field);
     if (n > s.bound())
       fail(fmt::format("{}: its header claims {} bytes, more than the data holds", field, n));
+    charge.charge(n, field);
     std::string out;
     if (!s.read(static_cast<size_t>(n), out))
       fail(fmt::format("{}: its header claims {} bytes, more than the data holds", field, n));
     return out;
   }
 
-  std::string inflate_blocks(ByteSource& s, const std::string& field) const {
+  std::string inflate_blocks(ByteSource& s, const std::string& field, InflateCharge& charge) const {
     const uint64_t blocks = header(s, field);
     const uint64_t block_size = header(s, field);
     const uint64_t last_size = header(s, field);
@@ -370,23 +372,20 @@ class Decoder {
                        total > compressed_total * 1032 + 1024))
       fail(fmt::format("{}: {} blocks of {} bytes cannot come from {} compressed bytes", field,
                        blocks, block_size, compressed_total));
-    check_memory(total, fmt::format("{} ({})", what_, field));
-    std::string out;
-    out.reserve(static_cast<size_t>(total));
+    charge.charge(total, fmt::format("{}, inflated,", field));
+    std::string out(static_cast<size_t>(total), '\0');
+    auto* at = reinterpret_cast<uint8_t*>(out.data());
+    std::string packed;
     for (uint64_t b = 0; b < blocks; ++b) {
-      std::string packed;
+      packed.clear();
       if (!s.read(static_cast<size_t>(sizes[b]), packed))
         fail(fmt::format("{}: the data ends inside compressed block {}", field, b));
-      const uint64_t want = b + 1 == blocks && last_size != 0 ? last_size : block_size;
-      std::string block(static_cast<size_t>(want), '\0');
-      uLongf got = static_cast<uLongf>(want);
-      const int rc = uncompress(reinterpret_cast<Bytef*>(block.data()), &got,
-                                reinterpret_cast<const Bytef*>(packed.data()),
-                                static_cast<uLong>(packed.size()));
-      if (rc != Z_OK || got != want)
-        fail(fmt::format("{}: compressed block {} does not inflate to its {} bytes", field, b,
-                         want));
-      out += block;
+      const auto want =
+          static_cast<size_t>(b + 1 == blocks && last_size != 0 ? last_size : block_size);
+      inflate_exactly(std::span(reinterpret_cast<const uint8_t*>(packed.data()), packed.size()),
+                      std::span(at, want), fmt::format("compressed block {}", b).c_str(),
+                      fmt::format("{}: {}", what_, field));
+      at += want;
     }
     return out;
   }
@@ -413,8 +412,11 @@ std::vector<std::string_view> words(std::string_view s) {
   return out;
 }
 
-// An array's values as doubles (a String array's bytes, 0-terminated strings).
-std::vector<double> decode(const ArrayRef& r, const Decoder& d, const std::string& what) {
+// An array's values as doubles (a String array's bytes, 0-terminated strings). The doubles stay
+// charged to `charge` (the caller releases them once it has let them go); the decoded bytes are
+// released here.
+std::vector<double> decode(const ArrayRef& r, const Decoder& d, const std::string& what,
+                           InflateCharge& charge) {
   const TypeInfo t = *type_info(r.type);
   std::vector<double> out;
   if (r.format == "ascii") {
@@ -425,13 +427,16 @@ std::vector<double> decode(const ArrayRef& r, const Decoder& d, const std::strin
                                 shown(w)));
       out.push_back(*v);
     }
+    charge.charge(out.size() * sizeof(double),
+                  fmt::format("data array '{}' ({}) as numbers", shown(r.name), r.section));
     return out;
   }
-  const std::string bytes = d.bytes(r);
+  const std::string bytes = d.bytes(r, charge);
   if (bytes.size() % static_cast<size_t>(t.bytes) != 0)
     throw Error(fmt::format("{}: data array '{}' has {} bytes, not a whole number of {} values",
                             what, shown(r.name), bytes.size(), r.type));
-  check_memory(bytes.size() / t.bytes * 8, what);
+  charge.charge(bytes.size() / static_cast<size_t>(t.bytes) * sizeof(double),
+                fmt::format("data array '{}' ({}) as numbers", shown(r.name), r.section));
   ByteCursor c(bytes, what, d.big_endian());
   out.reserve(bytes.size() / static_cast<size_t>(t.bytes));
   while (!c.at_end()) {
@@ -449,6 +454,7 @@ std::vector<double> decode(const ArrayRef& r, const Decoder& d, const std::strin
                       : static_cast<double>(c.read<uint64_t>("a value"));
     out.push_back(v);
   }
+  charge.release(bytes.size());
   return out;
 }
 
@@ -581,7 +587,12 @@ PolyDataFile read_vtp(const std::filesystem::path& file, bool keep_lines) {
   PolyDataFile out;
   uint64_t total_points = 0;
   for (const PieceInfo& piece : p.pieces) total_points += piece.points;
-  check_memory(total_points * 40, what);
+  // Everything decoded from the file is charged here, against one budget.
+  InflateCharge charge(what);
+  // The mesh's positions, normals and colours.
+  charge.charge(total_points * 40, fmt::format("NumberOfPoints {}", total_points));
+  // Values decoded only to be copied elsewhere: their charge goes with them.
+  auto let_go = [&](const std::vector<double>& v) { charge.release(v.size() * sizeof(double)); };
   std::map<std::string, size_t> data_index;  // point data arrays by name
   uint64_t base = 0;
   for (size_t k = 0; k < p.pieces.size(); ++k) {
@@ -601,12 +612,13 @@ PolyDataFile read_vtp(const std::filesystem::path& file, bool keep_lines) {
       if (points->components != 3)
         throw Error(
             fmt::format("{}: <Points> has {} components, not 3", piece_what, points->components));
-      const std::vector<double> xyz = decode(*points, decoder, what);
+      const std::vector<double> xyz = decode(*points, decoder, what, charge);
       if (xyz.size() != piece.points * 3)
         throw Error(fmt::format("{}: <Points> holds {} values, NumberOfPoints {} needs {}",
                                 piece_what, xyz.size(), piece.points, piece.points * 3));
       for (size_t i = 0; i + 2 < xyz.size(); i += 3)
         out.mesh.positions.emplace_back(xyz[i], xyz[i + 1], xyz[i + 2]);
+      let_go(xyz);
     }
     for (const char* section : {"Polys", "Strips"}) {
       const uint64_t cells = std::string_view(section) == "Polys" ? piece.polys : piece.strips;
@@ -616,23 +628,32 @@ PolyDataFile read_vtp(const std::filesystem::path& file, bool keep_lines) {
       if (!connectivity || !offsets)
         throw Error(
             fmt::format("{}: <{}> lacks its connectivity or offsets array", piece_what, section));
-      add_cells(out, decode(*connectivity, decoder, what), decode(*offsets, decoder, what), cells,
-                base, piece.points, std::string_view(section) == "Strips",
+      const std::vector<double> c = decode(*connectivity, decoder, what, charge);
+      const std::vector<double> o = decode(*offsets, decoder, what, charge);
+      const size_t before = out.mesh.triangles.size();
+      add_cells(out, c, o, cells, base, piece.points, std::string_view(section) == "Strips",
                 fmt::format("{} {}", piece_what, section));
+      let_go(c);
+      let_go(o);
+      charge.charge((out.mesh.triangles.size() - before) * sizeof(glm::uvec3),
+                    fmt::format("{}'s triangles", section));
     }
     if (keep_lines && piece.lines > 0) {
       const ArrayRef* connectivity = find("Lines", "connectivity");
       const ArrayRef* offsets = find("Lines", "offsets");
       if (!connectivity || !offsets)
         throw Error(fmt::format("{}: <Lines> lacks its connectivity or offsets array", piece_what));
-      add_lines(out.lines, decode(*connectivity, decoder, what), decode(*offsets, decoder, what),
-                piece.lines, base, piece.points, piece_what + " Lines");
+      const std::vector<double> c = decode(*connectivity, decoder, what, charge);
+      const std::vector<double> o = decode(*offsets, decoder, what, charge);
+      add_lines(out.lines, c, o, piece.lines, base, piece.points, piece_what + " Lines");
+      let_go(c);
+      let_go(o);
     }
     // Cell data, ordered vertices, lines, polygons, strips: the lines' tuples of each array.
     for (size_t i = 0; keep_lines && i < p.arrays.size(); ++i) {
       const ArrayRef& r = p.arrays[i];
       if (r.piece != static_cast<int>(k) || r.section != "CellData") continue;
-      const std::vector<double> v = decode(r, decoder, what);
+      const std::vector<double> v = decode(r, decoder, what, charge);  // its lines' part is kept
       const uint64_t cells = piece.verts + piece.lines + piece.polys + piece.strips;
       const auto c = static_cast<uint64_t>(r.components);
       if (v.size() != cells * c)
@@ -656,7 +677,7 @@ PolyDataFile read_vtp(const std::filesystem::path& file, bool keep_lines) {
     std::vector<glm::vec3> normals;
     for (const ArrayRef& r : p.arrays) {
       if (r.piece != static_cast<int>(k) || r.section != "PointData") continue;
-      std::vector<double> v = decode(r, decoder, what);
+      std::vector<double> v = decode(r, decoder, what, charge);  // kept, but for the normals
       if (v.size() != piece.points * static_cast<uint64_t>(r.components))
         throw Error(fmt::format("{}: point data '{}' holds {} values, {} points of {} need {}",
                                 piece_what, shown(r.name), v.size(), piece.points, r.components,
@@ -667,6 +688,7 @@ PolyDataFile read_vtp(const std::filesystem::path& file, bool keep_lines) {
           const double len = glm::length(n);
           normals.push_back(std::isfinite(len) && len > 0.0 ? glm::vec3(n / len) : glm::vec3(0.0f));
         }
+        let_go(v);
         continue;
       }
       auto [it, fresh] = data_index.emplace(r.name, out.point_data.size());
@@ -680,7 +702,10 @@ PolyDataFile read_vtp(const std::filesystem::path& file, bool keep_lines) {
       if (d.components != r.components)
         throw Error(
             fmt::format("{}: point data '{}' changes its components", piece_what, shown(r.name)));
-      d.values.insert(d.values.end(), v.begin(), v.end());
+      if (d.values.empty())
+        d.values = std::move(v);  // no second copy while both are held
+      else
+        d.values.insert(d.values.end(), v.begin(), v.end());
     }
     if (normals.size() == piece.points && (k == 0 || !out.mesh.normals.empty()))
       out.mesh.normals.insert(out.mesh.normals.end(), normals.begin(), normals.end());
@@ -698,7 +723,9 @@ PolyDataFile read_vtp(const std::filesystem::path& file, bool keep_lines) {
   // 3D Slicer's coordinate system: a String array SPACE in the field data.
   for (const ArrayRef& r : p.arrays)
     if (r.section == "FieldData" && r.name == "SPACE" && r.type == "String") {
-      const std::string space = first_string(decode(r, decoder, what));
+      const std::vector<double> chars = decode(r, decoder, what, charge);
+      const std::string space = first_string(chars);
+      let_go(chars);
       if (space == "LPS" || space == "RAS")
         out.space = space == "RAS" ? MeshSpace::ras : MeshSpace::lps;
       else

@@ -16,6 +16,7 @@
 #include "io/streams/file_head.hpp"
 #include "io/streams/gzip.hpp"
 #include "io/streams/header_text.hpp"
+#include "io/streams/inflate_charge.hpp"
 #include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 #include "io/volume/afni.hpp"
@@ -366,6 +367,8 @@ VoxelStorage read_gzip_brik(const FrameLayout& l, int frame, const VoxelBox& box
   const uintmax_t size = fs::file_size(l.file, ec);
   if (ec) throw Error(fmt::format("{}: cannot read its size: {}", l.what, ec.message()));
   check_inflatable(static_cast<size_t>(total), static_cast<size_t>(size), l.what);
+  refuse_compressed_claim(l.frame_bytes(), VoxelBox::whole(l.dims).count() > kMaxVoxels, l.what,
+                          l.frames > 1 ? "gzip voxel data of one frame" : "gzip voxel data");
   std::ifstream in = open_input_stream(l.file, l.what);
   GzipStream stream(in, l.what);
   uint64_t at = 0;

@@ -16,6 +16,7 @@
 #include "intermix/error.hpp"
 #include "io/streams/gzip.hpp"
 #include "io/streams/header_text.hpp"
+#include "io/streams/inflate_charge.hpp"
 #include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 #include "io/volume/metaimage.hpp"
@@ -303,6 +304,8 @@ VoxelStorage read_voxels(const std::filesystem::path& file, std::ifstream& in, c
     available = static_cast<size_t>(*n);
   }
   check_inflatable(needed, available, data_what);
+  refuse_compressed_claim(needed, VoxelBox::whole(dims).count() > kMaxVoxels, data_what,
+                          "compressed voxel data");
   in.clear();
   in.seekg(static_cast<std::streamoff>(offset));
   return load_gzip_voxels(in, 0, layout.type, dims, box, layout.big_endian, data_what);

@@ -14,6 +14,7 @@
 
 #include "intermix/error.hpp"
 #include "io/streams/gzip.hpp"
+#include "io/streams/inflate_charge.hpp"
 #include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 #include "io/volume/mrtrix.hpp"
@@ -62,9 +63,12 @@ VoxelStorage read_voxels(const MrtrixStorage& s, int frame, const VoxelBox& box)
   const uintmax_t size = fs::file_size(s.file, ec);
   if (ec) throw Error(fmt::format("{}: cannot read its size: {}", s.what, ec.message()));
   const uint64_t needed = s.offset + s.bytes();
-  if (s.gzipped)
+  if (s.gzipped) {
     check_inflatable(static_cast<size_t>(needed), static_cast<size_t>(size), s.what);
-  else if (size < needed)
+    const auto frames = static_cast<uint64_t>(std::max<int64_t>(1, s.dim[3]));
+    refuse_compressed_claim(s.bytes() / frames, s.count() / frames > kMaxVoxels, s.what,
+                            frames > 1 ? "gzip voxel data of one frame" : "gzip voxel data");
+  } else if (size < needed)
     throw Error(
         fmt::format("{}: expected {} bytes of voxel data ({}x{}x{}x{} {}) from byte {}, "
                     "found {} (truncated file?)",

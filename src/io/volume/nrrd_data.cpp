@@ -13,6 +13,7 @@
 #include "intermix/error.hpp"
 #include "io/streams/bzip2.hpp"
 #include "io/streams/gzip.hpp"
+#include "io/streams/inflate_charge.hpp"
 #include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 #include "io/voxels/mapped_voxels.hpp"
@@ -365,12 +366,21 @@ class DataSource {
 
 VoxelStorage read_nrrd_voxels(const NrrdData& data, const NrrdGrid& grid, int frame,
                               const VoxelBox& box) {
-  require_loadable_box(box, data.header.string());
   const size_t file_count = std::max<size_t>(data.files.size(), 1);
   std::vector<DataFile> files;
   files.reserve(file_count);
   for (size_t i = 0; i < file_count; ++i)
     files.push_back(survey(data, i, data.elements / file_count));
+  // Before the box's own limits: compressed data has no bricks to fall back on, so one frame of
+  // it must be one a whole read may take.
+  if (data.encoding == NrrdEncoding::gzip || data.encoding == NrrdEncoding::bzip2) {
+    const uint64_t frame_voxels = VoxelBox::whole(grid.dims).count();
+    refuse_compressed_claim(
+        frame_voxels * raw_type_size(data.type), frame_voxels > kMaxVoxels, data.header.string(),
+        fmt::format("{} voxel data{}", data.encoding == NrrdEncoding::gzip ? "gzip" : "bzip2",
+                    grid.frames > 1 ? " of one frame" : ""));
+  }
+  require_loadable_box(box, data.header.string());
 
   const size_t size = raw_type_size(data.type);
   const bool swap = data.big_endian && data.encoding != NrrdEncoding::ascii;

@@ -9,6 +9,7 @@
 
 #include "intermix/error.hpp"
 #include "io/streams/gzip.hpp"
+#include "io/streams/inflate_charge.hpp"
 #include "io/streams/input_file.hpp"
 #include "io/streams/regular_file.hpp"
 #include "io/voxels/mapped_voxels.hpp"
@@ -37,7 +38,6 @@ VoxelStorage read_frame_voxels(const FrameLayout& l, int frame, const VoxelBox& 
   // slices, and frame k's box is the box moved by k * dims.z slices: the region readers' seeks
   // and streaming skips then serve any frame, and the gzip path's check of the whole stream
   // (its length and its checksum) covers every frame.
-  require_loadable_box(box, l.what);
   const glm::ivec3 stacked(l.dims.x, l.dims.y, l.dims.z * l.frames);
   const glm::ivec3 shift(0, 0, l.dims.z * frame);
   const VoxelBox moved{box.lo + shift, box.hi + shift};
@@ -51,11 +51,15 @@ VoxelStorage read_frame_voxels(const FrameLayout& l, int frame, const VoxelBox& 
   if (ec) throw Error(fmt::format("{}: cannot read its size: {}", l.what, ec.message()));
   if (l.gzipped) {
     check_inflatable(static_cast<size_t>(l.offset + needed), static_cast<size_t>(size), l.what);
+    // Before the box's own limits: compressed data has no bricks to fall back on.
+    refuse_compressed_claim(l.frame_bytes(), VoxelBox::whole(l.dims).count() > kMaxVoxels, l.what,
+                            l.frames > 1 ? "gzip voxel data of one frame" : "gzip voxel data");
   } else if (size < l.offset + needed) {
     const uintmax_t found = size > l.offset ? size - l.offset : 0;
     throw Error(fmt::format("{}: expected {} bytes of voxel data{}, found {}", l.what, needed,
                             of_frames, found));
   }
+  require_loadable_box(box, l.what);
   // A whole frame of native, uncompressed voxels: viewed in place.
   if (!l.gzipped && !l.swap && box == VoxelBox::whole(l.dims))
     if (auto mapped = map_voxels(l.file, l.offset + static_cast<uint64_t>(frame) * l.frame_bytes(),

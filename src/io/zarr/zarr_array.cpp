@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "intermix/error.hpp"
 #include "intermix/limits.hpp"
@@ -228,41 +229,57 @@ void read_zarr_block(const ZarrArray& array, std::span<const int64_t> lead, cons
         fmt::format("{}: field 'chunks': a {}x{}x{} grid in chunks of {}x{}x{} is {} chunk "
                     "reads, more than {}",
                     array.what, X, Y, Z, cx, cy, cz, grid_chunks, kMaxChunksPerGrid));
-  // Each layer of chunks along z is read by one task, on every core; the error of the first
-  // layer that fails is the one thrown, whatever the order the tasks ran in.
+  // Each layer of chunks along z is read by one task, on as many cores as the memory budget
+  // holds beside the box: a task holds a decoded chunk and its stored bytes or a scratch copy
+  // (two chunks' worth), so large chunks under a small budget are read one layer at a time.
+  // The error of the first layer that fails is the one thrown, whatever the order the tasks
+  // ran in.
+  const uint64_t budget = input_limits().max_memory;
+  const uint64_t per_task = 2 * uint64_t{array.chunk_bytes};
+  const uint64_t room = budget > out.size() ? budget - out.size() : 0;
+  const int cores = tbb::this_task_arena::max_concurrency();
+  const int tasks = static_cast<int>(std::clamp<uint64_t>(room / std::max<uint64_t>(per_task, 1), 1,
+                                                          static_cast<uint64_t>(cores)));
   std::vector<std::exception_ptr> failed(static_cast<size_t>(last.z - first.z + 1));
-  tbb::parallel_for(first.z, last.z + 1, [&](int64_t kz) {
-    try {
-      ChunkReader reader(array);
-      std::vector<uint8_t> chunk(array.chunk_bytes);
-      std::vector<int64_t> at = index;
-      for (int64_t ky = first.y; ky <= last.y; ++ky)
-        for (int64_t kx = first.x; kx <= last.x; ++kx) {
-          at[n - 3] = kz, at[n - 2] = ky, at[n - 1] = kx;
-          reader.read(at, chunk);
-          // The chunk's part inside the box (edge chunks are stored full-size, past the shape).
-          const int64_t z0 = std::max<int64_t>(kz * cz, box.lo.z);
-          const int64_t z1 = std::min<int64_t>((kz + 1) * cz, box.hi.z);
-          const int64_t y0 = std::max<int64_t>(ky * cy, box.lo.y);
-          const int64_t y1 = std::min<int64_t>((ky + 1) * cy, box.hi.y);
-          const int64_t x0 = std::max<int64_t>(kx * cx, box.lo.x);
-          const int64_t x1 = std::min<int64_t>((kx + 1) * cx, box.hi.x);
-          for (int64_t z = z0; z < z1; ++z)
-            for (int64_t y = y0; y < y1; ++y) {
-              const size_t src = lead_offset + static_cast<size_t>(z - kz * cz) * stride[n - 3] +
-                                 static_cast<size_t>(y - ky * cy) * stride[n - 2] +
-                                 static_cast<size_t>(x0 - kx * cx);
-              const size_t dst =
-                  (static_cast<size_t>(z - box.lo.z) * Y + static_cast<size_t>(y - box.lo.y)) * X +
-                  static_cast<size_t>(x0 - box.lo.x);
-              std::memcpy(out.data() + dst * item, chunk.data() + src * item,
-                          static_cast<size_t>(x1 - x0) * item);
-            }
-        }
-    } catch (...) {
-      failed[static_cast<size_t>(kz - first.z)] = std::current_exception();
-    }
-  });
+  const auto read_layers = [&] {
+    tbb::parallel_for(first.z, last.z + 1, [&](int64_t kz) {
+      try {
+        ChunkReader reader(array);
+        std::vector<uint8_t> chunk(array.chunk_bytes);
+        std::vector<int64_t> at = index;
+        for (int64_t ky = first.y; ky <= last.y; ++ky)
+          for (int64_t kx = first.x; kx <= last.x; ++kx) {
+            at[n - 3] = kz, at[n - 2] = ky, at[n - 1] = kx;
+            reader.read(at, chunk);
+            // The chunk's part inside the box (edge chunks are stored full-size, past the shape).
+            const int64_t z0 = std::max<int64_t>(kz * cz, box.lo.z);
+            const int64_t z1 = std::min<int64_t>((kz + 1) * cz, box.hi.z);
+            const int64_t y0 = std::max<int64_t>(ky * cy, box.lo.y);
+            const int64_t y1 = std::min<int64_t>((ky + 1) * cy, box.hi.y);
+            const int64_t x0 = std::max<int64_t>(kx * cx, box.lo.x);
+            const int64_t x1 = std::min<int64_t>((kx + 1) * cx, box.hi.x);
+            for (int64_t z = z0; z < z1; ++z)
+              for (int64_t y = y0; y < y1; ++y) {
+                const size_t src = lead_offset + static_cast<size_t>(z - kz * cz) * stride[n - 3] +
+                                   static_cast<size_t>(y - ky * cy) * stride[n - 2] +
+                                   static_cast<size_t>(x0 - kx * cx);
+                const size_t dst =
+                    (static_cast<size_t>(z - box.lo.z) * Y + static_cast<size_t>(y - box.lo.y)) *
+                        X +
+                    static_cast<size_t>(x0 - box.lo.x);
+                std::memcpy(out.data() + dst * item, chunk.data() + src * item,
+                            static_cast<size_t>(x1 - x0) * item);
+              }
+          }
+      } catch (...) {
+        failed[static_cast<size_t>(kz - first.z)] = std::current_exception();
+      }
+    });
+  };
+  if (tasks < cores)
+    tbb::task_arena(tasks).execute(read_layers);
+  else
+    read_layers();
   for (const std::exception_ptr& e : failed)
     if (e) std::rethrow_exception(e);
 }

@@ -1,16 +1,14 @@
 #include "io/zarr/zarr_codecs.hpp"
 
-#include <algorithm>
 #include <cstring>
-#include <limits>
 
 #include <blosc.h>
 #include <fmt/format.h>
-#include <zlib.h>
 #include <zstd.h>
 #include <zstd_errors.h>
 
 #include "intermix/error.hpp"
+#include "io/streams/bounded_inflate.hpp"
 
 namespace imx::detail {
 
@@ -29,54 +27,6 @@ Error too_large(const std::string& what, const char* codec, size_t want) {
       fmt::format("{}: {} chunk decompresses to more than {} bytes (the chunk's size "
                   "from its metadata)",
                   what, codec, want));
-}
-
-// zlib or gzip data (inflate detects which) into exactly `out`; one byte of scratch tells
-// whether the data holds more than `out`.
-void inflate_chunk(std::span<const uint8_t> stored, std::span<uint8_t> out, const char* codec,
-                   const std::string& what) {
-  z_stream z{};
-  if (inflateInit2(&z, 15 + 32) != Z_OK) throw Error(fmt::format("{}: zlib failed to start", what));
-  struct End {
-    z_stream* z;
-    ~End() { inflateEnd(z); }
-  } end{&z};
-  // deflate input may exceed uInt: feed it in pieces.
-  size_t in_pos = 0, out_pos = 0;
-  uint8_t extra = 0;
-  int rc = Z_OK;
-  while (rc != Z_STREAM_END) {
-    if (z.avail_in == 0 && in_pos < stored.size()) {
-      const size_t n = std::min<size_t>(stored.size() - in_pos, std::numeric_limits<uInt>::max());
-      z.next_in = const_cast<Bytef*>(stored.data() + in_pos);
-      z.avail_in = static_cast<uInt>(n);
-      in_pos += n;
-    }
-    const bool full = out_pos == out.size();
-    if (full) {
-      z.next_out = &extra;
-      z.avail_out = 1;
-    } else {
-      const size_t n = std::min<size_t>(out.size() - out_pos, std::numeric_limits<uInt>::max());
-      z.next_out = out.data() + out_pos;
-      z.avail_out = static_cast<uInt>(n);
-    }
-    const uInt before = z.avail_out, before_in = z.avail_in;
-    rc = inflate(&z, Z_NO_FLUSH);
-    const size_t produced = before - z.avail_out;
-    if (full && produced > 0) throw too_large(what, codec, out.size());
-    out_pos += full ? 0 : produced;
-    if (rc == Z_STREAM_END) break;
-    if (rc == Z_NEED_DICT || rc == Z_DATA_ERROR || rc == Z_MEM_ERROR)
-      throw Error(fmt::format("{}: corrupt {} chunk ({})", what, codec, z.msg ? z.msg : "zlib"));
-    if (produced == 0 && before_in == z.avail_in) {
-      if (z.avail_in == 0 && in_pos == stored.size())
-        throw Error(fmt::format("{}: truncated {} chunk: the data ends after {} of {} bytes", what,
-                                codec, out_pos, out.size()));
-      throw Error(fmt::format("{}: corrupt {} chunk (no progress)", what, codec));
-    }
-  }
-  if (out_pos != out.size()) throw wrong_size(what, codec, out_pos, out.size());
 }
 
 void zstd_chunk(std::span<const uint8_t> stored, std::span<uint8_t> out, const std::string& what) {
@@ -144,9 +94,9 @@ void decode_zarr_chunk(ZarrCompressor compressor, std::span<const uint8_t> store
       if (!out.empty()) std::memcpy(out.data(), stored.data(), out.size());
       return;
     case ZarrCompressor::zlib:
-      return inflate_chunk(stored, out, "zlib", what);
+      return inflate_exactly(stored, out, "zlib chunk", what);
     case ZarrCompressor::gzip:
-      return inflate_chunk(stored, out, "gzip", what);
+      return inflate_exactly(stored, out, "gzip chunk", what);
     case ZarrCompressor::zstd:
       return zstd_chunk(stored, out, what);
     case ZarrCompressor::blosc:
