@@ -8,6 +8,7 @@
 
 #include "annotate/scene_colour_bars.hpp"
 #include "core/colour.hpp"
+#include "have_font.hpp"
 #include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "presets/colormap.hpp"
@@ -45,14 +46,7 @@ Scene overlay_scene() {
   return scene;
 }
 
-bool have_font() {
-  try {
-    find_font();
-    return true;
-  } catch (const Error&) {
-    return false;
-  }
-}
+using test::have_font;
 
 struct Rgba8 {
   const std::vector<uint8_t>& bytes;

@@ -6,6 +6,7 @@
 
 #include "annotate/keys.hpp"
 #include "core/colour.hpp"
+#include "have_font.hpp"
 #include "intermix/error.hpp"
 
 namespace imx {
@@ -40,14 +41,7 @@ std::vector<LabelEntry> table() {
           {9, "absent", glm::vec3(1.0f), 1.0f, true}};
 }
 
-bool have_font() {
-  try {
-    find_font();
-    return true;
-  } catch (const Error&) {
-    return false;
-  }
-}
+using test::have_font;
 
 TEST(Legend, NamesTheLabelsTheVolumeHoldsAndShows) {
   const std::optional<Legend> legend = label_legend(label_volume(table()));

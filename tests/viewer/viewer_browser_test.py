@@ -486,6 +486,19 @@ def run_test(args, out, checks, cleanup):
              if o.get('kind') == 'volume' and o.get('visible', True)]
     checks.check('a. a colour bar for every visible volume', bars == shown, str(bars),
                  f'visible volumes {shown}')
+    # Each bar whole inside the view (its caption and labels too), over its visible range within
+    # the data's (the hello's histogram ranges), never the preset's whole span.
+    layout = browser.evaluate('viewer.colorBarLayout()') or []
+    ranges = {name: h.get('range') for name, h in ((hello or {}).get('histograms') or {}).items()}
+    inside = all(0 <= b['left'] and b['right'] <= b['width'] for b in layout)
+    within = all(ranges.get(b['name']) is None or
+                 (b['lo'] >= ranges[b['name']][0] - 1e-6 and b['hi'] <= ranges[b['name']][1] + 1e-6)
+                 for b in layout)
+    checks.check('a. colour bars lie inside the view, over the data\'s range',
+                 len(layout) == len(bars) and inside and within,
+                 '; '.join(f"{b['name']} [{b['lo']:g}, {b['hi']:g}] at {b['left']:.0f}-"
+                           f"{b['right']:.0f} of {b['width']}" for b in layout),
+                 f'data ranges {ranges}')
     browser.screenshot(os.path.join(out, 'viewer-loaded.png'))
     objects = objects_on_page(browser)
     log(f'      objects on the page: {objects}')

@@ -1,10 +1,10 @@
 // The 3-D view's overlay: clip-plane outlines (clip_outlines.js), the orientation marker, and
-// colour bars, labelled with their values: one per visible volume (its transfer function from its
-// first point's value, bottom, to its last, top) and one per colour map the planes show.
+// colour bars, labelled with their values: one per visible volume (its transfer function's
+// visible range within the data's) and one per colour map the planes show.
 import {drawClipOutlines3d} from './clip_outlines.js';
 import {S} from './state.js';
 
-const BAR_W = 12, BAR_H = 140, GAP = 64;
+const BAR_W = 12, BAR_H = 140, MAX_CAPTION = 160;
 
 // The sRGB curve (src/core/colour.hpp): colours are display values, light adds linearly.
 const srgbDecode = (v) => v <= 0.04045 ? v / 12.92 : Math.pow((v + 0.055) / 1.055, 2.4);
@@ -24,6 +24,32 @@ function tfAt(tf, v) {
 }
 
 const label = (v) => Math.abs(v) >= 100 || v === 0 ? v.toFixed(0) : Number(v.toPrecision(3));
+
+// `text` cut to at most `width` pixels in the context's font, ending with an ellipsis when cut.
+function fitText(g, text, width) {
+  if (g.measureText(text).width <= width) return text;
+  let n = text.length;
+  while (n > 1 && g.measureText(text.slice(0, n) + '…').width > width) --n;
+  return text.slice(0, n) + '…';
+}
+
+// The values a volume's bar spans: its transfer function's visible part (from the point before
+// the first with opacity to the point after the last, as render --colorbar's bars), within the
+// data's own range where the two overlap: a preset's -3024 .. 3071 on a CT of -1024 .. 1800
+// shows -1024 .. 1800. Null when nothing shows.
+function visibleRange(o) {
+  const tf = o.tf;
+  if (!tf || tf.length < 2) return null;
+  const first = tf.findIndex((p) => p[4] > 0);
+  if (first < 0) return null;
+  let last = tf.length - 1;
+  while (tf[last][4] <= 0) --last;
+  let lo = tf[Math.max(0, first - 1)][0], hi = tf[Math.min(tf.length - 1, last + 1)][0];
+  if (!(hi > lo)) [lo, hi] = [tf[0][0], tf[tf.length - 1][0]];
+  const data = (S.histograms[o.name] || {}).range;
+  if (data && data[1] > lo && data[0] < hi) [lo, hi] = [Math.max(lo, data[0]), Math.min(hi, data[1])];
+  return hi > lo ? [lo, hi] : null;
+}
 
 // The orientation marker at the bottom left: the patient's axes as the camera sees them, each
 // labelled with the side it points to (L, P, S; the opposite ends R, A, I).
@@ -77,10 +103,10 @@ export function drawColorBars() {
   // relative to the function's largest), then one per colour map the planes show, from the
   // server (as render --colorbar draws them: nothing where the plane shows nothing).
   const bars = S.objects.filter((o) => o.kind === 'volume' && o.visible && o.tf && !o.labels &&
-                                       o.tf.length > 1 && o.tf[o.tf.length - 1][0] > o.tf[0][0])
+                                       visibleRange(o))
       .map((o) => {
         const top = Math.max(...o.tf.map((p) => p[4])) || 1;
-        const lo = o.tf[0][0], hi = o.tf[o.tf.length - 1][0];
+        const [lo, hi] = visibleRange(o);
         return {name: o.name, units: o.units, lo, hi, colour: (t) => {
           const [cr, cg, cb, ca] = tfAt(o.tf, lo + (hi - lo) * t);
           return [cr, cg, cb, Math.min(1, ca / top)];
@@ -92,7 +118,6 @@ export function drawColorBars() {
           const [cr, cg, cb, ca] = b.colors[Math.min(63, Math.max(0, Math.round(t * 63)))];
           return [cr, cg, cb, ca > 0 ? 1 : 0];
         }})));
-  S.colorBars = bars.map((b) => b.name);
   g.scale(r, r);
   // The image's place in the cell (it keeps its aspect), for the clip planes' outlines.
   const view = document.getElementById('view').getBoundingClientRect();
@@ -100,8 +125,20 @@ export function drawColorBars() {
   drawClipOutlines3d(g, view.left - cell.left, view.top - cell.top, view.width, view.height);
   drawOrientation(g, c.clientHeight);
   g.font = '11px sans-serif';
-  bars.forEach((b, k) => {
-    const x = c.clientWidth - 40 - k * GAP, y = 24;
+  // Right to left, each bar in a column wide enough for its tick labels and its caption (cut
+  // to MAX_CAPTION with an ellipsis), so that nothing is cut at the view's edge or overlaps;
+  // bars that no longer fit are left out.
+  S.colorBarLayout = [];
+  let right = c.clientWidth - 6;
+  for (const b of bars) {
+    const caption = fitText(g, b.name + (b.units ? ` (${b.units})` : ''), MAX_CAPTION);
+    const cw = g.measureText(caption).width;
+    const lw = Math.max(g.measureText(label(b.hi)).width, g.measureText(label(b.lo)).width);
+    const cx = right - Math.max(BAR_W / 2, cw / 2);
+    const x = cx - BAR_W / 2;
+    const left = Math.min(cx - cw / 2, x - 3 - lw);
+    if (left < 2) break;
+    const y = 24;
     for (let t = 0; t < BAR_H; ++t) {
       const [cr, cg, cb, w] = b.colour(1 - t / (BAR_H - 1));
       // Display colours (as scene files give them) over black with weight w, in linear light.
@@ -116,6 +153,10 @@ export function drawColorBars() {
     g.fillText(label(b.hi), x - 3, y + 9);
     g.fillText(label(b.lo), x - 3, y + BAR_H);
     g.textAlign = 'center';
-    g.fillText(b.name + (b.units ? ` (${b.units})` : ''), x + BAR_W / 2, y + BAR_H + 14);
-  });
+    g.fillText(caption, cx, y + BAR_H + 14);
+    S.colorBarLayout.push({name: b.name, lo: b.lo, hi: b.hi, left, right, caption,
+                           width: c.clientWidth});
+    right = left - 12;
+  }
+  S.colorBars = S.colorBarLayout.map((b) => b.name);
 }

@@ -53,6 +53,7 @@ window.viewer = {
   slicesDrawn() { return S.slicesDrawn || 0; },
   scaleBars,
   colorBars() { return (S.colorBars || []).slice(); },
+  colorBarLayout() { return (S.colorBarLayout || []).slice(); },
   viewLink,
   historyDepth,
   sliceLatencies() { return (S.sliceLatencies || []).slice(); },
