@@ -10,7 +10,6 @@
 #include "frame/slice_view.hpp"
 #include "intermix/io.hpp"
 #include "scene/json_reader.hpp"
-#include "scene/reading_planes.hpp"
 #include "server/streamline_slab.hpp"
 
 namespace imx::server {
@@ -39,18 +38,7 @@ std::vector<int> shown_volumes(const ViewerState& state) {
 
 }  // namespace
 
-glm::dvec2 ReadingWindows::of(const VolumeObject& volume) {
-  for (auto it = windows_.begin(); it != windows_.end();)
-    it = it->second.data.expired() ? windows_.erase(it) : std::next(it);
-  const VolumeData* key = volume.data.get();
-  auto it = windows_.find(key);
-  if (it != windows_.end() && it->second.data.lock() == volume.data) return it->second.window;
-  const glm::dvec2 window = reading_window(volume);
-  windows_[key] = {volume.data, window};
-  return window;
-}
-
-SliceAnswer answer_slice(const ViewerState& state, ReadingWindows& windows, const Json& message) {
+SliceAnswer answer_slice(const ViewerState& state, const Json& message) {
   const JsonReader r(message, "slice");
   r.check_keys(
       {"type", "seq", "view", "point", "width", "height", "mm_per_pixel", "window", "slab"});
@@ -64,9 +52,10 @@ SliceAnswer answer_slice(const ViewerState& state, ReadingWindows& windows, cons
   const Scene& scene = state.scene();
   const std::vector<int> shown = shown_volumes(state);
   std::vector<glm::dvec2> window_of(scene.volumes.size(), glm::dvec2(0.0, 1.0));
-  for (int i : shown) window_of[static_cast<size_t>(i)] = windows.of(scene.volumes[i]);
+  for (int i : shown)
+    window_of[static_cast<size_t>(i)] = volume_window(state, static_cast<size_t>(i));
   if (auto w = r.find("window"); w && !shown.empty()) {
-    // A W/L preset for the base volume: [centre, width].
+    // The base volume's window while a W/L drag goes on (the edit on release keeps it).
     const glm::dvec2 cw = w->vec2();
     if (!(cw.y > 0.0)) w->at(1).fail(fmt::format("window width {} must be > 0", cw.y));
     window_of[static_cast<size_t>(shown.front())] = cw;

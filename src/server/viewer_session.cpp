@@ -293,7 +293,7 @@ void ViewerSession::handle(const std::shared_ptr<ClientSink>& client, const Json
     SliceAnswer answer;
     {
       std::lock_guard lock(mutex_);
-      answer = answer_slice(state_, reading_windows_, message);
+      answer = answer_slice(state_, message);
     }
     client->send_frame(std::move(answer.text), std::move(answer.png), false);
   } else if (type == "probe") {

@@ -143,7 +143,6 @@ class ViewerSession {
   int spp_ = 1;
   std::optional<std::pair<int, int>> viewport_;  // the latest page's canvas size, else the scene's
   nlohmann::json histograms_, tf_presets_;       // sent in every hello
-  ReadingWindows reading_windows_;               // the 2-D views' windows, per voxel array
   std::vector<Client> clients_;
   uint64_t version_ = 1;  // grows with every change of what the image shows
   uint64_t rendered_version_ = 0;

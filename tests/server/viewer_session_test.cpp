@@ -426,6 +426,24 @@ TEST(ViewerSession, SlicesAndProbesAnswerTheReadingViews) {
                                   "width": 8, "height": 8, "mm_per_pixel": 1})");
   EXPECT_NE(client->wait_type("error").json["message"].get<std::string>().find("slice: view"),
             std::string::npos);
+  // A zoom of 1e9 either way, and a window of no width: one error each naming the field, and
+  // the next slice is answered as before (nothing lost).
+  const struct {
+    const char* fields;
+    const char* says;
+  } bad[] = {{R"("mm_per_pixel": 2e9)", "slice: mm_per_pixel: 2000000000.0 is not in"},
+             {R"("mm_per_pixel": 2e-9)", "slice: mm_per_pixel"},
+             {R"("mm_per_pixel": 2, "window": [40, 0])", "slice: window[1]: window width 0"},
+             {R"("mm_per_pixel": 2, "window": [40, "80"])", "slice: window[1]: expected a number"}};
+  for (const auto& b : bad) {
+    session.on_message(client, std::string(R"({"type": "slice", "view": "axial", "point": [0, 0, 0],
+                                              "width": 8, "height": 8, )") +
+                                   b.fields + "}");
+    const std::string said = client->wait_type("error").json["message"].get<std::string>();
+    EXPECT_NE(said.find(b.says), std::string::npos) << said;
+    EXPECT_EQ(said.find('\n'), std::string::npos) << said;
+  }
+  EXPECT_EQ(decode(slice_of(6, nullptr).image, dir).width(), 40);
 }
 
 // A scene shown at coarse pyramid levels: once its still frame has converged, the session asks
