@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -286,8 +287,11 @@ void ViewerSession::handle(const std::shared_ptr<ClientSink>& client, const Json
 
   if (type == "camera" || type == "edit") {
     std::lock_guard lock(mutex_);
-    apply_edit(state_, message);
-    input_applied(client.get(), message);
+    // An object edit that leaves the image (a volume's 2-D window) re-renders nothing.
+    if (apply_edit(state_, message) || type == "camera")
+      input_applied(client.get(), message);
+    else
+      input_acknowledged(client.get(), message);
   } else if (type == "slice") {
     // Rendered here, on the network thread: a 2-D view takes milliseconds, not a frame's time.
     SliceAnswer answer;
@@ -377,6 +381,26 @@ void ViewerSession::input_applied(const ClientSink* client, const Json& message)
   wake_.notify_all();
 }
 
+void ViewerSession::input_acknowledged(const ClientSink* client, const Json& message) {
+  for (Client& c : clients_)
+    if (c.id == client && message.contains("seq"))
+      c.seq = std::max(c.seq, static_cast<long long>(message["seq"].get<double>()));
+  acknowledge_ = true;
+  broadcast_state();
+  wake_.notify_all();
+}
+
+// The last frame again, each client's latest input in it: after inputs that changed no pixel.
+void ViewerSession::resend_last_frame() {
+  if (last_frame_text_.empty()) return;  // the first frame carries every seq
+  Json frame = Json::parse(last_frame_text_);
+  for (const Client& c : clients_)
+    if (auto sink = c.sink.lock()) {
+      frame["seq"] = c.seq;
+      sink->send_frame(frame.dump(), last_frame_image_, true);
+    }
+}
+
 // The session as a scene file: the edited document with the method and spp it converges with.
 Json ViewerSession::saved_document() const {
   Json document = state_.document.json();
@@ -432,6 +456,7 @@ bool ViewerSession::take_work(std::unique_lock<std::mutex>& lock, Snapshot& out)
       cancel_ = false;
       return true;
     }
+    if (std::exchange(acknowledge_, false)) resend_last_frame();
     idle_ = !moving_;  // a drag not yet released still has its still frames to come
     idle_changed_.notify_all();
     if (moving_)

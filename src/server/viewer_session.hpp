@@ -127,6 +127,10 @@ class ViewerSession {
   void screenshot(const std::vector<std::weak_ptr<ClientSink>>& to, const Snapshot& snapshot);
   void handle(const std::shared_ptr<ClientSink>& client, const nlohmann::json& message);
   void input_applied(const ClientSink* client, const nlohmann::json& message);
+  // An input that leaves the image as it is: its client's frame (the last one, sent again with
+  // its seq once the render thread is idle) without a render; the state goes to every client.
+  void input_acknowledged(const ClientSink* client, const nlohmann::json& message);
+  void resend_last_frame();
   nlohmann::json state_message() const;
   void broadcast_text(const std::string& text);
   void broadcast_state();
@@ -155,7 +159,8 @@ class ViewerSession {
   Counters counters_;
   std::vector<double> latencies_;
   bool stopping_ = false;
-  bool idle_ = false;  // the render thread waits with nothing to do
+  bool idle_ = false;         // the render thread waits with nothing to do
+  bool acknowledge_ = false;  // an input the image did not change awaits its frame
   std::condition_variable idle_changed_;
   std::atomic<bool> cancel_{false};
 

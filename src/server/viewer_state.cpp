@@ -542,7 +542,13 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
   state.visible[k] = visible;
   state.opacity[k] = opacity;
   if (changed) count_labels(state);
-  return changed;
+  // A volume's window is its 2-D views' alone: the 3-D image stays.
+  bool window_only = volume;
+  for (const auto& field : message.items())
+    if (field.key() != "type" && field.key() != "seq" && field.key() != "moving" &&
+        field.key() != "object" && field.key() != "window")
+      window_only = false;
+  return changed && !window_only;
 }
 
 // A streamline object's look and selection for the page's controls; its values' names and the

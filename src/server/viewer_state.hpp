@@ -51,7 +51,8 @@ ViewerState load_viewer_state(const std::filesystem::path& file,
 // type is an error (the server handles "settings" itself). Objects are named, never indexed, and
 // never by file path. The edited document is parsed again whole (SceneDocument::edit). Throws
 // imx::Error naming the field and value at fault, and then leaves the state unchanged. Returns
-// true when the image may change. Data (VolumeData, Mesh) keeps its identity across edits, so
+// true when the image may change (false for an edit that changes nothing, or only a volume's
+// window, which its 2-D views show). Data (VolumeData, Mesh) keeps its identity across edits, so
 // the Renderer's caches recognise it.
 bool apply_edit(ViewerState& state, const nlohmann::json& message);
 

@@ -236,7 +236,7 @@ TEST(ViewerSession, BadMessagesGetOneErrorAndChangeNothing) {
       {"[1, 2]", "expected a JSON object"},
       {R"({"type": "launch"})", "launch"},
       {R"({"type": "edit", "object": "/etc/passwd", "visible": false})", "is not an object"},
-      {R"({"type": "edit", "object": "pet", "window": [1, 2]})", "applies to planes only"},
+      {R"({"type": "edit", "object": "pet", "window": [1, 0]})", "window width 0 must be > 0"},
       {R"({"type": "camera", "seq": -1, "eye": [1, 2, 3]})", "seq"},
       {R"({"type": "camera", "moving": "yes"})", "moving"},
       {R"({"type": "settings", "method": "fastest"})", "fastest"},
@@ -262,6 +262,27 @@ TEST(ViewerSession, BadMessagesGetOneErrorAndChangeNothing) {
   EXPECT_EQ(session.method(), "zslab");
   EXPECT_EQ(session.spp(), 1);
   EXPECT_EQ(session.counters().frames_sent, 1);  // nothing was rendered again
+}
+
+// A volume's 2-D window changes no pixel of the 3-D view: the edit reaches every client's state
+// and its sender gets the last frame again with its seq (its flow control), and nothing renders.
+TEST(ViewerSession, AVolumeWindowEditIsAnsweredWithoutARender) {
+  TempDir dir;
+  ViewerSession session(load_viewer_state(small_fusion(dir)), quiet_options(1));
+  auto client = std::make_shared<Recorder>();
+  session.add_client(client);
+  client->wait_final();
+  const auto sent = session.counters().frames_sent;
+  session.on_message(
+      client,
+      R"({"type": "edit", "seq": 7, "moving": false, "object": "ct", "window": [400, 1800]})");
+  const Json state = client->wait_type("state").json;
+  EXPECT_EQ(state["objects"][0]["window"], Json::array({400.0, 1800.0}));
+  const Json frame =
+      client->wait_for([](const Json& j) { return j["type"] == "frame" && j["seq"] == 7; }).json;
+  EXPECT_EQ(frame["final"], true);
+  EXPECT_TRUE(session.wait_idle(std::chrono::seconds(60)));
+  EXPECT_EQ(session.counters().frames_sent, sent);
 }
 
 TEST(ViewerSession, SettingsChangeMethodAndSpp) {
