@@ -13,14 +13,15 @@ namespace imx::server {
 
 struct SliceAnswer {
   std::string text;  // {"type": "slice", "view", "seq", "point", "mm_per_pixel", "slab", ...}
-  std::string png;   // the image
+  std::string png;   // the image: PNG, or JPEG when the message asked for "format": "jpeg"
 };
 
 // A `slice` message: {"view": "axial"|"coronal"|"sagittal", "point": [3], "width", "height",
 // "mm_per_pixel", "seq", "window" (optional [centre, width] of the first shown volume, instead of
 // its own volume_window: a W/L drag in progress), "slab" (optional, mm: the shown streamlines
-// within half of it of the plane are drawn over the slice; default kDefaultStreamlineSlab)}. Throws
-// imx::Error naming the field at fault.
+// within half of it of the plane are drawn over the slice; default kDefaultStreamlineSlab),
+// "format" (optional: "png", the default, or "jpeg" while a drag goes on)}. Throws imx::Error
+// naming the field at fault.
 SliceAnswer answer_slice(const ViewerState& state, const nlohmann::json& message);
 
 // A `probe` message: {"point": [3]} -> {"type": "probe", "point", "values": [{"name", "value"
