@@ -985,10 +985,37 @@ def run_reading_interaction(checks, browser, watcher):
                  f'want {[rnd(x, 3) for x in want]} ({dx}, {dy}) px at {rnd(mm[0], 4)}, '
                  f'{rnd(mm[1], 4)} mm/px')
 
-    # n4. linked: the three views take the last zoomed or panned one's zoom, and zoom together
+    # n3b. a two-finger pinch (touch events) in the sagittal view: the fingers from 40 to 80 px
+    # apart about a fixed midpoint zoom it in by 2
+    before = slice_views_settled(browser, 'the views before the pinch')
+    browser.send('Emulation.setTouchEmulationEnabled', {'enabled': True, 'maxTouchPoints': 5})
+    c = cells['sagittal']
+
+    def touch(kind, half):
+        points = [] if kind == 'touchEnd' else [{'x': c['x'] - half, 'y': c['y'], 'id': 1},
+                                                {'x': c['x'] + half, 'y': c['y'], 'id': 2}]
+        browser.send('Input.dispatchTouchEvent', {'type': kind, 'touchPoints': points})
+    touch('touchStart', 20)
+    for k in range(1, 11):
+        touch('touchMove', 20 + 2 * k)
+        time.sleep(0.03)
+    touch('touchEnd', 40)
+    browser.send('Emulation.setTouchEmulationEnabled', {'enabled': False})
+    after = slice_views_settled(browser, 'the pinched sagittal view',
+                                f"v.sagittal.zoom !== {before['sagittal']['zoom']}")
+    r = before['sagittal']['mm_per_pixel'] / after['sagittal']['mm_per_pixel']
+    # (touch points land on whole pixels: the midpoint may be half a pixel off the centre)
+    shift = math.dist(after['sagittal']['point'], before['sagittal']['point'])
+    checks.check('n. a pinch from 40 to 80 px zooms the sagittal view in by 2 about its midpoint',
+                 abs(r - 2) < 1e-9 and shift <= max(before['sagittal']['mm_per_css_px']),
+                 f'mm per pixel x1/{r:.6f}', f'the centre moved {shift:.3g} mm')
+    before = after
+
+    # n4. linked: the three views take the last zoomed or panned one's (the sagittal) zoom, and
+    # zoom together
     b = browser.evaluate("viewer.center('#link-views')")
     browser.click(b['x'], b['y'])
-    zoom_a = after['axial']['zoom']
+    zoom_a = after['sagittal']['zoom']  # the view zoomed last
     linked = slice_views_settled(browser, 'the linked views',
                                  f'Object.values(v).every((x) => x.zoom === {zoom_a})')
     wheel(browser, 'sagittal', -100, ctrlKey=True)

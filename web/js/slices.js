@@ -400,7 +400,8 @@ export function setupSlices() {
         view.touches.set(ev.pointerId, {x: ev.clientX, y: ev.clientY});
         view.image.setPointerCapture(ev.pointerId);
         if (view.touches.size >= 2) {  // a second finger: pinch zoom and pan, no crosshair
-          view.pinch = null;
+          view.tap = null;
+          view.pinch = pinchState();
           S.drag = {mode: 'slice-pinch'};
           return;
         }
@@ -426,6 +427,10 @@ export function setupSlices() {
         view.image.setPointerCapture(ev.pointerId);
         view.clipDrag = Object.assign(drag, {x0: x, y0: y});
         S.drag = {mode: 'slice-clip'};  // no other window's state is taken mid-drag
+        return;
+      }
+      if (ev.pointerType === 'touch') {  // the crosshair on lifting, unless a pinch begins
+        view.tap = {id: ev.pointerId, x, y};
         return;
       }
       setPoint(worldOf(axis, x, y), axis);
@@ -460,13 +465,27 @@ export function setupSlices() {
       }
       return true;
     };
+    // Two fingers' midpoint and distance, in CSS pixels (a moving image has fewer pixels).
+    const pinchState = () => {
+      const [p, q] = [...view.touches.values()];
+      const r = view.image.getBoundingClientRect();
+      return {x: (p.x + q.x) / 2 - r.left, y: (p.y + q.y) / 2 - r.top,
+              dist: Math.hypot(p.x - q.x, p.y - q.y)};
+    };
     // Two fingers: their distance zooms about their midpoint, which the image follows.
     const pinch = (ev, moving) => {
       if (!view.touches.has(ev.pointerId)) return false;
       if (!moving) {
         view.touches.delete(ev.pointerId);
         view.pinch = null;
-        if (!view.touches.size && S.drag && S.drag.mode === 'slice-pinch') {
+        if (view.tap && view.tap.id === ev.pointerId) {  // a tap: the crosshair goes there
+          const t = view.tap;
+          view.tap = null;
+          setPoint(worldOf(axis, t.x, t.y), axis);
+          return true;
+        }
+        if (!S.drag || S.drag.mode !== 'slice-pinch') return false;  // a one-finger drag's end
+        if (!view.touches.size) {
           S.drag = null;
           for (const other of navAxes(axis)) request(other);  // PNG again
         }
@@ -474,15 +493,13 @@ export function setupSlices() {
       }
       view.touches.set(ev.pointerId, {x: ev.clientX, y: ev.clientY});
       if (view.touches.size < 2) return false;
-      const [p, q] = [...view.touches.values()];
-      const r = view.image.getBoundingClientRect(), k = view.answer.width / r.width;
-      const now = {x: ((p.x + q.x) / 2 - r.left) * k, y: ((p.y + q.y) / 2 - r.top) * k,
-                   dist: Math.hypot(p.x - q.x, p.y - q.y)};
+      const now = pinchState();
       const last = view.pinch;
       view.pinch = now;
       if (!last) return true;
-      panView(axis, navOf(axis).pan.slice(), now.x - last.x, now.y - last.y);
-      if (last.dist > 0 && now.dist > 0) zoomView(axis, now.dist / last.dist, now.x, now.y);
+      const k = view.answer.width / view.image.getBoundingClientRect().width;  // backing / CSS
+      panView(axis, navOf(axis).pan.slice(), (now.x - last.x) * k, (now.y - last.y) * k);
+      if (last.dist > 0 && now.dist > 0) zoomView(axis, now.dist / last.dist, now.x * k, now.y * k);
       return true;
     };
     view.image.addEventListener('pointermove', (ev) => {
