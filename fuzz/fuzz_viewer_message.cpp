@@ -85,7 +85,8 @@ bool same_scene(const imx::Scene& a, const imx::Scene& b) {
     if (!same_tf(x.transfer_function, y.transfer_function) ||
         x.clip_planes.size() != y.clip_planes.size() || x.shading.enabled != y.shading.enabled ||
         x.shading.ambient != y.shading.ambient || x.shading.diffuse != y.shading.diffuse ||
-        x.shading.specular != y.shading.specular || x.shading.shininess != y.shading.shininess)
+        x.shading.specular != y.shading.specular || x.shading.shininess != y.shading.shininess ||
+        x.window != y.window)
       return false;
     for (size_t c = 0; c < x.clip_planes.size(); ++c)
       if (x.clip_planes[c].point != y.clip_planes[c].point ||

@@ -131,6 +131,10 @@ Command add_serve(CLI::App& app) {
     server::SessionOptions session_options;
     if (coarse) session_options.full_resolution = full_resolution_frames(document, o->threads);
     server::ViewerState state = server::viewer_state(std::move(document), saves_beside);
+    for (size_t i = 0; i < state.initial_windows.size(); ++i)  // a header window refused
+      if (!state.initial_windows[i].note.empty() && !quiet())
+        std::fprintf(stderr, "intermix serve: %s: %s\n", state.scene().volumes[i].name.c_str(),
+                     state.initial_windows[i].note.c_str());
     session_options.method = o->method;
     session_options.spp = o->spp;
     session_options.threads = o->threads;

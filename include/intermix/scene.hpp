@@ -100,6 +100,9 @@ struct VolumeObject {
   std::vector<ClipPlane> clip_planes;
   std::vector<ClipMesh> clip_meshes;         // a sample shows only where every one of them keeps it
   std::optional<glm::dvec2> display_window;  // the source's own centre and width (DICOM tags)
+  // The scene file's "window" (centre, width): the 2-D reading views' window as the user set it;
+  // without it they follow the initial-window rule (volume/display_window.hpp).
+  std::optional<glm::dvec2> window;
   std::string units;  // of the values, as the source says ("HU", "BQML", "g/ml"); "" if unknown
   // Where `data` lies in its source: all of it, unless the scene was loaded by region
   // (SceneLoadOptions::region), when data holds only `region` of a grid of `source_dims`.

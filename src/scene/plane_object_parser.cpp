@@ -38,7 +38,8 @@ glm::dvec3 default_up(const glm::dvec3& normal) {
   return glm::normalize(axis - glm::dot(axis, normal) * normal);
 }
 
-// [centre, width] or the name of one of 3D Slicer's window/level presets ("ct-brain").
+}  // namespace
+
 glm::dvec2 parse_window(const JsonReader& v) {
   if (v.json().is_string()) {
     const std::string name = v.string();
@@ -53,8 +54,6 @@ glm::dvec2 parse_window(const JsonReader& v) {
   if (!(w.y > 0.0)) v.at(1).fail(fmt::format("window width {} must be > 0", w.y));
   return w;
 }
-
-}  // namespace
 
 PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
                                const std::map<std::string, std::string>& object_types,

@@ -1,13 +1,12 @@
 #include "scene/reading_planes.hpp"
 
-#include <array>
 #include <set>
 #include <string>
 
 #include <fmt/format.h>
 
 #include "core/math.hpp"
-#include "volume/value_sample.hpp"
+#include "volume/display_window.hpp"
 
 namespace imx {
 namespace {
@@ -32,11 +31,9 @@ std::string free_name(const std::string& base, const std::set<std::string>& take
 }  // namespace
 
 glm::dvec2 reading_window(const VolumeObject& volume) {
-  if (volume.display_window && volume.display_window->y > 0.0) return *volume.display_window;
-  constexpr std::array<double, 2> kRobust = {0.02, 0.98};
-  const std::vector<double> q = value_percentiles(*volume.data, kRobust);
-  if (q.size() == 2 && q[1] > q[0]) return {0.5 * (q[0] + q[1]), q[1] - q[0]};
-  return {q.empty() ? 0.0 : q[0], 1.0};  // one value, or none: any width shows it
+  if (volume.window) return *volume.window;
+  if (!volume.data) return {0.0, 1.0};
+  return initial_display_window(*volume.data, volume.display_window).window;
 }
 
 nlohmann::json reading_planes(const Scene& scene) {

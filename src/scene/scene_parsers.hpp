@@ -144,6 +144,10 @@ ParsedTransferFunction parse_transfer_function(const JsonReader& r, SceneContext
 // A colour map's name (presets/colormap.hpp); the error lists them all.
 Colormap parse_colormap(const JsonReader& v);
 
+// A window: [centre, width] (width > 0) or the name of one of 3D Slicer's window/level presets
+// ("ct-brain"), for planes and a volume's 2-D views.
+glm::dvec2 parse_window(const JsonReader& v);
+
 // A volume's "clip_planes": [{"point": [3], "normal": [3]}, ...], normals normalized.
 std::vector<ClipPlane> parse_clip_planes(const JsonReader& r, MeshSpace space = MeshSpace::lps);
 VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context);

@@ -475,6 +475,10 @@ struct HttpServer::Impl {
         });
         return;
       }
+      // A frame is a text then a binary message: without this, Nagle's algorithm held the second
+      // write for the client's delayed ACK (40 ms on Linux), most of a 2-D view's latency.
+      beast::error_code no_delay;
+      socket.set_option(tcp::no_delay(true), no_delay);
       std::make_shared<HttpConnection>(std::move(socket), session, page, options, access, totals,
                                        waiting)
           ->read();

@@ -1,6 +1,7 @@
 #include "server/reading_views.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <vector>
 
@@ -10,7 +11,7 @@
 #include "frame/slice_view.hpp"
 #include "intermix/io.hpp"
 #include "scene/json_reader.hpp"
-#include "scene/reading_planes.hpp"
+#include "server/jpeg_encoder.hpp"
 #include "server/streamline_slab.hpp"
 
 namespace imx::server {
@@ -20,7 +21,8 @@ using Json = nlohmann::json;
 using scene_json::JsonReader;
 using scene_json::Range;
 
-constexpr int kMaxViewSide = 2048;  // a quadrant of a 4K screen at devicePixelRatio 1
+constexpr int kMaxViewSide = 2048;       // a quadrant of a 4K screen at devicePixelRatio 1
+constexpr int kMovingSliceQuality = 90;  // a 2-D view's JPEG while its window or pan is dragged
 
 Json vec_json(const glm::dvec3& v) {
   return Json::array({v.x, v.y, v.z});
@@ -39,38 +41,35 @@ std::vector<int> shown_volumes(const ViewerState& state) {
 
 }  // namespace
 
-glm::dvec2 ReadingWindows::of(const VolumeObject& volume) {
-  for (auto it = windows_.begin(); it != windows_.end();)
-    it = it->second.data.expired() ? windows_.erase(it) : std::next(it);
-  const VolumeData* key = volume.data.get();
-  auto it = windows_.find(key);
-  if (it != windows_.end() && it->second.data.lock() == volume.data) return it->second.window;
-  const glm::dvec2 window = reading_window(volume);
-  windows_[key] = {volume.data, window};
-  return window;
-}
-
-SliceAnswer answer_slice(const ViewerState& state, ReadingWindows& windows, const Json& message) {
+SliceAnswer answer_slice(const ViewerState& state, const Json& message) {
   const JsonReader r(message, "slice");
-  r.check_keys(
-      {"type", "seq", "view", "point", "width", "height", "mm_per_pixel", "window", "slab"});
+  r.check_keys({"type", "seq", "view", "point", "width", "height", "mm_per_pixel", "window", "slab",
+                "format"});
   const JsonReader axis_reader = r.get("view");
   const SliceAxis axis = *find_slice_axis(axis_reader.choice({"axial", "coronal", "sagittal"}));
   const glm::dvec3 point = r.get("point").vec3(Range::coordinate());
   const int width = r.get("width").integer(1, kMaxViewSide);
   const int height = r.get("height").integer(1, kMaxViewSide);
   const double mm = r.get("mm_per_pixel").number(Range::length());
+  // JPEG while a drag goes on (a quarter of PNG's encoding time), PNG when it stops.
+  const bool jpeg = r.has("format") && r.get("format").choice({"png", "jpeg"}) == "jpeg";
   const SliceView view = slice_view(axis, point, width, height, mm);
   const Scene& scene = state.scene();
   const std::vector<int> shown = shown_volumes(state);
   std::vector<glm::dvec2> window_of(scene.volumes.size(), glm::dvec2(0.0, 1.0));
-  for (int i : shown) window_of[static_cast<size_t>(i)] = windows.of(scene.volumes[i]);
+  for (int i : shown)
+    window_of[static_cast<size_t>(i)] = volume_window(state, static_cast<size_t>(i));
   if (auto w = r.find("window"); w && !shown.empty()) {
-    // A W/L preset for the base volume: [centre, width].
+    // The base volume's window while a W/L drag goes on (the edit on release keeps it).
     const glm::dvec2 cw = w->vec2();
     if (!(cw.y > 0.0)) w->at(1).fail(fmt::format("window width {} must be > 0", cw.y));
     window_of[static_cast<size_t>(shown.front())] = cw;
   }
+  using Clock = std::chrono::steady_clock;
+  const auto ms_since = [](Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+  };
+  const Clock::time_point t_render = Clock::now();
   Image image = render_slice(scene, view, shown, window_of);
   // The shown streamlines within the slab around the plane, over the slice (mrview's way).
   const double slab =
@@ -106,8 +105,14 @@ SliceAnswer answer_slice(const ViewerState& state, ReadingWindows& windows, cons
                {"height", height},
                {"outlines", std::move(outlines)}};
   if (message.contains("seq")) text["seq"] = message["seq"];
+  text["render_ms"] = std::round(ms_since(t_render) * 100) / 100;
   // Linear like a render, so the PNG's sRGB is what `render` writes for the same plane.
-  return {text.dump(), encode_png(image, "slice", false, 1)};
+  const Clock::time_point t_encode = Clock::now();
+  std::string encoded =
+      jpeg ? encode_jpeg(image, kMovingSliceQuality) : encode_png(image, "slice", false, 1);
+  text["encode_ms"] = std::round(ms_since(t_encode) * 100) / 100;
+  text["format"] = jpeg ? "jpeg" : "png";
+  return {text.dump(), std::move(encoded)};
 }
 
 Json answer_probe(const ViewerState& state, const Json& message) {

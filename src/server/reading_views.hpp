@@ -2,8 +2,6 @@
 // (one axial, coronal or sagittal image of every shown volume through a point, with the shown
 // meshes' outlines) and `probe` (each volume's value at a point, in its units) messages.
 #pragma once
-#include <map>
-#include <memory>
 #include <string>
 
 #include <glm/vec2.hpp>
@@ -13,31 +11,18 @@
 
 namespace imx::server {
 
-// Each volume's reading window (scene/reading_planes.hpp), worked out once per voxel array while
-// the array lives (a 4-D source's frames come and go: none is kept alive here).
-class ReadingWindows {
- public:
-  glm::dvec2 of(const VolumeObject& volume);
-
- private:
-  struct Entry {
-    std::weak_ptr<const VolumeData> data;
-    glm::dvec2 window;
-  };
-  std::map<const VolumeData*, Entry> windows_;
-};
-
 struct SliceAnswer {
   std::string text;  // {"type": "slice", "view", "seq", "point", "mm_per_pixel", "slab", ...}
-  std::string png;   // the image
+  std::string png;   // the image: PNG, or JPEG when the message asked for "format": "jpeg"
 };
 
 // A `slice` message: {"view": "axial"|"coronal"|"sagittal", "point": [3], "width", "height",
-// "mm_per_pixel", "seq", "window" (optional [centre, width] of the first shown volume, a W/L
-// preset), "slab" (optional, mm: the shown streamlines within half of it of the plane are drawn
-// over the slice; default kDefaultStreamlineSlab)}. Throws imx::Error naming the field at fault.
-SliceAnswer answer_slice(const ViewerState& state, ReadingWindows& windows,
-                         const nlohmann::json& message);
+// "mm_per_pixel", "seq", "window" (optional [centre, width] of the first shown volume, instead of
+// its own volume_window: a W/L drag in progress), "slab" (optional, mm: the shown streamlines
+// within half of it of the plane are drawn over the slice; default kDefaultStreamlineSlab),
+// "format" (optional: "png", the default, or "jpeg" while a drag goes on)}. Throws imx::Error
+// naming the field at fault.
+SliceAnswer answer_slice(const ViewerState& state, const nlohmann::json& message);
 
 // A `probe` message: {"point": [3]} -> {"type": "probe", "point", "values": [{"name", "value"
 // (null outside the grid), "units", "index" [i, j, k]}, ...]} for every volume.

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -286,15 +287,19 @@ void ViewerSession::handle(const std::shared_ptr<ClientSink>& client, const Json
 
   if (type == "camera" || type == "edit") {
     std::lock_guard lock(mutex_);
-    apply_edit(state_, message);
+    // An object edit that leaves the image (a volume's 2-D window) re-renders nothing.
+    const bool image_changes = apply_edit(state_, message) || type == "camera";
     ++document_version_;
-    input_applied(client.get(), message);
+    if (image_changes)
+      input_applied(client.get(), message);
+    else
+      input_acknowledged(client.get(), message);
   } else if (type == "slice") {
     // Rendered here, on the network thread: a 2-D view takes milliseconds, not a frame's time.
     SliceAnswer answer;
     {
       std::lock_guard lock(mutex_);
-      answer = answer_slice(state_, reading_windows_, message);
+      answer = answer_slice(state_, message);
     }
     client->send_frame(std::move(answer.text), std::move(answer.png), false);
   } else if (type == "probe") {
@@ -398,6 +403,26 @@ void ViewerSession::input_applied(const ClientSink* client, const Json& message)
   wake_.notify_all();
 }
 
+void ViewerSession::input_acknowledged(const ClientSink* client, const Json& message) {
+  for (Client& c : clients_)
+    if (c.id == client && message.contains("seq"))
+      c.seq = std::max(c.seq, static_cast<long long>(message["seq"].get<double>()));
+  acknowledge_ = true;
+  broadcast_state();
+  wake_.notify_all();
+}
+
+// The last frame again, each client's latest input in it: after inputs that changed no pixel.
+void ViewerSession::resend_last_frame() {
+  if (last_frame_text_.empty()) return;  // the first frame carries every seq
+  Json frame = Json::parse(last_frame_text_);
+  for (const Client& c : clients_)
+    if (auto sink = c.sink.lock()) {
+      frame["seq"] = c.seq;
+      sink->send_frame(frame.dump(), last_frame_image_, true);
+    }
+}
+
 // The session as a scene file: the edited document with the method and spp it converges with.
 Json ViewerSession::saved_document() const {
   Json document = state_.document.json();
@@ -453,6 +478,7 @@ bool ViewerSession::take_work(std::unique_lock<std::mutex>& lock, Snapshot& out)
       cancel_ = false;
       return true;
     }
+    if (std::exchange(acknowledge_, false)) resend_last_frame();
     idle_ = !moving_;  // a drag not yet released still has its still frames to come
     idle_changed_.notify_all();
     if (moving_)

@@ -136,6 +136,10 @@ class ViewerSession {
   void screenshot(const std::vector<std::weak_ptr<ClientSink>>& to, const Snapshot& snapshot);
   void handle(const std::shared_ptr<ClientSink>& client, const nlohmann::json& message);
   void input_applied(const ClientSink* client, const nlohmann::json& message);
+  // An input that leaves the image as it is: its client's frame (the last one, sent again with
+  // its seq once the render thread is idle) without a render; the state goes to every client.
+  void input_acknowledged(const ClientSink* client, const nlohmann::json& message);
+  void resend_last_frame();
   nlohmann::json state_message() const;
   void broadcast_text(const std::string& text);
   void broadcast_state();
@@ -152,7 +156,6 @@ class ViewerSession {
   int spp_ = 1;
   std::optional<std::pair<int, int>> viewport_;  // the latest page's canvas size, else the scene's
   nlohmann::json histograms_, tf_presets_;       // sent in every hello
-  ReadingWindows reading_windows_;               // the 2-D views' windows, per voxel array
   std::vector<Client> clients_;
   uint64_t version_ = 1;           // grows with every change of what the image shows
   uint64_t document_version_ = 1;  // grows with every change of state_.document
@@ -166,7 +169,8 @@ class ViewerSession {
   Counters counters_;
   std::vector<double> latencies_;
   bool stopping_ = false;
-  bool idle_ = false;  // the render thread waits with nothing to do
+  bool idle_ = false;         // the render thread waits with nothing to do
+  bool acknowledge_ = false;  // an input the image did not change awaits its frame
   std::condition_variable idle_changed_;
   std::atomic<bool> cancel_{false};
 

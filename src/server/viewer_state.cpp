@@ -434,6 +434,10 @@ Json edited_object(const ViewerState& state, const JsonReader& r, size_t k, bool
       if (!volume.labels) v->fail(fmt::format("'{}' is not a label volume", volume.name));
       edit_label_overrides(*v, object);
     }
+    if (auto v = r.find("window")) {  // the 2-D views' window: [centre, width] or a preset
+      const glm::dvec2 w = scene_json::parse_window(*v);
+      object["window"] = Json::array({w.x, w.y});
+    }
     if (auto v = r.find("frame"); v && v->integer(0, volume.frames - 1) != volume.frame) {
       if (!object.contains("source") || !object["source"].is_object() ||
           !object["source"].contains("file"))
@@ -493,7 +497,6 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
                                                      {"clip_planes", ObjectKind::volume},
                                                      {"frame", ObjectKind::volume},
                                                      {"labels", ObjectKind::volume},
-                                                     {"window", ObjectKind::plane},
                                                      {"center", ObjectKind::plane},
                                                      {"color_by", ObjectKind::streamlines},
                                                      {"color", ObjectKind::streamlines},
@@ -507,6 +510,12 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
   // A connectome is drawn as tubes but has none of a tractogram's fields (its look is its own).
   const bool connectome = ref.kind == ObjectKind::streamlines &&
                           state.scene().streamlines[static_cast<size_t>(ref.index)].connectome;
+  if (auto v = r.find("window");
+      v && ref.kind != ObjectKind::volume && ref.kind != ObjectKind::plane)
+    v->fail(
+        fmt::format("applies to volumes (their 2-D views) and planes only, and this object "
+                    "is a {}",
+                    object_kind_name(ref.kind)));
   for (const auto& [key, kind] : only)
     if (auto v = r.find(key); v && (ref.kind != kind || connectome))
       v->fail(fmt::format("applies to {}s only, and this object is a {}", object_kind_name(kind),
@@ -533,7 +542,13 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
   state.visible[k] = visible;
   state.opacity[k] = opacity;
   if (changed) count_labels(state);
-  return changed;
+  // A volume's window is its 2-D views' alone: the 3-D image stays.
+  bool window_only = volume;
+  for (const auto& field : message.items())
+    if (field.key() != "type" && field.key() != "seq" && field.key() != "moving" &&
+        field.key() != "object" && field.key() != "window")
+      window_only = false;
+  return changed && !window_only;
 }
 
 // A streamline object's look and selection for the page's controls; its values' names and the
@@ -595,7 +610,7 @@ ViewerState load_viewer_state(const std::filesystem::path& file,
 }
 
 ViewerState viewer_state(SceneDocument document, std::filesystem::path file) {
-  ViewerState state{std::move(document), std::move(file), {}, {}, {}, {}, {}, {}};
+  ViewerState state{std::move(document), std::move(file), {}, {}, {}, {}, {}, {}, {}};
   // Edits parse the document again: the framed camera and automatic looks must stay put.
   state.document.write_out_choices();
   const Scene& scene = state.scene();
@@ -635,7 +650,16 @@ ViewerState viewer_state(SceneDocument document, std::filesystem::path file) {
     }
   }
   count_labels(state);
+  for (const VolumeObject& v : scene.volumes)
+    state.initial_windows.push_back(
+        v.data && !v.labels ? initial_display_window(*v.data, v.display_window) : InitialWindow{});
   return state;
+}
+
+glm::dvec2 volume_window(const ViewerState& state, size_t i) {
+  const VolumeObject& v = state.scene().volumes.at(i);
+  if (v.window) return *v.window;
+  return i < state.initial_windows.size() ? state.initial_windows[i].window : glm::dvec2(0, 1);
 }
 
 bool apply_edit(ViewerState& state, const nlohmann::json& message) {
@@ -684,6 +708,11 @@ nlohmann::json describe_state(const ViewerState& state) {
       o["pitch"] = vec_json({1.0 / glm::length(to_index[0]), 1.0 / glm::length(to_index[1]),
                              1.0 / glm::length(to_index[2])});
       o["units"] = v.units;
+      // The 2-D views' window, and why it is not the header's when the rule refused that.
+      const glm::dvec2 window = volume_window(state, i);
+      o["window"] = Json::array({window.x, window.y});
+      if (!v.window && i < state.initial_windows.size() && !state.initial_windows[i].note.empty())
+        o["window_note"] = state.initial_windows[i].note;
       if (v.labels)
         o["labels"] =
             label_list_json(*v.labels, i < state.label_values.size() ? state.label_values[i]

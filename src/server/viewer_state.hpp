@@ -10,6 +10,7 @@
 
 #include "intermix/scene.hpp"
 #include "scene/scene_document.hpp"
+#include "volume/display_window.hpp"
 
 namespace imx::server {
 
@@ -30,6 +31,9 @@ struct ViewerState {
   // the voxels they were counted in (a frame edit loads other ones).
   std::vector<std::vector<int32_t>> label_values;
   std::vector<std::shared_ptr<const VolumeData>> label_data;
+  // Per volume: the 2-D views' window when the scene gives none, by the initial-window rule on
+  // the voxels loaded first (a 4-D series keeps it through its frames, so cine does not flicker).
+  std::vector<InitialWindow> initial_windows;
 
   const Scene& scene() const { return document.scene(); }
 };
@@ -47,9 +51,14 @@ ViewerState load_viewer_state(const std::filesystem::path& file,
 // type is an error (the server handles "settings" itself). Objects are named, never indexed, and
 // never by file path. The edited document is parsed again whole (SceneDocument::edit). Throws
 // imx::Error naming the field and value at fault, and then leaves the state unchanged. Returns
-// true when the image may change. Data (VolumeData, Mesh) keeps its identity across edits, so
+// true when the image may change (false for an edit that changes nothing, or only a volume's
+// window, which its 2-D views show). Data (VolumeData, Mesh) keeps its identity across edits, so
 // the Renderer's caches recognise it.
 bool apply_edit(ViewerState& state, const nlohmann::json& message);
+
+// The window the 2-D views show volume `i` (scene.volumes order) through: the scene's "window"
+// for it (the user's), else the initial-window rule's.
+glm::dvec2 volume_window(const ViewerState& state, size_t i);
 
 // The session's camera, initial_camera and objects as sent to clients ("hello" and "state").
 nlohmann::json describe_state(const ViewerState& state);

@@ -87,6 +87,7 @@ TEST(StageFields, EveryHashedVolumeFieldMovesTheKeyAndNoOtherDoes) {
   expect_moves(volume_hash,
                {{"name", [&](Scene& s) { v(s).name = "other"; }},
                 {"display_window", [&](Scene& s) { v(s).display_window = glm::dvec2(40, 400); }},
+                {"window", [&](Scene& s) { v(s).window = glm::dvec2(400, 1800); }},
                 {"units", [&](Scene& s) { v(s).units = "HU"; }},
                 {"source_dims", [&](Scene& s) { v(s).source_dims = glm::ivec3(4); }},
                 {"frame", [&](Scene& s) { v(s).frame = 2; }},
@@ -145,7 +146,10 @@ TEST(StageFields, ALabelMapMovesTheVolumeAndPlaneKeysButNotItsNames) {
       {"color", [](LabelMap& m) { m.entries[0].color.r = 1.0f; }},
       {"opacity", [](LabelMap& m) { m.entries[0].opacity = 0.5f; }},
       {"visible", [](LabelMap& m) { m.entries[0].visible = false; }},
-      {"entries", [](LabelMap& m) { m.entries.push_back({3, "gm", glm::vec3(1), 1.0f, true}); }},
+      {"entries",
+       [](LabelMap& m) {
+         m.entries.push_back({3, "gm", glm::vec3(1), 1.0f, true});
+       }},
       {"palette_unlisted", [](LabelMap& m) { m.palette_unlisted = false; }},
       {"interpolation", [](LabelMap& m) { m.interpolation = LabelInterpolation::nearest; }},
       {"unit_distance", [](LabelMap& m) { m.unit_distance = 2.0; }},

@@ -61,12 +61,11 @@ TEST(PlaneReadingViewColour, AGreyPlaneIsTheReadingViewOfItsVolume) {
   write_png(render(state.scene(), options), dir / "render.png");
   const Image rendered = read_png(dir / "render.png", true);
 
-  ReadingWindows windows;
   const nlohmann::json message = {{"type", "slice"},       {"view", "axial"},
                                   {"point", {0, 0, 0.25}}, {"width", kPixels},
                                   {"height", kPixels},     {"mm_per_pixel", 12.0 / kPixels},
                                   {"window", {150, 400}}};
-  const Image view = png_bytes(dir, answer_slice(state, windows, message).png);
+  const Image view = png_bytes(dir, answer_slice(state, message).png);
   ASSERT_EQ(view.width(), rendered.width());
   ASSERT_EQ(view.height(), rendered.height());
   int differ = 0;

@@ -336,22 +336,21 @@ TEST(StreamlineViewer, SliceShowsTheStreamlinesWithinTheSlab) {
 TEST(StreamlineViewer, SliceAnswerDrawsShownStreamlinesOnly) {
   TempDir dir;
   ViewerState state = load_viewer_state(write_scene(dir, 5, {{"color", {1, 0, 0}}}));
-  ReadingWindows windows;
   const Json message = {{"type", "slice"}, {"view", "axial"}, {"point", {0, 0, 0}},
                         {"width", 64},     {"height", 64},    {"mm_per_pixel", 1.0}};
-  const SliceAnswer shown = answer_slice(state, windows, message);
+  const SliceAnswer shown = answer_slice(state, message);
   EXPECT_EQ(Json::parse(shown.text)["slab"], kDefaultStreamlineSlab);
   Json thin = message;
   thin["point"] = {0, 0, 5};
   thin["slab"] = 4.0;
-  const SliceAnswer beyond = answer_slice(state, windows, thin);
+  const SliceAnswer beyond = answer_slice(state, thin);
   apply_edit(state, edit({{"visible", false}}));
-  const SliceAnswer hidden = answer_slice(state, windows, message);
+  const SliceAnswer hidden = answer_slice(state, message);
   EXPECT_NE(shown.png, hidden.png);
   EXPECT_EQ(beyond.png, hidden.png);
   Json bad = message;
   bad["slab"] = -1;
-  EXPECT_THROW(answer_slice(state, windows, bad), Error);
+  EXPECT_THROW(answer_slice(state, bad), Error);
 }
 
 // A connectome is drawn as tubes but is no tractogram: the page gets its opacity and visibility

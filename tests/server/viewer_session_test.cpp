@@ -236,7 +236,7 @@ TEST(ViewerSession, BadMessagesGetOneErrorAndChangeNothing) {
       {"[1, 2]", "expected a JSON object"},
       {R"({"type": "launch"})", "launch"},
       {R"({"type": "edit", "object": "/etc/passwd", "visible": false})", "is not an object"},
-      {R"({"type": "edit", "object": "pet", "window": [1, 2]})", "applies to planes only"},
+      {R"({"type": "edit", "object": "pet", "window": [1, 0]})", "window width 0 must be > 0"},
       {R"({"type": "camera", "seq": -1, "eye": [1, 2, 3]})", "seq"},
       {R"({"type": "camera", "moving": "yes"})", "moving"},
       {R"({"type": "settings", "method": "fastest"})", "fastest"},
@@ -262,6 +262,27 @@ TEST(ViewerSession, BadMessagesGetOneErrorAndChangeNothing) {
   EXPECT_EQ(session.method(), "zslab");
   EXPECT_EQ(session.spp(), 1);
   EXPECT_EQ(session.counters().frames_sent, 1);  // nothing was rendered again
+}
+
+// A volume's 2-D window changes no pixel of the 3-D view: the edit reaches every client's state
+// and its sender gets the last frame again with its seq (its flow control), and nothing renders.
+TEST(ViewerSession, AVolumeWindowEditIsAnsweredWithoutARender) {
+  TempDir dir;
+  ViewerSession session(load_viewer_state(small_fusion(dir)), quiet_options(1));
+  auto client = std::make_shared<Recorder>();
+  session.add_client(client);
+  client->wait_final();
+  const auto sent = session.counters().frames_sent;
+  session.on_message(
+      client,
+      R"({"type": "edit", "seq": 7, "moving": false, "object": "ct", "window": [400, 1800]})");
+  const Json state = client->wait_type("state").json;
+  EXPECT_EQ(state["objects"][0]["window"], Json::array({400.0, 1800.0}));
+  const Json frame =
+      client->wait_for([](const Json& j) { return j["type"] == "frame" && j["seq"] == 7; }).json;
+  EXPECT_EQ(frame["final"], true);
+  EXPECT_TRUE(session.wait_idle(std::chrono::seconds(60)));
+  EXPECT_EQ(session.counters().frames_sent, sent);
 }
 
 TEST(ViewerSession, SettingsChangeMethodAndSpp) {
@@ -426,6 +447,24 @@ TEST(ViewerSession, SlicesAndProbesAnswerTheReadingViews) {
                                   "width": 8, "height": 8, "mm_per_pixel": 1})");
   EXPECT_NE(client->wait_type("error").json["message"].get<std::string>().find("slice: view"),
             std::string::npos);
+  // A zoom of 1e9 either way, and a window of no width: one error each naming the field, and
+  // the next slice is answered as before (nothing lost).
+  const struct {
+    const char* fields;
+    const char* says;
+  } bad[] = {{R"("mm_per_pixel": 2e9)", "slice: mm_per_pixel: 2000000000.0 is not in"},
+             {R"("mm_per_pixel": 2e-9)", "slice: mm_per_pixel"},
+             {R"("mm_per_pixel": 2, "window": [40, 0])", "slice: window[1]: window width 0"},
+             {R"("mm_per_pixel": 2, "window": [40, "80"])", "slice: window[1]: expected a number"}};
+  for (const auto& b : bad) {
+    session.on_message(client, std::string(R"({"type": "slice", "view": "axial", "point": [0, 0, 0],
+                                              "width": 8, "height": 8, )") +
+                                   b.fields + "}");
+    const std::string said = client->wait_type("error").json["message"].get<std::string>();
+    EXPECT_NE(said.find(b.says), std::string::npos) << said;
+    EXPECT_EQ(said.find('\n'), std::string::npos) << said;
+  }
+  EXPECT_EQ(decode(slice_of(6, nullptr).image, dir).width(), 40);
 }
 
 // A scene shown at coarse pyramid levels: once its still frame has converged, the session asks

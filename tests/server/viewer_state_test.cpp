@@ -21,8 +21,10 @@
 #include "intermix/io.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "presets/window_presets.hpp"
 #include "same_image.hpp"
 #include "scene_fixture.hpp"
+#include "server/reading_views.hpp"
 #include "temp_dir.hpp"
 
 namespace imx::server {
@@ -334,8 +336,11 @@ TEST(ViewerState, BadMessagesChangeNothing) {
        "'axial'?); they are: ct, axial, coronal, sagittal"},
       {edit("ct", {{"opacity", 1.5}}), "edit of 'ct': opacity: 1.5 is not in [0, 1]"},
       {edit("ct", {{"visible", 1}}), "edit of 'ct': visible: expected true or false"},
-      {edit("ct", {{"opacity", 0.5}, {"window", {1, 2}}}),
-       "edit of 'ct': window: applies to planes only, and this object is a volume"},
+      {edit("ct", {{"opacity", 0.5}, {"window", {1, -2}}}),
+       "edit of 'ct': window[1]: window width -2 must be > 0"},
+      {edit("ct", {{"window", {"40", 80}}}), "edit of 'ct': window[0]: expected a number"},
+      {edit("ct", {{"window", {40, 80, 1}}}), "edit of 'ct': window"},
+      {edit("ct", {{"window", "bones"}}), "\"bones\" is not a window preset"},
       {edit("axial", {{"transfer_function", {{0, 0, 0, 0, 0}}}}), "applies to volumes only"},
       {edit("ct", {{"opacity", 0.5}, {"transfer_function", {{5, 0, 0, 0, 0}, {1, 1, 1, 1, 1}}}}),
        "edit of 'ct': transfer_function[1][0]: value 1 is below the previous point's 5"},
@@ -384,6 +389,36 @@ TEST(ViewerState, DescribesCameraAndObjects) {
   EXPECT_EQ(coronal["window"], Json::array({40.0, 400.0}));
   EXPECT_EQ(coronal["normal"], Json::array({0.0, 1.0, 0.0}));
   EXPECT_TRUE(coronal.contains("up") && coronal.contains("size") && coronal.contains("center"));
+}
+
+// A volume's "window" is its 2-D views' window: an edit writes it to the document (saved, and
+// read back), the state reports it, the reading views draw with it, and the 3-D image stays.
+TEST(ViewerState, VolumeWindowEditIsTheReadingViewsWindow) {
+  ViewerState s = small("mpr", {"ct"}, 24);
+  const Json slice = {{"type", "slice"}, {"view", "axial"}, {"point", {0, 0, 0}},
+                      {"width", 32},     {"height", 32},    {"mm_per_pixel", 8.0}};
+  const std::string before = answer_slice(s, slice).png;
+  const Json initial = describe_state(s)["objects"][0]["window"];
+  const glm::dvec2 rule = s.initial_windows.at(0).window;
+  EXPECT_EQ(initial, Json::array({rule.x, rule.y}));
+  const Image image = draw(s.scene());
+  EXPECT_FALSE(apply_edit(s, edit("ct", {{"window", {400, 1800}}})));  // the 3-D image stays
+  EXPECT_EQ(s.document.json()["objects"][0]["window"], Json::array({400.0, 1800.0}));
+  EXPECT_EQ(s.scene().volumes[0].window, glm::dvec2(400, 1800));
+  EXPECT_EQ(describe_state(s)["objects"][0]["window"], Json::array({400.0, 1800.0}));
+  EXPECT_TRUE(same_bytes(image, draw(s.scene())));
+  Json with_window = slice;
+  with_window["window"] = {400, 1800};
+  const std::string after = answer_slice(s, slice).png;
+  EXPECT_NE(after, before);
+  EXPECT_EQ(after, answer_slice(s, with_window).png);
+  TempDir dir;
+  const Scene reloaded = load_scene(dir.write("saved.json", s.document.text()));
+  EXPECT_EQ(reloaded.volumes[0].window, glm::dvec2(400, 1800));
+  // A preset's name is a window too, written as numbers.
+  apply_edit(s, edit("ct", {{"window", "ct-brain"}}));
+  const glm::dvec2 brain = *find_window_preset("ct-brain");
+  EXPECT_EQ(s.document.json()["objects"][0]["window"], Json::array({brain.x, brain.y}));
 }
 
 TEST(ViewerState, HistogramsCountEveryVoxelOfASmallVolume) {

@@ -564,6 +564,8 @@ def run_test(args, out, checks, cleanup):
     # m. the reading views: 2x2 layout, a click in the axial view moves the other crosshairs,
     # the readout reads the voxel there, the wheel steps one slice
     run_reading_views(args, checks, browser)
+    # n. the 2-D views' window/level, zoom and pan, linked views, a preset's window shown
+    run_reading_interaction(checks, browser, watcher)
 
     # d. transfer-function edit
     tfs = {o['name']: browser.evaluate(f"viewer.tfPoints({json.dumps(o['name'])})")
@@ -859,6 +861,228 @@ def run_reading_views(args, checks, browser):
                  f"eye moved {math.dist(cam['eye'], cam2['eye']):.2g} mm", link[:80] + '...')
     browser.evaluate("viewer.setLayout('1x1')")
     wait_converged(browser, 20, 'after the linked view')
+
+
+# The page's rules (web/js/slices.js): W/L drags scale the width by exp(0.005) per CSS pixel
+# right and move the centre by width / 256 per pixel down; ctrl+wheel zooms by exp(0.0015) per
+# pixel of deltaY (up: in).
+WL_WIDTH_RATE, WL_LEVEL_STEPS, WHEEL_ZOOM_RATE = 0.005, 256, 0.0015
+
+
+def dragged_window(w0, dx, dy):
+    return [w0[0] + dy * max(abs(w0[1]), 1e-3) / WL_LEVEL_STEPS,
+            max(1e-6, w0[1] * math.exp(dx * WL_WIDTH_RATE))]
+
+
+def slice_views_settled(browser, what, cond='true'):
+    """Each shown 2-D view's last image, once none waits for one and `cond` (JavaScript over
+    `v`, the views) holds."""
+    browser.wait_for("(() => { const v = viewer.sliceViews(); return Object.keys(v).length === 3 "
+                     f"&& Object.values(v).every((x) => !x.pending) && ({cond}); }})()",
+                     timeout=15, what=what)
+    return browser.evaluate('viewer.sliceViews()')
+
+
+def wheel(browser, axis, delta_y, **mods):
+    flags = ', '.join(f'{k}: true' for k in mods)
+    browser.evaluate(f"""(() => {{ const el = document.querySelector(
+      '.slice-cell[data-axis={axis}] .slice'); const r = el.getBoundingClientRect();
+      el.dispatchEvent(new WheelEvent('wheel', {{deltaY: {delta_y}, clientX: r.left + r.width / 2,
+        clientY: r.top + r.height / 2, bubbles: true, cancelable: true, {flags}}})); }})()""")
+
+
+def close_to(a, b, rel=1e-9):
+    return a is not None and b is not None and len(a) == len(b) and \
+        all(abs(x - y) <= rel * max(1.0, abs(y)) for x, y in zip(a, b))
+
+
+def panel_window(browser, volume):
+    """The 2-D window the panel shows in a volume's box."""
+    sel = json.dumps(f'.object[data-name="{volume}"] .slice-window')
+    return browser.evaluate(f'(document.querySelector({sel}) || {{}}).textContent')
+
+
+def run_reading_interaction(checks, browser, watcher):
+    browser.evaluate("viewer.setLayout('2x2')")
+    v0 = slice_views_settled(browser, 'the three 2-D views')
+    base = browser.evaluate('viewer.sliceWindow()')
+    point0 = browser.evaluate('viewer.slicePoint()')
+    cells = {a: browser.evaluate(f"viewer.center('.slice-cell[data-axis={a}] .slice')")
+             for a in ('axial', 'coronal', 'sagittal')}
+    checks.check('n. the 2-D views start at the base volume\'s window (the initial-window rule)',
+                 base and base['window'] and
+                 all(close_to(v['window'], base['window']) for v in v0.values()),
+                 f"{base and base['name']}: {base and [rnd(x, 1) for x in base['window']]}",
+                 (base or {}).get('note') or 'no note')
+
+    # n1. window/level: a right drag in the axial view, a ctrl+drag in the coronal view, a drag
+    # in W/L mode in the sagittal view; each changes the window by the page's rule, in every
+    # view and in the scene's state, and leaves the crosshair where it was.
+    lat0 = len(browser.evaluate("viewer.inputLatencies('wl')"))
+    drags = [('axial', 'right', 0, False, 60, -30), ('coronal', 'left', browser.CTRL, False, -40, 25),
+             ('sagittal', 'left', 0, True, 30, 40)]
+    for axis, button, mods, mode, dx, dy in drags:
+        w0 = browser.evaluate('viewer.sliceWindow()')['window']
+        want = dragged_window(w0, dx, dy)
+        if mode:
+            browser.key('w')
+        c = cells[axis]
+        t0 = time.monotonic()
+        browser.drag(c['x'], c['y'], c['x'] + dx, c['y'] + dy, steps=12, duration=0.4,
+                     button=button, modifiers=mods)
+        if mode:
+            browser.key('w')
+        views = slice_views_settled(
+            browser, f'the W/L drag in the {axis} view',
+            f"Object.values(v).every((x) => x.window && Math.abs(x.window[1] - {want[1]}) < "
+            f"1e-6 * {want[1]})")
+        st = settled_state(watcher, t0)
+        doc = (state_object(st, base['name']) or {}).get('window')
+        label = panel_window(browser, base['name'])
+        point = browser.evaluate('viewer.slicePoint()')
+        how = {'right': 'right drag', 'left': 'ctrl+drag' if mods else 'W/L mode drag'}[button]
+        checks.check(f'n. a {how} in the {axis} view sets the 2-D window by the drag '
+                     f'({dx:+d}, {dy:+d}) px, in every view and the scene; no crosshair move',
+                     all(close_to(v['window'], want) for v in views.values()) and
+                     close_to(doc, want) and point == point0 and
+                     label == f'2-D window · W {want[1]:.0f} / L {want[0]:.0f}',
+                     f'{[rnd(x, 2) for x in w0]} -> {[rnd(x, 2) for x in views[axis]["window"]]} '
+                     f'(want {[rnd(x, 2) for x in want]})',
+                     f'scene {doc}; panel {label!r}; crosshair moved '
+                     f'{math.dist(point, point0):.3g} mm')
+    wl_lat = browser.evaluate("viewer.inputLatencies('wl')")[lat0:]
+
+    # n2. zoom: ctrl+wheel up in the axial view by 200 px zooms it in by exp(0.3), alone;
+    # shift+wheel down by 100 in the coronal view zooms it out by exp(-0.15)
+    lat0 = len(browser.evaluate("viewer.inputLatencies('zoom')"))
+    before = slice_views_settled(browser, 'the views before zooming')
+    wheel(browser, 'axial', -200, ctrlKey=True)
+    after = slice_views_settled(browser, 'the zoomed axial view',
+                                f"v.axial.mm_per_pixel !== {before['axial']['mm_per_pixel']}")
+    ratio = {a: before[a]['mm_per_pixel'] / after[a]['mm_per_pixel'] for a in after}
+    checks.check('n. ctrl+wheel (deltaY -200) zooms the axial view in by exp(0.3), alone',
+                 abs(ratio['axial'] - math.exp(0.3)) < 1e-9 and ratio['coronal'] == 1 and
+                 ratio['sagittal'] == 1,
+                 f"mm per pixel x1/{ratio['axial']:.6f} (want {math.exp(0.3):.6f})",
+                 f'the others x{ratio["coronal"]}, x{ratio["sagittal"]}')
+    before = after
+    wheel(browser, 'coronal', 100, shiftKey=True)
+    after = slice_views_settled(browser, 'the zoomed coronal view',
+                                f"v.coronal.mm_per_pixel !== {before['coronal']['mm_per_pixel']}")
+    r = after['coronal']['mm_per_pixel'] / before['coronal']['mm_per_pixel']
+    checks.check('n. shift+wheel (deltaY +100) zooms the coronal view out by exp(0.15)',
+                 abs(r - math.exp(0.15)) < 1e-9, f'mm per pixel x{r:.6f}',
+                 f'want {math.exp(0.15):.6f}')
+    zoom_lat = browser.evaluate("viewer.inputLatencies('zoom')")[lat0:]
+
+    # n3. pan: a middle drag in the axial view moves its image with the pointer: the view's
+    # centre moves by minus the drag in mm (right is +x, down is +y in LPS), its zoom kept.
+    before = after
+    c, dx, dy = cells['axial'], 50, -20
+    mm = before['axial']['mm_per_css_px']
+    want = [-dx * mm[0], -dy * mm[1], 0.0]
+    browser.drag(c['x'], c['y'], c['x'] + dx, c['y'] + dy, steps=10, duration=0.3,
+                 button='middle')
+    x_want = before['axial']['point'][0] + want[0]
+    try:  # the release's image (a loaded machine may still be drawing the last move's)
+        slice_views_settled(browser, 'the panned axial view',
+                            f'Math.abs(v.axial.point[0] - {x_want}) < 1e-6')
+    except Failure:
+        pass
+    after = browser.evaluate('viewer.sliceViews()')
+    moved = [a - b for a, b in zip(after['axial']['point'], before['axial']['point'])]
+    checks.check('n. a middle drag pans the axial view by the dragged amount',
+                 all(abs(m - w) < 1e-6 for m, w in zip(moved, want)) and
+                 after['axial']['mm_per_pixel'] == before['axial']['mm_per_pixel'],
+                 f'centre moved {[rnd(x, 3) for x in moved]} mm',
+                 f'want {[rnd(x, 3) for x in want]} ({dx}, {dy}) px at {rnd(mm[0], 4)}, '
+                 f'{rnd(mm[1], 4)} mm/px')
+
+    # n3b. a two-finger pinch (touch events) in the sagittal view: the fingers from 40 to 80 px
+    # apart about a fixed midpoint zoom it in by 2
+    before = slice_views_settled(browser, 'the views before the pinch')
+    browser.send('Emulation.setTouchEmulationEnabled', {'enabled': True, 'maxTouchPoints': 5})
+    c = cells['sagittal']
+
+    def touch(kind, half):
+        points = [] if kind == 'touchEnd' else [{'x': c['x'] - half, 'y': c['y'], 'id': 1},
+                                                {'x': c['x'] + half, 'y': c['y'], 'id': 2}]
+        browser.send('Input.dispatchTouchEvent', {'type': kind, 'touchPoints': points})
+    touch('touchStart', 20)
+    for k in range(1, 11):
+        touch('touchMove', 20 + 2 * k)
+        time.sleep(0.03)
+    touch('touchEnd', 40)
+    browser.send('Emulation.setTouchEmulationEnabled', {'enabled': False})
+    after = slice_views_settled(browser, 'the pinched sagittal view',
+                                f"v.sagittal.zoom !== {before['sagittal']['zoom']}")
+    r = before['sagittal']['mm_per_pixel'] / after['sagittal']['mm_per_pixel']
+    # (touch points land on whole pixels: the midpoint may be half a pixel off the centre)
+    shift = math.dist(after['sagittal']['point'], before['sagittal']['point'])
+    checks.check('n. a pinch from 40 to 80 px zooms the sagittal view in by 2 about its midpoint',
+                 abs(r - 2) < 1e-9 and shift <= max(before['sagittal']['mm_per_css_px']),
+                 f'mm per pixel x1/{r:.6f}', f'the centre moved {shift:.3g} mm')
+    before = after
+
+    # n4. linked: the three views take the last zoomed or panned one's (the sagittal) zoom, and
+    # zoom together
+    b = browser.evaluate("viewer.center('#link-views')")
+    browser.click(b['x'], b['y'])
+    zoom_a = after['sagittal']['zoom']  # the view zoomed last
+    linked = slice_views_settled(browser, 'the linked views',
+                                 f'Object.values(v).every((x) => x.zoom === {zoom_a})')
+    wheel(browser, 'sagittal', -100, ctrlKey=True)
+    both = slice_views_settled(browser, 'the linked zoom', 'Object.values(v).every((x, i, a) => '
+                               f"x.zoom !== {zoom_a})")
+    ratios = {a: linked[a]['mm_per_pixel'] / both[a]['mm_per_pixel'] for a in both}
+    checks.check('n. linked views: a ctrl+wheel in one zooms all three by exp(0.15)',
+                 all(abs(x - math.exp(0.15)) < 1e-9 for x in ratios.values()),
+                 ', '.join(f'{a} x{x:.6f}' for a, x in ratios.items()))
+    browser.click(b['x'], b['y'])
+    rb = browser.evaluate("viewer.center('#reset-view')")
+    browser.click(rb['x'], rb['y'])
+    reset = slice_views_settled(browser, 'the views reset',
+                                'Object.values(v).every((x) => x.zoom === 1)')
+    checks.check('n. "reset view" fits the 2-D views again',
+                 all(abs(reset[a]['mm_per_pixel'] - v0[a]['mm_per_pixel']) < 1e-12 and
+                     close_to(reset[a]['point'], v0[a]['point']) for a in reset),
+                 str({a: rnd(x['mm_per_pixel'], 4) for a, x in reset.items()}))
+
+    # n5. a W/L preset: the views, the scene and the panel show the preset's window
+    t0 = time.monotonic()
+    browser.evaluate("(() => { const s = document.getElementById('wl-preset'); s.value = 'bone'; "
+                     "s.dispatchEvent(new Event('change')); })()")
+    views = slice_views_settled(browser, 'the bone preset',
+                                'Object.values(v).every((x) => x.window[1] === 1800)')
+    doc = (state_object(settled_state(watcher, t0), base['name']) or {}).get('window')
+    label = panel_window(browser, base['name'])
+    checks.check('n. the bone preset: the views, the scene and the panel show W 1800 / L 400',
+                 all(v['window'] == [400, 1800] for v in views.values()) and
+                 doc == [400, 1800] and label == '2-D window · W 1800 / L 400',
+                 f'panel {label!r}', f'scene {doc}')
+    # n6. screenshots as shown: the layout at the display's pixel ratio, the axial view at 2x
+    dpr = browser.evaluate('window.devicePixelRatio || 1')
+    area = browser.evaluate("viewer.center('#view-area')")
+    cell = browser.evaluate("viewer.center('.slice-cell[data-axis=axial]')")
+    shot = browser.evaluate("viewer.capture('layout')")
+    one = browser.evaluate("viewer.capture('axial', 2)")
+    want_l = [round(area['w'] * dpr), round(area['h'] * dpr)]
+    want_a = [round(cell['w'] * 2), round(cell['h'] * 2)]
+    checks.check("n. a layout screenshot has the layout's size (x the pixel ratio), a 2x one of "
+                 'the axial view twice its size, both drawn',
+                 shot and one and [shot['width'], shot['height']] == want_l and
+                 [one['width'], one['height']] == want_a and shot['lit'] > 0.05 and
+                 one['lit'] > 0.05,
+                 f"layout {shot and [shot['width'], shot['height']]} (want {want_l}), axial "
+                 f"{one and [one['width'], one['height']]} (want {want_a})",
+                 f"lit {shot and rnd(shot['lit'], 3)}, {one and rnd(one['lit'], 3)}")
+    checks.check('n. 2-D W/L and zoom latency (input to the last view showing it) measured',
+                 len(wl_lat) >= 3 and len(zoom_lat) >= 2,
+                 f'W/L median {rnd(percentile(wl_lat, 0.5))} ms, p95 '
+                 f'{rnd(percentile(wl_lat, 0.95))} ms over {len(wl_lat)}; zoom '
+                 f'{[rnd(x) for x in zoom_lat]} ms')
+    browser.evaluate("viewer.setLayout('1x1')")
+    wait_converged(browser, 20, 'after the 2-D interactions')
 
 
 # ---------------------------------------------------------------- test mode: streamlines
@@ -1296,6 +1520,17 @@ def run_mpr(args, out, checks, cleanup, browser):
                  f"(run, stages, scale): "
                  f"{[(f['stages_run'], f['stages'], f['scale']) for f in fr]}")
 
+    # h2. the bone preset: the selected plane's window, and its label in the panel at once
+    t_pre = time.monotonic()
+    browser.evaluate("(() => { const s = document.getElementById('wl-preset'); s.value = 'bone'; "
+                     "s.dispatchEvent(new Event('change')); })()")
+    label = browser.evaluate(f'(document.querySelector({label_sel}) || {{}}).textContent')
+    wait_converged(browser, 20, 'after the bone preset')
+    win2 = (state_object(settled_state(watcher, t_pre), wl['name']) or {}).get('window')
+    checks.check(f"h. the bone preset sets {wl['name']}'s window and its label shows it",
+                 win2 == [400, 1800] and label == 'W/L target · W 1800 / L 400',
+                 f'panel {label!r}', f'window {win2}')
+
     # i. the first MPR plane's position slider: drag its thumb left
     pl = planes[0]
     slider_sel = json.dumps(f'.object[data-name="{pl["name"]}"] > .row:last-child > '
@@ -1704,6 +1939,57 @@ JS_DIAGNOSIS = """({
 })"""
 
 
+def run_measure_2d(args, out, cleanup):
+    """The 2-D views' latency (input event to the last view drawn showing it) on the scene as it
+    is, 2x2 layout: N right drags of 10 moves over 0.5 s (window/level) and N ctrl+wheel steps
+    (zoom), alternating directions and views."""
+    sargs = ['--port', '0', '--bind', '127.0.0.1', '--max-image-side', str(args.max_image_side)]
+    for s in args.set:
+        sargs += ['--set', s]
+    server = Server(args.intermix, os.path.abspath(args.scene), sargs,
+                    os.path.join(out, 'server.log'), os.getcwd())
+    server.start()
+    cleanup.append(server.kill)
+    browser = cdp.Browser(chromium=args.chromium, log_path=os.path.join(out, 'chromium.log'))
+    cleanup.append(browser.close)
+    browser.start()
+    url = server.wait_url(120)
+    print(f'server: {url}', file=sys.stderr, flush=True)
+    browser.navigate(url, timeout=30)
+    wait_converged(browser, 120, 'after load')
+    browser.evaluate("viewer.setLayout('2x2')")
+    slice_views_settled(browser, 'the three 2-D views')
+    sizes = {a: browser.evaluate(f"viewer.center('.slice-cell[data-axis={a}] .slice')")
+             for a in ('axial', 'coronal', 'sagittal')}
+    for i in range(args.measure_2d):
+        axis = ('axial', 'coronal', 'sagittal')[i % 3]
+        c, sign = sizes[axis], 1 if i % 2 == 0 else -1
+        browser.drag(c['x'], c['y'], c['x'] + sign * 40, c['y'] + sign * 20, steps=10,
+                     duration=0.5, button='right')
+        slice_views_settled(browser, 'a W/L drag')
+        wheel(browser, axis, -sign * 100, ctrlKey=True)
+        slice_views_settled(browser, 'a zoom step')
+    wl, zoom = (browser.evaluate(f"viewer.inputLatencies('{k}')") for k in ('wl', 'zoom'))
+    views = browser.evaluate('viewer.sliceViews()')
+    timings = browser.evaluate('viewer.sliceTimings()')
+    parts = {f'{fmt}_{k}': rnd(percentile([t[k] for t in timings if t['format'] == fmt], 0.5))
+             for fmt in ('png', 'jpeg')
+             for k in ('render_ms', 'encode_ms', 'round_trip_ms', 'decode_ms')}
+    result = {'per_image_median': parts, 'scene': args.scene, 'views': {a: [round(sizes[a]['w']), round(sizes[a]['h'])]
+                                             for a in sizes},
+              'dpr': browser.evaluate('window.devicePixelRatio'),
+              'wl': {'n': len(wl), 'median_ms': rnd(percentile(wl, 0.5)),
+                     'p95_ms': rnd(percentile(wl, 0.95))},
+              'zoom': {'n': len(zoom), 'median_ms': rnd(percentile(zoom, 0.5)),
+                       'p95_ms': rnd(percentile(zoom, 0.95))},
+              'mm_per_pixel': {a: rnd(v['mm_per_pixel'], 4) for a, v in views.items()},
+              'load': os.getloadavg()[0]}
+    print(json.dumps(result))
+    with open(os.path.join(out, 'measure-2d.json'), 'w') as f:
+        json.dump(result, f, indent=1)
+    return 0
+
+
 def diagnose(cleanup, out):
     """After a failure: what the page shows, and a screenshot of it."""
     owners = [getattr(fn, '__self__', None) for fn in cleanup]
@@ -1738,6 +2024,8 @@ def main():
                                   '(default: a new temporary folder, kept)')
     ap.add_argument('--measure', type=int, default=0, metavar='N',
                     help='measure mode: N short drags on the scene at its own size')
+    ap.add_argument('--measure-2d', type=int, default=0, metavar='N',
+                    help='measure the 2-D views: N window/level drags and N zoom steps')
     ap.add_argument('--method', help='rendering method (test mode default: zslab)')
     ap.add_argument('--spp', type=int, help='samples per pixel the viewer converges to')
     ap.add_argument('--max-image-side', type=int, default=512,
@@ -1778,7 +2066,8 @@ def main():
     out = os.path.abspath(args.out) if args.out else tempfile.mkdtemp(prefix='imx-viewer-test-')
     os.makedirs(out, exist_ok=True)
 
-    limit = args.timeout or (120 + 8 * args.measure if args.measure else 180)
+    limit = args.timeout or (120 + 8 * args.measure if args.measure else
+                             180 + 5 * args.measure_2d if args.measure_2d else 180)
 
     def on_alarm(signum, frame):
         raise Failure(f'the whole run took longer than {limit:.0f} s')
@@ -1794,7 +2083,9 @@ def main():
     t0 = time.monotonic()
     status = 0
     try:
-        if args.measure:
+        if args.measure_2d:
+            status = run_measure_2d(args, out, cleanup)
+        elif args.measure:
             status = run_measure(args, out, cleanup)
         else:
             log(f'viewer browser test: {args.scene}, output in {out}')
@@ -1817,7 +2108,7 @@ def main():
                 fn()
             except Exception as e:  # noqa: BLE001 - cleanup goes on
                 print(f'cleanup: {type(e).__name__}: {e}', file=sys.stderr)
-    if args.measure:
+    if args.measure or args.measure_2d:
         return status
     failed = checks.failed()
     with open(os.path.join(out, 'results.json'), 'w') as f:

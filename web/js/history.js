@@ -1,4 +1,4 @@
-// Undo and redo of this page's object edits (visibility, opacity, transfer function, window,
+// Undo and redo of this page's object edits (visibility, opacity, transfer function, windows,
 // plane position, clip planes, frame, labels). A gesture counts once: connection.js reports each final
 // (not moving) edit here with the fields it sent, and the values before are those of the last
 // commit of that object, so a drag of many moving edits undoes in one step. Other windows' edits
@@ -19,6 +19,7 @@ export function editFields(o) {
   if (o.kind === 'volume') {
     f.transfer_function = o.tf.map((p) => [...p]);
     f.clip_planes = clipsMessage(o);
+    if (o.window) f.window = [...o.window];  // its 2-D views' window
     if (o.frames > 1) f.frame = o.frame;
     if (o.labels)
       f.labels = o.labels.map((l) => ({value: l.value, visible: l.visible, opacity: l.opacity,
@@ -41,6 +42,7 @@ export function applyFields(o, f) {
     if (f.transfer_function) o.tf = f.transfer_function.map((p) => [...p]);
     if (f.clip_planes)
       o.clips = f.clip_planes.map((c) => ({base: [...c.point], normal: norm(c.normal), offset: 0}));
+    if (f.window) o.window = [...f.window];
     if ('frame' in f) o.frame = f.frame;
     if (f.labels && o.labels)
       for (const row of f.labels) {

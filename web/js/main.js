@@ -11,7 +11,8 @@ import {drawColorBars} from './colorbar.js';
 import {historyDepth, resetCommitted, setupHistory} from './history.js';
 import {applyViewLink, setupShortcuts, viewLink} from './shortcuts.js';
 import {crosshairs, onProbe, onSlice, onSliceError, refreshSlices, scaleBars, setLayout,
-        setupSlices, sliceClipHandles} from './slices.js';
+        setupSlices, sliceClipHandles, sliceViews, sliceWindow} from './slices.js';
+import {captureView} from './screenshot.js';
 import {copyCamera} from './vec.js';
 import {drawFrame, initView, layoutCanvas, resetView, sendViewport} from './view.js';
 
@@ -57,6 +58,22 @@ window.viewer = {
   viewLink,
   historyDepth,
   sliceLatencies() { return (S.sliceLatencies || []).slice(); },
+  // each 2-D view's image (point, mm per pixel, window, zoom), the base volume's window, and the
+  // latencies of W/L, zoom and pan inputs (to the last view they changed drawn)
+  sliceViews,
+  sliceWindow,
+  // a screenshot of a view or the layout as the page composes it: its size and how many of its
+  // pixels are not the background
+  capture(what, scale) {
+    const c = captureView(what, scale);
+    if (!c) return null;
+    const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+    let lit = 0;
+    for (let i = 0; i < d.length; i += 4) if (d[i] + d[i + 1] + d[i + 2] > 60) lit++;
+    return {width: c.width, height: c.height, lit: lit / (c.width * c.height)};
+  },
+  sliceTimings() { return (S.sliceTimings || []).slice(); },
+  inputLatencies(kind) { return ((S.inputLatencies || {})[kind] || []).slice(); },
   // every view shows the crosshair's latest point
   slicesSettled() { return S.pointSetAt === null || S.pointSetAt === undefined; },
   // clip-plane handles: the 3-D view's (page pixels, with the world point each stands on) and

@@ -27,6 +27,30 @@ export function showWindow(name, w) {
 
 const windowText = (w) => `W/L target · W ${fmt(w[1], 0)} / L ${fmt(w[0], 0)}`;
 
+// Shows a volume's 2-D window (the one its reading views use) in its box.
+export function showVolumeWindow(o) {
+  const label = document.querySelector(`.object[data-name="${CSS.escape(o.name)}"] .slice-window`);
+  if (label && o.window) label.textContent = sliceWindowText(o.window);
+}
+
+const sliceWindowText = (w) => `2-D window · W ${fmt(w[1], 0)} / L ${fmt(w[0], 0)}`;
+
+// The window of a volume's 2-D views, and the note when the rule refused the header's window.
+function buildSliceWindow(box, o) {
+  const row = document.createElement('div');
+  row.className = 'row';
+  const label = document.createElement('span');
+  label.className = 'slice-window';
+  label.textContent = sliceWindowText(o.window);
+  row.append(label);
+  box.append(row);
+  if (!o.windowNote) return;
+  const note = document.createElement('div');
+  note.className = 'window-note';
+  note.textContent = o.windowNote;
+  box.append(note);
+}
+
 function slider(label, min, max, step, value, onInput, onChange, digits = 2) {
   const row = document.createElement('div');
   row.className = 'row';
@@ -197,6 +221,9 @@ function buildLabels(box, o) {
 }
 
 function buildVolume(box, o) {
+  // The 2-D views show the first volume through its window (the others in their TF's colours).
+  const base = S.objects.find((x) => x.kind === 'volume' && x.bounds);
+  if (o === base && o.window && !o.labels) buildSliceWindow(box, o);
   if (o.frames > 1) buildFrames(box, o);
   if (o.labels) {  // drawn through its colour table: no transfer function to edit
     buildLabels(box, o);

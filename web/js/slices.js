@@ -2,9 +2,13 @@
 // crosshair point, rendered by the server (`slice` messages, docs/viewer.md), with the crosshair,
 // mesh outlines and orientation letters drawn over them; a click moves the crosshair in all
 // three, the wheel and arrow keys step slices, and the readout shows each volume's value there.
+// Right drag (or ctrl / W/L mode drag) sets the base volume's window, ctrl or shift + wheel and
+// a pinch zoom, a middle (or shift) drag pans; zoom and pan per view, or shared when linked.
 import {HANDLE_RADIUS, drawClipLines2d, handleAt, moveClip, startClipDrag} from './clip_outlines.js';
-import {send} from './connection.js';
+import {editInput, send} from './connection.js';
+import {showVolumeWindow} from './panel.js';
 import {S} from './state.js';
+import {clamp, fmt} from './vec.js';
 
 const AXES = ['axial', 'coronal', 'sagittal'];
 // Screen directions in LPS (right, down) and the plane's normal, as the server draws them.
@@ -17,9 +21,25 @@ const FRAME = {
 const LETTERS = {axial: ['A', 'P', 'R', 'L'], coronal: ['S', 'I', 'R', 'L'],
                  sagittal: ['S', 'I', 'A', 'P']};
 const MAX_SIDE = 2048;
+// Zoom, relative to the scale that fits the volume's box in the view: its limits, and the wheel's
+// rate (a zoom of exp(0.0015) per pixel of deltaY, as the 3-D view's).
+export const ZOOM_LIMITS = [0.1, 40];
+export const WHEEL_ZOOM_RATE = 0.0015;
+// Window/level by dragging (as the 3-D view's W/L): the width times exp(0.005) per CSS pixel
+// right, the centre up by the width / 256 per pixel down.
+export const WL_WIDTH_RATE = 0.005;
+export const WL_LEVEL_STEPS = 256;
+// A moving view's images: this scale of the side, when that leaves at least MIN_MOVING_SIDE.
+const MOVING_SCALE = 0.5;
+const MIN_MOVING_SIDE = 128;
 
-const views = {};  // axis -> {cell, image, overlay, answer, pending, again, seq}
+const views = {};  // axis -> {cell, image, overlay, answer, pending, again, seq, marks, ...}
 let seq = 1;
+// Zoom and pan per view: {zoom, pan: [3] mm from the volume box's centre}; one shared when linked.
+const newNav = () => ({zoom: 1, pan: [0, 0, 0]});
+const navs = {axial: newNav(), coronal: newNav(), sagittal: newNav()};
+let linked = null;  // the shared nav while the views are linked
+const navOf = (axis) => linked || navs[axis];
 
 // The volume the views are built around: the first one (its box and voxel pitch).
 function baseVolume() {
@@ -30,10 +50,10 @@ function centreOf(v) {
   return v.bounds[0].map((lo, i) => 0.5 * (lo + v.bounds[1][i]));
 }
 
-// What a view shows: the volume box's centre, moved along the view's normal to the crosshair.
+// What a view shows: the volume box's centre panned, moved along its normal to the crosshair.
 function viewPoint(axis) {
   const v = baseVolume();
-  const c = centreOf(v);
+  const c = centreOf(v).map((x, i) => x + navOf(axis).pan[i]);
   c[FRAME[axis].normal] = S.point[FRAME[axis].normal];
   return c;
 }
@@ -44,12 +64,16 @@ function backingSize(el) {
           Math.max(1, Math.min(MAX_SIDE, Math.round(el.clientHeight * r)))];
 }
 
-// Millimetres per backing pixel so that the volume's box fits every view of this size.
-function mmPerPixel(w, h) {
+// Millimetres per backing pixel so that the volume's box fits every view of this size, over the
+// view's zoom.
+function mmPerPixel(axis, w, h) {
   const v = baseVolume();
   const ext = v.bounds[1].map((hi, i) => hi - v.bounds[0][i] + v.pitch[i]);
-  return 1.05 * Math.max(...ext) / Math.max(1, Math.min(w, h));
+  return 1.05 * Math.max(...ext) / Math.max(1, Math.min(w, h)) / navOf(axis).zoom;
 }
+
+// The views a zoom or pan of `axis` changes: all shown ones when linked.
+const navAxes = (axis) => (linked ? shownAxes() : [axis]);
 
 function shownAxes() {
   const layout = document.getElementById('view-area').className;
@@ -64,20 +88,88 @@ function request(axis) {
     view.again = true;
     return;
   }
-  const [w, h] = backingSize(view.cell);
+  let [w, h] = backingSize(view.cell);
+  let mm = mmPerPixel(axis, w, h);
+  // While a window, pan or pinch drag goes on: JPEG at half the side (a quarter of the pixels to
+  // sample and encode), the same field of view; full PNG once it stops, as the 3-D view does.
+  const moving = S.drag && ['slice-wl', 'slice-pan', 'slice-pinch'].includes(S.drag.mode);
+  if (moving && Math.min(w, h) >= 2 * MIN_MOVING_SIDE) {
+    const side = Math.round(w * MOVING_SCALE);
+    mm *= w / side;
+    h = Math.round(h * MOVING_SCALE);
+    w = side;
+  }
   view.pending = true;
   view.again = false;
   view.seq = seq++;
   const message = {type: 'slice', seq: view.seq, view: axis, point: viewPoint(axis), width: w,
-                   height: h, mm_per_pixel: mmPerPixel(w, h)};
-  if (S.sliceWindow) message.window = S.sliceWindow;
+                   height: h, mm_per_pixel: mm};
+  const base = baseVolume();
+  if (base.window) message.window = base.window.slice();
+  if (moving) message.format = 'jpeg';
+  // What this request's image will show, and the inputs waiting for it.
+  view.sent.set(view.seq, {window: message.window || null, marks: view.marks,
+                           at: performance.now()});
+  view.marks = [];
   send(message);
 }
 
-// The window [centre, width] the 2-D views show their base volume through (a W/L preset).
-export function setSliceWindow(w) {
-  S.sliceWindow = w.slice();
+// An input that changes `axes`' images: its latency is taken when the last of them is drawn.
+function markInput(kind, axes) {
+  const rec = {kind, t0: performance.now(), waiting: new Set(axes)};
+  for (const axis of axes) views[axis].marks.push(rec);
+}
+
+// The window [centre, width] the 2-D views show their base volume through (a W/L preset or
+// drag), written to the scene (the base volume's `window`) unless `moving`.
+export function setSliceWindow(w, moving = false) {
+  const base = baseVolume();
+  if (!base) return;
+  base.window = w.slice();
+  showVolumeWindow(base);
+  markInput('wl', shownAxes());
   refreshSlices();
+  if (!moving) editInput(base.name, {window: base.window}, false);
+}
+
+// Links the 2-D views' zoom and pan (they share the last zoomed or panned view's), or unlinks
+// them (each keeps the shared one).
+export function linkViews(on) {
+  if (on && !linked) linked = structuredClone(navs[S.navAxis || 'axial']);
+  if (!on && linked) for (const axis of AXES) navs[axis] = structuredClone(linked);
+  if (!on) linked = null;
+  refreshSlices();
+}
+
+// Zooms `axis` (and the linked views) by `factor` about backing pixel (x, y) of it, which stays
+// on the same point; the zoom stays within ZOOM_LIMITS.
+function zoomView(axis, factor, x, y) {
+  const nav = navOf(axis), a = views[axis].answer;
+  const zoom = clamp(nav.zoom * factor, ZOOM_LIMITS[0], ZOOM_LIMITS[1]);
+  if (!a || !Number.isFinite(zoom) || zoom === nav.zoom) return;
+  const f = zoom / nav.zoom, q = worldOf(axis, x, y), n = FRAME[axis].normal;
+  nav.pan = nav.pan.map((p, i) => (i === n ? p : p + (q[i] - a.point[i]) * (1 - 1 / f)));
+  nav.zoom = zoom;
+  S.navAxis = axis;
+  markInput('zoom', navAxes(axis));
+  for (const other of navAxes(axis)) request(other);
+}
+
+// Pans `axis` (and the linked views) so that the image follows the pointer: `pan0` moved by a
+// drag of (dx, dy) backing pixels.
+function panView(axis, pan0, dx, dy) {
+  const nav = navOf(axis), f = FRAME[axis], mm = views[axis].answer.mm_per_pixel;
+  nav.pan = pan0.map((p, i) => p - (dx * f.right[i] + dy * f.down[i]) * mm);
+  S.navAxis = axis;
+  markInput('pan', navAxes(axis));
+  for (const other of navAxes(axis)) request(other);
+}
+
+// Window/level from a drag of (dx, dy) CSS pixels from window0 [centre, width].
+export function draggedWindow(window0, dx, dy) {
+  const [c0, w0] = window0;
+  return [c0 + dy * Math.max(Math.abs(w0), 1e-3) / WL_LEVEL_STEPS,
+          Math.max(1e-6, w0 * Math.exp(dx * WL_WIDTH_RATE))];
 }
 
 // Every shown view asks for its image again (the scene or the layout changed).
@@ -110,7 +202,8 @@ function drawOverlay(axis) {
   o.height = a.height;
   const g = o.getContext('2d');
   g.clearRect(0, 0, o.width, o.height);
-  const r = window.devicePixelRatio || 1;
+  // Image pixels per CSS pixel: the device's ratio, less for a moving view's smaller image.
+  const r = (window.devicePixelRatio || 1) * a.width / backingSize(view.cell)[0];
   g.lineWidth = 1.5 * r;
   for (const m of a.outlines || []) {
     // Display colours, as the mesh's material gives them.
@@ -145,6 +238,14 @@ function drawOverlay(axis) {
   g.fillText(left, 5 * r, o.height / 2);
   g.textAlign = 'right';
   g.fillText(right, o.width - 5 * r, o.height / 2);
+  // The window this image was drawn with, and the zoom when it is not the fitting one.
+  g.textAlign = 'left';
+  g.fillStyle = '#ddd';
+  g.font = `${Math.round(11 * r)}px sans-serif`;
+  const w = view.shownWindow;
+  if (w) g.fillText(`W ${fmt(w[1], 0)} / L ${fmt(w[0], 0)}`, 5 * r, 14 * r);
+  const zoom = navOf(axis).zoom;
+  if (zoom !== 1) g.fillText(`${fmt(zoom, 2)}×`, 5 * r, 28 * r);
 }
 
 // A scale bar at the bottom right: the longest of 1, 2, 5 x 10^k mm within a fifth of the view.
@@ -172,20 +273,56 @@ function drawScaleBar(g, a, r) {
 export async function onSlice(meta, blob) {
   const view = views[meta.view];
   if (!view) return;
+  const received = performance.now();
+  // The next request may go while this image decodes (one in flight); a newer image drawn
+  // first wins.
   if (meta.seq === view.seq) view.pending = false;
+  view.decoding = (view.decoding || 0) + 1;
   let bmp;
   try {
     // The values are display values already (the PNG says gamma 1): no conversion.
-    bmp = await createImageBitmap(new Blob([blob], {type: 'image/png'}),
+    bmp = await createImageBitmap(new Blob([blob], {type: `image/${meta.format || 'png'}`}),
                                   {colorSpaceConversion: 'none', premultiplyAlpha: 'none'});
   } catch (e) {
+    view.decoding--;
+    if (view.again) request(meta.view);
     return;
   }
+  view.decoding--;
+  if (meta.seq < (view.drawnSeq || 0)) {
+    bmp.close();
+    return;
+  }
+  view.drawnSeq = meta.seq;
   view.image.width = bmp.width;
   view.image.height = bmp.height;
   view.image.getContext('2d').drawImage(bmp, 0, 0);
   bmp.close();
   view.answer = meta;
+  const sent = view.sent.get(meta.seq);
+  // This image shows the inputs of its request and of every earlier one.
+  const shown = [];
+  for (const [seq, s] of view.sent)
+    if (seq <= meta.seq) {
+      shown.push(...s.marks);
+      view.sent.delete(seq);
+    }
+  if (sent) {
+    // Where a view's time goes: the server's render and encoding, the round trip, the decoding.
+    S.sliceTimings = (S.sliceTimings || []).slice(-499);
+    S.sliceTimings.push({format: meta.format, render_ms: meta.render_ms, encode_ms: meta.encode_ms,
+                         round_trip_ms: received - sent.at,
+                         decode_ms: performance.now() - received});
+    view.shownWindow = sent.window;
+    // Latency of a W/L, zoom or pan input: from the event to the last view it changed drawn.
+    for (const rec of shown) {
+      rec.waiting.delete(meta.view);
+      if (rec.waiting.size) continue;
+      S.inputLatencies = S.inputLatencies || {};
+      (S.inputLatencies[rec.kind] = S.inputLatencies[rec.kind] || [])
+          .push(performance.now() - rec.t0);
+    }
+  }
   S.slicesDrawn = (S.slicesDrawn || 0) + 1;
   drawOverlay(meta.view);
   // Latency of a crosshair move or slice step: from the input to the last view showing it.
@@ -200,7 +337,10 @@ export async function onSlice(meta, blob) {
 
 // An error answered some request: no view waits for an answer any more.
 export function onSliceError() {
-  for (const v of Object.values(views)) v.pending = false;
+  for (const v of Object.values(views)) {
+    v.pending = false;
+    v.sent.clear();
+  }
 }
 
 // A `probe` answer: the readout.
@@ -242,15 +382,43 @@ export function setupSlices() {
   for (const cell of document.querySelectorAll('.slice-cell')) {
     const axis = cell.dataset.axis;
     const view = {cell, image: cell.querySelector('.slice'), overlay: cell.querySelector('.overlay'),
-                  answer: null, pending: false, again: false, seq: 0};
+                  answer: null, pending: false, again: false, seq: 0, marks: [],
+                  sent: new Map(), decoding: 0, drawnSeq: 0, touches: new Map()};
     views[axis] = view;
     const backing = (ev) => {
       const r = view.image.getBoundingClientRect();
       return [(ev.clientX - r.left) * view.answer.width / r.width,
               (ev.clientY - r.top) * view.answer.height / r.height];
     };
+    view.image.addEventListener('contextmenu', (ev) => ev.preventDefault());
+    view.image.addEventListener('mousedown', (ev) => {
+      if (ev.button === 1) ev.preventDefault();  // no autoscroll: the middle button pans
+    });
     view.image.addEventListener('pointerdown', (ev) => {
       if (!view.answer) return;
+      if (ev.pointerType === 'touch') {
+        view.touches.set(ev.pointerId, {x: ev.clientX, y: ev.clientY});
+        view.image.setPointerCapture(ev.pointerId);
+        if (view.touches.size >= 2) {  // a second finger: pinch zoom and pan, no crosshair
+          view.tap = null;
+          view.pinch = pinchState();
+          S.drag = {mode: 'slice-pinch'};
+          return;
+        }
+      }
+      const wl = ev.button === 2 ||
+                 (ev.button === 0 && (ev.ctrlKey || ev.metaKey || S.wlMode) && !ev.shiftKey);
+      const pan = ev.button === 1 || (ev.button === 0 && ev.shiftKey);
+      if ((wl && baseVolume().window) || pan) {
+        ev.preventDefault();
+        view.image.setPointerCapture(ev.pointerId);
+        view.drag = {mode: wl ? 'wl' : 'pan', x0: ev.clientX, y0: ev.clientY,
+                     window0: wl ? baseVolume().window.slice() : null,
+                     pan0: navOf(axis).pan.slice()};
+        S.drag = {mode: 'slice-' + view.drag.mode};  // no other window's state is taken mid-drag
+        return;
+      }
+      if (ev.button !== 0) return;
       const [x, y] = backing(ev);
       const r = window.devicePixelRatio || 1;
       const handle = handleAt(view.handles, x, y, 1.5 * HANDLE_RADIUS * r);
@@ -259,6 +427,10 @@ export function setupSlices() {
         view.image.setPointerCapture(ev.pointerId);
         view.clipDrag = Object.assign(drag, {x0: x, y0: y});
         S.drag = {mode: 'slice-clip'};  // no other window's state is taken mid-drag
+        return;
+      }
+      if (ev.pointerType === 'touch') {  // the crosshair on lifting, unless a pinch begins
+        view.tap = {id: ev.pointerId, x, y};
         return;
       }
       setPoint(worldOf(axis, x, y), axis);
@@ -274,11 +446,81 @@ export function setupSlices() {
       view.clipDrag = null;
       S.drag = null;
     };
-    view.image.addEventListener('pointermove', (ev) => dragClip(ev, true));
-    view.image.addEventListener('pointerup', (ev) => dragClip(ev, false));
-    view.image.addEventListener('pointercancel', (ev) => dragClip(ev, false));
+    // A W/L or pan drag: from where it started, so no move is lost or counted twice.
+    const dragView = (ev, moving) => {
+      const d = view.drag;
+      if (!d) return false;
+      const dx = ev.clientX - d.x0, dy = ev.clientY - d.y0;
+      if (!moving) {  // released: the last images are PNG
+        view.drag = null;
+        S.drag = null;
+      }
+      if (d.mode === 'wl') {
+        document.getElementById('wl-preset').value = '';  // no preset's window any more
+        if (dx || dy || moving) setSliceWindow(draggedWindow(d.window0, dx, dy), moving);
+        else setSliceWindow(d.window0, true);  // a click: nothing to write
+      } else if (dx || dy || !moving) {
+        const r = view.image.getBoundingClientRect();
+        panView(axis, d.pan0, dx * view.answer.width / r.width, dy * view.answer.height / r.height);
+      }
+      return true;
+    };
+    // Two fingers' midpoint and distance, in CSS pixels (a moving image has fewer pixels).
+    const pinchState = () => {
+      const [p, q] = [...view.touches.values()];
+      const r = view.image.getBoundingClientRect();
+      return {x: (p.x + q.x) / 2 - r.left, y: (p.y + q.y) / 2 - r.top,
+              dist: Math.hypot(p.x - q.x, p.y - q.y)};
+    };
+    // Two fingers: their distance zooms about their midpoint, which the image follows.
+    const pinch = (ev, moving) => {
+      if (!view.touches.has(ev.pointerId)) return false;
+      if (!moving) {
+        view.touches.delete(ev.pointerId);
+        view.pinch = null;
+        if (view.tap && view.tap.id === ev.pointerId) {  // a tap: the crosshair goes there
+          const t = view.tap;
+          view.tap = null;
+          setPoint(worldOf(axis, t.x, t.y), axis);
+          return true;
+        }
+        if (!S.drag || S.drag.mode !== 'slice-pinch') return false;  // a one-finger drag's end
+        if (!view.touches.size) {
+          S.drag = null;
+          for (const other of navAxes(axis)) request(other);  // PNG again
+        }
+        return true;
+      }
+      view.touches.set(ev.pointerId, {x: ev.clientX, y: ev.clientY});
+      if (view.touches.size < 2) return false;
+      const now = pinchState();
+      const last = view.pinch;
+      view.pinch = now;
+      if (!last) return true;
+      const k = view.answer.width / view.image.getBoundingClientRect().width;  // backing / CSS
+      panView(axis, navOf(axis).pan.slice(), (now.x - last.x) * k, (now.y - last.y) * k);
+      if (last.dist > 0 && now.dist > 0) zoomView(axis, now.dist / last.dist, now.x * k, now.y * k);
+      return true;
+    };
+    view.image.addEventListener('pointermove', (ev) => {
+      if (pinch(ev, true) || dragView(ev, true)) return;
+      dragClip(ev, true);
+    });
+    for (const type of ['pointerup', 'pointercancel'])
+      view.image.addEventListener(type, (ev) => {
+        if (pinch(ev, false) || dragView(ev, false)) return;
+        dragClip(ev, false);
+      });
     view.image.addEventListener('wheel', (ev) => {
       ev.preventDefault();
+      if (ev.ctrlKey || ev.shiftKey || ev.metaKey) {  // zoom (a touchpad's pinch comes as ctrl)
+        if (!view.answer) return;
+        const scale = ev.deltaMode === 1 ? 16 : ev.deltaMode === 2 ? 400 : 1;
+        const d = (ev.deltaY || ev.deltaX) * scale;
+        const [x, y] = backing(ev);
+        zoomView(axis, Math.exp(-clamp(d, -500, 500) * WHEEL_ZOOM_RATE), x, y);
+        return;
+      }
       step(axis, ev.deltaY > 0 ? -1 : 1);
     }, {passive: false});
     cell.addEventListener('pointerenter', () => { S.hoverAxis = axis; });
@@ -303,6 +545,37 @@ export function setLayout(name) {
   window.dispatchEvent(new Event('resize'));
   if (!S.point && baseVolume()) setPoint(centreOf(baseVolume()));
   refreshSlices();
+}
+
+// "reset" for the 2-D views: every view back to the fitting zoom, centred.
+export function resetSliceViews() {
+  for (const axis of AXES) navs[axis] = newNav();
+  if (linked) linked = newNav();
+  refreshSlices();
+}
+
+// For tests: each shown view's last image (centre point, mm per backing and per CSS pixel, the
+// window it was drawn with) and its zoom.
+export function sliceViews() {
+  const out = {};
+  for (const axis of shownAxes()) {
+    const v = views[axis];
+    if (!v || !v.answer) continue;
+    const a = v.answer, r = v.image.getBoundingClientRect();
+    // The backing store is stretched to the cell: mm per CSS pixel along x and y.
+    out[axis] = {point: a.point.slice(), mm_per_pixel: a.mm_per_pixel,
+                 mm_per_css_px: [a.mm_per_pixel * a.width / r.width,
+                                 a.mm_per_pixel * a.height / r.height],
+                 window: v.shownWindow ? v.shownWindow.slice() : null, zoom: navOf(axis).zoom,
+                 pending: v.pending || v.again || v.decoding > 0 || v.marks.length > 0};
+  }
+  return out;
+}
+
+// For tests: the base volume's name, the window its 2-D views use and the rule's note.
+export function sliceWindow() {
+  const b = baseVolume();
+  return b ? {name: b.name, window: b.window ? b.window.slice() : null, note: b.windowNote} : null;
 }
 
 // For tests: the scale bar's length in mm of each view.

@@ -69,6 +69,8 @@ function localObject(o) {
     if (o.bounds) l.bounds = o.bounds.map((b) => [...b]);  // the reading views' box and step
     if (o.pitch) l.pitch = [...o.pitch];
     l.units = o.units || '';
+    l.window = o.window ? [...o.window] : null;  // its 2-D views' [centre, width]
+    l.windowNote = o.window_note || '';          // why the header's window is not used
     if (o.labels) l.labels = o.labels.map((x) => ({...x, color: [...x.color]}));
   } else if (o.kind === 'streamlines') {
     takeStreamlines(l, o);
@@ -144,6 +146,8 @@ export function takeState(m) {
     if (l.kind === 'volume') {
       if (o.transfer_function) l.tf = tfPoints(o.transfer_function);
       if (o.frame !== undefined) l.frame = o.frame;
+      if (o.window) l.window = [...o.window];
+      l.windowNote = o.window_note || '';
       if (o.labels) l.labels = o.labels.map((x) => ({...x, color: [...x.color]}));
       if (o.clip_planes) {
         const same = o.clip_planes.length === l.clips.length;

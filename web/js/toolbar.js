@@ -1,7 +1,9 @@
 // The toolbar: method and quality selectors, reset view, W/L mode, save scene and screenshot,
 // and what the server answers to the last two (downloads).
 import {cameraInput, editInput, queueInput, send} from './connection.js';
-import {setSliceWindow} from './slices.js';
+import {showWindow} from './panel.js';
+import {downloadView} from './screenshot.js';
+import {linkViews, resetSliceViews, setSliceWindow} from './slices.js';
 import {S} from './state.js';
 import {stats} from './stats.js';
 import {copyCamera} from './vec.js';
@@ -61,7 +63,10 @@ export function setupToolbar() {
     if (!S.initialCamera) return;
     S.camera = copyCamera(S.initialCamera);
     cameraInput(false, true);
+    resetSliceViews();  // the 2-D views' zoom and pan too
   });
+  const link = document.getElementById('link-views');
+  link.addEventListener('change', () => linkViews(link.checked));
   for (const b of document.querySelectorAll('#snap button'))
     b.addEventListener('click', () => snapView(b.dataset.view));
   const preset = document.getElementById('wl-preset');
@@ -71,13 +76,15 @@ export function setupToolbar() {
     const w = WL_PRESETS[preset.value];
     if (!w) return;
     S.wlPreset = preset.value;
-    // The 2-D views' base volume, and the selected MPR plane: [centre, width].
+    // The 2-D views' base volume, and the selected MPR plane: [centre, width]; the panel shows
+    // both windows as they now are.
     setSliceWindow([w[0], w[1]]);
     if (S.selectedPlane) {
       const o = S.byName.get(S.selectedPlane);
       if (o) {
         o.window = [w[0], w[1]];
         editInput(o.name, {window: o.window}, false);
+        showWindow(o.name, o.window);
       }
     }
   });
@@ -87,8 +94,11 @@ export function setupToolbar() {
     wl.setAttribute('aria-pressed', String(S.wlMode));
   });
   document.getElementById('save').addEventListener('click', () => send({type: 'save'}));
-  document.getElementById('screenshot')
-      .addEventListener('click', () => send({type: 'screenshot'}));
+  document.getElementById('screenshot').addEventListener('click', () => {
+    const what = document.getElementById('shot-view').value;
+    if (what === 'full') send({type: 'screenshot'});
+    else downloadView(what, Number(document.getElementById('shot-scale').value));
+  });
 }
 
 // The `saved` answer: shows the name the server saved the scene under (beside the scene file;
