@@ -11,6 +11,7 @@
 #include "frame/slice_view.hpp"
 #include "intermix/io.hpp"
 #include "scene/json_reader.hpp"
+#include "scene/label_map_parser.hpp"
 #include "server/jpeg_encoder.hpp"
 #include "server/streamline_slab.hpp"
 
@@ -125,6 +126,12 @@ Json answer_probe(const ViewerState& state, const Json& message) {
     if (const std::optional<VoxelValue> at = voxel_at(v, point)) {
       entry["index"] = Json::array({at->index.x, at->index.y, at->index.z});
       if (std::isfinite(at->value)) entry["value"] = at->value;
+      // A label map's value under the crosshair by its name (its table's, else "label N").
+      if (v.labels && std::isfinite(at->value) && at->value == std::floor(at->value) &&
+          std::abs(at->value) < 2147483647.0) {
+        const LabelEntry e = scene_json::label_entry(*v.labels, static_cast<int32_t>(at->value));
+        entry["label"] = e.name.empty() ? fmt::format("label {}", e.value) : e.name;
+      }
     }
     values.push_back(std::move(entry));
   }

@@ -13,6 +13,7 @@
 
 #include "intermix/io.hpp"
 #include "intermix/render.hpp"
+#include "server/reading_views.hpp"
 #include "server/viewer_state.hpp"
 #include "temp_dir.hpp"
 
@@ -54,6 +55,22 @@ std::filesystem::path write_scene(const TempDir& dir, const Json& labels) {
 
 Json state_labels(const ViewerState& state) {
   return describe_state(state)["objects"][0]["labels"];
+}
+
+// The label under the crosshair by name: the table's, else "label N"; nothing outside the grid.
+TEST(LabelList, TheProbeNamesTheLabelUnderTheCrosshair) {
+  TempDir dir;
+  const Json table = {{"table", {{{"value", 2}, {"name", "liver"}}}}};
+  const ViewerState state = load_viewer_state(write_scene(dir, table));
+  // Voxel (4, 5, 5) holds 2, (7, 5, 5) holds 7 (in no table row), (0, 0, 0) holds 0.
+  const auto probe = [&](const glm::dvec3& index) {
+    const glm::dvec3 p = -22.0 + 4.0 * index;
+    return answer_probe(state, {{"type", "probe"}, {"point", {p.x, p.y, p.z}}})["values"][0];
+  };
+  EXPECT_EQ(probe({4, 5, 5})["label"], "liver");
+  EXPECT_EQ(probe({7, 5, 5})["label"], "label 7");
+  EXPECT_EQ(probe({7, 5, 5})["value"], 7.0);
+  EXPECT_FALSE(probe({-3, 0, 0}).contains("label"));  // outside the grid
 }
 
 TEST(LabelList, ListsTheLabelsTheVoxelsHold) {

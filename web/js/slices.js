@@ -350,7 +350,7 @@ export function onProbe(m) {
   for (const v of m.values) {
     const value = v.value === null ? '—' : Number(v.value.toPrecision(6));
     lines.push(`${v.name}: ${value}${v.units ? ' ' + v.units : ''}` +
-               (v.index ? `  [${v.index.join(', ')}]` : ''));
+               (v.label ? ` ${v.label}` : '') + (v.index ? `  [${v.index.join(', ')}]` : ''));
   }
   document.getElementById('readout').textContent = lines.join('\n');
 }
