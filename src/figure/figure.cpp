@@ -13,6 +13,7 @@
 #include "figure/figure_extent.hpp"
 #include "figure/glass_projection.hpp"
 #include "intermix/error.hpp"
+#include "intermix/limits.hpp"
 #include "scene/reading_planes.hpp"
 #include "volume/tf_lut.hpp"
 
@@ -21,6 +22,7 @@ namespace {
 
 constexpr int kGap = 4;  // pixels between panels
 constexpr int kMaxPanels = 64;
+constexpr int kMaxFigureSide = 16384;  // PNG writers and viewers balk beyond
 
 // Which LPS axis a view's normal is along.
 int normal_axis(SliceAxis axis) {
@@ -228,6 +230,12 @@ Figure render_figure(const Scene& scene, const FigureOptions& o) {
   }
   height -= kGap;
 
+  if (width > kMaxFigureSide || height > kMaxFigureSide)
+    throw Error(fmt::format("figure: {} x {} pixels; a figure takes at most {} a side (fewer "
+                            "panels, columns or a smaller height)",
+                            width, height, kMaxFigureSide));
+  check_memory(static_cast<uint64_t>(width) * static_cast<uint64_t>(height) * sizeof(glm::vec4),
+               fmt::format("figure of {} x {} pixels", width, height));
   const glm::vec3 background(glass ? 1.0f : 0.0f);
   const glm::vec3 ink(glass ? 0.0f : 1.0f);
   figure.image = Image(width, height, glm::vec4(background, 1.0f));

@@ -358,6 +358,11 @@ TEST(Figure, BadRequestsAreRefused) {
   o.cut.reset();
   o.panel_height = 100000;
   EXPECT_EQ(message(figure_scene(), o), "figure: panel height 100000 is outside 16 to 4096 pixels");
+  // 64 panels of 4096 pixels in one row: refused by its size, before anything is allocated.
+  o = plain(FigureKind::mosaic);
+  o.slices = 64;
+  o.panel_height = 4096;
+  EXPECT_NE(message(figure_scene(), o).find("at most 16384 a side"), std::string::npos);
 }
 
 }  // namespace
