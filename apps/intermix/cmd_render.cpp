@@ -37,6 +37,7 @@ struct Options : SceneOptions {
   bool linear = false;
   bool colorbar = false;
   std::string colorbar_position = "top-right";
+  double colorbar_scale = 1.0;
   bool distributed = false;
   std::string partition = "auto", report;
   int bricks = 0;  // 0: bricks only for a volume too large to hold
@@ -101,7 +102,7 @@ void render_one(const Options& o, const std::vector<std::string>& overrides,
   if (o.colorbar) {
     const std::vector<ColourBar> bars = scene_colour_bars(scene);
     const std::vector<Legend> legends = scene_legends(scene);
-    const ColourBarStyle style{*find_colour_bar_position(o.colorbar_position), 1.0,
+    const ColourBarStyle style{*find_colour_bar_position(o.colorbar_position), o.colorbar_scale,
                                glm::vec3(scene.image.background)};
     const KeyPlacements drawn = draw_keys(image, bars, legends, style);
     const size_t wanted = distinct_colour_bars(bars).size() + legends.size();
@@ -173,6 +174,10 @@ Command add_render(CLI::App& app) {
                  "where --colorbar draws the bars: top-right (default), top-left, bottom-right, "
                  "bottom-left, or outside (beside the image, on a canvas widened to fit them)")
       ->check(CLI::IsMember(colour_bar_position_names()));
+  app.add_option("--colorbar-scale", o->colorbar_scale,
+                 "size of --colorbar's bars and legends: text and strips times this (default 1: "
+                 "text about a 36th of the image's height)")
+      ->check(in_range(0.25, 8.0));
   std::string no_mpi;
   const bool mpi = distributed_available(&no_mpi);
   app.add_flag("--distributed", o->distributed,

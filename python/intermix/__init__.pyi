@@ -190,6 +190,7 @@ class Scene:
         threads: Optional[int] = None,
         view: Optional[View] = None,
         colorbar: Union[bool, ColourBarPosition] = False,
+        colorbar_scale: float = 1.0,
     ) -> Image: ...
     def figure(
         self,

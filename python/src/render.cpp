@@ -124,7 +124,7 @@ Image render_image(const Scene& scene, const RenderRequest& request, PyRenderer*
   // As `intermix render --colorbar`: colour bars and legends of the visible objects, after it.
   if (request.colorbar)
     draw_keys(image, scene_colour_bars(frame), scene_legends(frame),
-              {*request.colorbar, 1.0, glm::vec3(frame.image.background)});
+              {*request.colorbar, request.colorbar_scale, glm::vec3(frame.image.background)});
   return image;
 }
 

@@ -20,6 +20,7 @@ struct RenderRequest {
   std::string function = "render";  // names the call in errors: "Scene.render"
   // Draw the scene's colour bars there (into a corner, or beside the image on a wider canvas).
   std::optional<ColourBarPosition> colorbar;
+  double colorbar_scale = 1.0;  // of the bars' and legends' text and strips
 };
 
 // A render call's arguments, checked (TypeError, ValueError naming `function` and the

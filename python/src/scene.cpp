@@ -573,10 +573,13 @@ center, normal, up, size, volume, window, colormap, color, opacity.
           [](const PyScene& s, const OptionalTextParameter& method,
              const OptionalIntParameter& width, const OptionalIntParameter& height,
              const OptionalIntParameter& spp, const OptionalIntParameter& threads,
-             const OptionalTextParameter& view_argument, const py::object& colorbar) {
+             const OptionalTextParameter& view_argument, const py::object& colorbar,
+             const py::object& colorbar_scale) {
             RenderRequest request =
                 render_request("Scene.render", method, width, height, spp, threads);
             request.colorbar = colour_bar_argument(colorbar, {"Scene.render", "colorbar"});
+            request.colorbar_scale =
+                real_in(colorbar_scale, {"Scene.render", "colorbar_scale"}, 0.25, 8.0);
             const std::optional<std::string> view =
                 optional_text(view_argument, {"Scene.render", "view"});
             if (!view) return render_scene(s.scene(), request, nullptr);
@@ -592,7 +595,7 @@ center, normal, up, size, volume, window, colormap, color, opacity.
           py::arg("method") = py::none(), py::arg("width") = py::none(),
           py::arg("height") = py::none(), py::arg("spp") = py::none(),
           py::arg("threads") = py::none(), py::arg("view") = py::none(),
-          py::arg("colorbar") = false,
+          py::arg("colorbar") = false, py::arg("colorbar_scale") = 1.0,
           R"doc(Renders one frame and returns it as an intermix.Image: an (H, W, 4) float32 numpy array of
 premultiplied linear RGBA over the scene's background (image.to_uint8() gives the sRGB display
 image, as `intermix render` writes it). `method` defaults to the scene's render.method, else "auto" (the fastest method
@@ -603,7 +606,7 @@ that direction, leaving the scene's own camera as it is. `colorbar=True` draws a
 for each visible colour-mapped object into the image's top-right corner, as `intermix render
 --colorbar` does (FreeType and a DejaVu font; $IMX_FONT names another); a position
 ("top-left", "bottom-right", "bottom-left", or "outside": beside the image, which grows to the
-right) puts them there.
+right) puts them there; `colorbar_scale` (0.25 to 8) sizes their text and strips.
 
 The GIL is released while rendering (other Python threads run, and may render too), and Ctrl-C
 cancels the render with KeyboardInterrupt. Raises ValueError for bad arguments and RuntimeError

@@ -277,6 +277,18 @@ TEST(ColourBar, OutsideTheImageTheCanvasGrowsAndTheImageIsKept) {
   EXPECT_GT(dark, 4);
 }
 
+TEST(ColourBar, TheScaleSizesTextAndStrips) {
+  ASSERT_TRUE(have_font()) << "no font for colour bars: scripts/install-deps installs fonts-dejavu-core";
+  const std::vector<ColourBar> bars = scene_colour_bars(overlay_scene());
+  Image one(512, 512, kBackground), two(512, 512, kBackground);
+  const auto a = draw_colour_bars(one, bars, ColourBarStyle{ColourBarPosition::outside, 1.0});
+  const auto b = draw_colour_bars(two, bars, ColourBarStyle{ColourBarPosition::outside, 2.0});
+  ASSERT_FALSE(a.empty());
+  ASSERT_FALSE(b.empty());
+  EXPECT_EQ(b[0].x1 - b[0].x0, 2 * (a[0].x1 - a[0].x0));  // the strip is as wide as the text
+  EXPECT_GT(two.width() - 512, 3 * (one.width() - 512) / 2);
+}
+
 TEST(ColourBar, ACornerPutsTheBarsThere) {
   ASSERT_TRUE(have_font())
       << "no font for colour bars: scripts/install-deps installs fonts-dejavu-core";
