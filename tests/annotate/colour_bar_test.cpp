@@ -278,7 +278,8 @@ TEST(ColourBar, OutsideTheImageTheCanvasGrowsAndTheImageIsKept) {
 }
 
 TEST(ColourBar, TheScaleSizesTextAndStrips) {
-  ASSERT_TRUE(have_font()) << "no font for colour bars: scripts/install-deps installs fonts-dejavu-core";
+  ASSERT_TRUE(have_font())
+      << "no font for colour bars: scripts/install-deps installs fonts-dejavu-core";
   const std::vector<ColourBar> bars = scene_colour_bars(overlay_scene());
   Image one(512, 512, kBackground), two(512, 512, kBackground);
   const auto a = draw_colour_bars(one, bars, ColourBarStyle{ColourBarPosition::outside, 1.0});
