@@ -14,6 +14,7 @@
 #include "intermix/formats.hpp"
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
+#include "io/streamlines/streamline_formats.hpp"
 #include "io/zarr/ome_zarr_reader.hpp"
 #include "presets/colormap.hpp"
 #include "presets/volume_presets.hpp"
@@ -128,6 +129,59 @@ void print_memory(const nlohmann::json& list) {
                                         : "none");
     }
   }
+}
+
+// The LPS box of points, as [[lo], [hi]] (null for none).
+template <class Points>
+nlohmann::json bounds_of(const Points& points) {
+  if (points.empty()) return nullptr;
+  glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-lo);
+  for (const glm::vec3& p : points) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  return {{lo.x, lo.y, lo.z}, {hi.x, hi.y, hi.z}};
+}
+
+nlohmann::json describe(const Streamlines& s, const std::vector<std::string>& notes) {
+  size_t shortest = s.count() ? SIZE_MAX : 0, longest = 0;
+  for (size_t i = 0; i < s.count(); ++i) {
+    shortest = std::min(shortest, s.length(i));
+    longest = std::max(longest, s.length(i));
+  }
+  nlohmann::json point_values = nlohmann::json::array(), streamline_values = point_values,
+                 groups = point_values;
+  for (const StreamlineValues& v : s.point_values) point_values.push_back(v.name);
+  for (const StreamlineValues& v : s.streamline_values) streamline_values.push_back(v.name);
+  for (const StreamlineGroup& g : s.groups)
+    groups.push_back({{"name", g.name}, {"streamlines", g.members.size()}});
+  return {{"kind", "streamlines"},
+          {"streamlines", s.count()},
+          {"points", s.points.size()},
+          {"points_per_streamline", {shortest, longest}},
+          {"world_bounds_mm", bounds_of(s.points)},
+          {"point_values", point_values},
+          {"streamline_values", streamline_values},
+          {"groups", groups},
+          {"notes", notes}};
+}
+
+nlohmann::json describe(const Connectome& c, const std::vector<std::string>& notes) {
+  std::vector<glm::vec3> positions;
+  for (const ConnectomeNode& n : c.nodes) positions.push_back(n.position);
+  nlohmann::json weights = nullptr;
+  if (!c.edges.empty()) {
+    const auto [lo, hi] = std::minmax_element(
+        c.edges.begin(), c.edges.end(),
+        [](const ConnectomeEdge& a, const ConnectomeEdge& b) { return a.weight < b.weight; });
+    weights = {lo->weight, hi->weight};
+  }
+  return {{"kind", "connectome"},
+          {"nodes", c.nodes.size()},
+          {"edges", c.edges.size()},
+          {"edge_weights", weights},
+          {"world_bounds_mm", bounds_of(positions)},
+          {"notes", notes}};
 }
 
 void print_human(const nlohmann::json& j) {
@@ -304,6 +358,14 @@ Command add_info(CLI::App& app) {
       j["file"] = o->file;
     } else if (is_mesh_file(o->file)) {
       j = describe(read_mesh_file(o->file));
+      j["file"] = o->file;
+    } else if (detail::is_streamline_file(o->file)) {
+      std::vector<std::string> notes;
+      j = describe(detail::read_streamline_file(o->file, {}, notes), notes);
+      j["file"] = o->file;
+    } else if (detail::is_connectome_file(o->file)) {
+      std::vector<std::string> notes;
+      j = describe(detail::read_connectome_file(o->file, notes), notes);
       j["file"] = o->file;
     } else {
       throw Error(unknown_format_message(o->file));  // identify_file has refused it already

@@ -128,6 +128,34 @@ void write_tracks(const std::filesystem::path& tck, const std::filesystem::path&
   test::write_mrtrix_tracks(tsf, "mrtrix track scalars", {va, vb}, 1);
 }
 
+// intermix info describes a tractogram (it said ".tck is not a format intermix reads") and a
+// connectome; a .tsf alone says it needs its .tck.
+TEST(Streamlines, InfoDescribesTractogramsAndConnectomes) {
+  test::TempDir dir;
+  write_tracks(dir / "two.tck", dir / "two.tsf");
+  const test::CliResult r = test::run_cli("info --json " + (dir / "two.tck").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = nlohmann::json::parse(r.output.substr(r.output.find('{')));
+  EXPECT_EQ(j["kind"], "streamlines");
+  EXPECT_EQ(j["streamlines"], 2);
+  EXPECT_EQ(j["points"], 82);
+  EXPECT_EQ(j["points_per_streamline"], nlohmann::json({41, 41}));
+  // MRtrix's RAS x, y become LPS -x, -y.
+  EXPECT_EQ(j["world_bounds_mm"], nlohmann::json({{-40.0, -20.0, 0.0}, {40.0, 20.0, 0.0}}));
+  const test::CliResult tsf = test::run_cli("info " + (dir / "two.tsf").string());
+  EXPECT_NE(tsf.exit_code, 0);
+  EXPECT_NE(tsf.output.find("needs the .tck"), std::string::npos) << tsf.output;
+  const std::filesystem::path jcon = test::shared_data("neuro/connectomes/connectome.jcon");
+  if (std::filesystem::exists(jcon)) {
+    const test::CliResult c = test::run_cli("info --json " + jcon.string());
+    ASSERT_EQ(c.exit_code, 0) << c.output;
+    const nlohmann::json cj = nlohmann::json::parse(c.output.substr(c.output.find('{')));
+    EXPECT_EQ(cj["kind"], "connectome");
+    EXPECT_EQ(cj["nodes"], 4);
+    EXPECT_GT(cj["edges"].get<int>(), 0);
+  }
+}
+
 TEST(Streamlines, RenderOfATckAndItsTsfMakesOneStreamlinesObjectWithValues) {
   test::TempDir dir;
   write_tracks(dir / "two.tck", dir / "two.tsf");
