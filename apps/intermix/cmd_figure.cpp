@@ -45,9 +45,7 @@ void colour_the_map(VolumeObject& map, const Options& o, bool glass) {
                     o.map, threshold, o.vmax ? "--vmax" : "largest value", vmax));
   ColormapTransferFunction c;
   const std::string name = o.colormap.empty() ? (symmetric ? "cold-hot" : "hot") : o.colormap;
-  const std::optional<Colormap> found = find_colormap(name);
-  if (!found) throw Error(fmt::format("--colormap: '{}' is not a colour map", name));
-  c.map = *found;
+  c.map = *find_colormap(name);  // --colormap is checked against the names
   c.lo = threshold;
   c.hi = vmax;
   c.threshold = threshold;
@@ -122,7 +120,9 @@ Command add_figure(CLI::App& app) {
                  "(default 3)");
   app.add_option("--vmax", o->vmax, "the top of the map's colours (default: its largest |value|)");
   app.add_option("--colormap", o->colormap,
-                 "the map's colour map (default cold-hot, or hot for --positive and glass)");
+                 "the map's colour map (default cold-hot, or hot for --positive and glass)")
+      ->check(
+          CLI::IsMember(std::vector<std::string>(kColormapNames.begin(), kColormapNames.end())));
   app.add_flag("--labels", o->labels,
                "the map is a label map (a segmentation): drawn in the default palette, with a "
                "legend of the labels it holds");
