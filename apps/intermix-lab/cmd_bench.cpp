@@ -264,6 +264,7 @@ Command add_bench(CLI::App& app) {
                       {"rays_per_s", rays / (t.ms_median / 1000.0)},
                       {"peak_rss_mib", t.peak_rss_mib},
                       {"sample_distance_mm", run.sample_distance_mm},
+                      {"first_image_ms", t.first_image_ms},
                       {"empty_image", t.empty_image}});
       if (t.empty_image && !quiet())
         std::fprintf(stderr,

@@ -263,6 +263,9 @@ PeerTiming run_vtk_peer(const PeerRun& run) {
   t.ms_min = j.value("ms_min", t.ms_median);
   t.ms_max = j.value("ms_max", t.ms_median);
   t.empty_image = j.value("empty_image", false);
+  if (j.contains("load_ms") && j.contains("first_frame_ms") && j["load_ms"].is_number() &&
+      j["first_frame_ms"].is_number())
+    t.first_image_ms = j["load_ms"].get<double>() + j["first_frame_ms"].get<double>();
   rusage usage{};
   getrusage(RUSAGE_CHILDREN, &usage);  // the largest finished child: python or Xvfb
   t.peak_rss_mib = static_cast<double>(usage.ru_maxrss) / 1024.0;

@@ -23,6 +23,9 @@ struct PeerTiming {
   double ms_median = 0.0, ms_min = 0.0, ms_max = 0.0;
   bool empty_image = false;  // VTK drew nothing: the time measures no rendering
   double peak_rss_mib = 0.0;
+  // Reading the files plus the first render (uploads, gradient and normal caches): VTK's time
+  // to its first image; 0 when the peer does not say.
+  double first_image_ms = 0.0;
 };
 
 // --peer's default: shared/peers/vtk_peer.py in the nearest folder above this executable, else
