@@ -228,6 +228,13 @@ GivenData given_data(const GivenSources& sources) {
   return given;
 }
 
+// `document` (copied with the GIL held) shown by `session`; returns the session's new count.
+uint64_t replace_without_gil(server::ViewerSession& session, const SceneDocument& document) {
+  SceneDocument copy = document;
+  py::gil_scoped_release release;
+  return session.replace_document(std::move(copy));
+}
+
 }  // namespace
 
 PyScene::PyScene(nlohmann::json document, GivenSources sources, std::string origin,
@@ -258,24 +265,30 @@ void PyScene::attach(const std::shared_ptr<server::ViewerSession>& session, uint
   views_.links.push_back({session, seen});
 }
 
+// The session's calls take its lock, which its render thread may hold while letting go of a
+// numpy array (which takes the GIL): they are made without the GIL.
 void PyScene::pull() const {
   std::erase_if(views_.links, [](const ViewLinks::Link& l) { return l.session.expired(); });
   for (ViewLinks::Link& link : views_.links) {
     const std::shared_ptr<server::ViewerSession> session = link.session.lock();
-    auto [document, version] = session->document();
-    if (version == link.seen) continue;
-    document_ = std::move(document);
-    link.seen = version;
+    std::pair<SceneDocument, uint64_t> shown = [&] {
+      py::gil_scoped_release release;
+      return session->document();
+    }();
+    if (shown.second == link.seen) continue;
+    document_ = std::move(shown.first);
+    link.seen = shown.second;
     for (ViewLinks::Link& other : views_.links)
       if (&other != &link)
-        if (const auto s = other.session.lock()) other.seen = s->replace_document(document_);
+        if (const auto s = other.session.lock()) other.seen = replace_without_gil(*s, document_);
   }
 }
 
 void PyScene::push() {
   std::erase_if(views_.links, [](const ViewLinks::Link& l) { return l.session.expired(); });
   for (ViewLinks::Link& link : views_.links)
-    if (const auto session = link.session.lock()) link.seen = session->replace_document(document_);
+    if (const auto session = link.session.lock())
+      link.seen = replace_without_gil(*session, document_);
 }
 
 void PyScene::keep_notes() {

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <thread>
 
 #include <fmt/format.h>
@@ -66,6 +67,10 @@ class PyView {
 
   void close() {
     if (!server_) return;
+    // The server's threads may need the GIL to let go of numpy arrays (keep_alive): wait for
+    // them without it.
+    std::optional<py::gil_scoped_release> release;
+    if (PyGILState_Check()) release.emplace();
     server_->stop();
     if (thread_.joinable()) thread_.join();
     session_->stop();

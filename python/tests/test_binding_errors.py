@@ -257,7 +257,7 @@ def test_exact_messages_for_calls_that_fit_no_signature():
     assert message_of(lambda: s.render(widht=8)) == (
         TypeError, "Scene.render: got an unexpected keyword argument 'widht' (did you mean "
                    "'width'?); it takes (method=None, width=None, height=None, spp=None, "
-                   "threads=None, view=None, colorbar=False)")
+                   "threads=None, view=None, colorbar=False, colorbar_scale=1.0)")
     assert message_of(lambda: intermix.Scene.set(1, 1)) == (
         TypeError, "Scene.set: self must be an intermix.Scene, got int")
     assert message_of(lambda: intermix.phantom("cube", 8, 9)) == (
