@@ -65,3 +65,11 @@ def test_write_movie_refuses_clearly_and_leaves_nothing(tmp_path):
     assert os.listdir(tmp_path) == []
     intermix.write_movie([image, image], tmp_path / "ok.mkv", fps=30)
     assert intermix.read_movie(tmp_path / "ok.mkv")["fps"] == 30
+
+
+def test_read_movie_names_a_missing_or_unreadable_file_as_every_reader_does(tmp_path):
+    # The guarded open before libavformat: an OSError with intermix's words, not FFmpeg's.
+    with pytest.raises(FileNotFoundError, match=r"missing.mp4: no such file"):
+        intermix.read_movie(tmp_path / "missing.mp4")
+    with pytest.raises(IsADirectoryError, match="is a directory"):
+        intermix.read_movie(tmp_path)

@@ -3,11 +3,15 @@
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
+#include "io/streams/input_file.hpp"
 #include "movie/movie_plugin.hpp"
 
 namespace imx {
 
 DecodedMovie read_movie(const std::filesystem::path& file) {
+  // The guarded open first: a missing file, a FIFO or a folder is named as every reader names
+  // it (an OSError in Python), never in libavformat's words.
+  open_input(file);
   const imx_movie_ffmpeg_calls& plugin = detail::movie_plugin();
   imx_movie_info info{};
   char error[512] = {};
