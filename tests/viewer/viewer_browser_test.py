@@ -810,6 +810,17 @@ def run_reading_views(args, checks, browser):
     z1 = browser.evaluate('viewer.slicePoint()')[2]
     checks.check('m. a wheel step in the axial view moves one slice', abs(z1 - z0 - pitch[2]) < 1e-9,
                  f'{z1 - z0:.4f} mm (the slice pitch is {pitch[2]} mm)')
+    # Cine: the axial slices go by at the rate set (10 a second, for 2 s), wrapping at the end.
+    browser.evaluate("viewer.cine('axial', 10)")
+    time.sleep(2.0)
+    cine = browser.evaluate('viewer.cineState()') or {}
+    browser.evaluate('viewer.cine(null)')
+    rate = cine.get('steps', 0) / max(cine.get('ms', 1) / 1000, 1e-3)
+    moved = browser.evaluate('viewer.slicePoint()')[2] != z1
+    checks.check('m. cine steps the axial slices at the rate set (within 10%)',
+                 abs(rate - 10) <= 1.0 and moved and browser.evaluate('viewer.cineState()') is None,
+                 f"{cine.get('steps')} slices in {cine.get('ms', 0) / 1000:.2f} s: {rate:.2f} a second",
+                 'asked 10')
     # latency of 2-D interactions (input to the last view showing it): 10 clicks, 10 steps
     browser.wait_for('viewer.slicesSettled()', timeout=10, what='the views to show the step')
     lat0 = len(browser.evaluate('viewer.sliceLatencies()'))

@@ -11,7 +11,7 @@ import {drawColorBars} from './colorbar.js';
 import {historyDepth, resetCommitted, setupHistory} from './history.js';
 import {applyViewLink, setupShortcuts, viewLink} from './shortcuts.js';
 import {crosshairs, onProbe, onSlice, onSliceError, refreshSlices, scaleBars, setLayout,
-        setupSlices, sliceClipHandles, sliceViews, sliceWindow} from './slices.js';
+        setCine, setupSlices, sliceClipHandles, sliceViews, sliceWindow} from './slices.js';
 import {captureView} from './screenshot.js';
 import {copyCamera} from './vec.js';
 import {drawFrame, initView, layoutCanvas, resetView, sendViewport} from './view.js';
@@ -49,6 +49,8 @@ window.viewer = {
   // the reading views: layout, crosshair point, each view's crosshair as drawn, the readout
   setLayout,
   slicePoint() { return S.point ? S.point.slice() : null; },
+  cine(axis, fps) { setCine(axis, fps); },
+  cineState() { return S.cine ? {axis: S.cine.axis, fps: S.cine.fps, steps: S.cine.steps, ms: performance.now() - S.cine.t0} : null; },
   crosshairs,
   readout() { return S.readout || null; },
   slicesDrawn() { return S.slicesDrawn || 0; },

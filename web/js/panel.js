@@ -154,7 +154,7 @@ function buildPlane(box, o) {
 }
 
 // A multi-frame volume (fMRI, DWI, ...): a frame slider, and play / pause stepping through
-// the frames about four times a second (each step re-runs only this volume's stage).
+// the frames at the toolbar's cine rate (each step re-runs only this volume's stage).
 function buildFrames(box, o) {
   const frames = slider('frame', 0, o.frames - 1, 1, o.frame,
                         (v) => { o.frame = v; editInput(o.name, {frame: v}, true); },
@@ -174,7 +174,7 @@ function buildFrames(box, o) {
       frames.input.value = o.frame;
       frames.row.querySelector('.value').textContent = String(o.frame);
       editInput(o.name, {frame: o.frame}, false);
-    }, 250);
+    }, 1000 / Math.min(60, Math.max(1, Number(document.getElementById('cine-fps').value) || 4)));
   });
   play.className = 'frame-play';
   frames.row.append(play);

@@ -377,6 +377,33 @@ function step(axis, count) {
   setPoint(p);
 }
 
+// Cine: `axis`'s slice steps forward `fps` times a second (from the last slice back to the
+// first), by the clock: a late tick takes the steps it owes, so the slices go by at the rate
+// set however the frames keep up. Null stops it.
+let cine = null;
+export function setCine(axis, fps) {
+  if (cine) clearInterval(cine.timer);
+  cine = null;
+  S.cine = null;
+  if (!axis || !(fps > 0)) return;
+  const state = {axis, fps, t0: performance.now(), steps: 0, timer: 0};
+  state.timer = setInterval(() => {
+    const due = Math.floor((performance.now() - state.t0) * state.fps / 1000);
+    for (; state.steps < due; ++state.steps) cineStep(axis);
+  }, Math.max(5, 500 / fps));
+  cine = state;
+  S.cine = state;
+}
+
+function cineStep(axis) {
+  const v = baseVolume();
+  if (!v || !S.point) return;
+  const n = FRAME[axis].normal;
+  const p = S.point.slice();
+  p[n] = p[n] + v.pitch[n] > v.bounds[1][n] + 1e-6 ? v.bounds[0][n] : p[n] + v.pitch[n];
+  setPoint(p);
+}
+
 // After hello: the crosshair at the base volume's centre, the views' events.
 export function setupSlices() {
   for (const cell of document.querySelectorAll('.slice-cell')) {
@@ -528,6 +555,11 @@ export function setupSlices() {
   }
   window.addEventListener('keydown', (ev) => {
     if (!S.hoverAxis) return;
+    if (ev.key === 'c' && !ev.ctrlKey && !ev.metaKey && !ev.altKey) {  // cine on / off
+      const on = !(cine && cine.axis === S.hoverAxis);
+      setCine(on ? S.hoverAxis : null, Number(document.getElementById('cine-fps').value));
+      return;
+    }
     const counts = {ArrowUp: 1, ArrowDown: -1, PageUp: 10, PageDown: -10};
     if (!(ev.key in counts)) return;
     ev.preventDefault();
