@@ -41,6 +41,7 @@ struct Options : SceneOptions {
   bool distributed = false;
   std::string partition = "auto", report;
   int bricks = 0;  // 0: bricks only for a volume too large to hold
+  bool lod = false;
   MovieShot movie;
 };
 
@@ -57,7 +58,7 @@ void render_one(const Options& o, const std::vector<std::string>& overrides,
                 const std::string& output) {
   std::optional<SceneDocument> outline;
   Scene whole;
-  if (o.bricks > 0) {
+  if (o.bricks > 0 || o.lod) {
     outline.emplace(load_scene_outline(o.in, overrides));
   } else {
     try {
@@ -81,12 +82,18 @@ void render_one(const Options& o, const std::vector<std::string>& overrides,
   std::string method;
   try {
     if (outline) {
-      const int parts = o.bricks > 0 ? o.bricks : bricks_needed(scene);
+      // Levels of detail need bricks to vary over: at least kLodBricks.
+      const int parts =
+          o.bricks > 0 ? o.bricks : std::max(bricks_needed(scene), o.lod ? kLodBricks : 1);
       if (!o.method.empty() && !o.method.starts_with("zslab") && o.method != "auto" && !quiet())
         std::fprintf(stderr, "intermix: note: --method %s: a render in bricks uses zslab\n",
                      o.method.c_str());
-      image = render_in_bricks(*outline, parts, options);
+      BrickLevelRule levels;
+      if (o.lod) levels = [](size_t, int fitting) { return fitting; };
+      const BrickedFrame frame = render_in_bricks(*outline, parts, options, levels);
+      image = frame.image;
       method = fmt::format("zslab in {} bricks", parts);
+      if (o.lod) method += fmt::format(" (pyramid levels up to {})", frame.coarsest_level);
     } else {
       image = render(scene, options);
       const ResolvedMethod resolved = resolve_method(scene, o.method);
@@ -197,6 +204,9 @@ Command add_render(CLI::App& app) {
                  "render in N bricks, loading one at a time (default: only a volume too large to "
                  "hold whole, past 2^31 voxels or half the memory budget, in as many as it needs)")
       ->check(CLI::Range(1, 4096));
+  app.add_flag("--lod", o->lod,
+               "levels of detail: each brick of an OME-Zarr pyramid reads the coarsest level whose "
+               "voxel fits its pixels (faster; not full resolution)");
   app.add_option("--report", o->report,
                  "with --distributed: write timings, bytes exchanged and memory per rank (JSON)");
   add_movie_options(app, o->movie);
@@ -208,6 +218,7 @@ Command add_render(CLI::App& app) {
     if (o->distributed && o->colorbar) throw Error("--colorbar does not apply with --distributed");
     if (o->distributed && o->bricks > 0)
       throw Error("--bricks does not apply with --distributed (use --partition bricks)");
+    if (o->distributed && o->lod) throw Error("--lod does not apply with --distributed");
     if (o->distributed && !o->frame_range.empty())
       throw Error("--frame-range does not apply with --distributed");
     if (o->distributed && !o->in.is_scene_file())
@@ -216,7 +227,8 @@ Command add_render(CLI::App& app) {
       for (const auto& [given, name] :
            {std::pair{o->distributed, "--distributed"},
             std::pair{!o->frame_range.empty(), "--frame-range"},
-            std::pair{o->bricks > 0, "--bricks"}, std::pair{o->linear, "--linear"}})
+            std::pair{o->bricks > 0, "--bricks"}, std::pair{o->lod, "--lod"},
+            std::pair{o->linear, "--linear"}})
         if (given)
           throw Error(fmt::format("{} does not apply to a movie (--orbit, --sweep)", name));
       RenderOptions options;

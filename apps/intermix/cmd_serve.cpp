@@ -1,6 +1,7 @@
 // intermix serve SCENE.json | FILE...: the interactive viewer in the browser (docs/viewer.md).
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <system_error>
 
 #include <fmt/format.h>
@@ -37,30 +38,56 @@ std::string default_web_dir() {
   return IMX_WEB_DIR;
 }
 
-// Frames at full resolution of a scene shown at coarse pyramid levels (SessionOptions::
-// full_resolution): the document's OME-Zarr sources at "level": "auto" back at level 0, rendered
-// in bricks as `intermix render` renders a volume too large to hold.
+// Frames finer than a scene shown at coarse pyramid levels (SessionOptions::full_resolution):
+// the document's OME-Zarr sources at "level": "auto" taken from level 0, rendered in bricks as
+// `intermix render` renders a volume too large to hold. Step s reads each brick s levels finer
+// than the level that fits its pixels, and always finer than the level shown; the step whose
+// bricks all read level 0 is the last.
 decltype(server::SessionOptions::full_resolution) full_resolution_frames(const SceneDocument& shown,
                                                                          int threads) {
-  return
-      [origin = shown.origin(), base_dir = shown.base_dir(), threads](
-          const nlohmann::json& document, int width, int height, const std::atomic<bool>& cancel) {
-        nlohmann::json json = document;
-        for (nlohmann::json& object : json["objects"]) {
-          const auto source = object.find("source");
-          if (source != object.end() && source->is_object() &&
-              source->value("level", nlohmann::json()) == "auto")
-            source->erase("level");
-        }
-        json["image"]["width"] = width;
-        json["image"]["height"] = height;
-        const SceneDocument outline = outline_of(std::move(json), origin, base_dir);
-        RenderOptions options;
-        options.spp = document.contains("render") ? document["render"].value("spp", 0) : 0;
-        options.threads = threads;
-        options.cancel = &cancel;
-        return render_in_bricks(outline, bricks_needed(outline.scene()), options);
-      };
+  // The level each "auto" source is shown at: the one whose grid the shown scene holds.
+  std::map<size_t, int> shown_level;
+  const nlohmann::json& objects = shown.json()["objects"];
+  for (size_t k = 0; k < objects.size(); ++k) {
+    const auto source = objects[k].find("source");
+    if (source != objects[k].end() && source->is_object() &&
+        source->value("level", nlohmann::json()) == "auto")
+      shown_level[k] = -1;
+  }
+  if (!shown_level.empty()) {
+    nlohmann::json json = shown.json();
+    for (const auto& [k, level] : shown_level) json["objects"][k]["source"].erase("level");
+    const SceneDocument fine = outline_of(std::move(json), shown.origin(), shown.base_dir());
+    for (const PyramidLevels& p : scene_pyramids(fine)) {
+      if (!shown_level.count(p.object)) continue;
+      const Scene& scene = shown.scene();
+      const glm::ivec3 dims =
+          scene.volumes[static_cast<size_t>(scene.order[p.object].index)].source_dims;
+      for (size_t level = 0; level < p.dims.size(); ++level)
+        if (p.dims[level] == dims) shown_level[p.object] = static_cast<int>(level);
+    }
+  }
+  return [origin = shown.origin(), base_dir = shown.base_dir(), threads, shown_level](
+             const nlohmann::json& document, int width, int height, int step,
+             const std::atomic<bool>& cancel) {
+    nlohmann::json json = document;
+    for (const auto& [k, level] : shown_level) json["objects"][k]["source"].erase("level");
+    json["image"]["width"] = width;
+    json["image"]["height"] = height;
+    const SceneDocument outline = outline_of(std::move(json), origin, base_dir);
+    RenderOptions options;
+    options.spp = document.contains("render") ? document["render"].value("spp", 0) : 0;
+    options.threads = threads;
+    options.cancel = &cancel;
+    const BrickLevelRule levels = [&](size_t object, int fitting) {
+      const auto shown_at = shown_level.find(object);
+      if (shown_at == shown_level.end()) return 0;
+      return std::max(0, std::min(fitting, shown_at->second - 1) - step);
+    };
+    const BrickedFrame frame = render_in_bricks(
+        outline, std::max(bricks_needed(outline.scene()), kLodBricks), options, levels);
+    return server::SessionOptions::Refinement{frame.image, frame.coarsest_level == 0};
+  };
 }
 
 }  // namespace

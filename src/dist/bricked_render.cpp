@@ -29,9 +29,55 @@ int bricks_needed(const Scene& outline) {
   return static_cast<int>(std::ceil(parts * 1.05));
 }
 
-Image render_in_bricks(const SceneDocument& outline, int bricks, const RenderOptions& options) {
+namespace {
+
+// Brick k's document and regions: each pyramid volume's source at the level `levels` picks for
+// the brick, read over the level's voxels that cover the brick.
+struct BrickSource {
+  nlohmann::json json;
+  VolumeRegionChooser regions;
+  int coarsest_level = 0;
+};
+
+BrickSource brick_source(const SceneDocument& outline, const Partition& partition, int k,
+                         const std::vector<PyramidLevels>& pyramids, const BrickLevelRule& levels) {
+  const Scene& scene = outline.scene();
+  BrickSource out{outline.json(), rank_regions(partition, k, scene), 0};
+  if (!levels) return out;
+  std::map<std::string, VoxelBox> coarse;  // object name -> its box at the chosen level
+  for (const PyramidLevels& p : pyramids) {
+    const VolumeObject& v = scene.volumes[static_cast<size_t>(scene.order[p.object].index)];
+    const auto brick = partition.ranks[static_cast<size_t>(k)].bricks.find(v.name);
+    if (brick == partition.ranks[static_cast<size_t>(k)].bricks.end()) continue;
+    glm::dvec3 lo, hi;
+    world_bounds(p, brick->second.read, lo, hi);
+    const int fitting = level_fitting(p, pixel_footprint(scene.camera, scene.image.height, lo, hi));
+    const int level = std::clamp(levels(p.object, fitting), 0, static_cast<int>(p.dims.size()) - 1);
+    if (level == 0) continue;
+    nlohmann::json& src = out.json["objects"][p.object]["source"];
+    if (!src.is_object()) src = nlohmann::json{{"file", src}};
+    src["level"] = p.first_level + level;
+    coarse.emplace(v.name, box_at_level(p, level, brick->second.read));
+    out.coarsest_level = std::max(out.coarsest_level, level);
+  }
+  if (!coarse.empty())
+    out.regions = [coarse, fine = out.regions](const std::string& object,
+                                               const VolumeHeader& header) {
+      const auto it = coarse.find(object);
+      return it != coarse.end() ? it->second : fine(object, header);
+    };
+  return out;
+}
+
+}  // namespace
+
+BrickedFrame render_in_bricks(const SceneDocument& outline, int bricks,
+                              const RenderOptions& options, const BrickLevelRule& levels) {
   const Scene& scene = outline.scene();
   const Partition partition = plan_partition(scene, bricks, PartitionMode::bricks);
+  const std::vector<PyramidLevels> pyramids =
+      levels ? scene_pyramids(outline) : std::vector<PyramidLevels>{};
+  int coarsest_level = 0;
   const int spp = options.spp > 0 ? options.spp : std::max(scene.render.spp, 1);
   const int threads = resolve_thread_count(options.threads);
   const size_t pixels = static_cast<size_t>(scene.image.width) * scene.image.height;
@@ -46,8 +92,10 @@ Image render_in_bricks(const SceneDocument& outline, int bricks, const RenderOpt
     ZtBuffer arrays;
     {
       // The part's voxels live only while it renders.
-      const SceneDocument part(outline.json(), outline.origin(), outline.base_dir(), {}, {},
-                               rank_regions(partition, k, scene));
+      BrickSource source = brick_source(outline, partition, k, pyramids, levels);
+      coarsest_level = std::max(coarsest_level, source.coarsest_level);
+      const SceneDocument part(std::move(source.json), outline.origin(), outline.base_dir(), {}, {},
+                               std::move(source.regions));
       render_zslab_arrays(rank_scene(part.scene(), partition, k), spp, part_options, arrays);
     }
     if (k == 0)
@@ -58,11 +106,11 @@ Image render_in_bricks(const SceneDocument& outline, int bricks, const RenderOpt
   }
   const std::vector<glm::vec4> rgba =
       resolve_slab_arrays(frame, all, spp, mix.a_ert, scene.image.background, threads);
-  Image image(scene.image.width, scene.image.height);
+  BrickedFrame out{Image(scene.image.width, scene.image.height), coarsest_level};
   for (size_t p = 0; p < pixels; ++p)
-    image.at(static_cast<int>(p % scene.image.width), static_cast<int>(p / scene.image.width)) =
+    out.image.at(static_cast<int>(p % scene.image.width), static_cast<int>(p / scene.image.width)) =
         rgba[p];
-  return image;
+  return out;
 }
 
 }  // namespace imx

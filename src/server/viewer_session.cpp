@@ -606,10 +606,15 @@ void ViewerSession::render_and_send(Snapshot& s) {
 
 void ViewerSession::render_full_resolution(const Snapshot& s) {
   const auto t0 = Clock::now();
-  Image image;
+  int step = 0;
+  {
+    std::lock_guard lock(mutex_);
+    if (refined_version_ == s.version) step = refined_steps_;
+  }
+  SessionOptions::Refinement refined;
   try {
-    image =
-        options_.full_resolution(s.document, s.scene.image.width, s.scene.image.height, cancel_);
+    refined = options_.full_resolution(s.document, s.scene.image.width, s.scene.image.height, step,
+                                       cancel_);
   } catch (const Cancelled&) {
     std::lock_guard lock(mutex_);
     ++counters_.frames_cancelled;
@@ -623,30 +628,34 @@ void ViewerSession::render_full_resolution(const Snapshot& s) {
   }
   const double render_ms = ms_since(t0);
   const auto t1 = Clock::now();
-  std::string encoded = encode_png(image, "frame", false, kStillPngLevel);
+  std::string encoded = encode_png(refined.image, "frame", false, kStillPngLevel);
   Json frame = {{"type", "frame"},
                 {"seq", 0},
-                {"width", image.width()},
-                {"height", image.height()},
+                {"width", refined.image.width()},
+                {"height", refined.image.height()},
                 {"format", "png"},
                 {"samples", s.spp},
                 {"spp", s.spp},
                 {"final", true},
-                {"full_resolution", true},
+                {"full_resolution", refined.last},
+                {"refinement", step},
                 {"render_ms", render_ms},
                 {"encode_ms", ms_since(t1)},
                 {"stages", 0},
                 {"stages_run", 0},
                 {"scale", 1.0}};
   if (options_.log)
-    std::fprintf(stderr, "intermix serve: full resolution in %.1f s\n", render_ms / 1000.0);
+    std::fprintf(stderr, "intermix serve: %s in %.1f s\n",
+                 refined.last ? "full resolution" : "refined", render_ms / 1000.0);
   std::lock_guard lock(mutex_);
   if (version_ != s.version) {
     ++counters_.frames_cancelled;
     return;
   }
-  full_resolution_version_ = s.version;
-  full_resolution_image_ = std::move(image);
+  refined_version_ = s.version;
+  refined_steps_ = step + 1;
+  if (refined.last) full_resolution_version_ = s.version;
+  full_resolution_image_ = std::move(refined.image);
   send_to_clients(std::move(frame), std::move(encoded), s);
   ++counters_.full_resolution_frames;
 }
@@ -675,7 +684,7 @@ void ViewerSession::screenshot(const std::vector<std::weak_ptr<ClientSink>>& to,
   try {
     // The converged frame when there is one; else the whole spp frame at once.
     Image image;
-    if (full_resolution_version_ == s.version && full_resolution_image_.width() > 0) {
+    if (refined_version_ == s.version && full_resolution_image_.width() > 0) {
       image = full_resolution_image_;
     } else if (accumulated_version_ == s.version && accumulator_.samples() >= s.spp) {
       image = accumulator_.mean();

@@ -55,11 +55,16 @@ struct SessionOptions {
   double release_after_ms = 400.0;
   bool log = true;  // one line per client and per latency report on stderr
   // For a scene whose volumes are shown at a coarse pyramid level (too large to hold at full
-  // resolution): renders `document` (the session's saved document) at full resolution at
-  // `width`×`height`, polling `cancel` (throws imx::Cancelled once it is set). Called when a
-  // still frame has converged; its frame replaces it. Empty: still frames are the last.
-  std::function<Image(const nlohmann::json& document, int width, int height,
-                      const std::atomic<bool>& cancel)>
+  // resolution): renders `document` (the session's saved document) at `width`×`height` finer
+  // than shown, refinement `step` (0, 1, ...) each finer than the last until one is `last` (full
+  // resolution), polling `cancel` (throws imx::Cancelled once it is set). Called once a still
+  // frame has converged; each frame replaces the last. Empty: still frames are the last.
+  struct Refinement {
+    Image image;
+    bool last = true;
+  };
+  std::function<Refinement(const nlohmann::json& document, int width, int height, int step,
+                           const std::atomic<bool>& cancel)>
       full_resolution;
 };
 
@@ -179,7 +184,9 @@ class ViewerSession {
   Accumulator accumulator_;
   uint64_t accumulated_version_ = 0;
   uint64_t full_resolution_version_ = 0;  // the version whose full-resolution frame was sent
-  Image full_resolution_image_;           // that frame, for screenshots
+  uint64_t refined_version_ = 0;          // the version refined `refined_steps_` steps so far
+  int refined_steps_ = 0;
+  Image full_resolution_image_;  // the latest refined frame, for screenshots
   ResolutionControl resolution_;
   std::thread thread_;
 };

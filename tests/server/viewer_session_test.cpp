@@ -468,17 +468,17 @@ TEST(ViewerSession, SlicesAndProbesAnswerTheReadingViews) {
 }
 
 // A scene shown at coarse pyramid levels: once its still frame has converged, the session asks
-// for the frame at full resolution (SessionOptions::full_resolution) with the saved document,
-// sends it as the final frame, and asks again only after an input; an input while it renders
-// cancels it.
-TEST(ViewerSession, AConvergedCoarseFrameIsFollowedByTheFullResolutionFrame) {
+// for refinements (SessionOptions::full_resolution) with the saved document, step 0 then 1,
+// sends each as a final frame until one is the last, and asks again only after an input; an
+// input while one renders cancels it.
+TEST(ViewerSession, AConvergedCoarseFrameIsFollowedByRefinementsToFullResolution) {
   TempDir dir;
   SessionOptions options = quiet_options(4);
   std::mutex seen_mutex;
   Json seen;
   std::atomic<int> calls{0};
   std::atomic<bool> hold_next{false}, holding{false};
-  options.full_resolution = [&](const Json& document, int width, int height,
+  options.full_resolution = [&](const Json& document, int width, int height, int step,
                                 const std::atomic<bool>& cancel) {
     ++calls;
     {
@@ -491,10 +491,11 @@ TEST(ViewerSession, AConvergedCoarseFrameIsFollowedByTheFullResolutionFrame) {
       holding = false;
       if (cancel) throw Cancelled();
     }
+    // Step 0 green, step 1 (the last) red.
     Image image(width, height);
     for (int y = 0; y < height; ++y)
-      for (int x = 0; x < width; ++x) image.at(x, y) = glm::vec4(1, 0, 0, 1);
-    return image;
+      for (int x = 0; x < width; ++x) image.at(x, y) = glm::vec4(step, 1 - step, 0, 1);
+    return SessionOptions::Refinement{image, step == 1};
   };
   ViewerSession session(load_viewer_state(small_fusion(dir)), options);
   auto client = std::make_shared<Recorder>();
@@ -502,6 +503,9 @@ TEST(ViewerSession, AConvergedCoarseFrameIsFollowedByTheFullResolutionFrame) {
   const auto coarse = client->wait_final();
   EXPECT_EQ(coarse.json["samples"], 4);
   EXPECT_EQ(coarse.json["full_resolution"], false);
+  const auto finer = client->wait_for([](const Json& j) { return j.value("refinement", -1) == 0; });
+  EXPECT_EQ(finer.json["full_resolution"], false);
+  EXPECT_NEAR(decode(finer.image, dir).at(kSize / 2, kSize / 2).g, 1.0f, 1e-3);
   const auto full =
       client->wait_for([](const Json& j) { return j.value("full_resolution", false); });
   EXPECT_EQ(full.json["final"], true);
@@ -514,9 +518,10 @@ TEST(ViewerSession, AConvergedCoarseFrameIsFollowedByTheFullResolutionFrame) {
     EXPECT_EQ(seen["render"]["spp"], 4);
     EXPECT_EQ(seen["objects"].size(), 3u);
   }
+  EXPECT_EQ(full.json["refinement"], 1);
   ASSERT_TRUE(session.wait_idle(60s));
-  EXPECT_EQ(calls, 1);  // idle: not asked again
-  EXPECT_EQ(session.counters().full_resolution_frames, 1);
+  EXPECT_EQ(calls, 2);  // idle: not asked again
+  EXPECT_EQ(session.counters().full_resolution_frames, 2);
 
   hold_next = true;
   session.on_message(client, camera_message(1, false, -300).dump());
@@ -527,8 +532,8 @@ TEST(ViewerSession, AConvergedCoarseFrameIsFollowedByTheFullResolutionFrame) {
       [](const Json& j) { return j.value("full_resolution", false) && j.value("seq", 0) == 2; });
   EXPECT_EQ(second.json["final"], true);
   ASSERT_TRUE(session.wait_idle(60s));
-  EXPECT_EQ(calls, 3);
-  EXPECT_EQ(session.counters().full_resolution_frames, 2);
+  EXPECT_EQ(calls, 5);  // two steps of each version, and the cancelled one
+  EXPECT_EQ(session.counters().full_resolution_frames, 4);
   EXPECT_GE(session.counters().frames_cancelled, 1);
   std::lock_guard lock(seen_mutex);
   EXPECT_DOUBLE_EQ(seen["camera"]["eye"][0].get<double>(), -250.0);

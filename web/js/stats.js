@@ -64,7 +64,9 @@ export function updateStatus() {
                `scale ${fmt(f.scale, 2)}`, f.format);
     // A volume too large to hold: shown at a pyramid level until the full-resolution frame.
     if (f.full_resolution !== undefined)
-      parts.push(f.full_resolution ? 'full resolution' : 'coarse level, refining');
+      parts.push(f.full_resolution ? 'full resolution'
+                 : f.refinement !== undefined ? `finer levels (step ${f.refinement + 1}), refining`
+                 : 'coarse level, refining');
   }
   parts.push(`${fmt(S.movingFps, 0)} fps moving`);
   const last = stats.latencies.slice(-50);
