@@ -8,6 +8,7 @@
 
 #include "io/voxels/raw_voxels.hpp"
 #include "io/zarr/ome_zarr_reader.hpp"
+#include "volume/level_of_detail.hpp"
 
 namespace imx {
 namespace {
@@ -73,44 +74,18 @@ std::vector<PyramidLevels> scene_pyramids(const SceneDocument& outline) {
   return pyramids;
 }
 
-double pixel_footprint(const Camera& camera, int image_height, const glm::dvec3& lo,
-                       const glm::dvec3& hi) {
-  const double rows = std::max(image_height, 1);
-  if (camera.projection == Projection::orthographic) return camera.ortho_height / rows;
-  // The nearest depth along the view direction over the box's corners (a box's depth range is
-  // its corners').
-  const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
-  double nearest = std::numeric_limits<double>::infinity();
-  for (int c = 0; c < 8; ++c) {
-    const glm::dvec3 corner((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
-    nearest = std::min(nearest, glm::dot(corner - camera.eye, forward));
-  }
-  const double spread = 2.0 * std::tan(glm::radians(camera.fov_deg) / 2.0) / rows;
-  return std::max(nearest, 0.0) * spread;
-}
-
 int level_fitting(const PyramidLevels& pyramid, double footprint) {
   int fitting = 0;
   for (size_t level = 1; level < pyramid.index_to_world.size(); ++level) {
-    const glm::dmat4& m = pyramid.index_to_world[level];
-    const double edge = std::max({glm::length(glm::dvec3(m[0])), glm::length(glm::dvec3(m[1])),
-                                  glm::length(glm::dvec3(m[2]))});
-    if (edge <= footprint) fitting = static_cast<int>(level);
+    if (longest_voxel_edge(pyramid.index_to_world[level]) <= footprint)
+      fitting = static_cast<int>(level);
   }
   return fitting;
 }
 
 void world_bounds(const PyramidLevels& pyramid, const VoxelBox& box, glm::dvec3& lo,
                   glm::dvec3& hi) {
-  lo = glm::dvec3(std::numeric_limits<double>::infinity());
-  hi = -lo;
-  for (int c = 0; c < 8; ++c) {
-    const glm::dvec4 index((c & 1) ? box.hi.x - 1 : box.lo.x, (c & 2) ? box.hi.y - 1 : box.lo.y,
-                           (c & 4) ? box.hi.z - 1 : box.lo.z, 1.0);
-    const glm::dvec3 w(pyramid.index_to_world[0] * index);
-    lo = glm::min(lo, w);
-    hi = glm::max(hi, w);
-  }
+  world_box(pyramid.index_to_world[0], box.lo, box.hi, lo, hi);
 }
 
 VoxelBox box_at_level(const PyramidLevels& pyramid, int level, const VoxelBox& box) {

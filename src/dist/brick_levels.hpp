@@ -26,11 +26,6 @@ struct PyramidLevels {
 // (their headers only: one voxel is read per level).
 std::vector<PyramidLevels> scene_pyramids(const SceneDocument& outline);
 
-// The world size (mm) of one pixel of `camera` over an image `image_height` pixels high, at the
-// nearest point to the eye of the world box `lo`..`hi` (0 when the eye is inside it).
-double pixel_footprint(const Camera& camera, int image_height, const glm::dvec3& lo,
-                       const glm::dvec3& hi);
-
 // The coarsest level of `pyramid` whose voxel's longest edge is at most `footprint` mm; 0 when
 // none is.
 int level_fitting(const PyramidLevels& pyramid, double footprint);

@@ -11,6 +11,7 @@
 #include "io/voxels/raw_voxels.hpp"
 #include "methods/cancellable.hpp"
 #include "methods/zslab/zslab.hpp"
+#include "volume/level_of_detail.hpp"
 
 namespace imx {
 

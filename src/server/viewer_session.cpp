@@ -516,6 +516,7 @@ void ViewerSession::render_and_send(Snapshot& s) {
   o.method = s.method;
   o.threads = options_.threads;
   double scale = 1.0;
+  int level = 0;  // the coarsest level of detail a moving frame drew
   if (s.moving) {
     // Moving frames are not cancelled: they are short, and one client's stream of them must not
     // starve another's.
@@ -528,6 +529,7 @@ void ViewerSession::render_and_send(Snapshot& s) {
     // Tube silhouettes are covered once still: a moving frame's scale, the budget's pick, would
     // ask each time for tubes padded to its own pixels.
     scene.render.tube_coverage = "off";
+    level = moving_levels_.apply(scene);
   } else {
     if (accumulated_version_ != s.version) {
       accumulator_.reset();
@@ -575,8 +577,10 @@ void ViewerSession::render_and_send(Snapshot& s) {
         encode_png(samples == 1 ? image : accumulator_.mean(), "frame", false, kStillPngLevel);
   }
   const double encode_ms = ms_since(t1);
-  if (s.moving)
+  // A level's first moving frame builds its copy and its bricks' tables: no measure of the next.
+  if (s.moving && level == moving_level_)
     resolution_.record(scale, static_cast<double>(full_w) * full_h, render_ms + encode_ms);
+  if (s.moving) moving_level_ = level;
 
   Json frame = {{"type", "frame"},
                 {"seq", 0},
@@ -592,6 +596,7 @@ void ViewerSession::render_and_send(Snapshot& s) {
                 {"stages_run", stats.stages_run},
                 {"scale", scale}};
   if (options_.full_resolution) frame["full_resolution"] = false;  // coarse levels, refining
+  if (level > 0) frame["level"] = level;  // a moving frame drawn from a coarser copy
   std::lock_guard lock(mutex_);
   // A still frame overtaken by input during its encoding is not worth sending.
   if (!s.moving && version_ != s.version) {

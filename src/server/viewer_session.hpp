@@ -22,6 +22,7 @@
 
 #include "intermix/renderer.hpp"
 #include "server/accumulator.hpp"
+#include "server/moving_levels.hpp"
 #include "server/reading_views.hpp"
 #include "server/resolution_control.hpp"
 #include "server/viewer_state.hpp"
@@ -188,6 +189,8 @@ class ViewerSession {
   int refined_steps_ = 0;
   Image full_resolution_image_;  // the latest refined frame, for screenshots
   ResolutionControl resolution_;
+  MovingLevels moving_levels_;  // the render thread's
+  int moving_level_ = 0;        // the level the last moving frame drew
   std::thread thread_;
 };
 

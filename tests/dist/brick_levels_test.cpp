@@ -1,5 +1,5 @@
-// Levels of detail per brick: the footprint of a pixel at a brick, the level that fits it, and
-// the voxels of a coarse level that cover a brick of level 0.
+// Levels of detail per brick: the level that fits a pixel's footprint, and the voxels of a coarse
+// level that cover a brick of level 0.
 #include "dist/brick_levels.hpp"
 
 #include <cmath>
@@ -35,21 +35,6 @@ TEST(BrickLevels, TheLevelFittingAFootprintIsTheCoarsestNoLargerThanIt) {
   a.index_to_world[1] = glm::scale(glm::dmat4(1.0), glm::dvec3(2.0, 2.0, 5.0));
   EXPECT_EQ(level_fitting(a, 4.0), 0);
   EXPECT_EQ(level_fitting(a, 5.0), 1);
-}
-
-TEST(BrickLevels, APixelCoversMoreFartherAway) {
-  Camera c;
-  c.eye = glm::dvec3(0, -100, 0);
-  c.target = glm::dvec3(0);
-  c.fov_deg = 90.0;  // tan(45°) = 1: a pixel of a 200-row image is 1/100 of the depth
-  const double near = pixel_footprint(c, 200, glm::dvec3(-10, -50, -10), glm::dvec3(10, 0, 10));
-  const double far = pixel_footprint(c, 200, glm::dvec3(-10, 100, -10), glm::dvec3(10, 120, 10));
-  EXPECT_NEAR(near, 0.5, 1e-12);  // the box's nearest face at depth 50
-  EXPECT_NEAR(far, 2.0, 1e-12);   // at depth 200
-  EXPECT_EQ(pixel_footprint(c, 200, glm::dvec3(-10, -200, -10), glm::dvec3(10, 0, 10)), 0.0);
-  c.projection = Projection::orthographic;
-  c.ortho_height = 300.0;
-  EXPECT_DOUBLE_EQ(pixel_footprint(c, 200, glm::dvec3(0), glm::dvec3(1)), 1.5);
 }
 
 TEST(BrickLevels, ACoarseBoxCoversTheBrickForTrilinearSampling) {
