@@ -39,19 +39,20 @@ std::string default_web_dir() {
 }
 
 // Frames finer than a scene shown at coarse pyramid levels (SessionOptions::full_resolution):
-// the document's OME-Zarr sources at "level": "auto" taken from level 0, rendered in bricks as
+// the document's OME-Zarr sources at "level": "auto" or "view" taken from level 0, rendered in bricks as
 // `intermix render` renders a volume too large to hold. Step s reads each brick s levels finer
 // than the level that fits its pixels, and always finer than the level shown; the step whose
 // bricks all read level 0 is the last.
 decltype(server::SessionOptions::full_resolution) full_resolution_frames(const SceneDocument& shown,
                                                                          int threads) {
-  // The level each "auto" source is shown at: the one whose grid the shown scene holds.
+  // The level each "auto" or "view" source is shown at: the one whose grid the scene holds.
   std::map<size_t, int> shown_level;
   const nlohmann::json& objects = shown.json()["objects"];
   for (size_t k = 0; k < objects.size(); ++k) {
     const auto source = objects[k].find("source");
     if (source != objects[k].end() && source->is_object() &&
-        source->value("level", nlohmann::json()) == "auto")
+        (source->value("level", nlohmann::json()) == "auto" ||
+         source->value("level", nlohmann::json()) == "view"))
       shown_level[k] = -1;
   }
   if (!shown_level.empty()) {

@@ -60,6 +60,7 @@ Scene scene_json::parse_scene_document(const nlohmann::json& root, const std::st
   else
     view = PatientView::anterior;
   if (auto v = r.find("image")) scene.image = scene_json::parse_image(*v);
+  context.image_rows = scene.image.height;
   if (auto v = r.find("lights")) scene.lights = scene_json::parse_lights(*v, context.world_space);
   if (auto v = r.find("render")) scene.render = scene_json::parse_render(*v);
 

@@ -300,7 +300,7 @@ SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
   if (coarse_levels)
     for (Json& o : objects)
       if (o["type"] == "volume" && detail::is_zarr_folder(o["source"]["file"].get<std::string>()))
-        o["source"]["level"] = "auto";
+        o["source"]["level"] = "view";
   Json document = {{"camera", {{"view", view}}},
                    {"image", {{"width", 512}, {"height", 512}}},
                    {"objects", std::move(objects)}};

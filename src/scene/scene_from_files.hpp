@@ -21,8 +21,9 @@ namespace imx {
 // "objects.FLAIR.style=mip"). Throws imx::Error naming a file that is neither a volume nor a mesh
 // intermix reads, and every error load_scene gives, with "scene from files" as the document's name.
 // With `region`, volumes are read by region as load_scene's (the plan of a render in bricks).
-// With `coarse_levels`, each OME-Zarr source is at "level": "auto", the finest level that fits
-// in memory (the viewer's choice, where render draws level 0 in bricks).
+// With `coarse_levels`, each OME-Zarr source is at "level": "view": the finest level that fits
+// in memory, or a coarser one whose voxels still fit the image's pixels (the viewer's choice,
+// where render draws level 0 in bricks).
 SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
                                const std::string& view = "anterior",
                                const std::vector<std::string>& overrides = {},

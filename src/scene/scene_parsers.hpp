@@ -58,6 +58,8 @@ struct SceneContext {
   // Mesh objects whose file's space the document did not give: checked against the volumes
   // once every object is read (mesh_space_evidence.hpp).
   std::vector<MeshSpaceCandidate> mesh_space_candidates = {};
+  // The rows of the scene's image: what an OME-Zarr source at "level": "view" is read for.
+  int image_rows = 512;
 
   // A "file" value resolved against base_dir; throws naming the resolved path when missing.
   std::filesystem::path resolve_file(const JsonReader& file) const;

@@ -75,8 +75,22 @@ void hold_compactly(VolumeData& volume, const std::string& what, std::vector<std
                   what, volume.type() == VoxelType::i16 ? "int16" : "uint16"));
 }
 
-// An OME-Zarr source's resolution level: "level" K (0, the default: full resolution), or "auto":
-// the finest level one process can hold whole (require_holdable), with a note.
+// The longest edge (mm) of a voxel of a grid placed by `m`, and the longest extent of its box.
+double longest_edge(const glm::dmat4& m) {
+  return std::max({glm::length(glm::dvec3(m[0])), glm::length(glm::dvec3(m[1])),
+                   glm::length(glm::dvec3(m[2]))});
+}
+double longest_extent(const VolumeHeader& h) {
+  double extent = 0.0;
+  for (int a = 0; a < 3; ++a)
+    extent = std::max(extent, glm::length(glm::dvec3(h.index_to_world[a])) * h.dims[a]);
+  return extent;
+}
+
+// An OME-Zarr source's resolution level: "level" K (0, the default: full resolution); "auto":
+// the finest level one process can hold whole (require_holdable), with a note; or "view" (what
+// the viewer opens): that, or the coarsest level whose voxel still fits a pixel of the image's
+// rows across the image's longest extent when it is coarser (finer levels follow in bricks).
 int zarr_level(const JsonReader& src, const std::filesystem::path& path, bool blended,
                SceneContext& context) {
   const std::optional<JsonReader> asked = src.find("level");
@@ -90,21 +104,32 @@ int zarr_level(const JsonReader& src, const std::filesystem::path& path, bool bl
                               path.filename().string(), levels, levels - 1));
     return level;
   }
-  asked->choice({"auto"});
+  const bool for_view = asked->choice({"auto", "view"}) == "view";
+  const auto header = [&](int level) {
+    return asked->reading(path.string(), [&] { return detail::read_ome_zarr_header(path, level); });
+  };
+  const double pixel = longest_extent(header(0)) / std::max(context.image_rows, 1);
   for (int level = 0; level < levels; ++level) {
-    VolumeHeader h =
-        asked->reading(path.string(), [&] { return detail::read_ome_zarr_header(path, level); });
+    VolumeHeader h = header(level);
     if (blended) h.type = VoxelType::u8;
     try {
       detail::require_holdable(h, path.string());
     } catch (const VolumeTooLarge&) {
       continue;
     }
+    std::string why = "the finest that fits in memory";
+    if (for_view)
+      for (int coarser = level + 1;
+           coarser < levels && longest_edge(header(coarser).index_to_world) <= pixel; ++coarser) {
+        level = coarser;
+        h = header(level);
+        why = fmt::format("the coarsest whose voxel fits a pixel of the {} rows", context.image_rows);
+      }
     if (level > 0)
-      context.notes.push_back(fmt::format(
-          "{}: level {} of {} ({}x{}x{}), the finest that fits in memory; intermix render renders "
-          "level 0 in bricks",
-          path.string(), level, levels, h.dims.x, h.dims.y, h.dims.z));
+      context.notes.push_back(fmt::format("{}: level {} of {} ({}x{}x{}), {}; intermix render "
+                                          "renders level 0 in bricks",
+                                          path.string(), level, levels, h.dims.x, h.dims.y,
+                                          h.dims.z, why));
     return level;
   }
   asked->fail_too_large(

@@ -87,7 +87,7 @@ TEST(CliBricks, TheViewerRefinesACoarseLevelToFullResolution) {
   EXPECT_TRUE(test::contains(r.output, "full_resolution_s")) << r.output;
   // The served scene at level 0, held whole (no budget), at the frames' size.
   nlohmann::json scene = nlohmann::json::parse(test::read_bytes(served));
-  ASSERT_EQ(scene["objects"][0]["source"]["level"], "auto");
+  ASSERT_EQ(scene["objects"][0]["source"]["level"], "view");
   scene["objects"][0]["source"].erase("level");
   scene["image"] = {{"width", 64}, {"height", 64}};
   test::write_bytes(level0, scene.dump());
