@@ -63,7 +63,7 @@ std::vector<glm::ivec3> brute_force(const VolumeObject& v, const PlanarRegion& r
   return out;
 }
 
-TEST(RoiStatistics, AxisAlignedRectangleTakesItsSliceVoxels) {
+TEST(MeasureRoiStatistics, AxisAlignedRectangleTakesItsSliceVoxels) {
   // 1 x 1 x 2 mm voxels, value i + 100 j + 1000 k, origin off zero.
   const glm::dmat4 m = glm::translate(glm::dmat4(1.0), glm::dvec3(-10, 5, 3)) *
                        glm::scale(glm::dmat4(1.0), glm::dvec3(1, 1, 2));
@@ -96,7 +96,7 @@ TEST(RoiStatistics, AxisAlignedRectangleTakesItsSliceVoxels) {
   EXPECT_EQ(got.units, "HU");
 }
 
-TEST(RoiStatistics, CircleCountsTheLatticePointsInside) {
+TEST(MeasureRoiStatistics, CircleCountsTheLatticePointsInside) {
   const VolumeObject v = grid({31, 31, 5}, glm::dmat4(1.0), [](int i, int, int) { return i; });
   const Annotation a = circle({15, 15, 2}, {1, 0, 0}, {0, 1, 0}, 5.0);
   Scene scene;
@@ -112,7 +112,7 @@ TEST(RoiStatistics, CircleCountsTheLatticePointsInside) {
   EXPECT_NEAR(got.length_mm, 10 * std::numbers::pi, 1e-3);
 }
 
-TEST(RoiStatistics, PlaneBetweenTwoLayersTakesOne) {
+TEST(MeasureRoiStatistics, PlaneBetweenTwoLayersTakesOne) {
   const VolumeObject v = grid({9, 9, 4}, glm::dmat4(1.0), [](int, int, int k) { return k; });
   const Annotation a = polygon({{0, 0, 1.5}, {8, 0, 1.5}, {8, 8, 1.5}, {0, 8, 1.5}});
   const RoiStatistics s = roi_statistics(v, PlanarRegion::of(a));
@@ -122,7 +122,7 @@ TEST(RoiStatistics, PlaneBetweenTwoLayersTakesOne) {
   EXPECT_EQ(s.min, s.max);
 }
 
-TEST(RoiStatistics, ConcavePolygonLeavesItsNotchOut) {
+TEST(MeasureRoiStatistics, ConcavePolygonLeavesItsNotchOut) {
   const VolumeObject v = grid({10, 10, 1}, glm::dmat4(1.0), [](int, int, int) { return 1; });
   // An L of 6 x 6 less its top-right 3 x 3, around centres 0..5.
   const Annotation a = polygon({{-0.5, -0.5, 0},
@@ -136,7 +136,7 @@ TEST(RoiStatistics, ConcavePolygonLeavesItsNotchOut) {
   EXPECT_NEAR(r.area_mm2(), 27.0, 1e-9);
 }
 
-TEST(RoiStatistics, RotatedGridIsExact) {
+TEST(MeasureRoiStatistics, RotatedGridIsExact) {
   // Rotated 30 degrees about x: an axial ROI cuts the layers obliquely. Value: the centre's
   // world x, which the rotation keeps (= i).
   const glm::dmat4 m = glm::translate(glm::dmat4(1.0), glm::dvec3(-32, -32, -32)) *
@@ -158,7 +158,7 @@ TEST(RoiStatistics, RotatedGridIsExact) {
   EXPECT_NEAR(s.sd, r / 2, 0.03 * r / 2);  // a disc's SD along a diameter: r / 2
 }
 
-TEST(RoiStatistics, TiltedGridIsExact) {
+TEST(MeasureRoiStatistics, TiltedGridIsExact) {
   // A gantry tilt: k steps 2 mm along z and 0.7 mm along y; 0.8 mm in-plane pixels. Value j.
   glm::dmat4 m(1.0);
   m[0] = {0.8, 0, 0, 0};
@@ -186,7 +186,7 @@ TEST(RoiStatistics, TiltedGridIsExact) {
   }
 }
 
-TEST(RoiStatistics, NonFiniteVoxelsAreCountedApart) {
+TEST(MeasureRoiStatistics, NonFiniteVoxelsAreCountedApart) {
   const VolumeObject v = grid({5, 5, 1}, glm::dmat4(1.0),
                               [](int i, int j, int) { return i == 2 && j == 2 ? NAN : 10.0; });
   const RoiStatistics s =
@@ -196,7 +196,7 @@ TEST(RoiStatistics, NonFiniteVoxelsAreCountedApart) {
   EXPECT_EQ(s.sd, 0.0);
 }
 
-TEST(RoiStatistics, OutsideTheGridIsEmpty) {
+TEST(MeasureRoiStatistics, OutsideTheGridIsEmpty) {
   const VolumeObject v = grid({5, 5, 5}, glm::dmat4(1.0), [](int, int, int) { return 1; });
   const RoiStatistics s =
       roi_statistics(v, PlanarRegion::of(circle({100, 0, 0}, {1, 0, 0}, {0, 1, 0}, 3)));
@@ -204,7 +204,7 @@ TEST(RoiStatistics, OutsideTheGridIsEmpty) {
   EXPECT_TRUE(std::isnan(s.mean));
 }
 
-TEST(Ruler, VoxelCentresOfATiltedGrid) {
+TEST(MeasureRuler, VoxelCentresOfATiltedGrid) {
   const glm::dmat4 m = glm::rotate(glm::dmat4(1.0), 0.4, glm::normalize(glm::dvec3(1, 2, 3))) *
                        glm::scale(glm::dmat4(1.0), glm::dvec3(0.7, 0.9, 2.5));
   const VolumeObject v = grid({16, 16, 16}, m, [](int, int, int) { return 0; });
@@ -214,7 +214,7 @@ TEST(Ruler, VoxelCentresOfATiltedGrid) {
   EXPECT_NEAR(want, 10.0, 0.1);  // sqrt(31.36 + 12.96 + 56.25) = 10.03
 }
 
-TEST(Angle, Degrees) {
+TEST(MeasureAngle, Degrees) {
   EXPECT_NEAR(angle_degrees({1, 0, 0}, {0, 0, 0}, {0, 3, 0}), 90.0, 1e-12);
   EXPECT_NEAR(angle_degrees({2, 2, 0}, {0, 0, 0}, {5, 0, 0}), 45.0, 1e-12);
   EXPECT_NEAR(angle_degrees({-1, 0, 0}, {0, 0, 0}, {1, 0, 0}), 180.0, 1e-12);
