@@ -243,6 +243,17 @@ def run(args, out, checks, cleanup):
                  f'{n} voxels, mean {mean}, SD {sd:.6f}')
 
     browser.screenshot(os.path.join(out, 'measurements.png'))
+    # The 3-D view's overlay draws them too, through the camera, in the annotations' orange.
+    orange = browser.evaluate("""(() => {
+      const c = document.getElementById('colorbars');
+      const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+      let n = 0;
+      for (let i = 0; i < d.length; i += 4)
+        n += d[i] > 200 && d[i + 1] > 120 && d[i + 1] < 200 && d[i + 2] < 90 && d[i + 3] > 200;
+      return n;
+    })()""")
+    checks.check("the 3-D view's overlay draws the measurements", orange > 50,
+                 f'{orange} orange pixels')
 
     # undo, redo, link
     browser.evaluate("viewer.setMeasureTool('none')")

@@ -137,7 +137,10 @@ function start() {
     drawColorBars();
     refreshSlices();
   }, setAnnotations);
-  setupMeasure(redrawSliceOverlays);
+  setupMeasure(() => {
+    redrawSliceOverlays();
+    drawColorBars();  // the 3-D view's overlay: its annotations
+  });
   document.getElementById('help-button').addEventListener('click', (ev) => {
     ev.stopPropagation();
     document.getElementById('shortcuts').hidden = false;

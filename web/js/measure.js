@@ -3,6 +3,7 @@
 // `annotations` message: one document edit, a step of the undo history), drawn over the 2-D views
 // and listed in the panel with what the server measures (`measure`: lengths, angles, and ROI
 // statistics over the voxels in world space).
+import {projector} from './clip_outlines.js';
 import {queueInput, send} from './connection.js';
 import {annotationsCommitted} from './history.js';
 import {S} from './state.js';
@@ -12,6 +13,7 @@ import {fmt} from './vec.js';
 // or Enter is pressed).
 const NEEDS = {ruler: 2, angle: 3, ellipse: 2, polygon: Infinity, ruler3d: 2};
 const MAX_POLYGON_POINTS = 256;  // as the scene parser's cap
+const MAX_LABEL_BYTES = 200;    // as the scene parser's cap
 const CLOSE_RADIUS = 8;          // CSS pixels from the first corner that close a polygon
 const COLOUR = '#ffa726';
 
@@ -127,6 +129,9 @@ export function measurementText(a) {
   return t;
 }
 
+// What the views write beside an annotation: its label, then what it measures.
+const labelText = (a) => (a.label ? `${a.label}: ` : '') + measurementText(a);
+
 function showList() {
   const el = document.getElementById('measurements');
   if (!el) return;
@@ -136,6 +141,8 @@ function showList() {
     row.className = 'measurement';
     const text = document.createElement('span');
     text.textContent = `${i + 1} ${a.kind}${a.label ? ' ' + a.label : ''}: ${measurementText(a)}`;
+    text.title = 'double-click to label it';
+    text.addEventListener('dblclick', () => relabel(i));
     const del = document.createElement('button');
     del.type = 'button';
     del.textContent = '×';
@@ -144,6 +151,18 @@ function showList() {
     row.append(text, del);
     el.append(row);
   });
+}
+
+// Asks for annotation i's label (empty: none), at most MAX_LABEL_BYTES of UTF-8 as the scene's.
+function relabel(i) {
+  const a = S.annotations[i];
+  let label = window.prompt('label', (a && a.label) || '');
+  if (label === null || !a) return;
+  while (new TextEncoder().encode(label).length > MAX_LABEL_BYTES) label = label.slice(0, -1);
+  const list = S.annotations.map(copy);
+  if (label) list[i].label = label;
+  else delete list[i].label;
+  setAnnotations(list);
 }
 
 // A 2-D view's click while a tool is chosen: a point of the measurement being placed. `view`:
@@ -222,17 +241,54 @@ export function drawAnnotations2d(g, view) {
   g.lineWidth = 1.5 * view.r;
   g.font = `${Math.round(12 * view.r)}px sans-serif`;
   g.textAlign = 'left';
+  const placed = [];
   for (const a of S.annotations) {
     if (!inPlane(a)) continue;
     outline(g, a, view);
     const [x, y] = view.pixelOf(a.points[a.points.length - 1]);
-    g.fillText(measurementText(a), x + 6 * view.r, y + 14 * view.r);
+    placeLabel(g, placed, labelText(a), x + 6 * view.r, y + 14 * view.r, 14 * view.r);
   }
   if (draft && draft.axis === view.axis) {
     g.setLineDash([4 * view.r, 3 * view.r]);
     outline(g, {kind: draft.tool === 'polygon' ? 'open' : 'ruler', points: draft.points}, view);
   }
   g.restore();
+}
+
+// Draws every annotation over the 3-D view, its image at (x0, y0) of size w x h CSS pixels of
+// g's canvas: through the camera, as `intermix render` draws them (the parts behind the eye
+// left out), each labelled.
+export function drawAnnotations3d(g, x0, y0, w, h) {
+  if (!S.camera || !S.annotations.length) return;
+  const proj = projector(w, h);
+  g.save();
+  g.strokeStyle = COLOUR;
+  g.fillStyle = COLOUR;
+  g.lineWidth = 1.5;
+  g.font = '12px sans-serif';
+  g.textAlign = 'left';
+  const placed = [];
+  for (const a of S.annotations) {
+    const pts = a.points.map((p) => proj.toScreen(p));
+    if (pts.some((p) => !p)) continue;
+    outline(g, a, {r: 1, pixelOf: (p) => {
+      const q = proj.toScreen(p);
+      return [x0 + q[0], y0 + q[1]];
+    }});
+    const last = pts[pts.length - 1];
+    placeLabel(g, placed, labelText(a), x0 + last[0] + 6, y0 + last[1] + 14, 14);
+  }
+  g.restore();
+}
+
+// Writes a label at (x, y) (its baseline), moved down a line at a time (at most 16) while it
+// would cover one already in `placed` (annotations seen edge-on share a line), as render does.
+function placeLabel(g, placed, text, x, y, line) {
+  const w = g.measureText(text).width;
+  const hits = (b) => x < b.x + b.w && b.x < x + w && y - line < b.y && b.y - line < y;
+  for (let i = 0; i < 16 && placed.some(hits); ++i) y += line;
+  placed.push({x, y, w});
+  g.fillText(text, x, y);
 }
 
 function outline(g, a, view) {
