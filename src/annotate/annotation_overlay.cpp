@@ -18,6 +18,8 @@ constexpr int kEllipseSegments = 96;
 // Camera-space depth (mm) in front of which a perspective segment is cut: the eye's plane
 // projects nowhere.
 constexpr double kNearMm = 1e-3;
+// How many label heights a label moves down at most to clear the labels drawn before it.
+constexpr int kMaxLabelShifts = 16;
 
 // The world polyline an annotation draws (closed for ROIs: the first point again at the end).
 std::vector<glm::dvec3> outline(const Annotation& a) {
@@ -64,6 +66,7 @@ void draw_annotations(Image& image, const Scene& scene, const std::vector<Annota
   const glm::vec3 colour(kAnnotationColour[0], kAnnotationColour[1], kAnnotationColour[2]);
   // Lines and labels a little wider on large images, as a reader sees them at a fixed size.
   const double width = std::max(2.0, std::min(image.width(), image.height()) / 256.0);
+  std::vector<glm::ivec4> placed;  // the labels drawn so far: x, y, width, height
   for (const Annotation& a : annotations) {
     const std::vector<glm::dvec3> line = outline(a);
     for (size_t i = 0; i + 1 < line.size(); ++i) {
@@ -87,7 +90,15 @@ void draw_annotations(Image& image, const Scene& scene, const std::vector<Annota
     const glm::dvec2 at = camera.project_camera(anchor);
     const TextBitmap label = text->render(measurement_text(a, measure(a, scene)));
     const int x = static_cast<int>(std::lround(at.x + 2 * width));
-    const int y = static_cast<int>(std::lround(at.y + 2 * width));
+    int y = static_cast<int>(std::lround(at.y + 2 * width));
+    // Below the labels it would cover (annotations seen edge-on share a line), a few at most.
+    const auto overlaps = [&](const glm::ivec4& b) {
+      return x < b.x + b.z && b.x < x + label.width && y < b.y + b.w && b.y < y + label.height;
+    };
+    for (int tries = 0;
+         tries < kMaxLabelShifts && std::any_of(placed.begin(), placed.end(), overlaps); ++tries)
+      y += label.height;
+    placed.push_back({x, y, label.width, label.height});
     draw_text(image, label, x + 1, y + 1, glm::vec3(0.0f));  // a shadow: legible on any colour
     draw_text(image, label, x, y, colour);
   }
