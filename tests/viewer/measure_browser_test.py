@@ -7,13 +7,19 @@ Writes a volume of known values (NRRD, 33 x 33 x 9 voxels of 0.7 x 0.9 x 2.5 mm,
 i + 10 j + 100 k) and a scene of it, serves it, and with real clicks in the axial view checks:
 a ruler between two voxel centres reads their distance within 0.1 mm; an angle between three
 reads theirs within 0.5 degrees; a polygon ROI around a block of voxels gives their count, mean
-and SD, an ellipse ROI those of the voxel centres inside it; undo and redo take one back and
-forth; the copied link holds them; the 3-D ruler picks two points on the 3-D view; hostile
-`annotations` messages (a NaN, 300 polygon corners, an unknown kind, parallel axes) each get one
-error and lose nothing; and the annotations survive save -> reload (a second server on the saved
+and SD, an ellipse ROI those of the voxel centres inside it; the 3-D view's overlay draws them;
+undo and redo take one back and forth; the copied link holds them; the 3-D ruler picks two
+points on the 3-D view; hostile `annotations` messages (a NaN, 300 polygon corners, an unknown
+kind, parallel axes) each get one error and lose nothing; a polygon ROI over the same values on a
+grid turned 20 degrees (a second, hidden volume, asked over the WebSocket) gives those of the
+voxels its plane cuts; and the annotations survive save -> reload (a second server on the saved
 scene shows the same measurements) -> render (`intermix render` draws the ruler where it
 projects; `intermix info --annotations` gives the same numbers). Exit 0: all passed, 1: a check
 failed, 77: skipped (no chromium or websocket module).
+
+    tests/viewer/measure_browser_test.py --latency DATA... [--rounds N]
+
+measures the latency of ROI statistics requests instead (docs/viewer.md, "Measurements").
 """
 
 import argparse
@@ -51,11 +57,20 @@ def world(i, j, k=LAYER):
     return [ORIGIN[0] + i * SPACING[0], ORIGIN[1] + j * SPACING[1], ORIGIN[2] + k * SPACING[2]]
 
 
-def write_volume(path):
-    """A float NRRD in LPS of the known values, i fastest."""
+# The same values on a grid turned 20 degrees about x: its columns (world mm per index step).
+TILT = math.radians(20)
+TILTED = [(SPACING[0], 0.0, 0.0),
+          (0.0, SPACING[1] * math.cos(TILT), SPACING[1] * math.sin(TILT)),
+          (0.0, -SPACING[2] * math.sin(TILT), SPACING[2] * math.cos(TILT))]
+
+
+def write_volume(path, columns=None):
+    """A float NRRD in LPS of the known values, i fastest; axis-aligned unless `columns`."""
+    columns = columns or [(SPACING[0], 0, 0), (0, SPACING[1], 0), (0, 0, SPACING[2])]
+    directions = ' '.join('(' + ','.join(repr(float(x)) for x in c) + ')' for c in columns)
     header = ('NRRD0004\ntype: float\ndimension: 3\nspace: left-posterior-superior\n'
               f'sizes: {DIMS[0]} {DIMS[1]} {DIMS[2]}\n'
-              f'space directions: ({SPACING[0]},0,0) (0,{SPACING[1]},0) (0,0,{SPACING[2]})\n'
+              f'space directions: {directions}\n'
               'kinds: domain domain domain\nendian: little\nencoding: raw\n'
               f'space origin: ({ORIGIN[0]},{ORIGIN[1]},{ORIGIN[2]})\n\n')
     data = struct.pack(f'<{DIMS[0] * DIMS[1] * DIMS[2]}f',
@@ -67,12 +82,15 @@ def write_volume(path):
 
 def write_scene(folder):
     write_volume(os.path.join(folder, 'known.nrrd'))
+    write_volume(os.path.join(folder, 'tilted.nrrd'), TILTED)
     scene = {'camera': {'eye': [0, -300, 0], 'target': [1.2, 2.4, 2.0], 'up': [0, 0, 1]},
              'image': {'width': 256, 'height': 256},
              'objects': [{'name': 'known', 'type': 'volume', 'source': {'file': 'known.nrrd'},
                           'window': [400, 800],
                           'transfer_function': {'points': [[0, 1, 1, 1, 0],
-                                                           [900, 1, 1, 1, 0.2]]}}]}
+                                                           [900, 1, 1, 1, 0.2]]}},
+                         {'name': 'tilted', 'type': 'volume', 'visible': False,
+                          'source': {'file': 'tilted.nrrd'}}]}
     path = os.path.join(folder, 'known.json')
     with open(path, 'w') as f:
         json.dump(scene, f)
@@ -83,6 +101,30 @@ def stats(values):
     n = len(values)
     mean = sum(values) / n
     return n, mean, math.sqrt(sum((v - mean) ** 2 for v in values) / n)
+
+
+def tilted_roi(corners):
+    """The known values of the tilted grid's voxels inside an axial polygon, by the rule of
+    src/measure/roi_statistics.hpp worked out here: the plane passes through the voxel's box
+    (|d| within half its extent along z, the lower bound closed) and its centre lies inside."""
+    z = corners[0][2]
+    h = 0.5 * sum(abs(c[2]) for c in TILTED)
+    inside = []
+    for k in range(DIMS[2]):
+        for j in range(DIMS[1]):
+            for i in range(DIMS[0]):
+                w = [ORIGIN[a] + i * TILTED[0][a] + j * TILTED[1][a] + k * TILTED[2][a]
+                     for a in range(3)]
+                if not -h <= w[2] - z < h:
+                    continue
+                crossings = 0
+                for (ax, ay, _), (bx, by, _) in zip(corners, corners[1:] + corners[:1]):
+                    if (ay > w[1]) != (by > w[1]) and \
+                            w[0] < ax + (w[1] - ay) * (bx - ax) / (by - ay):
+                        crossings += 1
+                if crossings % 2:
+                    inside.append(value(i, j, k))
+    return inside
 
 
 def close(a, b, rel=1e-9):
@@ -106,9 +148,11 @@ def read_png(path):
         elif kind == b'IDAT':
             idat += body
         pos += 12 + n
-    raw, stride, rows, prev = zlib.decompress(idat), width * channels, [], bytearray(width * channels)
+    raw, stride, rows = zlib.decompress(idat), width * channels, []
+    prev = bytearray(stride)
     for y in range(height):
-        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        start = y * (stride + 1)
+        f, line = raw[start], bytearray(raw[start + 1:start + 1 + stride])
         for x in range(stride):
             a = line[x - channels] if x >= channels else 0
             b, c = prev[x], prev[x - channels] if x >= channels else 0
@@ -319,6 +363,20 @@ def run(args, out, checks, cleanup):
                      err and len(errors) == 1 and expected in err.get('message', '') and kept,
                      (err or {}).get('message', 'no error'),
                      f'{len(hello.get("annotations", []))} annotations kept')
+
+    # an ROI over the grid turned 20 degrees: the voxels its plane cuts, in world space
+    corners = [[-6.3, -5.1, 2.0], [6.2, -4.3, 2.0], [4.1, 7.7, 2.0], [-5.7, 6.2, 2.0]]
+    t0 = time.monotonic()
+    watcher.send({'type': 'measure', 'seq': 1, 'annotations': [
+        {'kind': 'polygon', 'volume': 'tilted', 'points': corners}]})
+    got = watcher.wait(lambda t, m: t >= t0 and m.get('type') == 'measure', 10)
+    m = got['measurements'][0] if got else {}
+    n, mean, sd = stats(tilted_roi(corners))
+    checks.check('a polygon ROI over a grid turned 20 degrees gives the count, mean and SD of '
+                 'the voxels its plane cuts',
+                 m.get('voxels') == n and close(m.get('mean'), mean) and close(m.get('sd'), sd),
+                 f"{m.get('voxels')} voxels, mean {m.get('mean')}, SD {m.get('sd')}",
+                 f'{n} voxels, mean {mean}, SD {sd:.6f}')
 
     # save -> reload -> render
     browser.evaluate('viewerStats.saved = null')
