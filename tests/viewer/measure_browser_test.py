@@ -299,18 +299,34 @@ def run(args, out, checks, cleanup):
     checks.check("the 3-D view's overlay draws the measurements", orange > 50,
                  f'{orange} orange pixels')
 
+    # a triangle closed with Enter, every edge a voxel's half diagonal or half side clear of the
+    # voxel centres: its area and the centres inside
+    browser.evaluate("viewer.setMeasureTool('polygon')")
+    triangle = [world(2.5, 2.5), world(12, 2.5), world(2.5, 12)]
+    for c in triangle:
+        click_world(browser, c)
+    browser.key('Enter')
+    t = wait_measured(browser, 5, 'the triangle closed with Enter')[4]['measurement']
+    inside = [(i, j) for j in range(DIMS[1]) for i in range(DIMS[0])
+              if i > 2.5 and j > 2.5 and i + j < 14.5]
+    area = 0.5 * 9.5 * SPACING[0] * 9.5 * SPACING[1]
+    checks.check('Enter closes a polygon: its area and voxels are the triangle\'s',
+                 t.get('voxels') == len(inside) and abs(t.get('area_mm2', 0) - area) < 0.05,
+                 f"{t.get('voxels')} voxels, {t.get('area_mm2', 0):.3f} mm²",
+                 f'{len(inside)} voxel centres inside, {area:.3f} mm²')
+
     # undo, redo, link
     browser.evaluate("viewer.setMeasureTool('none')")
     browser.click(*[browser.evaluate("viewer.center('#undo')")[k] for k in ('x', 'y')])
-    after_undo = browser.wait_for('viewer.measurements().length === 3', timeout=5,
-                                  what='undo to take the ellipse back')
+    after_undo = browser.wait_for('viewer.measurements().length === 4', timeout=5,
+                                  what='undo to take the triangle back')
     browser.click(*[browser.evaluate("viewer.center('#redo')")[k] for k in ('x', 'y')])
-    after_redo = browser.wait_for('viewer.measurements().length === 4', timeout=5,
+    after_redo = browser.wait_for('viewer.measurements().length === 5', timeout=5,
                                   what='redo to put it back')
     link = browser.evaluate('viewer.viewLink()')
     view = json.loads(urllib.parse.unquote(link.split('#view=', 1)[1]))
     checks.check('undo takes the last measurement back, redo puts it back, the link holds them',
-                 after_undo and after_redo and len(view.get('annotations', [])) == 4,
+                 after_undo and after_redo and len(view.get('annotations', [])) == 5,
                  f"{len(view.get('annotations', []))} annotations in the link")
 
     # the 3-D ruler: two picks on the 3-D view
@@ -322,9 +338,9 @@ def run(args, out, checks, cleanup):
         browser.click(cell['x'] + dx * cell['w'], cell['y'])
         picks.append(browser.wait_for('viewer.lastPick() !== window.__pick && viewer.lastPick()',
                                       timeout=15, what='a pick'))
-    listed = wait_measured(browser, 5, 'the 3-D ruler measured')
+    listed = wait_measured(browser, 6, 'the 3-D ruler measured')
     pa, pb = picks[0].get('point'), picks[1].get('point')
-    got = listed[4]['measurement']['length_mm']
+    got = listed[5]['measurement']['length_mm']
     checks.check('the 3-D ruler measures between two picked points in the volume',
                  pa and pb and close(got, math.dist(pa, pb), 1e-6) and got > 0,
                  f'{got:.3f} mm', f'picks {pa} and {pb}')

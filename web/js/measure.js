@@ -172,27 +172,28 @@ export function measureClick(view) {
   const tool = S.measureTool;
   if (!(tool in NEEDS) || tool === 'ruler3d') return false;
   if (!draft || draft.axis !== view.axis || draft.tool !== tool)
-    draft = {tool, axis: view.axis, points: []};
+    draft = {tool, axis: view.axis, points: [], volume: view.volume, right: view.right,
+             down: view.down};
   if (tool === 'polygon' && draft.points.length >= 3) {
     const [fx, fy] = view.pixelOf(draft.points[0]);
     if (Math.hypot(view.x - fx, view.y - fy) <= CLOSE_RADIUS * view.r) {
-      finish(view);
+      finish();
       return true;
     }
   }
   draft.points.push(view.world.slice());
-  if (tool === 'polygon' && draft.points.length >= MAX_POLYGON_POINTS) finish(view);
-  else if (draft.points.length >= NEEDS[tool]) finish(view);
+  if (tool === 'polygon' && draft.points.length >= MAX_POLYGON_POINTS) finish();
+  else if (draft.points.length >= NEEDS[tool]) finish();
   else redraw();
   return true;
 }
 
 // The draft becomes an annotation.
-function finish(view) {
+function finish() {
   const d = draft;
   draft = null;
   let a = null;
-  const volume = view ? view.volume : S.measureVolume;
+  const volume = d.volume;
   if (d.tool === 'ruler' || d.tool === 'ruler3d') a = {kind: 'ruler', points: d.points};
   else if (d.tool === 'angle') a = {kind: 'angle', points: d.points};
   else if (d.tool === 'polygon') a = {kind: 'polygon', points: d.points, volume};
@@ -201,13 +202,13 @@ function finish(view) {
     const [c, q] = d.points;
     const delta = q.map((x, i) => x - c[i]);
     const along = (u) => delta[0] * u[0] + delta[1] * u[1] + delta[2] * u[2];
-    const du = along(view.right), dv = along(view.down);
+    const du = along(d.right), dv = along(d.down);
     if (Math.abs(du) < 1e-6 || Math.abs(dv) < 1e-6) {  // no area: nothing to measure
       redraw();
       return;
     }
     a = {kind: 'ellipse', volume,
-         points: [c, c.map((x, i) => x + du * view.right[i]), c.map((x, i) => x + dv * view.down[i])]};
+         points: [c, c.map((x, i) => x + du * d.right[i]), c.map((x, i) => x + dv * d.down[i])]};
   }
   if (a && !a.volume) delete a.volume;
   if (a) setAnnotations([...S.annotations, a]);
@@ -227,7 +228,7 @@ export function onPick(m) {
   if (!m.point || S.measureTool !== 'ruler3d') return;
   if (!draft || draft.tool !== 'ruler3d') draft = {tool: 'ruler3d', axis: null, points: []};
   draft.points.push(m.point);
-  if (draft.points.length >= 2) finish(null);
+  if (draft.points.length >= 2) finish();
 }
 
 // Draws the annotations that lie in a 2-D view's plane (and the draft placed in it) over its
