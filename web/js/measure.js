@@ -235,7 +235,8 @@ export function onPick(m) {
 // overlay. `view`: {axis, normal (0..2), plane (the plane's coordinate along it), tolerance (mm),
 // pixelOf(p), r}.
 export function drawAnnotations2d(g, view) {
-  const inPlane = (a) => a.points.every((p) => Math.abs(p[view.normal] - view.plane) <= view.tolerance);
+  const inPlane = (a) =>
+    a.points.every((p) => Math.abs(p[view.normal] - view.plane) <= view.tolerance);
   g.save();
   g.strokeStyle = COLOUR;
   g.fillStyle = COLOUR;
@@ -320,5 +321,6 @@ function outline(g, a, view) {
 // For tests: the annotations and, in the same order, the server's measurement of each (null
 // while on its way).
 export function measurements() {
-  return S.annotations.map((a) => ({annotation: copy(a), measurement: results.get(keyOf(a)) || null}));
+  return S.annotations.map((a) => ({annotation: copy(a),
+                                    measurement: results.get(keyOf(a)) || null}));
 }
