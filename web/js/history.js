@@ -1,7 +1,7 @@
 // Undo and redo of this page's object edits (visibility, opacity, transfer function, windows,
 // plane position, clip planes, frame, labels) and of its measurements (the scene's annotations,
-// a step holding the list before and after). A gesture counts once: connection.js reports each final
-// (not moving) edit here with the fields it sent, and the values before are those of the last
+// a step holding the list before and after). A gesture counts once: connection.js reports each
+// final (not moving) edit here with the fields it sent, and the values before are those of the last
 // commit of that object, so a drag of many moving edits undoes in one step. Other windows' edits
 // (a `state`) become the new "before" without entering this page's history.
 import {S, clipsMessage} from './state.js';
