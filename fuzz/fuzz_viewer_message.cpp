@@ -1,7 +1,8 @@
 // The viewer's client messages (docs/viewer.md, protocol): the input is one message's text,
-// parsed by the strict scene parser and applied with apply_edit to a copy of one small session
-// (a volume, a CSG pair of meshes and a plane, made once). A refused message must leave the
-// session as it was; an accepted one must save a scene file that loads as the session's scene.
+// parsed by the strict scene parser and applied with apply_edit (apply_annotations for the
+// measurements' `annotations`) to a copy of one small session (a volume, a CSG pair of meshes and
+// a plane, made once). A refused message must leave the session as it was; an accepted one must
+// save a scene file that loads as the session's scene.
 // Then the same text goes to a live ViewerSession (every message type, its render thread
 // running), which must answer it without throwing.
 #include <chrono>
@@ -14,7 +15,9 @@
 #include "harness.hpp"
 #include "intermix/error.hpp"
 #include "intermix/scene.hpp"
+#include "scene/scene_document.hpp"
 #include "scene/strict_json.hpp"
+#include "server/annotation_messages.hpp"
 #include "server/viewer_session.hpp"
 #include "server/viewer_state.hpp"
 
@@ -132,9 +135,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     refused(e);
     return 0;
   }
+  // The measurements' edit (issue 47) goes through the document as an object edit does.
+  const bool annotations =
+      message.is_object() && message.contains("type") && message["type"] == "annotations";
   try {
-    imx::server::apply_edit(state, message);
-    accepted("edit");
+    if (annotations)
+      imx::server::apply_annotations(state, message);
+    else
+      imx::server::apply_edit(state, message);
+    accepted(annotations ? "annotations" : "edit");
   } catch (const imx::Error& e) {
     refused(e);
     // Strong guarantee: a refused edit changed nothing.
@@ -151,6 +160,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     reloaded = imx::parse_scene(text, scratch().path(), "saved");
   } catch (const imx::Error& e) {
     std::fprintf(stderr, "the saved scene does not load: %s\n%s\n", e.what(), text.c_str());
+    __builtin_trap();
+  }
+  if (imx::SceneDocument::from_text(text, "saved", scratch().path()).annotations().size() !=
+      state.document.annotations().size()) {
+    std::fprintf(stderr, "the saved scene's annotations differ:\n%s\n", text.c_str());
     __builtin_trap();
   }
   if (!same_scene(state.scene(), reloaded)) {

@@ -1,5 +1,6 @@
-// intermix info FILE | --phantom NAME | --presets | --formats | FILE --memory: what a volume or
-// mesh holds; the preset names; the format registry; what rendering a file holds resident.
+// intermix info FILE | --phantom NAME | --presets | --formats | FILE --memory | SCENE
+// --annotations: what a volume or mesh holds; the preset names; the format registry; what
+// rendering a file holds resident; what a scene's annotations measure.
 #include <cstdio>
 #include <filesystem>
 
@@ -14,11 +15,14 @@
 #include "intermix/formats.hpp"
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
+#include "intermix/scene.hpp"
 #include "io/streamlines/streamline_formats.hpp"
 #include "io/zarr/ome_zarr_reader.hpp"
+#include "measure/measurement.hpp"
 #include "presets/colormap.hpp"
 #include "presets/volume_presets.hpp"
 #include "presets/window_presets.hpp"
+#include "scene/scene_document.hpp"
 #include "scene/scene_from_files.hpp"
 #include "volume/prepared_volume.hpp"
 
@@ -265,6 +269,27 @@ void print_formats(bool json) {
                 f.writes.empty() ? "" : fmt::format("; writes {}", f.writes).c_str());
 }
 
+// A scene's measurements (docs/viewer.md, "Measurements"): CSV, one JSON object, or a line each.
+void print_annotations(const Scene& scene, const std::vector<Annotation>& annotations, bool json,
+                       bool csv) {
+  if (csv) {
+    std::printf("%s", measurements_csv(scene, annotations).c_str());
+    return;
+  }
+  nlohmann::json list = nlohmann::json::array();
+  for (const Annotation& a : annotations) {
+    const Measurement m = measure(a, scene);
+    if (!json)
+      std::printf("%zu %-8s %s\n", static_cast<size_t>(list.size()), annotation_kind_name(a.kind),
+                  measurement_text(a, m).c_str());
+    list.push_back(measurement_json(a, m));
+  }
+  if (json)
+    std::printf("%s\n", nlohmann::json({{"kind", "annotations"}, {"annotations", list}})
+                            .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)
+                            .c_str());
+}
+
 Command add_info(CLI::App& app) {
   struct Options {
     std::string file, phantom, series;
@@ -275,6 +300,8 @@ Command add_info(CLI::App& app) {
     bool formats = false;
     bool markdown = false;
     bool memory = false;
+    bool annotations = false;
+    bool csv = false;
   };
   auto o = std::make_shared<Options>();
   app.add_option("file", o->file,
@@ -292,6 +319,10 @@ Command add_info(CLI::App& app) {
   app.add_flag("--memory", o->memory,
                "what rendering FILE holds resident per volume (voxels, gradients, bricks, "
                "tables), as `intermix render FILE` renders it");
+  app.add_flag("--annotations", o->annotations,
+               "FILE is a scene: what each of its annotations measures (length, angle, ROI area "
+               "and statistics), as text, --json or --csv");
+  app.add_flag("--csv", o->csv, "with --annotations: one CSV row per annotation");
   app.add_flag("--presets", o->presets,
                "list the transfer-function, window and colour-map names scenes may use");
   return [o]() {
@@ -302,6 +333,13 @@ Command add_info(CLI::App& app) {
         return 0;
       }
       print_formats(o->json);
+      return 0;
+    }
+    if (o->csv && !o->annotations) throw Error("info: --csv applies only with --annotations");
+    if (o->annotations) {
+      if (o->file.empty()) throw Error("info --annotations: give a scene FILE");
+      const SceneDocument document = SceneDocument::load(o->file);
+      print_annotations(document.scene(), document.annotations(), o->json, o->csv);
       return 0;
     }
     if (o->memory) {

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "annotate/annotation_overlay.hpp"
 #include "annotate/keys.hpp"
 #include "annotate/scene_colour_bars.hpp"
 #include "commands.hpp"
@@ -36,6 +37,7 @@ struct Options : SceneOptions {
   std::string frame_range, frame_object;
   bool linear = false;
   bool colorbar = false;
+  bool no_annotations = false;
   std::string colorbar_position = "top-right";
   double colorbar_scale = 1.0;
   bool distributed = false;
@@ -46,10 +48,26 @@ struct Options : SceneOptions {
 };
 
 // The scene of the inputs; --save-scene writes a built one, which renders the same image again.
-Scene load_inputs(const Options& o, const std::vector<std::string>& overrides) {
+// With `annotations`, the document's annotations go there.
+Scene load_inputs(const Options& o, const std::vector<std::string>& overrides,
+                  std::vector<Annotation>* annotations = nullptr) {
   SceneDocument document = load_scene_inputs(o.in, overrides);
   save_built_scene(o.in, document);
+  if (annotations) *annotations = document.annotations();
   return std::move(document).take_scene();
+}
+
+// The scene's annotations over its image; without a font, their lines only, with a note.
+void draw_scene_annotations(Image& image, const Scene& scene,
+                            const std::vector<Annotation>& annotations) {
+  std::optional<TextRaster> text;
+  try {
+    text.emplace(find_font(), std::max(12, std::min(image.width(), image.height()) / 40));
+  } catch (const Error& e) {
+    if (!quiet())
+      std::fprintf(stderr, "intermix: note: annotations drawn without labels: %s\n", e.what());
+  }
+  draw_annotations(image, scene, annotations, text ? &*text : nullptr);
 }
 
 // Loads, renders and writes one image, printing its notes and time. A scene with a volume too
@@ -57,12 +75,13 @@ Scene load_inputs(const Options& o, const std::vector<std::string>& overrides) {
 void render_one(const Options& o, const std::vector<std::string>& overrides,
                 const std::string& output) {
   std::optional<SceneDocument> outline;
+  std::vector<Annotation> annotations;
   Scene whole;
   if (o.bricks > 0 || o.lod) {
     outline.emplace(load_scene_outline(o.in, overrides));
   } else {
     try {
-      whole = load_inputs(o, overrides);
+      whole = load_inputs(o, overrides, &annotations);
     } catch (const VolumeTooLarge& e) {
       if (!quiet()) std::fprintf(stderr, "intermix: note: %s: rendering in bricks\n", e.what());
       outline.emplace(load_scene_outline(o.in, overrides));
@@ -119,6 +138,8 @@ void render_one(const Options& o, const std::vector<std::string>& overrides,
                    "in the image\n",
                    drawn.bars.size() + drawn.legends.size(), wanted);
   }
+  if (outline) annotations = outline->annotations();
+  if (!o.no_annotations && !annotations.empty()) draw_scene_annotations(image, scene, annotations);
   write_png(image, output, o.linear);
   if (!quiet())
     std::fprintf(stderr, "intermix: %s: %dx%d with %s on %d threads in %.3f s -> %s\n",
@@ -185,6 +206,9 @@ Command add_render(CLI::App& app) {
                  "size of --colorbar's bars and legends: text and strips times this (default 1: "
                  "text about a 36th of the image's height)")
       ->check(in_range(0.25, 8.0));
+  app.add_flag("--no-annotations", o->no_annotations,
+               "leave out the scene's annotations (rulers, angles, ROIs), drawn by default with "
+               "what each measures");
   std::string no_mpi;
   const bool mpi = distributed_available(&no_mpi);
   app.add_flag("--distributed", o->distributed,

@@ -46,7 +46,8 @@ void check_name(const JsonReader& r, const std::string& name) {
 Scene scene_json::parse_scene_document(const nlohmann::json& root, const std::string& origin,
                                        scene_json::SceneContext& context) {
   JsonReader r(root, origin);
-  r.check_keys({"description", "space", "camera", "image", "lights", "objects", "csg", "render"});
+  r.check_keys({"description", "space", "camera", "image", "lights", "objects", "csg", "render",
+                "annotations"});
   Scene scene;
   if (auto v = r.find("description")) v->string();
   // The scene's world: what its points, directions and inline transforms are given in.
@@ -120,6 +121,9 @@ Scene scene_json::parse_scene_document(const nlohmann::json& root, const std::st
     scene_json::check_last_volume(*render, scene, types);
     scene_json::check_mixing_priority(*render, scene, types);
   }
+  context.annotations.clear();
+  if (auto v = r.find("annotations"))
+    context.annotations = scene_json::parse_annotations(*v, scene, types, context.world_space);
   if (view) {
     scene.camera = framed_camera(scene.camera, visible_bounds(scene, bool(context.region)), *view,
                                  static_cast<double>(scene.image.width) / scene.image.height);

@@ -61,6 +61,8 @@ void SceneDocument::parse(nlohmann::json json) {
     throw;
   }
   scene.file = file_;
+  annotations_ = std::move(context_.annotations);
+  context_.annotations.clear();
   // Sources the document no longer uses are let go.
   auto prune = [&](auto& cache) {
     for (auto it = cache.begin(); it != cache.end();)

@@ -44,6 +44,9 @@ class SceneDocument {
 
   const nlohmann::json& json() const { return json_; }
   const Scene& scene() const { return scene_; }
+  // The document's "annotations", parsed (points in LPS): measurements kept with the scene,
+  // which rendering leaves out (src/measure/ measures them, src/annotate/ draws them).
+  const std::vector<Annotation>& annotations() const { return annotations_; }
   Scene take_scene() && { return std::move(scene_); }
   const std::string& origin() const { return origin_; }
   const std::filesystem::path& base_dir() const { return context_.base_dir; }
@@ -73,6 +76,7 @@ class SceneDocument {
   std::filesystem::path file_;
   scene_json::SceneContext context_;
   Scene scene_;
+  std::vector<Annotation> annotations_;
 };
 
 }  // namespace imx

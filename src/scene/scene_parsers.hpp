@@ -13,6 +13,7 @@
 
 #include "intermix/io.hpp"
 #include "intermix/scene.hpp"
+#include "scene/annotation.hpp"
 #include "scene/camera_framing.hpp"
 #include "scene/json_reader.hpp"
 #include "scene/mesh_space_evidence.hpp"
@@ -60,6 +61,8 @@ struct SceneContext {
   std::vector<MeshSpaceCandidate> mesh_space_candidates = {};
   // The rows of the scene's image: what an OME-Zarr source at "level": "view" is read for.
   int image_rows = 512;
+  // The last document's "annotations" (parse_scene_document), which SceneDocument keeps.
+  std::vector<Annotation> annotations = {};
 
   // A "file" value resolved against base_dir; throws naming the resolved path when missing.
   std::filesystem::path resolve_file(const JsonReader& file) const;
@@ -167,5 +170,14 @@ StreamlineObject parse_connectome_object(const JsonReader& r, SceneContext& cont
 PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
                                const std::map<std::string, std::string>& object_types,
                                MeshSpace space = MeshSpace::lps);
+
+// The top-level "annotations": [{"kind": "ruler"|"angle"|"ellipse"|"polygon", "points": [[x, y,
+// z], ...], "volume" (ROIs: a volume's name), "label"}, ...] (docs/viewer.md), points read into
+// LPS from `space`. Throws naming the path for an unknown kind or key, a wrong number of points,
+// a non-finite or far point, degenerate geometry (an arm or axis of length 0, a polygon of no
+// area or not flat), more than kMaxAnnotations, or a volume `scene` lacks.
+std::vector<Annotation> parse_annotations(const JsonReader& r, const Scene& scene,
+                                          const std::map<std::string, std::string>& object_types,
+                                          MeshSpace space = MeshSpace::lps);
 
 }  // namespace imx::scene_json

@@ -15,6 +15,7 @@
 #include "io/streams/atomic_file.hpp"
 #include "scene/json_reader.hpp"
 #include "scene/strict_json.hpp"
+#include "server/annotation_messages.hpp"
 #include "server/jpeg_encoder.hpp"
 #include "tubes/tube_cache.hpp"
 
@@ -279,8 +280,9 @@ void ViewerSession::handle(const std::shared_ptr<ClientSink>& client, const Json
   if (!message.is_object())
     throw Error(fmt::format("message: expected a JSON object, got {}", message.type_name()));
   const JsonReader r(message, "message");
-  const std::string type = r.get("type").choice(
-      {"camera", "edit", "settings", "save", "screenshot", "stats", "slice", "probe"});
+  const std::string type =
+      r.get("type").choice({"camera", "edit", "settings", "save", "screenshot", "stats", "slice",
+                            "probe", "annotations", "measure", "pick"});
   // seq and moving are checked before anything changes, so a refused message changes nothing.
   if (auto v = r.find("seq")) v->number(Range::closed(0.0, 9e15));
   if (auto v = r.find("moving")) v->boolean();
@@ -294,6 +296,17 @@ void ViewerSession::handle(const std::shared_ptr<ClientSink>& client, const Json
       input_applied(client.get(), message);
     else
       input_acknowledged(client.get(), message);
+  } else if (type == "annotations") {
+    std::lock_guard lock(mutex_);
+    if (apply_annotations(state_, message)) ++document_version_;
+    input_acknowledged(client.get(), message);  // drawn by the page: the 3-D image stays
+  } else if (type == "measure" || type == "pick") {
+    Json answer;
+    {
+      std::lock_guard lock(mutex_);
+      answer = type == "pick" ? answer_pick(state_, message) : answer_measure(state_, message);
+    }
+    client->send_text(text_of(answer));
   } else if (type == "slice") {
     // Rendered here, on the network thread: a 2-D view takes milliseconds, not a frame's time.
     SliceAnswer answer;

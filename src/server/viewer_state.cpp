@@ -29,6 +29,7 @@
 #include "scene/scene_parsers.hpp"
 #include "scene/strict_json.hpp"
 #include "scene/world_space.hpp"
+#include "server/annotation_messages.hpp"
 #include "server/label_list.hpp"
 #include "volume/value_sample.hpp"
 
@@ -763,7 +764,8 @@ nlohmann::json describe_state(const ViewerState& state) {
   return {{"camera", camera_json(scene.camera)},
           {"colour_bars", std::move(bars)},
           {"initial_camera", camera_json(state.initial_camera)},
-          {"objects", std::move(objects)}};
+          {"objects", std::move(objects)},
+          {"annotations", annotations_json(state.document.annotations())}};
 }
 
 nlohmann::json describe_histograms(const Scene& scene, int bins) {

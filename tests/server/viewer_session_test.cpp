@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <filesystem>
 #include <fstream>
@@ -225,6 +226,15 @@ TEST(ViewerSession, EveryClientSeesEveryEdit) {
   EXPECT_EQ(a->wait_final().json["seq"], 8);
 }
 
+// An annotations message with a polygon of `n` corners on a circle.
+std::string polygon_of(int n) {
+  nlohmann::json points = nlohmann::json::array();
+  for (int i = 0; i < n; ++i) points.push_back({std::cos(i * 0.02), std::sin(i * 0.02), 0.0});
+  return nlohmann::json{{"type", "annotations"},
+                        {"annotations", {{{"kind", "polygon"}, {"points", points}}}}}
+      .dump();
+}
+
 TEST(ViewerSession, BadMessagesGetOneErrorAndChangeNothing) {
   TempDir dir;
   ViewerSession session(load_viewer_state(small_fusion(dir)), quiet_options(1));
@@ -251,6 +261,22 @@ TEST(ViewerSession, BadMessagesGetOneErrorAndChangeNothing) {
       {R"({"type": "edit", "object": "pet", "transfer_function": [[0, 0, 0, 0, 0], [1, 2e400]]})",
        "message: transfer_function[1][1]: 2e400 is beyond"},
       {"1e400", "message: 1e400 is beyond"},
+      // Measurements (issue 47): bad geometry, too many points, an unknown kind.
+      {R"({"type": "annotations", "annotations": [{"kind": "ruler", "points": [[0, 0, 0],
+        [NaN, 0, 0]]}]})",
+       "message: not JSON: "},
+      {R"({"type": "annotations", "annotations": [{"kind": "circle", "points": []}]})",
+       "annotations: annotations[0].kind: "},
+      {R"({"type": "annotations", "annotations": [{"kind": "ruler", "points": [[0, 0, 0],
+        [1, 1e999, 0]]}]})",
+       "message: annotations[0].points[1][1]: 1e999 is beyond"},
+      {polygon_of(300), "annotations[0].points: a polygon has 3 to 256 points, not 300"},
+      {R"({"type": "annotations", "annotations": [{"kind": "angle", "points": [[0, 0, 0],
+        [0, 0, 0], [1, 0, 0]]}]})",
+       "an angle's arms"},
+      {R"({"type": "measure", "annotations": [{"kind": "ruler", "points": [[0, 0, 0]]}]})",
+       "measure: annotations[0].points: a ruler has 2 points, not 1"},
+      {R"({"type": "pick", "x": -1, "y": 0, "width": 8, "height": 8})", "pick: x: "},
   };
   for (const auto& [text, part] : cases) {
     session.on_message(client, text);
@@ -262,6 +288,9 @@ TEST(ViewerSession, BadMessagesGetOneErrorAndChangeNothing) {
   EXPECT_EQ(session.method(), "zslab");
   EXPECT_EQ(session.spp(), 1);
   EXPECT_EQ(session.counters().frames_sent, 1);  // nothing was rendered again
+  auto late = std::make_shared<Recorder>();  // what a new window gets: no annotation kept
+  session.add_client(late);
+  EXPECT_EQ(late->wait_type("hello").json["annotations"], nlohmann::json::array());
 }
 
 // A volume's 2-D window changes no pixel of the 3-D view: the edit reaches every client's state

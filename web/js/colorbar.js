@@ -1,7 +1,9 @@
-// The 3-D view's overlay: clip-plane outlines (clip_outlines.js), the orientation marker, and
+// The 3-D view's overlay: clip-plane outlines (clip_outlines.js), the measurements (measure.js),
+// the orientation marker, and
 // colour bars, labelled with their values: one per visible volume (its transfer function's
 // visible range within the data's) and one per colour map the planes show.
 import {drawClipOutlines3d} from './clip_outlines.js';
+import {drawAnnotations3d} from './measure.js';
 import {S} from './state.js';
 
 const BAR_W = 12, BAR_H = 140, MAX_CAPTION = 160;
@@ -123,6 +125,7 @@ export function drawColorBars() {
   const view = document.getElementById('view').getBoundingClientRect();
   const cell = c.getBoundingClientRect();
   drawClipOutlines3d(g, view.left - cell.left, view.top - cell.top, view.width, view.height);
+  drawAnnotations3d(g, view.left - cell.left, view.top - cell.top, view.width, view.height);
   drawOrientation(g, c.clientHeight);
   g.font = '11px sans-serif';
   // Right to left, each bar in a column wide enough for its tick labels and its caption (cut

@@ -101,7 +101,8 @@ export function setConnection(text, cls) {
 }
 
 // Opens the WebSocket; el shows its state. handlers: hello(m), state(m), saved(m),
-// frame(meta, blob, id) for a frame to draw (id grows with each), screenshot(blob).
+// frame(meta, blob, id) for a frame to draw (id grows with each), screenshot(blob), and the
+// answers probe(m), measure(m), pick(m), error(m).
 export function connect(el, handlers) {
   resync = handlers.resync || null;
   connEl = el;
@@ -150,6 +151,8 @@ function onText(m, handlers) {
     case 'screenshot': S.expect = {kind: 'screenshot', meta: m}; break;
     case 'slice': S.expect = {kind: 'slice', meta: m}; break;
     case 'probe': if (handlers.probe) handlers.probe(m); break;
+    case 'measure': if (handlers.measure) handlers.measure(m); break;
+    case 'pick': if (handlers.pick) handlers.pick(m); break;
     case 'saved': handlers.saved(m); break;
     case 'error': {
       stats.errors.push(m.message);

@@ -1,6 +1,7 @@
 // Undo and redo of this page's object edits (visibility, opacity, transfer function, windows,
-// plane position, clip planes, frame, labels). A gesture counts once: connection.js reports each final
-// (not moving) edit here with the fields it sent, and the values before are those of the last
+// plane position, clip planes, frame, labels) and of its measurements (the scene's annotations,
+// a step holding the list before and after). A gesture counts once: connection.js reports each
+// final (not moving) edit here with the fields it sent, and the values before are those of the last
 // commit of that object, so a drag of many moving edits undoes in one step. Other windows' edits
 // (a `state`) become the new "before" without entering this page's history.
 import {S, clipsMessage} from './state.js';
@@ -12,6 +13,7 @@ let committed = new Map();  // object name -> its edit fields as last committed
 let send = null;            // connection.js editInput, given at setup (no import cycle)
 let onApplied = () => {};   // rebuilds the panel and views after an undo or redo
 let replaying = false;
+let sendAnnotations = null;  // measure.js setAnnotations, given at setup
 
 // An object's editable fields, as an `edit` message holds them.
 export function editFields(o) {
@@ -75,9 +77,10 @@ export function resetCommitted() {
   updateButtons();
 }
 
-export function setupHistory(editInput, applied) {
+export function setupHistory(editInput, applied, annotationsInput) {
   send = editInput;
   onApplied = applied;
+  sendAnnotations = annotationsInput;
   document.getElementById('undo').addEventListener('click', undo);
   document.getElementById('redo').addEventListener('click', redo);
   updateButtons();
@@ -104,7 +107,21 @@ export function editCommitted(name, fields) {
   updateButtons();
 }
 
+// measure.js: the page changed the scene's annotations from `before` to `after`.
+export function annotationsCommitted(before, after) {
+  if (replaying || JSON.stringify(before) === JSON.stringify(after)) return;
+  undoStack.push({annotations: true, before, after});
+  if (undoStack.length > MAX_STEPS) undoStack.shift();
+  redoStack.length = 0;
+  updateButtons();
+}
+
 function replay(step, fields) {
+  if (step.annotations) {
+    sendAnnotations(fields, false);
+    updateButtons();
+    return;
+  }
   const o = S.byName.get(step.name);
   if (!o) return;
   applyFields(o, fields);

@@ -6,6 +6,7 @@
 import {mmPerPixel, orbit, pan, zoom} from './camera.js';
 import {HANDLE_RADIUS, handleAt, moveClip, projector, startClipDrag} from './clip_outlines.js';
 import {cameraInput, editInput} from './connection.js';
+import {pick3d} from './measure.js';
 import {buildPanel, showWindow} from './panel.js';
 import {S, clipsMessage} from './state.js';
 import {clamp, dot, mul} from './vec.js';
@@ -18,6 +19,14 @@ export function setupInput(el) {
   canvas.addEventListener('contextmenu', (ev) => ev.preventDefault());
   canvas.addEventListener('pointerdown', (ev) => {
     if (!S.camera) return;
+    if (ev.button === 0 && !ev.ctrlKey && !ev.metaKey && !ev.shiftKey && !ev.altKey &&
+        ev.pointerType !== 'touch') {  // the 3-D ruler: a click picks a point, nothing turns
+      const r = canvas.getBoundingClientRect();
+      if (pick3d(ev.clientX - r.left, ev.clientY - r.top, r.width, r.height)) {
+        ev.preventDefault();
+        return;
+      }
+    }
     canvas.setPointerCapture(ev.pointerId);
     canvas.focus();
     S.pointers.set(ev.pointerId, {x: ev.clientX, y: ev.clientY});

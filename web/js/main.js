@@ -10,9 +10,12 @@ import {buildSelectors, onSaved, onScreenshot, setupToolbar} from './toolbar.js'
 import {drawColorBars} from './colorbar.js';
 import {historyDepth, resetCommitted, setupHistory} from './history.js';
 import {applyViewLink, setupShortcuts, viewLink} from './shortcuts.js';
-import {crosshairs, onProbe, onSlice, onSliceError, refreshSlices, scaleBars, setLayout,
-        setCine, setupSlices, sliceClipHandles, sliceViews, sliceWindow} from './slices.js';
+import {crosshairs, onProbe, onSlice, onSliceError, pagePixelOf, redrawSliceOverlays,
+        refreshSlices, scaleBars, setLayout, setCine, setupSlices, sliceClipHandles, sliceViews,
+        sliceWindow} from './slices.js';
 import {captureView} from './screenshot.js';
+import {annotationsRefused, measureRefused, measurements, onMeasure, onPick, setAnnotations,
+        setTool, setupMeasure, takeAnnotations} from './measure.js';
 import {copyCamera} from './vec.js';
 import {drawFrame, initView, layoutCanvas, resetView, sendViewport} from './view.js';
 
@@ -87,12 +90,20 @@ window.viewer = {
                                                          point: h.point})),
             slices: sliceClipHandles()};
   },
+  // measurements: the tool, the annotations with the server's measurement of each, a world
+  // point's page (client) pixel in a 2-D view, and the last pick and measure answers
+  setMeasureTool(name) { setTool(name); },
+  measurements,
+  pagePixelOf,
+  lastPick() { return S.lastPick || null; },
+  lastMeasureMs() { return S.lastMeasureMs ?? null; },
   // the size the page asked still frames to have (its view's device pixels)
   viewport() { return S.viewport ? S.viewport.slice() : null; },
 };
 
 function onHello(m) {
   takeHello(m);
+  takeAnnotations(m.annotations || []);
   resetCommitted();
   resetView();
   buildSelectors();
@@ -103,6 +114,7 @@ function onHello(m) {
 }
 
 function onState(m) {
+  if (m) takeAnnotations(m.annotations);
   if (!takeState(m)) return;
   resetCommitted();  // another window's edits are where this one's undo starts from
   buildSelectors();
@@ -124,6 +136,10 @@ function start() {
     redrawEditors();
     drawColorBars();
     refreshSlices();
+  }, setAnnotations);
+  setupMeasure(() => {
+    redrawSliceOverlays();
+    drawColorBars();  // the 3-D view's overlay: its annotations
   });
   document.getElementById('help-button').addEventListener('click', (ev) => {
     ev.stopPropagation();
@@ -144,7 +160,12 @@ function start() {
   layoutCanvas();
   connect(connEl, {hello: onHello, state: onState, saved: onSaved, frame: drawFrame,
                    screenshot: onScreenshot, resync: () => onState(null), slice: onSlice,
-                   probe: onProbe, error: onSliceError});
+                   probe: onProbe, measure: onMeasure, pick: onPick,
+                   error: () => {
+                     onSliceError();
+                     measureRefused();
+                     annotationsRefused();
+                   }});
 }
 
 if (document.readyState === 'loading') document.addEventListener('DOMContentLoaded', start);

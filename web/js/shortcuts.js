@@ -2,6 +2,7 @@
 // method menu and the status line, and "copy link": the view as an address without the token.
 import {cameraInput, editInput} from './connection.js';
 import {applyFields, editFields, redo, undo} from './history.js';
+import {setAnnotations} from './measure.js';
 import {setLayout} from './slices.js';
 import {S} from './state.js';
 import {snapView} from './toolbar.js';
@@ -43,8 +44,9 @@ function onKey(ev) {
   ev.preventDefault();
 }
 
-// The page's address for this view: camera, layout, crosshair and each object's edits
-// (visibility, opacity, transfer function, window, position, clip planes, frame) in the fragment
+// The page's address for this view: camera, layout, crosshair, each object's edits (visibility,
+// opacity, transfer function, window, position, clip planes, frame) and the measurements in the
+// fragment
 // (never the token; the one who opens it needs their own).
 export function viewLink() {
   const view = {
@@ -52,6 +54,7 @@ export function viewLink() {
     layout: document.getElementById('layout').value,
     point: S.point || null,
     objects: S.objects.map((o) => [o.name, editFields(o)]),
+    annotations: S.annotations,
   };
   return location.origin + location.pathname + '#view=' + encodeURIComponent(JSON.stringify(view));
 }
@@ -84,6 +87,10 @@ export function applyViewLink() {
     applyFields(o, changed);
     editInput(name, changed, false);
   }
+  // The measurements as they were (one step of this window's history; the server checks them).
+  if (Array.isArray(view.annotations) &&
+      JSON.stringify(view.annotations) !== JSON.stringify(S.annotations))
+    setAnnotations(view.annotations);
   if (Array.isArray(view.point) && view.point.length === 3) S.point = view.point.map(Number);
   if (['1x1', '2x2', '1x3'].includes(view.layout)) setLayout(view.layout);
 }

@@ -3,9 +3,11 @@
 // mesh outlines and orientation letters drawn over them; a click moves the crosshair in all
 // three, the wheel and arrow keys step slices, and the readout shows each volume's value there.
 // Right drag (or ctrl / W/L mode drag) sets the base volume's window, ctrl or shift + wheel and
-// a pinch zoom, a middle (or shift) drag pans; zoom and pan per view, or shared when linked.
+// a pinch zoom, a middle (or shift) drag pans; zoom and pan per view, or shared when linked. With a
+// measurement tool chosen, a click places its points instead (measure.js), drawn over the views.
 import {HANDLE_RADIUS, drawClipLines2d, handleAt, moveClip, startClipDrag} from './clip_outlines.js';
 import {editInput, send} from './connection.js';
+import {drawAnnotations2d, measureClick} from './measure.js';
 import {showVolumeWindow} from './panel.js';
 import {S} from './state.js';
 import {clamp, fmt} from './vec.js';
@@ -228,6 +230,9 @@ function drawOverlay(axis) {
   g.lineTo(cx, o.height);
   g.stroke();
   drawScaleBar(g, a, r);
+  const n = FRAME[axis].normal;
+  drawAnnotations2d(g, {axis, normal: n, plane: a.point[n], tolerance: 0.5 * baseVolume().pitch[n],
+                        r, pixelOf: (p) => pixelOf(axis, p)});
   g.fillStyle = '#fc6';
   g.font = `${Math.round(13 * r)}px sans-serif`;
   const [top, bottom, left, right] = LETTERS[axis];
@@ -456,6 +461,12 @@ export function setupSlices() {
         S.drag = {mode: 'slice-clip'};  // no other window's state is taken mid-drag
         return;
       }
+      const k = view.answer.width / view.image.getBoundingClientRect().width;  // backing / CSS
+      if (!ev.ctrlKey && !ev.metaKey && !ev.altKey && ev.pointerType !== 'touch' &&
+          measureClick({axis, x, y, r: k, world: worldOf(axis, x, y), right: FRAME[axis].right,
+                        down: FRAME[axis].down, volume: baseVolume().name,
+                        pixelOf: (p) => pixelOf(axis, p)}))
+        return;  // a measurement's point, not the crosshair
       if (ev.pointerType === 'touch') {  // the crosshair on lifting, unless a pinch begins
         view.tap = {id: ev.pointerId, x, y};
         return;
@@ -577,6 +588,19 @@ export function setLayout(name) {
   window.dispatchEvent(new Event('resize'));
   if (!S.point && baseVolume()) setPoint(centreOf(baseVolume()));
   refreshSlices();
+}
+
+// Every shown view's overlay again (the measurements changed).
+export function redrawSliceOverlays() {
+  for (const axis of shownAxes()) if (views[axis] && views[axis].answer) drawOverlay(axis);
+}
+
+// For tests: a world point's page (client) pixel in `axis`'s view, as its last image placed it.
+export function pagePixelOf(axis, p) {
+  const v = views[axis];
+  if (!v || !v.answer) return null;
+  const [x, y] = pixelOf(axis, p), r = v.image.getBoundingClientRect();
+  return [r.left + x * r.width / v.answer.width, r.top + y * r.height / v.answer.height];
 }
 
 // "reset" for the 2-D views: every view back to the fitting zoom, centred.
