@@ -11,6 +11,7 @@
 
 #include "arguments.hpp"
 #include "intermix/error.hpp"
+#include "measure/measurement.hpp"
 #include "render.hpp"
 #include "scene/camera_framing.hpp"
 #include "scene/overrides.hpp"
@@ -571,6 +572,17 @@ center, normal, up, size, volume, window, colormap, color, opacity.
           },
           "The camera the scene renders with, as a camera block (a \"view\" resolved into eye, "
           "target and up): scene.set(\"camera\", d) gives it back.")
+      .def_property_readonly(
+          "measurements",
+          [](const PyScene& s) {
+            py::list out;
+            for (const Annotation& a : s.scene_document().annotations())
+              out.append(from_document(measurement_json(a, measure(a, s.scene())), {}));
+            return out;
+          },
+          "What each of the scene's \"annotations\" measures, one dict each (kind, label, "
+          "points; length_mm, angle_deg, or an ROI's area_mm2, voxels, mean, sd, min, max in the "
+          "volume's units), as `intermix info SCENE --annotations --json` gives them.")
       .def_property_readonly(
           "file",
           [](const PyScene& s) -> py::object {

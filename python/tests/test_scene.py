@@ -166,3 +166,24 @@ def test_from_files_errors_name_the_argument_or_file(tmp_path):
     (tmp_path / "notes.txt").write_text("x")
     with pytest.raises(ValueError, match="notes.txt: '.txt' is not a format intermix reads"):
         intermix.Scene.from_files([tmp_path / "notes.txt"])
+
+
+def test_measurements_are_the_annotations_in_numbers():
+    # Values equal to the RAS x coordinate of 1 mm voxels; the scene in RAS, as the points are.
+    k, j, i = np.meshgrid(np.arange(8), np.arange(8), np.arange(8), indexing="ij")
+    v = intermix.Volume(i.astype(np.float32), np.eye(4), axes="kji", space="RAS")
+    d = volume_scene(v)
+    d["space"] = "RAS"
+    d["annotations"] = [
+        {"kind": "ruler", "points": [[0, 0, 0], [3, 4, 0]], "label": "r"},
+        # A square between voxel centres 2..5 on the plane z = 3: 16 voxels, x from 2 to 5.
+        {"kind": "polygon", "volume": "ct",
+         "points": [[1.5, 1.5, 3], [5.5, 1.5, 3], [5.5, 5.5, 3], [1.5, 5.5, 3]]},
+    ]
+    m = intermix.Scene.from_dict(d).measurements
+    assert [x["kind"] for x in m] == ["ruler", "polygon"]
+    assert m[0]["label"] == "r" and m[0]["length_mm"] == pytest.approx(5.0)
+    assert m[1]["voxels"] == 16 and m[1]["area_mm2"] == pytest.approx(16.0)
+    assert m[1]["mean"] == pytest.approx(3.5) and (m[1]["min"], m[1]["max"]) == (2.0, 5.0)
+    assert m[1]["sd"] == pytest.approx(np.std([2, 3, 4, 5]))
+    assert intermix.Scene.from_dict(volume_scene(v)).measurements == []
