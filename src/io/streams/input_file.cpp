@@ -97,6 +97,10 @@ InputFd open_input(const std::filesystem::path& file, std::string_view what) {
   return open_checked(file, what, true);
 }
 
+InputFd open_input_unrecorded(const std::filesystem::path& file, std::string_view what) {
+  return open_checked(file, what, false);
+}
+
 std::filesystem::path path_of_open(const InputFd& fd, const std::filesystem::path& file) {
   std::filesystem::path proc = fmt::format("/proc/self/fd/{}", fd.get());
   struct stat a {
