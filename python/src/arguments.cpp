@@ -197,8 +197,12 @@ std::filesystem::path path(const py::handle& value, const Argument& argument) {
   try {
     given = py::module_::import("os").attr("fspath")(value);
   } catch (const py::error_already_set& e) {
-    throw py::type_error(fmt::format("{}: os.fspath failed on the {}: {}", prefix(argument),
-                                     python_type_name(value), e.what()));
+    // e.what() ends in pybind11's traceback ("\n\nAt:\n ..."): the exception's own line only.
+    const std::string reason = py::str(e.value()).cast<std::string>();
+    throw py::type_error(fmt::format("{}: os.fspath failed on the {}: {}: {}", prefix(argument),
+                                     python_type_name(value),
+                                     py::str(e.type().attr("__qualname__")).cast<std::string>(),
+                                     reason.substr(0, reason.find('\n'))));
   }
   if (!PyUnicode_Check(given.ptr()))
     throw py::type_error(fmt::format("{} must be {}, got a {} whose path is {}", prefix(argument),
@@ -233,6 +237,18 @@ py::array array_argument(const py::handle& value, const Argument& argument,
     if (e.matches(PyExc_TypeError)) throw py::type_error(message);
     if (e.matches(PyExc_MemoryError)) throw;
     throw py::value_error(message);
+  }
+}
+
+py::array_t<float, py::array::c_style | py::array::forcecast> float32_array(
+    const py::array& given, const std::string& what) {
+  using Floats = py::array_t<float, py::array::c_style | py::array::forcecast>;
+  try {
+    return numpy().attr("ascontiguousarray")(given, py::arg("dtype") = "float32").cast<Floats>();
+  } catch (py::error_already_set& e) {
+    if (e.matches(PyExc_MemoryError)) throw;
+    const std::string reason = py::str(e.value()).cast<std::string>();
+    throw py::value_error(fmt::format("{}: {}", what, reason.substr(0, reason.find('\n'))));
   }
 }
 
@@ -418,6 +434,20 @@ std::vector<py::object> functions_behind(const py::handle& attribute) {
   return {py::reinterpret_borrow<py::object>(attribute)};
 }
 
+// Gives a class that has no constructor (one only intermix makes: View, RendererStats) an
+// __init__ raising intermix's own TypeError: pybind11's said "intermix._intermix.View: No
+// constructor defined!", naming the C++ module.
+void refuse_construction(const py::handle& cls) {
+  const std::string name = "intermix." + py::str(cls.attr("__name__")).cast<std::string>();
+  py::setattr(cls, "__init__",
+              py::cpp_function(
+                  [name](const py::handle&, const py::args&, const py::kwargs&) {
+                    throw py::type_error(fmt::format(
+                        "{} is not made directly: intermix gives one (see help({}))", name, name));
+                  },
+                  py::is_method(cls)));
+}
+
 }  // namespace
 
 void explain_mismatched_calls(py::module_& module) {
@@ -430,9 +460,13 @@ void explain_mismatched_calls(py::module_& module) {
       continue;
     // tp_dict, not __dict__: a class's __dict__ is a read-only proxy.
     const auto* type = reinterpret_cast<PyTypeObject*>(value.ptr());
+    // Without a py::init the type's __init__ is pybind11's slot wrapper, which always refuses.
+    PyObject* init = PyDict_GetItemString(type->tp_dict, "__init__");
+    const bool constructible = init != nullptr && !Py_IS_TYPE(init, &PyWrapperDescr_Type);
     for (const auto member : py::reinterpret_borrow<py::dict>(type->tp_dict))
       for (const py::object& function : functions_behind(member.second))
         route_through_own_errors(function);
+    if (!constructible) refuse_construction(value);
   }
 }
 

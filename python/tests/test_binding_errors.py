@@ -8,6 +8,8 @@ valid there just runs); python/src/arguments.* converts the arguments.
 import math
 import os
 import pathlib
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -17,7 +19,8 @@ import intermix
 BAD_VALUES = [2**31, 2**63, 2**70, -1, -(2**31), 0, 1.5, math.nan, math.inf, "x", None, [], {},
               object(), b"abc", True, np.int64(2**40), np.float32(3), np.bool_(True)]
 PYBIND11_PHRASES = ("incompatible function arguments", "incompatible constructor arguments",
-                    "Unable to cast", "Invoked with", "std::", "pybind11")
+                    "Unable to cast", "Invoked with", "std::", "pybind11",
+                    "No constructor defined", "_intermix.", "\nAt:\n", "SystemError")
 ALLOWED = (TypeError, ValueError, OSError, MemoryError)
 
 SPHERE_SCENE = {
@@ -307,3 +310,127 @@ def test_a_message_quoting_bytes_that_are_not_utf8_keeps_its_text(tmp_path):
     assert str(e.value).startswith(f"{tmp_path}/scene.json: "), str(e.value)
     with pytest.raises(ValueError, match="^scene text: "):
         intermix.Scene.from_json("\x89PNG")
+
+
+# ---- issue 48: the Python cases that showed pybind11 text or crashed ----
+
+
+class RaisingPath:
+    def __fspath__(self):
+        raise RuntimeError("no path today")
+
+
+def test_a_path_whose_fspath_raises_gets_one_line_without_pybind11s_traceback():
+    kind, message = message_of(lambda: intermix.read_volume(RaisingPath()))
+    assert (kind, message) == (
+        TypeError, "read_volume: path: os.fspath failed on the test_binding_errors.RaisingPath: "
+                   "RuntimeError: no path today")
+
+
+def test_text_with_lone_surrogates_in_a_scene_is_refused_naming_where():
+    # os.fsdecode gives such text for file names that are not UTF-8; pybind11 said "Unable to
+    # cast Python instance to C++ type".
+    assert message_of(lambda: scene().set("objects[0].name", "a\udcff")) == (
+        ValueError, "scene dict: objects[0].name: 'a\\udcff' is not valid text (it holds lone "
+                    "surrogates)")
+    assert message_of(lambda: intermix.Scene.from_dict({"objects": [], "\udcff": 1})) == (
+        ValueError, "scene dict: key '\\udcff' is not valid text (it holds lone surrogates)")
+
+
+def test_classes_intermix_makes_say_so_when_called():
+    for cls in (intermix.View, intermix.RendererStats):
+        kind, message = message_of(cls)
+        assert (kind, message) == (
+            TypeError, f"intermix.{cls.__name__} is not made directly: intermix gives one "
+                       f"(see help(intermix.{cls.__name__}))")
+
+
+def test_a_null_is_named_once():
+    assert message_of(lambda: scene().add_streamlines("t", None)) == (
+        ValueError, "scene dict: objects[1].radius: expected a number, got null")
+
+
+def run_python(code):
+    """Runs `code` in a fresh interpreter (a crash there fails this test, not the session);
+    returns (exit code, stdout, stderr)."""
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    return p.returncode, p.stdout, p.stderr
+
+
+def test_a_numpy_longdouble_in_a_scene_is_a_number_or_refused_not_a_crash():
+    # Its tolist() gives itself back: the conversion recursed until the stack ran out.
+    rc, out, err = run_python("""
+import numpy as np, intermix
+s = intermix.Scene.from_dict({"objects": []})
+s.set("camera.fov_deg", np.longdouble(30))
+print(s.to_dict()["camera"]["fov_deg"])
+s.set("camera.eye", np.array([1, 2, 3], np.longdouble))
+print(s.to_dict()["camera"]["eye"])
+for v in (np.longdouble("1e4000"), np.longdouble("inf")):
+    try:
+        s.set("camera.fov_deg", v)
+    except ValueError as e:
+        print(e)
+""")
+    assert rc == 0, err
+    assert out.splitlines() == [
+        "30.0", "[1.0, 2.0, 3.0]",
+        "scene dict: camera.fov_deg: 1e+4000 is too large: numbers are used as floats (at most "
+        "3.40282e+38)",
+        "scene dict: camera.fov_deg: inf is not a finite number"]
+
+
+def test_arrays_converted_with_warnings_as_errors_raise_not_crash():
+    # numpy's overflow warning, made an error, left pybind11's array_t::ensure an empty array
+    # that was then read (a segmentation fault).
+    rc, out, err = run_python("""
+import warnings, numpy as np, intermix
+warnings.simplefilter("error")
+big = np.full((4, 4, 4), 1e300)
+calls = {
+    "Mesh": lambda: intermix.Mesh(np.eye(3) * 1e300, np.array([[0, 1, 2]])),
+    "Mesh colors": lambda: intermix.Mesh(np.eye(3), np.array([[0, 1, 2]]), colors=np.full((3, 3), 1e300)),
+    "to_uint8": lambda: intermix.to_uint8(big),
+    "write_png": lambda: intermix.write_png(big, "never.png"),
+    "compare": lambda: intermix.compare(big, big),
+}
+for name, call in calls.items():
+    try:
+        call()
+    except ValueError as e:
+        print(e)
+""")
+    assert rc == 0, err
+    assert out.splitlines() == [
+        "Mesh: vertices: overflow encountered in cast",
+        "Mesh: colors: overflow encountered in cast",
+        "to_uint8: overflow encountered in cast",
+        "write_png: overflow encountered in cast",
+        "compare: a: overflow encountered in cast"]
+
+
+def test_figure_arguments_are_named_with_their_values():
+    s = scene()
+    cases = [
+        (lambda: intermix.orbit_cameras(None), TypeError,
+         "orbit_cameras: camera must be a dict with eye, target and up, got NoneType"),
+        (lambda: intermix.orbit_cameras(s), TypeError,
+         "orbit_cameras: camera must be a dict with eye, target and up (a Scene's is "
+         "scene.camera), got Scene"),
+        (lambda: intermix.orbit_cameras(s.camera, frames=2**40), ValueError,
+         "orbit_cameras: frames 1099511627776 is not in [1, 100000]"),
+        (lambda: intermix.orbit(s, frames=2**40), ValueError,
+         "orbit: frames 1099511627776 is not in [1, 100000]"),
+        (lambda: intermix.orbit(s, 2, degrees=1e300), ValueError,
+         "orbit: degrees 1e+300 is not in [-36000, 36000]"),
+        (lambda: intermix.threshold_tf("a", "b"), TypeError,
+         "threshold_tf: threshold must be a real number, got str"),
+        (lambda: intermix.threshold_tf(1, 10**400), ValueError,
+         "threshold_tf: vmax 1000000000000000... (401 characters) is not a finite number"),
+        (lambda: intermix.ortho(VOLUME, cut_coords=[0, math.nan, 0]), ValueError,
+         "ortho: cut_coords[1] nan is not a finite number"),
+        (lambda: intermix.mosaic(VOLUME, cut_coords=2**40), ValueError,
+         "mosaic: cut_coords 1099511627776 is not in [1, 64]"),
+    ]
+    for call, kind, message in cases:
+        assert message_of(call) == (kind, message)
