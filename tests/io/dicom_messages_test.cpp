@@ -184,6 +184,16 @@ TEST(DicomMessages, AMissingPathSaysSoRatherThanListingFormats) {
   }
 }
 
+TEST(DicomMessages, ALinkToAFileThatIsNotThereSaysWhereItPoints) {
+  TempDir dir;
+  fs::create_symlink("gone.dcm", dir / "slice.dcm");
+  const std::string expected =
+      (dir / "slice.dcm").string() + ": a symbolic link to 'gone.dcm', which is not there";
+  EXPECT_EQ(test::error_of([&] { read_dicom(dir / "slice.dcm"); }), expected);
+  const test::CliResult r = test::run_cli("info " + (dir / "slice.dcm").string());
+  EXPECT_EQ(r.output, "intermix: error: " + expected + "\n");
+}
+
 // The shell prefix that runs a command as a user without root's permission override, or ""
 // where the tests already run as one; nullopt where neither can be had.
 std::optional<std::string> as_unprivileged_user() {

@@ -124,7 +124,7 @@ std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& sou
     try {
       require_regular_file(source);
     } catch (const FileError& e) {
-      if (e.code() == ENOENT)
+      if (e.code() == ENOENT && !fs::is_symlink(fs::symlink_status(source, ec)))
         throw FileError(fmt::format("{}: no such file or folder", what), ENOENT);
       throw;
     }
