@@ -240,9 +240,22 @@ py::array array_argument(const py::handle& value, const Argument& argument,
   }
 }
 
+QuietOverflow::QuietOverflow() : state_(numpy().attr("errstate")(py::arg("over") = "ignore")) {
+  state_.attr("__enter__")();
+}
+
+QuietOverflow::~QuietOverflow() {
+  try {
+    state_.attr("__exit__")(py::none(), py::none(), py::none());
+  } catch (py::error_already_set&) {
+    PyErr_Clear();  // restoring numpy's error state cannot fail in a way worth a crash
+  }
+}
+
 py::array_t<float, py::array::c_style | py::array::forcecast> float32_array(
     const py::array& given, const std::string& what) {
   using Floats = py::array_t<float, py::array::c_style | py::array::forcecast>;
+  const QuietOverflow quiet;
   try {
     return numpy().attr("ascontiguousarray")(given, py::arg("dtype") = "float32").cast<Floats>();
   } catch (py::error_already_set& e) {
