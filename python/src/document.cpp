@@ -81,7 +81,18 @@ nlohmann::json convert(const py::handle& value, GivenSources& sources, const std
       return value.cast<unsigned long long>();
     } catch (const py::cast_error&) {
     }
-    return py::float_(py::reinterpret_borrow<py::object>(value)).cast<double>();
+    const double d = PyLong_AsDouble(value.ptr());
+    if (d == -1.0 && PyErr_Occurred()) {
+      // Past a double's range: Python's "int too large to convert to float" named nothing.
+      PyErr_Clear();
+      const std::string digits = py::str(value).cast<std::string>();
+      fail(origin, path,
+           fmt::format("an int of {} digits is too large: numbers are used as floats (at most "
+                       "{:g})",
+                       digits.size() - (digits.front() == '-' ? 1 : 0),
+                       static_cast<double>(std::numeric_limits<float>::max())));
+    }
+    return d;
   }
   if (py::isinstance<py::float_>(value)) {
     const double d = value.cast<double>();

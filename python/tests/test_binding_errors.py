@@ -337,6 +337,13 @@ def test_text_with_lone_surrogates_in_a_scene_is_refused_naming_where():
         ValueError, "scene dict: key '\\udcff' is not valid text (it holds lone surrogates)")
 
 
+def test_an_int_past_a_doubles_range_in_a_scene_is_named():
+    # Python's "int too large to convert to float" (an OverflowError) named nothing.
+    assert message_of(lambda: scene().set("camera.fov_deg", -10**400)) == (
+        ValueError, "scene dict: camera.fov_deg: an int of 401 digits is too large: numbers are "
+                    "used as floats (at most 3.40282e+38)")
+
+
 def test_classes_intermix_makes_say_so_when_called():
     for cls in (intermix.View, intermix.RendererStats):
         kind, message = message_of(cls)
