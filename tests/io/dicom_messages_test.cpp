@@ -190,8 +190,11 @@ TEST(DicomMessages, ALinkToAFileThatIsNotThereSaysWhereItPoints) {
   const std::string expected =
       (dir / "slice.dcm").string() + ": a symbolic link to 'gone.dcm', which is not there";
   EXPECT_EQ(test::error_of([&] { read_dicom(dir / "slice.dcm"); }), expected);
-  const test::CliResult r = test::run_cli("info " + (dir / "slice.dcm").string());
-  EXPECT_EQ(r.output, "intermix: error: " + expected + "\n");
+  for (const std::string& command :
+       {std::string("info "), "render -o " + (dir / "x.png").string() + " "}) {
+    const test::CliResult r = test::run_cli(command + (dir / "slice.dcm").string());
+    EXPECT_EQ(r.output, "intermix: error: " + expected + "\n") << command;
+  }
 }
 
 // The shell prefix that runs a command as a user without root's permission override, or ""
