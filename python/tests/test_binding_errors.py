@@ -456,3 +456,53 @@ def test_figure_arguments_are_named_with_their_values():
     ]
     for call, kind, message in cases:
         assert message_of(call) == (kind, message)
+
+
+SHARED = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
+                      "..", "shared", "data")
+
+
+def as_unprivileged_user():
+    """The command prefix that runs as a user whom permissions stop ([] when this one is), or
+    None when there is none (root without setpriv)."""
+    if os.geteuid() != 0:
+        return []
+    if subprocess.run(["setpriv", "--version"], capture_output=True).returncode != 0:
+        return None
+    return ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups"]
+
+
+@pytest.mark.skipif(not os.path.isdir(os.path.join(SHARED, "dicom", "ct-philips")),
+                    reason="no ../shared/data")
+def test_a_dicom_series_it_may_not_read_raises_permission_error():
+    # A slice that could not be opened was passed over as "not a DICOM image" (a missing-slice
+    # ValueError), and then a ValueError saying "Permission denied".
+    prefix = as_unprivileged_user()
+    if prefix is None:
+        pytest.skip("root without setpriv: no user that permissions stop")
+    import shutil
+    import tempfile
+    with tempfile.TemporaryDirectory() as top:  # pytest's own folder is the owner's alone
+        series = pathlib.Path(top) / "series"
+        shutil.copytree(os.path.join(SHARED, "dicom", "ct-philips"), series)
+        for f in series.iterdir():
+            f.chmod(0o644)
+        (series / "I120").chmod(0)
+        for folder in (top, series):
+            os.chmod(folder, 0o755)
+        check_permission_error(prefix, series)
+
+
+def check_permission_error(prefix, series):
+    package = os.path.dirname(os.path.dirname(intermix.__file__))
+    p = subprocess.run(prefix + [sys.executable, "-c", f"""
+import intermix
+for read in (intermix.read_volume, intermix.read_volume_info):
+    try:
+        read({str(series)!r})
+    except OSError as e:
+        print(type(e).__name__, e.errno, e)
+"""], capture_output=True, text=True, timeout=120, env={**os.environ, "PYTHONPATH": package})
+    assert p.returncode == 0, p.stderr
+    line = f"PermissionError 13 {series}/I120: cannot open the file: Permission denied"
+    assert p.stdout.splitlines() == [line, line]

@@ -52,11 +52,17 @@ bool is_dicomdir(const std::filesystem::path& file) {
          "1.2.840.10008.1.3.10";
 }
 
+// A file or folder that could not be read: why, and the errno when it could not be opened.
+struct BrokenFile {
+  std::string message;
+  int code = 0;
+};
+
 // Every regular file below `folder` (links to files followed, links to folders not: no loops),
 // sorted. A folder below it that cannot be listed is added to `unlisted`, saying why: its files
 // could be a series' slices. `folder` itself that cannot be listed is an imx::FileError.
 std::vector<std::filesystem::path> files_under(const std::filesystem::path& folder,
-                                               std::vector<std::string>& unlisted) {
+                                               std::vector<BrokenFile>& unlisted) {
   namespace fs = std::filesystem;
   std::vector<fs::path> files;
   std::vector<std::pair<fs::path, int>> pending{{folder, 0}};  // a folder, its entries' depth
@@ -81,10 +87,17 @@ std::vector<std::filesystem::path> files_under(const std::filesystem::path& fold
     const std::string why =
         fmt::format("{}: cannot read the folder: {}", dir.string(), std::strerror(ec.value()));
     if (dir == folder) throw FileError(why, ec.value());
-    unlisted.push_back(why);
+    unlisted.push_back({why, ec.value()});
   }
   std::sort(files.begin(), files.end());
   return files;
+}
+
+// A file that could not be opened or listed stays an imx::FileError (a PermissionError in
+// Python); one whose content is at fault an imx::Error.
+[[noreturn]] void throw_broken(const BrokenFile& b) {
+  if (b.code != 0) throw FileError(b.message, b.code);
+  throw Error(b.message);
 }
 
 bool same_direction(const std::optional<glm::dvec3>& a, const std::optional<glm::dvec3>& b) {
@@ -111,7 +124,8 @@ std::string describe_series(const DicomSeriesInfo& s) {
 
 std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& source,
                                                 std::vector<std::string>* broken,
-                                                std::vector<std::string>* not_images) {
+                                                std::vector<std::string>* not_images,
+                                                int* first_broken_code) {
   namespace fs = std::filesystem;
   const std::string what = source.string();
   std::error_code ec;
@@ -148,7 +162,7 @@ std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& sou
   }
   if (folder) {
     const fs::path dir = fs::is_directory(status) ? source : source.parent_path();
-    std::vector<std::string> unreadable;
+    std::vector<BrokenFile> unreadable;
     for (const fs::path& f : files_under(dir.empty() ? fs::path(".") : dir, unreadable)) {
       try {
         const fs::path readable = is_gzip_file(f) ? inflated->add(f) : f;
@@ -156,12 +170,17 @@ std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& sou
           headers.push_back(std::move(*h));
         else if (not_images != nullptr)
           not_images->push_back(f.string());
+      } catch (const FileError& e) {
+        unreadable.push_back({inflated->original_names(e.what()), e.code()});
       } catch (const Error& e) {
-        unreadable.push_back(inflated->original_names(e.what()));
+        unreadable.push_back({inflated->original_names(e.what()), 0});
       }
     }
-    if (broken != nullptr) *broken = unreadable;
-    if (headers.empty() && !unreadable.empty()) throw Error(unreadable.front());
+    if (broken != nullptr)
+      for (const BrokenFile& b : unreadable) broken->push_back(b.message);
+    if (first_broken_code != nullptr && !unreadable.empty())
+      *first_broken_code = unreadable.front().code;
+    if (headers.empty() && !unreadable.empty()) throw_broken(unreadable.front());
     if (headers.empty()) {
       // A folder named like a file ("x.nrrd/") was most likely meant as that file.
       const std::string ext = fs::path(what).extension().string();
