@@ -106,9 +106,11 @@ def write_cases(folder, data):
             "file meta" if label == "meta" else None)
     put("empty.dcm", b"", "an empty .dcm file", "not a DICOM file")
     put("text.dcm", b"this is not a DICOM file\n" * 20, "text named .dcm", "not a DICOM file")
-    put("no-pixels.dcm", without(explicit, PIXEL_DATA), "a DICM file without pixel data", "no pixel data")
+    put("no-pixels.dcm", without(explicit, PIXEL_DATA), "a DICM file without pixel data",
+        "no pixel data")
     put("no-rows.dcm", without(explicit, ROWS), "no Rows (0028,0010)", "no Rows (0028,0010)")
-    put("no-columns.dcm", without(explicit, COLUMNS), "no Columns (0028,0011)", "no Columns (0028,0011)")
+    put("no-columns.dcm", without(explicit, COLUMNS), "no Columns (0028,0011)",
+        "no Columns (0028,0011)")
     put("ts-unknown.dcm", with_text(explicit, TRANSFER_SYNTAX, "1.2.3.4.5.6"),
         "an unknown transfer syntax", "transfer syntax '1.2.3.4.5.6'")
     put("ts-jpeg-on-native.dcm", with_text(explicit, TRANSFER_SYNTAX, "1.2.840.10008.1.2.4.50"),
@@ -117,7 +119,8 @@ def write_cases(folder, data):
     put("ts-native-on-jpeg.dcm", with_text(jpeg, TRANSFER_SYNTAX, "1.2.840.10008.1.2.1"),
         "explicit little endian named over JPEG fragments",
         "says the pixel data is not compressed")
-    put("ts-missing.dcm", without(explicit, TRANSFER_SYNTAX), "no TransferSyntaxUID", "no TransferSyntaxUID")
+    put("ts-missing.dcm", without(explicit, TRANSFER_SYNTAX), "no TransferSyntaxUID",
+        "no TransferSyntaxUID")
     put("ts-deflated.dcm", with_text(explicit, TRANSFER_SYNTAX, "1.2.840.10008.1.2.1.99"),
         "the deflated transfer syntax over a plain data set",
         "deflated")
