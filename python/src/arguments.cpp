@@ -480,6 +480,9 @@ void explain_mismatched_calls(py::module_& module) {
       for (const py::object& function : functions_behind(member.second))
         route_through_own_errors(function);
     if (!constructible) refuse_construction(value);
+    // Python's own messages name a type by tp_name, which pybind11 made "intermix._intermix.Scene"
+    // ("cannot pickle 'intermix._intermix.Scene' object"); setting __name__ makes it "Scene".
+    py::setattr(value, "__name__", py::str(value.attr("__name__")));
   }
 }
 

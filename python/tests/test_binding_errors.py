@@ -352,6 +352,24 @@ def test_classes_intermix_makes_say_so_when_called():
                        f"(see help(intermix.{cls.__name__}))")
 
 
+def test_pythons_own_messages_name_the_classes_without_the_extension_module():
+    # Python names a type by its tp_name: "cannot pickle 'intermix._intermix.Scene' object".
+    import pickle
+    for call, message in [
+            (lambda: pickle.dumps(scene()), "cannot pickle 'Scene' object"),
+            (lambda: scene()[0], "'Scene' object is not subscriptable"),
+            (lambda: pickle.dumps(VOLUME), "cannot pickle 'Volume' object")]:
+        assert message_of(call) == (TypeError, message)
+
+    class Unready(intermix.Scene):
+        def __init__(self):
+            pass
+
+    assert message_of(Unready) == (
+        TypeError, "Scene.__init__() must be called when overriding __init__")
+    assert repr(intermix.View) == "<class 'intermix.View'>"
+
+
 def test_a_null_is_named_once():
     assert message_of(lambda: scene().add_streamlines("t", None)) == (
         ValueError, "scene dict: objects[1].radius: expected a number, got null")
