@@ -408,7 +408,54 @@ void replace_mismatch_error(PyObject* capsule, PyObject* args, PyObject* kwargs)
   PyErr_SetString(PyExc_TypeError, message.c_str());
 }
 
+// Whether `value` is an instance of a bound class made by Cls.__new__ without __init__: it
+// holds no C++ object, and a method reading it crashed (Volume.__new__(Volume).shape).
+bool unready_instance(PyObject* value) {
+  if (!PyObject_TypeCheck(
+          value, reinterpret_cast<PyTypeObject*>(py::detail::get_internals().instance_base)))
+    return false;
+  auto* inst = reinterpret_cast<py::detail::instance*>(value);
+  for (const py::detail::value_and_holder& vh : py::detail::values_and_holders(inst))
+    if (!vh.holder_constructed()) return true;
+  return false;
+}
+
+// True, with TypeError set, when an argument of the call (self among them, but for __init__,
+// which makes it) is such an instance.
+bool refused_unready_argument(PyObject* capsule, PyObject* args, PyObject* kwargs) {
+  const auto* record = static_cast<const FunctionRecord*>(
+      PyCapsule_GetPointer(capsule, py::detail::get_function_record_capsule_name()));
+  if (record == nullptr) {
+    PyErr_Clear();
+    return false;
+  }
+  const bool constructor =
+      record->is_constructor || (record->name && std::strcmp(record->name, "__init__") == 0);
+  std::vector<PyObject*> given;
+  for (Py_ssize_t i = constructor ? 1 : 0; args && i < PyTuple_GET_SIZE(args); ++i)
+    given.push_back(PyTuple_GET_ITEM(args, i));
+  PyObject *key = nullptr, *value = nullptr;
+  for (Py_ssize_t at = 0; kwargs && PyDict_Next(kwargs, &at, &key, &value);) given.push_back(value);
+  for (PyObject* v : given)
+    if (unready_instance(v)) {
+      // "Scene.to_dict", "write_volume", or the class alone for a property's getter.
+      std::string function = record->name ? record->name : "";
+      if (record->scope && PyType_Check(record->scope.ptr()))
+        function = reinterpret_cast<PyTypeObject*>(record->scope.ptr())->tp_name +
+                   (function.empty() ? "" : "." + function);
+      const std::string name = Py_TYPE(v)->tp_name;
+      PyErr_SetString(PyExc_TypeError,
+                      fmt::format("{}: a {} made by {}.__new__ and never initialized; make one "
+                                  "with intermix.{}(...) or the function that gives one",
+                                  function, name, name, name)
+                          .c_str());
+      return true;
+    }
+  return false;
+}
+
 PyObject* dispatch_with_own_errors(PyObject* capsule, PyObject* args, PyObject* kwargs) {
+  if (refused_unready_argument(capsule, args, kwargs)) return nullptr;
   PyObject* result = pybind11_dispatcher(capsule, args, kwargs);
   if (result == nullptr && PyErr_ExceptionMatches(PyExc_TypeError))
     replace_mismatch_error(capsule, args, kwargs);

@@ -370,6 +370,34 @@ def test_pythons_own_messages_name_the_classes_without_the_extension_module():
     assert repr(intermix.View) == "<class 'intermix.View'>"
 
 
+def test_an_instance_made_without_init_is_refused_not_a_crash():
+    # Cls.__new__(Cls) holds no C++ object; reading it crashed (Volume's shape, a Renderer's
+    # lock, a Scene passed to render).
+    rc, out, err = run_python("""
+import intermix
+calls = [
+    lambda: intermix.Volume.__new__(intermix.Volume).shape,
+    lambda: intermix.Renderer.__new__(intermix.Renderer).render(
+        intermix.Scene.from_dict({"objects": []})),
+    lambda: intermix.Renderer().render(intermix.Scene.__new__(intermix.Scene)),
+    lambda: intermix.write_volume(intermix.Volume.__new__(intermix.Volume), "never.nii"),
+]
+for call in calls:
+    try:
+        call()
+    except TypeError as e:
+        print(e)
+""")
+    assert rc == 0, err
+    made = "made by {0}.__new__ and never initialized; make one with intermix.{0}(...) or the " \
+           "function that gives one"
+    assert out.splitlines() == [
+        "Volume: a Volume " + made.format("Volume"),
+        "Renderer.render: a Renderer " + made.format("Renderer"),
+        "Renderer.render: a Scene " + made.format("Scene"),
+        "write_volume: a Volume " + made.format("Volume")]
+
+
 def test_a_null_is_named_once():
     assert message_of(lambda: scene().add_streamlines("t", None)) == (
         ValueError, "scene dict: objects[1].radius: expected a number, got null")
