@@ -152,4 +152,4 @@ class Image(_np.ndarray):
 _set_image_type(Image)
 
 Scene.__module__ = Volume.__module__ = Mesh.__module__ = Streamlines.__module__ = __name__
-Renderer.__module__ = RendererStats.__module__ = __name__
+Renderer.__module__ = RendererStats.__module__ = View.__module__ = __name__

@@ -3,13 +3,58 @@
 drawing happens here that the engine does not do.
 """
 
+import math
+import numbers
 import os
 import sys
+from collections.abc import Mapping
 
 import numpy as _np
 
 from ._intermix import Renderer, Scene, Streamlines, Volume, _anatomy_box, read_volume, write_png
 from ._movies import check_movie, is_movie_path, write_movie
+
+
+# ---- arguments ----
+
+def _shown(value):
+    """A value for a message: a huge int's first digits and its length, not all its digits."""
+    text = repr(value)
+    return text if len(text) <= 40 else f"{text[:16]}... ({len(text)} characters)"
+
+
+def _real(value, where, lo=-math.inf, hi=math.inf):
+    """`value` as a float in [lo, hi]; else TypeError or ValueError naming `where` ("orbit:
+    degrees") and the value: float() said only "could not convert string to float"."""
+    if isinstance(value, (bool, _np.bool_)) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{where} must be a real number, got {type(value).__name__}")
+    try:
+        f = float(value)
+    except OverflowError:  # an int past a float's range
+        f = math.inf
+    if not math.isfinite(f):
+        raise ValueError(f"{where} {_shown(value)} is not a finite number")
+    if not lo <= f <= hi:
+        raise ValueError(f"{where} {_shown(value)} is not in [{lo:g}, {hi:g}]")
+    return f
+
+
+def _int(value, where, lo, hi):
+    """`value` as an int in [lo, hi]; else TypeError or ValueError naming `where` and it."""
+    if isinstance(value, (bool, _np.bool_)) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{where} must be an int, got {type(value).__name__}")
+    if not lo <= int(value) <= hi:
+        raise ValueError(f"{where} {_shown(int(value))} is not in [{lo}, {hi}]")
+    return int(value)
+
+
+def _point(value, where):
+    """Three finite real numbers as a list of floats; else TypeError or ValueError naming
+    `where`."""
+    if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__len__") \
+            or len(value) != 3:
+        raise TypeError(f"{where} must be three numbers (x, y, z), got {value!r:.80}")
+    return [_real(v, f"{where}[{n}]") for n, v in enumerate(value)]
 
 
 # ---- sources ----
@@ -40,13 +85,14 @@ def threshold_tf(threshold, vmax, symmetric=True, opacity=0.8, colormap=None):
     where |value| (or value, unless symmetric) is below `threshold`, the map's colours from the
     threshold to vmax; "cold-hot" for a symmetric map (negative values in its cold half),
     else "hot"."""
-    threshold = float(threshold)
-    vmax = float(vmax)
+    threshold = _real(threshold, "threshold_tf: threshold")
+    vmax = _real(vmax, "threshold_tf: vmax")
+    opacity = _real(opacity, "threshold_tf: opacity", 0.0, 1.0)
     if not vmax > threshold:
         raise ValueError(f"threshold {threshold:g} is not below the map's largest value {vmax:g}")
     return {"colormap": colormap or ("cold-hot" if symmetric else "hot"),
             "range": [threshold, vmax], "threshold": threshold, "symmetric": bool(symmetric),
-            "opacity": float(opacity)}
+            "opacity": opacity}
 
 
 # ---- stat_map ----
@@ -63,7 +109,8 @@ def stat_map_scene(anatomy, stat, threshold=3.0, *, vmax=None, symmetric=True, v
     anatomy = _volume(anatomy, "stat_map: anatomy")
     stat = _volume(stat, "stat_map: stat")
     peak = _peak_world(stat)
-    top = float(vmax) if vmax is not None else _peak_magnitude(stat)
+    threshold = _real(threshold, "stat_map: threshold")
+    top = _real(vmax, "stat_map: vmax") if vmax is not None else _peak_magnitude(stat)
     lo, hi = (_np.array(corner) for corner in _anatomy_box(anatomy))
     centre, extent = (lo + hi) / 2, hi - lo
     if view is None:  # LPS: +x is the patient's left
@@ -153,14 +200,15 @@ def figure_scene(anatomy, stat=None, threshold=3.0, *, vmax=None, symmetric=True
     if stat is not None:
         name = _map_name(stat)
         stat = _volume(stat, "stat")
-        top = float(vmax) if vmax is not None else _peak_magnitude(stat)
+        threshold = _real(threshold, "figure: threshold")
+        top = _real(vmax, "figure: vmax") if vmax is not None else _peak_magnitude(stat)
         objects.append({"name": name, "type": "volume", "source": stat,
                         "transfer_function": threshold_tf(threshold, top, symmetric)})
     return Scene.from_dict({"objects": objects})
 
 
-def _ras_to_lps(point):
-    x, y, z = (float(v) for v in point)
+def _ras_to_lps(point, where):
+    x, y, z = _point(point, where)
     return [-x, -y, z]
 
 
@@ -172,7 +220,7 @@ def ortho(anatomy, stat=None, threshold=3.0, *, vmax=None, symmetric=True, cut_c
     the crosshair, orientation letters, each cut's coordinate and the colour bar beside the
     panels. Returns an intermix.Image; `intermix figure ortho` draws the same."""
     scene = figure_scene(anatomy, stat, threshold, vmax=vmax, symmetric=symmetric)
-    cut = None if cut_coords is None else _ras_to_lps(cut_coords)
+    cut = None if cut_coords is None else _ras_to_lps(cut_coords, "ortho: cut_coords")
     return scene.figure("ortho", cut=cut, height=height, colorbar=colorbar, annotate=annotate,
                         crosshair=crosshair)
 
@@ -189,10 +237,14 @@ def mosaic(anatomy, stat=None, threshold=3.0, *, vmax=None, symmetric=True, axis
     axis = _AXES[axis]
     scene = figure_scene(anatomy, stat, threshold, vmax=vmax, symmetric=symmetric)
     if isinstance(cut_coords, (int, _np.integer)) and not isinstance(cut_coords, bool):
-        return scene.figure("mosaic", axis=axis, slices=int(cut_coords), columns=columns,
+        slices = _int(cut_coords, "mosaic: cut_coords", 1, 64)
+        return scene.figure("mosaic", axis=axis, slices=slices, columns=columns,
                             height=height, colorbar=colorbar, annotate=annotate)
     sign = 1.0 if axis == "axial" else -1.0  # RAS to LPS along x and y
-    cuts = [sign * float(c) for c in cut_coords]
+    if isinstance(cut_coords, (str, bytes)) or not hasattr(cut_coords, "__iter__"):
+        raise TypeError(f"mosaic: cut_coords must be an int or a list of coordinates, got "
+                        f"{type(cut_coords).__name__}")
+    cuts = [sign * _real(c, f"mosaic: cut_coords[{n}]") for n, c in enumerate(cut_coords)]
     return scene.figure("mosaic", axis=axis, cuts=cuts, columns=columns, height=height,
                         colorbar=colorbar, annotate=annotate)
 
@@ -203,8 +255,8 @@ def glass_brain_scene(stat, threshold=None, *, anatomy=None, vmax=None):
     largest magnitude)."""
     name = _map_name(stat)
     stat = _volume(stat, "glass_brain: stat")
-    top = float(vmax) if vmax is not None else _peak_magnitude(stat)
-    low = 0.0 if threshold is None else float(threshold)
+    top = _real(vmax, "glass_brain: vmax") if vmax is not None else _peak_magnitude(stat)
+    low = 0.0 if threshold is None else _real(threshold, "glass_brain: threshold")
     objects = []
     if anatomy is not None:
         objects.append({"name": "anatomy", "type": "volume",
@@ -255,6 +307,7 @@ def tracts_over_anatomy_scene(tracts, anatomy, *, view="left", radius=0.5, colou
     if view not in _VIEW_AXES:
         raise ValueError(f"tracts_over_anatomy: view '{view}' is not one of "
                          f"{', '.join(_VIEW_AXES)}")
+    radius = _real(radius, "tracts_over_anatomy: radius", 0.0, 1e3)
     if not isinstance(tracts, Streamlines):
         tracts = Streamlines(tracts)
     if tracts.count == 0 or len(tracts.points) == 0:
@@ -266,7 +319,7 @@ def tracts_over_anatomy_scene(tracts, anatomy, *, view="left", radius=0.5, colou
     far = points[:, axis].min() if camera_side > 0 else points[:, axis].max()
     center = (lo + hi) / 2
     # Behind the tubes (their radius and a millimetre), kept inside the anatomy.
-    center[axis] = min(max(far - camera_side * (float(radius) + 1.0), lo[axis]), hi[axis])
+    center[axis] = min(max(far - camera_side * (radius + 1.0), lo[axis]), hi[axis])
     normal = [0.0, 0.0, 0.0]
     normal[axis] = 1.0
     scene = Scene.from_dict({
@@ -304,13 +357,26 @@ def tracts_over_anatomy(tracts, anatomy, *, view="left", radius=0.5, colouring=N
 
 # ---- orbit ----
 
+# As `intermix render --orbit N --orbit-degrees D` takes them.
+_MAX_FRAMES = 100000
+_MAX_DEGREES = 36000.0
+
+
 def orbit_cameras(camera, frames=36, degrees=360.0):
     """`frames` camera blocks turning `camera` (a dict with eye, target, up) about the axis
     through its target along its up vector, evenly over `degrees` (the last frame stops one
     step short of a full turn, so a looping GIF does not repeat a frame)."""
-    eye = _np.asarray(camera["eye"], float)
-    target = _np.asarray(camera["target"], float)
-    axis = _np.asarray(camera["up"], float)
+    if not isinstance(camera, Mapping) or any(k not in camera for k in ("eye", "target", "up")):
+        hint = " (a Scene's is scene.camera)" if isinstance(camera, Scene) else ""
+        raise TypeError(f"orbit_cameras: camera must be a dict with eye, target and up{hint}, "
+                        f"got {type(camera).__name__}")
+    frames = _int(frames, "orbit_cameras: frames", 1, _MAX_FRAMES)
+    degrees = _real(degrees, "orbit_cameras: degrees", -_MAX_DEGREES, _MAX_DEGREES)
+    eye = _np.asarray(_point(camera["eye"], "orbit_cameras: camera['eye']"))
+    target = _np.asarray(_point(camera["target"], "orbit_cameras: camera['target']"))
+    axis = _np.asarray(_point(camera["up"], "orbit_cameras: camera['up']"))
+    if not _np.linalg.norm(axis) > 0:
+        raise ValueError("orbit_cameras: camera['up'] is [0, 0, 0], not a direction")
     axis = axis / _np.linalg.norm(axis)
     offset = eye - target
     cameras = []
@@ -361,8 +427,8 @@ def orbit(scene, frames=36, path=None, *, degrees=360.0, method=None, width=None
     name holding {} (frame-{:03d}.png) is formatted with the index."""
     if not isinstance(scene, Scene):
         raise TypeError(f"orbit: scene must be an intermix.Scene, got {type(scene).__name__}")
-    if isinstance(frames, bool) or not isinstance(frames, (int, _np.integer)) or frames < 1:
-        raise ValueError(f"orbit: frames must be an int of 1 or more, got {frames!r}")
+    frames = _int(frames, "orbit: frames", 1, _MAX_FRAMES)
+    degrees = _real(degrees, "orbit: degrees", -_MAX_DEGREES, _MAX_DEGREES)
     writer = _frame_writer(path, frame_ms) if path is not None else None
     turning = scene.copy()
     renderer = Renderer()
@@ -398,6 +464,7 @@ def _frame_writer(path, frame_ms):
     frame is rendered."""
     path = os.fspath(path)
     lower = path.lower()
+    frame_ms = _real(frame_ms, "orbit: frame_ms", 1.0, 60000.0)
     if is_movie_path(path):
         if isinstance(frame_ms, bool) or not isinstance(frame_ms, (int, float, _np.number)) \
                 or not 1000.0 / 240 <= frame_ms <= 1000.0:

@@ -8,9 +8,6 @@
 #include <vector>
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
-
-#include "core/edit_distance.hpp"
 
 namespace imx::python {
 namespace {
@@ -197,8 +194,12 @@ std::filesystem::path path(const py::handle& value, const Argument& argument) {
   try {
     given = py::module_::import("os").attr("fspath")(value);
   } catch (const py::error_already_set& e) {
-    throw py::type_error(fmt::format("{}: os.fspath failed on the {}: {}", prefix(argument),
-                                     python_type_name(value), e.what()));
+    // e.what() ends in pybind11's traceback ("\n\nAt:\n ..."): the exception's own line only.
+    const std::string reason = py::str(e.value()).cast<std::string>();
+    throw py::type_error(fmt::format("{}: os.fspath failed on the {}: {}: {}", prefix(argument),
+                                     python_type_name(value),
+                                     py::str(e.type().attr("__qualname__")).cast<std::string>(),
+                                     reason.substr(0, reason.find('\n'))));
   }
   if (!PyUnicode_Check(given.ptr()))
     throw py::type_error(fmt::format("{} must be {}, got a {} whose path is {}", prefix(argument),
@@ -236,203 +237,28 @@ py::array array_argument(const py::handle& value, const Argument& argument,
   }
 }
 
-// ---- calls that fit no signature ----
-
-namespace {
-
-using FunctionRecord = py::detail::function_record;
-
-// pybind11's dispatcher, which every function of the module shares (its PyMethodDef's ml_meth).
-PyCFunctionWithKeywords pybind11_dispatcher = nullptr;
-
-std::string quoted_list(const std::vector<std::string>& names) {
-  std::vector<std::string> quoted;
-  for (const std::string& name : names) quoted.push_back("'" + name + "'");
-  return fmt::format("{}", fmt::join(quoted, ", "));
+QuietOverflow::QuietOverflow() : state_(numpy().attr("errstate")(py::arg("over") = "ignore")) {
+  state_.attr("__enter__")();
 }
 
-// How Python spells the function: "phantom", "Scene.render", "Volume" (its constructor), "a
-// Volume property" (properties' functions have no name of their own).
-std::string function_name(const FunctionRecord& record) {
-  const std::string name = record.name ? record.name : "";
-  if (!record.scope || !PyType_Check(record.scope.ptr())) return name;
-  const std::string type = py::str(record.scope.attr("__name__")).cast<std::string>();
-  if (name.empty()) return "a " + type + " property";
-  return name == "__init__" ? type : type + "." + name;
-}
-
-// The parameters a caller names: every one but self.
-struct Parameters {
-  std::vector<std::string> names;
-  std::vector<py::handle> defaults;  // null where there is none
-  size_t positional = 0;             // the first `positional` may be given by position
-  bool takes_keywords = false;       // **kwargs takes any other keyword
-};
-
-Parameters parameters_of(const FunctionRecord& record) {
-  Parameters p;
-  const size_t self = record.is_method ? 1 : 0;
-  const size_t count = record.nargs - (record.has_args ? 1 : 0) - (record.has_kwargs ? 1 : 0);
-  for (size_t i = self; i < count; ++i) {
-    const bool known = i < record.args.size() && record.args[i].name != nullptr;
-    p.names.push_back(known ? record.args[i].name : fmt::format("arg{}", i - self));
-    p.defaults.push_back(i < record.args.size() ? record.args[i].value : py::handle());
-  }
-  p.positional = record.nargs_pos > self ? record.nargs_pos - self : 0;
-  p.takes_keywords = record.has_kwargs;
-  return p;
-}
-
-// "(path, *, space='LPS', frame=0)": the signature as Python writes it.
-std::string signature_of(const Parameters& p) {
-  std::vector<std::string> parts;
-  for (size_t i = 0; i < p.names.size(); ++i) {
-    if (i == p.positional) parts.emplace_back("*");
-    parts.push_back(p.defaults[i] ? p.names[i] + "=" + py::repr(p.defaults[i]).cast<std::string>()
-                                  : p.names[i]);
-  }
-  if (p.takes_keywords) parts.emplace_back("**keys");
-  return fmt::format("({})", fmt::join(parts, ", "));
-}
-
-// What is wrong with a call pybind11 found no overload for, in Python's words.
-std::string describe_mismatch(const FunctionRecord& record, PyObject* args, PyObject* kwargs) {
-  const std::string function = function_name(record);
-  const Parameters p = parameters_of(record);
-  const std::string takes = "; it takes " + signature_of(p);
-  const auto given = static_cast<size_t>(PyTuple_GET_SIZE(args));
-  const size_t self = record.is_method ? 1 : 0;
-  if (record.is_method && !record.is_constructor) {
-    const std::string type = py::str(record.scope.attr("__name__")).cast<std::string>();
-    if (given == 0)
-      return fmt::format("{}: called without an intermix.{} (call it on one)", function, type);
-    const py::handle first = PyTuple_GET_ITEM(args, 0);
-    if (PyObject_IsInstance(first.ptr(), record.scope.ptr()) != 1) {
-      PyErr_Clear();
-      return fmt::format("{}: self must be an intermix.{}, got {}", function, type,
-                         python_type_name(first));
-    }
-  }
-  const size_t positional = given - std::min(given, self);
-  if (!record.has_args && positional > p.positional) {
-    const std::vector<std::string> names(p.names.begin(), p.names.begin() + p.positional);
-    const std::string by_position =
-        p.positional == 0 ? "takes no positional arguments"
-                          : fmt::format("takes at most {} positional argument{} ({})", p.positional,
-                                        p.positional == 1 ? "" : "s", fmt::join(names, ", "));
-    return fmt::format("{}: {}, got {}{}", function, by_position, positional, takes);
-  }
-  std::vector<std::string> named;
-  if (kwargs != nullptr) {
-    PyObject *key = nullptr, *value = nullptr;
-    Py_ssize_t pos = 0;
-    while (PyDict_Next(kwargs, &pos, &key, &value)) {
-      const std::string name = py::str(key).cast<std::string>();
-      named.push_back(name);
-      const auto it = std::find(p.names.begin(), p.names.end(), name);
-      if (it == p.names.end()) {
-        if (p.takes_keywords) continue;
-        return fmt::format("{}: got an unexpected keyword argument '{}'{}{}", function, name,
-                           imx::did_you_mean(name, p.names), takes);
-      }
-      if (static_cast<size_t>(it - p.names.begin()) < positional)
-        return fmt::format("{}: got '{}' twice, by position and by keyword{}", function, name,
-                           takes);
-    }
-  }
-  std::vector<std::string> missing;
-  for (size_t i = positional; i < p.names.size(); ++i)
-    if (!p.defaults[i] && std::find(named.begin(), named.end(), p.names[i]) == named.end())
-      missing.push_back(p.names[i]);
-  if (!missing.empty())
-    return fmt::format("{}: missing the argument{} {}{}", function, missing.size() == 1 ? "" : "s",
-                       quoted_list(missing), takes);
-  return fmt::format("{}: cannot take these arguments{}", function, takes);
-}
-
-// Replaces pybind11's "NAME(): incompatible function arguments ..." TypeError, which is set,
-// by intermix's own; any other error stays as it is.
-void replace_mismatch_error(PyObject* capsule, PyObject* args, PyObject* kwargs) {
-  PyObject *type = nullptr, *value = nullptr, *trace = nullptr;
-  PyErr_Fetch(&type, &value, &trace);
-  std::string message;
+QuietOverflow::~QuietOverflow() {
   try {
-    const auto* record = static_cast<const FunctionRecord*>(
-        PyCapsule_GetPointer(capsule, py::detail::get_function_record_capsule_name()));
-    if (record == nullptr) throw py::error_already_set();
-    const std::string text = value ? py::str(value).cast<std::string>() : std::string();
-    const std::string expected =
-        std::string(record->name ? record->name : "") + "(): incompatible ";
-    if (text.compare(0, expected.size(), expected) == 0)
-      message = describe_mismatch(*record, args, kwargs);
-  } catch (...) {
-    PyErr_Clear();  // describing failed: pybind11's message is better than none
-    message.clear();
+    state_.attr("__exit__")(py::none(), py::none(), py::none());
+  } catch (py::error_already_set&) {
+    PyErr_Clear();  // restoring numpy's error state cannot fail in a way worth a crash
   }
-  if (message.empty()) {
-    PyErr_Restore(type, value, trace);
-    return;
-  }
-  Py_XDECREF(type);
-  Py_XDECREF(value);
-  Py_XDECREF(trace);
-  PyErr_SetString(PyExc_TypeError, message.c_str());
 }
 
-PyObject* dispatch_with_own_errors(PyObject* capsule, PyObject* args, PyObject* kwargs) {
-  PyObject* result = pybind11_dispatcher(capsule, args, kwargs);
-  if (result == nullptr && PyErr_ExceptionMatches(PyExc_TypeError))
-    replace_mismatch_error(capsule, args, kwargs);
-  return result;
-}
-
-// Routes a pybind11 function's calls through dispatch_with_own_errors (its PyMethodDef is its
-// own, so no other function changes); anything else is left alone.
-void route_through_own_errors(const py::handle& function) {
-  if (!function || !PyCFunction_Check(function.ptr())) return;
-  auto* cfunction = reinterpret_cast<PyCFunctionObject*>(function.ptr());
-  if (cfunction->m_self == nullptr || !PyCapsule_CheckExact(cfunction->m_self)) return;
-  if (!py::detail::is_function_record_capsule(
-          py::reinterpret_borrow<py::capsule>(cfunction->m_self)))
-    return;
-  PyMethodDef* def = cfunction->m_ml;
-  if ((def->ml_flags & METH_KEYWORDS) == 0) return;
-  auto* current =
-      reinterpret_cast<PyCFunctionWithKeywords>(reinterpret_cast<void (*)()>(def->ml_meth));
-  if (current == &dispatch_with_own_errors) return;
-  if (pybind11_dispatcher == nullptr) pybind11_dispatcher = current;
-  if (current != pybind11_dispatcher) return;
-  def->ml_meth =
-      reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(&dispatch_with_own_errors));
-}
-
-// The functions behind a class attribute: a method's, a static method's, a property's getter
-// and setter, or the attribute itself.
-std::vector<py::object> functions_behind(const py::handle& attribute) {
-  if (PyInstanceMethod_Check(attribute.ptr()))
-    return {py::reinterpret_borrow<py::object>(PyInstanceMethod_GET_FUNCTION(attribute.ptr()))};
-  const py::module_ builtins = py::module_::import("builtins");
-  if (py::isinstance(attribute, builtins.attr("staticmethod"))) return {attribute.attr("__func__")};
-  if (py::isinstance(attribute, builtins.attr("property")))
-    return {attribute.attr("fget"), attribute.attr("fset")};
-  return {py::reinterpret_borrow<py::object>(attribute)};
-}
-
-}  // namespace
-
-void explain_mismatched_calls(py::module_& module) {
-  const py::object module_name = module.attr("__name__");
-  for (const auto item : py::reinterpret_borrow<py::dict>(module.attr("__dict__"))) {
-    const py::handle value = item.second;
-    route_through_own_errors(value);
-    if (!PyType_Check(value.ptr()) ||
-        !py::getattr(value, "__module__", py::none()).equal(module_name))
-      continue;
-    // tp_dict, not __dict__: a class's __dict__ is a read-only proxy.
-    const auto* type = reinterpret_cast<PyTypeObject*>(value.ptr());
-    for (const auto member : py::reinterpret_borrow<py::dict>(type->tp_dict))
-      for (const py::object& function : functions_behind(member.second))
-        route_through_own_errors(function);
+py::array_t<float, py::array::c_style | py::array::forcecast> float32_array(
+    const py::array& given, const std::string& what) {
+  using Floats = py::array_t<float, py::array::c_style | py::array::forcecast>;
+  const QuietOverflow quiet;
+  try {
+    return numpy().attr("ascontiguousarray")(given, py::arg("dtype") = "float32").cast<Floats>();
+  } catch (py::error_already_set& e) {
+    if (e.matches(PyExc_MemoryError)) throw;
+    const std::string reason = py::str(e.value()).cast<std::string>();
+    throw py::value_error(fmt::format("{}: {}", what, reason.substr(0, reason.find('\n'))));
   }
 }
 

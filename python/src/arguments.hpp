@@ -71,6 +71,26 @@ std::optional<std::filesystem::path> optional_path(const py::handle& value,
 py::array array_argument(const py::handle& value, const Argument& argument,
                          std::string_view expected, const py::handle& dtype = py::none());
 
+// numpy's overflow warning silenced while alive (numpy.errstate(over="ignore")), for a cast to
+// float32 whose values past its range intermix's own check names afterwards: the warning, made
+// an error by warnings.simplefilter("error"), said only "overflow encountered in cast".
+class QuietOverflow {
+ public:
+  QuietOverflow();
+  ~QuietOverflow();
+  QuietOverflow(const QuietOverflow&) = delete;
+  QuietOverflow& operator=(const QuietOverflow&) = delete;
+
+ private:
+  py::object state_;
+};
+
+// `given` as C-contiguous float32, converted by numpy (QuietOverflow: the caller checks the
+// values). What numpy raises meanwhile is ValueError "what: numpy's reason", a MemoryError stays
+// one: array_t::ensure gave an empty array then, read as one (a crash).
+py::array_t<float, py::array::c_style | py::array::forcecast> float32_array(
+    const py::array& given, const std::string& what);
+
 // A bound class's instance (PyVolume, PyMesh, PyScene), else TypeError "function: name must be
 // an intermix.Volume, got str".
 template <class T>

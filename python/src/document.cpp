@@ -29,6 +29,42 @@ std::string type_name(const py::handle& value) {
   return py::str(py::type::handle_of(value).attr("__name__")).cast<std::string>();
 }
 
+// A str as UTF-8. One holding lone surrogates (os.fsdecode's for bytes that are not UTF-8) is
+// refused, naming where it is: pybind11's cast said only "Unable to cast Python instance".
+std::string utf8_text(const py::handle& value, const std::string& origin, const std::string& path,
+                      const char* what) {
+  Py_ssize_t size = 0;
+  const char* data = PyUnicode_AsUTF8AndSize(value.ptr(), &size);
+  if (data == nullptr) {
+    PyErr_Clear();
+    fail(origin, path,
+         fmt::format("{}{} is not valid text (it holds lone surrogates)", what,
+                     py::repr(value).cast<std::string>()));
+  }
+  return std::string(data, static_cast<size_t>(size));
+}
+
+// A numpy floating scalar that has no Python type (longdouble: its tolist() gives itself back,
+// which recursed until the stack ran out) as a double, or refused when a double cannot hold it.
+double numpy_scalar_real(const py::handle& value, const std::string& origin,
+                         const std::string& path) {
+  const py::module_ np = py::module_::import("numpy");
+  if (!py::isinstance(value, np.attr("floating")))
+    fail(origin, path,
+         fmt::format("a numpy.{} is not a scene value (dict, list, str, number, bool, None, numpy "
+                     "array, intermix.Volume, intermix.Mesh or intermix.Streamlines)",
+                     type_name(value)));
+  const double d = PyFloat_AsDouble(value.ptr());
+  if (d == -1.0 && PyErr_Occurred()) throw py::error_already_set();
+  if (std::isfinite(d)) return d;
+  const std::string shown = py::str(value).cast<std::string>();
+  if (np.attr("isfinite")(value).cast<bool>())
+    fail(origin, path,
+         fmt::format("{} is too large: numbers are used as floats (at most {:g})", shown,
+                     static_cast<double>(std::numeric_limits<float>::max())));
+  fail(origin, path, fmt::format("{} is not a finite number", shown));
+}
+
 nlohmann::json convert(const py::handle& value, GivenSources& sources, const std::string& origin,
                        const std::string& path, int depth) {
   if (depth > scene_json::kMaxJsonDepth)
@@ -45,14 +81,25 @@ nlohmann::json convert(const py::handle& value, GivenSources& sources, const std
       return value.cast<unsigned long long>();
     } catch (const py::cast_error&) {
     }
-    return py::float_(py::reinterpret_borrow<py::object>(value)).cast<double>();
+    const double d = PyLong_AsDouble(value.ptr());
+    if (d == -1.0 && PyErr_Occurred()) {
+      // Past a double's range: Python's "int too large to convert to float" named nothing.
+      PyErr_Clear();
+      const std::string digits = py::str(value).cast<std::string>();
+      fail(origin, path,
+           fmt::format("an int of {} digits is too large: numbers are used as floats (at most "
+                       "{:g})",
+                       digits.size() - (digits.front() == '-' ? 1 : 0),
+                       static_cast<double>(std::numeric_limits<float>::max())));
+    }
+    return d;
   }
   if (py::isinstance<py::float_>(value)) {
     const double d = value.cast<double>();
     if (!std::isfinite(d)) fail(origin, path, fmt::format("{} is not a finite number", d));
     return d;
   }
-  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  if (py::isinstance<py::str>(value)) return utf8_text(value, origin, path, "");
   if (py::isinstance<PyVolume>(value)) {
     const std::string& id = value.cast<const PyVolume&>().id;
     sources[id] = py::reinterpret_borrow<py::object>(value);
@@ -78,7 +125,7 @@ nlohmann::json convert(const py::handle& value, GivenSources& sources, const std
         fail(origin, path,
              fmt::format("key {} is a {}; keys must be strings",
                          py::repr(kv[0]).cast<std::string>(), type_name(kv[0])));
-      const std::string key = kv[0].cast<std::string>();
+      const std::string key = utf8_text(kv[0], origin, path, "key ");
       // Checked before anything converts the array: turning a volume into JSON to print an
       // error took seconds and hundreds of MiB.
       if (key == "source" && py::isinstance<py::array>(kv[1]))
@@ -109,10 +156,19 @@ nlohmann::json convert(const py::handle& value, GivenSources& sources, const std
                      "intermix.Mesh",
                      py::str(value.attr("shape")).cast<std::string>(),
                      py::reinterpret_borrow<py::array>(value).size(), kMaxArrayValues));
-  if (py::isinstance(value, np.attr("ndarray")) || py::isinstance(value, np.attr("generic")))
-    return convert(value.attr("tolist")(), sources, origin, path, depth);
-  if (py::isinstance(value, py::module_::import("os").attr("PathLike")))
-    return py::module_::import("os").attr("fspath")(value).cast<std::string>();
+  if (py::isinstance(value, np.attr("ndarray")) || py::isinstance(value, np.attr("generic"))) {
+    const py::object plain = value.attr("tolist")();
+    if (py::isinstance(plain, np.attr("generic"))) return numpy_scalar_real(plain, origin, path);
+    return convert(plain, sources, origin, path, depth + 1);
+  }
+  if (py::isinstance(value, py::module_::import("os").attr("PathLike"))) {
+    const py::object given = py::module_::import("os").attr("fspath")(value);
+    if (!py::isinstance<py::str>(given))
+      fail(origin, path,
+           fmt::format("a {} whose path is {} is not a scene value (paths are text)",
+                       type_name(value), type_name(given)));
+    return utf8_text(given, origin, path, "");
+  }
   fail(origin, path,
        fmt::format("a {} is not a scene value (dict, list, str, number, bool, None, numpy "
                    "array, intermix.Volume, intermix.Mesh or intermix.Streamlines)",

@@ -76,7 +76,7 @@ Image array_to_image(const py::handle& value, const std::string& what) {
   if (given.shape(0) > std::numeric_limits<int>::max() ||
       given.shape(1) > std::numeric_limits<int>::max())
     throw py::value_error(fmt::format("{}: too large", what));
-  FloatImage a = FloatImage::ensure(given);
+  const FloatImage a = float32_array(given, what);
   Image image(static_cast<int>(a.shape(1)), static_cast<int>(a.shape(0)));
   std::memcpy(static_cast<void*>(image.data()), a.data(), image.size() * sizeof(glm::vec4));
   // A NaN would compare as equal (PSNR inf) or show as black: an image is finite, as every

@@ -31,7 +31,7 @@ std::vector<glm::vec3> vec3_rows(const py::handle& value, const char* name, py::
   if (kind != 'f' && kind != 'i' && kind != 'u')
     throw py::type_error(fmt::format("Mesh: {} must be numbers, got dtype {}", name,
                                      py::str(given.dtype()).cast<std::string>()));
-  FloatRows a = FloatRows::ensure(given);
+  const FloatRows a = float32_array(given, fmt::format("Mesh: {}", name));
   std::vector<glm::vec3> out(static_cast<size_t>(a.shape(0)));
   if (!out.empty()) std::copy_n(a.data(), out.size() * 3, &out[0].x);
   return out;

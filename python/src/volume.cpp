@@ -314,7 +314,10 @@ std::shared_ptr<PyVolume> make_volume(const ArrayParameter& given,
       if (PyErr_WarnEx(PyExc_UserWarning, message.c_str(), 1) < 0) throw py::error_already_set();
     }
     const py::array given = kji;
-    kji = np.attr("ascontiguousarray")(kji, py::arg("dtype") = target);
+    {
+      const QuietOverflow quiet;  // require_float32_range names such a value
+      kji = np.attr("ascontiguousarray")(kji, py::arg("dtype") = target);
+    }
     if (given.dtype().kind() == 'f' && given.dtype().itemsize() > 4)
       require_float32_range(np, given, kji, shape);
   }

@@ -8,6 +8,8 @@ valid there just runs); python/src/arguments.* converts the arguments.
 import math
 import os
 import pathlib
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -17,7 +19,8 @@ import intermix
 BAD_VALUES = [2**31, 2**63, 2**70, -1, -(2**31), 0, 1.5, math.nan, math.inf, "x", None, [], {},
               object(), b"abc", True, np.int64(2**40), np.float32(3), np.bool_(True)]
 PYBIND11_PHRASES = ("incompatible function arguments", "incompatible constructor arguments",
-                    "Unable to cast", "Invoked with", "std::", "pybind11")
+                    "Unable to cast", "Invoked with", "std::", "pybind11",
+                    "No constructor defined", "_intermix.", "\nAt:\n", "SystemError")
 ALLOWED = (TypeError, ValueError, OSError, MemoryError)
 
 SPHERE_SCENE = {
@@ -307,3 +310,245 @@ def test_a_message_quoting_bytes_that_are_not_utf8_keeps_its_text(tmp_path):
     assert str(e.value).startswith(f"{tmp_path}/scene.json: "), str(e.value)
     with pytest.raises(ValueError, match="^scene text: "):
         intermix.Scene.from_json("\x89PNG")
+
+
+# ---- issue 48: the Python cases that showed pybind11 text or crashed ----
+
+
+class RaisingPath:
+    def __fspath__(self):
+        raise RuntimeError("no path today")
+
+
+def test_a_path_whose_fspath_raises_gets_one_line_without_pybind11s_traceback():
+    kind, message = message_of(lambda: intermix.read_volume(RaisingPath()))
+    assert (kind, message) == (
+        TypeError, "read_volume: path: os.fspath failed on the test_binding_errors.RaisingPath: "
+                   "RuntimeError: no path today")
+
+
+def test_text_with_lone_surrogates_in_a_scene_is_refused_naming_where():
+    # os.fsdecode gives such text for file names that are not UTF-8; pybind11 said "Unable to
+    # cast Python instance to C++ type".
+    assert message_of(lambda: scene().set("objects[0].name", "a\udcff")) == (
+        ValueError, "scene dict: objects[0].name: 'a\\udcff' is not valid text (it holds lone "
+                    "surrogates)")
+    assert message_of(lambda: intermix.Scene.from_dict({"objects": [], "\udcff": 1})) == (
+        ValueError, "scene dict: key '\\udcff' is not valid text (it holds lone surrogates)")
+
+
+def test_an_int_past_a_doubles_range_in_a_scene_is_named():
+    # Python's "int too large to convert to float" (an OverflowError) named nothing.
+    assert message_of(lambda: scene().set("camera.fov_deg", -10**400)) == (
+        ValueError, "scene dict: camera.fov_deg: an int of 401 digits is too large: numbers are "
+                    "used as floats (at most 3.40282e+38)")
+
+
+def test_classes_intermix_makes_say_so_when_called():
+    for cls in (intermix.View, intermix.RendererStats):
+        kind, message = message_of(cls)
+        assert (kind, message) == (
+            TypeError, f"intermix.{cls.__name__} is not made directly: intermix gives one "
+                       f"(see help(intermix.{cls.__name__}))")
+
+
+def test_pythons_own_messages_name_the_classes_without_the_extension_module():
+    # Python names a type by its tp_name: "cannot pickle 'intermix._intermix.Scene' object".
+    import pickle
+    for call, message in [
+            (lambda: pickle.dumps(scene()), "cannot pickle 'Scene' object"),
+            (lambda: scene()[0], "'Scene' object is not subscriptable"),
+            (lambda: pickle.dumps(VOLUME), "cannot pickle 'Volume' object")]:
+        assert message_of(call) == (TypeError, message)
+
+    class Unready(intermix.Scene):
+        def __init__(self):
+            pass
+
+    assert message_of(Unready) == (
+        TypeError, "Scene.__init__() must be called when overriding __init__")
+    assert repr(intermix.View) == "<class 'intermix.View'>"
+
+
+def test_an_instance_made_without_init_is_refused_not_a_crash():
+    # Cls.__new__(Cls) holds no C++ object; reading it crashed (Volume's shape, a Renderer's
+    # lock, a Scene passed to render).
+    rc, out, err = run_python("""
+import intermix
+calls = [
+    lambda: intermix.Volume.__new__(intermix.Volume).shape,
+    lambda: intermix.Renderer.__new__(intermix.Renderer).render(
+        intermix.Scene.from_dict({"objects": []})),
+    lambda: intermix.Renderer().render(intermix.Scene.__new__(intermix.Scene)),
+    lambda: intermix.write_volume(intermix.Volume.__new__(intermix.Volume), "never.nii"),
+]
+for call in calls:
+    try:
+        call()
+    except TypeError as e:
+        print(e)
+""")
+    assert rc == 0, err
+    made = "made by {0}.__new__ and never initialized; make one with intermix.{0}(...) or the " \
+           "function that gives one"
+    assert out.splitlines() == [
+        "Volume: a Volume " + made.format("Volume"),
+        "Renderer.render: a Renderer " + made.format("Renderer"),
+        "Renderer.render: a Scene " + made.format("Scene"),
+        "write_volume: a Volume " + made.format("Volume")]
+
+
+def test_a_null_is_named_once():
+    assert message_of(lambda: scene().add_streamlines("t", None)) == (
+        ValueError, "scene dict: objects[1].radius: expected a number, got null")
+
+
+def run_python(code):
+    """Runs `code` in a fresh interpreter (a crash there fails this test, not the session);
+    returns (exit code, stdout, stderr)."""
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    return p.returncode, p.stdout, p.stderr
+
+
+def test_a_numpy_longdouble_in_a_scene_is_a_number_or_refused_not_a_crash():
+    # Its tolist() gives itself back: the conversion recursed until the stack ran out.
+    rc, out, err = run_python("""
+import numpy as np, intermix
+s = intermix.Scene.from_dict({"objects": []})
+s.set("camera.fov_deg", np.longdouble(30))
+print(s.to_dict()["camera"]["fov_deg"])
+s.set("camera.eye", np.array([1, 2, 3], np.longdouble))
+print(s.to_dict()["camera"]["eye"])
+for v in (np.longdouble("1e4000"), np.longdouble("inf")):
+    try:
+        s.set("camera.fov_deg", v)
+    except ValueError as e:
+        print(e)
+""")
+    assert rc == 0, err
+    assert out.splitlines() == [
+        "30.0", "[1.0, 2.0, 3.0]",
+        "scene dict: camera.fov_deg: 1e+4000 is too large: numbers are used as floats (at most "
+        "3.40282e+38)",
+        "scene dict: camera.fov_deg: inf is not a finite number"]
+
+
+def test_arrays_converted_with_warnings_as_errors_raise_not_crash():
+    # numpy's overflow warning, made an error, left pybind11's array_t::ensure an empty array
+    # that was then read (a segmentation fault), and a Volume said only "overflow encountered in
+    # cast": the cast is quiet now, and intermix's own check names the value.
+    rc, out, err = run_python("""
+import warnings, numpy as np, intermix
+warnings.simplefilter("error")
+warnings.simplefilter("ignore", UserWarning)  # Volume's note that float64 is copied
+big = np.full((4, 4, 4), 1e300)
+calls = {
+    "Volume": lambda: intermix.Volume(big, axes="kji"),
+    "Mesh": lambda: intermix.Mesh(np.eye(3) * 1e300, np.array([[0, 1, 2]])),
+    "Mesh colors": lambda: intermix.Mesh(np.eye(3), np.array([[0, 1, 2]]), colors=np.full((3, 3), 1e300)),
+    "to_uint8": lambda: intermix.to_uint8(big),
+    "write_png": lambda: intermix.write_png(big, "never.png"),
+    "compare": lambda: intermix.compare(big, big),
+}
+for name, call in calls.items():
+    try:
+        call()
+    except ValueError as e:
+        print(e)
+""")
+    assert rc == 0, err
+    assert out.splitlines() == [
+        "Volume: array of shape (4, 4, 4): value 1e+300 at voxel (i, j, k) = (0, 0, 0) is beyond "
+        "float32's range (+-3.4e38), which intermix holds floats in; scale the values first",
+        "Mesh: vertex 0 at (inf, 0, 0) is not a finite position within 1e+06 mm of the origin",
+        "Mesh: colors[0] = (inf, inf, inf) is not RGB in [0, 1]",
+        "to_uint8: 64 of the image's 64 values are NaN or infinite; an image must be finite",
+        "write_png: 64 of the image's 64 values are NaN or infinite; an image must be finite",
+        "compare: a: 64 of the image's 64 values are NaN or infinite; an image must be finite"]
+    # numpy's error state is left as it was.
+    rc, out, err = run_python("""
+import numpy as np, intermix
+try:
+    intermix.to_uint8(np.full((4, 4, 4), 1e300))
+except ValueError:
+    pass
+print(np.geterr()["over"])
+""")
+    assert (rc, out) == (0, "warn\n"), err
+
+
+def test_figure_arguments_are_named_with_their_values():
+    s = scene()
+    cases = [
+        (lambda: intermix.orbit_cameras(None), TypeError,
+         "orbit_cameras: camera must be a dict with eye, target and up, got NoneType"),
+        (lambda: intermix.orbit_cameras(s), TypeError,
+         "orbit_cameras: camera must be a dict with eye, target and up (a Scene's is "
+         "scene.camera), got Scene"),
+        (lambda: intermix.orbit_cameras(s.camera, frames=2**40), ValueError,
+         "orbit_cameras: frames 1099511627776 is not in [1, 100000]"),
+        (lambda: intermix.orbit(s, frames=2**40), ValueError,
+         "orbit: frames 1099511627776 is not in [1, 100000]"),
+        (lambda: intermix.orbit(s, 2, degrees=1e300), ValueError,
+         "orbit: degrees 1e+300 is not in [-36000, 36000]"),
+        (lambda: intermix.threshold_tf("a", "b"), TypeError,
+         "threshold_tf: threshold must be a real number, got str"),
+        (lambda: intermix.threshold_tf(1, 10**400), ValueError,
+         "threshold_tf: vmax 1000000000000000... (401 characters) is not a finite number"),
+        (lambda: intermix.ortho(VOLUME, cut_coords=[0, math.nan, 0]), ValueError,
+         "ortho: cut_coords[1] nan is not a finite number"),
+        (lambda: intermix.mosaic(VOLUME, cut_coords=2**40), ValueError,
+         "mosaic: cut_coords 1099511627776 is not in [1, 64]"),
+    ]
+    for call, kind, message in cases:
+        assert message_of(call) == (kind, message)
+
+
+SHARED = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
+                      "..", "shared", "data")
+
+
+def as_unprivileged_user():
+    """The command prefix that runs as a user whom permissions stop ([] when this one is), or
+    None when there is none (root without setpriv)."""
+    if os.geteuid() != 0:
+        return []
+    if subprocess.run(["setpriv", "--version"], capture_output=True).returncode != 0:
+        return None
+    return ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups"]
+
+
+@pytest.mark.skipif(not os.path.isdir(os.path.join(SHARED, "dicom", "ct-philips")),
+                    reason="no ../shared/data")
+def test_a_dicom_series_it_may_not_read_raises_permission_error():
+    # A slice that could not be opened was passed over as "not a DICOM image" (a missing-slice
+    # ValueError), and then a ValueError saying "Permission denied".
+    prefix = as_unprivileged_user()
+    if prefix is None:
+        pytest.skip("root without setpriv: no user that permissions stop")
+    import shutil
+    import tempfile
+    with tempfile.TemporaryDirectory() as top:  # pytest's own folder is the owner's alone
+        series = pathlib.Path(top) / "series"
+        shutil.copytree(os.path.join(SHARED, "dicom", "ct-philips"), series)
+        for f in series.iterdir():
+            f.chmod(0o644)
+        (series / "I120").chmod(0)
+        for folder in (top, series):
+            os.chmod(folder, 0o755)
+        check_permission_error(prefix, series)
+
+
+def check_permission_error(prefix, series):
+    package = os.path.dirname(os.path.dirname(intermix.__file__))
+    p = subprocess.run(prefix + [sys.executable, "-c", f"""
+import intermix
+for read in (intermix.read_volume, intermix.read_volume_info):
+    try:
+        read({str(series)!r})
+    except OSError as e:
+        print(type(e).__name__, e.errno, e)
+"""], capture_output=True, text=True, timeout=120, env={**os.environ, "PYTHONPATH": package})
+    assert p.returncode == 0, p.stderr
+    line = f"PermissionError 13 {series}/I120: cannot open the file: Permission denied"
+    assert p.stdout.splitlines() == [line, line]

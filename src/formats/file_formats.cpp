@@ -3,10 +3,12 @@
 #include "intermix/formats.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <system_error>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <sys/stat.h>
 
 #include "intermix/error.hpp"
 #include "io/mesh/mesh_formats.hpp"
@@ -144,6 +146,15 @@ IdentifiedFile identify_file(const std::filesystem::path& file) {
   if (const auto* row = detail::find_format(labels_detail::label_table_formats_table(), probe);
       specific(row))
     return found(row);
+  // A path that is not there (a mistyped DICOM folder has no extension to go by) says so.
+  struct stat st {};
+  const int err = ::lstat(file.c_str(), &st) == 0 ? 0 : errno;
+  if (err == ENOENT) throw FileError(fmt::format("{}: no such file or folder", file.string()), err);
+  if (err == ENOTDIR)
+    throw FileError(fmt::format("{}: no such file or folder (a file in the path is named as a "
+                                "folder)",
+                                file.string()),
+                    err);
   throw Error(unknown_format_message(file));
 }
 

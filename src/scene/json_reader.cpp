@@ -80,6 +80,8 @@ std::string JsonReader::text() const {
 }
 
 std::string JsonReader::describe() const {
+  // null and booleans are their own text: "null", not "null null".
+  if (value_->is_null() || value_->is_boolean()) return text();
   return fmt::format("{} {}", value_->type_name(), text());
 }
 

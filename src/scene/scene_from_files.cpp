@@ -217,7 +217,10 @@ SceneDocument scene_from_files(const std::vector<std::filesystem::path>& files,
       try {
         require_regular_file(file);
       } catch (const FileError& e) {
-        if (e.code() != ENOENT) throw;
+        // A dangling link keeps the guarded open's message, which says where it points.
+        if (e.code() != ENOENT ||
+            std::filesystem::is_symlink(std::filesystem::symlink_status(file, ec)))
+          throw;
         throw FileError(fmt::format("{}: no such file or folder", file.string()), ENOENT);
       }
     }

@@ -14,6 +14,7 @@
 #include "io/dicom/dicom_structure.hpp"
 #include "io/dicom/dicom_tags.hpp"
 #include "io/dicom/siemens_csa.hpp"
+#include "io/streams/header_text.hpp"
 #include "io/streams/input_file.hpp"
 
 namespace imx::detail {
@@ -368,6 +369,19 @@ void split_into_tiles(const gdcm::DataSet& ds, DicomFileHeader& h) {
   }
 }
 
+// "a DICOM file without an image: no Rows (0028,0010)", saying which of the two is absent or 0.
+std::string without_image_reason(std::optional<int> rows, std::optional<int> columns) {
+  std::vector<std::string> faults;
+  for (auto [value, name] : {std::pair{rows, "Rows (0028,0010)"}, {columns, "Columns (0028,0011)"}})
+    if (!value)
+      faults.push_back(fmt::format("no {}", name));
+    else if (*value == 0)
+      faults.push_back(fmt::format("{} is 0", name));
+  std::string reason = "a DICOM file without an image: ";
+  for (size_t i = 0; i < faults.size(); ++i) reason += (i > 0 ? " and " : "") + faults[i];
+  return reason;
+}
+
 }  // namespace
 
 bool looks_like_dicom(const std::filesystem::path& file) {
@@ -380,16 +394,20 @@ bool looks_like_dicom(const std::filesystem::path& file) {
   return got >= 8 && head[0] == 0x08 && head[1] == 0x00;
 }
 
-bool well_formed_file_meta(const std::filesystem::path& file) {
+std::string file_meta_fault(const std::filesystem::path& file) {
+  const std::string cut = "a DICOM file that cannot be read (truncated or corrupt): ";
   std::error_code ec;
   const uintmax_t size = std::filesystem::file_size(file, ec);
-  if (ec) return false;
+  if (ec) return fmt::format("cannot read its size: {}", ec.message());
   std::ifstream in = try_open_input_stream(file);
   std::vector<unsigned char> head(static_cast<size_t>(std::min<uintmax_t>(size, kMaxMetaBytes)));
   in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
-  if (in.gcount() != static_cast<std::streamsize>(head.size())) return false;
-  if (head.size() < 132 || std::memcmp(head.data() + 128, "DICM", 4) != 0)
-    return head.size() >= 8 && head[0] == 0x08 && head[1] == 0x00;  // no meta group at all
+  if (in.gcount() != static_cast<std::streamsize>(head.size()))
+    return fmt::format("cannot read its first {} bytes", head.size());
+  if (head.size() < 132 || std::memcmp(head.data() + 128, "DICM", 4) != 0) {
+    if (head.size() >= 8 && head[0] == 0x08 && head[1] == 0x00) return "";  // no meta group
+    return cut + "no DICM preamble and no data set";
+  }
   // GDCM asserts (aborts) on a meta element that is a sequence, of undefined length or cut
   // short: each must be explicit VR little endian, with a known VR, inside the file.
   static const char* const kLongVrs[] = {"OB", "OD", "OF", "OL", "OV", "OW",
@@ -399,11 +417,17 @@ bool well_formed_file_meta(const std::filesystem::path& file) {
                                           "SL", "SS", "ST", "TM", "UI", "UL", "US"};
   size_t at = 132;
   int elements = 0;
+  std::optional<std::string> syntax;
   while (at + 8 <= head.size()) {
     const unsigned group = head[at] | (head[at + 1] << 8);
     const unsigned element = head[at + 2] | (head[at + 3] << 8);
     if (group != 0x0002) break;
-    if (elements == 0 && element != 0x0000) return false;  // GDCM needs the group length first
+    const std::string tag = tag_name(0x0002, static_cast<uint16_t>(element));
+    if (elements == 0 && element != 0x0000)
+      return cut + fmt::format(
+                       "the file meta information starts with {}, not its group length "
+                       "(0002,0000)",
+                       tag);
     const char vr[3] = {static_cast<char>(head[at + 4]), static_cast<char>(head[at + 5]), 0};
     auto in_list = [&](const auto& list) {
       return std::any_of(std::begin(list), std::end(list),
@@ -415,21 +439,41 @@ bool well_formed_file_meta(const std::filesystem::path& file) {
       length = head[at + 6] | (head[at + 7] << 8);
       value = at + 8;
     } else if (in_list(kLongVrs)) {
-      if (at + 12 > head.size()) return false;
+      if (at + 12 > head.size()) return cut + "the file meta information is cut short";
       length = static_cast<uint64_t>(head[at + 8]) | (static_cast<uint64_t>(head[at + 9]) << 8) |
                (static_cast<uint64_t>(head[at + 10]) << 16) |
                (static_cast<uint64_t>(head[at + 11]) << 24);
-      if (length == 0xffffffffu) return false;
+      if (length == 0xffffffffu)
+        return cut + fmt::format("file meta element {} has an undefined length", tag);
       value = at + 12;
     } else {
-      return false;  // SQ or not a VR
+      return cut +
+             fmt::format("file meta element {} has no valid VR (a sequence or not a VR)", tag);
     }
-    if (elements == 0 && (std::strcmp(vr, "UL") != 0 || length != 4)) return false;
-    if (value + length > head.size()) return false;
+    if (elements == 0 && (std::strcmp(vr, "UL") != 0 || length != 4))
+      return cut + "the group length (0002,0000) is not a 4-byte UL";
+    if (value + length > head.size())
+      return cut + fmt::format("file meta element {} runs past the end of the file", tag);
+    if (element == 0x0010) {
+      syntax.emplace(reinterpret_cast<const char*>(head.data() + value),
+                     static_cast<size_t>(length));
+      while (!syntax->empty() && (syntax->back() == '\0' || syntax->back() == ' '))
+        syntax->pop_back();
+    }
     at = value + static_cast<size_t>(length);
     ++elements;
   }
-  return elements > 0 && at + 8 <= head.size();  // a data set follows
+  if (elements == 0 || at + 8 > head.size())
+    return cut + "the file ends after its file meta information, with no data set";
+  // GDCM cannot read on without knowing how the data set is encoded (and says so on stderr).
+  if (!syntax) return "no TransferSyntaxUID (0002,0010) in its file meta information";
+  const gdcm::TransferSyntax::TSType type = gdcm::TransferSyntax::GetTSType(syntax->c_str());
+  if (type == gdcm::TransferSyntax::TS_END)
+    return fmt::format("unknown or unsupported transfer syntax '{}' (0002,0010)", shown(*syntax));
+  if (type == gdcm::TransferSyntax::DeflatedExplicitVRLittleEndian)
+    return fmt::format("the transfer syntax {} (0002,0010), a deflated data set, is not supported",
+                       *syntax);
+  return "";
 }
 
 double required_slice_spacing(const DicomFileHeader& h, const char* use) {
@@ -555,14 +599,21 @@ void read_frames(const gdcm::DataSet& ds, const std::string& image_type, DicomFi
 
 }  // namespace
 
-std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& file) {
+std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& file,
+                                                 std::string* not_image) {
   quiet_gdcm();
-  if (!looks_like_dicom(file)) return std::nullopt;
+  // A file that cannot be opened (a permission) says why, not that it is no DICOM file.
+  open_input_unrecorded(file);
+  if (!looks_like_dicom(file)) {
+    if (not_image != nullptr) *not_image = "not a DICOM file (no DICM preamble)";
+    return std::nullopt;
+  }
   const std::string broken = fmt::format(
       "{}: a DICOM file that cannot be read (truncated or "
       "corrupt)",
       file.string());
-  if (!well_formed_file_meta(file)) throw Error(broken);
+  if (std::string fault = file_meta_fault(file); !fault.empty())
+    throw Error(fmt::format("{}: {}", file.string(), fault));
   if (std::string fault = check_dicom_structure(file); !fault.empty())
     throw Error(fmt::format("{}: {}", broken, fault));
   const InputFd fd = open_input(file);  // GDCM opens by name: the checked file's name
@@ -587,7 +638,10 @@ std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& fi
   DicomFileHeader h;
   h.file = file;
   auto rows = tag_us(ds, 0x0028, 0x0010), columns = tag_us(ds, 0x0028, 0x0011);
-  if (!rows || !columns || *rows == 0 || *columns == 0) return std::nullopt;
+  if (!rows || !columns || *rows == 0 || *columns == 0) {
+    if (not_image != nullptr) *not_image = without_image_reason(rows, columns);
+    return std::nullopt;
+  }
   h.rows = *rows;
   h.columns = *columns;
   h.series_uid = tag_text(ds, 0x0020, 0x000e).value_or("");

@@ -89,16 +89,20 @@ struct DicomFileHeader {
 // first element of group 0008.
 bool looks_like_dicom(const std::filesystem::path& file);
 
-// True when the file meta group (0002) after the preamble is well formed enough for GDCM, whose
-// meta reader aborts on some malformed elements instead of failing.
-bool well_formed_file_meta(const std::filesystem::path& file);
+// Why the file meta group (0002) after the preamble is not well formed enough for GDCM (whose
+// meta reader aborts on some malformed elements, and prints its own text for an unknown
+// transfer syntax), as a clause to follow the file's name; "" when it is.
+std::string file_meta_fault(const std::filesystem::path& file);
 
 // The header of an image file; a Siemens mosaic becomes one frame per tile, placed where the
 // tile lies (ImagePositionPatient names the mosaic's corner, not the first tile's). nullopt when
 // the file is not DICOM or holds no image (no Rows or Columns: a DICOMDIR, a structured report).
 // Throws imx::Error for a file that starts like DICOM but cannot be read (truncated, corrupt) and
-// for an unusable header (a frame count out of bounds).
-std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& file);
+// for an unusable header (a frame count out of bounds); imx::FileError for a file that cannot be
+// opened (a permission), saying so. `not_image`, when given, is set to why nullopt was returned
+// ("not a DICOM file (no DICM preamble)", "a DICOM file without an image: no Rows (0028,0010)").
+std::optional<DicomFileHeader> read_dicom_header(const std::filesystem::path& file,
+                                                 std::string* not_image = nullptr);
 
 // The slice spacing of a file whose images cannot be placed without it (`use`: "a mosaic's
 // tiles"); throws imx::Error naming the file and the unusable tag, or both tags when absent.

@@ -407,11 +407,21 @@ std::vector<CodecPixels> decode_with_codecs(std::span<const DicomFileHeader* con
 
 std::vector<std::string> codec_failures(std::span<const DicomFileHeader* const> headers) {
   std::vector<const DicomFileHeader*> coded;
-  for (const DicomFileHeader* h : headers)
-    if (needs_codec(*h)) coded.push_back(h);
+  std::vector<std::string> out;
+  for (const DicomFileHeader* h : headers) {
+    if (needs_codec(*h)) {
+      coded.push_back(h);
+      continue;
+    }
+    // Native files too are refused by their header (no pixel data, an unsupported format).
+    try {
+      check_decodable(*h);
+    } catch (const Error& e) {
+      out.push_back(e.what());
+    }
+  }
   // A chunk's pixels are dropped before the next, so a large folder never sits in memory whole.
   constexpr size_t kChunk = 64;
-  std::vector<std::string> out;
   for (size_t begin = 0; begin < coded.size(); begin += kChunk) {
     const auto chunk = std::span(coded).subspan(begin, std::min(kChunk, coded.size() - begin));
     try {

@@ -71,9 +71,9 @@ bool needs_codec(const DicomFileHeader& header);
 std::vector<CodecPixels> decode_with_codecs(std::span<const DicomFileHeader* const> headers);
 
 // Decodes the files that need codecs as decode_with_codecs does, a few at a time, keeping no
-// pixels: one message per file that cannot be decoded (what reading it would throw), in the
-// order given; empty when every file decodes. What `info` checks so that it lists each file
-// `convert` would refuse.
+// pixels: one message per file that cannot be decoded (what reading it would throw; a native
+// file's header checks too, such as no pixel data); empty when every file decodes. What `info`
+// checks so that it lists each file `convert` would refuse.
 std::vector<std::string> codec_failures(std::span<const DicomFileHeader* const> headers);
 
 // Bytes per value of a stored type.

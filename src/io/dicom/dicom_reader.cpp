@@ -70,12 +70,17 @@ std::string place_without_positions(std::vector<DicomFrame>& images, const Dicom
 
 SeriesLayout layout_of(const std::filesystem::path& source, const std::string& series) {
   std::vector<std::string> broken, not_images;
-  std::vector<DicomSeriesGroup> groups = scan_dicom_series(source, &broken, &not_images);
+  int broken_code = 0;
+  std::vector<DicomSeriesGroup> groups =
+      scan_dicom_series(source, &broken, &not_images, &broken_code);
   // A slice that cannot be read would leave a hole in whichever series it belongs to.
-  if (!broken.empty())
-    throw Error(broken.size() == 1 ? broken.front()
-                                   : fmt::format("{} (and {} more such files)", broken.front(),
-                                                 broken.size() - 1));
+  if (!broken.empty()) {
+    const std::string message = broken.size() == 1 ? broken.front()
+                                                   : fmt::format("{} (and {} more such files)",
+                                                                 broken.front(), broken.size() - 1);
+    if (broken_code != 0) throw FileError(message, broken_code);  // a PermissionError in Python
+    throw Error(message);
+  }
   SeriesLayout l;
   l.not_images = std::move(not_images);
   l.group = choose_series(groups, series, source, l.note);

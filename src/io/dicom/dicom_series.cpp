@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cstring>
 #include <map>
 #include <system_error>
 
@@ -29,9 +30,10 @@ std::string lower(std::string s) {
 // A DICOMDIR by name or by its media storage class (Philips writes one called DIRFILE).
 bool is_dicomdir(const std::filesystem::path& file) {
   if (lower(file.filename().string()) == "dicomdir") return true;
-  if (!looks_like_dicom(file) || !well_formed_file_meta(file) ||
+  if (!looks_like_dicom(file) || !file_meta_fault(file).empty() ||
       !check_dicom_structure(file).empty())
     return false;
+  quiet_gdcm();
   InputFd fd;
   try {
     fd = open_input(file);
@@ -50,30 +52,52 @@ bool is_dicomdir(const std::filesystem::path& file) {
          "1.2.840.10008.1.3.10";
 }
 
-std::vector<std::filesystem::path> files_under(const std::filesystem::path& folder) {
+// A file or folder that could not be read: why, and the errno when it could not be opened.
+struct BrokenFile {
+  std::string message;
+  int code = 0;
+};
+
+// Every regular file below `folder` (links to files followed, links to folders not: no loops),
+// sorted. A folder below it that cannot be listed is added to `unlisted`, saying why: its files
+// could be a series' slices. `folder` itself that cannot be listed is an imx::FileError.
+std::vector<std::filesystem::path> files_under(const std::filesystem::path& folder,
+                                               std::vector<BrokenFile>& unlisted) {
   namespace fs = std::filesystem;
   std::vector<fs::path> files;
-  std::error_code ec;
-  // Links to folders are not followed (no loops); links to files are.
-  fs::recursive_directory_iterator it(folder, fs::directory_options::skip_permission_denied, ec);
-  if (ec)
-    throw FileError(fmt::format("{}: cannot read the folder: {}", folder.string(), ec.message()),
-                    ec.value());
-  for (; it != fs::recursive_directory_iterator(); it.increment(ec)) {
-    if (ec) break;
-    if (it.depth() >= kMaxDicomDepth) it.disable_recursion_pending();
-    std::error_code type_ec;
-    if (!it->is_regular_file(type_ec)) continue;  // folders, FIFOs, devices, broken links
-    if (files.size() >= static_cast<size_t>(kMaxDicomFiles))
-      throw Error(fmt::format("{}: more than {} files below it; name the series' own folder",
-                              folder.string(), kMaxDicomFiles));
-    files.push_back(it->path());
+  std::vector<std::pair<fs::path, int>> pending{{folder, 0}};  // a folder, its entries' depth
+  while (!pending.empty()) {
+    const auto [dir, depth] = pending.back();
+    pending.pop_back();
+    std::error_code ec;
+    fs::directory_iterator it(dir, ec);
+    for (; !ec && it != fs::directory_iterator(); it.increment(ec)) {
+      std::error_code type_ec;
+      if (it->is_directory(type_ec) && !it->is_symlink(type_ec)) {
+        if (depth < kMaxDicomDepth) pending.emplace_back(it->path(), depth + 1);
+        continue;
+      }
+      if (!it->is_regular_file(type_ec)) continue;  // FIFOs, devices, broken links, link loops
+      if (files.size() >= static_cast<size_t>(kMaxDicomFiles))
+        throw Error(fmt::format("{}: more than {} files below it; name the series' own folder",
+                                folder.string(), kMaxDicomFiles));
+      files.push_back(it->path());
+    }
+    if (!ec) continue;
+    const std::string why =
+        fmt::format("{}: cannot read the folder: {}", dir.string(), std::strerror(ec.value()));
+    if (dir == folder) throw FileError(why, ec.value());
+    unlisted.push_back({why, ec.value()});
   }
-  if (ec)
-    throw FileError(fmt::format("{}: cannot read the folder: {}", folder.string(), ec.message()),
-                    ec.value());
   std::sort(files.begin(), files.end());
   return files;
+}
+
+// A file that could not be opened or listed stays an imx::FileError (a PermissionError in
+// Python); one whose content is at fault an imx::Error.
+[[noreturn]] void throw_broken(const BrokenFile& b) {
+  if (b.code != 0) throw FileError(b.message, b.code);
+  throw Error(b.message);
 }
 
 bool same_direction(const std::optional<glm::dvec3>& a, const std::optional<glm::dvec3>& b) {
@@ -100,7 +124,8 @@ std::string describe_series(const DicomSeriesInfo& s) {
 
 std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& source,
                                                 std::vector<std::string>* broken,
-                                                std::vector<std::string>* not_images) {
+                                                std::vector<std::string>* not_images,
+                                                int* first_broken_code) {
   namespace fs = std::filesystem;
   const std::string what = source.string();
   std::error_code ec;
@@ -113,7 +138,7 @@ std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& sou
     try {
       require_regular_file(source);
     } catch (const FileError& e) {
-      if (e.code() == ENOENT)
+      if (e.code() == ENOENT && !fs::is_symlink(fs::symlink_status(source, ec)))
         throw FileError(fmt::format("{}: no such file or folder", what), ENOENT);
       throw;
     }
@@ -123,38 +148,39 @@ std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& sou
       fs::path readable = source;
       if (is_gzip_file(source)) readable = inflated->add(source);
       std::optional<DicomFileHeader> h;
+      std::string not_image;
       try {
-        h = read_dicom_header(readable);
+        h = read_dicom_header(readable, &not_image);
+      } catch (const FileError& e) {
+        throw FileError(inflated->original_names(e.what()), e.code());
       } catch (const Error& e) {
         throw Error(inflated->original_names(e.what()));
       }
-      if (!h) {
-        if (looks_like_dicom(source))
-          throw Error(
-              fmt::format("{}: a DICOM file without an image (no Rows (0028,0010) or "
-                          "Columns (0028,0011)), or not readable as DICOM",
-                          what));
-        throw Error(fmt::format("{}: not a DICOM file (no DICM preamble)", what));
-      }
+      if (!h) throw Error(fmt::format("{}: {}", what, not_image));
       headers.push_back(std::move(*h));
     }
   }
   if (folder) {
     const fs::path dir = fs::is_directory(status) ? source : source.parent_path();
-    std::vector<std::string> unreadable;
-    for (const fs::path& f : files_under(dir.empty() ? fs::path(".") : dir)) {
+    std::vector<BrokenFile> unreadable;
+    for (const fs::path& f : files_under(dir.empty() ? fs::path(".") : dir, unreadable)) {
       try {
         const fs::path readable = is_gzip_file(f) ? inflated->add(f) : f;
         if (std::optional<DicomFileHeader> h = read_dicom_header(readable))
           headers.push_back(std::move(*h));
         else if (not_images != nullptr)
           not_images->push_back(f.string());
+      } catch (const FileError& e) {
+        unreadable.push_back({inflated->original_names(e.what()), e.code()});
       } catch (const Error& e) {
-        unreadable.push_back(inflated->original_names(e.what()));
+        unreadable.push_back({inflated->original_names(e.what()), 0});
       }
     }
-    if (broken != nullptr) *broken = unreadable;
-    if (headers.empty() && !unreadable.empty()) throw Error(unreadable.front());
+    if (broken != nullptr)
+      for (const BrokenFile& b : unreadable) broken->push_back(b.message);
+    if (first_broken_code != nullptr && !unreadable.empty())
+      *first_broken_code = unreadable.front().code;
+    if (headers.empty() && !unreadable.empty()) throw_broken(unreadable.front());
     if (headers.empty()) {
       // A folder named like a file ("x.nrrd/") was most likely meant as that file.
       const std::string ext = fs::path(what).extension().string();

@@ -26,11 +26,14 @@ std::string original_names(const DicomSeriesGroup& group, std::string message);
 
 // Every image series under `source`, sorted as list_dicom_series says. Files that start like
 // DICOM but cannot be read are skipped, their messages added to `broken` when given; files of a
-// folder that are not DICOM images (or too short to tell) are added to `not_images`. Throws
-// imx::Error naming `source` when it holds no DICOM image.
+// folder that are not DICOM images (or too short to tell) are added to `not_images`;
+// `first_broken_code` gets the errno of the first broken file (0 when its content is at fault).
+// Throws imx::Error naming `source` when it holds no DICOM image (imx::FileError when what it
+// holds could not be opened).
 std::vector<DicomSeriesGroup> scan_dicom_series(const std::filesystem::path& source,
                                                 std::vector<std::string>* broken = nullptr,
-                                                std::vector<std::string>* not_images = nullptr);
+                                                std::vector<std::string>* not_images = nullptr,
+                                                int* first_broken_code = nullptr);
 
 // One line about a series: "201 'STD BRAIN 5MM' CT 512x512, 28 slices".
 std::string describe_series(const DicomSeriesInfo& s);

@@ -23,12 +23,25 @@ std::string name_of(const std::filesystem::path& file, std::string_view what) {
                   S_ISDIR(mode) ? EISDIR : 0);
 }
 
+// "NAME: no such file", or for a link whose target is not there, what it links to: the link
+// itself is there to see.
+std::string missing_file_message(const std::filesystem::path& file, const std::string& name,
+                                 const char* missing) {
+  std::error_code ec;
+  if (std::filesystem::is_symlink(std::filesystem::symlink_status(file, ec))) {
+    const std::filesystem::path target = std::filesystem::read_symlink(file, ec);
+    if (!ec)
+      return fmt::format("{}: a symbolic link to '{}', which is not there", name, target.string());
+  }
+  return fmt::format("{}: {}", name, missing);
+}
+
 // Why open(2) failed, in words: a path that exists but is no regular file (a socket gives
 // ENXIO, a device may give EACCES) is said as what it is.
 [[noreturn]] void refuse_open(const std::filesystem::path& file, const std::string& name, int err) {
   if (err == ELOOP)
     throw FileError(fmt::format("{}: symbolic link loop (too many levels of links)", name), ELOOP);
-  if (err == ENOENT) throw FileError(fmt::format("{}: no such file", name), ENOENT);
+  if (err == ENOENT) throw FileError(missing_file_message(file, name, "no such file"), ENOENT);
   struct stat st {};
   if (::stat(file.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) refuse_kind(name, st.st_mode);
   throw FileError(fmt::format("{}: cannot open the file: {}", name, std::strerror(err)), err);
@@ -97,6 +110,10 @@ InputFd open_input(const std::filesystem::path& file, std::string_view what) {
   return open_checked(file, what, true);
 }
 
+InputFd open_input_unrecorded(const std::filesystem::path& file, std::string_view what) {
+  return open_checked(file, what, false);
+}
+
 std::filesystem::path path_of_open(const InputFd& fd, const std::filesystem::path& file) {
   std::filesystem::path proc = fmt::format("/proc/self/fd/{}", fd.get());
   struct stat a {
@@ -135,7 +152,8 @@ void require_input_folder(const std::filesystem::path& folder, std::string_view 
     if (err == ELOOP)
       throw FileError(fmt::format("{}: symbolic link loop (too many levels of links)", name),
                       ELOOP);
-    if (err == ENOENT) throw FileError(fmt::format("{}: no such file or folder", name), ENOENT);
+    if (err == ENOENT)
+      throw FileError(missing_file_message(folder, name, "no such file or folder"), ENOENT);
     throw FileError(fmt::format("{}: cannot look at the folder: {}", name, std::strerror(err)),
                     err);
   }

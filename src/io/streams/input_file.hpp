@@ -40,6 +40,10 @@ class InputFd {
 // (io/streams/input_identity.hpp), so that no output replaces it.
 InputFd open_input(const std::filesystem::path& file, std::string_view what = {});
 
+// open_input without recording the file as an input: for a folder's files, which are sniffed,
+// but whose open failure (a permission) must be said as such. Same errors.
+InputFd open_input_unrecorded(const std::filesystem::path& file, std::string_view what = {});
+
 // open_input, as a std::ifstream on the same open file (through /proc/self/fd, so the stream
 // cannot reach another file than the one checked). Same errors.
 std::ifstream open_input_stream(const std::filesystem::path& file, std::string_view what = {},
