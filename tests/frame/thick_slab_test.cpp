@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/colour.hpp"
+#include "core/math.hpp"
 #include "frame/slice_view.hpp"
 
 namespace imx {

@@ -72,10 +72,11 @@ TEST(PlaneSlab, APlanesSlabIsTheReadingViewsSlab) {
     ViewerState state = load_viewer_state(dir / "scene.json");
     RenderOptions options;
     options.threads = 1;
-    write_png(render(state.scene(), options), dir / "render.png");
-    const Image rendered = read_png(dir / "render.png", true);
-    write_png(render(load_scene(dir / "thin.json"), options), dir / "thin.png");
-    const Image thin = read_png(dir / "thin.png", true);
+    write_png(render(state.scene(), options), dir / (std::string("render-") + mode + ".png"));
+    const Image rendered = read_png(dir / (std::string("render-") + mode + ".png"), true);
+    write_png(render(load_scene(dir / "thin.json"), options),
+              dir / (std::string("thin-") + mode + ".png"));
+    const Image thin = read_png(dir / (std::string("thin-") + mode + ".png"), true);
 
     const nlohmann::json message = {
         {"type", "slice"},       {"view", "axial"},
