@@ -37,27 +37,13 @@ bool in_grid(const glm::vec3& p, const glm::ivec3& dims) {
          p.y <= dims.y - 0.5f && p.z <= dims.z - 0.5f;
 }
 
-// The slab's value at a pixel whose plane sample is index point `p`: the max, min or mean of the
-// finite samples inside the grid; NaN when there is none. Pure, no allocation.
+// The slab's value at a pixel whose plane sample is index point `p`: slab_along within the
+// voxels' extent, as the thin view's; NaN when no sample lies there or holds data.
 float slab_value(const SliceLayer& l, const glm::vec3& p, const glm::ivec3& dims) {
-  const glm::vec3 first = p - l.step * (0.5f * static_cast<float>(l.samples - 1));
-  float best = std::numeric_limits<float>::quiet_NaN();
-  double sum = 0.0;
-  int n = 0;
-  for (int k = 0; k < l.samples; ++k) {
-    const glm::vec3 q = first + l.step * static_cast<float>(k);
-    if (!in_grid(q, dims)) continue;
-    const float v = l.volume->grid.sample(glm::clamp(q, glm::vec3(0.0f), glm::vec3(dims - 1)));
-    if (!std::isfinite(v)) continue;
-    if (n++ == 0) best = v;
-    if (l.mode == SlabMode::mip)
-      best = std::max(best, v);
-    else if (l.mode == SlabMode::minip)
-      best = std::min(best, v);
-    sum += v;
-  }
-  if (l.mode == SlabMode::mean && n > 0) return static_cast<float>(sum / n);
-  return best;
+  float value = std::numeric_limits<float>::quiet_NaN();
+  slab_along(l.volume->grid, p, l.step, l.samples, l.mode, glm::vec3(-0.5f), glm::vec3(dims) - 0.5f,
+             l.volume->has_no_data, value);
+  return value;
 }
 
 // How much of an overlay's colour covers what is below it.
@@ -181,9 +167,12 @@ Image render_slice(const Scene& scene, const SliceView& view, const std::vector<
   for (size_t k = 0; k < prepared.size(); ++k) {
     const glm::dvec2 w = windows.at(static_cast<size_t>(shown[k]));
     const float top = prepared[k].lut.max_opacity();
-    // Each volume samples the slab at its own finest pitch, exact in world space (tilted grids).
-    const SlabSampling sampling = slab_sampling(view.slab.thickness, prepared[k].min_pitch);
-    const glm::dvec3 step_world = glm::normalize(view.normal) * sampling.spacing;
+    // Each volume samples the slab at its own pitch along the normal, in world space (tilted
+    // grids are sampled where the slab is, not along their own axes).
+    const glm::dvec3 normal = glm::normalize(view.normal);
+    const SlabSampling sampling =
+        slab_sampling(view.slab.thickness, pitch_along(prepared[k], normal));
+    const glm::dvec3 step_world = normal * sampling.spacing;
     const glm::vec3 step =
         prepared[k].to_index(glm::vec3(step_world)) - prepared[k].to_index(glm::vec3(0.0f));
     layers.push_back({&prepared[k], k == 0, static_cast<float>(w.x), static_cast<float>(w.y),

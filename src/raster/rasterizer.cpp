@@ -678,8 +678,9 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
         }
         info.symmetric = pl.symmetric;
         // A thick slab along the normal at the volume's finest pitch, as a reading view's.
-        const SlabSampling slab = slab_sampling(pl.slab.thickness, info.volume->min_pitch);
-        const glm::vec3 step(glm::normalize(pl.normal) * slab.spacing);
+        const glm::dvec3 n = glm::normalize(pl.normal);
+        const SlabSampling slab = slab_sampling(pl.slab.thickness, pitch_along(*info.volume, n));
+        const glm::vec3 step(n * slab.spacing);
         info.slab_samples = slab.count;
         info.slab_step = info.volume->to_index(step) - info.volume->to_index(glm::vec3(0.0f));
         info.slab_mode = pl.slab.mode;

@@ -287,17 +287,24 @@ def run_measure(args, out, cleanup):
         browser.wait_for('viewer.slicesSettled()', timeout=15, what='a slice step')
         slice_views_settled(browser, 'a slice step with slabs')
     slab = browser.evaluate("viewer.inputLatencies('slab')")
+    slab_set = browser.evaluate("viewer.inputLatencies('slab-set')")
     steps = browser.evaluate('viewer.sliceLatencies()')
     timings = browser.evaluate('viewer.sliceTimings()')
     views = browser.evaluate('viewer.sliceViews()')
+    png = [t for t in timings if t['format'] == 'png']
+    jpeg = [t for t in timings if t['format'] == 'jpeg']
     result = {'scene': args.scene,
               'views': {a: [v['width'], v['height']] for a, v in views.items()},
               'slab_change': {'n': len(slab), 'median_ms': rnd(percentile(slab, 0.5)),
                               'p95_ms': rnd(percentile(slab, 0.95))},
+              'slab_set_png': {'n': len(slab_set), 'median_ms': rnd(percentile(slab_set, 0.5)),
+                               'p95_ms': rnd(percentile(slab_set, 0.95))},
               'step_with_slabs': {'n': len(steps), 'median_ms': rnd(percentile(steps, 0.5)),
                                   'p95_ms': rnd(percentile(steps, 0.95))},
-              'render_ms_median': rnd(percentile([t['render_ms'] for t in timings], 0.5)),
-              'encode_ms_median': rnd(percentile([t['encode_ms'] for t in timings], 0.5)),
+              'png_render_encode_ms': [rnd(percentile([t['render_ms'] for t in png], 0.5)),
+                                       rnd(percentile([t['encode_ms'] for t in png], 0.5))],
+              'jpeg_render_encode_ms': [rnd(percentile([t['render_ms'] for t in jpeg], 0.5)),
+                                        rnd(percentile([t['encode_ms'] for t in jpeg], 0.5))],
               'load': os.getloadavg()[0]}
     print(json.dumps(result))
     with open(os.path.join(out, 'measure-slab.json'), 'w') as f:

@@ -87,8 +87,8 @@ function request(axis) {
   let mm = mmPerPixel(axis, w, h);
   // While a window, pan or pinch drag goes on: JPEG at half the side (a quarter of the pixels to
   // sample and encode), the same field of view; full PNG once it stops, as the 3-D view does.
-  const moving = S.drag && ['slice-wl', 'slice-pan', 'slice-pinch', 'slice-rotate']
-                                .includes(S.drag.mode);
+  const moving = (S.drag && ['slice-wl', 'slice-pan', 'slice-pinch', 'slice-rotate']
+                                 .includes(S.drag.mode)) || view.slabMoving;
   if (moving && Math.min(w, h) >= 2 * MIN_MOVING_SIDE) {
     const side = Math.round(w * MOVING_SCALE);
     mm *= w / side;
@@ -615,7 +615,8 @@ export function setSlab(axis, slab, moving = false) {
   else delete base.slabs[axis];
   showSlabControls(base);
   if (views[axis]) {
-    markInput('slab', [axis]);
+    views[axis].slabMoving = moving;  // typing: JPEG at half the side, as a drag; PNG on change
+    markInput(moving ? 'slab' : 'slab-set', [axis]);
     request(axis);
   }
   if (!moving) editInput(base.name, {slabs: base.slabs}, false);
