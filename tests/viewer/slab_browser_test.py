@@ -124,7 +124,8 @@ def check_slab(checks, browser, mode):
     set_slab(browser, 'axial', 5, mode)
     views = slice_views_settled(browser, f'the axial {mode} slab',
                                 f"v.axial.thick_slab && v.axial.thick_slab.thickness === 5 && "
-                                f"v.axial.thick_slab.mode === '{mode}'")
+                                f"v.axial.thick_slab.mode === '{mode}' && "
+                                "v.axial.format === 'png'")
     v = views['axial']
     z = v['point'][2]
     pick = max if mode == 'mip' else min
@@ -233,7 +234,8 @@ def run_test(args, out, checks, cleanup):
     browser.click(r['x'] + 0.13 * r['w'], r['y'] - 0.07 * r['h'])
     browser.wait_for('viewer.readout() && JSON.stringify(viewer.readout().point) === '
                      'JSON.stringify(viewer.slicePoint())', timeout=10, what='the readout')
-    views = slice_views_settled(browser, 'the views through the clicked point')
+    views = slice_views_settled(browser, 'the views through the clicked point',
+                                "Object.values(v).every((x) => x.format === 'png')")
     point = browser.evaluate('viewer.slicePoint()')
     readout = browser.evaluate('viewer.readout()')['values'][0]
     cor = views['coronal']
@@ -286,6 +288,9 @@ def run_measure(args, out, cleanup):
         wheel(browser, axis, -100 if i % 2 == 0 else 100)
         browser.wait_for('viewer.slicesSettled()', timeout=15, what='a slice step')
         slice_views_settled(browser, 'a slice step with slabs')
+        time.sleep(0.4)  # the slab views' full PNG after the step
+        slice_views_settled(browser, "the slab views' PNG",
+                            "Object.values(v).every((x) => x.format === 'png')")
     slab = browser.evaluate("viewer.inputLatencies('slab')")
     slab_set = browser.evaluate("viewer.inputLatencies('slab-set')")
     steps = browser.evaluate('viewer.sliceLatencies()')

@@ -88,7 +88,8 @@ function request(axis) {
   // While a window, pan or pinch drag goes on: JPEG at half the side (a quarter of the pixels to
   // sample and encode), the same field of view; full PNG once it stops, as the 3-D view does.
   const moving = (S.drag && ['slice-wl', 'slice-pan', 'slice-pinch', 'slice-rotate']
-                                 .includes(S.drag.mode)) || view.slabMoving;
+                                 .includes(S.drag.mode)) || view.slabMoving ||
+                 view.pointMoving;
   if (moving && Math.min(w, h) >= 2 * MIN_MOVING_SIDE) {
     const side = Math.round(w * MOVING_SCALE);
     mm *= w / side;
@@ -366,13 +367,38 @@ export function onProbe(m) {
 
 // Moves the crosshair to world point p: the other views' images and every crosshair follow.
 export function setPoint(p, except) {
+  const old = S.point;
   S.point = p.slice();
   S.pointSetAt = performance.now();
+  // Only a view whose plane moves needs a new image (a step moves one); the others redraw their
+  // crosshair.
+  const moved = shownAxes().filter((axis) => axis !== except && !(
+    old && views[axis].answer && Math.abs(dot(sub(p, old), normalOf(axis))) < 1e-9));
+  slabViewsFollow(moved);
   for (const axis of shownAxes()) {
-    if (axis !== except) request(axis);
-    else drawOverlay(axis);
+    if (moved.includes(axis)) request(axis);
+    else if (views[axis].answer) drawOverlay(axis);
   }
+  if (!moved.length) S.pointSetAt = null;  // every view shows it already
   send({type: 'probe', point: S.point});
+}
+
+// Views with a thick slab follow crosshair moves (steps, cine, clicks) at half side in JPEG, as
+// a drag, and take their full PNG once the moves pause for SLAB_SETTLE_MS.
+const SLAB_SETTLE_MS = 200;
+let slabSettle = 0;
+function slabViewsFollow(axes) {
+  const base = baseVolume();
+  const slabbed = axes.filter((a) => views[a] && slabOf(base, a).thickness > 0);
+  if (!slabbed.length) return;
+  for (const a of slabbed) views[a].pointMoving = true;
+  clearTimeout(slabSettle);
+  slabSettle = setTimeout(() => {
+    for (const a of slabbed) {
+      views[a].pointMoving = false;
+      request(a);
+    }
+  }, SLAB_SETTLE_MS);
 }
 
 // One slice step (of the base volume's voxel pitch) along `axis`'s normal, `count` times.
@@ -646,6 +672,7 @@ export function sliceViews() {
                  right: frameOf(axis, a).right, down: frameOf(axis, a).down,
                  normal: frameOf(axis, a).normal, thick_slab: a.thick_slab || null,
                  letters: lettersOf(frameOf(axis, a)),
+                 format: a.format,
                  width: a.width, height: a.height,
                  pending: v.pending || v.again || v.decoding > 0 || v.marks.length > 0};
   }
