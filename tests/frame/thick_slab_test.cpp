@@ -172,5 +172,27 @@ TEST(ObliqueView, APixelIsTheTrilinearSampleAtItsWorldPoint) {
   }
 }
 
+// A view turned to face along its own down (the axial view turned 90 degrees about L): its down
+// turns with it, and the frame stays orthonormal with the axis's handedness.
+TEST(ObliqueView, AViewFacingAlongItsDownTakesTheRotatedDown) {
+  const glm::dmat3 r =
+      glm::dmat3(glm::rotate(glm::dmat4(1.0), glm::radians(90.0), glm::dvec3(1, 0, 0)));
+  for (SliceAxis axis : {SliceAxis::axial, SliceAxis::coronal, SliceAxis::sagittal}) {
+    const SliceView flat = slice_view(axis, glm::dvec3(0.0), 4, 4, 1.0);
+    const SliceView v = slice_view(axis, glm::dvec3(0.0), 4, 4, 1.0, r);
+    EXPECT_NEAR(glm::length(v.normal - r * flat.normal), 0.0, 1e-12) << slice_axis_name(axis);
+    EXPECT_NEAR(glm::length(v.down), 1.0, 1e-12) << slice_axis_name(axis);
+    EXPECT_NEAR(glm::dot(v.down, v.normal), 0.0, 1e-12) << slice_axis_name(axis);
+    EXPECT_NEAR(glm::dot(v.right, v.down), 0.0, 1e-12) << slice_axis_name(axis);
+    EXPECT_GT(glm::dot(glm::cross(v.right, v.down), v.normal) *
+                  glm::dot(glm::cross(flat.right, flat.down), flat.normal),
+              0.0)
+        << slice_axis_name(axis);
+  }
+  // The axial view, its normal S turned to A, takes its down (P) turned: S.
+  const SliceView axial = slice_view(SliceAxis::axial, glm::dvec3(0.0), 4, 4, 1.0, r);
+  EXPECT_NEAR(glm::length(axial.down - r * glm::dvec3(0, 1, 0)), 0.0, 1e-12);
+}
+
 }  // namespace
 }  // namespace imx
