@@ -33,6 +33,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import urllib.parse
 
 sys.dont_write_bytecode = True  # no __pycache__ beside the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -260,6 +261,13 @@ def run_test(args, out, checks, cleanup):
     checks.check("c. the oblique coronal image's pixels are trilinear samples at their world "
                  'points', len(pixels) >= 20 and worst <= WINDOW[1] / 255,
                  f'largest gap {worst:.2f} over {len(pixels)} pixels')
+    # d. copy link keeps the turn: its rotation's P column is the coronal view's normal
+    link = browser.evaluate('viewer.viewLink()')
+    view = json.loads(urllib.parse.unquote(link.split('#view=')[1]))
+    rot = view.get('rotation') or [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
+    gap = max(abs(rot[i][1] - cor['normal'][i]) for i in range(3))
+    checks.check("d. copy link carries the crosshair's turn", gap < 1e-9,
+                 f'P column off the coronal normal by {gap:.2g}')
     errors = [m for _, m in watcher.of_type('error')]
     checks.check('no error from the server and no page error',
                  not errors and not browser.page_errors, f'{len(errors)} errors',

@@ -50,7 +50,8 @@ function orthonormal(cols) {
 
 // A view's frame (unit right, down, normal): its last image's, else the axis's unrotated.
 export function frameOf(axis, answer) {
-  if (answer && answer.right) return {right: answer.right, down: answer.down, normal: answer.normal};
+  if (answer && answer.right)
+    return {right: answer.right, down: answer.down, normal: answer.normal};
   return BASE_FRAME[axis];
 }
 
@@ -103,8 +104,9 @@ export function setupSlabControls(onChange) {
     if (!box) continue;
     const thickness = box.querySelector('.slab-thickness');
     const mode = box.querySelector('.slab-mode');
-    const read = () => ({thickness: Math.min(MAX_SLAB_MM, Math.max(0, Number(thickness.value) || 0)),
-                         mode: mode.value});
+    const read = () => ({
+      thickness: Math.min(MAX_SLAB_MM, Math.max(0, Number(thickness.value) || 0)),
+      mode: mode.value});
     // Typing or the spinner: the views follow at once; the scene takes it on change.
     thickness.addEventListener('input', () => onChange(axis, read(), true));
     thickness.addEventListener('change', () => onChange(axis, read(), false));

@@ -2,6 +2,7 @@
 // method menu and the status line, and "copy link": the view as an address without the token.
 import {cameraInput, editInput} from './connection.js';
 import {applyFields, editFields, redo, undo} from './history.js';
+import {crosshairRotation, isOblique, setCrosshairRotation} from './reading_frame.js';
 import {setLayout} from './slices.js';
 import {S} from './state.js';
 import {snapView} from './toolbar.js';
@@ -43,14 +44,15 @@ function onKey(ev) {
   ev.preventDefault();
 }
 
-// The page's address for this view: camera, layout, crosshair and each object's edits
-// (visibility, opacity, transfer function, window, position, clip planes, frame) in the fragment
-// (never the token; the one who opens it needs their own).
+// The page's address for this view: camera, layout, crosshair (and its turn) and each object's
+// edits (visibility, opacity, transfer function, window, position, clip planes, frame, slabs) in
+// the fragment (never the token; the one who opens it needs their own).
 export function viewLink() {
   const view = {
     camera: S.camera,
     layout: document.getElementById('layout').value,
     point: S.point || null,
+    rotation: isOblique() ? crosshairRotation() : null,  // the oblique views' crosshair
     objects: S.objects.map((o) => [o.name, editFields(o)]),
   };
   return location.origin + location.pathname + '#view=' + encodeURIComponent(JSON.stringify(view));
@@ -85,6 +87,8 @@ export function applyViewLink() {
     editInput(name, changed, false);
   }
   if (Array.isArray(view.point) && view.point.length === 3) S.point = view.point.map(Number);
+  if (Array.isArray(view.rotation) && view.rotation.length === 3)
+    setCrosshairRotation(view.rotation);
   if (['1x1', '2x2', '1x3'].includes(view.layout)) setLayout(view.layout);
 }
 

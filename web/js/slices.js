@@ -10,8 +10,8 @@ import {HANDLE_RADIUS, drawClipLines2d, handleAt, moveClip, startClipDrag} from 
 import {editInput, send} from './connection.js';
 import {showVolumeWindow} from './panel.js';
 import {AXES, axisLines, crosshairRotation, frameOf, isOblique, lettersOf, normalOf, pitchAlong,
-        rangeAlong, resetRotation, rotateCrosshair, rotationAxes, setupSlabControls, showSlabControls,
-        slabOf} from './reading_frame.js';
+        rangeAlong, resetRotation, rotateCrosshair, rotationAxes, setupSlabControls,
+        showSlabControls, slabOf} from './reading_frame.js';
 import {S} from './state.js';
 import {add, clamp, cross, dot, fmt, mul, sub} from './vec.js';
 
@@ -358,7 +358,8 @@ export function onProbe(m) {
   const oblique = isOblique();
   for (const v of m.values) {
     const raw = oblique && v.sample !== undefined ? v.sample : v.value;
-    const value = raw === null ? '—' : Number(raw.toPrecision(6)) + (oblique ? ' (trilinear)' : '');
+    const value = raw === null ? '—'
+                               : Number(raw.toPrecision(6)) + (oblique ? ' (trilinear)' : '');
     lines.push(`${v.name}: ${value}${v.units ? ' ' + v.units : ''}` +
                (v.label ? ` ${v.label}` : '') + (v.index ? `  [${v.index.join(', ')}]` : ''));
   }
@@ -524,7 +525,7 @@ export function setupSlices() {
         view.drag = null;
         S.drag = null;
       }
-      if (d.mode === 'rotate') {  // about the view's normal, by the pointer's turn about the centre
+      if (d.mode === 'rotate') {  // about the view's normal, by the pointer's turn about the point
         const [x, y] = backing(ev), [cx, cy] = pixelOf(axis, S.point);
         rotateCrosshair(d.k, Math.atan2(y - cy, x - cx) - d.a0, d.axes0);
         markInput('rotate', shownAxes());
