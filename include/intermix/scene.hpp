@@ -1,5 +1,6 @@
 // Scene: camera, image, lights, volumes, meshes, planes and render settings of one frame.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -88,6 +89,16 @@ struct ClipMesh {
   bool keep_inside = false;  // true: probing, false: cutting
 };
 
+// A thick slab's projection (2-D reading views, MPR planes): each pixel the max (MIP), min
+// (MinIP) or mean of the volume's samples along the plane's normal across `thickness` mm centred
+// on the plane; a thickness of 0 is the plane alone.
+enum class SlabMode : uint8_t { mip, minip, mean };
+struct SlabProjection {
+  double thickness = 0.0;  // mm
+  SlabMode mode = SlabMode::mip;
+  bool operator==(const SlabProjection&) const = default;
+};
+
 struct VolumeObject {
   std::string name;
   std::shared_ptr<const VolumeData> data;
@@ -103,6 +114,8 @@ struct VolumeObject {
   // The scene file's "window" (centre, width): the 2-D reading views' window as the user set it;
   // without it they follow the initial-window rule (volume/display_window.hpp).
   std::optional<glm::dvec2> window;
+  // The scene file's "slabs": the axial, coronal and sagittal reading views' thick slabs.
+  std::array<SlabProjection, 3> reading_slabs{};
   std::string units;  // of the values, as the source says ("HU", "BQML", "g/ml"); "" if unknown
   // Where `data` lies in its source: all of it, unless the scene was loaded by region
   // (SceneLoadOptions::region), when data holds only `region` of a grid of `source_dims`.
@@ -166,6 +179,7 @@ struct PlaneObject {
   bool symmetric = false;
   float opacity = 1.0f;
   std::optional<double> thickness;
+  SlabProjection slab;  // a thick slab of its volume's values, projected on the plane
 };
 
 // How a streamline object colours its tubes.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -26,7 +27,24 @@ struct SliceLayer {
   float centre, width;  // the window
   float alpha_scale;    // 1 / the TF's largest alpha
   float fixed_weight;   // an overlay's weight wherever it shows; negative: by its opacity
+  int samples;          // along the normal across the slab (1: the plane alone)
+  glm::vec3 step;       // index-space step between the slab's samples
+  SlabMode mode;
 };
+
+bool in_grid(const glm::vec3& p, const glm::ivec3& dims) {
+  return p.x >= -0.5f && p.y >= -0.5f && p.z >= -0.5f && p.x <= dims.x - 0.5f &&
+         p.y <= dims.y - 0.5f && p.z <= dims.z - 0.5f;
+}
+
+// The slab's value at a pixel whose plane sample is index point `p`: slab_along within the
+// voxels' extent, as the thin view's; NaN when no sample lies there or holds data.
+float slab_value(const SliceLayer& l, const glm::vec3& p, const glm::ivec3& dims) {
+  float value = std::numeric_limits<float>::quiet_NaN();
+  slab_along(l.volume->grid, p, l.step, l.samples, l.mode, glm::vec3(-0.5f), glm::vec3(dims) - 0.5f,
+             l.volume->has_no_data, value);
+  return value;
+}
 
 // How much of an overlay's colour covers what is below it.
 float overlay_weight(const SliceLayer& l, float alpha) {
@@ -41,9 +59,9 @@ glm::vec4 slice_pixel(const std::vector<SliceLayer>& layers, const glm::vec3& wo
   for (const SliceLayer& l : layers) {
     const glm::vec3 p = l.volume->to_index(world);
     const glm::ivec3 dims = l.volume->object->data->dims;
-    if (!(p.x >= -0.5f && p.y >= -0.5f && p.z >= -0.5f && p.x <= dims.x - 0.5f &&
-          p.y <= dims.y - 0.5f && p.z <= dims.z - 0.5f))
-      continue;
+    const bool labels_or_colours = l.volume->labels.active() || l.volume->colours.active();
+    // A slab shows wherever any of its samples lies in the grid; labels and colours the plane's.
+    if (!in_grid(p, dims) && (l.samples == 1 || labels_or_colours)) continue;
     const glm::vec3 inside = glm::clamp(p, glm::vec3(0.0f), glm::vec3(dims - 1));
     if (l.volume->labels.active()) {  // a label map: its labels' colours, hidden ones nothing
       const glm::vec4 c = table_look(*l.volume, inside);
@@ -53,7 +71,8 @@ glm::vec4 slice_pixel(const std::vector<SliceLayer>& layers, const glm::vec3& wo
       covered = std::max(covered, w);
       continue;
     }
-    const float value = l.volume->grid.sample(inside);
+    const float value = l.samples > 1 && !labels_or_colours ? slab_value(l, p, dims)
+                                                            : l.volume->grid.sample(inside);
     if (!std::isfinite(value)) continue;
     if (l.volume->colours.active()) {  // a colour volume: its colours; over others, its opacity
       const glm::vec4 c = table_look(*l.volume, inside);
@@ -89,13 +108,24 @@ const char* slice_axis_name(SliceAxis axis) {
   return axis == SliceAxis::axial ? "axial" : axis == SliceAxis::coronal ? "coronal" : "sagittal";
 }
 
+std::optional<SlabMode> find_slab_mode(std::string_view name) {
+  if (name == "mip") return SlabMode::mip;
+  if (name == "minip") return SlabMode::minip;
+  if (name == "mean") return SlabMode::mean;
+  return std::nullopt;
+}
+
+const char* slab_mode_name(SlabMode mode) {
+  return mode == SlabMode::mip ? "mip" : mode == SlabMode::minip ? "minip" : "mean";
+}
+
 glm::dvec2 SliceView::pixel(const glm::dvec3& p) const {
   const glm::dvec3 d = p - origin;
   return {glm::dot(d, right) / glm::dot(right, right), glm::dot(d, down) / glm::dot(down, down)};
 }
 
 SliceView slice_view(SliceAxis axis, const glm::dvec3& point, int width, int height,
-                     double mm_per_pixel) {
+                     double mm_per_pixel, const glm::dmat3& rotation) {
   SliceView v;
   v.axis = axis;
   v.width = width;
@@ -108,6 +138,15 @@ SliceView slice_view(SliceAxis axis, const glm::dvec3& point, int width, int hei
     right = {1, 0, 0}, down = {0, 0, -1}, v.normal = {0, 1, 0};
   } else {
     right = {0, 1, 0}, down = {0, 0, -1}, v.normal = {1, 0, 0};
+  }
+  if (rotation != glm::dmat3(1.0)) {
+    // Right keeps its side of down x normal (the sagittal view's frame is mirrored).
+    const double hand = glm::dot(glm::cross(down, v.normal), right) > 0.0 ? 1.0 : -1.0;
+    v.normal = glm::normalize(rotation * v.normal);
+    glm::dvec3 d = down - glm::dot(down, v.normal) * v.normal;
+    if (glm::length(d) < 1e-3) d = rotation * down;  // facing along down: down turns with it
+    down = glm::normalize(d - glm::dot(d, v.normal) * v.normal);
+    right = hand * glm::cross(down, v.normal);
   }
   v.right = right * mm_per_pixel;
   v.down = down * mm_per_pixel;
@@ -128,8 +167,17 @@ Image render_slice(const Scene& scene, const SliceView& view, const std::vector<
   for (size_t k = 0; k < prepared.size(); ++k) {
     const glm::dvec2 w = windows.at(static_cast<size_t>(shown[k]));
     const float top = prepared[k].lut.max_opacity();
+    // Each volume samples the slab at its own pitch along the normal, in world space (tilted
+    // grids are sampled where the slab is, not along their own axes).
+    const glm::dvec3 normal = glm::normalize(view.normal);
+    const SlabSampling sampling =
+        slab_sampling(view.slab.thickness, pitch_along(prepared[k], normal));
+    const glm::dvec3 step_world = normal * sampling.spacing;
+    const glm::vec3 step =
+        prepared[k].to_index(glm::vec3(step_world)) - prepared[k].to_index(glm::vec3(0.0f));
     layers.push_back({&prepared[k], k == 0, static_cast<float>(w.x), static_cast<float>(w.y),
-                      top > 0.0f ? 1.0f / top : 0.0f, overlay_weight.value_or(-1.0f)});
+                      top > 0.0f ? 1.0f / top : 0.0f, overlay_weight.value_or(-1.0f),
+                      sampling.count, step, view.slab.mode});
   }
   Image image(view.width, view.height);
   tbb::parallel_for(0, view.height, [&](int y) {
@@ -173,6 +221,26 @@ std::optional<VoxelValue> voxel_at(const VolumeObject& volume, const glm::dvec3&
   if (glm::any(glm::lessThan(i, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(i, dims)))
     return std::nullopt;
   return VoxelValue{i, volume.data->value_at(i.x, i.y, i.z)};
+}
+
+std::optional<double> sample_at(const VolumeObject& volume, const glm::dvec3& point) {
+  const glm::dvec3 p = transform_point(glm::inverse(volume.index_to_world), point);
+  const glm::ivec3 dims = volume.data->dims;
+  if (glm::any(glm::lessThan(p, glm::dvec3(-0.5))) ||
+      glm::any(glm::greaterThan(p, glm::dvec3(dims) - 0.5)))
+    return std::nullopt;
+  const glm::dvec3 q = glm::clamp(p, glm::dvec3(0.0), glm::dvec3(dims - 1));
+  const glm::ivec3 i0 = glm::min(glm::ivec3(glm::floor(q)), glm::max(dims - 2, glm::ivec3(0)));
+  const glm::dvec3 f = q - glm::dvec3(i0);
+  double sum = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    const glm::ivec3 o((c & 1) ? 1 : 0, (c & 2) ? 1 : 0, (c & 4) ? 1 : 0);
+    const glm::ivec3 i = glm::min(i0 + o, dims - 1);
+    const double w = (o.x ? f.x : 1.0 - f.x) * (o.y ? f.y : 1.0 - f.y) * (o.z ? f.z : 1.0 - f.z);
+    if (w == 0.0) continue;  // a no-data neighbour with no weight takes no part
+    sum += w * volume.data->value_at(i.x, i.y, i.z);
+  }
+  return sum;
 }
 
 }  // namespace imx

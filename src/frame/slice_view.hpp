@@ -8,11 +8,13 @@
 #include <string_view>
 #include <vector>
 
+#include <glm/mat3x3.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "intermix/image.hpp"
 #include "intermix/scene.hpp"
+#include "raster/slab_sample.hpp"
 
 namespace imx {
 
@@ -24,11 +26,13 @@ const char* slice_axis_name(SliceAxis axis);
 // A view's pixels in LPS world space, as radiologists read them: axial seen from the feet
 // (patient left on the screen's right, anterior up), coronal from the front (left on the right,
 // superior up), sagittal from the patient's left (anterior on the screen's left, superior up).
-// Pixel (x, y)'s centre is at origin + (x + 0.5) * right + (y + 0.5) * down.
+// Pixel (x, y)'s centre is at origin + (x + 0.5) * right + (y + 0.5) * down. With a slab, a
+// pixel projects the samples along `normal` (unit) across the slab centred on it.
 struct SliceView {
   SliceAxis axis = SliceAxis::axial;
   int width = 0, height = 0;
   glm::dvec3 origin{0.0}, right{0.0}, down{0.0}, normal{0.0};
+  SlabProjection slab;
 
   glm::dvec3 world(double x, double y) const { return origin + x * right + y * down; }
   // The pixel coordinates (x, y, not rounded) of a world point's projection on the view.
@@ -36,9 +40,15 @@ struct SliceView {
 };
 
 // The view of `axis` through `point` (the view's centre), `width` x `height` pixels of
-// `mm_per_pixel` mm.
+// `mm_per_pixel` mm. An oblique view turns by `rotation` (a rotation of LPS): its normal is the
+// axis's normal rotated, its down the axis's down made perpendicular to that normal (else the
+// rotated down), so an oblique view keeps its up as near the patient's as it can (3D Slicer's
+// and OHIF's reformatted views do the same).
 SliceView slice_view(SliceAxis axis, const glm::dvec3& point, int width, int height,
-                     double mm_per_pixel);
+                     double mm_per_pixel, const glm::dmat3& rotation = glm::dmat3(1.0));
+
+std::optional<SlabMode> find_slab_mode(std::string_view name);
+const char* slab_mode_name(SlabMode mode);
 
 // The view's image (premultiplied linear RGBA, sRGB-encoded on output as a render): black where
 // no volume is; the first volume in `shown` (indices into scene.volumes) in grey through
@@ -62,5 +72,9 @@ struct VoxelValue {
   double value = 0.0;
 };
 std::optional<VoxelValue> voxel_at(const VolumeObject& volume, const glm::dvec3& point);
+
+// The trilinear sample of a volume at a world point (as a view's pixel samples it, in double),
+// or nullopt outside the grid's voxel extent; NaN where a no-data voxel takes part.
+std::optional<double> sample_at(const VolumeObject& volume, const glm::dvec3& point);
 
 }  // namespace imx

@@ -21,6 +21,7 @@
 #include "raster/clip_polygon.hpp"
 #include "raster/edge_function.hpp"
 #include "raster/shade_fragment.hpp"
+#include "raster/slab_sample.hpp"
 #include "tubes/tube_cache.hpp"
 #include "tubes/tube_coverage.hpp"
 #include "tubes/tube_fragments.hpp"
@@ -65,6 +66,9 @@ struct ObjectInfo {
   Colormap colormap = Colormap::grey;
   float threshold = -std::numeric_limits<float>::infinity();  // plane_value_shown
   bool symmetric = false;
+  int slab_samples = 1;       // a thick slab's samples along the normal (1: the plane alone)
+  glm::vec3 slab_step{0.0f};  // index-space step between them
+  SlabMode slab_mode = SlabMode::mip;
 };
 
 // One input triangle before clipping: its plane in camera space and its shading attributes.
@@ -206,7 +210,12 @@ struct Rasterizer::Impl {
       }
       if (obj.volume) {
         float value = 0.0f;
-        if (!sample_plane_volume(*obj.volume, glm::vec3(camera.to_world(hit)), value)) return false;
+        const glm::vec3 world(camera.to_world(hit));
+        if (obj.slab_samples > 1
+                ? !sample_plane_slab(*obj.volume, obj.volume->to_index(world), obj.slab_step,
+                                     obj.slab_samples, obj.slab_mode, value)
+                : !sample_plane_volume(*obj.volume, world, value))
+          return false;
         if (!plane_value_shown(value, obj.threshold, obj.symmetric)) return false;
         // The window's grey level through the plane's colour map (grey: a display grey).
         f.color = shade_plane_fragment(
@@ -668,6 +677,13 @@ Rasterizer::Rasterizer(const Scene& scene, const CameraModel& camera,
           info.threshold = static_cast<float>(*pl.threshold);
         }
         info.symmetric = pl.symmetric;
+        // A thick slab along the normal at the volume's finest pitch, as a reading view's.
+        const glm::dvec3 n = glm::normalize(pl.normal);
+        const SlabSampling slab = slab_sampling(pl.slab.thickness, pitch_along(*info.volume, n));
+        const glm::vec3 step(n * slab.spacing);
+        info.slab_samples = slab.count;
+        info.slab_step = info.volume->to_index(step) - info.volume->to_index(glm::vec3(0.0f));
+        info.slab_mode = pl.slab.mode;
       }
       info.is_plane = true;
       info.plane_color = pl.color;

@@ -59,7 +59,7 @@ PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
                                const std::map<std::string, std::string>& object_types,
                                MeshSpace space) {
   r.check_keys({"name", "type", "center", "normal", "up", "size", "volume", "window", "colormap",
-                "threshold", "symmetric", "color", "opacity", "thickness", "visible"});
+                "threshold", "symmetric", "color", "opacity", "thickness", "visible", "slab"});
   PlaneObject p;
   p.name = r.get("name").string();
   const VolumeObject* volume = nullptr;
@@ -113,6 +113,10 @@ PlaneObject parse_plane_object(const JsonReader& r, const Scene& scene,
     p.opacity = static_cast<float>(v->number(Range::closed(0.0, 1.0)));
   if (!parse_visible(r)) p.opacity = 0.0f;  // hidden
   if (auto v = r.find("thickness")) p.thickness = parse_thickness(*v);
+  if (auto v = r.find("slab")) {
+    if (volume == nullptr) v->fail("applies only to a plane showing a \"volume\"");
+    p.slab = parse_slab(*v);
+  }
   return p;
 }
 

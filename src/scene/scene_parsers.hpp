@@ -149,6 +149,17 @@ ParsedTransferFunction parse_transfer_function(const JsonReader& r, SceneContext
 // A colour map's name (presets/colormap.hpp); the error lists them all.
 Colormap parse_colormap(const JsonReader& v);
 
+// A thick slab {"thickness": mm in [0, kMaxSlabThicknessMm], "mode": "mip" (the default),
+// "minip" or "mean"}: a plane's "slab"; slab_json writes one back.
+constexpr double kMaxSlabThicknessMm = 1000.0;
+SlabProjection parse_slab(const JsonReader& r);
+nlohmann::json slab_json(const SlabProjection& s);
+// A volume's "slabs": {"axial", "coronal", "sagittal": a slab each, all optional}, its 2-D
+// reading views' thick slabs.
+std::array<SlabProjection, 3> parse_reading_slabs(const JsonReader& r);
+// The views' slabs thicker than 0 as "slabs" gives them ({} when none).
+nlohmann::json reading_slabs_json(const std::array<SlabProjection, 3>& slabs);
+
 // A window: [centre, width] (width > 0) or the name of one of 3D Slicer's window/level presets
 // ("ct-brain"), for planes and a volume's 2-D views.
 glm::dvec2 parse_window(const JsonReader& v);

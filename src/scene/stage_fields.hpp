@@ -32,13 +32,13 @@ inline void hash_stage_labels(Fnv1a& h, const LabelMap* labels) {
 // (a clipped volume's stage keeps its clip meshes too).
 inline void hash_stage_fields(Fnv1a& h, const Scene& scene, const VolumeObject& v) {
   const auto& [name, data, index_to_world, transfer_function, style, iso_value, xray_mode, shading,
-               clip_planes, clip_meshes, display_window, window, units, source_dims, region, frame,
-               frames, labels] = v;
+               clip_planes, clip_meshes, display_window, window, reading_slabs, units, source_dims,
+               region, frame, frames, labels] = v;
   // Not read by a render: the name and units are labels, the display window a default for
   // planes, the window the 2-D views'; the region and frame chose what `data` holds, and data is
   // hashed.
-  (void)name, (void)display_window, (void)window, (void)units, (void)source_dims, (void)region,
-      (void)frame, (void)frames;
+  (void)name, (void)display_window, (void)window, (void)reading_slabs, (void)units,
+      (void)source_dims, (void)region, (void)frame, (void)frames;
   h.add(data.get()).add(index_to_world).add(style).add(iso_value).add(xray_mode);
   h.add(transfer_function.unit_distance).add(transfer_function.points.size());
   for (const TfPoint& p : transfer_function.points) h.add(p.value).add(p.rgba);
@@ -99,12 +99,13 @@ inline void hash_stage_fields(Fnv1a& h, const Scene& scene, const StreamlineObje
 
 inline void hash_stage_fields(Fnv1a& h, const Scene& scene, const PlaneObject& p) {
   const auto& [name, center, normal, up, size, volume, window, color, colormap, threshold,
-               symmetric, opacity, thickness] = p;
+               symmetric, opacity, thickness, slab] = p;
   (void)name;  // a label
   h.add(center).add(normal).add(up).add(size).add(volume).add(window).add(color);
   h.add(opacity).add(colormap).add(symmetric);
   hash_stage_optional(h, threshold);
   hash_stage_optional(h, thickness);
+  h.add(slab.thickness).add(slab.mode);
   if (volume >= 0 && static_cast<size_t>(volume) < scene.volumes.size()) {
     const VolumeObject& v = scene.volumes[static_cast<size_t>(volume)];
     h.add(v.data.get()).add(v.index_to_world);  // a plane reads the voxels, not the TF

@@ -379,7 +379,7 @@ std::vector<ClipPlane> parse_clip_planes(const JsonReader& r, MeshSpace space) {
 VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   r.check_keys({"name", "type", "source", "transform", "style", "iso_value", "xray_mode",
                 "transfer_function", "shading", "clip_planes", "clip", "visible", "labels",
-                "interpolation", "units", "window"});
+                "interpolation", "units", "window", "slabs"});
   VolumeObject v;
   v.name = r.get("name").string();
   glm::dmat4 transform(1.0);
@@ -434,6 +434,7 @@ VolumeObject parse_volume_object(const JsonReader& r, SceneContext& context) {
   if (facts.channel && facts.channel->window) v.display_window = facts.channel->window;
   v.units = facts.units;
   if (auto w = r.find("window")) v.window = parse_window(*w);  // the 2-D views' window
+  if (auto s = r.find("slabs")) v.reading_slabs = parse_reading_slabs(*s);
   if (auto u = r.find("units")) {  // a label for colour bars and readouts ("t", "z", "%")
     v.units = u->string();
     if (v.units.size() > 16) u->fail("a units label has at most 16 characters");

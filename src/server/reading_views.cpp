@@ -12,7 +12,9 @@
 #include "intermix/io.hpp"
 #include "scene/json_reader.hpp"
 #include "scene/label_map_parser.hpp"
+#include "scene/scene_parsers.hpp"
 #include "server/jpeg_encoder.hpp"
+#include "server/slice_orientation.hpp"
 #include "server/streamline_slab.hpp"
 
 namespace imx::server {
@@ -45,7 +47,7 @@ std::vector<int> shown_volumes(const ViewerState& state) {
 SliceAnswer answer_slice(const ViewerState& state, const Json& message) {
   const JsonReader r(message, "slice");
   r.check_keys({"type", "seq", "view", "point", "width", "height", "mm_per_pixel", "window", "slab",
-                "format"});
+                "format", "rotation", "thick_slab"});
   const JsonReader axis_reader = r.get("view");
   const SliceAxis axis = *find_slice_axis(axis_reader.choice({"axial", "coronal", "sagittal"}));
   const glm::dvec3 point = r.get("point").vec3(Range::coordinate());
@@ -54,7 +56,10 @@ SliceAnswer answer_slice(const ViewerState& state, const Json& message) {
   const double mm = r.get("mm_per_pixel").number(Range::length());
   // JPEG while a drag goes on (a quarter of PNG's encoding time), PNG when it stops.
   const bool jpeg = r.has("format") && r.get("format").choice({"png", "jpeg"}) == "jpeg";
-  const SliceView view = slice_view(axis, point, width, height, mm);
+  // An oblique view (the crosshair's rotation) and a thick slab's projection, both optional.
+  const glm::dmat3 rotation = r.has("rotation") ? parse_rotation(r.get("rotation")) : glm::dmat3(1);
+  SliceView view = slice_view(axis, point, width, height, mm, rotation);
+  if (auto s = r.find("thick_slab")) view.slab = scene_json::parse_slab(*s);
   const Scene& scene = state.scene();
   const std::vector<int> shown = shown_volumes(state);
   std::vector<glm::dvec2> window_of(scene.volumes.size(), glm::dvec2(0.0, 1.0));
@@ -102,6 +107,10 @@ SliceAnswer answer_slice(const ViewerState& state, const Json& message) {
                {"point", vec_json(point)},
                {"mm_per_pixel", mm},
                {"slab", slab},
+               {"right", vec_json(view.right / mm)},
+               {"down", vec_json(view.down / mm)},
+               {"normal", vec_json(view.normal)},
+               {"thick_slab", scene_json::slab_json(view.slab)},
                {"width", width},
                {"height", height},
                {"outlines", std::move(outlines)}};
@@ -126,6 +135,9 @@ Json answer_probe(const ViewerState& state, const Json& message) {
     if (const std::optional<VoxelValue> at = voxel_at(v, point)) {
       entry["index"] = Json::array({at->index.x, at->index.y, at->index.z});
       if (std::isfinite(at->value)) entry["value"] = at->value;
+      // The trilinear sample there, as an (oblique) view's pixel samples it.
+      if (const std::optional<double> s = sample_at(v, point); s && std::isfinite(*s))
+        entry["sample"] = *s;
       // A label map's value under the crosshair by its name (its table's, else "label N").
       if (v.labels && std::isfinite(at->value) && at->value == std::floor(at->value) &&
           std::abs(at->value) < 2147483647.0) {

@@ -20,12 +20,16 @@ struct SliceAnswer {
 // "mm_per_pixel", "seq", "window" (optional [centre, width] of the first shown volume, instead of
 // its own volume_window: a W/L drag in progress), "slab" (optional, mm: the shown streamlines
 // within half of it of the plane are drawn over the slice; default kDefaultStreamlineSlab),
-// "format" (optional: "png", the default, or "jpeg" while a drag goes on)}. Throws imx::Error
-// naming the field at fault.
+// "format" (optional: "png", the default, or "jpeg" while a drag goes on), "rotation" (optional
+// 3 x 3 rows: the crosshair's rotation, an oblique view; slice_orientation.hpp), "thick_slab"
+// (optional {"thickness": mm, "mode": "mip"|"minip"|"mean"}: a thick-slab projection)}. The
+// answer gives the view's unit "right", "down" and "normal" in LPS. Throws imx::Error naming the
+// field at fault.
 SliceAnswer answer_slice(const ViewerState& state, const nlohmann::json& message);
 
 // A `probe` message: {"point": [3]} -> {"type": "probe", "point", "values": [{"name", "value"
-// (null outside the grid), "units", "index" [i, j, k]}, ...]} for every volume.
+// (the nearest voxel's; null outside the grid), "sample" (trilinear, as a view samples it; absent
+// outside), "units", "index" [i, j, k]}, ...]} for every volume.
 nlohmann::json answer_probe(const ViewerState& state, const nlohmann::json& message);
 
 }  // namespace imx::server

@@ -439,6 +439,10 @@ Json edited_object(const ViewerState& state, const JsonReader& r, size_t k, bool
       const glm::dvec2 w = scene_json::parse_window(*v);
       object["window"] = Json::array({w.x, w.y});
     }
+    if (auto v = r.find("slabs")) {  // the 2-D views' thick slabs; none left: the default
+      object["slabs"] = scene_json::reading_slabs_json(scene_json::parse_reading_slabs(*v));
+      if (object["slabs"].empty()) object.erase("slabs");
+    }
     if (auto v = r.find("frame"); v && v->integer(0, volume.frames - 1) != volume.frame) {
       if (!object.contains("source") || !object["source"].is_object() ||
           !object["source"].contains("file"))
@@ -486,7 +490,8 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
   m.check_keys(
       {"type",   "seq",      "moving",      "object", "visible", "opacity",    "transfer_function",
        "window", "center",   "clip_planes", "frame",  "labels",  "color_by",   "color",
-       "value",  "colormap", "range",       "radius", "stride",  "min_length", "regions"});
+       "value",  "colormap", "range",       "radius", "stride",  "min_length", "regions",
+       "slabs"});
   const size_t k = find_object(state.scene(), m.get("object"));
   const Json& objects = state.document.json()["objects"];
   if (k >= objects.size() || k >= state.visible.size() || k >= state.opacity.size())
@@ -498,6 +503,7 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
                                                      {"clip_planes", ObjectKind::volume},
                                                      {"frame", ObjectKind::volume},
                                                      {"labels", ObjectKind::volume},
+                                                     {"slabs", ObjectKind::volume},
                                                      {"center", ObjectKind::plane},
                                                      {"color_by", ObjectKind::streamlines},
                                                      {"color", ObjectKind::streamlines},
@@ -547,7 +553,7 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
   bool window_only = volume;
   for (const auto& field : message.items())
     if (field.key() != "type" && field.key() != "seq" && field.key() != "moving" &&
-        field.key() != "object" && field.key() != "window")
+        field.key() != "object" && field.key() != "window" && field.key() != "slabs")
       window_only = false;
   return changed && !window_only;
 }
@@ -714,6 +720,7 @@ nlohmann::json describe_state(const ViewerState& state) {
       o["window"] = Json::array({window.x, window.y});
       if (!v.window && i < state.initial_windows.size() && !state.initial_windows[i].note.empty())
         o["window_note"] = state.initial_windows[i].note;
+      o["slabs"] = scene_json::reading_slabs_json(v.reading_slabs);
       if (v.labels)
         o["labels"] =
             label_list_json(*v.labels, i < state.label_values.size() ? state.label_values[i]

@@ -22,6 +22,7 @@ export function editFields(o) {
     f.transfer_function = o.tf.map((p) => [...p]);
     f.clip_planes = clipsMessage(o);
     if (o.window) f.window = [...o.window];  // its 2-D views' window
+    f.slabs = JSON.parse(JSON.stringify(o.slabs || {}));  // and thick slabs
     if (o.frames > 1) f.frame = o.frame;
     if (o.labels)
       f.labels = o.labels.map((l) => ({value: l.value, visible: l.visible, opacity: l.opacity,
@@ -45,6 +46,7 @@ export function applyFields(o, f) {
     if (f.clip_planes)
       o.clips = f.clip_planes.map((c) => ({base: [...c.point], normal: norm(c.normal), offset: 0}));
     if (f.window) o.window = [...f.window];
+    if (f.slabs) o.slabs = JSON.parse(JSON.stringify(f.slabs));
     if ('frame' in f) o.frame = f.frame;
     if (f.labels && o.labels)
       for (const row of f.labels) {

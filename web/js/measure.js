@@ -232,11 +232,11 @@ export function onPick(m) {
 }
 
 // Draws the annotations that lie in a 2-D view's plane (and the draft placed in it) over its
-// overlay. `view`: {axis, normal (0..2), plane (the plane's coordinate along it), tolerance (mm),
+// overlay. `view`: {axis, normal (a unit vector), point (on the plane), tolerance (mm),
 // pixelOf(p), r}.
 export function drawAnnotations2d(g, view) {
-  const inPlane = (a) =>
-    a.points.every((p) => Math.abs(p[view.normal] - view.plane) <= view.tolerance);
+  const off = (p) => p.reduce((s, x, i) => s + (x - view.point[i]) * view.normal[i], 0);
+  const inPlane = (a) => a.points.every((p) => Math.abs(off(p)) <= view.tolerance);
   g.save();
   g.strokeStyle = COLOUR;
   g.fillStyle = COLOUR;

@@ -3,6 +3,7 @@
 import {cameraInput, editInput} from './connection.js';
 import {applyFields, editFields, redo, undo} from './history.js';
 import {setAnnotations} from './measure.js';
+import {crosshairRotation, isOblique, setCrosshairRotation} from './reading_frame.js';
 import {setLayout} from './slices.js';
 import {S} from './state.js';
 import {snapView} from './toolbar.js';
@@ -44,15 +45,15 @@ function onKey(ev) {
   ev.preventDefault();
 }
 
-// The page's address for this view: camera, layout, crosshair, each object's edits (visibility,
-// opacity, transfer function, window, position, clip planes, frame) and the measurements in the
-// fragment
-// (never the token; the one who opens it needs their own).
+// The page's address for this view: camera, layout, crosshair (and its turn), each object's edits
+// (visibility, opacity, transfer function, window, position, clip planes, frame, slabs) and the
+// measurements in the fragment (never the token; the one who opens it needs their own).
 export function viewLink() {
   const view = {
     camera: S.camera,
     layout: document.getElementById('layout').value,
     point: S.point || null,
+    rotation: isOblique() ? crosshairRotation() : null,  // the oblique views' crosshair
     objects: S.objects.map((o) => [o.name, editFields(o)]),
     annotations: S.annotations,
   };
@@ -92,6 +93,8 @@ export function applyViewLink() {
       JSON.stringify(view.annotations) !== JSON.stringify(S.annotations))
     setAnnotations(view.annotations);
   if (Array.isArray(view.point) && view.point.length === 3) S.point = view.point.map(Number);
+  if (Array.isArray(view.rotation) && view.rotation.length === 3)
+    setCrosshairRotation(view.rotation);
   if (['1x1', '2x2', '1x3'].includes(view.layout)) setLayout(view.layout);
 }
 

@@ -3,25 +3,20 @@
 // mesh outlines and orientation letters drawn over them; a click moves the crosshair in all
 // three, the wheel and arrow keys step slices, and the readout shows each volume's value there.
 // Right drag (or ctrl / W/L mode drag) sets the base volume's window, ctrl or shift + wheel and
-// a pinch zoom, a middle (or shift) drag pans; zoom and pan per view, or shared when linked. With a
-// measurement tool chosen, a click places its points instead (measure.js), drawn over the views.
+// a pinch zoom, a middle (or shift) drag pans; zoom and pan per view, or shared when linked.
+// Alt drag turns the crosshair's axes (oblique views), and each view may show a thick slab
+// (reading_frame.js). With a measurement tool chosen, a click places its points instead
+// (measure.js), drawn over the views.
 import {HANDLE_RADIUS, drawClipLines2d, handleAt, moveClip, startClipDrag} from './clip_outlines.js';
 import {editInput, send} from './connection.js';
 import {drawAnnotations2d, measureClick} from './measure.js';
 import {showVolumeWindow} from './panel.js';
+import {AXES, axisLines, crosshairRotation, frameOf, isOblique, lettersOf, normalOf, pitchAlong,
+        rangeAlong, resetRotation, rotateCrosshair, rotationAxes, setupSlabControls,
+        showSlabControls, slabOf} from './reading_frame.js';
 import {S} from './state.js';
-import {clamp, fmt} from './vec.js';
+import {add, clamp, cross, dot, fmt, mul, sub} from './vec.js';
 
-const AXES = ['axial', 'coronal', 'sagittal'];
-// Screen directions in LPS (right, down) and the plane's normal, as the server draws them.
-const FRAME = {
-  axial: {right: [1, 0, 0], down: [0, 1, 0], normal: 2},
-  coronal: {right: [1, 0, 0], down: [0, 0, -1], normal: 1},
-  sagittal: {right: [0, 1, 0], down: [0, 0, -1], normal: 0},
-};
-// The letters at the top, bottom, left and right of each view.
-const LETTERS = {axial: ['A', 'P', 'R', 'L'], coronal: ['S', 'I', 'R', 'L'],
-                 sagittal: ['S', 'I', 'A', 'P']};
 const MAX_SIDE = 2048;
 // Zoom, relative to the scale that fits the volume's box in the view: its limits, and the wheel's
 // rate (a zoom of exp(0.0015) per pixel of deltaY, as the 3-D view's).
@@ -56,8 +51,8 @@ function centreOf(v) {
 function viewPoint(axis) {
   const v = baseVolume();
   const c = centreOf(v).map((x, i) => x + navOf(axis).pan[i]);
-  c[FRAME[axis].normal] = S.point[FRAME[axis].normal];
-  return c;
+  const n = normalOf(axis);
+  return add(c, mul(n, dot(sub(S.point, c), n)));
 }
 
 function backingSize(el) {
@@ -94,7 +89,9 @@ function request(axis) {
   let mm = mmPerPixel(axis, w, h);
   // While a window, pan or pinch drag goes on: JPEG at half the side (a quarter of the pixels to
   // sample and encode), the same field of view; full PNG once it stops, as the 3-D view does.
-  const moving = S.drag && ['slice-wl', 'slice-pan', 'slice-pinch'].includes(S.drag.mode);
+  const moving = (S.drag && ['slice-wl', 'slice-pan', 'slice-pinch', 'slice-rotate']
+                                 .includes(S.drag.mode)) || view.slabMoving ||
+                 view.pointMoving;
   if (moving && Math.min(w, h) >= 2 * MIN_MOVING_SIDE) {
     const side = Math.round(w * MOVING_SCALE);
     mm *= w / side;
@@ -109,6 +106,9 @@ function request(axis) {
   const base = baseVolume();
   if (base.window) message.window = base.window.slice();
   if (moving) message.format = 'jpeg';
+  if (isOblique()) message.rotation = crosshairRotation();
+  const slab = slabOf(base, axis);
+  if (slab.thickness > 0) message.thick_slab = slab;
   // What this request's image will show, and the inputs waiting for it.
   view.sent.set(view.seq, {window: message.window || null, marks: view.marks,
                            at: performance.now()});
@@ -149,8 +149,8 @@ function zoomView(axis, factor, x, y) {
   const nav = navOf(axis), a = views[axis].answer;
   const zoom = clamp(nav.zoom * factor, ZOOM_LIMITS[0], ZOOM_LIMITS[1]);
   if (!a || !Number.isFinite(zoom) || zoom === nav.zoom) return;
-  const f = zoom / nav.zoom, q = worldOf(axis, x, y), n = FRAME[axis].normal;
-  nav.pan = nav.pan.map((p, i) => (i === n ? p : p + (q[i] - a.point[i]) * (1 - 1 / f)));
+  const f = zoom / nav.zoom, q = worldOf(axis, x, y);  // q - a.point lies in the view's plane
+  nav.pan = nav.pan.map((p, i) => p + (q[i] - a.point[i]) * (1 - 1 / f));
   nav.zoom = zoom;
   S.navAxis = axis;
   markInput('zoom', navAxes(axis));
@@ -160,7 +160,8 @@ function zoomView(axis, factor, x, y) {
 // Pans `axis` (and the linked views) so that the image follows the pointer: `pan0` moved by a
 // drag of (dx, dy) backing pixels.
 function panView(axis, pan0, dx, dy) {
-  const nav = navOf(axis), f = FRAME[axis], mm = views[axis].answer.mm_per_pixel;
+  const nav = navOf(axis), f = frameOf(axis, views[axis].answer);
+  const mm = views[axis].answer.mm_per_pixel;
   nav.pan = pan0.map((p, i) => p - (dx * f.right[i] + dy * f.down[i]) * mm);
   S.navAxis = axis;
   markInput('pan', navAxes(axis));
@@ -176,13 +177,14 @@ export function draggedWindow(window0, dx, dy) {
 
 // Every shown view asks for its image again (the scene or the layout changed).
 export function refreshSlices() {
+  showSlabControls(baseVolume());
   for (const axis of shownAxes()) request(axis);
 }
 
 // A view's pixel (backing store) of a world point, by the geometry of its last image.
 function pixelOf(axis, p) {
   const a = views[axis].answer;
-  const f = FRAME[axis];
+  const f = frameOf(axis, a);
   const d = p.map((x, i) => x - a.point[i]);
   const dot = (u) => d[0] * u[0] + d[1] * u[1] + d[2] * u[2];
   return [a.width / 2 + dot(f.right) / a.mm_per_pixel, a.height / 2 + dot(f.down) / a.mm_per_pixel];
@@ -190,7 +192,7 @@ function pixelOf(axis, p) {
 
 function worldOf(axis, x, y) {
   const a = views[axis].answer;
-  const f = FRAME[axis];
+  const f = frameOf(axis, a);
   return a.point.map((c, i) => c + (x - a.width / 2) * a.mm_per_pixel * f.right[i] +
                                    (y - a.height / 2) * a.mm_per_pixel * f.down[i]);
 }
@@ -217,25 +219,27 @@ function drawOverlay(axis) {
     }
     g.stroke();
   }
-  view.handles = drawClipLines2d(g, {point: a.point, right: FRAME[axis].right,
-                                     down: FRAME[axis].down, mm: a.mm_per_pixel, width: a.width,
-                                     height: a.height}, r);
+  const frame = frameOf(axis, a);
+  view.handles = drawClipLines2d(g, {point: a.point, right: frame.right, down: frame.down,
+                                     mm: a.mm_per_pixel, width: a.width, height: a.height}, r);
+  // The crosshair: where the other two views' planes cross this one (oblique when turned).
   const [cx, cy] = pixelOf(axis, S.point);
+  const reach = o.width + o.height;
   g.strokeStyle = 'rgba(80, 220, 120, 0.8)';
   g.lineWidth = r;
   g.beginPath();
-  g.moveTo(0, cy);
-  g.lineTo(o.width, cy);
-  g.moveTo(cx, 0);
-  g.lineTo(cx, o.height);
+  for (const [dx, dy] of axisLines(axis, frame)) {
+    g.moveTo(cx - dx * reach, cy - dy * reach);
+    g.lineTo(cx + dx * reach, cy + dy * reach);
+  }
   g.stroke();
   drawScaleBar(g, a, r);
-  const n = FRAME[axis].normal;
-  drawAnnotations2d(g, {axis, normal: n, plane: a.point[n], tolerance: 0.5 * baseVolume().pitch[n],
-                        r, pixelOf: (p) => pixelOf(axis, p)});
+  drawAnnotations2d(g, {axis, normal: frame.normal, point: a.point,
+                        tolerance: 0.5 * pitchAlong(baseVolume().pitch, frame.normal), r,
+                        pixelOf: (p) => pixelOf(axis, p)});
   g.fillStyle = '#fc6';
   g.font = `${Math.round(13 * r)}px sans-serif`;
-  const [top, bottom, left, right] = LETTERS[axis];
+  const [top, bottom, left, right] = lettersOf(frame);
   g.textAlign = 'center';
   g.fillText(top, o.width / 2, 15 * r);
   g.fillText(bottom, o.width / 2, o.height - 6 * r);
@@ -251,6 +255,9 @@ function drawOverlay(axis) {
   if (w) g.fillText(`W ${fmt(w[1], 0)} / L ${fmt(w[0], 0)}`, 5 * r, 14 * r);
   const zoom = navOf(axis).zoom;
   if (zoom !== 1) g.fillText(`${fmt(zoom, 2)}×`, 5 * r, 28 * r);
+  const slab = a.thick_slab;
+  if (slab && slab.thickness > 0)
+    g.fillText(`${slab.mode.toUpperCase()} ${fmt(slab.thickness, 1)} mm`, 5 * r, 42 * r);
 }
 
 // A scale bar at the bottom right: the longest of 1, 2, 5 x 10^k mm within a fifth of the view.
@@ -352,8 +359,12 @@ export function onSliceError() {
 export function onProbe(m) {
   S.readout = m;
   const lines = [`crosshair ${m.point.map((x) => x.toFixed(1)).join(', ')} mm (LPS)`];
+  // Oblique views: the trilinear sample there, as the views' pixels sample it.
+  const oblique = isOblique();
   for (const v of m.values) {
-    const value = v.value === null ? '—' : Number(v.value.toPrecision(6));
+    const raw = oblique && v.sample !== undefined ? v.sample : v.value;
+    const value = raw === null ? '—'
+                               : Number(raw.toPrecision(6)) + (oblique ? ' (trilinear)' : '');
     lines.push(`${v.name}: ${value}${v.units ? ' ' + v.units : ''}` +
                (v.label ? ` ${v.label}` : '') + (v.index ? `  [${v.index.join(', ')}]` : ''));
   }
@@ -362,24 +373,48 @@ export function onProbe(m) {
 
 // Moves the crosshair to world point p: the other views' images and every crosshair follow.
 export function setPoint(p, except) {
+  const old = S.point;
   S.point = p.slice();
   S.pointSetAt = performance.now();
+  // Only a view whose plane moves needs a new image (a step moves one); the others redraw their
+  // crosshair.
+  const moved = shownAxes().filter((axis) => axis !== except && !(
+    old && views[axis].answer && Math.abs(dot(sub(p, old), normalOf(axis))) < 1e-9));
+  slabViewsFollow(moved);
   for (const axis of shownAxes()) {
-    if (axis !== except) request(axis);
-    else drawOverlay(axis);
+    if (moved.includes(axis)) request(axis);
+    else if (views[axis].answer) drawOverlay(axis);
   }
+  if (!moved.length) S.pointSetAt = null;  // every view shows it already
   send({type: 'probe', point: S.point});
+}
+
+// Views with a thick slab follow crosshair moves (steps, cine, clicks) at half side in JPEG, as
+// a drag, and take their full PNG once the moves pause for SLAB_SETTLE_MS.
+const SLAB_SETTLE_MS = 200;
+let slabSettle = 0;
+function slabViewsFollow(axes) {
+  const base = baseVolume();
+  const slabbed = axes.filter((a) => views[a] && slabOf(base, a).thickness > 0);
+  if (!slabbed.length) return;
+  for (const a of slabbed) views[a].pointMoving = true;
+  clearTimeout(slabSettle);
+  slabSettle = setTimeout(() => {
+    for (const a of slabbed) {
+      views[a].pointMoving = false;
+      request(a);
+    }
+  }, SLAB_SETTLE_MS);
 }
 
 // One slice step (of the base volume's voxel pitch) along `axis`'s normal, `count` times.
 function step(axis, count) {
   const v = baseVolume();
   if (!v || !S.point) return;
-  const n = FRAME[axis].normal;
-  const p = S.point.slice();
+  const n = normalOf(axis);
   // Superior, posterior, left: forward; clamped to the volume's box.
-  p[n] = Math.min(v.bounds[1][n], Math.max(v.bounds[0][n], p[n] + count * v.pitch[n]));
-  setPoint(p);
+  const [lo, hi] = rangeAlong(v.bounds, S.point, n);
+  setPoint(add(S.point, mul(n, clamp(count * pitchAlong(v.pitch, n), lo, hi))));
 }
 
 // Cine: `axis`'s slice steps forward `fps` times a second (from the last slice back to the
@@ -403,10 +438,9 @@ export function setCine(axis, fps) {
 function cineStep(axis) {
   const v = baseVolume();
   if (!v || !S.point) return;
-  const n = FRAME[axis].normal;
-  const p = S.point.slice();
-  p[n] = p[n] + v.pitch[n] > v.bounds[1][n] + 1e-6 ? v.bounds[0][n] : p[n] + v.pitch[n];
-  setPoint(p);
+  const n = normalOf(axis), d = pitchAlong(v.pitch, n);
+  const [lo, hi] = rangeAlong(v.bounds, S.point, n);
+  setPoint(add(S.point, mul(n, d > hi + 1e-6 ? lo : d)));
 }
 
 // After hello: the crosshair at the base volume's centre, the views' events.
@@ -438,6 +472,16 @@ export function setupSlices() {
           return;
         }
       }
+      if (ev.button === 0 && ev.altKey && !ev.ctrlKey && !ev.shiftKey) {  // turn the crosshair
+        ev.preventDefault();
+        view.image.setPointerCapture(ev.pointerId);
+        const [x, y] = backing(ev), [cx, cy] = pixelOf(axis, S.point);
+        const f = frameOf(axis, view.answer);
+        view.drag = {mode: 'rotate', a0: Math.atan2(y - cy, x - cx), axes0: rotationAxes(),
+                     k: cross(f.right, f.down)};
+        S.drag = {mode: 'slice-rotate'};
+        return;
+      }
       const wl = ev.button === 2 ||
                  (ev.button === 0 && (ev.ctrlKey || ev.metaKey || S.wlMode) && !ev.shiftKey);
       const pan = ev.button === 1 || (ev.button === 0 && ev.shiftKey);
@@ -463,8 +507,9 @@ export function setupSlices() {
       }
       const k = view.answer.width / view.image.getBoundingClientRect().width;  // backing / CSS
       if (!ev.ctrlKey && !ev.metaKey && !ev.altKey && ev.pointerType !== 'touch' &&
-          measureClick({axis, x, y, r: k, world: worldOf(axis, x, y), right: FRAME[axis].right,
-                        down: FRAME[axis].down, volume: baseVolume().name,
+          measureClick({axis, x, y, r: k, world: worldOf(axis, x, y),
+                        right: frameOf(axis, view.answer).right,
+                        down: frameOf(axis, view.answer).down, volume: baseVolume().name,
                         pixelOf: (p) => pixelOf(axis, p)}))
         return;  // a measurement's point, not the crosshair
       if (ev.pointerType === 'touch') {  // the crosshair on lifting, unless a pinch begins
@@ -477,7 +522,7 @@ export function setupSlices() {
       const d = view.clipDrag;
       if (!d) return;
       const [x, y] = backing(ev);
-      const f = FRAME[axis], mm = view.answer.mm_per_pixel;
+      const f = frameOf(axis, view.answer), mm = view.answer.mm_per_pixel;
       moveClip(d, f.right.map((v, i) => ((x - d.x0) * v + (y - d.y0) * f.down[i]) * mm), moving);
       for (const other of shownAxes()) if (views[other].answer) drawOverlay(other);
       if (moving) return;
@@ -488,11 +533,19 @@ export function setupSlices() {
     const dragView = (ev, moving) => {
       const d = view.drag;
       if (!d) return false;
-      const dx = ev.clientX - d.x0, dy = ev.clientY - d.y0;
       if (!moving) {  // released: the last images are PNG
         view.drag = null;
         S.drag = null;
       }
+      if (d.mode === 'rotate') {  // about the view's normal, by the pointer's turn about the point
+        const [x, y] = backing(ev), [cx, cy] = pixelOf(axis, S.point);
+        rotateCrosshair(d.k, Math.atan2(y - cy, x - cx) - d.a0, d.axes0);
+        markInput('rotate', shownAxes());
+        refreshSlices();
+        send({type: 'probe', point: S.point});
+        return true;
+      }
+      const dx = ev.clientX - d.x0, dy = ev.clientY - d.y0;
       if (d.mode === 'wl') {
         document.getElementById('wl-preset').value = '';  // no preset's window any more
         if (dx || dy || moving) setSliceWindow(draggedWindow(d.window0, dx, dy), moving);
@@ -576,6 +629,7 @@ export function setupSlices() {
     ev.preventDefault();
     step(S.hoverAxis, counts[ev.key]);
   });
+  setupSlabControls(setSlab);
   const layout = document.getElementById('layout');
   layout.addEventListener('change', () => setLayout(layout.value));
   window.addEventListener('resize', refreshSlices);
@@ -603,8 +657,26 @@ export function pagePixelOf(axis, p) {
   return [r.left + x * r.width / v.answer.width, r.top + y * r.height / v.answer.height];
 }
 
-// "reset" for the 2-D views: every view back to the fitting zoom, centred.
+// A view's thick slab {thickness, mode} (0 mm: none), shown at once and written to the scene (the
+// base volume's `slabs`) unless `moving`.
+export function setSlab(axis, slab, moving = false) {
+  const base = baseVolume();
+  if (!base) return;
+  base.slabs = Object.assign({}, base.slabs || {});
+  if (slab.thickness > 0) base.slabs[axis] = {thickness: slab.thickness, mode: slab.mode};
+  else delete base.slabs[axis];
+  showSlabControls(base);
+  if (views[axis]) {
+    views[axis].slabMoving = moving;  // typing: JPEG at half the side, as a drag; PNG on change
+    markInput(moving ? 'slab' : 'slab-set', [axis]);
+    request(axis);
+  }
+  if (!moving) editInput(base.name, {slabs: base.slabs}, false);
+}
+
+// "reset" for the 2-D views: every view back to the fitting zoom, centred, and square again.
 export function resetSliceViews() {
+  resetRotation();
   for (const axis of AXES) navs[axis] = newNav();
   if (linked) linked = newNav();
   refreshSlices();
@@ -623,6 +695,11 @@ export function sliceViews() {
                  mm_per_css_px: [a.mm_per_pixel * a.width / r.width,
                                  a.mm_per_pixel * a.height / r.height],
                  window: v.shownWindow ? v.shownWindow.slice() : null, zoom: navOf(axis).zoom,
+                 right: frameOf(axis, a).right, down: frameOf(axis, a).down,
+                 normal: frameOf(axis, a).normal, thick_slab: a.thick_slab || null,
+                 letters: lettersOf(frameOf(axis, a)),
+                 format: a.format,
+                 width: a.width, height: a.height,
                  pending: v.pending || v.again || v.decoding > 0 || v.marks.length > 0};
   }
   return out;
@@ -662,11 +739,10 @@ export function crosshairs() {
   const out = {};
   for (const axis of AXES) {
     const a = views[axis] && views[axis].answer;
-    if (!a || a.point[FRAME[axis].normal] !== S.point[FRAME[axis].normal]) continue;
+    const n = a && frameOf(axis, a).normal;
+    if (!a || Math.abs(dot(sub(S.point, a.point), n)) > 1e-6) continue;
     const [x, y] = pixelOf(axis, S.point);
-    const w = worldOf(axis, x, y);
-    w[FRAME[axis].normal] = a.point[FRAME[axis].normal];  // the plane the image shows
-    out[axis] = w;
+    out[axis] = worldOf(axis, x, y);  // on the plane the image shows
   }
   return out;
 }

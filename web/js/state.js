@@ -71,6 +71,7 @@ function localObject(o) {
     l.units = o.units || '';
     l.window = o.window ? [...o.window] : null;  // its 2-D views' [centre, width]
     l.windowNote = o.window_note || '';          // why the header's window is not used
+    l.slabs = JSON.parse(JSON.stringify(o.slabs || {}));  // its 2-D views' thick slabs
     if (o.labels) l.labels = o.labels.map((x) => ({...x, color: [...x.color]}));
   } else if (o.kind === 'streamlines') {
     takeStreamlines(l, o);
@@ -148,6 +149,7 @@ export function takeState(m) {
       if (o.frame !== undefined) l.frame = o.frame;
       if (o.window) l.window = [...o.window];
       l.windowNote = o.window_note || '';
+      if (o.slabs) l.slabs = JSON.parse(JSON.stringify(o.slabs));
       if (o.labels) l.labels = o.labels.map((x) => ({...x, color: [...x.color]}));
       if (o.clip_planes) {
         const same = o.clip_planes.length === l.clips.length;
