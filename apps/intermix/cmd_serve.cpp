@@ -39,9 +39,9 @@ std::string default_web_dir() {
 }
 
 // Frames finer than a scene shown at coarse pyramid levels (SessionOptions::full_resolution):
-// the document's OME-Zarr sources at "level": "auto" or "view" taken from level 0, rendered in bricks as
-// `intermix render` renders a volume too large to hold. Step s reads each brick s levels finer
-// than the level that fits its pixels, and always finer than the level shown; the step whose
+// the document's OME-Zarr sources at "level": "auto" or "view" taken from level 0, rendered in
+// bricks as `intermix render` renders a volume too large to hold. Step s reads each brick s levels
+// finer than the level that fits its pixels, and always finer than the level shown; the step whose
 // bricks all read level 0 is the last.
 decltype(server::SessionOptions::full_resolution) full_resolution_frames(const SceneDocument& shown,
                                                                          int threads) {

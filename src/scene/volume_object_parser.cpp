@@ -123,13 +123,14 @@ int zarr_level(const JsonReader& src, const std::filesystem::path& path, bool bl
            coarser < levels && longest_edge(header(coarser).index_to_world) <= pixel; ++coarser) {
         level = coarser;
         h = header(level);
-        why = fmt::format("the coarsest whose voxel fits a pixel of the {} rows", context.image_rows);
+        why =
+            fmt::format("the coarsest whose voxel fits a pixel of the {} rows", context.image_rows);
       }
     if (level > 0)
-      context.notes.push_back(fmt::format("{}: level {} of {} ({}x{}x{}), {}; intermix render "
-                                          "renders level 0 in bricks",
-                                          path.string(), level, levels, h.dims.x, h.dims.y,
-                                          h.dims.z, why));
+      context.notes.push_back(
+          fmt::format("{}: level {} of {} ({}x{}x{}), {}; intermix render "
+                      "renders level 0 in bricks",
+                      path.string(), level, levels, h.dims.x, h.dims.y, h.dims.z, why));
     return level;
   }
   asked->fail_too_large(

@@ -288,7 +288,7 @@ TEST(ViewerSession, BadMessagesGetOneErrorAndChangeNothing) {
   EXPECT_EQ(session.method(), "zslab");
   EXPECT_EQ(session.spp(), 1);
   EXPECT_EQ(session.counters().frames_sent, 1);  // nothing was rendered again
-  auto late = std::make_shared<Recorder>();  // what a new window gets: no annotation kept
+  auto late = std::make_shared<Recorder>();      // what a new window gets: no annotation kept
   session.add_client(late);
   EXPECT_EQ(late->wait_type("hello").json["annotations"], nlohmann::json::array());
 }
