@@ -30,7 +30,6 @@ import signal
 import struct
 import subprocess
 import sys
-import tempfile
 import time
 import urllib.parse
 import zlib
@@ -39,10 +38,10 @@ sys.dont_write_bytecode = True  # no __pycache__ beside the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import cdp  # noqa: E402
 from cdp import CdpError, websocket  # noqa: E402
-from viewer_browser_test import (Checks, Failure, Server, Watcher, log,  # noqa: E402
+from viewer_browser_test import (Checks, Failure, Server, Watcher, alarm_after, log,
+                                 output_folder, preflight,  # noqa: E402
                                  wait_converged)
 
-SKIP = 77
 DIMS = (33, 33, 9)
 SPACING = (0.7, 0.9, 2.5)
 ORIGIN = (-10.0, -12.0, -8.0)
@@ -522,23 +521,11 @@ def main():
                     help='measure ROI statistics latency on these scenes or data files instead')
     ap.add_argument('--rounds', type=int, default=20, help='with --latency: requests per ROI')
     args = ap.parse_args()
-    if websocket is None:
-        print('SKIP: the python websocket module is missing (apt-get install python3-websocket)')
-        return SKIP
-    if not args.latency and not cdp.find_chromium(args.chromium):
-        print('SKIP: chromium is not installed (apt-get install chromium)')
-        return SKIP
-    if not (os.path.isfile(args.intermix) and os.access(args.intermix, os.X_OK)):
-        print(f'error: {args.intermix} is not an executable program', file=sys.stderr)
-        return 2
-    args.intermix = os.path.abspath(args.intermix)
-    out = os.path.abspath(args.out) if args.out else tempfile.mkdtemp(prefix='imx-measure-test-')
-    os.makedirs(out, exist_ok=True)
-
-    def on_alarm(signum, frame):
-        raise Failure(f'the whole run took longer than {args.timeout:.0f} s')
-    signal.signal(signal.SIGALRM, on_alarm)
-    signal.alarm(int(args.timeout))
+    status = preflight(args, browser=not args.latency)
+    if status is not None:
+        return status
+    out = output_folder(args, 'imx-measure-test-')
+    alarm_after(args.timeout)
     checks, cleanup, t0 = Checks(), [], time.monotonic()
     if args.latency:
         cleanup = []

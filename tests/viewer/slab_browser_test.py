@@ -31,7 +31,6 @@ import signal
 import struct
 import subprocess
 import sys
-import tempfile
 import time
 import urllib.parse
 
@@ -39,10 +38,10 @@ sys.dont_write_bytecode = True  # no __pycache__ beside the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import cdp  # noqa: E402
 from cdp import CdpError, websocket  # noqa: E402
-from viewer_browser_test import (Checks, Failure, Server, Watcher, log, percentile,  # noqa: E402
+from viewer_browser_test import (Checks, Failure, Server, Watcher, alarm_after, log,
+                                 output_folder, preflight, percentile,  # noqa: E402
                                  rnd, slice_views_settled, wait_converged, wheel)
 
-SKIP = 77
 DIMS = (33, 33, 25)  # odd: the box's centre, where the crosshair starts, is a voxel centre
 WINDOW = (500.0, 1000.0)  # [centre, width]: a byte b shows the value b / 255 * 1000
 
@@ -334,26 +333,14 @@ def main():
     ap.add_argument('--chromium', help='the browser (default /usr/bin/chromium)')
     ap.add_argument('--timeout', type=float, default=180, help='overall limit in seconds')
     args = ap.parse_args()
-    if websocket is None:
-        print('SKIP: the python websocket module is missing (apt-get install python3-websocket)')
-        return SKIP
-    if not cdp.find_chromium(args.chromium):
-        print('SKIP: chromium is not installed (apt-get install chromium)')
-        return SKIP
-    if not (os.path.isfile(args.intermix) and os.access(args.intermix, os.X_OK)):
-        print(f'error: {args.intermix} is not an executable program', file=sys.stderr)
-        return 2
+    status = preflight(args)
+    if status is not None:
+        return status
     if args.measure and not args.scene:
         print('error: --measure needs --scene', file=sys.stderr)
         return 2
-    args.intermix = os.path.abspath(args.intermix)
-    out = os.path.abspath(args.out) if args.out else tempfile.mkdtemp(prefix='imx-slab-test-')
-    os.makedirs(out, exist_ok=True)
-
-    def on_alarm(signum, frame):
-        raise Failure(f'the whole run took longer than {args.timeout:.0f} s')
-    signal.signal(signal.SIGALRM, on_alarm)
-    signal.alarm(int(args.timeout))
+    out = output_folder(args, 'imx-slab-test-')
+    alarm_after(args.timeout)
     checks, cleanup, status, t0 = Checks(), [], 0, time.monotonic()
     try:
         if args.measure:

@@ -2026,6 +2026,38 @@ def diagnose(cleanup, out):
 
 
 # ---------------------------------------------------------------- main
+def preflight(args, browser=True):
+    """What every browser test checks before it starts: websocket-client, Chromium (unless
+    `browser` is false) and args.intermix, made absolute. None to go on, else the exit status
+    (SKIP when a Debian package is missing)."""
+    if websocket is None:
+        print('SKIP: the python websocket module is missing (apt-get install python3-websocket)')
+        return SKIP
+    if browser and not cdp.find_chromium(args.chromium):
+        print('SKIP: chromium is not installed (apt-get install chromium)')
+        return SKIP
+    if not (os.path.isfile(args.intermix) and os.access(args.intermix, os.X_OK)):
+        print(f'error: {args.intermix} is not an executable program', file=sys.stderr)
+        return 2
+    args.intermix = os.path.abspath(args.intermix)
+    return None
+
+
+def output_folder(args, prefix):
+    """args.out made absolute and created, or a new temporary folder (kept)."""
+    out = os.path.abspath(args.out) if args.out else tempfile.mkdtemp(prefix=prefix)
+    os.makedirs(out, exist_ok=True)
+    return out
+
+
+def alarm_after(seconds):
+    """Raises Failure in the main thread once the whole run has taken `seconds`."""
+    def on_alarm(signum, frame):
+        raise Failure(f'the whole run took longer than {seconds:.0f} s')
+    signal.signal(signal.SIGALRM, on_alarm)
+    signal.alarm(int(seconds))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     ap.add_argument('--intermix', default='build/intermix', help='the intermix program')
@@ -2058,36 +2090,24 @@ def main():
                     '(default 180 in test mode, 120 + 8 per drag in measure mode)')
     args = ap.parse_args()
 
-    if websocket is None:
-        print('SKIP: the python websocket module is missing (apt-get install python3-websocket)')
-        return SKIP
-    if not cdp.find_chromium(args.chromium):
-        print('SKIP: chromium is not installed (apt-get install chromium)')
-        return SKIP
-    if not (os.path.isfile(args.intermix) and os.access(args.intermix, os.X_OK)):
-        print(f'error: {args.intermix} is not an executable program', file=sys.stderr)
-        return 2
-    args.intermix = os.path.abspath(args.intermix)
+    status = preflight(args)
+    if status is not None:
+        return status
     if not os.path.exists(args.scene):  # a scene file, or data intermix serve opens (a folder)
         print(f'error: no scene file or data {args.scene}', file=sys.stderr)
         return 2
     if args.mpr_scene and not args.measure and not os.path.isfile(args.mpr_scene):
         print(f'error: no scene file {args.mpr_scene}', file=sys.stderr)
         return 2
-    out = os.path.abspath(args.out) if args.out else tempfile.mkdtemp(prefix='imx-viewer-test-')
-    os.makedirs(out, exist_ok=True)
+    out = output_folder(args, 'imx-viewer-test-')
 
     limit = args.timeout or (120 + 8 * args.measure if args.measure else
                              180 + 5 * args.measure_2d if args.measure_2d else 180)
 
-    def on_alarm(signum, frame):
-        raise Failure(f'the whole run took longer than {limit:.0f} s')
-
     def on_term(signum, frame):
         raise SystemExit(f'stopped by signal {signum}')
-    signal.signal(signal.SIGALRM, on_alarm)
     signal.signal(signal.SIGTERM, on_term)
-    signal.alarm(int(limit))
+    alarm_after(limit)
 
     checks = Checks()
     cleanup = []
