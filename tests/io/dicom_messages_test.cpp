@@ -19,6 +19,7 @@
 
 #include "cli_runner.hpp"
 #include "expect_error.hpp"
+#include "gdcm_elements.hpp"
 #include "intermix/dicom.hpp"
 #include "temp_dir.hpp"
 
@@ -27,22 +28,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::expect_error;
+using test::put_text;
+using test::put_us;
 using test::TempDir;
-
-void put(gdcm::DataSet& ds, uint16_t g, uint16_t e, gdcm::VR vr, std::string v) {
-  if (v.size() % 2 != 0) v.push_back(vr == gdcm::VR::UI ? '\0' : ' ');
-  gdcm::DataElement de(gdcm::Tag(g, e));
-  de.SetVR(vr);
-  de.SetByteValue(v.data(), static_cast<uint32_t>(v.size()));
-  ds.Replace(de);
-}
-
-void put_us(gdcm::DataSet& ds, uint16_t g, uint16_t e, uint16_t v) {
-  gdcm::DataElement de(gdcm::Tag(g, e));
-  de.SetVR(gdcm::VR::US);
-  de.SetByteValue(reinterpret_cast<const char*>(&v), 2);
-  ds.Replace(de);
-}
 
 struct Options {
   bool rows = true, columns = true, pixels = true;
@@ -53,18 +41,18 @@ struct Options {
 void write_slice(const fs::path& file, double z, const Options& options = {}) {
   gdcm::Writer w;
   gdcm::DataSet& ds = w.GetFile().GetDataSet();
-  put(ds, 0x0008, 0x0016, gdcm::VR::UI, "1.2.840.10008.5.1.4.1.1.2");
-  put(ds, 0x0008, 0x0018, gdcm::VR::UI, fmt::format("1.2.3.4.5.{}", static_cast<int>(z * 10)));
-  put(ds, 0x0008, 0x0060, gdcm::VR::CS, "CT");
-  put(ds, 0x0020, 0x000e, gdcm::VR::UI, "1.2.3.4");
-  put(ds, 0x0020, 0x0011, gdcm::VR::IS, "1");
-  put(ds, 0x0020, 0x0032, gdcm::VR::DS, fmt::format("0\\0\\{}", z));
-  put(ds, 0x0020, 0x0037, gdcm::VR::DS, "1\\0\\0\\0\\1\\0");
+  put_text(ds, 0x0008, 0x0016, gdcm::VR::UI, "1.2.840.10008.5.1.4.1.1.2");
+  put_text(ds, 0x0008, 0x0018, gdcm::VR::UI, fmt::format("1.2.3.4.5.{}", static_cast<int>(z * 10)));
+  put_text(ds, 0x0008, 0x0060, gdcm::VR::CS, "CT");
+  put_text(ds, 0x0020, 0x000e, gdcm::VR::UI, "1.2.3.4");
+  put_text(ds, 0x0020, 0x0011, gdcm::VR::IS, "1");
+  put_text(ds, 0x0020, 0x0032, gdcm::VR::DS, fmt::format("0\\0\\{}", z));
+  put_text(ds, 0x0020, 0x0037, gdcm::VR::DS, "1\\0\\0\\0\\1\\0");
   put_us(ds, 0x0028, 0x0002, 1);
-  put(ds, 0x0028, 0x0004, gdcm::VR::CS, "MONOCHROME2");
+  put_text(ds, 0x0028, 0x0004, gdcm::VR::CS, "MONOCHROME2");
   if (options.rows) put_us(ds, 0x0028, 0x0010, static_cast<uint16_t>(options.rows_value));
   if (options.columns) put_us(ds, 0x0028, 0x0011, 3);
-  put(ds, 0x0028, 0x0030, gdcm::VR::DS, "0.5\\0.5");
+  put_text(ds, 0x0028, 0x0030, gdcm::VR::DS, "0.5\\0.5");
   put_us(ds, 0x0028, 0x0100, 16);
   put_us(ds, 0x0028, 0x0101, 16);
   put_us(ds, 0x0028, 0x0102, 15);

@@ -21,6 +21,7 @@
 #include <glm/geometric.hpp>
 
 #include "expect_error.hpp"
+#include "gdcm_elements.hpp"
 #include "intermix/dicom.hpp"
 #include "intermix/io.hpp"
 #include "intermix/limits.hpp"
@@ -35,6 +36,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::expect_error;
+using test::put_text;
+using test::put_us;
 using test::TempDir;
 
 struct Slice {
@@ -60,21 +63,6 @@ struct Slice {
   std::function<void(gdcm::DataSet&)> extra;  // further tags
   gdcm::TransferSyntax::TSType syntax = gdcm::TransferSyntax::ExplicitVRLittleEndian;
 };
-
-void put_text(gdcm::DataSet& ds, uint16_t g, uint16_t e, gdcm::VR vr, std::string v) {
-  if (v.size() % 2 != 0) v.push_back(vr == gdcm::VR::UI ? '\0' : ' ');
-  gdcm::DataElement de(gdcm::Tag(g, e));
-  de.SetVR(vr);
-  de.SetByteValue(v.data(), static_cast<uint32_t>(v.size()));
-  ds.Replace(de);
-}
-
-void put_us(gdcm::DataSet& ds, uint16_t g, uint16_t e, uint16_t v) {
-  gdcm::DataElement de(gdcm::Tag(g, e));
-  de.SetVR(gdcm::VR::US);
-  de.SetByteValue(reinterpret_cast<const char*>(&v), 2);
-  ds.Replace(de);
-}
 
 void write_slice(const fs::path& file, const Slice& s) {
   gdcm::Writer w;
