@@ -57,19 +57,6 @@ Scene load_inputs(const Options& o, const std::vector<std::string>& overrides,
   return std::move(document).take_scene();
 }
 
-// The scene's annotations over its image; without a font, their lines only, with a note.
-void draw_scene_annotations(Image& image, const Scene& scene,
-                            const std::vector<Annotation>& annotations) {
-  std::optional<TextRaster> text;
-  try {
-    text.emplace(find_font(), std::max(12, std::min(image.width(), image.height()) / 40));
-  } catch (const Error& e) {
-    if (!quiet())
-      std::fprintf(stderr, "intermix: note: annotations drawn without labels: %s\n", e.what());
-  }
-  draw_annotations(image, scene, annotations, text ? &*text : nullptr);
-}
-
 // Loads, renders and writes one image, printing its notes and time. A scene with a volume too
 // large to hold whole (or any, with --bricks N) is rendered brick by brick.
 void render_one(const Options& o, const std::vector<std::string>& overrides,
@@ -125,6 +112,11 @@ void render_one(const Options& o, const std::vector<std::string>& overrides,
   }
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   bar.finish();
+  // Annotations first: they are projected through the camera onto the render's own canvas,
+  // which an "outside" key then widens.
+  if (outline) annotations = outline->annotations();
+  if (!o.no_annotations && !annotations.empty())
+    draw_annotations(image, scene, annotations, annotation_font(image).get());
   if (o.colorbar) {
     const std::vector<ColourBar> bars = scene_colour_bars(scene);
     const std::vector<Legend> legends = scene_legends(scene);
@@ -138,8 +130,6 @@ void render_one(const Options& o, const std::vector<std::string>& overrides,
                    "in the image\n",
                    drawn.bars.size() + drawn.legends.size(), wanted);
   }
-  if (outline) annotations = outline->annotations();
-  if (!o.no_annotations && !annotations.empty()) draw_scene_annotations(image, scene, annotations);
   write_png(image, output, o.linear);
   if (!quiet())
     std::fprintf(stderr, "intermix: %s: %dx%d with %s on %d threads in %.3f s -> %s\n",
@@ -259,7 +249,8 @@ Command add_render(CLI::App& app) {
       options.method = o->method;
       options.spp = o->spp;
       options.threads = o->threads;
-      return render_movie(o->in, overrides, o->movie, options, o->colorbar, o->output);
+      return render_movie(o->in, overrides, o->movie, options, {o->colorbar, !o->no_annotations},
+                          o->output);
     }
     if (o->movie.frames > 0) throw Error("--frames applies only with --sweep");
     if (o->movie.fps != 24.0 || o->movie.degrees != 360.0)

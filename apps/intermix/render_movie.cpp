@@ -1,13 +1,16 @@
 #include "render_movie.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
+#include "annotate/annotation_overlay.hpp"
 #include "annotate/scene_colour_bars.hpp"
 #include "core/parallel.hpp"
 #include "core/progress_bar.hpp"
@@ -63,8 +66,19 @@ SceneDocument load_movie_scene(const SceneInputs& in, const std::vector<std::str
 
 }  // namespace
 
+std::unique_ptr<TextRaster> annotation_font(const Image& image) {
+  try {
+    return std::make_unique<TextRaster>(find_font(),
+                                        std::max(12, std::min(image.width(), image.height()) / 40));
+  } catch (const Error& e) {
+    if (!quiet())
+      std::fprintf(stderr, "intermix: note: annotations drawn without labels: %s\n", e.what());
+    return nullptr;
+  }
+}
+
 int render_movie(const SceneInputs& in, const std::vector<std::string>& overrides,
-                 const MovieShot& shot, const RenderOptions& options, bool colorbar,
+                 const MovieShot& shot, const RenderOptions& options, const Overlays& overlays,
                  const std::string& output) {
   if (shot.orbit > 0 && !shot.sweep.empty())
     throw Error("--orbit and --sweep: give one (a movie either turns or sweeps)");
@@ -83,7 +97,11 @@ int render_movie(const SceneInputs& in, const std::vector<std::string>& override
                                           : std::vector<Camera>{};
   const int frames = sweep ? static_cast<int>(sweep->centres.size()) : shot.orbit;
   const std::vector<ColourBar> bars =
-      colorbar ? scene_colour_bars(scene) : std::vector<ColourBar>{};
+      overlays.colour_bars ? scene_colour_bars(scene) : std::vector<ColourBar>{};
+  const std::vector<Annotation> annotations =
+      overlays.annotations ? document.annotations() : std::vector<Annotation>{};
+  std::unique_ptr<TextRaster> font;
+  if (!annotations.empty()) font = annotation_font(Image(scene.image.width, scene.image.height));
 
   Renderer renderer;
   Scene shown = scene;
@@ -103,6 +121,8 @@ int render_movie(const SceneInputs& in, const std::vector<std::string>& override
           RenderOptions frame_options = options;
           frame_options.progress = progress;
           Image image = renderer.render(shown, frame_options);
+          // As `render` draws them: annotations through this frame's camera, then the bars.
+          if (!annotations.empty()) draw_annotations(image, shown, annotations, font.get());
           if (!bars.empty()) draw_colour_bars(image, bars);
           return image;
         },

@@ -1,9 +1,12 @@
 // intermix render ... --orbit N | --sweep AXIS -o MOVIE: a turntable or a slice sweep as a movie
 // (src/movie/), one render per frame.
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "annotate/text_raster.hpp"
+#include "intermix/image.hpp"
 #include "intermix/render.hpp"
 #include "scene_inputs.hpp"
 
@@ -21,10 +24,20 @@ struct MovieShot {
 // Adds --orbit, --orbit-degrees, --sweep, --frames and --fps.
 void add_movie_options(CLI::App& app, MovieShot& shot);
 
+// What render draws over each image besides the render.
+struct Overlays {
+  bool colour_bars = false;
+  bool annotations = true;  // the scene's rulers, angles and ROIs
+};
+
+// The font annotations over `image` are labelled with; null (with a note) when none is found,
+// and then their lines are drawn alone.
+std::unique_ptr<TextRaster> annotation_font(const Image& image);
+
 // Renders the movie `shot` asks for to `output` (its extension chooses the format), with a
-// progress bar and one line of what was written; `colorbar` draws each frame's colour bars.
+// progress bar and one line of what was written; each frame gets `overlays`.
 int render_movie(const SceneInputs& in, const std::vector<std::string>& overrides,
-                 const MovieShot& shot, const RenderOptions& options, bool colorbar,
+                 const MovieShot& shot, const RenderOptions& options, const Overlays& overlays,
                  const std::string& output);
 
 }  // namespace imx::cli

@@ -115,6 +115,32 @@ TEST(MovieCli, AnOrbitMkvIsLosslessAndTakesAnyFrameRate) {
     EXPECT_TRUE(decoded.frames[k] == render_frame(dir, scene, k, orbit_eye(k))) << "frame " << k;
 }
 
+// A scene's annotations are drawn on every frame as `render` draws them through that frame's
+// camera; --no-annotations leaves them out.
+TEST(MovieCli, AnOrbitDrawsTheScenesAnnotationsInEachFrame) {
+  TempDir dir;
+  const fs::path scene = head_scene(dir), movie = dir / "ruled.mkv", bare = dir / "bare.mkv";
+  const std::string ruler =
+      R"(--set 'annotations=[{"kind": "ruler", "points": [[-60, 0, 40], [60, 0, 40]]}]')";
+  test::CliResult r = run_cli(fmt::format("render {} {} --orbit 2 --width {} --height {} -o {}",
+                                          scene.string(), ruler, kWidth, kHeight, movie.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_cli(fmt::format("render {} {} --no-annotations --orbit 2 --width {} --height {} -o {}",
+                          scene.string(), ruler, kWidth, kHeight, bare.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const DecodedMovie ruled = read_movie(movie), plain = read_movie(bare);
+  ASSERT_EQ(ruled.frames.size(), 2u);
+  ASSERT_EQ(plain.frames.size(), 2u);
+  for (int k = 0; k < 2; ++k) {
+    const double a = M_PI * k;  // half a turn a frame
+    const std::string eye = fmt::format(
+        "--set camera.eye=[{},{},120]", -260.0 * std::cos(a) + 520.0 * std::sin(a),
+        -260.0 * std::sin(a) - 520.0 * std::cos(a));
+    EXPECT_TRUE(ruled.frames[k] == render_frame(dir, scene, k, ruler + " " + eye)) << k;
+    EXPECT_FALSE(ruled.frames[k] == plain.frames[k]) << k;
+  }
+}
+
 // The mpr example's axial plane through its 48-voxel ct-head, moved from the first voxel centre
 // to the last along z: the phantom's box as `intermix info` reads it.
 TEST(MovieCli, ASweepWebmMovesTheScenesPlaneThroughItsVolume) {
