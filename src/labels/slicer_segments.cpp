@@ -1,6 +1,5 @@
 // 3D Slicer's segmentation fields (.seg.nrrd): SegmentN_Name, _Color, _LabelValue, _Layer.
 #include <algorithm>
-#include <map>
 #include <optional>
 #include <unordered_map>
 #include <unordered_set>
@@ -66,7 +65,8 @@ std::vector<NrrdKeyValue> nrrd_key_values(std::string_view header, const std::st
 
 std::vector<LabelEntry> parse_slicer_segments(const std::vector<NrrdKeyValue>& fields, int layers,
                                               int layer, const std::string& what) {
-  std::map<int64_t, SegmentFields> segments;
+  // By number: segments are numbered from 0 without gaps (checked below), so a vector serves.
+  std::vector<SegmentFields> segments;
   for (const NrrdKeyValue& kv : fields) {
     if (kv.key.rfind("Segment", 0) != 0 || kv.key.rfind("Segmentation", 0) == 0) continue;
     const size_t underscore = kv.key.find('_');
@@ -76,9 +76,10 @@ std::vector<LabelEntry> parse_slicer_segments(const std::vector<NrrdKeyValue>& f
         n >= kMaxSegments)
       throw Error(fmt::format("{}: line {}: field '{}' is not SegmentN_<property> with N in 0-{}",
                               what, kv.line, kv.key, kMaxSegments - 1));
-    SegmentFields& s = segments[n];
+    if (static_cast<size_t>(n) >= segments.size()) segments.resize(static_cast<size_t>(n) + 1);
+    SegmentFields& s = segments[static_cast<size_t>(n)];
     if (s.line == 0) s.line = kv.line;
-    const std::string property = kv.key.substr(underscore + 1);
+    const std::string_view property = std::string_view(kv.key).substr(underscore + 1);
     if (property == "Name") s.name = kv.value;
     if (property == "Color") s.color = kv.value;
     if (property == "LabelValue") s.label_value = kv.value;
@@ -87,19 +88,21 @@ std::vector<LabelEntry> parse_slicer_segments(const std::vector<NrrdKeyValue>& f
   if (segments.empty())
     throw Error(what + ": no SegmentN_ fields; not a 3D Slicer segmentation (.seg.nrrd)");
   // Files before Slicer 4.11 keep one segment per layer, as label 1: no LabelValue, no Layer.
-  const bool legacy = !segments.begin()->second.label_value && !segments.begin()->second.layer;
+  const bool legacy = !segments.front().label_value && !segments.front().layer;
   std::vector<int> per_layer(static_cast<size_t>(layers), 0);
   std::vector<LabelEntry> out;
   std::unordered_map<int32_t, size_t> by_value;  // the layer's labels, checked in linear time
-  int64_t expected = 0;
-  for (const auto& [n, s] : segments) {
+  for (size_t n = 0; n < segments.size(); ++n) {
+    const SegmentFields& s = segments[n];
     const std::string seg = fmt::format("Segment{}", n);
-    if (n != expected)
+    if (s.line == 0) {  // a gap: the next segment named is past it (the last one always is)
+      size_t next = n + 1;
+      while (segments[next].line == 0) ++next;
       throw Error(
           fmt::format("{}: Segment{} has fields but Segment{} has none: the segments must "
                       "be numbered from 0 without gaps",
-                      what, n, expected));
-    ++expected;
+                      what, next, n));
+    }
     if (!s.name) throw Error(fmt::format("{}: {}_Name is missing", what, seg));
     if (legacy != (!s.label_value && !s.layer) || !s.label_value != !s.layer)
       throw Error(
