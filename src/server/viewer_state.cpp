@@ -476,6 +476,13 @@ Json edited_object(const ViewerState& state, const JsonReader& r, size_t k, bool
       object["center"] = v->json();
       flip_if_ras(object["center"], document_in_ras(state));
     }
+    if (auto v = r.find("slab")) {  // the plane's thick slab; 0 mm: the plane alone
+      const SlabProjection slab = scene_json::parse_slab(*v);
+      if (slab.thickness > 0.0)
+        object["slab"] = scene_json::slab_json(slab);
+      else
+        object.erase("slab");
+    }
     if (auto v = r.find("window")) {
       const glm::dvec2 w = v->vec2();
       if (!(w.y > 0.0)) v->at(1).fail(fmt::format("window width {} must be > 0", w.y));
@@ -491,7 +498,7 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
       {"type",   "seq",      "moving",      "object", "visible", "opacity",    "transfer_function",
        "window", "center",   "clip_planes", "frame",  "labels",  "color_by",   "color",
        "value",  "colormap", "range",       "radius", "stride",  "min_length", "regions",
-       "slabs"});
+       "slabs",  "slab"});
   const size_t k = find_object(state.scene(), m.get("object"));
   const Json& objects = state.document.json()["objects"];
   if (k >= objects.size() || k >= state.visible.size() || k >= state.opacity.size())
@@ -505,6 +512,7 @@ bool apply_object_edit(ViewerState& state, const Json& message) {
                                                      {"labels", ObjectKind::volume},
                                                      {"slabs", ObjectKind::volume},
                                                      {"center", ObjectKind::plane},
+                                                     {"slab", ObjectKind::plane},
                                                      {"color_by", ObjectKind::streamlines},
                                                      {"color", ObjectKind::streamlines},
                                                      {"value", ObjectKind::streamlines},
@@ -744,6 +752,7 @@ nlohmann::json describe_state(const ViewerState& state) {
       o["up"] = vec_json(p.up);
       o["size"] = Json::array({p.size.x, p.size.y});
       o["window"] = Json::array({p.window.x, p.window.y});
+      o["slab"] = scene_json::slab_json(p.slab);
       o["volume"] = p.volume >= 0 && static_cast<size_t>(p.volume) < scene.volumes.size()
                         ? Json(scene.volumes[static_cast<size_t>(p.volume)].name)
                         : Json(nullptr);

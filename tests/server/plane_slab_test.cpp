@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include "intermix/error.hpp"
 #include "intermix/io.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
@@ -88,6 +89,31 @@ TEST(PlaneSlab, APlanesSlabIsTheReadingViewsSlab) {
     EXPECT_LE(largest_gap(view, rendered), 1.0f + 1e-3f) << mode;
     EXPECT_GT(largest_gap(thin, rendered), 20.0f) << mode << ": the slab changed nothing";
   }
+}
+
+// The viewer's panel edits a plane's slab: the edit is written to the document (thickness 0
+// takes it out), and a slab on a volume, or one of 10^6 mm, is refused and changes nothing.
+TEST(PlaneSlab, AnEditSetsAndClearsThePlanesSlab) {
+  test::TempDir dir;
+  write_layers(dir);
+  test::write_bytes(dir / "scene.json", R"({
+    "objects": [
+      {"name": "layers", "type": "volume", "source": {"file": "layers.nrrd"}},
+      {"name": "axial", "type": "plane", "volume": "layers", "center": [0, 0, 0],
+       "normal": [0, 0, 1], "size": [40, 40]}]})");
+  ViewerState state = load_viewer_state(dir / "scene.json");
+  const auto edit = [](const char* object, const nlohmann::json& slab) {
+    return nlohmann::json{{"type", "edit"}, {"object", object}, {"slab", slab}};
+  };
+  ASSERT_TRUE(apply_edit(state, edit("axial", {{"thickness", 6}, {"mode", "minip"}})));
+  EXPECT_EQ(state.scene().planes[0].slab, (SlabProjection{6.0, SlabMode::minip}));
+  EXPECT_EQ(state.document.json()["objects"][1]["slab"]["mode"], "minip");
+  EXPECT_THROW(apply_edit(state, edit("layers", {{"thickness", 6}})), Error);
+  EXPECT_THROW(apply_edit(state, edit("axial", {{"thickness", 1e6}})), Error);
+  EXPECT_EQ(state.scene().planes[0].slab.thickness, 6.0);
+  ASSERT_TRUE(apply_edit(state, edit("axial", {{"thickness", 0}})));
+  EXPECT_EQ(state.scene().planes[0].slab.thickness, 0.0);
+  EXPECT_FALSE(state.document.json()["objects"][1].contains("slab"));
 }
 
 }  // namespace

@@ -1544,7 +1544,7 @@ def run_mpr(args, out, checks, cleanup, browser):
 
     # i. the first MPR plane's position slider: drag its thumb left
     pl = planes[0]
-    slider_sel = json.dumps(f'.object[data-name="{pl["name"]}"] > .row:last-child > '
+    slider_sel = json.dumps(f'.object[data-name="{pl["name"]}"] > .row[data-control="position"] > '
                             'input[type=range]')
     sl = browser.evaluate(f'viewer.center({slider_sel})')
     if not sl:

@@ -30,6 +30,7 @@ export function editFields(o) {
   } else if (o.kind === 'plane') {
     f.window = [...o.window];
     f.center = [...o.center];
+    if (o.slab) f.slab = {...o.slab};  // its thick slab
   } else if (o.kind === 'streamlines') {
     for (const key of STREAMLINE_EDITS) f[key] = JSON.parse(JSON.stringify(o[key] ?? null));
     f.regions = sphereRegions(o);
@@ -56,6 +57,7 @@ export function applyFields(o, f) {
   } else if (o.kind === 'plane') {
     if (f.window) o.window = [...f.window];
     if (f.center) o.center = [...f.center];
+    if (f.slab) o.slab = {...f.slab};
   } else if (o.kind === 'streamlines') {
     for (const key of STREAMLINE_EDITS)
       if (key in f) o[key] = JSON.parse(JSON.stringify(f[key]));

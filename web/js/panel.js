@@ -5,6 +5,7 @@
 // removes or moves its controls.
 import {editInput} from './connection.js';
 import {sphereRegions} from './history.js';
+import {SLAB_MODES} from './reading_frame.js';
 import {S, clipsMessage} from './state.js';
 import {TfEditor} from './tf_editor.js';
 import {add, dot, fmt, len, mul, norm, sub} from './vec.js';
@@ -54,6 +55,7 @@ function buildSliceWindow(box, o) {
 function slider(label, min, max, step, value, onInput, onChange, digits = 2) {
   const row = document.createElement('div');
   row.className = 'row';
+  row.dataset.control = label;  // what tests and styles find it by
   const l = document.createElement('span');
   l.className = 'label';
   l.textContent = label;
@@ -151,6 +153,17 @@ function buildPlane(box, o) {
   };
   box.append(slider('position', -half, half, half / 500, offset, (v) => move(v, true),
                     (v) => move(v, false), 1).row);
+  if (o.volume) buildPlaneSlab(box, o);
+}
+
+// A plane's thick slab in 3-D: thickness (0: the plane alone) and MIP / MinIP / mean.
+function buildPlaneSlab(box, o) {
+  const send = (moving) => editInput(o.name, {slab: {...o.slab}}, moving);
+  box.append(slider('slab mm', 0, 50, 0.5, o.slab.thickness,
+                    (v) => { o.slab.thickness = v; send(true); },
+                    (v) => { o.slab.thickness = v; send(false); }, 1).row);
+  box.append(labelled('slab mode', select('slab-mode', SLAB_MODES.map((m) => [m, m]), o.slab.mode,
+                                          (v) => { o.slab.mode = v; send(false); })));
 }
 
 // A multi-frame volume (fMRI, DWI, ...): a frame slider, and play / pause stepping through

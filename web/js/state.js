@@ -81,6 +81,7 @@ function localObject(o) {
     l.normal = norm(o.normal);
     l.size = Array.isArray(o.size) ? o.size : [o.size, o.size];
     l.window = [...o.window];
+    l.slab = o.slab ? {...o.slab} : {thickness: 0, mode: 'mip'};  // its thick slab in 3-D
     l.volume = o.volume;
   }
   return l;
@@ -168,6 +169,7 @@ export function takeState(m) {
     } else if (l.kind === 'plane') {
       if (o.center) l.center = [...o.center];
       if (o.window) l.window = [...o.window];
+      if (o.slab) l.slab = {...o.slab};
     }
   }
   return JSON.stringify([S.camera, S.method, S.spp, S.objects]) !== before;
