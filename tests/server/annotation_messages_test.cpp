@@ -71,7 +71,9 @@ TEST(AnnotationMessages, HostileListsGetOneErrorAndChangeNothing) {
       {{{"kind", "ellipse"}, {"points", {{0, 0, 0}, {1, 0, 0}, {0, 2, 0}}}, {"volume", "ball"}},
        "'ball' is a mesh, not a volume"},
   };
-  for (const auto& [bad, message] : cases) {
+  for (const auto& c : cases) {
+    const Json& bad = c.first;  // not a structured binding: a lambda may not capture one in C++20
+    const auto& message = c.second;
     const std::string error = test::error_of([&] {
       apply_annotations(state, {{"type", "annotations"}, {"annotations", {ruler(0, 5), bad}}});
     });
