@@ -38,7 +38,7 @@ sys.dont_write_bytecode = True  # no __pycache__ beside the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import cdp  # noqa: E402
 from cdp import CdpError, websocket  # noqa: E402
-from viewer_browser_test import (Checks, Failure, Server, Watcher, alarm_after, log,
+from viewer_browser_test import (Checks, Failure, Server, Watcher, alarm_after, finish, log,
                                  output_folder, preflight,  # noqa: E402
                                  wait_converged)
 
@@ -542,12 +542,7 @@ def main():
             websocket.WebSocketException, KeyError, TypeError, ValueError) as e:
         checks.check('run completed', False, type(e).__name__, str(e))
     finally:
-        signal.alarm(0)
-        for fn in reversed(cleanup):
-            try:
-                fn()
-            except Exception as e:  # noqa: BLE001 - cleanup goes on
-                print(f'cleanup: {type(e).__name__}: {e}', file=sys.stderr)
+        finish(cleanup)
     failed = checks.failed()
     with open(os.path.join(out, 'results.json'), 'w') as f:
         json.dump(checks.results, f, indent=1)

@@ -27,7 +27,6 @@ import argparse
 import json
 import math
 import os
-import signal
 import struct
 import subprocess
 import sys
@@ -38,7 +37,7 @@ sys.dont_write_bytecode = True  # no __pycache__ beside the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import cdp  # noqa: E402
 from cdp import CdpError, websocket  # noqa: E402
-from viewer_browser_test import (Checks, Failure, Server, Watcher, alarm_after, log,
+from viewer_browser_test import (Checks, Failure, Server, Watcher, alarm_after, finish, log,
                                  output_folder, preflight, percentile,  # noqa: E402
                                  rnd, slice_views_settled, wait_converged, wheel)
 
@@ -353,12 +352,7 @@ def main():
         checks.check('run completed', False, type(e).__name__, str(e))
         status = 1
     finally:
-        signal.alarm(0)
-        for fn in reversed(cleanup):
-            try:
-                fn()
-            except Exception as e:  # noqa: BLE001 - cleanup goes on
-                print(f'cleanup: {type(e).__name__}: {e}', file=sys.stderr)
+        finish(cleanup)
     if args.measure:
         return status
     failed = checks.failed()

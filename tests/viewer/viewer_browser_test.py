@@ -2050,6 +2050,16 @@ def output_folder(args, prefix):
     return out
 
 
+def finish(cleanup):
+    """Ends a run: the alarm off, then each cleanup step, last first, whatever the others do."""
+    signal.alarm(0)
+    for fn in reversed(cleanup):
+        try:
+            fn()
+        except Exception as e:  # noqa: BLE001 - cleanup goes on
+            print(f'cleanup: {type(e).__name__}: {e}', file=sys.stderr)
+
+
 def alarm_after(seconds):
     """Raises Failure in the main thread once the whole run has taken `seconds`."""
     def on_alarm(signum, frame):
@@ -2133,12 +2143,7 @@ def main():
         checks.check('run completed', False, 'interrupted')
         status = 1
     finally:
-        signal.alarm(0)
-        for fn in reversed(cleanup):
-            try:
-                fn()
-            except Exception as e:  # noqa: BLE001 - cleanup goes on
-                print(f'cleanup: {type(e).__name__}: {e}', file=sys.stderr)
+        finish(cleanup)
     if args.measure or args.measure_2d:
         return status
     failed = checks.failed()
