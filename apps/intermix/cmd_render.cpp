@@ -96,6 +96,10 @@ void render_one(const Options& o, const std::vector<std::string>& overrides,
                      o.method.c_str());
       BrickLevelRule levels;
       if (o.lod) levels = [](size_t, int fitting) { return fitting; };
+      if (o.lod && scene_pyramids(*outline).empty() && !quiet())
+        std::fprintf(stderr,
+                     "intermix: note: --lod: no volume is read from an OME-Zarr pyramid, so every "
+                     "brick is full resolution (intermix convert X -o X.zarr builds one)\n");
       const BrickedFrame frame = render_in_bricks(*outline, parts, options, levels);
       image = frame.image;
       method = fmt::format("zslab in {} bricks", parts);

@@ -132,6 +132,11 @@ TEST(CliBricks, LevelsOfDetailFollowThePixelFootprint) {
   const double db = psnr(full, coarse);
   EXPECT_GE(db, 22.0);
   EXPECT_LT(db, std::numeric_limits<double>::infinity());
+  // A volume that is no pyramid: said, and rendered at full resolution.
+  r = run_loud("render " + nrrd.string() + " --lod" + kSmall + (dir / "flat.png").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(test::contains(r.output, "--lod: no volume is read from an OME-Zarr pyramid"))
+      << r.output;
 }
 
 TEST(CliBricks, InfoDescribesAGridPastWhatOneVolumeHoldsFromItsHeader) {
