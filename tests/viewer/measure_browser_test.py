@@ -36,9 +36,9 @@ import zlib
 
 sys.dont_write_bytecode = True  # no __pycache__ beside the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import cdp  # noqa: E402
 from cdp import CdpError, websocket  # noqa: E402
-from viewer_browser_test import (Checks, Failure, Server, Watcher, alarm_after, finish, log,
+from viewer_browser_test import (Checks, Failure, Watcher, alarm_after, finish, log,
+                                 start_browser, start_server,
                                  output_folder, preflight,  # noqa: E402
                                  wait_converged)
 
@@ -187,11 +187,9 @@ def project(camera, width, height, p):
 
 # ---------------------------------------------------------------- the page
 def start_page(args, scene, out, name, cleanup, browser):
-    server = Server(args.intermix, scene, ['--port', '0', '--bind', '127.0.0.1', '--method',
-                                           'zslab', '--spp', '1', '--max-image-side', '256'],
-                    os.path.join(out, f'{name}.log'), os.getcwd())
-    server.start()
-    cleanup.append(server.kill)
+    server = start_server(args, scene, ['--port', '0', '--bind', '127.0.0.1', '--method', 'zslab',
+                                        '--spp', '1', '--max-image-side', '256'],
+                          out, cleanup, log=f'{name}.log')
     url = server.wait_url(60)
     browser.navigate(url, timeout=20)
     browser.wait_for('Boolean(window.viewerStats && viewerStats.connected)', timeout=10,
@@ -218,9 +216,7 @@ def wait_measured(browser, count, what):
 
 def run(args, out, checks, cleanup):
     scene = write_scene(out)
-    browser = cdp.Browser(chromium=args.chromium, log_path=os.path.join(out, 'chromium.log'))
-    cleanup.append(browser.close)
-    browser.start()
+    browser = start_browser(args, out, cleanup)
     server, url = start_page(args, scene, out, 'server', cleanup, browser)
     u = urllib.parse.urlsplit(url)
     token = urllib.parse.parse_qs(u.query).get('token', [''])[0]
@@ -464,11 +460,9 @@ def roi_latency(args, out, cleanup):
     timed from send to answer and by the server (`ms`). JSON on stdout."""
     sessions = []
     for k, data in enumerate(args.latency):
-        server = Server(args.intermix, data, ['--port', '0', '--bind', '127.0.0.1', '--spp', '1',
-                                              '--max-image-side', '64'],
-                        os.path.join(out, f'latency-{k}.log'), os.getcwd())
-        server.start()
-        cleanup.append(server.kill)
+        server = start_server(args, data, ['--port', '0', '--bind', '127.0.0.1', '--spp', '1',
+                                           '--max-image-side', '64'],
+                              out, cleanup, log=f'latency-{k}.log')
         u = urllib.parse.urlsplit(server.wait_url(300))
         token = urllib.parse.parse_qs(u.query).get('token', [''])[0]
         watcher = Watcher(f'ws://{u.netloc}/ws?token={token}')

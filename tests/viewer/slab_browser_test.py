@@ -35,9 +35,9 @@ import urllib.parse
 
 sys.dont_write_bytecode = True  # no __pycache__ beside the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import cdp  # noqa: E402
 from cdp import CdpError, websocket  # noqa: E402
-from viewer_browser_test import (Checks, Failure, Server, Watcher, alarm_after, finish, log,
+from viewer_browser_test import (Checks, Failure, Watcher, alarm_after, finish, log,
+                                 start_browser, start_server,
                                  output_folder, preflight, percentile,  # noqa: E402
                                  rnd, slice_views_settled, wait_converged, wheel)
 
@@ -158,18 +158,14 @@ def run_test(args, out, checks, cleanup):
                                 'window': list(WINDOW),
                                 'transfer_function': {'points': [[0, 1, 1, 1, 0],
                                                                  [1000, 1, 1, 1, 0.05]]}}]}, f)
-    server = Server(args.intermix, scene, ['--port', '0', '--bind', '127.0.0.1', '--method',
-                                           'zslab', '--spp', '1', '--max-image-side', '256'],
-                    os.path.join(out, 'server.log'), out)
-    server.start()
-    cleanup.append(server.kill)
+    server = start_server(args, scene, ['--port', '0', '--bind', '127.0.0.1', '--method', 'zslab',
+                                        '--spp', '1', '--max-image-side', '256'],
+                          out, cleanup, cwd=out)
     url = server.wait_url(60)
     token = url.split('token=')[1].split('&')[0]
     watcher = Watcher(f"ws://{url.split('//')[1].split('/')[0]}/ws?token={token}")
     cleanup.append(watcher.close)
-    browser = cdp.Browser(chromium=args.chromium, log_path=os.path.join(out, 'chromium.log'))
-    cleanup.append(browser.close)
-    browser.start()
+    browser = start_browser(args, out, cleanup)
     browser.navigate(url, timeout=30)
     wait_converged(browser, 60, 'after load')
     browser.evaluate("viewer.setLayout('2x2')")
@@ -275,14 +271,10 @@ def run_test(args, out, checks, cleanup):
 
 
 def run_measure(args, out, cleanup):
-    server = Server(args.intermix, os.path.abspath(args.scene),
-                    ['--port', '0', '--bind', '127.0.0.1', '--max-image-side', '512'],
-                    os.path.join(out, 'server.log'), os.getcwd())
-    server.start()
-    cleanup.append(server.kill)
-    browser = cdp.Browser(chromium=args.chromium, log_path=os.path.join(out, 'chromium.log'))
-    cleanup.append(browser.close)
-    browser.start()
+    server = start_server(args, os.path.abspath(args.scene),
+                          ['--port', '0', '--bind', '127.0.0.1', '--max-image-side', '512'],
+                          out, cleanup)
+    browser = start_browser(args, out, cleanup)
     browser.navigate(server.wait_url(120), timeout=30)
     wait_converged(browser, 180, 'after load')
     browser.evaluate("viewer.setLayout('2x2')")

@@ -424,12 +424,8 @@ def run_test(args, out, checks, cleanup):
     for s in args.set:
         sargs += ['--set', s]
     t_start = time.monotonic()
-    server = Server(args.intermix, scene, sargs, os.path.join(out, 'server.log'), os.getcwd())
-    server.start()
-    cleanup.append(server.kill)
-    browser = cdp.Browser(chromium=args.chromium, log_path=os.path.join(out, 'chromium.log'))
-    cleanup.append(browser.close)
-    browser.start()
+    server = start_server(args, scene, sargs, out, cleanup)
+    browser = start_browser(args, out, cleanup)
     url = server.wait_url(60)
     log(f'server: {url}  (log: {out}/server.log; started in '
         f'{time.monotonic() - t_start:.1f} s with chromium)')
@@ -750,9 +746,7 @@ def run_test(args, out, checks, cleanup):
 
 
 def run_streamlines_only(args, out, checks, cleanup):
-    browser = cdp.Browser(chromium=args.chromium, log_path=os.path.join(out, 'chromium.log'))
-    cleanup.append(browser.close)
-    browser.start()
+    browser = start_browser(args, out, cleanup)
     run_streamlines(args, out, checks, cleanup, browser)
     browser.close()
 
@@ -1454,10 +1448,7 @@ def run_mpr(args, out, checks, cleanup, browser):
     if args.spp:
         sargs += ['--spp', str(args.spp)]
     t_start = time.monotonic()
-    server = Server(args.intermix, scene, sargs, os.path.join(out, 'server-mpr.log'),
-                    os.getcwd())
-    server.start()
-    cleanup.append(server.kill)
+    server = start_server(args, scene, sargs, out, cleanup, log='server-mpr.log')
     url = server.wait_url(60)
     log(f'mpr server: {url}  (log: {out}/server-mpr.log; started in '
         f'{time.monotonic() - t_start:.1f} s)')
@@ -1828,12 +1819,8 @@ def run_measure(args, out, cleanup):
         sargs += ['--spp', str(args.spp)]
     for s in args.set:
         sargs += ['--set', s]
-    server = Server(args.intermix, scene, sargs, os.path.join(out, 'server.log'), os.getcwd())
-    server.start()
-    cleanup.append(server.kill)
-    browser = cdp.Browser(chromium=args.chromium, log_path=os.path.join(out, 'chromium.log'))
-    cleanup.append(browser.close)
-    browser.start()
+    server = start_server(args, scene, sargs, out, cleanup)
+    browser = start_browser(args, out, cleanup)
     url = server.wait_url(60)
     print(f'server: {url}', file=sys.stderr, flush=True)
     browser.navigate(url, timeout=30)
@@ -1957,13 +1944,8 @@ def run_measure_2d(args, out, cleanup):
     sargs = ['--port', '0', '--bind', '127.0.0.1', '--max-image-side', str(args.max_image_side)]
     for s in args.set:
         sargs += ['--set', s]
-    server = Server(args.intermix, os.path.abspath(args.scene), sargs,
-                    os.path.join(out, 'server.log'), os.getcwd())
-    server.start()
-    cleanup.append(server.kill)
-    browser = cdp.Browser(chromium=args.chromium, log_path=os.path.join(out, 'chromium.log'))
-    cleanup.append(browser.close)
-    browser.start()
+    server = start_server(args, os.path.abspath(args.scene), sargs, out, cleanup)
+    browser = start_browser(args, out, cleanup)
     url = server.wait_url(120)
     print(f'server: {url}', file=sys.stderr, flush=True)
     browser.navigate(url, timeout=30)
@@ -2026,6 +2008,22 @@ def diagnose(cleanup, out):
 
 
 # ---------------------------------------------------------------- main
+def start_server(args, scene, server_args, out, cleanup, log='server.log', cwd=None):
+    """`intermix serve SCENE` with `server_args`, logging to OUT/LOG, killed at the run's end."""
+    server = Server(args.intermix, scene, server_args, os.path.join(out, log), cwd or os.getcwd())
+    server.start()
+    cleanup.append(server.kill)
+    return server
+
+
+def start_browser(args, out, cleanup):
+    """Headless Chromium logging to OUT/chromium.log, closed at the run's end."""
+    browser = cdp.Browser(chromium=args.chromium, log_path=os.path.join(out, 'chromium.log'))
+    cleanup.append(browser.close)
+    browser.start()
+    return browser
+
+
 def preflight(args, browser=True):
     """What every browser test checks before it starts: websocket-client, Chromium (unless
     `browser` is false) and args.intermix, made absolute. None to go on, else the exit status
