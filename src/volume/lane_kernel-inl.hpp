@@ -1,18 +1,27 @@
 // run_lane_kernel: the one dispatch of a vector-lane kernel (the packet marcher, the packet
-// projection) on a volume's voxel type. Pure: no allocation, no exceptions.
-#pragma once
+// projection) on a volume's voxel type, per SIMD target. Pure: no allocation, no exceptions.
+#if defined(IMX_VOLUME_LANE_KERNEL_INL_HPP_) == defined(HWY_TARGET_TOGGLE)
+#ifdef IMX_VOLUME_LANE_KERNEL_INL_HPP_
+#undef IMX_VOLUME_LANE_KERNEL_INL_HPP_
+#else
+#define IMX_VOLUME_LANE_KERNEL_INL_HPP_
+#endif
+
 #include <type_traits>
+
+#include <hwy/highway.h>
 
 #include "volume/prepared_volume.hpp"
 
-namespace imx {
+HWY_BEFORE_NAMESPACE();
+namespace imx::HWY_NAMESPACE {
 
 // Runs Kernel<T, NoData>(v, grid, args...).run() for `v`'s voxel type T: the no-data variant
 // (NaN and inf voxels are no data) only for a float volume that holds such voxels, so that
 // other volumes never pay for its tests.
 template <template <class, bool> class Kernel, class... Args>
 void run_lane_kernel(const PreparedVolume& v, const Args&... args) {
-  v.grid.visit([&](const auto& grid) {
+  v.grid.visit([&](const auto& grid) HWY_ATTR {
     using T = std::remove_cvref_t<decltype(*grid.data)>;
     if constexpr (std::is_floating_point_v<T>) {
       if (v.has_no_data) {
@@ -24,4 +33,7 @@ void run_lane_kernel(const PreparedVolume& v, const Args&... args) {
   });
 }
 
-}  // namespace imx
+}  // namespace imx::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#endif  // IMX_VOLUME_LANE_KERNEL_INL_HPP_

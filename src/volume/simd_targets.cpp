@@ -1,0 +1,112 @@
+#include "volume/simd_targets.hpp"
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "volume/simd_targets.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
+#include <hwy/highway.h>
+
+#include "volume/lanes-inl.hpp"
+
+HWY_BEFORE_NAMESPACE();
+namespace imx::HWY_NAMESPACE {
+
+int lane_count() {
+  return lanes::kLanes;
+}
+
+}  // namespace imx::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+#include <algorithm>
+#include <cctype>
+#include <cstdint>
+#include <cstdlib>
+#include <mutex>
+
+#include <fmt/format.h>
+
+#include "intermix/error.hpp"
+
+namespace imx {
+namespace {
+
+HWY_EXPORT(lane_count);
+
+// The compiled targets, widest first (Highway's bits rise as targets narrow).
+std::vector<int64_t> compiled_targets() {
+  std::vector<int64_t> out;
+  for (int64_t bit = 1; bit != 0 && bit <= HWY_TARGETS; bit <<= 1)
+    if (HWY_TARGETS & bit) out.push_back(bit);
+  return out;
+}
+
+// What the machine runs, read before any limit (Highway's SupportedTargets() reports the limit).
+int64_t machine_targets() {
+  static const int64_t supported = [] {
+    hwy::SetSupportedTargetsForTest(0);
+    return hwy::SupportedTargets();
+  }();
+  return supported;
+}
+
+std::string upper(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::string> simd_targets() {
+  std::vector<std::string> out;
+  for (int64_t t : compiled_targets())
+    if (machine_targets() & t) out.emplace_back(hwy::TargetName(t));
+  return out;
+}
+
+std::string simd_target() {
+  apply_simd_environment();
+  for (int64_t t : compiled_targets())
+    if (hwy::SupportedTargets() & t) return hwy::TargetName(t);
+  return hwy::TargetName(HWY_STATIC_TARGET);
+}
+
+int simd_lanes() {
+  apply_simd_environment();
+  return HWY_DYNAMIC_DISPATCH(lane_count)();
+}
+
+void limit_simd_target(std::string_view name) {
+  const int64_t supported = machine_targets();
+  hwy::SetSupportedTargetsForTest(0);
+  if (name.empty()) return;
+  std::vector<std::string> names;
+  for (int64_t t : compiled_targets()) {
+    if (!(supported & t)) continue;
+    names.emplace_back(hwy::TargetName(t));
+    if (upper(name) == names.back()) {
+      hwy::SetSupportedTargetsForTest(t);
+      return;
+    }
+  }
+  throw Error(fmt::format("SIMD target '{}' is not one this build runs on this machine: {}", name,
+                          fmt::join(names, ", ")));
+}
+
+void apply_simd_environment() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    const char* name = std::getenv("IMX_SIMD");
+    if (!name || !*name) return;
+    try {
+      limit_simd_target(name);
+    } catch (const Error& e) {
+      throw Error(fmt::format("IMX_SIMD={}: {}", name, e.what()));
+    }
+  });
+}
+
+}  // namespace imx
+#endif  // HWY_ONCE
