@@ -43,8 +43,8 @@ class LaneBricks {
     HWY_ALIGN float shift[3][kLanes];    // crossing brick j's far face at t = (j + shift) * inv_dir
     HWY_ALIGN float toward[3][kLanes];   // +1, -1 or 0: where the next brick along that axis is
     HWY_ALIGN int32_t backward[3][kLanes];  // all ones where the ray moves down that axis
-    HWY_ALIGN float edge[3][kLanes];     // the brick after which the ray leaves the grid (-1: never)
-    HWY_ALIGN int32_t octant[kLanes];    // BrickDda::octant(): which of a brick's distances applies
+    HWY_ALIGN float edge[3][kLanes];   // the brick after which the ray leaves the grid (-1: never)
+    HWY_ALIGN int32_t octant[kLanes];  // BrickDda::octant(): which of a brick's distances applies
   };
 
   // The rays of a packet's origins and directions in index space (structure of arrays, aligned
@@ -63,8 +63,7 @@ class LaneBricks {
       store(dir_bricks, r.dir[a]);
       store(hn::VecFromMask(DI(), to_int(backward)), r.backward[a]);
       store(hn::IfThenElse(crosses, hn::Div(one, dir_bricks), splat(INFINITY)), r.inv_dir[a]);
-      store(hn::IfThenElse(crosses, hn::Sub(hn::IfThenElseZero(forward, one), o), one),
-            r.shift[a]);
+      store(hn::IfThenElse(crosses, hn::Sub(hn::IfThenElseZero(forward, one), o), one), r.shift[a]);
       store(hn::Or(hn::IfThenElseZero(forward, one), hn::IfThenElseZero(backward, splat(-1.0f))),
             r.toward[a]);
       store(hn::IfThenElse(crosses, hn::IfThenElseZero(forward, splat(last_[a])), splat(-1.0f)),
@@ -103,15 +102,15 @@ class LaneBricks {
       // Exact in floats: callers keep grids below 2^24 bricks (packet_marching_supported), so
       // the entry index stays below 2^27.
       const VI brick = hn::ConvertTo(
-          DI(), hn::MulAdd(cell[2], splat(stride_z_), hn::MulAdd(cell[1], splat(stride_y_), cell[0])));
+          DI(),
+          hn::MulAdd(cell[2], splat(stride_z_), hn::MulAdd(cell[1], splat(stride_y_), cell[0])));
       const VI index = hn::Or(hn::ShiftLeft<3>(brick), octant);
       const VI d = hn::And(gather_words<1>(distances_, index), splat(0xff));
       const MF occupied = hn::And(to_float(hn::Eq(d, hn::Zero(DI()))), counts(brick));
       // The cube of empty bricks reaches `reach` bricks ahead of this one (with SkipMode::bricks,
       // or for an occupied brick, it is the brick alone).
       VF reach = hn::Zero(DF());
-      if (by_distance_)
-        reach = hn::ConvertTo(DF(), hn::Max(hn::Sub(d, splat(1)), hn::Zero(DI())));
+      if (by_distance_) reach = hn::ConvertTo(DF(), hn::Max(hn::Sub(d, splat(1)), hn::Zero(DI())));
       VF far[3], exit_t[3];
       for (int a = 0; a < 3; ++a) {
         far[a] = clamp_cell(a, hn::MulAdd(reach, toward[a], cell[a]));
@@ -137,8 +136,7 @@ class LaneBricks {
         taken = hn::Or(taken, is_exit);
         const VF past = hn::Add(far[a], toward[a]);
         const VF at = hn::Floor(hn::MulAdd(exit, dir[a], origin[a]));
-        const VF inside =
-            hn::Min(hn::Max(at, hn::Min(cell[a], far[a])), hn::Max(cell[a], far[a]));
+        const VF inside = hn::Min(hn::Max(at, hn::Min(cell[a], far[a])), hn::Max(cell[a], far[a]));
         cell[a] = hn::IfThenElse(go, hn::IfThenElse(is_exit, past, inside), cell[a]);
       }
       t = hn::IfThenElse(go, exit, t);
@@ -148,9 +146,7 @@ class LaneBricks {
 
  private:
   // Brick c of axis a clamped to the grid (NaN goes to 0, as in BrickDda).
-  VF clamp_cell(int a, VF c) const {
-    return hn::Min(hn::Max(c, hn::Zero(DF())), splat(last_[a]));
-  }
+  VF clamp_cell(int a, VF c) const { return hn::Min(hn::Max(c, hn::Zero(DF())), splat(last_[a])); }
 
   // BrickDda::crossing in lanes: when the ray leaves brick j of axis a, infinity where it never
   // does or where the next brick is outside the grid.

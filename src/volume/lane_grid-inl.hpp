@@ -49,7 +49,7 @@ class LaneLattice {
   }
 
  private:
-  float hi_x_, hi_y_, hi_z_;  // dims - 1: the clamp
+  float hi_x_, hi_y_, hi_z_;   // dims - 1: the clamp
   int max_x_, max_y_, max_z_;  // dims - 2: the last lower corner
   int sy_, sz_;                // strides in voxels
 };

@@ -1,5 +1,11 @@
 #include "volume/packet_projection.hpp"
 
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "volume/packet_projection.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
+#include <hwy/highway.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -7,35 +13,14 @@
 #include <type_traits>
 
 #include "volume/iso_crossing.hpp"
-#include "volume/lane_bricks.hpp"
-#include "volume/lane_grid.hpp"
-#include "volume/lane_kernel.hpp"
+#include "volume/lane_bricks-inl.hpp"
+#include "volume/lane_grid-inl.hpp"
+#include "volume/lane_kernel-inl.hpp"
 #include "volume/projection.hpp"
 
-namespace imx {
+HWY_BEFORE_NAMESPACE();
+namespace imx::HWY_NAMESPACE {
 namespace {
-
-VolumeHit walk_one(const PreparedVolume& v, const PacketRay& r, float step, int bisections,
-                   std::span<const ShadingLight> lights, bool& found) {
-  VolumeHit hit;
-  const KeptSpan whole(RayInterval{r.t0, r.t1});
-  found = v.object->style == VolumeStyle::iso
-              ? find_iso_crossing(v, r.ray, whole, step, bisections, lights, hit)
-              : project_volume(v, r.ray, whole, step, hit);
-  return hit;
-}
-
-// The reference: the scalar walk per ray.
-void project_each(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
-                  int bisections, std::span<const ShadingLight> lights, std::span<glm::vec4> out) {
-  for (size_t i = 0; i < rays.size(); ++i) {
-    bool found = false;
-    const VolumeHit hit = walk_one(v, rays[i], step, bisections, lights, found);
-    out[i] = found ? hit.color : glm::vec4(0.0f);
-  }
-}
-
-#if IMX_PACKET_LANES
 
 using namespace lanes;
 
@@ -45,21 +30,21 @@ constexpr int kMaxLookDelay = 4;     // points a lane that entered a new brick m
 constexpr int kMaxLookBackoff = 64;  // the most points between looks after fruitless ones
 
 // The per-lane state, structure of arrays so that a step loads whole vectors.
-struct alignas(32) ProjectionLanes {
-  float ox[kLanes], oy[kLanes], oz[kLanes];  // the ray in index space, same parameter t
-  float dx[kLanes], dy[kLanes], dz[kLanes];
-  float inv_d[3][kLanes];       // 1 / d per axis, NaN where the ray runs parallel
-  float t[kLanes];              // the last point sampled
-  float t1[kLanes];             // where the span ends
-  float next_cell[kLanes];      // the next point is next_cell * step (or t1)
-  float checked_until[kLanes];  // the brick verdict of the last look holds up to here
-  float best[kLanes];           // max / min: the running value; iso: value - iso at t
-  float best_t[kLanes];         // max / min: where it was first seen
-  float cross_t[kLanes];        // iso: the point after the sign change
-  float cross_f[kLanes];        //   and value - iso there
-  int32_t found[kLanes];        // iso: a sign change was seen
-  float sum[4][kLanes];         // integral: (mu r, mu g, mu b, mu) integrated
-  float prev[4][kLanes];        //   and at t
+struct ProjectionLanes {
+  HWY_ALIGN float ox[kLanes], oy[kLanes], oz[kLanes];  // the ray in index space, same parameter t
+  HWY_ALIGN float dx[kLanes], dy[kLanes], dz[kLanes];
+  HWY_ALIGN float inv_d[3][kLanes];       // 1 / d per axis, NaN where the ray runs parallel
+  HWY_ALIGN float t[kLanes];              // the last point sampled
+  HWY_ALIGN float t1[kLanes];             // where the span ends
+  HWY_ALIGN float next_cell[kLanes];      // the next point is next_cell * step (or t1)
+  HWY_ALIGN float checked_until[kLanes];  // the brick verdict of the last look holds up to here
+  HWY_ALIGN float best[kLanes];           // max / min: the running value; iso: value - iso at t
+  HWY_ALIGN float best_t[kLanes];         // max / min: where it was first seen
+  HWY_ALIGN float cross_t[kLanes];        // iso: the point after the sign change
+  HWY_ALIGN float cross_f[kLanes];        //   and value - iso there
+  HWY_ALIGN int32_t found[kLanes];        // iso: a sign change was seen
+  HWY_ALIGN float sum[4][kLanes];         // integral: (mu r, mu g, mu b, mu) integrated
+  HWY_ALIGN float prev[4][kLanes];        //   and at t
 };
 
 // With NoData: a volume whose NaN or inf voxels are no data (float only; others never test).
@@ -137,9 +122,9 @@ class ProjectionKernel {
     if (bricks_) {
       const float* const origin[3] = {L_.ox, L_.oy, L_.oz};
       const float* const dir[3] = {L_.dx, L_.dy, L_.dz};
-      brick_rays_ = bricks_->load(origin, dir);
+      bricks_->rays(origin, dir, brick_rays_);
     }
-    const __m256 t = _mm256_load_ps(L_.t);
+    const VF t = load(L_.t);
     live &= ~update(live, sample_at(t), t, true);
     look_delay_ = kMaxLookDelay;  // every lane looks at its first brick at once
     look_limit_ = kMaxLookDelay;
@@ -148,121 +133,95 @@ class ProjectionKernel {
 
   // The next point in every live lane; returns the lanes still walking.
   unsigned advance(unsigned live) {
-    const __m256 active = lane_mask(live);
-    const __m256 t1 = _mm256_load_ps(L_.t1), next_cell = _mm256_load_ps(L_.next_cell);
-    const __m256 b = _mm256_min_ps(t1, _mm256_mul_ps(next_cell, splat(step_)));
+    const MF active = lane_mask(live);
+    const VF t1 = load(L_.t1), next_cell = load(L_.next_cell);
+    const VF b = hn::Min(t1, hn::Mul(next_cell, splat(step_)));
     unsigned done = update(live, sample_at(b), b, false);
-    _mm256_store_ps(L_.next_cell,
-                    _mm256_blendv_ps(next_cell, _mm256_add_ps(next_cell, splat(1.0f)), active));
-    done |= static_cast<unsigned>(
-        _mm256_movemask_ps(_mm256_and_ps(active, _mm256_cmp_ps(b, t1, _CMP_GE_OQ))));
+    store(hn::IfThenElse(active, hn::Add(next_cell, splat(1.0f)), next_cell), L_.next_cell);
+    done |= bits_of(hn::And(active, hn::Ge(b, t1)));
     return look(live & ~done);
   }
 
-  __m256 sample_at(__m256 t) const {
-    return grid_.sample(_mm256_fmadd_ps(t, _mm256_load_ps(L_.dx), _mm256_load_ps(L_.ox)),
-                        _mm256_fmadd_ps(t, _mm256_load_ps(L_.dy), _mm256_load_ps(L_.oy)),
-                        _mm256_fmadd_ps(t, _mm256_load_ps(L_.dz), _mm256_load_ps(L_.oz)));
+  VF sample_at(VF t) const {
+    return grid_.sample(hn::MulAdd(t, load(L_.dx), load(L_.ox)),
+                        hn::MulAdd(t, load(L_.dy), load(L_.oy)),
+                        hn::MulAdd(t, load(L_.dz), load(L_.oz)));
   }
 
   // Takes the value s at point `at` in the lanes of `live`; returns those that are done (the TF
   // saturated, or a sign change found).
-  unsigned update(unsigned live, __m256 s, __m256 at, bool first) {
-    const __m256 active = lane_mask(live);
-    const __m256 t = _mm256_load_ps(L_.t);
-    __m256 done = _mm256_setzero_ps();
-    __m256 moved = active;  // lanes whose last point becomes `at`
+  unsigned update(unsigned live, VF s, VF at, bool first) {
+    const MF active = lane_mask(live);
+    const VF t = load(L_.t);
+    MF done = hn::Not(all_lanes());
+    MF moved = active;  // lanes whose last point becomes `at`
     if (mode_ == Mode::max || mode_ == Mode::min) {
-      const __m256 best = _mm256_load_ps(L_.best);
+      const VF best = load(L_.best);
       const bool max = mode_ == Mode::max;
-      // The predicate must be a constant: one compare per mode.
-      const __m256 beats =
-          max ? _mm256_cmp_ps(s, best, _CMP_GT_OQ) : _mm256_cmp_ps(s, best, _CMP_LT_OQ);
-      __m256 better = _mm256_and_ps(active, beats);
-      if constexpr (NoData)
-        better = _mm256_andnot_ps(no_data_lanes(s), better);  // never the max or min
-      const __m256 nbest = _mm256_blendv_ps(best, s, better);
-      _mm256_store_ps(L_.best, nbest);
-      _mm256_store_ps(L_.best_t, _mm256_blendv_ps(_mm256_load_ps(L_.best_t), at, better));
-      done = max ? _mm256_cmp_ps(nbest, splat(v_.limits.constant_from), _CMP_GE_OQ)
-                 : _mm256_cmp_ps(nbest, splat(v_.limits.constant_up_to), _CMP_LE_OQ);
+      MF better = hn::And(active, max ? hn::Gt(s, best) : hn::Lt(s, best));
+      if constexpr (NoData) better = hn::AndNot(no_data_lanes(s), better);  // never the max or min
+      const VF nbest = hn::IfThenElse(better, s, best);
+      store(nbest, L_.best);
+      store(hn::IfThenElse(better, at, load(L_.best_t)), L_.best_t);
+      done = max ? hn::Ge(nbest, splat(v_.limits.constant_from))
+                 : hn::Le(nbest, splat(v_.limits.constant_up_to));
     } else if (mode_ == Mode::iso) {
-      const __m256 f = _mm256_sub_ps(s, splat(iso_));
-      const __m256 fa = _mm256_load_ps(L_.best);
+      const VF f = hn::Sub(s, splat(iso_));
+      const VF fa = load(L_.best);
       if (!first) {
-        const __m256 zero = _mm256_setzero_ps();
-        done =
-            _mm256_xor_ps(_mm256_cmp_ps(fa, zero, _CMP_LT_OQ), _mm256_cmp_ps(f, zero, _CMP_LT_OQ));
-        done = _mm256_and_ps(done, active);
+        const VF zero = hn::Zero(DF());
+        done = hn::Xor(hn::Lt(fa, zero), hn::Lt(f, zero));
+        done = hn::And(done, active);
         // A crossing lies between two samples of data (find_iso_crossing).
-        if constexpr (NoData)
-          done = _mm256_andnot_ps(_mm256_or_ps(no_data_lanes(f), no_data_lanes(fa)), done);
-        _mm256_store_ps(L_.cross_t, _mm256_blendv_ps(_mm256_load_ps(L_.cross_t), at, done));
-        _mm256_store_ps(L_.cross_f, _mm256_blendv_ps(_mm256_load_ps(L_.cross_f), f, done));
-        const __m256i found = _mm256_load_si256(reinterpret_cast<const __m256i*>(L_.found));
-        _mm256_store_si256(reinterpret_cast<__m256i*>(L_.found),
-                           _mm256_or_si256(found, _mm256_castps_si256(done)));
-        moved = _mm256_andnot_ps(done, active);  // the bracket starts at t: keep it
+        if constexpr (NoData) done = hn::AndNot(hn::Or(no_data_lanes(f), no_data_lanes(fa)), done);
+        store(hn::IfThenElse(done, at, load(L_.cross_t)), L_.cross_t);
+        store(hn::IfThenElse(done, f, load(L_.cross_f)), L_.cross_f);
+        store(hn::Or(load(L_.found), hn::VecFromMask(DI(), to_int(done))), L_.found);
+        moved = hn::AndNot(done, active);  // the bracket starts at t: keep it
       }
-      _mm256_store_ps(L_.best, _mm256_blendv_ps(fa, f, moved));
+      store(hn::IfThenElse(moved, f, fa), L_.best);
     } else {
-      __m256 e[4];
+      VF e[4];
       attenuation(s, e);
       if constexpr (NoData) {  // no attenuation, as a value of opacity 0
-        const __m256 none = no_data_lanes(s);
-        for (int c = 0; c < 4; ++c) e[c] = _mm256_andnot_ps(none, e[c]);
+        const MF none = no_data_lanes(s);
+        for (int c = 0; c < 4; ++c) e[c] = hn::IfThenZeroElse(none, e[c]);
       }
-      const __m256 half_seg =
-          first ? _mm256_setzero_ps() : _mm256_mul_ps(splat(0.5f), _mm256_sub_ps(at, t));
+      const VF half_seg = first ? hn::Zero(DF()) : hn::Mul(splat(0.5f), hn::Sub(at, t));
       for (int c = 0; c < 4; ++c) {
-        const __m256 p = _mm256_load_ps(L_.prev[c]), sum = _mm256_load_ps(L_.sum[c]);
-        _mm256_store_ps(
-            L_.sum[c],
-            _mm256_blendv_ps(sum, _mm256_fmadd_ps(half_seg, _mm256_add_ps(p, e[c]), sum), active));
-        _mm256_store_ps(L_.prev[c], _mm256_blendv_ps(p, e[c], active));
+        const VF p = load(L_.prev[c]), sum = load(L_.sum[c]);
+        store(hn::IfThenElse(active, hn::MulAdd(half_seg, hn::Add(p, e[c]), sum), sum), L_.sum[c]);
+        store(hn::IfThenElse(active, e[c], p), L_.prev[c]);
       }
     }
-    _mm256_store_ps(L_.t, _mm256_blendv_ps(t, at, moved));
-    return static_cast<unsigned>(_mm256_movemask_ps(_mm256_and_ps(done, active)));
+    store(hn::IfThenElse(moved, at, t), L_.t);
+    return bits_of(hn::And(done, active));
   }
 
-  // AttenuationTable::lookup in lanes: per lane, entries i and i + 1 are one 32-byte load.
-  void attenuation(__m256 s, __m256 e[4]) const {
+  // AttenuationTable::lookup in lanes: entries i and i + 1 interpolated, a gather per channel.
+  void attenuation(VF s, VF e[4]) const {
     const AttenuationTable& a = v_.attenuation;
-    const __m256 x = _mm256_min_ps(
-        _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(s, splat(a.lo())), splat(a.inv_step())),
-                      _mm256_setzero_ps()),
-        splat(static_cast<float>(TfLut::kSize - 1)));
-    const __m256i i = _mm256_min_epi32(_mm256_cvttps_epi32(x), splat(TfLut::kSize - 2));
-    alignas(32) int32_t entry[kLanes];
-    alignas(32) float frac[kLanes];
-    _mm256_store_si256(reinterpret_cast<__m256i*>(entry), i);
-    _mm256_store_ps(frac, _mm256_sub_ps(x, _mm256_cvtepi32_ps(i)));
+    const VF x =
+        hn::Min(hn::Max(hn::Mul(hn::Sub(s, splat(a.lo())), splat(a.inv_step())), hn::Zero(DF())),
+                splat(static_cast<float>(TfLut::kSize - 1)));
+    const VI i = hn::Min(hn::ConvertTo(DI(), x), splat(TfLut::kSize - 2));
+    const VF f = hn::Sub(x, hn::ConvertTo(DF(), i));
     const float* table = reinterpret_cast<const float*>(a.data());
-    __m128 v[kLanes];
-    for (int l = 0; l < kLanes; ++l) {
-      const __m256 pair = _mm256_loadu_ps(table + 4 * static_cast<size_t>(entry[l]));
-      const __m128 lo = _mm256_castps256_ps128(pair), hi = _mm256_extractf128_ps(pair, 1);
-      v[l] = _mm_fmadd_ps(_mm_broadcast_ss(&frac[l]), _mm_sub_ps(hi, lo), lo);
-    }
-    const __m256 v0 = _mm256_set_m128(v[4], v[0]), v1 = _mm256_set_m128(v[5], v[1]);
-    const __m256 v2 = _mm256_set_m128(v[6], v[2]), v3 = _mm256_set_m128(v[7], v[3]);
-    const __m256 t0 = _mm256_unpacklo_ps(v0, v1), t1 = _mm256_unpackhi_ps(v0, v1);
-    const __m256 t2 = _mm256_unpacklo_ps(v2, v3), t3 = _mm256_unpackhi_ps(v2, v3);
-    e[0] = _mm256_shuffle_ps(t0, t2, 0x44), e[1] = _mm256_shuffle_ps(t0, t2, 0xee);
-    e[2] = _mm256_shuffle_ps(t1, t3, 0x44), e[3] = _mm256_shuffle_ps(t1, t3, 0xee);
+    const VI entry = hn::ShiftLeft<2>(i);  // four channels an entry
+    for (int c = 0; c < 4; ++c)
+      e[c] = lerp(gather_floats(table, hn::Add(entry, splat(c))),
+                  gather_floats(table, hn::Add(entry, splat(4 + c))), f);
   }
 
   // The lanes of `live` that entered a brick they have not judged look at its value range; those
   // that may skip it move to its last grid point (walk_samples). Returns the lanes still walking.
   unsigned look(unsigned live) {
     if (!ranges_) return live;
-    const __m256 t = _mm256_load_ps(L_.t);
-    const __m256 need = _mm256_and_ps(
-        lane_mask(live), _mm256_cmp_ps(t, _mm256_load_ps(L_.checked_until), _CMP_GE_OQ));
-    // A look costs the same for one lane as for eight: put it off until half the lanes need one
+    const VF t = load(L_.t);
+    const MF need = hn::And(lane_mask(live), hn::Ge(t, load(L_.checked_until)));
+    // A look costs the same for one lane as for all: put it off until half the lanes need one
     // or the first has waited kMaxLookDelay points (skipping is never required for the result).
-    const unsigned waiting = static_cast<unsigned>(_mm256_movemask_ps(need));
+    const unsigned waiting = bits_of(need);
     if (!waiting) return live;
     // After looks that skipped nothing (a MIP through tissue whose bricks all beat the running
     // maximum), wait longer, up to kMaxLookBackoff points: on the real CT with a ramp from air,
@@ -272,103 +231,96 @@ class ProjectionKernel {
         ++look_delay_ <= look_limit_)
       return live;
     look_delay_ = 0;
-    const __m256 t1 = _mm256_load_ps(L_.t1);
+    const VF t1 = load(L_.t1);
+    const MF none_set = hn::Not(all_lanes());
     // Lanes in a brick the TF leaves empty walk to the first occupied one (`ahead`); the others
     // judge the brick they are in by its value range.
-    __m256 ahead = _mm256_setzero_ps(), target = t1, ends = _mm256_setzero_ps();
-    __m256 judge = need;
+    MF ahead = none_set, ends = none_set;
+    VF target = t1;
+    MF judge = need;
     if (bricks_) {
-      __m256 leave = t1;
+      VF leave = t1;
       unsigned none = 0;
       if (mode_ == Mode::max || mode_ == Mode::min) {
         // Bricks whose values cannot pass the running result are walked past too.
-        const __m256 best = _mm256_load_ps(L_.best);
+        const VF best = load(L_.best);
         const bool max = mode_ == Mode::max;
-        none =
-            bricks_->first_occupied(brick_rays_, waiting, t, t1, target, leave, [&](__m256i brick) {
-              const __m256i at = _mm256_slli_epi32(brick, 1);
-              return max ? _mm256_cmp_ps(gather_floats(ranges_, _mm256_add_epi32(at, splat(1))),
-                                         best, _CMP_GT_OQ)
-                         : _mm256_cmp_ps(gather_floats(ranges_, at), best, _CMP_LT_OQ);
+        none = bricks_->first_occupied(
+            brick_rays_, waiting, t, t1, target, leave, [&](VI brick) HWY_ATTR {
+              const VI at = hn::ShiftLeft<1>(brick);
+              return max ? hn::Gt(gather_floats(ranges_, hn::Add(at, splat(1))), best)
+                         : hn::Lt(gather_floats(ranges_, at), best);
             });
       } else {
         none = bricks_->first_occupied(brick_rays_, waiting, t, t1, target, leave);
       }
       ends = lane_mask(none);
-      ahead = _mm256_andnot_ps(ends, _mm256_and_ps(need, _mm256_cmp_ps(target, t, _CMP_GT_OQ)));
-      judge = _mm256_andnot_ps(_mm256_or_ps(ends, ahead), need);
-      _mm256_store_ps(L_.checked_until,
-                      _mm256_blendv_ps(_mm256_load_ps(L_.checked_until), target, ahead));
+      ahead = hn::AndNot(ends, hn::And(need, hn::Gt(target, t)));
+      judge = hn::AndNot(hn::Or(ends, ahead), need);
+      store(hn::IfThenElse(ahead, target, load(L_.checked_until)), L_.checked_until);
     }
-    const __m256 o[3] = {_mm256_load_ps(L_.ox), _mm256_load_ps(L_.oy), _mm256_load_ps(L_.oz)};
-    const __m256 d[3] = {_mm256_load_ps(L_.dx), _mm256_load_ps(L_.dy), _mm256_load_ps(L_.dz)};
-    const __m256 zero = _mm256_setzero_ps();
-    __m256 exit = splat(INFINITY);
-    __m256i index = _mm256_setzero_si256();
+    const VF o[3] = {load(L_.ox), load(L_.oy), load(L_.oz)};
+    const VF d[3] = {load(L_.dx), load(L_.dy), load(L_.dz)};
+    const VF zero = hn::Zero(DF());
+    VF exit = splat(INFINITY);
+    VI index = hn::Zero(DI());
     const int stride[3] = {1, brick_stride_y_, brick_stride_z_};
     for (int a = 0; a < 3; ++a) {
       // BrickGrid::brick_of: max(x, 0) sends a NaN to brick 0.
-      const __m256 p = _mm256_fmadd_ps(t, d[a], o[a]);
-      const __m256 size = splat(brick_size_[a]), inv_size = splat(inv_brick_size_[a]);
-      const __m256 b = _mm256_min_ps(
-          _mm256_max_ps(_mm256_floor_ps(_mm256_mul_ps(p, inv_size)), zero), splat(brick_last_[a]));
-      index = _mm256_add_epi32(index, _mm256_mullo_epi32(_mm256_cvttps_epi32(b), splat(stride[a])));
-      const __m256 low = _mm256_mul_ps(b, size);
-      const __m256 high = _mm256_min_ps(_mm256_add_ps(low, size), splat(voxel_last_[a]));
-      const __m256 face = _mm256_blendv_ps(low, high, _mm256_cmp_ps(d[a], zero, _CMP_GT_OQ));
-      // A parallel axis gives NaN, which min_ps passes over (it returns its second operand).
-      const __m256 at = _mm256_mul_ps(_mm256_sub_ps(face, o[a]), _mm256_load_ps(L_.inv_d[a]));
-      exit = _mm256_min_ps(at, exit);
+      const VF p = hn::MulAdd(t, d[a], o[a]);
+      const VF size = splat(brick_size_[a]), inv_size = splat(inv_brick_size_[a]);
+      const VF b = hn::Min(hn::Max(hn::Floor(hn::Mul(p, inv_size)), zero), splat(brick_last_[a]));
+      index = hn::Add(index, hn::Mul(hn::ConvertTo(DI(), b), splat(stride[a])));
+      const VF low = hn::Mul(b, size);
+      const VF high = hn::Min(hn::Add(low, size), splat(voxel_last_[a]));
+      const VF face = hn::IfThenElse(hn::Gt(d[a], zero), high, low);
+      // A parallel axis gives NaN, which Min passes over (it returns its second operand).
+      const VF at = hn::Mul(hn::Sub(face, o[a]), load(L_.inv_d[a]));
+      exit = hn::Min(at, exit);
     }
     // X-ray: a lane judged here is in a brick the TF shows in (the occupancy walk passed the
     // others), whose attenuation counts: nothing to skip.
-    __m256 skip = _mm256_setzero_ps();
+    MF skip = none_set;
     if (mode_ != Mode::integral) {
-      const __m256i at = _mm256_slli_epi32(index, 1);
-      const __m256 lo = gather_floats(ranges_, at);
-      const __m256 hi = gather_floats(ranges_, _mm256_add_epi32(at, splat(1)));
-      const __m256 best = _mm256_load_ps(L_.best);
+      const VI at = hn::ShiftLeft<1>(index);
+      const VF lo = gather_floats(ranges_, at);
+      const VF hi = gather_floats(ranges_, hn::Add(at, splat(1)));
+      const VF best = load(L_.best);
       if (mode_ == Mode::max)
-        skip = _mm256_cmp_ps(hi, best, _CMP_LE_OQ);
+        skip = hn::Le(hi, best);
       else if (mode_ == Mode::min)
-        skip = _mm256_cmp_ps(lo, best, _CMP_GE_OQ);
+        skip = hn::Ge(lo, best);
       else
-        skip = _mm256_or_ps(_mm256_cmp_ps(lo, splat(iso_), _CMP_GE_OQ),
-                            _mm256_cmp_ps(hi, splat(iso_), _CMP_LT_OQ));
+        skip = hn::Or(hn::Ge(lo, splat(iso_)), hn::Lt(hi, splat(iso_)));
     }
-    _mm256_store_ps(L_.checked_until,
-                    _mm256_blendv_ps(_mm256_load_ps(L_.checked_until), exit, judge));
-    skip = _mm256_or_ps(_mm256_and_ps(skip, judge), ahead);
-    if (!_mm256_movemask_ps(_mm256_or_ps(skip, ends))) {
+    store(hn::IfThenElse(judge, exit, load(L_.checked_until)), L_.checked_until);
+    skip = hn::Or(hn::And(skip, judge), ahead);
+    if (hn::AllFalse(DF(), hn::Or(skip, ends))) {
       look_limit_ = std::min(2 * look_limit_, kMaxLookBackoff);
       return live;
     }
     look_limit_ = kMaxLookDelay;
-    target = _mm256_blendv_ps(exit, target, ahead);
-    const __m256 step = splat(step_), inv_step = splat(1.0f / step_);
-    const __m256 last = _mm256_mul_ps(_mm256_floor_ps(_mm256_mul_ps(target, inv_step)), step);
-    ends = _mm256_or_ps(ends, _mm256_and_ps(skip, _mm256_cmp_ps(last, t1, _CMP_GE_OQ)));
-    const __m256 jump =
-        _mm256_andnot_ps(ends, _mm256_and_ps(skip, _mm256_cmp_ps(last, t, _CMP_GT_OQ)));
-    if (_mm256_movemask_ps(jump)) {
-      _mm256_store_ps(L_.t, _mm256_blendv_ps(t, last, jump));
+    target = hn::IfThenElse(ahead, target, exit);
+    const VF step = splat(step_), inv_step = splat(1.0f / step_);
+    const VF last = hn::Mul(hn::Floor(hn::Mul(target, inv_step)), step);
+    ends = hn::Or(ends, hn::And(skip, hn::Ge(last, t1)));
+    const MF jump = hn::AndNot(ends, hn::And(skip, hn::Gt(last, t)));
+    if (!hn::AllFalse(DF(), jump)) {
+      store(hn::IfThenElse(jump, last, t), L_.t);
       // grid_cell(last) + 1, with the same fix-up for rounding.
-      __m256 cell = _mm256_floor_ps(_mm256_mul_ps(last, inv_step));
-      const __m256 one = splat(1.0f);
-      cell = _mm256_add_ps(
-          cell, _mm256_and_ps(one, _mm256_cmp_ps(_mm256_mul_ps(_mm256_add_ps(cell, one), step),
-                                                 last, _CMP_LE_OQ)));
-      _mm256_store_ps(L_.next_cell, _mm256_blendv_ps(_mm256_load_ps(L_.next_cell),
-                                                     _mm256_add_ps(cell, one), jump));
+      VF cell = hn::Floor(hn::Mul(last, inv_step));
+      const VF one = splat(1.0f);
+      cell =
+          hn::Add(cell, hn::IfThenElseZero(hn::Le(hn::Mul(hn::Add(cell, one), step), last), one));
+      store(hn::IfThenElse(jump, hn::Add(cell, one), load(L_.next_cell)), L_.next_cell);
       if (mode_ == Mode::iso) {
-        const __m256 f = _mm256_sub_ps(sample_at(last), splat(iso_));
-        _mm256_store_ps(L_.best, _mm256_blendv_ps(_mm256_load_ps(L_.best), f, jump));
+        const VF f = hn::Sub(sample_at(last), splat(iso_));
+        store(hn::IfThenElse(jump, f, load(L_.best)), L_.best);
       } else if (mode_ == Mode::integral) {
-        for (int c = 0; c < 4; ++c)
-          _mm256_store_ps(L_.prev[c], _mm256_blendv_ps(_mm256_load_ps(L_.prev[c]), zero, jump));
+        for (int c = 0; c < 4; ++c) store(hn::IfThenZeroElse(jump, load(L_.prev[c])), L_.prev[c]);
       }
     }
-    return live & ~static_cast<unsigned>(_mm256_movemask_ps(ends));
+    return live & ~bits_of(ends);
   }
 
   // Writes the colours of rays first .. first + n - 1.
@@ -409,7 +361,7 @@ class ProjectionKernel {
   int look_delay_ = 0;                // points walked with a look put off
   int look_limit_ = kMaxLookDelay;    // how many, before the next look
   std::optional<LaneBricks> bricks_;  // the TF's empty bricks, where they may be walked past
-  LaneBricks::Rays brick_rays_{};
+  LaneBricks::Rays brick_rays_;
   const float* ranges_ = nullptr;             // (min, max) per brick; null: no skipping
   float brick_size_[3] = {8.0f, 8.0f, 8.0f};  // cells per brick along each axis
   float inv_brick_size_[3] = {0.125f, 0.125f, 0.125f};
@@ -418,12 +370,47 @@ class ProjectionKernel {
   ProjectionLanes L_{};
 };
 
-#endif  // IMX_PACKET_LANES
+}  // namespace
+
+void project_lanes(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
+                   int bisections, std::span<const ShadingLight> lights, std::span<glm::vec4> out) {
+  run_lane_kernel<ProjectionKernel>(v, rays, step, bisections, lights, out);
+}
+
+}  // namespace imx::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+#include "volume/simd_targets.hpp"
+
+namespace imx {
+namespace {
+
+VolumeHit walk_one(const PreparedVolume& v, const PacketRay& r, float step, int bisections,
+                   std::span<const ShadingLight> lights, bool& found) {
+  VolumeHit hit;
+  const KeptSpan whole(RayInterval{r.t0, r.t1});
+  found = v.object->style == VolumeStyle::iso
+              ? find_iso_crossing(v, r.ray, whole, step, bisections, lights, hit)
+              : project_volume(v, r.ray, whole, step, hit);
+  return hit;
+}
+
+// The reference: the scalar walk per ray.
+void project_each(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
+                  int bisections, std::span<const ShadingLight> lights, std::span<glm::vec4> out) {
+  for (size_t i = 0; i < rays.size(); ++i) {
+    bool found = false;
+    const VolumeHit hit = walk_one(v, rays[i], step, bisections, lights, found);
+    out[i] = found ? hit.color : glm::vec4(0.0f);
+  }
+}
+
+HWY_EXPORT(project_lanes);
 
 }  // namespace
 
 bool packet_projection_supported(const PreparedVolume& v) {
-#if IMX_PACKET_LANES
   const VolumeStyle s = v.object->style;
   if (s == VolumeStyle::dvr || (s == VolumeStyle::xray && v.object->xray_mode == XrayMode::average))
     return false;
@@ -433,22 +420,18 @@ bool packet_projection_supported(const PreparedVolume& v) {
   if (voxels + 4.0 >= 2147483647.0) return false;  // gathers take int32 voxel indices
   const BrickMinMax* r = skip_ranges(v);
   return !r || 8.0 * static_cast<double>(r->grid().count()) < 2147483647.0;
-#else
-  (void)v;
-  return false;
-#endif
 }
 
 void project_packets(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
                      int bisections, std::span<const ShadingLight> lights,
                      std::span<glm::vec4> out) {
-#if IMX_PACKET_LANES
   if (packet_projection_supported(v)) {
-    run_lane_kernel<ProjectionKernel>(v, rays, step, bisections, lights, out);
+    apply_simd_environment();
+    HWY_DYNAMIC_DISPATCH(project_lanes)(v, rays, step, bisections, lights, out);
     return;
   }
-#endif
   project_each(v, rays, step, bisections, lights, out);
 }
 
 }  // namespace imx
+#endif  // HWY_ONCE

@@ -1,5 +1,5 @@
 // project_packets: the projection styles and iso-surfaces (project_volume, find_iso_crossing)
-// for many rays through one volume, eight at a time in AVX2 lanes, skipping bricks by their
+// for many rays through one volume, a packet at a time in SIMD lanes, skipping bricks by their
 // value ranges. Pure: no allocation, no exceptions.
 #pragma once
 #include <span>
@@ -13,7 +13,7 @@
 namespace imx {
 
 // Whether project_packets() marches volume `v` (style mip, minip, xray or iso) in vector lanes:
-// it needs an AVX2 build and a grid of at least 2 voxels a side whose gathers fit int32 offsets.
+// it needs a grid of at least 2 voxels a side whose gathers fit int32 offsets.
 // Otherwise it walks each ray with project_volume / find_iso_crossing, with the same results.
 bool packet_projection_supported(const PreparedVolume& v);
 
