@@ -82,17 +82,19 @@ void limit_simd_target(std::string_view name) {
   const int64_t supported = machine_targets();
   hwy::SetSupportedTargetsForTest(0);
   if (name.empty()) return;
+  std::vector<int64_t> runs;
   std::vector<std::string> names;
-  for (int64_t t : compiled_targets()) {
-    if (!(supported & t)) continue;
-    names.emplace_back(hwy::TargetName(t));
-    if (upper(name) == names.back()) {
-      hwy::SetSupportedTargetsForTest(t);
+  for (int64_t t : compiled_targets())
+    if (supported & t) runs.push_back(t), names.emplace_back(hwy::TargetName(t));
+  for (size_t i = 0; i < runs.size(); ++i) {
+    if (upper(name) == names[i] || (upper(name) == "LOWEST" && i + 1 == runs.size())) {
+      hwy::SetSupportedTargetsForTest(runs[i]);
       return;
     }
   }
-  throw Error(fmt::format("SIMD target '{}' is not one this build runs on this machine: {}", name,
-                          fmt::join(names, ", ")));
+  throw Error(
+      fmt::format("SIMD target '{}' is not one this build runs on this machine: {} (or lowest)",
+                  name, fmt::join(names, ", ")));
 }
 
 void apply_simd_environment() {

@@ -15,8 +15,9 @@ std::vector<std::string> simd_targets();
 std::string simd_target();
 int simd_lanes();
 
-// Makes the lane kernels run on target `name` (case-insensitive, one of simd_targets()); an
-// empty name lifts the limit. Throws imx::Error naming the value otherwise.
+// Makes the lane kernels run on target `name` (case-insensitive, one of simd_targets(), or
+// "lowest" for the last of them); an empty name lifts the limit. Throws imx::Error naming the
+// value otherwise.
 void limit_simd_target(std::string_view name);
 
 // Applies the environment's IMX_SIMD (a target's name) once per process, before the first

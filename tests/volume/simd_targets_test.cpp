@@ -27,6 +27,8 @@ TEST(SimdTargets, EachTargetCanBeChosenAndRunsWithItsLanes) {
       EXPECT_EQ(simd_lanes(), lanes.at(t)) << t;
     }
   }
+  limit_simd_target("Lowest");
+  EXPECT_EQ(simd_target(), targets.back());
   limit_simd_target("");
   EXPECT_EQ(simd_target(), targets.front());  // the widest, once the limit is lifted
 }
