@@ -20,6 +20,7 @@
 #include "intermix/scene.hpp"
 #include "lab_commands.hpp"
 #include "volume/prepared_volume.hpp"
+#include "volume/simd_targets.hpp"
 #include "vtk_peer_runner.hpp"
 
 namespace imx::cli {
@@ -290,11 +291,14 @@ Command add_bench(CLI::App& app) {
       nlohmann::json out = {{"scene", o->scene},
                             {"width", base.image.width},
                             {"height", base.image.height},
+                            {"simd", simd_target()},
+                            {"simd_lanes", simd_lanes()},
                             {"methods", rows},
                             {"resident", resident}};
       std::printf("%s\n", out.dump().c_str());
     } else {
-      std::printf("%s at %dx%d\n", o->scene.c_str(), base.image.width, base.image.height);
+      std::printf("%s at %dx%d, lanes %s (%d floats)\n", o->scene.c_str(), base.image.width,
+                  base.image.height, simd_target().c_str(), simd_lanes());
       const std::string first_label = rows.front()["label"];
       for (const auto& r : rows) {
         std::printf("  %-24s median %9.1f ms  min %9.1f  max %9.1f  (x%.2f of %s)  peak %.0f MiB\n",
