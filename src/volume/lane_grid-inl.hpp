@@ -31,6 +31,8 @@ class LaneLattice {
 
   VI sy() const { return splat(sy_); }
   VI sz() const { return splat(sz_); }
+  int stride_y() const { return sy_; }
+  int stride_z() const { return sz_; }
 
   VI locate(VF px, VF py, VF pz, VF& fx, VF& fy, VF& fz) const {
     const VF zero = hn::Zero(DF());
@@ -73,7 +75,12 @@ template <class T>
 class LaneGrid {
  public:
   explicit LaneGrid(const VoxelGrid<T>& g)
-      : data_(g.data), lattice_(g.dims), last_word_(g.dims.x * g.dims.y * g.dims.z - 4) {}
+      : data_(g.data),
+        lattice_(g.dims),
+        last_word_(g.dims.x * g.dims.y * g.dims.z - 4),
+        hi2_x_(static_cast<float>(g.dims.x - 2)),
+        hi2_y_(static_cast<float>(g.dims.y - 2)),
+        hi2_z_(static_cast<float>(g.dims.z - 2)) {}
 
   // The eight voxels around each lane's point (c000, c100, c010, c110, c001, c101, c011, c111)
   // as integers (floats truncated) and the fractions toward the upper corner.
@@ -128,7 +135,82 @@ class LaneGrid {
     return lerp(lerp(c00, c10, fy), lerp(c01, c11, fy), fz);
   }
 
+  // VoxelGrid<T>::gradient (central differences of sample() one voxel each way) where every lane
+  // of `lanes` lies at least a voxel inside the grid (p in [1, dims - 2) on every axis), so that
+  // no fetch is clamped: the six samples share their lattice point and fractions (those of p, so
+  // a result may differ from six sample() calls by the rounding of p +- 1) and read the 32 voxels
+  // around p once, in 12 to 16 word fetches instead of 24 for 8- and 16-bit voxels. Returns
+  // false, computing nothing, where a lane of `lanes` is nearer an edge.
+  bool interior_gradient(MF lanes, VF px, VF py, VF pz, VF& gx, VF& gy, VF& gz) const {
+    const VF one = splat(1.0f);
+    const MF inside = hn::And(hn::And(hn::And(hn::Ge(px, one), hn::Lt(px, splat(hi2_x_))),
+                                      hn::And(hn::Ge(py, one), hn::Lt(py, splat(hi2_y_)))),
+                              hn::And(hn::Ge(pz, one), hn::Lt(pz, splat(hi2_z_))));
+    if (hn::AllFalse(DF(), lanes) || !hn::AllTrue(DF(), hn::Or(inside, hn::Not(lanes))))
+      return false;
+    VF fx, fy, fz;
+    // Lanes outside `lanes` read voxel (1, 1, 1)'s neighbourhood instead.
+    const VI base = hn::IfThenElse(to_int(inside), lattice_.locate(px, py, pz, fx, fy, fz),
+                                   splat(1 + lattice_.stride_y() + lattice_.stride_z()));
+    const int sy = lattice_.stride_y(), sz = lattice_.stride_z();
+    // Voxels x0 - 1 .. x0 + 2 of the row (y0 + dy, z0 + dz), and the pair x0, x0 + 1 alone.
+    struct Row4 {
+      VF v[4];
+    };
+    auto row4 = [&](int dy, int dz) HWY_ATTR {
+      const VI at = hn::Add(base, splat(dy * sy + dz * sz));
+      Row4 r;
+      pair(hn::Sub(at, splat(1)), r.v[0], r.v[1]);
+      pair(hn::Add(at, splat(1)), r.v[2], r.v[3]);
+      return r;
+    };
+    auto row2 = [&](int dy, int dz, VF& a, VF& b)
+                    HWY_ATTR { pair(hn::Add(base, splat(dy * sy + dz * sz)), a, b); };
+    // The trilinear interpolation of a cell given as its four x-pairs (y, z order).
+    auto cell = [&](VF a0, VF a1, VF b0, VF b1, VF c0, VF c1, VF d0, VF d1) HWY_ATTR {
+      const VF c00 = lerp(a0, a1, fx), c10 = lerp(b0, b1, fx);
+      const VF c01 = lerp(c0, c1, fx), c11 = lerp(d0, d1, fx);
+      return lerp(lerp(c00, c10, fy), lerp(c01, c11, fy), fz);
+    };
+    const Row4 r00 = row4(0, 0), r10 = row4(1, 0), r01 = row4(0, 1), r11 = row4(1, 1);
+    VF ym0a, ym0b, ym1a, ym1b, yp0a, yp0b, yp1a, yp1b;
+    row2(-1, 0, ym0a, ym0b), row2(-1, 1, ym1a, ym1b), row2(2, 0, yp0a, yp0b),
+        row2(2, 1, yp1a, yp1b);
+    VF zm0a, zm0b, zm1a, zm1b, zp0a, zp0b, zp1a, zp1b;
+    row2(0, -1, zm0a, zm0b), row2(1, -1, zm1a, zm1b), row2(0, 2, zp0a, zp0b),
+        row2(1, 2, zp1a, zp1b);
+    const VF half = splat(0.5f);
+    const VF x_up =
+        cell(r00.v[2], r00.v[3], r10.v[2], r10.v[3], r01.v[2], r01.v[3], r11.v[2], r11.v[3]);
+    const VF x_down =
+        cell(r00.v[0], r00.v[1], r10.v[0], r10.v[1], r01.v[0], r01.v[1], r11.v[0], r11.v[1]);
+    gx = hn::Mul(half, hn::Sub(x_up, x_down));
+    const VF y_up = cell(r10.v[1], r10.v[2], yp0a, yp0b, r11.v[1], r11.v[2], yp1a, yp1b);
+    const VF y_down = cell(ym0a, ym0b, r00.v[1], r00.v[2], ym1a, ym1b, r01.v[1], r01.v[2]);
+    gy = hn::Mul(half, hn::Sub(y_up, y_down));
+    const VF z_up = cell(r01.v[1], r01.v[2], r11.v[1], r11.v[2], zp0a, zp0b, zp1a, zp1b);
+    const VF z_down = cell(zm0a, zm0b, zm1a, zm1b, r00.v[1], r00.v[2], r10.v[1], r10.v[2]);
+    gz = hn::Mul(half, hn::Sub(z_up, z_down));
+    return true;
+  }
+
  private:
+  // Voxels i and i + 1 as floats, for interior points only (no word runs past the voxels).
+  void pair(VI i, VF& a, VF& b) const {
+    if constexpr (std::is_same_v<T, float>) {
+      a = gather_floats(data_, i);
+      b = gather_floats(data_, hn::Add(i, splat(1)));
+    } else if constexpr (sizeof(T) == 1) {
+      const VI w = gather_words<1>(data_, i);
+      a = hn::ConvertTo(DF(), hn::And(w, splat(0xff)));
+      b = hn::ConvertTo(DF(), hn::And(hn::ShiftRight<8>(w), splat(0xff)));
+    } else {
+      const VI w = gather_words<2>(data_, i);
+      a = hn::ConvertTo(DF(), low_half<T>(w));
+      b = hn::ConvertTo(DF(), high_half<T>(w));
+    }
+  }
+
   // The 32-bit word holding voxels (i, i + 1) for 8- and 16-bit T. For 16-bit voxels element
   // i + 1 is at most the last voxel, so no word runs past the end; for 8-bit ones only the last
   // pair (`last_row`: the upper y and z row) can lie within the last 3 bytes, every stride
@@ -147,7 +229,8 @@ class LaneGrid {
 
   const T* data_;
   LaneLattice lattice_;
-  int last_word_;  // the last voxel a 32-bit word may start at
+  int last_word_;                // the last voxel a 32-bit word may start at
+  float hi2_x_, hi2_y_, hi2_z_;  // dims - 2: interior_gradient's bound
 };
 
 }  // namespace imx::HWY_NAMESPACE::lanes
