@@ -57,6 +57,26 @@ std::string upper(std::string_view s) {
   return out;
 }
 
+// The limit to target `name` (limit_simd_target), IMX_SIMD aside.
+void limit_to(std::string_view name) {
+  const int64_t supported = machine_targets();
+  hwy::SetSupportedTargetsForTest(0);
+  if (name.empty()) return;
+  std::vector<int64_t> runs;
+  std::vector<std::string> names;
+  for (int64_t t : compiled_targets())
+    if (supported & t) runs.push_back(t), names.emplace_back(hwy::TargetName(t));
+  for (size_t i = 0; i < runs.size(); ++i) {
+    if (upper(name) == names[i] || (upper(name) == "LOWEST" && i + 1 == runs.size())) {
+      hwy::SetSupportedTargetsForTest(runs[i]);
+      return;
+    }
+  }
+  throw Error(
+      fmt::format("SIMD target '{}' is not one this build runs on this machine: {} (or lowest)",
+                  name, fmt::join(names, ", ")));
+}
+
 }  // namespace
 
 std::vector<std::string> simd_targets() {
@@ -79,22 +99,9 @@ int simd_lanes() {
 }
 
 void limit_simd_target(std::string_view name) {
-  const int64_t supported = machine_targets();
-  hwy::SetSupportedTargetsForTest(0);
-  if (name.empty()) return;
-  std::vector<int64_t> runs;
-  std::vector<std::string> names;
-  for (int64_t t : compiled_targets())
-    if (supported & t) runs.push_back(t), names.emplace_back(hwy::TargetName(t));
-  for (size_t i = 0; i < runs.size(); ++i) {
-    if (upper(name) == names[i] || (upper(name) == "LOWEST" && i + 1 == runs.size())) {
-      hwy::SetSupportedTargetsForTest(runs[i]);
-      return;
-    }
-  }
-  throw Error(
-      fmt::format("SIMD target '{}' is not one this build runs on this machine: {} (or lowest)",
-                  name, fmt::join(names, ", ")));
+  // IMX_SIMD first: applied at the next kernel's call, it would replace this limit.
+  apply_simd_environment();
+  limit_to(name);
 }
 
 void apply_simd_environment() {
@@ -103,7 +110,7 @@ void apply_simd_environment() {
     const char* name = std::getenv("IMX_SIMD");
     if (!name || !*name) return;
     try {
-      limit_simd_target(name);
+      limit_to(name);
     } catch (const Error& e) {
       throw Error(fmt::format("IMX_SIMD={}: {}", name, e.what()));
     }

@@ -17,7 +17,8 @@ int simd_lanes();
 
 // Makes the lane kernels run on target `name` (case-insensitive, one of simd_targets(), or
 // "lowest" for the last of them); an empty name lifts the limit. Throws imx::Error naming the
-// value otherwise.
+// value otherwise. IMX_SIMD is applied first (apply_simd_environment), so that it never replaces
+// this limit later.
 void limit_simd_target(std::string_view name);
 
 // Applies the environment's IMX_SIMD (a target's name) once per process, before the first
