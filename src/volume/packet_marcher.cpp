@@ -4,41 +4,41 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <optional>
 #include <type_traits>
 
 #include "volume/label_classifier.hpp"
-#include "volume/lane_bricks.hpp"
-#include "volume/lane_grid.hpp"
-#include "volume/lane_kernel.hpp"
-#include "volume/lanes.hpp"
 #include "volume/ray_shading.hpp"
+#include "volume/simd_targets.hpp"
 #include "volume/volume_marcher.hpp"
 
-namespace imx {
+// One source for every SIMD target (Google Highway): foreach_target compiles the part between
+// HWY_BEFORE_NAMESPACE and HWY_AFTER_NAMESPACE once per target; the public functions at the end
+// (HWY_ONCE) dispatch to the widest target the machine has.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "volume/packet_marcher.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
+#include <hwy/highway.h>
+
+#include "volume/lane_bricks-inl.hpp"
+#include "volume/lane_grid-inl.hpp"
+#include "volume/lane_kernel-inl.hpp"
+#include "volume/lanes-inl.hpp"
+
+HWY_BEFORE_NAMESPACE();
+namespace imx::HWY_NAMESPACE {
 namespace {
 
-// The reference: one VolumeMarcher per ray.
-void composite_each(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
-                    std::span<const ShadingLight> lights, float ert, std::span<glm::vec4> out,
-                    SlabExtent extent) {
-  for (size_t i = 0; i < rays.size(); ++i) {
-    glm::vec4 acc(0.0f);
-    VolumeMarcher m(v, rays[i].ray, rays[i].t0, rays[i].t1, step, lights, extent);
-    m.composite(acc, ert);
-    out[i] = acc;
-  }
-}
-
-#if IMX_PACKET_LANES
-
+namespace hn = hwy::HWY_NAMESPACE;
 using namespace lanes;
 constexpr int kMaxLights = RayShading::kMaxLights;
 constexpr int kMaxLookDelay = 4;  // steps a lane that left its occupied brick may march on
 
-// GradientVolume::sample in lanes. Packed layout: one 32-bit gather per corner, the fields
-// split by shifts. Int16 layout: two per corner, (x, y) and (z, next voxel's x); the volume's
-// spare entry keeps the last voxel's second word inside.
+// GradientVolume::sample in lanes. Packed layout: one 32-bit word per corner, the fields split
+// by shifts. Int16 layout: the x-neighbours c and c + 1 are 12 adjacent bytes, three words,
+// (x0, y0), (z0, x1) and (y1, z1), split into their 16-bit halves: three fetches per pair.
 class LaneGradients {
  public:
   explicit LaneGradients(const GradientVolume& g)
@@ -46,68 +46,51 @@ class LaneGradients {
         int16_(g.data()),
         packed_(g.packed()),
         lattice_(g.dims()),
-        scale_(splat(g.scale())) {}
+        scale_(g.scale()) {}
 
-  void sample(__m256 px, __m256 py, __m256 pz, __m256& gx, __m256& gy, __m256& gz) const {
-    __m256 fx, fy, fz;
-    const __m256i base = lattice_.locate(px, py, pz, fx, fy, fz);
-    const __m256i sy = lattice_.sy(), sz = lattice_.sz();
-    const __m256i one = splat(1);
-    const __m256i corner[8] = {
-        base,
-        _mm256_add_epi32(base, one),
-        _mm256_add_epi32(base, sy),
-        _mm256_add_epi32(_mm256_add_epi32(base, sy), one),
-        _mm256_add_epi32(base, sz),
-        _mm256_add_epi32(_mm256_add_epi32(base, sz), one),
-        _mm256_add_epi32(_mm256_add_epi32(base, sz), sy),
-        _mm256_add_epi32(_mm256_add_epi32(_mm256_add_epi32(base, sz), sy), one)};
-    __m256 cx[8], cy[8], cz[8];
+  void sample(VF px, VF py, VF pz, VF& gx, VF& gy, VF& gz) const {
+    VF fx, fy, fz;
+    const VI base = lattice_.locate(px, py, pz, fx, fy, fz);
+    const VI sy = lattice_.sy(), sz = lattice_.sz();
+    const VI one = splat(1);
+    const VI corner[8] = {base,
+                          hn::Add(base, one),
+                          hn::Add(base, sy),
+                          hn::Add(hn::Add(base, sy), one),
+                          hn::Add(base, sz),
+                          hn::Add(hn::Add(base, sz), one),
+                          hn::Add(hn::Add(base, sz), sy),
+                          hn::Add(hn::Add(hn::Add(base, sz), sy), one)};
+    VF cx[8], cy[8], cz[8];
     if (packed_) {
       for (int c = 0; c < 8; ++c) {
-        const __m256i w = gather_words<4>(words_, corner[c]);
-        cx[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(w, 22), 22));
-        cy[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(w, 12), 22));
-        cz[c] = _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(w, 2), 22));
+        const VI w = gather_words<4>(words_, corner[c]);
+        cx[c] = hn::ConvertTo(DF(), hn::ShiftRight<22>(hn::ShiftLeft<22>(w)));
+        cy[c] = hn::ConvertTo(DF(), hn::ShiftRight<22>(hn::ShiftLeft<12>(w)));
+        cz[c] = hn::ConvertTo(DF(), hn::ShiftRight<22>(hn::ShiftLeft<2>(w)));
       }
     } else {
-      // The x-neighbours c and c + 1 are 12 adjacent bytes: per lane one 16-byte load (the
-      // volume's spare entries keep the last pair's inside), lanes l and l + 4 in one register,
-      // then a transpose, instead of three 8-lane gathers (bench/lane_fetch_bench.cpp).
-      alignas(32) int32_t at[4][kLanes];
-      for (int k = 0; k < 4; ++k)
-        _mm256_store_si256(reinterpret_cast<__m256i*>(at[k]), corner[2 * k]);
-      auto pair = [this](int32_t voxel) {
-        return _mm_loadu_si128(reinterpret_cast<const __m128i*>(int16_ + 3 * size_t(voxel)));
-      };
-      // Component q (of x0 y0 z0 x1 y1 z1) of the eight lanes, from the 64-bit half `half` of
-      // each 128-bit part of b, where b holds components 2 * (q / 2) and 2 * (q / 2) + 1.
-      auto component = [](__m256i b, int half) {
-        const __m256i q =
-            half ? _mm256_permute4x64_epi64(b, 0x0d) : _mm256_permute4x64_epi64(b, 0x08);
-        return _mm256_cvtepi32_ps(_mm256_cvtepi16_epi32(_mm256_castsi256_si128(q)));
-      };
+      // The voxel pair (c, c + 1) of each lane: 12 bytes from voxel c, inside for the last pair
+      // too (c + 1 is at most the last voxel), as three words.
       for (int k = 0; k < 4; ++k) {
-        __m256i r[4];
-        for (int l = 0; l < 4; ++l)
-          r[l] = _mm256_inserti128_si256(_mm256_castsi128_si256(pair(at[k][l])), pair(at[k][l + 4]),
-                                         1);
-        const __m256i a0 = _mm256_unpacklo_epi16(r[0], r[1]),
-                      a1 = _mm256_unpackhi_epi16(r[0], r[1]);
-        const __m256i a2 = _mm256_unpacklo_epi16(r[2], r[3]),
-                      a3 = _mm256_unpackhi_epi16(r[2], r[3]);
-        const __m256i b0 = _mm256_unpacklo_epi32(a0, a2);  // x0, y0 of lanes 0-3 | 4-7
-        const __m256i b1 = _mm256_unpackhi_epi32(a0, a2);  // z0, x1
-        const __m256i b2 = _mm256_unpacklo_epi32(a1, a3);  // y1, z1
+        const VI at = hn::Mul(corner[2 * k], splat(3));  // in int16 entries
+        const VI w0 = gather_words<2>(int16_, at);
+        const VI w1 = gather_words<2>(int16_, hn::Add(at, splat(2)));
+        const VI w2 = gather_words<2>(int16_, hn::Add(at, splat(4)));
         const int c = 2 * k;
-        cx[c] = component(b0, 0), cy[c] = component(b0, 1), cz[c] = component(b1, 0);
-        cx[c + 1] = component(b1, 1), cy[c + 1] = component(b2, 0), cz[c + 1] = component(b2, 1);
+        cx[c] = hn::ConvertTo(DF(), low_half<int16_t>(w0));
+        cy[c] = hn::ConvertTo(DF(), high_half<int16_t>(w0));
+        cz[c] = hn::ConvertTo(DF(), low_half<int16_t>(w1));
+        cx[c + 1] = hn::ConvertTo(DF(), high_half<int16_t>(w1));
+        cy[c + 1] = hn::ConvertTo(DF(), low_half<int16_t>(w2));
+        cz[c + 1] = hn::ConvertTo(DF(), high_half<int16_t>(w2));
       }
     }
-    auto trilinear = [&](const __m256* v) {
-      __m256 c00 = lerp(v[0], v[1], fx), c10 = lerp(v[2], v[3], fx);
-      __m256 c01 = lerp(v[4], v[5], fx), c11 = lerp(v[6], v[7], fx);
-      return _mm256_mul_ps(lerp(lerp(c00, c10, fy), lerp(c01, c11, fy), fz), scale_);
+    const VF scale = splat(scale_);
+    auto trilinear = [&](const VF* v) HWY_ATTR {
+      const VF c00 = lerp(v[0], v[1], fx), c10 = lerp(v[2], v[3], fx);
+      const VF c01 = lerp(v[4], v[5], fx), c11 = lerp(v[6], v[7], fx);
+      return hn::Mul(lerp(lerp(c00, c10, fy), lerp(c01, c11, fy), fz), scale);
     };
     gx = trilinear(cx), gy = trilinear(cy), gz = trilinear(cz);
   }
@@ -117,163 +100,114 @@ class LaneGradients {
   const int16_t* int16_;
   bool packed_;
   LaneLattice lattice_;
-  __m256 scale_;
+  float scale_;
 };
 
 // The labels of the eight voxels around points in lanes (c000, c100, c010, c110, c001, c101,
-// c011, c111, as label_of() reads them), with LaneGrid's clamp and gathers: 8- and 16-bit
-// voxels as 32-bit words holding the x-neighbours together.
+// c011, c111, as label_of() reads them), with LaneGrid's clamp and fetches (LaneGrid::corners).
 template <class T>
 class LaneLabelCells {
  public:
   explicit LaneLabelCells(const VoxelGrid<T>& g)
       : data_(g.data),
+        grid_(g),
         lattice_(g.dims),
-        last_word_(splat(g.dims.x * g.dims.y * g.dims.z - 4)),
-        hi2_x_(splat(static_cast<float>(g.dims.x - 2))),
-        hi2_y_(splat(static_cast<float>(g.dims.y - 2))),
-        hi2_z_(splat(static_cast<float>(g.dims.z - 2))),
-        safe_(splat(1 + g.dims.x + g.dims.x * g.dims.y)) {}
+        sy_(g.dims.x),
+        sz_(g.dims.x * g.dims.y),
+        hi2_x_(static_cast<float>(g.dims.x - 2)),
+        hi2_y_(static_cast<float>(g.dims.y - 2)),
+        hi2_z_(static_cast<float>(g.dims.z - 2)),
+        safe_(1 + g.dims.x + g.dims.x * g.dims.y) {}
 
-  void cell(__m256 px, __m256 py, __m256 pz, __m256i c[8], __m256& fx, __m256& fy,
-            __m256& fz) const {
-    const __m256i base = lattice_.locate(px, py, pz, fx, fy, fz);
-    const __m256i sy = lattice_.sy(), sz = lattice_.sz();
-    const __m256i o01 = _mm256_add_epi32(base, sy), o10 = _mm256_add_epi32(base, sz);
-    const __m256i offs[4] = {base, o01, o10, _mm256_add_epi32(o01, sz)};
-    if constexpr (std::is_same_v<T, float>) {
-      for (int k = 0; k < 4; ++k) {
-        c[2 * k] = _mm256_cvttps_epi32(gather_floats(data_, offs[k]));
-        c[2 * k + 1] =
-            _mm256_cvttps_epi32(gather_floats(data_, _mm256_add_epi32(offs[k], splat(1))));
-      }
-    } else if constexpr (sizeof(T) == 1) {
-      for (int k = 0; k < 4; ++k) {
-        // Only the last pair can lie within the last 3 bytes (as LaneGrid).
-        const __m256i at = k == 3 ? _mm256_min_epi32(offs[k], last_word_) : offs[k];
-        const __m256i shift = _mm256_slli_epi32(_mm256_sub_epi32(offs[k], at), 3);
-        const __m256i w = _mm256_srlv_epi32(gather_words<1>(data_, at), shift);
-        c[2 * k] = _mm256_and_si256(w, splat(0xff));
-        c[2 * k + 1] = _mm256_and_si256(_mm256_srli_epi32(w, 8), splat(0xff));
-      }
-    } else {
-      for (int k = 0; k < 4; ++k) {
-        const __m256i w = gather_words<2>(data_, offs[k]);
-        if constexpr (std::is_signed_v<T>) {
-          c[2 * k] = _mm256_srai_epi32(_mm256_slli_epi32(w, 16), 16);
-          c[2 * k + 1] = _mm256_srai_epi32(w, 16);
-        } else {
-          c[2 * k] = _mm256_and_si256(w, splat(0xffff));
-          c[2 * k + 1] = _mm256_srli_epi32(w, 16);
-        }
-      }
-    }
+  void cell(VF px, VF py, VF pz, VI c[8], VF& fx, VF& fy, VF& fz) const {
+    grid_.corners(px, py, pz, c, fx, fy, fz);
   }
 
   // label_gradient in lanes for 8-bit labels where every lane of `vis` lies at least a voxel
   // inside the grid (p in [1, dims - 2) on every axis), so that no fetch is clamped: the six
   // indicator cells around p read 12 rows of four x-neighbours (x0 - 1 .. x0 + 2), one 32-bit
-  // gather each, instead of 24 gathers. False (nothing computed) elsewhere or for other types.
-  bool interior_gradient(__m256 vis, __m256 px, __m256 py, __m256 pz, __m256i label, __m256& gx,
-                         __m256& gy, __m256& gz) const {
+  // word each, instead of 24 fetches. False (nothing computed) elsewhere or for other types.
+  bool interior_gradient(MF vis, VF px, VF py, VF pz, VI label, VF& gx, VF& gy, VF& gz) const {
     if constexpr (sizeof(T) != 1) {
       (void)vis, (void)px, (void)py, (void)pz, (void)label, (void)gx, (void)gy, (void)gz;
       return false;
     } else {
-      const __m256 one = splat(1.0f);
-      const __m256 inside = _mm256_and_ps(
-          _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(px, one, _CMP_GE_OQ),
-                                      _mm256_cmp_ps(px, hi2_x_, _CMP_LT_OQ)),
-                        _mm256_and_ps(_mm256_cmp_ps(py, one, _CMP_GE_OQ),
-                                      _mm256_cmp_ps(py, hi2_y_, _CMP_LT_OQ))),
-          _mm256_and_ps(_mm256_cmp_ps(pz, one, _CMP_GE_OQ), _mm256_cmp_ps(pz, hi2_z_, _CMP_LT_OQ)));
-      const int v = _mm256_movemask_ps(vis);
-      if ((_mm256_movemask_ps(inside) & v) != v) return false;
-      __m256 fx, fy, fz;
-      __m256i base = lattice_.locate(px, py, pz, fx, fy, fz);
+      const VF one = splat(1.0f);
+      const MF inside = hn::And(hn::And(hn::And(hn::Ge(px, one), hn::Lt(px, splat(hi2_x_))),
+                                        hn::And(hn::Ge(py, one), hn::Lt(py, splat(hi2_y_)))),
+                                hn::And(hn::Ge(pz, one), hn::Lt(pz, splat(hi2_z_))));
+      const unsigned v = bits_of(vis);
+      if ((bits_of(inside) & v) != v) return false;
+      VF fx, fy, fz;
+      VI base = lattice_.locate(px, py, pz, fx, fy, fz);
       // Lanes not shaded read a safe interior row instead.
-      base = _mm256_blendv_epi8(safe_, base, _mm256_castps_si256(inside));
-      const __m256i at = _mm256_sub_epi32(base, splat(1));
-      const __m256i sy = lattice_.sy(), sz = lattice_.sz();
+      base = hn::IfThenElse(to_int(inside), base, splat(safe_));
+      const VI at = hn::Sub(base, splat(1));
       // The label in every byte: a byte compare then flags the voxels that hold it.
-      const __m256i pattern = _mm256_mullo_epi32(label, splat(0x01010101));
-      auto row = [&](int dy, int dz) {
-        const __m256i o = _mm256_add_epi32(at, _mm256_add_epi32(_mm256_mullo_epi32(sy, splat(dy)),
-                                                                _mm256_mullo_epi32(sz, splat(dz))));
-        return _mm256_cmpeq_epi8(gather_words<1>(data_, o), pattern);
+      const VI pattern = hn::Mul(label, splat(0x01010101));
+      // Bit 8k of a row's flags: voxel x0 - 1 + k holds the label.
+      auto row = [&](int dy, int dz) HWY_ATTR {
+        const VI w = gather_words<1>(data_, hn::Add(at, splat(sy_ * dy + sz_ * dz)));
+#if HWY_TARGET == HWY_SCALAR
+        // One lane: the zero bytes of w ^ pattern, found without carries between bytes.
+        const VU x = hn::BitCast(DU(), hn::Xor(w, pattern));
+        const VU low7 = hn::Set(DU(), 0x7f7f7f7fu);
+        const VU nonzero = hn::Or(hn::Add(hn::And(x, low7), low7), x);
+        return hn::BitCast(DI(),
+                           hn::ShiftRight<7>(hn::AndNot(nonzero, hn::Set(DU(), 0x80808080u))));
+#else
+        const hn::Repartition<uint8_t, DI> d8;
+        return hn::BitCast(
+            DI(), hn::VecFromMask(d8, hn::Eq(hn::BitCast(d8, w), hn::BitCast(d8, pattern))));
+#endif
       };
       // Voxel x0 - 1 + k of a row as 0 or 1.
-      auto is = [](__m256i eq, int k) {
-        return _mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(eq, 8 * k), splat(1)));
+      auto is = [](VI eq, int k) HWY_ATTR {
+        return hn::ConvertTo(DF(), hn::And(hn::ShiftRightSame(eq, 8 * k), splat(1)));
       };
       // The indicator of a cell from its four rows (y, z order) and its first x byte.
-      auto cell = [&](__m256i r00, __m256i r10, __m256i r01, __m256i r11, int k) {
-        const __m256 c00 = lerp(is(r00, k), is(r00, k + 1), fx);
-        const __m256 c10 = lerp(is(r10, k), is(r10, k + 1), fx);
-        const __m256 c01 = lerp(is(r01, k), is(r01, k + 1), fx);
-        const __m256 c11 = lerp(is(r11, k), is(r11, k + 1), fx);
+      auto cell = [&](VI r00, VI r10, VI r01, VI r11, int k) HWY_ATTR {
+        const VF c00 = lerp(is(r00, k), is(r00, k + 1), fx);
+        const VF c10 = lerp(is(r10, k), is(r10, k + 1), fx);
+        const VF c01 = lerp(is(r01, k), is(r01, k + 1), fx);
+        const VF c11 = lerp(is(r11, k), is(r11, k + 1), fx);
         return lerp(lerp(c00, c10, fy), lerp(c01, c11, fy), fz);
       };
-      const __m256i r00 = row(0, 0), r10 = row(1, 0), r01 = row(0, 1), r11 = row(1, 1);
-      const __m256i ym0 = row(-1, 0), ym1 = row(-1, 1), yp0 = row(2, 0), yp1 = row(2, 1);
-      const __m256i zm0 = row(0, -1), zm1 = row(1, -1), zp0 = row(0, 2), zp1 = row(1, 2);
-      const __m256 half = splat(0.5f);
-      gx = _mm256_mul_ps(half,
-                         _mm256_sub_ps(cell(r00, r10, r01, r11, 2), cell(r00, r10, r01, r11, 0)));
-      gy = _mm256_mul_ps(half,
-                         _mm256_sub_ps(cell(r10, yp0, r11, yp1, 1), cell(ym0, r00, ym1, r01, 1)));
-      gz = _mm256_mul_ps(half,
-                         _mm256_sub_ps(cell(r01, r11, zp0, zp1, 1), cell(zm0, zm1, r00, r10, 1)));
+      const VI r00 = row(0, 0), r10 = row(1, 0), r01 = row(0, 1), r11 = row(1, 1);
+      const VI ym0 = row(-1, 0), ym1 = row(-1, 1), yp0 = row(2, 0), yp1 = row(2, 1);
+      const VI zm0 = row(0, -1), zm1 = row(1, -1), zp0 = row(0, 2), zp1 = row(1, 2);
+      const VF half = splat(0.5f);
+      gx = hn::Mul(half, hn::Sub(cell(r00, r10, r01, r11, 2), cell(r00, r10, r01, r11, 0)));
+      gy = hn::Mul(half, hn::Sub(cell(r10, yp0, r11, yp1, 1), cell(ym0, r00, ym1, r01, 1)));
+      gz = hn::Mul(half, hn::Sub(cell(r01, r11, zp0, zp1, 1), cell(zm0, zm1, r00, r10, 1)));
       return true;
     }
   }
 
   // label_indicator in lanes: the trilinear interpolation of (voxel == label).
-  __m256 indicator(__m256 px, __m256 py, __m256 pz, __m256i label) const {
-    __m256i c[8];
-    __m256 fx, fy, fz;
+  VF indicator(VF px, VF py, VF pz, VI label) const {
+    VI c[8];
+    VF fx, fy, fz;
     cell(px, py, pz, c, fx, fy, fz);
-    __m256 is[8];
+    VF is[8];
     for (int k = 0; k < 8; ++k)
-      is[k] = _mm256_and_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(c[k], label)), splat(1.0f));
-    const __m256 c00 = lerp(is[0], is[1], fx), c10 = lerp(is[2], is[3], fx);
-    const __m256 c01 = lerp(is[4], is[5], fx), c11 = lerp(is[6], is[7], fx);
+      is[k] = hn::IfThenElseZero(to_float(hn::Eq(c[k], label)), splat(1.0f));
+    const VF c00 = lerp(is[0], is[1], fx), c10 = lerp(is[2], is[3], fx);
+    const VF c01 = lerp(is[4], is[5], fx), c11 = lerp(is[6], is[7], fx);
     return lerp(lerp(c00, c10, fy), lerp(c01, c11, fy), fz);
   }
 
  private:
   const T* data_;
+  LaneGrid<T> grid_;
   LaneLattice lattice_;
-  __m256i last_word_;             // the last voxel a 32-bit word may start at (8-bit voxels)
-  __m256 hi2_x_, hi2_y_, hi2_z_;  // dims - 2: interior_gradient's bound
-  __m256i safe_;                  // voxel (1, 1, 1)
+  int sy_, sz_;                  // strides in voxels
+  float hi2_x_, hi2_y_, hi2_z_;  // dims - 2: interior_gradient's bound
+  int safe_;                     // voxel (1, 1, 1)
 };
-
-// The per-lane state, structure of arrays so that a step loads whole vectors.
-struct alignas(32) Lanes {
-  float ox[kLanes], oy[kLanes], oz[kLanes];  // the ray in index space, same parameter t
-  float dx[kLanes], dy[kLanes], dz[kLanes];
-  float front[kLanes];      // where the next piece starts
-  float t1[kLanes];         // where the span ends
-  float next_cell[kLanes];  // k + 1 for the grid cell [k, k + 1) * step holding `front`
-  float s_front[kLanes];    // the scalar at `front`, valid where have_front is set
-  int32_t have_front[kLanes];
-  int32_t label_front[kLanes];   // label volumes: the winning label at `front`
-  float occupied_until[kLanes];  // the lane is in an occupied brick up to here
-  float r[kLanes], g[kLanes], b[kLanes], a[kLanes];
-  float ex[kLanes], ey[kLanes], ez[kLanes];  // toward the eye, world space
-  float lx[kMaxLights][kLanes], ly[kMaxLights][kLanes], lz[kMaxLights][kLanes];  // to the light
-  float hx[kMaxLights][kLanes], hy[kMaxLights][kLanes], hz[kMaxLights][kLanes];  // half vector
-  int32_t ray[kLanes];
-};
-
-// The lane k of a vector holds lane in_order()[k]: no permutation.
-inline __m256i in_order() {
-  return _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-}
 
 // kPackOrder[m]: the set bits of m in rising order, a nibble each from the lowest: the
-// permutation that packs the lanes of mask m to the front.
+// permutation that packs the lanes of mask m to the front, for up to eight lanes.
 constexpr std::array<uint32_t, 256> kPackOrder = [] {
   std::array<uint32_t, 256> t{};
   for (unsigned m = 0; m < 256; ++m)
@@ -282,15 +216,57 @@ constexpr std::array<uint32_t, 256> kPackOrder = [] {
   return t;
 }();
 
+// The lanes of `m` packed to the front, in lane order, as lane indices (what hn::Compress does
+// to Iota). Up to eight lanes from kPackOrder: Highway 1.0's Compress for AVX2 vectors copies
+// its 1 KiB table onto the stack at every call (GCC 12), which about doubled the AVX2 frame
+// times of FLAIR and the bone CT; AVX-512 has an instruction for it.
+HWY_INLINE VI pack_order(MF m) {
+  if constexpr (kLanes > 8) {
+    return hn::Compress(hn::Iota(DI(), 0), to_int(m));
+  } else {
+    const VU packed = hn::Set(DU(), kPackOrder[bits_of(m)]);
+    const VU shift = hn::ShiftLeft<2>(hn::BitCast(DU(), hn::Iota(DI(), 0)));
+    return hn::BitCast(DI(), hn::And(hn::Shr(packed, shift), hn::Set(DU(), 0xfu)));
+  }
+}
+
+// The per-lane state, structure of arrays so that a step loads whole vectors.
+struct Lanes {
+  HWY_ALIGN float ox[kLanes], oy[kLanes], oz[kLanes];  // the ray in index space, same parameter t
+  HWY_ALIGN float dx[kLanes], dy[kLanes], dz[kLanes];
+  HWY_ALIGN float front[kLanes];      // where the next piece starts
+  HWY_ALIGN float t1[kLanes];         // where the span ends
+  HWY_ALIGN float next_cell[kLanes];  // k + 1 for the grid cell [k, k + 1) * step holding `front`
+  HWY_ALIGN float s_front[kLanes];    // the scalar at `front`, valid where have_front is set
+  HWY_ALIGN int32_t have_front[kLanes];
+  HWY_ALIGN int32_t label_front[kLanes];   // label volumes: the winning label at `front`
+  HWY_ALIGN float occupied_until[kLanes];  // the lane is in an occupied brick up to here
+  HWY_ALIGN float r[kLanes], g[kLanes], b[kLanes], a[kLanes];
+  HWY_ALIGN float ex[kLanes], ey[kLanes], ez[kLanes];  // toward the eye, world space
+  HWY_ALIGN float lx[kMaxLights][kLanes], ly[kMaxLights][kLanes], lz[kMaxLights][kLanes];
+  HWY_ALIGN float hx[kMaxLights][kLanes], hy[kMaxLights][kLanes], hz[kMaxLights][kLanes];
+  HWY_ALIGN int32_t ray[kLanes];
+};
+
 // Visible pieces waiting to be shaded, packed (PacketKernel::defer): room for one more step's
-// eight after at most seven left over.
-struct alignas(32) ShadeQueue {
+// lanes after at most kLanes - 1 left over.
+struct ShadeQueue {
   enum Field { kW, kR, kG, kB, kA, kAx, kAy, kAz, kBx, kBy, kBz, kLane, kTwo, kFields };
   // kW: the weight over() gives the piece's colour; kLane (an int32 bit pattern): the lane of its
   // ray; kTwo: all ones where it is shaded at two points.
-  float field[kFields][2 * kLanes] = {};
+  HWY_ALIGN float field[kFields][2 * kLanes] = {};
   int count = 0;
 };
+
+// Whose eye and light directions the lanes of a shading take: lane k those of the ray in lane
+// from[k] (the shading queue's pieces), or its own (`own`).
+struct RayOf {
+  VI from;
+  bool own;
+};
+HWY_INLINE RayOf own_rays() {
+  return {hn::Zero(DI()), true};
+}
 
 // One batch of rays through one volume with voxel type T; with NoData, one whose NaN or inf
 // voxels are no data (only float volumes have them, and only they pay for the test).
@@ -325,9 +301,9 @@ class PacketKernel {
     if (v.accel.occupancy) bricks_.emplace(*v.accel.occupancy, v.accel.skip);
   }
 
-  // Packets of eight rays in batch order, each marched until all its rays are done. Refilling
+  // Packets of kLanes rays in batch order, each marched until all its rays are done. Refilling
   // each lane as soon as its ray ends kept the lanes fuller but was slower (FLAIR 41 against
-  // 37.5 ms, ct-head 39 against 37.5): scattered scalar set-up and incoherent lanes.
+  // 37.5 ms, ct-head 39 against 37.5, with AVX2): scattered scalar set-up and incoherent lanes.
   void run() {
     for (;;) {
       unsigned live = fill();
@@ -336,26 +312,24 @@ class PacketKernel {
       const unsigned packet = live;
       while (live) {
         const unsigned lit = labels_ ? step_labels(live) : step(live);
-        const __m256 active = lane_mask(live);
-        __m256 ended = _mm256_or_ps(
-            _mm256_cmp_ps(_mm256_load_ps(L_.front), _mm256_load_ps(L_.t1), _CMP_NLT_UQ),
-            _mm256_cmp_ps(_mm256_load_ps(L_.a), splat(ert_), _CMP_NLT_UQ));
-        unsigned done = static_cast<unsigned>(_mm256_movemask_ps(_mm256_and_ps(ended, active)));
+        const MF active = lane_mask(live);
+        const MF ended = hn::Or(hn::Not(hn::Lt(load(L_.front), load(L_.t1))),
+                                hn::Not(hn::Lt(load(L_.a), splat(ert_))));
+        unsigned done = bits_of(hn::And(ended, active));
         if (bricks_) {
           // Lanes that left their occupied brick look for the next one, but not at once:
           // - those whose last piece was visible are in matter and look at their next
           //   transparent piece (FLAIR 1.5 ms faster);
           // - the others keep marching until every such lane needs a look or the first has
-          //   waited kMaxLookDelay steps. A walk costs the same for one lane as for eight and
+          //   waited kMaxLookDelay steps. A walk costs the same for one lane as for all and
           //   several times a step, and the next brick is mostly occupied anyway (ct-head and
-          //   FLAIR about 7% faster than when only a lone lane waited, for one step).
+          //   FLAIR about 7% faster than when only a lone lane waited, for one step, in AVX2).
           // A deferred look marches pieces a look would have skipped: they are transparent
           // unless one spans two empty bricks whose value ranges straddle a visible value, as
           // plain marching has it too (no 8-bit image here changed).
-          __m256 look = _mm256_cmp_ps(_mm256_load_ps(L_.front), _mm256_load_ps(L_.occupied_until),
-                                      _CMP_GE_OQ);
+          const MF look = hn::Ge(load(L_.front), load(L_.occupied_until));
           const unsigned open = live & ~lit & ~done;
-          const unsigned m = static_cast<unsigned>(_mm256_movemask_ps(look)) & open;
+          const unsigned m = bits_of(look) & open;
           if (m && (m == open || ++look_delay_ > kMaxLookDelay)) {
             look_delay_ = 0;
             done |= settle(m);
@@ -391,14 +365,13 @@ class PacketKernel {
       if (!(0.0f < ert_)) {
         empty = fresh;
       } else {
-        const __m256 none =
-            _mm256_cmp_ps(_mm256_load_ps(L_.front), _mm256_load_ps(L_.t1), _CMP_NLT_UQ);
-        empty = fresh & static_cast<unsigned>(_mm256_movemask_ps(none));
+        const MF none = hn::Not(hn::Lt(load(L_.front), load(L_.t1)));
+        empty = fresh & bits_of(none);
         if (bricks_ && (fresh & ~empty)) {
           // The lanes' rays for the brick walk, kept until the packet is filled again.
           const float* const origin[3] = {L_.ox, L_.oy, L_.oz};
           const float* const dir[3] = {L_.dx, L_.dy, L_.dz};
-          brick_rays_ = bricks_->load(origin, dir);
+          bricks_->rays(origin, dir, brick_rays_);
           empty |= settle(fresh & ~empty);
         }
       }
@@ -443,70 +416,61 @@ class PacketKernel {
   // lies beyond the piece it is in, and looks again once it leaves that brick. Returns the lanes
   // with nothing left to march.
   unsigned settle(unsigned m) {
-    const __m256 front = _mm256_load_ps(L_.front), t1 = _mm256_load_ps(L_.t1);
-    __m256 enter = t1, leave = _mm256_load_ps(L_.occupied_until);
+    const VF front = load(L_.front), t1 = load(L_.t1);
+    VF enter = t1, leave = load(L_.occupied_until);
     const unsigned none = bricks_->first_occupied(brick_rays_, m, front, t1, enter, leave);
-    const __m256 walked = lane_mask(m & ~none);
-    _mm256_store_ps(L_.occupied_until,
-                    _mm256_blendv_ps(_mm256_load_ps(L_.occupied_until), leave, walked));
+    const MF walked = lane_mask(m & ~none);
+    store(hn::IfThenElse(walked, leave, load(L_.occupied_until)), L_.occupied_until);
     // As VolumeMarcher: resume at the grid point at or before the brick, unless that is still
     // inside the current piece.
-    const __m256 next_cell = _mm256_load_ps(L_.next_cell), step = splat(step_);
-    const __m256 back = _mm256_min_ps(t1, _mm256_mul_ps(next_cell, step));
-    const __m256 jump = _mm256_and_ps(walked, _mm256_cmp_ps(enter, back, _CMP_GE_OQ));
-    if (!_mm256_movemask_ps(jump)) return none;
-    const __m256 inv_step = splat(1.0f / step_);
-    const __m256 to =
-        _mm256_max_ps(back, _mm256_mul_ps(_mm256_floor_ps(_mm256_mul_ps(enter, inv_step)), step));
-    __m256 cell = _mm256_floor_ps(_mm256_mul_ps(to, inv_step));
-    const __m256 one = splat(1.0f);
-    cell = _mm256_add_ps(
-        cell, _mm256_and_ps(one, _mm256_cmp_ps(_mm256_mul_ps(_mm256_add_ps(cell, one), step), to,
-                                               _CMP_LE_OQ)));
-    _mm256_store_ps(L_.front, _mm256_blendv_ps(front, to, jump));
-    _mm256_store_ps(L_.next_cell, _mm256_blendv_ps(next_cell, _mm256_add_ps(cell, one), jump));
-    const __m256i have = _mm256_load_si256(reinterpret_cast<const __m256i*>(L_.have_front));
-    _mm256_store_si256(reinterpret_cast<__m256i*>(L_.have_front),
-                       _mm256_andnot_si256(_mm256_castps_si256(jump), have));
+    const VF next_cell = load(L_.next_cell), step = splat(step_);
+    const VF back = hn::Min(t1, hn::Mul(next_cell, step));
+    const MF jump = hn::And(walked, hn::Ge(enter, back));
+    if (hn::AllFalse(DF(), jump)) return none;
+    const VF inv_step = splat(1.0f / step_);
+    const VF to = hn::Max(back, hn::Mul(hn::Floor(hn::Mul(enter, inv_step)), step));
+    VF cell = hn::Floor(hn::Mul(to, inv_step));
+    const VF one = splat(1.0f);
+    cell = hn::Add(cell, hn::IfThenElseZero(hn::Le(hn::Mul(hn::Add(cell, one), step), to), one));
+    store(hn::IfThenElse(jump, to, front), L_.front);
+    store(hn::IfThenElse(jump, hn::Add(cell, one), next_cell), L_.next_cell);
+    store(hn::IfThenZeroElse(to_int(jump), load(L_.have_front)), L_.have_front);
     // A lane moved to the end of its span has nothing left (no zero-length piece).
-    const __m256 at_end = _mm256_and_ps(jump, _mm256_cmp_ps(to, t1, _CMP_GE_OQ));
-    return none | static_cast<unsigned>(_mm256_movemask_ps(at_end));
+    const MF at_end = hn::And(jump, hn::Ge(to, t1));
+    return none | bits_of(at_end);
   }
 
   // One piece in every live lane: sample, range test, classify, shade, composite. Returns the
   // lanes whose piece was visible.
   unsigned step(unsigned live) {
-    const __m256 active = lane_mask(live);
-    const __m256 ox = _mm256_load_ps(L_.ox), oy = _mm256_load_ps(L_.oy), oz = _mm256_load_ps(L_.oz);
-    const __m256 dx = _mm256_load_ps(L_.dx), dy = _mm256_load_ps(L_.dy), dz = _mm256_load_ps(L_.dz);
-    const __m256 front = _mm256_load_ps(L_.front), next_cell = _mm256_load_ps(L_.next_cell);
-    const __m256 back =
-        _mm256_min_ps(_mm256_load_ps(L_.t1), _mm256_mul_ps(next_cell, splat(step_)));
-    const __m256 s_b = grid_.sample(_mm256_fmadd_ps(back, dx, ox), _mm256_fmadd_ps(back, dy, oy),
-                                    _mm256_fmadd_ps(back, dz, oz));
-    __m256 s_f = _mm256_load_ps(L_.s_front);
-    const __m256 need_front = _mm256_andnot_ps(
-        _mm256_castsi256_ps(_mm256_load_si256(reinterpret_cast<const __m256i*>(L_.have_front))),
-        active);
-    if (_mm256_movemask_ps(need_front)) {
-      __m256 s = grid_.sample(_mm256_fmadd_ps(front, dx, ox), _mm256_fmadd_ps(front, dy, oy),
-                              _mm256_fmadd_ps(front, dz, oz));
-      s_f = _mm256_blendv_ps(s_f, s, need_front);
+    const MF active = lane_mask(live);
+    const VF ox = load(L_.ox), oy = load(L_.oy), oz = load(L_.oz);
+    const VF dx = load(L_.dx), dy = load(L_.dy), dz = load(L_.dz);
+    const VF front = load(L_.front), next_cell = load(L_.next_cell);
+    const VF back = hn::Min(load(L_.t1), hn::Mul(next_cell, splat(step_)));
+    const VF s_b =
+        grid_.sample(hn::MulAdd(back, dx, ox), hn::MulAdd(back, dy, oy), hn::MulAdd(back, dz, oz));
+    VF s_f = load(L_.s_front);
+    const MF need_front = hn::AndNot(to_float(hn::MaskFromVec(load(L_.have_front))), active);
+    if (!hn::AllFalse(DF(), need_front)) {
+      const VF s = grid_.sample(hn::MulAdd(front, dx, ox), hn::MulAdd(front, dy, oy),
+                                hn::MulAdd(front, dz, oz));
+      s_f = hn::IfThenElse(need_front, s, s_f);
     }
-    const __m256 len = _mm256_sub_ps(back, front);
-    _mm256_store_ps(L_.front, back);
-    _mm256_store_ps(L_.next_cell, _mm256_add_ps(next_cell, splat(1.0f)));
-    _mm256_store_ps(L_.s_front, s_b);
-    _mm256_store_si256(reinterpret_cast<__m256i*>(L_.have_front), splat(-1));
+    const VF len = hn::Sub(back, front);
+    store(back, L_.front);
+    store(hn::Add(next_cell, splat(1.0f)), L_.next_cell);
+    store(s_b, L_.s_front);
+    store(splat(-1), L_.have_front);
 
     // The range test of VolumeMarcher::next_in.
-    __m256 vis = active;
+    MF vis = active;
     if (use_runs_) {
-      vis = _mm256_andnot_ps(empty_between(s_f, s_b), vis);
+      vis = hn::AndNot(empty_between(s_f, s_b), vis);
     } else if (v_.accel.emptiness) {
-      alignas(32) float f[kLanes], b[kLanes];
-      _mm256_store_ps(f, s_f);
-      _mm256_store_ps(b, s_b);
+      HWY_ALIGN float f[kLanes], b[kLanes];
+      store(s_f, f);
+      store(s_b, b);
       unsigned keep = live;
       for (unsigned m = live; m; m &= m - 1) {
         int l = __builtin_ctz(m);
@@ -515,115 +479,107 @@ class PacketKernel {
       vis = lane_mask(keep);
     }
     // A piece with no data at an end is transparent (VolumeMarcher::next_in).
-    if constexpr (NoData)
-      vis = _mm256_andnot_ps(_mm256_or_ps(no_data_lanes(s_f), no_data_lanes(s_b)), vis);
-    if (!_mm256_movemask_ps(vis)) return 0;
+    if constexpr (NoData) vis = hn::AndNot(hn::Or(no_data_lanes(s_f), no_data_lanes(s_b)), vis);
+    if (hn::AllFalse(DF(), vis)) return 0;
 
-    __m256 cr, cg, cb, ca;
+    VF cr, cg, cb, ca;
     lookup(s_f, s_b, cr, cg, cb, ca);
-    vis = _mm256_and_ps(vis, _mm256_cmp_ps(ca, _mm256_setzero_ps(), _CMP_GT_OQ));
-    if (!_mm256_movemask_ps(vis)) return 0;
+    vis = hn::And(vis, hn::Gt(ca, hn::Zero(DF())));
+    if (hn::AllFalse(DF(), vis)) return 0;
     // Where the light comes from, from the table's moments before the short-piece correction,
     // as PreintegrationView::lookup(s_f, s_b, light) in VolumeMarcher::classify.
-    __m256 centre = splat(0.5f), spread = _mm256_setzero_ps();
+    VF centre = splat(0.5f), spread = hn::Zero(DF());
     if (centre_ && (shaded_ || sink_)) light_of(s_f, s_b, ca, centre, spread);
-    const __m256 short_piece =
-        _mm256_and_ps(vis, _mm256_cmp_ps(len, splat(0.9999f * step_), _CMP_NGE_UQ));
-    if (_mm256_movemask_ps(short_piece)) correct_short(short_piece, len, cr, cg, cb, ca);
+    const MF short_piece = hn::And(vis, hn::Not(hn::Ge(len, splat(0.9999f * step_))));
+    if (!hn::AllFalse(DF(), short_piece)) correct_short(short_piece, len, cr, cg, cb, ca);
     if (shaded_) {
       // VolumeMarcher::shade: one point (the midpoint, or the light's centre) or, where the
       // light is spread, the mean of two points a standard deviation either side of it.
-      const __m256 two = _mm256_and_ps(vis, _mm256_cmp_ps(spread, splat(kMinSpread), _CMP_GE_OQ));
-      const __m256 u_a = _mm256_blendv_ps(
-          centre, _mm256_max_ps(_mm256_setzero_ps(), _mm256_sub_ps(centre, spread)), two);
-      const __m256 t_a = _mm256_fmadd_ps(u_a, len, front);
-      const __m256 u_b = _mm256_min_ps(splat(1.0f), _mm256_add_ps(centre, spread));
-      const __m256 t_b = _mm256_fmadd_ps(u_b, len, front);
-      const Points at{{_mm256_fmadd_ps(t_a, dx, ox), _mm256_fmadd_ps(t_a, dy, oy),
-                       _mm256_fmadd_ps(t_a, dz, oz)},
-                      {_mm256_fmadd_ps(t_b, dx, ox), _mm256_fmadd_ps(t_b, dy, oy),
-                       _mm256_fmadd_ps(t_b, dz, oz)}};
+      const MF two = hn::And(vis, hn::Ge(spread, splat(kMinSpread)));
+      const VF u_a = hn::IfThenElse(two, hn::Max(hn::Zero(DF()), hn::Sub(centre, spread)), centre);
+      const VF t_a = hn::MulAdd(u_a, len, front);
+      const VF u_b = hn::Min(splat(1.0f), hn::Add(centre, spread));
+      const VF t_b = hn::MulAdd(u_b, len, front);
+      const Points at{{hn::MulAdd(t_a, dx, ox), hn::MulAdd(t_a, dy, oy), hn::MulAdd(t_a, dz, oz)},
+                      {hn::MulAdd(t_b, dx, ox), hn::MulAdd(t_b, dy, oy), hn::MulAdd(t_b, dz, oz)}};
       if (defer_) {
-        // The opacity composites now (ERT reads it), the colour once eight pieces wait.
-        const __m256 aa = _mm256_load_ps(L_.a);
-        const __m256 w = _mm256_sub_ps(splat(1.0f), aa);
-        _mm256_store_ps(L_.a, _mm256_blendv_ps(aa, _mm256_fmadd_ps(w, ca, aa), vis));
+        // The opacity composites now (ERT reads it), the colour once kLanes pieces wait.
+        const VF aa = load(L_.a);
+        const VF w = hn::Sub(splat(1.0f), aa);
+        store(hn::IfThenElse(vis, hn::MulAdd(w, ca, aa), aa), L_.a);
         defer(vis, two, w, cr, cg, cb, ca, at);
-        return static_cast<unsigned>(_mm256_movemask_ps(vis));
+        return bits_of(vis);
       }
-      shade_points(vis, two, in_order(), at, cr, cg, cb, ca);
+      shade_points(vis, two, own_rays(), at, cr, cg, cb, ca);
     }
     if (sink_) collect(vis, s_f, s_b, front, back, centre, cr, cg, cb, ca);
-    // over(acc, c) where the piece is visible.
-    const __m256 ar = _mm256_load_ps(L_.r), ag = _mm256_load_ps(L_.g), ab = _mm256_load_ps(L_.b),
-                 aa = _mm256_load_ps(L_.a);
-    const __m256 w = _mm256_sub_ps(splat(1.0f), aa);
-    _mm256_store_ps(L_.r, _mm256_blendv_ps(ar, _mm256_fmadd_ps(w, cr, ar), vis));
-    _mm256_store_ps(L_.g, _mm256_blendv_ps(ag, _mm256_fmadd_ps(w, cg, ag), vis));
-    _mm256_store_ps(L_.b, _mm256_blendv_ps(ab, _mm256_fmadd_ps(w, cb, ab), vis));
-    _mm256_store_ps(L_.a, _mm256_blendv_ps(aa, _mm256_fmadd_ps(w, ca, aa), vis));
-    return static_cast<unsigned>(_mm256_movemask_ps(vis));
+    composite(vis, cr, cg, cb, ca);
+    return bits_of(vis);
   }
 
   // Where a piece is shaded: one point, and a second one where its light is spread.
   struct Points {
-    __m256 a[3], b[3];
+    VF a[3], b[3];
   };
 
   // The shading of pieces in lanes: at point a where `two` is clear, else the mean of a and b.
-  // Lane k holds a piece of the ray in lane from[k].
-  void shade_points(__m256 vis, __m256 two, __m256i from, const Points& at, __m256& cr, __m256& cg,
-                    __m256& cb, __m256 ca) const {
-    __m256 r2 = cr, g2 = cg, b2 = cb;
+  void shade_points(MF vis, MF two, const RayOf& from, const Points& at, VF& cr, VF& cg, VF& cb,
+                    VF ca) const {
+    VF r2 = cr, g2 = cg, b2 = cb;
     shade(vis, from, at.a[0], at.a[1], at.a[2], cr, cg, cb, ca);
-    if (_mm256_movemask_ps(two)) {
+    if (!hn::AllFalse(DF(), two)) {
       shade(two, from, at.b[0], at.b[1], at.b[2], r2, g2, b2, ca);
-      const __m256 half = splat(0.5f);
-      cr = _mm256_blendv_ps(cr, _mm256_mul_ps(half, _mm256_add_ps(cr, r2)), two);
-      cg = _mm256_blendv_ps(cg, _mm256_mul_ps(half, _mm256_add_ps(cg, g2)), two);
-      cb = _mm256_blendv_ps(cb, _mm256_mul_ps(half, _mm256_add_ps(cb, b2)), two);
+      const VF half = splat(0.5f);
+      cr = hn::IfThenElse(two, hn::Mul(half, hn::Add(cr, r2)), cr);
+      cg = hn::IfThenElse(two, hn::Mul(half, hn::Add(cg, g2)), cg);
+      cb = hn::IfThenElse(two, hn::Mul(half, hn::Add(cb, b2)), cb);
     }
   }
 
   // Puts the visible pieces of `vis` in the shading queue, packed in lane order, and shades the
-  // first eight once that many wait. A step shades only about half its lanes on real scans
+  // first kLanes once that many wait. A step shades only about half its lanes on real scans
   // (4.5 of 8 on a CT with the bone preset): the queue fills every lane of each shading.
-  void defer(__m256 vis, __m256 two, __m256 w, __m256 cr, __m256 cg, __m256 cb, __m256 ca,
-             const Points& at) {
-    const unsigned m = static_cast<unsigned>(_mm256_movemask_ps(vis));
-    const __m256i order =
-        _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(static_cast<int>(kPackOrder[m])),
-                                           _mm256_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28)),
-                         splat(0xf));
-    const __m256 fields[ShadeQueue::kFields] = {
-        w,       cr,      cg,      cb,      ca,      at.a[0],
-        at.a[1], at.a[2], at.b[0], at.b[1], at.b[2], _mm256_castsi256_ps(in_order()),
-        two};
+  void defer(MF vis, MF two, VF w, VF cr, VF cg, VF cb, VF ca, const Points& at) {
+    const VF fields[ShadeQueue::kFields] = {w,
+                                            cr,
+                                            cg,
+                                            cb,
+                                            ca,
+                                            at.a[0],
+                                            at.a[1],
+                                            at.a[2],
+                                            at.b[0],
+                                            at.b[1],
+                                            at.b[2],
+                                            hn::BitCast(DF(), hn::Iota(DI(), 0)),
+                                            hn::VecFromMask(DF(), two)};
+    // The visible lanes first, in lane order; the lanes past them are overwritten later.
+    const auto order = hn::IndicesFromVec(DF(), pack_order(vis));
     for (int f = 0; f < ShadeQueue::kFields; ++f)
-      _mm256_storeu_ps(&queue_.field[f][queue_.count], _mm256_permutevar8x32_ps(fields[f], order));
-    queue_.count += __builtin_popcount(m);
+      hn::StoreU(hn::TableLookupLanes(fields[f], order), DF(), &queue_.field[f][queue_.count]);
+    queue_.count += __builtin_popcount(bits_of(vis));
     if (queue_.count < kLanes) return;
     shade_queued(kLanes);
     queue_.count -= kLanes;
     for (int f = 0; f < ShadeQueue::kFields; ++f)
-      _mm256_store_ps(queue_.field[f], _mm256_loadu_ps(&queue_.field[f][kLanes]));
+      store(hn::LoadU(DF(), &queue_.field[f][kLanes]), queue_.field[f]);
   }
 
   // Shades the first n queued pieces and adds their colour to their rays, in queue order (each
   // ray's pieces in ray order): acc.rgb += w * colour, as over() would have at the piece.
   void shade_queued(int n) {
-    const auto field = [&](int f) { return _mm256_load_ps(queue_.field[f]); };
-    const __m256 valid = lane_mask((1u << n) - 1);
-    const __m256i from = _mm256_castps_si256(field(ShadeQueue::kLane));
+    const auto field = [&](int f) HWY_ATTR { return load(queue_.field[f]); };
+    const MF valid = lane_mask((1u << n) - 1);
+    const VI from = hn::BitCast(DI(), field(ShadeQueue::kLane));
     const Points at{{field(ShadeQueue::kAx), field(ShadeQueue::kAy), field(ShadeQueue::kAz)},
                     {field(ShadeQueue::kBx), field(ShadeQueue::kBy), field(ShadeQueue::kBz)}};
-    __m256 cr = field(ShadeQueue::kR), cg = field(ShadeQueue::kG), cb = field(ShadeQueue::kB);
-    shade_points(valid, _mm256_and_ps(valid, field(ShadeQueue::kTwo)), from, at, cr, cg, cb,
-                 field(ShadeQueue::kA));
-    alignas(32) float r[kLanes], g[kLanes], b[kLanes];
-    alignas(32) int32_t lane[kLanes];
-    _mm256_store_ps(r, cr), _mm256_store_ps(g, cg), _mm256_store_ps(b, cb);
-    _mm256_store_si256(reinterpret_cast<__m256i*>(lane), from);
+    VF cr = field(ShadeQueue::kR), cg = field(ShadeQueue::kG), cb = field(ShadeQueue::kB);
+    shade_points(valid, hn::And(valid, hn::MaskFromVec(field(ShadeQueue::kTwo))), {from, false}, at,
+                 cr, cg, cb, field(ShadeQueue::kA));
+    HWY_ALIGN float r[kLanes], g[kLanes], b[kLanes];
+    HWY_ALIGN int32_t lane[kLanes];
+    store(cr, r), store(cg, g), store(cb, b);
+    store(from, lane);
     const float* w = queue_.field[ShadeQueue::kW];
     for (int k = 0; k < n; ++k) {
       const int l = lane[k];
@@ -636,14 +592,13 @@ class PacketKernel {
   // The visible pieces of the lanes in `vis` as slabs to the sink (march_slab_packets), each
   // trimmed as VolumeMarcher::next trims it: scalar, once per visible piece. A ray the sink
   // declines ends here (its span closes).
-  void collect(__m256 vis, __m256 s_f, __m256 s_b, __m256 front, __m256 back, __m256 centre,
-               __m256 cr, __m256 cg, __m256 cb, __m256 ca) {
-    alignas(32) float f[kLanes], b[kLanes], t0[kLanes], t1[kLanes], at[kLanes];
-    alignas(32) float r[kLanes], g[kLanes], bl[kLanes], a[kLanes];
-    _mm256_store_ps(f, s_f), _mm256_store_ps(b, s_b), _mm256_store_ps(at, centre);
-    _mm256_store_ps(t0, front), _mm256_store_ps(t1, back);
-    _mm256_store_ps(r, cr), _mm256_store_ps(g, cg), _mm256_store_ps(bl, cb), _mm256_store_ps(a, ca);
-    for (unsigned m = static_cast<unsigned>(_mm256_movemask_ps(vis)); m; m &= m - 1) {
+  void collect(MF vis, VF s_f, VF s_b, VF front, VF back, VF centre, VF cr, VF cg, VF cb, VF ca) {
+    HWY_ALIGN float f[kLanes], b[kLanes], t0[kLanes], t1[kLanes], at[kLanes];
+    HWY_ALIGN float r[kLanes], g[kLanes], bl[kLanes], a[kLanes];
+    store(s_f, f), store(s_b, b), store(centre, at);
+    store(front, t0), store(back, t1);
+    store(cr, r), store(cg, g), store(cb, bl), store(ca, a);
+    for (unsigned m = bits_of(vis); m; m &= m - 1) {
       const int l = __builtin_ctz(m);
       double lo = t0[l], hi = t1[l];
       if (trim_) trim_to_light(*v_.accel.emptiness, f[l], b[l], at[l], lo, hi);
@@ -659,36 +614,32 @@ class PacketKernel {
   // the bisected boundary, per lane (rare: boundaries only). Returns the lanes with a visible
   // slab.
   unsigned step_labels(unsigned live) {
-    const __m256 active = lane_mask(live);
-    const __m256 ox = _mm256_load_ps(L_.ox), oy = _mm256_load_ps(L_.oy), oz = _mm256_load_ps(L_.oz);
-    const __m256 dx = _mm256_load_ps(L_.dx), dy = _mm256_load_ps(L_.dy), dz = _mm256_load_ps(L_.dz);
-    const __m256 front = _mm256_load_ps(L_.front), next_cell = _mm256_load_ps(L_.next_cell);
-    const __m256 back =
-        _mm256_min_ps(_mm256_load_ps(L_.t1), _mm256_mul_ps(next_cell, splat(step_)));
-    const __m256i l_b = winners(_mm256_fmadd_ps(back, dx, ox), _mm256_fmadd_ps(back, dy, oy),
-                                _mm256_fmadd_ps(back, dz, oz), live);
-    __m256i l_f = _mm256_load_si256(reinterpret_cast<const __m256i*>(L_.label_front));
-    const __m256 need_front = _mm256_andnot_ps(
-        _mm256_castsi256_ps(_mm256_load_si256(reinterpret_cast<const __m256i*>(L_.have_front))),
-        active);
-    if (const unsigned need = static_cast<unsigned>(_mm256_movemask_ps(need_front)))
-      l_f =
-          _mm256_blendv_epi8(l_f,
-                             winners(_mm256_fmadd_ps(front, dx, ox), _mm256_fmadd_ps(front, dy, oy),
-                                     _mm256_fmadd_ps(front, dz, oz), need),
-                             _mm256_castps_si256(need_front));
-    const __m256 len = _mm256_sub_ps(back, front);
-    _mm256_store_ps(L_.front, back);
-    _mm256_store_ps(L_.next_cell, _mm256_add_ps(next_cell, splat(1.0f)));
-    _mm256_store_si256(reinterpret_cast<__m256i*>(L_.label_front), l_b);
-    _mm256_store_si256(reinterpret_cast<__m256i*>(L_.have_front), splat(-1));
+    const MF active = lane_mask(live);
+    const VF ox = load(L_.ox), oy = load(L_.oy), oz = load(L_.oz);
+    const VF dx = load(L_.dx), dy = load(L_.dy), dz = load(L_.dz);
+    const VF front = load(L_.front), next_cell = load(L_.next_cell);
+    const VF back = hn::Min(load(L_.t1), hn::Mul(next_cell, splat(step_)));
+    const VI l_b =
+        winners(hn::MulAdd(back, dx, ox), hn::MulAdd(back, dy, oy), hn::MulAdd(back, dz, oz), live);
+    VI l_f = load(L_.label_front);
+    const MF need_front = hn::AndNot(to_float(hn::MaskFromVec(load(L_.have_front))), active);
+    if (const unsigned need = bits_of(need_front))
+      l_f = hn::IfThenElse(to_int(need_front),
+                           winners(hn::MulAdd(front, dx, ox), hn::MulAdd(front, dy, oy),
+                                   hn::MulAdd(front, dz, oz), need),
+                           l_f);
+    const VF len = hn::Sub(back, front);
+    store(back, L_.front);
+    store(hn::Add(next_cell, splat(1.0f)), L_.next_cell);
+    store(l_b, L_.label_front);
+    store(splat(-1), L_.have_front);
 
-    alignas(32) int32_t lf[kLanes], lb[kLanes];
-    alignas(32) float fr[kLanes], bk[kLanes], ln[kLanes];
-    alignas(32) float cr[kLanes] = {}, cg[kLanes] = {}, cb[kLanes] = {}, ca[kLanes] = {};
-    _mm256_store_si256(reinterpret_cast<__m256i*>(lf), l_f);
-    _mm256_store_si256(reinterpret_cast<__m256i*>(lb), l_b);
-    _mm256_store_ps(fr, front), _mm256_store_ps(bk, back), _mm256_store_ps(ln, len);
+    HWY_ALIGN int32_t lf[kLanes], lb[kLanes];
+    HWY_ALIGN float fr[kLanes], bk[kLanes], ln[kLanes];
+    HWY_ALIGN float cr[kLanes] = {}, cg[kLanes] = {}, cb[kLanes] = {}, ca[kLanes] = {};
+    store(l_f, lf);
+    store(l_b, lb);
+    store(front, fr), store(back, bk), store(len, ln);
     unsigned lit = 0, whole = 0;
     const float unit = v_.labels.unit_distance();
     for (unsigned m = live; m; m &= m - 1) {
@@ -707,28 +658,24 @@ class PacketKernel {
       whole |= 1u << l;
     }
     if (!whole) return lit;
-    const __m256 vis = lane_mask(whole);
-    __m256 r = _mm256_load_ps(cr), g = _mm256_load_ps(cg), b = _mm256_load_ps(cb),
-           a = _mm256_load_ps(ca);
+    const MF vis = lane_mask(whole);
+    VF r = load(cr), g = load(cg), b = load(cb), a = load(ca);
     if (shaded_) {
-      const __m256 t_mid = _mm256_fmadd_ps(splat(0.5f), len, front);
-      const __m256 px = _mm256_fmadd_ps(t_mid, dx, ox), py = _mm256_fmadd_ps(t_mid, dy, oy),
-                   pz = _mm256_fmadd_ps(t_mid, dz, oz);
+      const VF t_mid = hn::MulAdd(splat(0.5f), len, front);
+      const VF px = hn::MulAdd(t_mid, dx, ox), py = hn::MulAdd(t_mid, dy, oy),
+               pz = hn::MulAdd(t_mid, dz, oz);
       // label_gradient in lanes: central differences of the label's indicator.
-      __m256 gx, gy, gz;
+      VF gx, gy, gz;
       if (!cells_.interior_gradient(vis, px, py, pz, l_b, gx, gy, gz)) {
-        const __m256 one = splat(1.0f), half = splat(0.5f);
-        gx = _mm256_mul_ps(half,
-                           _mm256_sub_ps(cells_.indicator(_mm256_add_ps(px, one), py, pz, l_b),
-                                         cells_.indicator(_mm256_sub_ps(px, one), py, pz, l_b)));
-        gy = _mm256_mul_ps(half,
-                           _mm256_sub_ps(cells_.indicator(px, _mm256_add_ps(py, one), pz, l_b),
-                                         cells_.indicator(px, _mm256_sub_ps(py, one), pz, l_b)));
-        gz = _mm256_mul_ps(half,
-                           _mm256_sub_ps(cells_.indicator(px, py, _mm256_add_ps(pz, one), l_b),
-                                         cells_.indicator(px, py, _mm256_sub_ps(pz, one), l_b)));
+        const VF one = splat(1.0f), half = splat(0.5f);
+        gx = hn::Mul(half, hn::Sub(cells_.indicator(hn::Add(px, one), py, pz, l_b),
+                                   cells_.indicator(hn::Sub(px, one), py, pz, l_b)));
+        gy = hn::Mul(half, hn::Sub(cells_.indicator(px, hn::Add(py, one), pz, l_b),
+                                   cells_.indicator(px, hn::Sub(py, one), pz, l_b)));
+        gz = hn::Mul(half, hn::Sub(cells_.indicator(px, py, hn::Add(pz, one), l_b),
+                                   cells_.indicator(px, py, hn::Sub(pz, one), l_b)));
       }
-      shade_gradient(vis, in_order(), gx, gy, gz, r, g, b, a);
+      shade_gradient(vis, own_rays(), gx, gy, gz, r, g, b, a);
     }
     composite(vis, r, g, b, a);
     return lit | whole;
@@ -736,26 +683,26 @@ class PacketKernel {
 
   // winning_label at the lanes' points, for the lanes in m: the common label where all eight
   // voxels around a point agree (most points), else the scalar classifier.
-  __m256i winners(__m256 px, __m256 py, __m256 pz, unsigned m) const {
-    alignas(32) int32_t out[kLanes] = {};
+  VI winners(VF px, VF py, VF pz, unsigned m) const {
+    HWY_ALIGN int32_t out[kLanes] = {};
     unsigned mixed = m;
     if (!nearest_) {
-      __m256i c[8];
-      __m256 fx, fy, fz;
+      VI c[8];
+      VF fx, fy, fz;
       cells_.cell(px, py, pz, c, fx, fy, fz);
-      __m256i same = _mm256_cmpeq_epi32(c[1], c[0]);
-      for (int k = 2; k < 8; ++k) same = _mm256_and_si256(same, _mm256_cmpeq_epi32(c[k], c[0]));
-      mixed &= ~static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(same)));
+      MI same = hn::Eq(c[1], c[0]);
+      for (int k = 2; k < 8; ++k) same = hn::And(same, hn::Eq(c[k], c[0]));
+      mixed &= ~bits_of(to_float(same));
       if (!mixed) return c[0];
-      _mm256_store_si256(reinterpret_cast<__m256i*>(out), c[0]);
+      store(c[0], out);
     }
-    alignas(32) float x[kLanes], y[kLanes], z[kLanes];
-    _mm256_store_ps(x, px), _mm256_store_ps(y, py), _mm256_store_ps(z, pz);
+    HWY_ALIGN float x[kLanes], y[kLanes], z[kLanes];
+    store(px, x), store(py, y), store(pz, z);
     for (; mixed; mixed &= mixed - 1) {
       const int l = __builtin_ctz(mixed);
       out[l] = winning_label(voxels_, glm::vec3(x[l], y[l], z[l]), nearest_);
     }
-    return _mm256_load_si256(reinterpret_cast<const __m256i*>(out));
+    return load(out);
   }
 
   // The slot of a small cache that holds the label's look and the opacity of a whole step of
@@ -811,228 +758,238 @@ class PacketKernel {
   }
 
   // over(acc, c) in the lanes of vis.
-  void composite(__m256 vis, __m256 cr, __m256 cg, __m256 cb, __m256 ca) {
-    const __m256 ar = _mm256_load_ps(L_.r), ag = _mm256_load_ps(L_.g), ab = _mm256_load_ps(L_.b),
-                 aa = _mm256_load_ps(L_.a);
-    const __m256 w = _mm256_sub_ps(splat(1.0f), aa);
-    _mm256_store_ps(L_.r, _mm256_blendv_ps(ar, _mm256_fmadd_ps(w, cr, ar), vis));
-    _mm256_store_ps(L_.g, _mm256_blendv_ps(ag, _mm256_fmadd_ps(w, cg, ag), vis));
-    _mm256_store_ps(L_.b, _mm256_blendv_ps(ab, _mm256_fmadd_ps(w, cb, ab), vis));
-    _mm256_store_ps(L_.a, _mm256_blendv_ps(aa, _mm256_fmadd_ps(w, ca, aa), vis));
+  void composite(MF vis, VF cr, VF cg, VF cb, VF ca) {
+    const VF ar = load(L_.r), ag = load(L_.g), ab = load(L_.b), aa = load(L_.a);
+    const VF w = hn::Sub(splat(1.0f), aa);
+    store(hn::IfThenElse(vis, hn::MulAdd(w, cr, ar), ar), L_.r);
+    store(hn::IfThenElse(vis, hn::MulAdd(w, cg, ag), ag), L_.g);
+    store(hn::IfThenElse(vis, hn::MulAdd(w, cb, ab), ab), L_.b);
+    store(hn::IfThenElse(vis, hn::MulAdd(w, ca, aa), aa), L_.a);
   }
 
   // TfEmptiness::is_empty_between in lanes (NaN ends as there: a NaN front is never empty, a
   // NaN back counts as the front).
-  __m256 empty_between(__m256 a, __m256 b) const {
-    b = _mm256_blendv_ps(a, b, _mm256_cmp_ps(b, b, _CMP_ORD_Q));
-    const __m256 lo = _mm256_min_ps(a, b), hi = _mm256_max_ps(a, b);
-    __m256 empty = _mm256_setzero_ps();
+  MF empty_between(VF a, VF b) const {
+    b = hn::IfThenElse(hn::Eq(b, b), b, a);
+    const VF lo = hn::Min(a, b), hi = hn::Max(a, b);
+    MF empty = hn::Not(all_lanes());
     for (int k = 0; k < TfEmptiness::kMaxRuns; ++k)
-      empty = _mm256_or_ps(empty, _mm256_and_ps(_mm256_cmp_ps(lo, splat(run_lo_[k]), _CMP_GE_OQ),
-                                                _mm256_cmp_ps(hi, splat(run_hi_[k]), _CMP_LE_OQ)));
-    return _mm256_and_ps(empty, _mm256_cmp_ps(a, a, _CMP_ORD_Q));
+      empty = hn::Or(empty, hn::And(hn::Ge(lo, splat(run_lo_[k])), hn::Le(hi, splat(run_hi_[k]))));
+    return hn::And(empty, hn::Eq(a, a));
   }
 
-  // PreintegrationView::lookup(s_f, s_b) in lanes.
-  void lookup(__m256 s_f, __m256 s_b, __m256& r, __m256& g, __m256& b, __m256& a) const {
-    const __m256 lo = splat(preint_.lo), inv = splat(preint_.inv_step);
-    const __m256 last = splat(static_cast<float>(preint_.size - 1));
-    const __m256i last_cell = splat(preint_.size - 2);
-    // max(x, 0) returns 0 for a NaN x, as PreintegrationView::axis does.
-    const __m256 x = _mm256_min_ps(
-        _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(s_f, lo), inv), _mm256_setzero_ps()), last);
-    const __m256 y = _mm256_min_ps(
-        _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(s_b, lo), inv), _mm256_setzero_ps()), last);
-    const __m256i i = _mm256_min_epi32(_mm256_cvttps_epi32(x), last_cell);
-    const __m256i j = _mm256_min_epi32(_mm256_cvttps_epi32(y), last_cell);
-    const __m256 fx = _mm256_sub_ps(x, _mm256_cvtepi32_ps(i));
-    const __m256 fy = _mm256_sub_ps(y, _mm256_cvtepi32_ps(j));
-    // Per lane, the two entries of each row are one 32-byte load: four loads and a transpose
-    // instead of sixteen gathers.
-    alignas(32) int32_t entry[kLanes];
-    alignas(32) float wx[kLanes], wy[kLanes];
-    _mm256_store_si256(reinterpret_cast<__m256i*>(entry),
-                       _mm256_add_epi32(_mm256_mullo_epi32(i, splat(preint_.size)), j));
-    _mm256_store_ps(wx, fx), _mm256_store_ps(wy, fy);
+  // The table cell of (s_f, s_b) in a pre-integration table's layout: the entry of its lower
+  // corner and the fractions toward the upper one (PreintegrationView::axis: max(x, 0) returns
+  // 0 for a NaN x).
+  void table_cell(VF s_f, VF s_b, int32_t* entry, float* wx, float* wy) const {
+    const VF lo = splat(preint_.lo), inv = splat(preint_.inv_step);
+    const VF last = splat(static_cast<float>(preint_.size - 1));
+    const VI last_cell = splat(preint_.size - 2);
+    const VF zero = hn::Zero(DF());
+    const VF x = hn::Min(hn::Max(hn::Mul(hn::Sub(s_f, lo), inv), zero), last);
+    const VF y = hn::Min(hn::Max(hn::Mul(hn::Sub(s_b, lo), inv), zero), last);
+    const VI i = hn::Min(hn::ConvertTo(DI(), x), last_cell);
+    const VI j = hn::Min(hn::ConvertTo(DI(), y), last_cell);
+    store(hn::Add(hn::Mul(i, splat(preint_.size)), j), entry);
+    store(hn::Sub(x, hn::ConvertTo(DF(), i)), wx);
+    store(hn::Sub(y, hn::ConvertTo(DF(), j)), wy);
+  }
+
+  // PreintegrationView::lookup(s_f, s_b) in lanes: per lane, entries j and j + 1 of rows i and
+  // i + 1, lerped across the rows and then between the entries.
+  void lookup(VF s_f, VF s_b, VF& r, VF& g, VF& b, VF& a) const {
+    HWY_ALIGN int32_t entry[kLanes];
+    HWY_ALIGN float wx[kLanes], wy[kLanes];
+    table_cell(s_f, s_b, entry, wx, wy);
     const float* table = reinterpret_cast<const float*>(preint_.data);
     const size_t row = 4 * static_cast<size_t>(preint_.size);
-    __m128 e[kLanes];
+#if HWY_TARGET == HWY_SCALAR
+    // One lane: the corners' components as vectors.
+    const float* r0 = table + 4 * static_cast<size_t>(entry[0]);
+    const VF fx = load(wx), fy = load(wy);
+    VF out[4];
+    for (int c = 0; c < 4; ++c) {
+      const VF lo = lerp(splat(r0[c]), splat(r0[row + c]), fx);
+      const VF hi = lerp(splat(r0[4 + c]), splat(r0[row + 4 + c]), fx);
+      out[c] = lerp(lo, hi, fy);
+    }
+    r = out[0], g = out[1], b = out[2], a = out[3];
+#else
+    // Per lane one RGBA entry of four lanes, then a transpose.
+    const hn::Full128<float> d4;
+    HWY_ALIGN float e[4 * kLanes];
     for (int l = 0; l < kLanes; ++l) {
       const float* r0 = table + 4 * static_cast<size_t>(entry[l]);
-      __m256 r = lerp(_mm256_loadu_ps(r0), _mm256_loadu_ps(r0 + row), _mm256_broadcast_ss(&wx[l]));
-      __m128 lo = _mm256_castps256_ps128(r), hi = _mm256_extractf128_ps(r, 1);
-      e[l] = _mm_fmadd_ps(_mm_broadcast_ss(&wy[l]), _mm_sub_ps(hi, lo), lo);
+      const auto fx = hn::Set(d4, wx[l]);
+      const auto lo = lerp4(hn::LoadU(d4, r0), hn::LoadU(d4, r0 + row), fx);
+      const auto hi = lerp4(hn::LoadU(d4, r0 + 4), hn::LoadU(d4, r0 + row + 4), fx);
+      hn::Store(lerp4(lo, hi, hn::Set(d4, wy[l])), d4, e + 4 * l);
     }
-    __m256 v0 = _mm256_set_m128(e[4], e[0]), v1 = _mm256_set_m128(e[5], e[1]);
-    __m256 v2 = _mm256_set_m128(e[6], e[2]), v3 = _mm256_set_m128(e[7], e[3]);
-    __m256 t0 = _mm256_unpacklo_ps(v0, v1), t1 = _mm256_unpackhi_ps(v0, v1);
-    __m256 t2 = _mm256_unpacklo_ps(v2, v3), t3 = _mm256_unpackhi_ps(v2, v3);
-    r = _mm256_shuffle_ps(t0, t2, 0x44), g = _mm256_shuffle_ps(t0, t2, 0xee);
-    b = _mm256_shuffle_ps(t1, t3, 0x44), a = _mm256_shuffle_ps(t1, t3, 0xee);
+    hn::LoadInterleaved4(DF(), e, r, g, b, a);
+#endif
   }
+
+#if HWY_TARGET != HWY_SCALAR
+  // lerp() on one lane's four floats.
+  static HWY_INLINE hn::Vec<hn::Full128<float>> lerp4(hn::Vec<hn::Full128<float>> x,
+                                                      hn::Vec<hn::Full128<float>> y,
+                                                      hn::Vec<hn::Full128<float>> f) {
+    return hn::MulAdd(f, hn::Sub(y, x), x);
+  }
+#endif
 
   // PreintegrationView::light_of(a, the moments at (s_f, s_b)) in lanes: the centre and the
   // spread of where a piece's light comes from (0.5 and 0 where a is not positive).
-  void light_of(__m256 s_f, __m256 s_b, __m256 a, __m256& centre, __m256& spread) const {
-    const __m256 lo = splat(preint_.lo), inv = splat(preint_.inv_step);
-    const __m256 last = splat(static_cast<float>(preint_.size - 1));
-    const __m256i last_cell = splat(preint_.size - 2);
-    const __m256 x = _mm256_min_ps(
-        _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(s_f, lo), inv), _mm256_setzero_ps()), last);
-    const __m256 y = _mm256_min_ps(
-        _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(s_b, lo), inv), _mm256_setzero_ps()), last);
-    const __m256i i = _mm256_min_epi32(_mm256_cvttps_epi32(x), last_cell);
-    const __m256i j = _mm256_min_epi32(_mm256_cvttps_epi32(y), last_cell);
-    alignas(32) int32_t entry[kLanes];
-    alignas(32) float wx[kLanes], wy[kLanes], m1[kLanes], m2[kLanes];
-    _mm256_store_si256(reinterpret_cast<__m256i*>(entry),
-                       _mm256_add_epi32(_mm256_mullo_epi32(i, splat(preint_.size)), j));
-    _mm256_store_ps(wx, _mm256_sub_ps(x, _mm256_cvtepi32_ps(i)));
-    _mm256_store_ps(wy, _mm256_sub_ps(y, _mm256_cvtepi32_ps(j)));
+  void light_of(VF s_f, VF s_b, VF a, VF& centre, VF& spread) const {
+    HWY_ALIGN int32_t entry[kLanes];
+    HWY_ALIGN float wx[kLanes], wy[kLanes];
+    table_cell(s_f, s_b, entry, wx, wy);
     const float* table = reinterpret_cast<const float*>(preint_.moments);
     const size_t row = 2 * static_cast<size_t>(preint_.size);
+    // Entries j and j + 1 of rows i and i + 1: the two moments of each, lerped across the rows,
+    // then between the entries.
+    VF m1, m2;
+#if HWY_TARGET == HWY_SCALAR
+    const float* r0 = table + 2 * static_cast<size_t>(entry[0]);
+    const VF fx = load(wx), fy = load(wy);
+    VF m[4];
+    for (int c = 0; c < 4; ++c) m[c] = lerp(splat(r0[c]), splat(r0[row + c]), fx);
+    m1 = lerp(m[0], m[2], fy);
+    m2 = lerp(m[1], m[3], fy);
+#else
+    const hn::Full128<float> d4;
+    HWY_ALIGN float e[4 * kLanes];
     for (int l = 0; l < kLanes; ++l) {
-      // Entries j and j + 1 of rows i and i + 1: one 16-byte load per row.
       const float* r0 = table + 2 * static_cast<size_t>(entry[l]);
-      const __m128 r =
-          _mm_fmadd_ps(_mm_set1_ps(wx[l]), _mm_sub_ps(_mm_loadu_ps(r0 + row), _mm_loadu_ps(r0)),
-                       _mm_loadu_ps(r0));
-      const __m128 m = _mm_fmadd_ps(_mm_set1_ps(wy[l]), _mm_sub_ps(_mm_movehl_ps(r, r), r), r);
-      m1[l] = _mm_cvtss_f32(m);
-      m2[l] = _mm_cvtss_f32(_mm_shuffle_ps(m, m, 1));
+      const auto m = lerp4(hn::LoadU(d4, r0), hn::LoadU(d4, r0 + row), hn::Set(d4, wx[l]));
+      hn::Store(lerp4(m, hn::ConcatUpperUpper(d4, m, m), hn::Set(d4, wy[l])), d4, e + 4 * l);
     }
-    const __m256 lit = _mm256_cmp_ps(a, _mm256_setzero_ps(), _CMP_GT_OQ);
-    const __m256 inv_a = _mm256_div_ps(splat(1.0f), a);
-    const __m256 mean = _mm256_min_ps(
-        _mm256_max_ps(_mm256_mul_ps(_mm256_load_ps(m1), inv_a), _mm256_setzero_ps()), splat(1.0f));
-    const __m256 variance = _mm256_fnmadd_ps(mean, mean, _mm256_mul_ps(_mm256_load_ps(m2), inv_a));
-    const __m256 sd = _mm256_and_ps(_mm256_sqrt_ps(_mm256_max_ps(variance, _mm256_setzero_ps())),
-                                    _mm256_cmp_ps(variance, _mm256_setzero_ps(), _CMP_GT_OQ));
-    centre = _mm256_blendv_ps(splat(0.5f), mean, lit);
-    spread = _mm256_and_ps(sd, lit);
+    VF unused0, unused1;
+    hn::LoadInterleaved4(DF(), e, m1, m2, unused0, unused1);
+#endif
+    const VF zero = hn::Zero(DF());
+    const MF lit = hn::Gt(a, zero);
+    const VF inv_a = hn::Div(splat(1.0f), a);
+    const VF mean = hn::Min(hn::Max(hn::Mul(m1, inv_a), zero), splat(1.0f));
+    const VF variance = hn::NegMulAdd(mean, mean, hn::Mul(m2, inv_a));
+    const VF sd = hn::IfThenElseZero(hn::Gt(variance, zero), hn::Sqrt(hn::Max(variance, zero)));
+    centre = hn::IfThenElse(lit, mean, splat(0.5f));
+    spread = hn::IfThenElseZero(lit, sd);
   }
   static constexpr float kMinSpread = 1.0f / 64.0f;  // VolumeMarcher::kMinSpread
 
   // The opacity correction of pieces shorter than the table's step (span ends only: rare).
-  void correct_short(__m256 mask, __m256 len, __m256& r, __m256& g, __m256& b, __m256& a) const {
-    alignas(32) float lr[kLanes], lg[kLanes], lb[kLanes], la[kLanes], ll[kLanes];
-    _mm256_store_ps(lr, r), _mm256_store_ps(lg, g), _mm256_store_ps(lb, b), _mm256_store_ps(la, a);
-    _mm256_store_ps(ll, len);
-    for (unsigned m = static_cast<unsigned>(_mm256_movemask_ps(mask)); m; m &= m - 1) {
+  void correct_short(MF mask, VF len, VF& r, VF& g, VF& b, VF& a) const {
+    HWY_ALIGN float lr[kLanes], lg[kLanes], lb[kLanes], la[kLanes], ll[kLanes];
+    store(r, lr), store(g, lg), store(b, lb), store(a, la);
+    store(len, ll);
+    for (unsigned m = bits_of(mask); m; m &= m - 1) {
       int l = __builtin_ctz(m);
       float alpha = la[l] >= 1.0f ? 1.0f : 1.0f - std::pow(1.0f - la[l], ll[l] / step_);
       float k = alpha / la[l];
       lr[l] *= k, lg[l] *= k, lb[l] *= k, la[l] *= k;
     }
-    r = _mm256_load_ps(lr), g = _mm256_load_ps(lg), b = _mm256_load_ps(lb), a = _mm256_load_ps(la);
+    r = load(lr), g = load(lg), b = load(lb), a = load(la);
   }
 
-  // RayShading::apply with the gradient at index-space point p, in lanes (lane k on the ray of
-  // lane from[k]).
-  void shade(__m256 vis, __m256i from, __m256 px, __m256 py, __m256 pz, __m256& r, __m256& g,
-             __m256& b, __m256 a) const {
-    __m256 gx, gy, gz;
+  // RayShading::apply with the gradient at index-space point p, in lanes.
+  void shade(MF vis, const RayOf& from, VF px, VF py, VF pz, VF& r, VF& g, VF& b, VF a) const {
+    VF gx, gy, gz;
     if (gradients_) {
       gradients_->sample(px, py, pz, gx, gy, gz);
     } else if constexpr (NoData) {
       gradient_of_data(px, py, pz, gx, gy, gz);
     } else {
-      const __m256 one = splat(1.0f), half = splat(0.5f);
-      gx = _mm256_mul_ps(half, _mm256_sub_ps(grid_.sample(_mm256_add_ps(px, one), py, pz),
-                                             grid_.sample(_mm256_sub_ps(px, one), py, pz)));
-      gy = _mm256_mul_ps(half, _mm256_sub_ps(grid_.sample(px, _mm256_add_ps(py, one), pz),
-                                             grid_.sample(px, _mm256_sub_ps(py, one), pz)));
-      gz = _mm256_mul_ps(half, _mm256_sub_ps(grid_.sample(px, py, _mm256_add_ps(pz, one)),
-                                             grid_.sample(px, py, _mm256_sub_ps(pz, one))));
+      const VF one = splat(1.0f), half = splat(0.5f);
+      gx = hn::Mul(half, hn::Sub(grid_.sample(hn::Add(px, one), py, pz),
+                                 grid_.sample(hn::Sub(px, one), py, pz)));
+      gy = hn::Mul(half, hn::Sub(grid_.sample(px, hn::Add(py, one), pz),
+                                 grid_.sample(px, hn::Sub(py, one), pz)));
+      gz = hn::Mul(half, hn::Sub(grid_.sample(px, py, hn::Add(pz, one)),
+                                 grid_.sample(px, py, hn::Sub(pz, one))));
     }
     shade_gradient(vis, from, gx, gy, gz, r, g, b, a);
   }
 
-  // RayShading::apply with the index-space gradient g, in lanes (lane k on the ray of lane
-  // from[k], whose eye and light directions it takes).
-  void shade_gradient(__m256 vis, __m256i from, __m256 gx, __m256 gy, __m256 gz, __m256& r,
-                      __m256& g, __m256& b, __m256 a) const {
-    const auto ray_field = [from](const float* f) {
-      return _mm256_permutevar8x32_ps(_mm256_load_ps(f), from);
+  // RayShading::apply with the index-space gradient g, in lanes (the eye and light directions
+  // of the rays `from` names).
+  void shade_gradient(MF vis, const RayOf& from, VF gx, VF gy, VF gz, VF& r, VF& g, VF& b,
+                      VF a) const {
+    const auto order = hn::IndicesFromVec(DF(), from.from);
+    const auto ray_field = [&](const float* f) HWY_ATTR {
+      return from.own ? load(f) : hn::TableLookupLanes(load(f), order);
     };
     const glm::mat3& m = v_.gradient_to_world;
-    __m256 nx = dot3(splat(m[0][0]), splat(m[1][0]), splat(m[2][0]), gx, gy, gz);
-    __m256 ny = dot3(splat(m[0][1]), splat(m[1][1]), splat(m[2][1]), gx, gy, gz);
-    __m256 nz = dot3(splat(m[0][2]), splat(m[1][2]), splat(m[2][2]), gx, gy, gz);
+    VF nx = dot3(splat(m[0][0]), splat(m[1][0]), splat(m[2][0]), gx, gy, gz);
+    VF ny = dot3(splat(m[0][1]), splat(m[1][1]), splat(m[2][1]), gx, gy, gz);
+    VF nz = dot3(splat(m[0][2]), splat(m[1][2]), splat(m[2][2]), gx, gy, gz);
 
     const Shading& s = v_.object->shading;
-    const __m256 zero = _mm256_setzero_ps();
-    const __m256 len2 = dot3(nx, ny, nz, nx, ny, nz);
-    const __m256 has_normal = _mm256_cmp_ps(len2, splat(1e-24f), _CMP_GT_OQ);
-    const __m256 inv = _mm256_div_ps(splat(1.0f), _mm256_sqrt_ps(len2));
-    nx = _mm256_mul_ps(nx, inv), ny = _mm256_mul_ps(ny, inv), nz = _mm256_mul_ps(nz, inv);
-    const __m256 ex = ray_field(L_.ex), ey = ray_field(L_.ey), ez = ray_field(L_.ez);
+    const VF zero = hn::Zero(DF());
+    const VF len2 = dot3(nx, ny, nz, nx, ny, nz);
+    const MF has_normal = hn::Gt(len2, splat(1e-24f));
+    const VF inv = hn::Div(splat(1.0f), hn::Sqrt(len2));
+    nx = hn::Mul(nx, inv), ny = hn::Mul(ny, inv), nz = hn::Mul(nz, inv);
+    const VF ex = ray_field(L_.ex), ey = ray_field(L_.ey), ez = ray_field(L_.ez);
     // Two-sided: the normal turned toward the viewer.
-    const __m256 flip =
-        _mm256_and_ps(_mm256_cmp_ps(dot3(nx, ny, nz, ex, ey, ez), zero, _CMP_LT_OQ), splat(-0.0f));
-    nx = _mm256_xor_ps(nx, flip), ny = _mm256_xor_ps(ny, flip), nz = _mm256_xor_ps(nz, flip);
+    const VF flip = hn::IfThenElseZero(hn::Lt(dot3(nx, ny, nz, ex, ey, ez), zero), splat(-0.0f));
+    nx = hn::Xor(nx, flip), ny = hn::Xor(ny, flip), nz = hn::Xor(nz, flip);
 
-    const __m256 amb = splat(s.ambient), dif = splat(s.diffuse), spec = splat(s.specular);
-    __m256 out_r = _mm256_mul_ps(amb, r), out_g = _mm256_mul_ps(amb, g),
-           out_b = _mm256_mul_ps(amb, b);
+    const VF amb = splat(s.ambient), dif = splat(s.diffuse), spec = splat(s.specular);
+    VF out_r = hn::Mul(amb, r), out_g = hn::Mul(amb, g), out_b = hn::Mul(amb, b);
     for (int k = 0; k < light_count_; ++k) {
       const glm::vec3& col = lights_[k].color;
-      const __m256 ndotl =
+      const VF ndotl =
           dot3(nx, ny, nz, ray_field(L_.lx[k]), ray_field(L_.ly[k]), ray_field(L_.lz[k]));
-      const __m256 ndoth = _mm256_max_ps(
+      const VF ndoth = hn::Max(
           dot3(nx, ny, nz, ray_field(L_.hx[k]), ray_field(L_.hy[k]), ray_field(L_.hz[k])), zero);
       // Lit lanes: diffuse N.L and the highlight; lanes without a normal: diffuse head-on.
-      const __m256 kd = _mm256_blendv_ps(dif, _mm256_mul_ps(dif, ndotl), has_normal);
-      const __m256 ks =
-          _mm256_and_ps(_mm256_mul_ps(_mm256_mul_ps(spec, specular(ndoth)), a), has_normal);
-      const __m256 on =
-          _mm256_or_ps(_mm256_andnot_ps(has_normal, vis), _mm256_cmp_ps(ndotl, zero, _CMP_GT_OQ));
-      const __m256 cr = splat(col.r), cg = splat(col.g), cb = splat(col.b);
-      out_r = _mm256_add_ps(out_r, _mm256_and_ps(on, _mm256_fmadd_ps(_mm256_mul_ps(kd, r), cr,
-                                                                     _mm256_mul_ps(ks, cr))));
-      out_g = _mm256_add_ps(out_g, _mm256_and_ps(on, _mm256_fmadd_ps(_mm256_mul_ps(kd, g), cg,
-                                                                     _mm256_mul_ps(ks, cg))));
-      out_b = _mm256_add_ps(out_b, _mm256_and_ps(on, _mm256_fmadd_ps(_mm256_mul_ps(kd, b), cb,
-                                                                     _mm256_mul_ps(ks, cb))));
+      const VF kd = hn::IfThenElse(has_normal, hn::Mul(dif, ndotl), dif);
+      const VF ks = hn::IfThenElseZero(has_normal, hn::Mul(hn::Mul(spec, specular(ndoth)), a));
+      const MF on = hn::Or(hn::AndNot(has_normal, vis), hn::Gt(ndotl, zero));
+      const VF cr = splat(col.r), cg = splat(col.g), cb = splat(col.b);
+      out_r =
+          hn::Add(out_r, hn::IfThenElseZero(on, hn::MulAdd(hn::Mul(kd, r), cr, hn::Mul(ks, cr))));
+      out_g =
+          hn::Add(out_g, hn::IfThenElseZero(on, hn::MulAdd(hn::Mul(kd, g), cg, hn::Mul(ks, cg))));
+      out_b =
+          hn::Add(out_b, hn::IfThenElseZero(on, hn::MulAdd(hn::Mul(kd, b), cb, hn::Mul(ks, cb))));
     }
     r = out_r, g = out_g, b = out_b;
   }
 
   // VoxelGrid::gradient_of_data in lanes: one-sided against the centre where a side is no data,
   // 0 where that is not possible either.
-  void gradient_of_data(__m256 px, __m256 py, __m256 pz, __m256& gx, __m256& gy, __m256& gz) const {
-    const __m256 one = splat(1.0f), half = splat(0.5f), zero = _mm256_setzero_ps();
-    const __m256 c = grid_.sample(px, py, pz);
-    const __m256 centre = _mm256_andnot_ps(no_data_lanes(c), _mm256_castsi256_ps(splat(-1)));
-    auto axis = [&](__m256 up, __m256 down) {
-      const __m256 has_up = _mm256_andnot_ps(no_data_lanes(up), centre);
-      const __m256 has_down = _mm256_andnot_ps(no_data_lanes(down), centre);
-      const __m256 both = _mm256_andnot_ps(
-          no_data_lanes(up), _mm256_andnot_ps(no_data_lanes(down), _mm256_castsi256_ps(splat(-1))));
-      __m256 g = _mm256_blendv_ps(zero, _mm256_sub_ps(c, down), has_down);
-      g = _mm256_blendv_ps(g, _mm256_sub_ps(up, c), has_up);
-      return _mm256_blendv_ps(g, _mm256_mul_ps(half, _mm256_sub_ps(up, down)), both);
+  void gradient_of_data(VF px, VF py, VF pz, VF& gx, VF& gy, VF& gz) const {
+    const VF one = splat(1.0f), half = splat(0.5f), zero = hn::Zero(DF());
+    const VF c = grid_.sample(px, py, pz);
+    const MF centre = hn::Not(no_data_lanes(c));
+    auto axis = [&](VF up, VF down) HWY_ATTR {
+      const MF has_up = hn::AndNot(no_data_lanes(up), centre);
+      const MF has_down = hn::AndNot(no_data_lanes(down), centre);
+      const MF both = hn::AndNot(no_data_lanes(up), hn::Not(no_data_lanes(down)));
+      VF g = hn::IfThenElse(has_down, hn::Sub(c, down), zero);
+      g = hn::IfThenElse(has_up, hn::Sub(up, c), g);
+      return hn::IfThenElse(both, hn::Mul(half, hn::Sub(up, down)), g);
     };
-    gx = axis(grid_.sample(_mm256_add_ps(px, one), py, pz),
-              grid_.sample(_mm256_sub_ps(px, one), py, pz));
-    gy = axis(grid_.sample(px, _mm256_add_ps(py, one), pz),
-              grid_.sample(px, _mm256_sub_ps(py, one), pz));
-    gz = axis(grid_.sample(px, py, _mm256_add_ps(pz, one)),
-              grid_.sample(px, py, _mm256_sub_ps(pz, one)));
+    gx = axis(grid_.sample(hn::Add(px, one), py, pz), grid_.sample(hn::Sub(px, one), py, pz));
+    gy = axis(grid_.sample(px, hn::Add(py, one), pz), grid_.sample(px, hn::Sub(py, one), pz));
+    gz = axis(grid_.sample(px, py, hn::Add(pz, one)), grid_.sample(px, py, hn::Sub(pz, one)));
   }
 
-  // SpecularTable::operator() in lanes: the same table, two gathers and a lerp.
-  __m256 specular(__m256 x) const {
+  // SpecularTable::operator() in lanes: the same table, two fetches and a lerp.
+  VF specular(VF x) const {
     const SpecularTable::View t = v_.specular.view();
-    const __m256 last = splat(static_cast<float>(SpecularTable::kEntries - 1));
-    __m256 u = _mm256_mul_ps(_mm256_sub_ps(x, splat(t.x_min)), splat(t.inv_step));
-    const __m256 above = _mm256_cmp_ps(u, _mm256_setzero_ps(), _CMP_GT_OQ);  // false for NaN
-    u = _mm256_min_ps(_mm256_max_ps(u, _mm256_setzero_ps()), last);
-    const __m256i i = _mm256_cvttps_epi32(u);
-    const __m256 f = _mm256_sub_ps(u, _mm256_cvtepi32_ps(i));
-    const __m256 lo = gather_floats(t.values, i);
-    const __m256 hi = gather_floats(t.values, _mm256_add_epi32(i, splat(1)));
-    return _mm256_and_ps(lerp(lo, hi, f), above);
+    const VF zero = hn::Zero(DF());
+    const VF last = splat(static_cast<float>(SpecularTable::kEntries - 1));
+    VF u = hn::Mul(hn::Sub(x, splat(t.x_min)), splat(t.inv_step));
+    const MF above = hn::Gt(u, zero);  // false for NaN
+    u = hn::Min(hn::Max(u, zero), last);
+    const VI i = hn::ConvertTo(DI(), u);
+    const VF f = hn::Sub(u, hn::ConvertTo(DF(), i));
+    const VF lo = gather_floats(t.values, i);
+    const VF hi = gather_floats(t.values, hn::Add(i, splat(1)));
+    return hn::IfThenElseZero(above, lerp(lo, hi, f));
   }
 
   const PreparedVolume& v_;
@@ -1065,18 +1022,59 @@ class PacketKernel {
   Lanes L_{};  // zeros in lanes that never get a ray
 };
 
-#endif  // IMX_PACKET_LANES
+}  // namespace
+
+// The lanes' march of `rays` on this target: composites into `out`, or with a sink, its slabs.
+void march_packets_lanes(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
+                         std::span<const ShadingLight> lights, float ert, std::span<glm::vec4> out,
+                         SlabExtent extent, SlabSink* sink) {
+  run_lane_kernel<PacketKernel>(v, rays, step, lights, ert, out, extent, sink);
+}
+
+}  // namespace imx::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace imx {
+namespace {
+
+HWY_EXPORT(march_packets_lanes);
+
+// The reference: one VolumeMarcher per ray.
+void composite_each(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
+                    std::span<const ShadingLight> lights, float ert, std::span<glm::vec4> out,
+                    SlabExtent extent) {
+  for (size_t i = 0; i < rays.size(); ++i) {
+    glm::vec4 acc(0.0f);
+    VolumeMarcher m(v, rays[i].ray, rays[i].t0, rays[i].t1, step, lights, extent);
+    m.composite(acc, ert);
+    out[i] = acc;
+  }
+}
+
+// dot3 of lanes-inl.hpp on one ray: a.b with the same two fused steps.
+float dot3(float ax, float ay, float az, float bx, float by, float bz) {
+  return std::fma(az, bz, std::fma(ay, by, ax * bx));
+}
+
+// _mm256_max_ps and _mm256_min_ps of the lanes this replaced: the second operand where either
+// is NaN.
+float max_ps(float a, float b) {
+  return a > b ? a : b;
+}
+float min_ps(float a, float b) {
+  return a < b ? a : b;
+}
 
 }  // namespace
 
 bool packet_marching_supported(const PreparedVolume& v, std::span<const ShadingLight> lights) {
   if (v.colours.active()) return false;  // a colour volume's colours: VolumeMarcher, ray by ray
-#if IMX_PACKET_LANES
   const glm::ivec3 d = v.grid.dims;
   const bool labels = v.labels.active();  // classified by label, not by a table
   if ((!labels && !v.accel.preint) || d.x < 2 || d.y < 2 || d.z < 2) return false;
   if (labels && v.has_no_data) return false;
-  // Gathers take int32 indices: voxels, and the byte offsets of int16 gradients.
+  // Fetches take int32 indices: voxels, and the byte offsets of int16 gradients.
   const double voxels = static_cast<double>(d.x) * d.y * d.z;
   const bool int16_gradients = v.accel.gradients && !v.accel.gradients->packed();
   if (voxels * (int16_gradients ? 6.0 : 1.0) + 4.0 >= 2147483647.0) return false;
@@ -1085,10 +1083,6 @@ bool packet_marching_supported(const PreparedVolume& v, std::span<const ShadingL
   const Shading& s = v.object->shading;
   if (!s.enabled) return true;
   return lights.size() <= static_cast<size_t>(RayShading::kMaxLights) && !v.specular.exact();
-#else
-  (void)v, (void)lights;
-  return false;
-#endif
 }
 
 PacketCamera::PacketCamera(const CameraModel& camera)
@@ -1099,124 +1093,91 @@ PacketCamera::PacketCamera(const CameraModel& camera)
       forward_(camera.forward()),
       perspective_(camera.perspective()) {}
 
+// One ray at a time with the arithmetic the AVX2 lanes had (fused where they fused, in the same
+// order), so that the rays, and the images, stay as they were on every target.
 void PacketCamera::block(int x, int y, PacketRay* out, glm::vec2 at) const {
-#if IMX_PACKET_LANES
-  const __m256 px = _mm256_add_ps(splat(static_cast<float>(x) + at.x),
-                                  _mm256_setr_ps(0.0f, 1.0f, 2.0f, 3.0f, 0.0f, 1.0f, 2.0f, 3.0f));
-  const __m256 py = _mm256_add_ps(splat(static_cast<float>(y) + at.y),
-                                  _mm256_setr_ps(0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 1.0f, 1.0f, 1.0f));
-  __m256 v[3];
-  for (int a = 0; a < 3; ++a)
-    v[a] =
-        _mm256_fmadd_ps(py, splat(per_y_[a]), _mm256_fmadd_ps(px, splat(per_x_[a]), splat(at_[a])));
-  alignas(32) float point[3][kLanes];
-  if (perspective_) {
-    const __m256 inv =
-        _mm256_div_ps(splat(1.0f), _mm256_sqrt_ps(dot3(v[0], v[1], v[2], v[0], v[1], v[2])));
-    for (int a = 0; a < 3; ++a) _mm256_store_ps(point[a], _mm256_mul_ps(v[a], inv));
-  } else {
-    for (int a = 0; a < 3; ++a) _mm256_store_ps(point[a], v[a]);
-  }
-  for (int l = 0; l < kLanes; ++l) {
-    const glm::vec3 p(point[0][l], point[1][l], point[2][l]);
-    out[l].ray = perspective_ ? Ray{eye_, p} : Ray{p, forward_};
-  }
-#else
+  const float x0 = static_cast<float>(x) + at.x, y0 = static_cast<float>(y) + at.y;
   for (int l = 0; l < 8; ++l) {
-    const float px = static_cast<float>(x) + at.x + static_cast<float>(l % 4),
-                py = static_cast<float>(y) + at.y + static_cast<float>(l / 4);
-    const glm::vec3 p = at_ + px * per_x_ + py * per_y_;
-    out[l].ray = perspective_ ? Ray{eye_, glm::normalize(p)} : Ray{p, forward_};
+    const float px = x0 + static_cast<float>(l % 4), py = y0 + static_cast<float>(l / 4);
+    float v[3];
+    for (int a = 0; a < 3; ++a) v[a] = std::fma(py, per_y_[a], std::fma(px, per_x_[a], at_[a]));
+    if (perspective_) {
+      const float inv = 1.0f / std::sqrt(dot3(v[0], v[1], v[2], v[0], v[1], v[2]));
+      out[l].ray = Ray{eye_, glm::vec3(v[0] * inv, v[1] * inv, v[2] * inv)};
+    } else {
+      out[l].ray = Ray{glm::vec3(v[0], v[1], v[2]), forward_};
+    }
   }
-#endif
 }
 
+// Groups of eight rays with the arithmetic the AVX2 lanes had (as PacketCamera::block), the
+// rest with PreparedVolume::intersect as before, so that every ray's interval stays as it was.
 void intersect_packets(const PreparedVolume& v, std::span<PacketRay> rays) {
-  size_t first = 0;
-#if IMX_PACKET_LANES
+  constexpr size_t kGroup = 8;
+  const size_t grouped = rays.size() - rays.size() % kGroup;
   const glm::mat4& m = v.world_to_index;
   const glm::vec3 hi = glm::vec3(v.grid.dims - 1);
-  const __m256 zero = _mm256_setzero_ps(), tiny = splat(1e-12f), sign = splat(-0.0f);
-  for (; first + kLanes <= rays.size(); first += kLanes) {
-    alignas(32) float o[3][kLanes], d[3][kLanes];
-    for (int l = 0; l < kLanes; ++l)
-      for (int a = 0; a < 3; ++a)
-        o[a][l] = rays[first + l].ray.origin[a], d[a][l] = rays[first + l].ray.dir[a];
-    __m256 wo[3], wd[3];
-    for (int a = 0; a < 3; ++a) wo[a] = _mm256_load_ps(o[a]), wd[a] = _mm256_load_ps(d[a]);
-    __m256 t0 = zero, t1 = splat(INFINITY), outside = zero;
+  const float tiny = 1e-12f;
+  for (size_t i = 0; i < grouped; ++i) {
+    const glm::vec3 wo = rays[i].ray.origin, wd = rays[i].ray.dir;
+    float t0 = 0.0f, t1 = INFINITY;
+    bool outside = false;
     for (int a = 0; a < 3; ++a) {
       // Row a of the index map: the ray's origin and direction in index space.
-      const __m256 io =
-          _mm256_fmadd_ps(splat(m[2][a]), wo[2],
-                          _mm256_fmadd_ps(splat(m[1][a]), wo[1],
-                                          _mm256_fmadd_ps(splat(m[0][a]), wo[0], splat(m[3][a]))));
-      const __m256 id = dot3(splat(m[0][a]), splat(m[1][a]), splat(m[2][a]), wd[0], wd[1], wd[2]);
-      const __m256 parallel = _mm256_cmp_ps(_mm256_andnot_ps(sign, id), tiny, _CMP_LT_OQ);
-      const __m256 beyond = _mm256_or_ps(_mm256_cmp_ps(io, zero, _CMP_LT_OQ),
-                                         _mm256_cmp_ps(io, splat(hi[a]), _CMP_GT_OQ));
-      outside = _mm256_or_ps(outside, _mm256_and_ps(parallel, beyond));
-      const __m256 inv = _mm256_div_ps(splat(1.0f), id);
-      const __m256 ta = _mm256_mul_ps(_mm256_sub_ps(zero, io), inv);
-      const __m256 tb = _mm256_mul_ps(_mm256_sub_ps(splat(hi[a]), io), inv);
-      const __m256 swap = _mm256_cmp_ps(ta, tb, _CMP_GT_OQ);
-      const __m256 near = _mm256_blendv_ps(ta, tb, swap), far = _mm256_blendv_ps(tb, ta, swap);
+      const float io =
+          std::fma(m[2][a], wo[2], std::fma(m[1][a], wo[1], std::fma(m[0][a], wo[0], m[3][a])));
+      const float id = dot3(m[0][a], m[1][a], m[2][a], wd[0], wd[1], wd[2]);
+      const bool parallel = std::abs(id) < tiny;
+      const bool beyond = io < 0.0f || io > hi[a];
+      outside = outside || (parallel && beyond);
+      const float inv = 1.0f / id;
+      const float ta = (0.0f - io) * inv;
+      const float tb = (hi[a] - io) * inv;
+      const bool swap = ta > tb;
+      const float near = swap ? tb : ta, far = swap ? ta : tb;
       // As std::max(t0, near) and std::min(t1, far): a NaN bound leaves the interval alone.
-      t0 = _mm256_blendv_ps(_mm256_max_ps(near, t0), t0, parallel);
-      t1 = _mm256_blendv_ps(_mm256_min_ps(far, t1), t1, parallel);
+      if (!parallel) t0 = max_ps(near, t0), t1 = min_ps(far, t1);
     }
     for (const ClipPlane& c : v.object->clip_planes) {
       const glm::vec3 n(c.normal), p(c.point);
-      const __m256 side =
-          dot3(_mm256_sub_ps(wo[0], splat(p.x)), _mm256_sub_ps(wo[1], splat(p.y)),
-               _mm256_sub_ps(wo[2], splat(p.z)), splat(n.x), splat(n.y), splat(n.z));
-      const __m256 rate = dot3(wd[0], wd[1], wd[2], splat(n.x), splat(n.y), splat(n.z));
-      const __m256 parallel = _mm256_cmp_ps(_mm256_andnot_ps(sign, rate), tiny, _CMP_LT_OQ);
-      outside =
-          _mm256_or_ps(outside, _mm256_and_ps(parallel, _mm256_cmp_ps(side, zero, _CMP_LT_OQ)));
-      const __m256 t = _mm256_div_ps(_mm256_xor_ps(side, sign), rate);
-      const __m256 entering = _mm256_cmp_ps(rate, zero, _CMP_GT_OQ);
-      t0 = _mm256_blendv_ps(t0, _mm256_max_ps(t, t0), _mm256_andnot_ps(parallel, entering));
-      t1 = _mm256_blendv_ps(t1, _mm256_min_ps(t, t1),
-                            _mm256_andnot_ps(parallel, _mm256_cmp_ps(rate, zero, _CMP_LE_OQ)));
+      const float side = dot3(wo[0] - p.x, wo[1] - p.y, wo[2] - p.z, n.x, n.y, n.z);
+      const float rate = dot3(wd[0], wd[1], wd[2], n.x, n.y, n.z);
+      const bool parallel = std::abs(rate) < tiny;
+      outside = outside || (parallel && side < 0.0f);
+      const float t = -side / rate;
+      if (!parallel && rate > 0.0f) t0 = max_ps(t, t0);
+      if (!parallel && rate <= 0.0f) t1 = min_ps(t, t1);
     }
-    t0 = _mm256_blendv_ps(t0, zero, outside);
-    t1 = _mm256_blendv_ps(t1, splat(-1.0f), outside);
-    alignas(32) float lo[kLanes], up[kLanes];
-    _mm256_store_ps(lo, t0), _mm256_store_ps(up, t1);
-    for (int l = 0; l < kLanes; ++l) rays[first + l].t0 = lo[l], rays[first + l].t1 = up[l];
+    if (outside) t0 = 0.0f, t1 = -1.0f;
+    rays[i].t0 = t0, rays[i].t1 = t1;
   }
-#endif
-  for (; first < rays.size(); ++first) {
-    const RayInterval span = v.intersect(rays[first].ray);
-    rays[first].t0 = span.t0, rays[first].t1 = span.t1;
+  for (size_t i = grouped; i < rays.size(); ++i) {
+    const RayInterval span = v.intersect(rays[i].ray);
+    rays[i].t0 = span.t0, rays[i].t1 = span.t1;
   }
 }
 
 void composite_packets(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
                        std::span<const ShadingLight> lights, float ert, std::span<glm::vec4> out,
                        SlabExtent extent) {
-#if IMX_PACKET_LANES
   if (packet_marching_supported(v, lights)) {
-    run_lane_kernel<PacketKernel>(v, rays, step, lights, ert, out, extent,
-                                  static_cast<SlabSink*>(nullptr));
+    apply_simd_environment();
+    HWY_DYNAMIC_DISPATCH(march_packets_lanes)(v, rays, step, lights, ert, out, extent, nullptr);
     return;
   }
-#endif
   composite_each(v, rays, step, lights, ert, out, extent);
 }
 
 void march_slab_packets(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
                         std::span<const ShadingLight> lights, float ert, SlabSink& sink) {
-#if IMX_PACKET_LANES
   if (packet_marching_supported(v, lights) && !v.labels.active()) {
-    run_lane_kernel<PacketKernel>(v, rays, step, lights, ert, std::span<glm::vec4>(),
-                                  SlabExtent::visible, &sink);
+    apply_simd_environment();
+    HWY_DYNAMIC_DISPATCH(march_packets_lanes)
+    (v, rays, step, lights, ert, std::span<glm::vec4>(), SlabExtent::visible, &sink);
     return;
   }
-#endif
-  // One ray at a time (builds without lanes, label maps): the lanes' pieces, empty ones left out
-  // as the lanes leave out the invisible.
+  // One ray at a time (label maps, what the lanes do not take): the lanes' pieces, empty ones
+  // left out as the lanes leave out the invisible.
   for (size_t i = 0; i < rays.size(); ++i) {
     VolumeMarcher m(v, rays[i].ray, rays[i].t0, rays[i].t1, step, lights, SlabExtent::visible);
     glm::vec4 acc(0.0f);
@@ -1246,3 +1207,4 @@ void collect_packets(const PreparedVolume& v, std::span<const PacketRay> rays, f
 }
 
 }  // namespace imx
+#endif  // HWY_ONCE

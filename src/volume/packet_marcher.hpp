@@ -1,5 +1,6 @@
 // composite_packets: VolumeMarcher::composite (SlabExtent::grid) for many rays through one
-// volume, eight at a time in AVX2 lanes. Pure: no allocation, no exceptions.
+// volume, a packet at a time in the lanes of the widest SIMD target the machine has (one kernel
+// source, simd_targets.hpp). Pure: no allocation, no exceptions.
 #pragma once
 #include <span>
 
@@ -22,8 +23,8 @@ struct PacketRay {
 };
 
 // The camera rays through points `at` of a block of 4 x 2 pixels (x + i, y + j), i < 4, j < 2,
-// (the centres by default, or one sample's offset in each) as out[j * 4 + i]: eight at a time in
-// lanes where the build has AVX2 (CameraModel::ray up to float rounding). Leaves t0 and t1 alone.
+// (the centres by default, or one sample's offset in each) as out[j * 4 + i], with the arithmetic
+// the AVX2 lanes had (CameraModel::ray up to float rounding). Leaves t0 and t1 alone.
 class PacketCamera {
  public:
   explicit PacketCamera(const CameraModel& camera);
@@ -35,25 +36,25 @@ class PacketCamera {
   bool perspective_;
 };
 
-// Whether composite_packets() marches volume `v` with `lights` in vector lanes: it needs an
-// AVX2 build, a pre-integration table or a label map (without no-data voxels), when shading is on
-// at most RayShading::kMaxLights lights and a tabulated specular power (shininess of at least 1),
-// and a grid of at least 2 voxels a side whose gathers fit int32 offsets (fewer than 2^31 voxels,
-// 2^31 / 6 with int16 gradients) and, with skipping, fewer than 2^24 bricks. Otherwise it marches
-// each ray with VolumeMarcher, with the same results.
+// Whether composite_packets() marches volume `v` with `lights` in vector lanes (on any SIMD
+// target, the scalar one included): it needs a pre-integration table or a label map (without
+// no-data voxels), when shading is on at most RayShading::kMaxLights lights and a tabulated
+// specular power (shininess of at least 1), and a grid of at least 2 voxels a side whose gathers
+// fit int32 offsets (fewer than 2^31 voxels, 2^31 / 6 with int16 gradients) and, with skipping,
+// fewer than 2^24 bricks. Otherwise it marches each ray with VolumeMarcher, with the same results.
 bool packet_marching_supported(const PreparedVolume& v, std::span<const ShadingLight> lights);
 
-// Sets each ray's [t0, t1] to PreparedVolume::intersect(ray), eight rays at a time in lanes
-// where the build has AVX2 (the same interval up to float rounding).
+// Sets each ray's [t0, t1] to PreparedVolume::intersect(ray), in groups of eight rays with the
+// arithmetic the AVX2 lanes had (the same interval up to float rounding).
 void intersect_packets(const PreparedVolume& v, std::span<PacketRay> rays);
 
 // out[i] = the premultiplied colour that VolumeMarcher(v, rays[i].ray, rays[i].t0, rays[i].t1,
 // step, lights, extent).composite() makes from (0, 0, 0, 0) with termination at `ert`, up to
-// float reassociation. Rays go in packets of eight in batch order, so neighbouring rays should be
-// consecutive (a tile in blocks of 4 x 2 pixels). `out` holds rays.size() colours.
-// SlabExtent::visible shades each piece where its light comes from (one point, or two a standard
-// deviation either side of its centre), as the slab methods' marcher does; the extents
-// themselves do not change a composite.
+// float reassociation. Rays go in packets of the target's lanes (1 to 16) in batch order, so
+// neighbouring rays should be consecutive (a tile in blocks of 4 x 2 pixels). `out` holds
+// rays.size() colours. SlabExtent::visible shades each piece where its light comes from (one point,
+// or two a standard deviation either side of its centre), as the slab methods' marcher does; the
+// extents themselves do not change a composite.
 void composite_packets(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
                        std::span<const ShadingLight> lights, float ert, std::span<glm::vec4> out,
                        SlabExtent extent = SlabExtent::grid);
@@ -70,7 +71,7 @@ class SlabSink {
 
 // The slabs VolumeMarcher(v, ray, t0, t1, step, lights, SlabExtent::visible) emits for each ray,
 // into `sink`, until the ray's composite of them reaches `ert` (never when ert > 1) or the sink
-// declines: eight rays at a time in lanes where composite_packets would take them (and not a
+// declines: a packet of rays at a time in lanes where composite_packets would take them (and not a
 // label map), up to float rounding. Rays as composite_packets wants them.
 void march_slab_packets(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
                         std::span<const ShadingLight> lights, float ert, SlabSink& sink);
@@ -85,8 +86,8 @@ struct SlabCollection {
 // The slab methods' own array of volume `v` for many rays: for rays[i], the slabs that
 // VolumeMarcher(v, ray, t0, t1, step, lights, SlabExtent::visible) emits, gathered by
 // collect_slabs into collection.lists[i] until the volume alone reaches `a_ert` (ert_reached),
-// eight rays at a time in lanes where composite_packets would take them (and not a label map),
-// up to float rounding. Rays as composite_packets wants them.
+// a packet of rays at a time in lanes where composite_packets would take them (and not a label
+// map), up to float rounding. Rays as composite_packets wants them.
 void collect_packets(const PreparedVolume& v, std::span<const PacketRay> rays, float step,
                      std::span<const ShadingLight> lights, float a_ert,
                      const SlabCollection& collection);

@@ -6,8 +6,10 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
+#include "each_simd_target.hpp"
 #include "intermix/labels.hpp"
 #include "random_volumes.hpp"
 #include "volume/volume_marcher.hpp"
@@ -36,30 +38,38 @@ std::vector<PacketRay> random_rays(std::mt19937& rng, const PreparedVolume& v, i
   return rays;
 }
 
-// The packets against one VolumeMarcher per ray; returns how many rays reached `ert`. Every ray
-// agrees to 1e-4, but for 1 ray in 100 at most, which may differ by up to 1e-2: two-sided
-// shading turns the normal toward the eye, so a light other than the headlight lights a piece
-// or not as n.e crosses 0, and the two paths (or two compilers) can round that sign apart.
+// The packets, on every SIMD target, against one VolumeMarcher per ray; returns how many rays
+// reached `ert`. Every ray agrees to 1e-4, but for 1 ray in 100 at most, which may differ by up
+// to 1e-2: two-sided shading turns the normal toward the eye, so a light other than the
+// headlight lights a piece or not as n.e crosses 0, and the two paths (or two compilers) can
+// round that sign apart.
 int expect_same_as_marcher(const PreparedVolume& v, const std::vector<PacketRay>& rays, float step,
                            std::span<const ShadingLight> lights, float ert,
                            SlabExtent extent = SlabExtent::grid) {
-  std::vector<glm::vec4> out(rays.size(), glm::vec4(-1.0f));
-  composite_packets(v, rays, step, lights, ert, out, extent);
+  std::vector<glm::vec4> want(rays.size());
   int terminated = 0;
-  size_t apart = 0;
   for (size_t i = 0; i < rays.size(); ++i) {
     glm::vec4 acc(0.0f);
     VolumeMarcher m(v, rays[i].ray, rays[i].t0, rays[i].t1, step, lights, extent);
     m.composite(acc, ert);
     terminated += acc.a >= ert;
-    float worst = 0.0f;
-    for (int c = 0; c < 4; ++c) worst = std::max(worst, std::abs(out[i][c] - acc[c]));
-    if (worst <= 1e-4f) continue;
-    ++apart;
-    EXPECT_LE(worst, 1e-2f) << "ray " << i;
-    EXPECT_NEAR(out[i].a, acc.a, 1e-4f) << "ray " << i;  // the jump is in the colour only
+    want[i] = acc;
   }
-  EXPECT_LE(apart, rays.size() / 100);
+  test::for_each_simd_target([&](const std::string&) {
+    std::vector<glm::vec4> out(rays.size(), glm::vec4(-1.0f));
+    composite_packets(v, rays, step, lights, ert, out, extent);
+    size_t apart = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const glm::vec4& acc = want[i];
+      float worst = 0.0f;
+      for (int c = 0; c < 4; ++c) worst = std::max(worst, std::abs(out[i][c] - acc[c]));
+      if (worst <= 1e-4f) continue;
+      ++apart;
+      EXPECT_LE(worst, 1e-2f) << "ray " << i;
+      EXPECT_NEAR(out[i].a, acc.a, 1e-4f) << "ray " << i;  // the jump is in the colour only
+    }
+    EXPECT_LE(apart, rays.size() / 100);
+  });
   return terminated;
 }
 
@@ -90,9 +100,7 @@ void check_voxel_type(float scale, float offset, uint32_t seed, bool no_data = f
     PreparedVolume v = prepared(obj, step, settings);
     EXPECT_EQ(v.has_no_data, no_data);
     std::span<const ShadingLight> lights(kLights, trial == 1 ? 1 : 2);
-#if defined(__AVX2__) && defined(__FMA__)
     EXPECT_TRUE(packet_marching_supported(v, lights));
-#endif
     glm::vec3 centre = glm::vec3(dims) * 0.5f;
     std::vector<PacketRay> rays = random_rays(rng, v, 203, centre, 1.5f * dims.x);
     for (float ert : {0.3f, 0.99f, 1.0f}) {
@@ -121,6 +129,66 @@ TEST(PacketMarcher, MatchesVolumeMarcherFloat) {
 }
 TEST(PacketMarcher, MatchesVolumeMarcherWithNoData) {
   check_voxel_type<float>(0.01f, -0.5f, 15, true);
+}
+
+// The slab methods' march (march_slab_packets) on every SIMD target against VolumeMarcher's
+// visible pieces, ray by ray: the same pieces, each trimmed to its light, until the ray's
+// composite reaches ERT. As for composites, 1 ray in 100 may differ in a colour by up to 1e-2.
+TEST(PacketMarcher, MarchesTheMarchersSlabs) {
+  std::mt19937 rng(17);
+  VolumeObject obj;
+  obj.name = "blobs";
+  const glm::ivec3 dims(29, 23, 26);
+  obj.data = std::make_shared<VolumeData>(test::blob_volume<int16_t>(dims, rng, 8.0f, -1000.0f));
+  obj.transfer_function = test::random_tf(rng, -1000.0f, -1000.0f + 255.0f * 8.0f);
+  obj.shading = {true, 0.2f, 0.7f, 0.3f, 32.0f};
+  const float step = 0.8f, ert = 0.99f;
+  const PreparedVolume v =
+      prepared(obj, step,
+               {SkipMode::distance, Classification::preintegrated, GradientSource::precomputed, 4});
+  ASSERT_TRUE(packet_marching_supported(v, kLights));
+  const std::vector<PacketRay> rays = random_rays(rng, v, 203, glm::vec3(dims) * 0.5f, 45.0f);
+  std::vector<std::vector<Slab>> want(rays.size());
+  size_t slabs = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    VolumeMarcher m(v, rays[i].ray, rays[i].t0, rays[i].t1, step, kLights, SlabExtent::visible);
+    glm::vec4 acc(0.0f);
+    Slab s;
+    while (!(acc.a >= ert) && m.next(s)) {
+      if (s.is_empty()) continue;
+      want[i].push_back(s);
+      acc = over(acc, s.color);
+    }
+    slabs += want[i].size();
+  }
+  EXPECT_GT(slabs, rays.size());  // most rays see several pieces
+  struct Record final : SlabSink {
+    std::vector<std::vector<Slab>> got;
+    bool take(size_t ray, const Slab& slab) override {
+      got[ray].push_back(slab);
+      return true;
+    }
+  };
+  test::for_each_simd_target([&](const std::string&) {
+    Record sink;
+    sink.got.resize(rays.size());
+    march_slab_packets(v, rays, step, kLights, ert, sink);
+    size_t apart = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      ASSERT_EQ(sink.got[i].size(), want[i].size()) << "ray " << i;
+      float worst = 0.0f;
+      for (size_t k = 0; k < want[i].size(); ++k) {
+        const Slab &a = sink.got[i][k], &b = want[i][k];
+        EXPECT_NEAR(a.t_back, b.t_back, 1e-4f * (1.0f + std::abs(b.t_back))) << "ray " << i;
+        EXPECT_NEAR(a.thickness, b.thickness, 1e-4f * (1.0f + b.thickness)) << "ray " << i;
+        for (int c = 0; c < 4; ++c) worst = std::max(worst, std::abs(a.color[c] - b.color[c]));
+      }
+      if (worst <= 1e-4f) continue;
+      ++apart;
+      EXPECT_LE(worst, 1e-2f) << "ray " << i;
+    }
+    EXPECT_LE(apart, rays.size() / 100);
+  });
 }
 
 // Label maps (style "labels") in lanes: the blobs cut into labels, a table with opaque,
@@ -157,9 +225,7 @@ void check_label_type(float scale, float offset, uint32_t seed) {
     PreparedVolume pv = prepared(obj, step, settings);
     ASSERT_TRUE(pv.labels.active());
     std::span<const ShadingLight> lights(kLights, 2);
-#if defined(__AVX2__) && defined(__FMA__)
     EXPECT_TRUE(packet_marching_supported(pv, lights));
-#endif
     std::vector<PacketRay> rays =
         random_rays(rng, pv, 203, glm::vec3(dims) * 0.5f, 1.5f * static_cast<float>(dims.x));
     for (float ert : {0.3f, 0.99f, 1.0f}) {
@@ -194,9 +260,11 @@ TEST(PacketMarcher, EmptyTransferFunctionGivesNothing) {
   const float step = 1.0f;
   PreparedVolume v = prepared(obj, step, {SkipMode::distance, Classification::preintegrated});
   std::vector<PacketRay> rays = random_rays(rng, v, 40, glm::vec3(10.0f), 30.0f);
-  std::vector<glm::vec4> out(rays.size(), glm::vec4(-1.0f));
-  composite_packets(v, rays, step, kLights, 0.99f, out);
-  for (const glm::vec4& c : out) EXPECT_EQ(c, glm::vec4(0.0f));
+  test::for_each_simd_target([&](const std::string&) {
+    std::vector<glm::vec4> out(rays.size(), glm::vec4(-1.0f));
+    composite_packets(v, rays, step, kLights, 0.99f, out);
+    for (const glm::vec4& c : out) EXPECT_EQ(c, glm::vec4(0.0f));
+  });
 }
 
 // Rays along the grid axes and the diagonals of its planes, started on brick boundaries: the
@@ -258,11 +326,13 @@ TEST(PacketMarcher, JumpsOverWideEmptySpaceAsTheMarcherDoes) {
       prepared(obj, step,
                {SkipMode::distance, Classification::preintegrated, GradientSource::precomputed, 4});
   std::vector<PacketRay> rays = random_rays(rng, v, 400, glm::vec3(32.0f), 90.0f);
-  int seen = 0;
-  std::vector<glm::vec4> out(rays.size());
-  composite_packets(v, rays, step, kLights, 0.99f, out);
-  for (const glm::vec4& c : out) seen += c.a > 0.01f;
-  EXPECT_GT(seen, 20);  // enough rays reach a core
+  test::for_each_simd_target([&](const std::string&) {
+    int seen = 0;
+    std::vector<glm::vec4> out(rays.size());
+    composite_packets(v, rays, step, kLights, 0.99f, out);
+    for (const glm::vec4& c : out) seen += c.a > 0.01f;
+    EXPECT_GT(seen, 20);  // enough rays reach a core
+  });
   expect_same_as_marcher(v, rays, step, kLights, 0.99f);
 }
 
