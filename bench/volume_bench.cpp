@@ -3,18 +3,22 @@
 #include <benchmark/benchmark.h>
 
 #include <random>
+#include <string>
 
 #include "bench_volumes.hpp"
 #include "volume/any_grid.hpp"
 #include "volume/brick_dda.hpp"
 #include "volume/brick_min_max.hpp"
 #include "volume/brick_occupancy.hpp"
-#include "volume/lane_bricks.hpp"
 #include "volume/octant_distance.hpp"
 #include "volume/preintegration_table.hpp"
+#include "volume/simd_targets.hpp"
 #include "volume/tf_emptiness.hpp"
 #include "volume/tf_lut.hpp"
 
+// Compiled once, before the per-target part (the lane walk, foreach_target below).
+#ifndef IMX_BENCH_VOLUME_BENCH_ONCE_
+#define IMX_BENCH_VOLUME_BENCH_ONCE_
 namespace imx {
 namespace {
 
@@ -191,36 +195,6 @@ void BM_FirstOccupiedBrickDda(benchmark::State& state) {
 }
 BENCHMARK(BM_FirstOccupiedBrickDda);
 
-#if IMX_PACKET_LANES
-// The same walks eight rays at a time in AVX2 lanes (LaneBricks, as the packet path does them).
-void BM_FirstOccupiedLaneBricks(benchmark::State& state) {
-  using lanes::kLanes;
-  BrickMinMax mm(AnyGrid(volume<uint8_t>()), glm::ivec3(8));
-  BrickOccupancy occ(mm, TfEmptiness(shell_lut()));
-  const lanes::LaneBricks walker(occ, SkipMode::distance);
-  Rays rays = random_rays(1024);
-  for (auto _ : state) {
-    for (size_t first = 0; first + kLanes <= rays.origin.size(); first += kLanes) {
-      alignas(32) float o[3][kLanes], d[3][kLanes], t0[kLanes], t1[kLanes];
-      for (int l = 0; l < kLanes; ++l) {
-        for (int a = 0; a < 3; ++a)
-          o[a][l] = rays.origin[first + l][a], d[a][l] = rays.dir[first + l][a];
-        t0[l] = rays.t0[first + l], t1[l] = rays.t1[first + l];
-      }
-      const float* const origin[3] = {o[0], o[1], o[2]};
-      const float* const dir[3] = {d[0], d[1], d[2]};
-      __m256 enter = _mm256_load_ps(t1), leave = enter;
-      unsigned none = walker.first_occupied(walker.load(origin, dir), lanes::kAllLanes,
-                                            _mm256_load_ps(t0), _mm256_load_ps(t1), enter, leave);
-      benchmark::DoNotOptimize(none);
-      benchmark::DoNotOptimize(enter);
-    }
-  }
-  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(rays.origin.size()));
-}
-BENCHMARK(BM_FirstOccupiedLaneBricks);
-#endif
-
 void BM_PreintegrationBuild(benchmark::State& state) {
   TfLut lut = shell_lut();
   int size = static_cast<int>(state.range(0));
@@ -277,3 +251,70 @@ BENCHMARK(BM_DistanceMap)->Arg(32)->Arg(64)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace imx
+#endif  // IMX_BENCH_VOLUME_BENCH_ONCE_
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "volume_bench.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
+#include <hwy/highway.h>
+
+#include "volume/lane_bricks-inl.hpp"
+
+HWY_BEFORE_NAMESPACE();
+namespace imx::HWY_NAMESPACE {
+
+// BM_FirstOccupiedBrickDda's walks kLanes rays at a time in this target's lanes (LaneBricks, as
+// the packet path does them).
+void first_occupied_lane_bricks(benchmark::State& state) {
+  using namespace lanes;
+  BrickMinMax mm(AnyGrid(volume<uint8_t>()), glm::ivec3(8));
+  BrickOccupancy occ(mm, TfEmptiness(shell_lut()));
+  const LaneBricks walker(occ, SkipMode::distance);
+  Rays rays = random_rays(1024);
+  LaneBricks::Rays r;
+  for (auto _ : state) {
+    for (size_t first = 0; first + kLanes <= rays.origin.size(); first += kLanes) {
+      HWY_ALIGN float o[3][kLanes], d[3][kLanes], t0[kLanes], t1[kLanes];
+      for (int l = 0; l < kLanes; ++l) {
+        for (int a = 0; a < 3; ++a)
+          o[a][l] = rays.origin[first + l][a], d[a][l] = rays.dir[first + l][a];
+        t0[l] = rays.t0[first + l], t1[l] = rays.t1[first + l];
+      }
+      const float* const origin[3] = {o[0], o[1], o[2]};
+      const float* const dir[3] = {d[0], d[1], d[2]};
+      walker.rays(origin, dir, r);
+      VF enter = load(t1), leave = enter;
+      unsigned none = walker.first_occupied(r, kAllLanes, load(t0), load(t1), enter, leave);
+      benchmark::DoNotOptimize(none);
+      benchmark::DoNotOptimize(hwy::HWY_NAMESPACE::GetLane(enter));
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(rays.origin.size()));
+  state.SetLabel(std::to_string(kLanes) + " lanes");
+}
+
+}  // namespace imx::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace imx {
+namespace {
+
+HWY_EXPORT(first_occupied_lane_bricks);
+
+// BM_FirstOccupiedLaneBricks/<target> for each target the machine runs.
+const bool registered = [] {
+  for (const std::string& name : simd_targets())
+    benchmark::RegisterBenchmark(("BM_FirstOccupiedLaneBricks/" + name).c_str(),
+                                 [name](benchmark::State& state) {
+                                   limit_simd_target(name);
+                                   HWY_DYNAMIC_DISPATCH(first_occupied_lane_bricks)(state);
+                                   limit_simd_target("");
+                                 });
+  return true;
+}();
+
+}  // namespace
+}  // namespace imx
+#endif  // HWY_ONCE
