@@ -1,12 +1,11 @@
 // GradientVolume: central-difference gradients precomputed at every voxel, sampled trilinearly.
 #pragma once
+#include <bit>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include <glm/glm.hpp>
-#if defined(__SSE4_1__)
-#include <immintrin.h>
-#endif
 
 #include "volume/any_grid.hpp"
 
@@ -27,8 +26,11 @@ class GradientVolume {
   explicit GradientVolume(const AnyGrid& voxels, int threads = 0);
 
   // The gradient at index-space position p, trilinear between the voxel gradients (clamped).
-  // Forced inline, and with SSE each corner is converted in one go: the shading of a
-  // semi-transparent volume fetches a gradient for nearly every sample.
+  // Forced inline, each corner four lanes wide (the fourth unused) so that the compiler converts
+  // and blends a corner in one vector operation on any target: the shading of a
+  // semi-transparent volume fetches a gradient for nearly every sample. Plain code, no
+  // intrinsics: it is compiled for whichever target inlines it (docs/architecture.md, "One
+  // kernel source").
   [[gnu::always_inline]] glm::vec3 sample(glm::vec3 p) const {
     glm::vec3 hi = glm::vec3(dims_ - 1);
     p = glm::clamp(p, glm::vec3(0.0f), hi);
@@ -62,52 +64,44 @@ class GradientVolume {
   float scale() const { return scale_; }
 
  private:
-#if defined(__SSE4_1__)
-  using Corner = __m128;
+  // A corner's gradient as four lanes (x, y, z and one ignored), blended as a + t (b - a) (the
+  // order of the SSE code this replaced, so images keep their bytes). GCC/clang vector types,
+  // not intrinsics: the compiler lowers them for whichever target compiles the caller (SSE4,
+  // AVX2, NEON; plain loops over the lanes vectorized at half this speed).
+  using Corner = float __attribute__((vector_size(16)));
+  using Lanes = int32_t __attribute__((vector_size(16)));
+  using Bits = uint32_t __attribute__((vector_size(16)));
+  using Shorts = int16_t __attribute__((vector_size(16)));
+  using Words = uint64_t __attribute__((vector_size(16)));
+  static_assert(std::endian::native == std::endian::little, "lane order assumes little endian");
+  // Each field shifted to the top of its lane by a multiply (unsigned: it wraps), then down with
+  // its sign; lane 3 is garbage.
   static Corner unpack(uint32_t w) {
-#if defined(__AVX2__)
-    const __m128i v =
-        _mm_sllv_epi32(_mm_set1_epi32(static_cast<int>(w)), _mm_setr_epi32(22, 12, 2, 0));
-    return _mm_cvtepi32_ps(_mm_srai_epi32(v, 22));
-#else
-    return _mm_cvtepi32_ps(_mm_setr_epi32(field(w, 0), field(w, 1), field(w, 2), 0));
-#endif
+    const Bits top = Bits{1u << 22, 1u << 12, 1u << 2, 1u} * w;
+    return __builtin_convertvector(reinterpret_cast<Lanes>(top) >> 22, Corner);
   }
+  // Reads x, y, z and the next entry (ignored: data_ has spare entries at its end): one 8-byte
+  // load, each value doubled into a 32-bit lane and shifted down with its sign.
   static Corner widen(const int16_t* q) {
-    __m128i v = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(q));
-    return _mm_cvtepi32_ps(_mm_cvtepi16_epi32(v));
+    uint64_t bits;
+    std::memcpy(&bits, q, sizeof(bits));
+    const Shorts s = reinterpret_cast<Shorts>(Words{bits, 0});
+    const Shorts twice = __builtin_shufflevector(s, s, 0, 0, 1, 1, 2, 2, 3, 3);
+    return __builtin_convertvector(reinterpret_cast<Lanes>(twice) >> 16, Corner);
   }
   template <class Fetch>
   glm::vec3 trilinear(glm::vec3 f, size_t dx, size_t dy, size_t dz, Fetch g) const {
-    auto mix = [](__m128 a, __m128 b, __m128 t) {
-      return _mm_add_ps(a, _mm_mul_ps(t, _mm_sub_ps(b, a)));
+    // Two statements, as the intrinsics were two calls: clang contracts a product into an FMA
+    // only within one expression, GCC (-ffp-contract=fast) either way, so each compiler rounds
+    // as it did.
+    auto mix = [](Corner a, Corner b, float t) {
+      const Corner step = t * (b - a);
+      return a + step;
     };
-    __m128 fx = _mm_set1_ps(f.x), fy = _mm_set1_ps(f.y), fz = _mm_set1_ps(f.z);
-    __m128 c0 = mix(mix(g(0), g(dx), fx), mix(g(dy), g(dy + dx), fx), fy);
-    __m128 c1 = mix(mix(g(dz), g(dz + dx), fx), mix(g(dz + dy), g(dz + dy + dx), fx), fy);
-    alignas(16) float out[4];
-    _mm_store_ps(out, _mm_mul_ps(mix(c0, c1, fz), _mm_set1_ps(scale_)));
-    return {out[0], out[1], out[2]};
-  }
-#else
-  using Corner = glm::vec3;
-  static Corner unpack(uint32_t w) {
-    return glm::vec3(field(w, 0), field(w, 1), field(w, 2));
-  }
-  static Corner widen(const int16_t* q) {
-    return glm::vec3(q[0], q[1], q[2]);
-  }
-  template <class Fetch>
-  glm::vec3 trilinear(glm::vec3 f, size_t dx, size_t dy, size_t dz, Fetch g) const {
-    glm::vec3 c0 = glm::mix(glm::mix(g(0), g(dx), f.x), glm::mix(g(dy), g(dy + dx), f.x), f.y);
-    glm::vec3 c1 =
-        glm::mix(glm::mix(g(dz), g(dz + dx), f.x), glm::mix(g(dz + dy), g(dz + dy + dx), f.x), f.y);
-    return scale_ * glm::mix(c0, c1, f.z);
-  }
-#endif
-  // Signed 10-bit field a (0 = x, 1 = y, 2 = z) of a packed word.
-  static int field(uint32_t w, int a) {
-    return static_cast<int32_t>(w << (22 - 10 * a)) >> 22;
+    const Corner c0 = mix(mix(g(0), g(dx), f.x), mix(g(dy), g(dy + dx), f.x), f.y);
+    const Corner c1 = mix(mix(g(dz), g(dz + dx), f.x), mix(g(dz + dy), g(dz + dy + dx), f.x), f.y);
+    const Corner c = mix(c0, c1, f.z) * scale_;
+    return {c[0], c[1], c[2]};
   }
 
   std::vector<int16_t> data_;    // int16 layout: x, y, z per voxel and two spare entries
