@@ -1,5 +1,6 @@
 // docs/architecture.md's "Longer than the rules" table against the tree: every source file over
 // 500 lines is listed there with its current length, and every file listed is still over 500.
+// And no SIMD intrinsics outside Highway.
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -62,6 +63,24 @@ TEST(SourceRules, EveryFileOverFiveHundredLinesIsExplainedWithItsLength) {
         << path << " is listed in docs/architecture.md but no longer over " << kMaxLines;
 }
 
+// One lane kernel source (issue 49): no SIMD intrinsics or their headers anywhere in the
+// project's code; vector code goes through Highway, compiled and dispatched per target.
+TEST(SourceRules, NoSimdIntrinsicsOutsideThePortableLayer) {
+  const std::regex intrinsic(R"(#\s*include\s*<\w*intrin\.h>|\b_mm(256|512)?_[a-z0-9_]+\s*\()");
+  int files = 0;
+  for (const char* folder : {"src", "include", "apps", "python/src", "tests", "bench", "fuzz"})
+    for (const auto& entry : fs::recursive_directory_iterator(kRoot / folder)) {
+      const std::string ext = entry.path().extension().string();
+      if (!entry.is_regular_file() || (ext != ".cpp" && ext != ".hpp" && ext != ".h")) continue;
+      ++files;
+      const std::string text = test::read_bytes(entry.path());
+      std::smatch m;
+      if (std::regex_search(text, m, intrinsic))
+        ADD_FAILURE() << fs::relative(entry.path(), kRoot).string() << " uses " << m.str();
+    }
+  EXPECT_GT(files, 500);  // the walk saw the tree
+}
+
 // docs/architecture.md's library table against CMakeLists.txt: every imx_module() has its row,
 // naming its folder, and every row's library is still a module.
 TEST(SourceRules, EveryModuleHasItsRowInTheLibraryTable) {
@@ -89,9 +108,11 @@ TEST(SourceRules, EveryModuleHasItsRowInTheLibraryTable) {
     EXPECT_NE(it->second.find("`src/" + folder + "`"), std::string::npos)
         << library << "'s row does not name its folder src/" << folder;
   }
-  for (const auto& [library, folder] : rows)
-    if (library != "imx_io")  // the INTERFACE library of every io layer
+  for (const auto& [library, folder] : rows) {
+    if (library != "imx_io") {  // the INTERFACE library of every io layer
       EXPECT_TRUE(modules.count(library)) << library << " has a row but is no imx_module";
+    }
+  }
 }
 
 }  // namespace
