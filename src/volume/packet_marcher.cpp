@@ -820,23 +820,27 @@ class PacketKernel {
     HWY_ALIGN float e[4 * kLanes];
     for (int l = 0; l < kLanes; ++l) {
       const float* r0 = table + 4 * static_cast<size_t>(entry[l]);
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
+      // Entries j and j + 1 of a row in one 256-bit load.
+      const hn::Full256<float> d8;
+      const auto rows = lerp4(hn::LoadU(d8, r0), hn::LoadU(d8, r0 + row), hn::Set(d8, wx[l]));
+      const auto lo = hn::LowerHalf(d4, rows), hi = hn::UpperHalf(d4, rows);
+#else
       const auto fx = hn::Set(d4, wx[l]);
       const auto lo = lerp4(hn::LoadU(d4, r0), hn::LoadU(d4, r0 + row), fx);
       const auto hi = lerp4(hn::LoadU(d4, r0 + 4), hn::LoadU(d4, r0 + row + 4), fx);
+#endif
       hn::Store(lerp4(lo, hi, hn::Set(d4, wy[l])), d4, e + 4 * l);
     }
     hn::LoadInterleaved4(DF(), e, r, g, b, a);
 #endif
   }
 
-#if HWY_TARGET != HWY_SCALAR
-  // lerp() on one lane's four floats.
-  static HWY_INLINE hn::Vec<hn::Full128<float>> lerp4(hn::Vec<hn::Full128<float>> x,
-                                                      hn::Vec<hn::Full128<float>> y,
-                                                      hn::Vec<hn::Full128<float>> f) {
+  // lerp() on one lane's entries (128- or 256-bit vectors, whatever the target's lanes).
+  template <class V>
+  static HWY_INLINE V lerp4(V x, V y, V f) {
     return hn::MulAdd(f, hn::Sub(y, x), x);
   }
-#endif
 
   // PreintegrationView::light_of(a, the moments at (s_f, s_b)) in lanes: the centre and the
   // spread of where a piece's light comes from (0.5 and 0 where a is not positive).
@@ -1112,44 +1116,57 @@ void PacketCamera::block(int x, int y, PacketRay* out, glm::vec2 at) const {
 
 // Groups of eight rays with the arithmetic the AVX2 lanes had (as PacketCamera::block), the
 // rest with PreparedVolume::intersect as before, so that every ray's interval stays as it was.
+// Each step runs over the group's eight rays (structure of arrays, no branches), which the
+// compiler vectorizes.
 void intersect_packets(const PreparedVolume& v, std::span<PacketRay> rays) {
-  constexpr size_t kGroup = 8;
+  constexpr int kGroup = 8;
   const size_t grouped = rays.size() - rays.size() % kGroup;
   const glm::mat4& m = v.world_to_index;
   const glm::vec3 hi = glm::vec3(v.grid.dims - 1);
   const float tiny = 1e-12f;
-  for (size_t i = 0; i < grouped; ++i) {
-    const glm::vec3 wo = rays[i].ray.origin, wd = rays[i].ray.dir;
-    float t0 = 0.0f, t1 = INFINITY;
-    bool outside = false;
+  for (size_t first = 0; first < grouped; first += kGroup) {
+    float o[3][kGroup], d[3][kGroup], t0[kGroup], t1[kGroup];
+    int outside[kGroup];
+    for (int l = 0; l < kGroup; ++l) {
+      const Ray& ray = rays[first + static_cast<size_t>(l)].ray;
+      for (int a = 0; a < 3; ++a) o[a][l] = ray.origin[a], d[a][l] = ray.dir[a];
+      t0[l] = 0.0f, t1[l] = INFINITY, outside[l] = 0;
+    }
     for (int a = 0; a < 3; ++a) {
-      // Row a of the index map: the ray's origin and direction in index space.
-      const float io =
-          std::fma(m[2][a], wo[2], std::fma(m[1][a], wo[1], std::fma(m[0][a], wo[0], m[3][a])));
-      const float id = dot3(m[0][a], m[1][a], m[2][a], wd[0], wd[1], wd[2]);
-      const bool parallel = std::abs(id) < tiny;
-      const bool beyond = io < 0.0f || io > hi[a];
-      outside = outside || (parallel && beyond);
-      const float inv = 1.0f / id;
-      const float ta = (0.0f - io) * inv;
-      const float tb = (hi[a] - io) * inv;
-      const bool swap = ta > tb;
-      const float near = swap ? tb : ta, far = swap ? ta : tb;
-      // As std::max(t0, near) and std::min(t1, far): a NaN bound leaves the interval alone.
-      if (!parallel) t0 = max_ps(near, t0), t1 = min_ps(far, t1);
+      const float m0 = m[0][a], m1 = m[1][a], m2 = m[2][a], m3 = m[3][a], last = hi[a];
+      for (int l = 0; l < kGroup; ++l) {
+        // Row a of the index map: the ray's origin and direction in index space.
+        const float io = std::fma(m2, o[2][l], std::fma(m1, o[1][l], std::fma(m0, o[0][l], m3)));
+        const float id = dot3(m0, m1, m2, d[0][l], d[1][l], d[2][l]);
+        const bool parallel = std::abs(id) < tiny;
+        outside[l] |= parallel & ((io < 0.0f) | (io > last));
+        const float inv = 1.0f / id;
+        const float ta = (0.0f - io) * inv;
+        const float tb = (last - io) * inv;
+        const bool swap = ta > tb;
+        const float near = swap ? tb : ta, far = swap ? ta : tb;
+        // As std::max(t0, near) and std::min(t1, far): a NaN bound leaves the interval alone.
+        t0[l] = parallel ? t0[l] : max_ps(near, t0[l]);
+        t1[l] = parallel ? t1[l] : min_ps(far, t1[l]);
+      }
     }
     for (const ClipPlane& c : v.object->clip_planes) {
       const glm::vec3 n(c.normal), p(c.point);
-      const float side = dot3(wo[0] - p.x, wo[1] - p.y, wo[2] - p.z, n.x, n.y, n.z);
-      const float rate = dot3(wd[0], wd[1], wd[2], n.x, n.y, n.z);
-      const bool parallel = std::abs(rate) < tiny;
-      outside = outside || (parallel && side < 0.0f);
-      const float t = -side / rate;
-      if (!parallel && rate > 0.0f) t0 = max_ps(t, t0);
-      if (!parallel && rate <= 0.0f) t1 = min_ps(t, t1);
+      for (int l = 0; l < kGroup; ++l) {
+        const float side = dot3(o[0][l] - p.x, o[1][l] - p.y, o[2][l] - p.z, n.x, n.y, n.z);
+        const float rate = dot3(d[0][l], d[1][l], d[2][l], n.x, n.y, n.z);
+        const bool parallel = std::abs(rate) < tiny;
+        outside[l] |= parallel & (side < 0.0f);
+        const float t = -side / rate;
+        t0[l] = !parallel && rate > 0.0f ? max_ps(t, t0[l]) : t0[l];
+        t1[l] = !parallel && rate <= 0.0f ? min_ps(t, t1[l]) : t1[l];
+      }
     }
-    if (outside) t0 = 0.0f, t1 = -1.0f;
-    rays[i].t0 = t0, rays[i].t1 = t1;
+    for (int l = 0; l < kGroup; ++l) {
+      PacketRay& r = rays[first + static_cast<size_t>(l)];
+      r.t0 = outside[l] ? 0.0f : t0[l];
+      r.t1 = outside[l] ? -1.0f : t1[l];
+    }
   }
   for (size_t i = grouped; i < rays.size(); ++i) {
     const RayInterval span = v.intersect(rays[i].ray);
