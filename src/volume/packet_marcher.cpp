@@ -251,9 +251,31 @@ struct Lanes {
 // Visible pieces waiting to be shaded, packed (PacketKernel::defer): room for one more step's
 // lanes after at most kLanes - 1 left over.
 struct ShadeQueue {
-  enum Field { kW, kR, kG, kB, kA, kAx, kAy, kAz, kBx, kBy, kBz, kLane, kTwo, kFields };
+  enum Field {
+    kW,
+    kR,
+    kG,
+    kB,
+    kA,
+    kAx,
+    kAy,
+    kAz,
+    kBx,
+    kBy,
+    kBz,
+    kLane,
+    kTwo,
+    kSf,
+    kSb,
+    kT0,
+    kT1,
+    kCentre,
+    kFields
+  };
   // kW: the weight over() gives the piece's colour; kLane (an int32 bit pattern): the lane of its
-  // ray; kTwo: all ones where it is shaded at two points.
+  // ray; kTwo: all ones where it is shaded at two points. A composite needs the fields up to
+  // kTwo; a sink's slab (PacketKernel::collect) also the piece's scalars, span and light centre.
+  static constexpr int kCompositeFields = kTwo + 1;
   HWY_ALIGN float field[kFields][2 * kLanes] = {};
   int count = 0;
 };
@@ -294,7 +316,7 @@ class PacketKernel {
     trim_ = extent == SlabExtent::visible && v.accel.emptiness;  // as VolumeMarcher trims
     labels_ = v.labels.active();
     nearest_ = v.labels.nearest();
-    defer_ = shaded_ && !sink_ && !labels_;
+    defer_ = shaded_ && !labels_;
     for (int k = 0; k < kAlphaCache; ++k) cached_label_[k] = k + 1;  // no label maps to slot k
     light_count_ = static_cast<int>(lights.size());
     if (v.accel.emptiness) use_runs_ = v.accel.emptiness->value_runs(run_lo_, run_hi_);
@@ -409,6 +431,7 @@ class PacketKernel {
       }
     }
     L_.ray[l] = static_cast<int32_t>(i);
+    declined_ &= ~(1u << l);
   }
 
   // VolumeMarcher::skip_empty for the lanes in m (fresh ones, or ones past their occupied
@@ -507,7 +530,7 @@ class PacketKernel {
         const VF aa = load(L_.a);
         const VF w = hn::Sub(splat(1.0f), aa);
         store(hn::IfThenElse(vis, hn::MulAdd(w, ca, aa), aa), L_.a);
-        defer(vis, two, w, cr, cg, cb, ca, at);
+        defer(vis, two, w, cr, cg, cb, ca, at, {s_f, s_b, front, back, centre});
         return bits_of(vis);
       }
       shade_points(vis, two, own_rays(), at, cr, cg, cb, ca);
@@ -520,6 +543,11 @@ class PacketKernel {
   // Where a piece is shaded: one point, and a second one where its light is spread.
   struct Points {
     VF a[3], b[3];
+  };
+  // What collect() makes a sink's slab of besides the colour: the scalars at the piece's ends,
+  // its span and its light's centre.
+  struct Piece {
+    VF s_f, s_b, front, back, centre;
   };
 
   // The shading of pieces in lanes: at point a where `two` is clear, else the mean of a and b.
@@ -538,8 +566,10 @@ class PacketKernel {
 
   // Puts the visible pieces of `vis` in the shading queue, packed in lane order, and shades the
   // first kLanes once that many wait. A step shades only about half its lanes on real scans
-  // (4.5 of 8 on a CT with the bone preset): the queue fills every lane of each shading.
-  void defer(MF vis, MF two, VF w, VF cr, VF cg, VF cb, VF ca, const Points& at) {
+  // (4.5 of 8 on a CT with the bone preset): the queue fills every lane of each shading. With a
+  // sink, the slabs go to it once shaded, each ray's in its order.
+  void defer(MF vis, MF two, VF w, VF cr, VF cg, VF cb, VF ca, const Points& at,
+             const Piece& piece) {
     const VF fields[ShadeQueue::kFields] = {w,
                                             cr,
                                             cg,
@@ -552,21 +582,28 @@ class PacketKernel {
                                             at.b[1],
                                             at.b[2],
                                             hn::BitCast(DF(), hn::Iota(DI(), 0)),
-                                            hn::VecFromMask(DF(), two)};
+                                            hn::VecFromMask(DF(), two),
+                                            piece.s_f,
+                                            piece.s_b,
+                                            piece.front,
+                                            piece.back,
+                                            piece.centre};
+    const int used = sink_ ? ShadeQueue::kFields : ShadeQueue::kCompositeFields;
     // The visible lanes first, in lane order; the lanes past them are overwritten later.
     const auto order = hn::IndicesFromVec(DF(), pack_order(vis));
-    for (int f = 0; f < ShadeQueue::kFields; ++f)
+    for (int f = 0; f < used; ++f)
       hn::StoreU(hn::TableLookupLanes(fields[f], order), DF(), &queue_.field[f][queue_.count]);
     queue_.count += __builtin_popcount(bits_of(vis));
     if (queue_.count < kLanes) return;
     shade_queued(kLanes);
     queue_.count -= kLanes;
-    for (int f = 0; f < ShadeQueue::kFields; ++f)
+    for (int f = 0; f < used; ++f)
       store(hn::LoadU(DF(), &queue_.field[f][kLanes]), queue_.field[f]);
   }
 
   // Shades the first n queued pieces and adds their colour to their rays, in queue order (each
-  // ray's pieces in ray order): acc.rgb += w * colour, as over() would have at the piece.
+  // ray's pieces in ray order): acc.rgb += w * colour, as over() would have at the piece; with a
+  // sink, gives it their slabs in that order instead.
   void shade_queued(int n) {
     const auto field = [&](int f) HWY_ATTR { return load(queue_.field[f]); };
     const MF valid = lane_mask((1u << n) - 1);
@@ -580,6 +617,14 @@ class PacketKernel {
     HWY_ALIGN int32_t lane[kLanes];
     store(cr, r), store(cg, g), store(cb, b);
     store(from, lane);
+    if (sink_) {
+      const auto* q = queue_.field;
+      for (int k = 0; k < n; ++k)
+        collect_one(lane[k], q[ShadeQueue::kSf][k], q[ShadeQueue::kSb][k], q[ShadeQueue::kT0][k],
+                    q[ShadeQueue::kT1][k], q[ShadeQueue::kCentre][k],
+                    glm::vec4(r[k], g[k], b[k], q[ShadeQueue::kA][k]));
+      return;
+    }
     const float* w = queue_.field[ShadeQueue::kW];
     for (int k = 0; k < n; ++k) {
       const int l = lane[k];
@@ -600,11 +645,21 @@ class PacketKernel {
     store(cr, r), store(cg, g), store(cb, bl), store(ca, a);
     for (unsigned m = bits_of(vis); m; m &= m - 1) {
       const int l = __builtin_ctz(m);
-      double lo = t0[l], hi = t1[l];
-      if (trim_) trim_to_light(*v_.accel.emptiness, f[l], b[l], at[l], lo, hi);
-      const Slab slab = Slab::between(static_cast<float>(lo), static_cast<float>(hi),
-                                      glm::vec4(r[l], g[l], bl[l], a[l]));
-      if (!sink_->take(static_cast<size_t>(L_.ray[l]), slab)) L_.t1[l] = -INFINITY;
+      collect_one(l, f[l], b[l], t0[l], t1[l], at[l], glm::vec4(r[l], g[l], bl[l], a[l]));
+    }
+  }
+
+  // One piece of the ray in lane l to the sink, unless the sink has declined that ray: a piece
+  // the queue held past the decline is dropped.
+  void collect_one(int l, float s_f, float s_b, float front, float back, float centre,
+                   const glm::vec4& colour) {
+    if (declined_ >> l & 1u) return;
+    double lo = front, hi = back;
+    if (trim_) trim_to_light(*v_.accel.emptiness, s_f, s_b, centre, lo, hi);
+    const Slab slab = Slab::between(static_cast<float>(lo), static_cast<float>(hi), colour);
+    if (!sink_->take(static_cast<size_t>(L_.ray[l]), slab)) {
+      L_.t1[l] = -INFINITY;
+      declined_ |= 1u << l;
     }
   }
 
@@ -1021,7 +1076,8 @@ class PacketKernel {
   int light_count_ = 0;
   bool use_runs_ = false;
   float run_lo_[TfEmptiness::kMaxRuns] = {}, run_hi_[TfEmptiness::kMaxRuns] = {};
-  bool defer_ = false;  // shading waits in queue_ (composite only)
+  bool defer_ = false;     // shading waits in queue_ (not for label volumes)
+  unsigned declined_ = 0;  // lanes whose ray the sink declined
   ShadeQueue queue_;
   Lanes L_{};  // zeros in lanes that never get a ray
 };
