@@ -251,9 +251,31 @@ struct Lanes {
 // Visible pieces waiting to be shaded, packed (PacketKernel::defer): room for one more step's
 // lanes after at most kLanes - 1 left over.
 struct ShadeQueue {
-  enum Field { kW, kR, kG, kB, kA, kAx, kAy, kAz, kBx, kBy, kBz, kLane, kTwo, kFields };
+  enum Field {
+    kW,
+    kR,
+    kG,
+    kB,
+    kA,
+    kAx,
+    kAy,
+    kAz,
+    kBx,
+    kBy,
+    kBz,
+    kLane,
+    kTwo,
+    kSf,
+    kSb,
+    kT0,
+    kT1,
+    kCentre,
+    kFields
+  };
   // kW: the weight over() gives the piece's colour; kLane (an int32 bit pattern): the lane of its
-  // ray; kTwo: all ones where it is shaded at two points.
+  // ray; kTwo: all ones where it is shaded at two points. A composite needs the fields up to
+  // kTwo; a sink's slab (PacketKernel::collect) also the piece's scalars, span and light centre.
+  static constexpr int kCompositeFields = kTwo + 1;
   HWY_ALIGN float field[kFields][2 * kLanes] = {};
   int count = 0;
 };
@@ -294,7 +316,7 @@ class PacketKernel {
     trim_ = extent == SlabExtent::visible && v.accel.emptiness;  // as VolumeMarcher trims
     labels_ = v.labels.active();
     nearest_ = v.labels.nearest();
-    defer_ = shaded_ && !sink_ && !labels_;
+    defer_ = shaded_ && !labels_;
     for (int k = 0; k < kAlphaCache; ++k) cached_label_[k] = k + 1;  // no label maps to slot k
     light_count_ = static_cast<int>(lights.size());
     if (v.accel.emptiness) use_runs_ = v.accel.emptiness->value_runs(run_lo_, run_hi_);
@@ -409,6 +431,7 @@ class PacketKernel {
       }
     }
     L_.ray[l] = static_cast<int32_t>(i);
+    declined_ &= ~(1u << l);
   }
 
   // VolumeMarcher::skip_empty for the lanes in m (fresh ones, or ones past their occupied
@@ -507,7 +530,7 @@ class PacketKernel {
         const VF aa = load(L_.a);
         const VF w = hn::Sub(splat(1.0f), aa);
         store(hn::IfThenElse(vis, hn::MulAdd(w, ca, aa), aa), L_.a);
-        defer(vis, two, w, cr, cg, cb, ca, at);
+        defer(vis, two, w, cr, cg, cb, ca, at, {s_f, s_b, front, back, centre});
         return bits_of(vis);
       }
       shade_points(vis, two, own_rays(), at, cr, cg, cb, ca);
@@ -520,6 +543,11 @@ class PacketKernel {
   // Where a piece is shaded: one point, and a second one where its light is spread.
   struct Points {
     VF a[3], b[3];
+  };
+  // What collect() makes a sink's slab of besides the colour: the scalars at the piece's ends,
+  // its span and its light's centre.
+  struct Piece {
+    VF s_f, s_b, front, back, centre;
   };
 
   // The shading of pieces in lanes: at point a where `two` is clear, else the mean of a and b.
@@ -538,8 +566,10 @@ class PacketKernel {
 
   // Puts the visible pieces of `vis` in the shading queue, packed in lane order, and shades the
   // first kLanes once that many wait. A step shades only about half its lanes on real scans
-  // (4.5 of 8 on a CT with the bone preset): the queue fills every lane of each shading.
-  void defer(MF vis, MF two, VF w, VF cr, VF cg, VF cb, VF ca, const Points& at) {
+  // (4.5 of 8 on a CT with the bone preset): the queue fills every lane of each shading. With a
+  // sink, the slabs go to it once shaded, each ray's in its order.
+  void defer(MF vis, MF two, VF w, VF cr, VF cg, VF cb, VF ca, const Points& at,
+             const Piece& piece) {
     const VF fields[ShadeQueue::kFields] = {w,
                                             cr,
                                             cg,
@@ -552,21 +582,28 @@ class PacketKernel {
                                             at.b[1],
                                             at.b[2],
                                             hn::BitCast(DF(), hn::Iota(DI(), 0)),
-                                            hn::VecFromMask(DF(), two)};
+                                            hn::VecFromMask(DF(), two),
+                                            piece.s_f,
+                                            piece.s_b,
+                                            piece.front,
+                                            piece.back,
+                                            piece.centre};
+    const int used = sink_ ? ShadeQueue::kFields : ShadeQueue::kCompositeFields;
     // The visible lanes first, in lane order; the lanes past them are overwritten later.
     const auto order = hn::IndicesFromVec(DF(), pack_order(vis));
-    for (int f = 0; f < ShadeQueue::kFields; ++f)
+    for (int f = 0; f < used; ++f)
       hn::StoreU(hn::TableLookupLanes(fields[f], order), DF(), &queue_.field[f][queue_.count]);
     queue_.count += __builtin_popcount(bits_of(vis));
     if (queue_.count < kLanes) return;
     shade_queued(kLanes);
     queue_.count -= kLanes;
-    for (int f = 0; f < ShadeQueue::kFields; ++f)
+    for (int f = 0; f < used; ++f)
       store(hn::LoadU(DF(), &queue_.field[f][kLanes]), queue_.field[f]);
   }
 
   // Shades the first n queued pieces and adds their colour to their rays, in queue order (each
-  // ray's pieces in ray order): acc.rgb += w * colour, as over() would have at the piece.
+  // ray's pieces in ray order): acc.rgb += w * colour, as over() would have at the piece; with a
+  // sink, gives it their slabs in that order instead.
   void shade_queued(int n) {
     const auto field = [&](int f) HWY_ATTR { return load(queue_.field[f]); };
     const MF valid = lane_mask((1u << n) - 1);
@@ -580,6 +617,14 @@ class PacketKernel {
     HWY_ALIGN int32_t lane[kLanes];
     store(cr, r), store(cg, g), store(cb, b);
     store(from, lane);
+    if (sink_) {
+      const auto* q = queue_.field;
+      for (int k = 0; k < n; ++k)
+        collect_one(lane[k], q[ShadeQueue::kSf][k], q[ShadeQueue::kSb][k], q[ShadeQueue::kT0][k],
+                    q[ShadeQueue::kT1][k], q[ShadeQueue::kCentre][k],
+                    glm::vec4(r[k], g[k], b[k], q[ShadeQueue::kA][k]));
+      return;
+    }
     const float* w = queue_.field[ShadeQueue::kW];
     for (int k = 0; k < n; ++k) {
       const int l = lane[k];
@@ -600,11 +645,21 @@ class PacketKernel {
     store(cr, r), store(cg, g), store(cb, bl), store(ca, a);
     for (unsigned m = bits_of(vis); m; m &= m - 1) {
       const int l = __builtin_ctz(m);
-      double lo = t0[l], hi = t1[l];
-      if (trim_) trim_to_light(*v_.accel.emptiness, f[l], b[l], at[l], lo, hi);
-      const Slab slab = Slab::between(static_cast<float>(lo), static_cast<float>(hi),
-                                      glm::vec4(r[l], g[l], bl[l], a[l]));
-      if (!sink_->take(static_cast<size_t>(L_.ray[l]), slab)) L_.t1[l] = -INFINITY;
+      collect_one(l, f[l], b[l], t0[l], t1[l], at[l], glm::vec4(r[l], g[l], bl[l], a[l]));
+    }
+  }
+
+  // One piece of the ray in lane l to the sink, unless the sink has declined that ray: a piece
+  // the queue held past the decline is dropped.
+  void collect_one(int l, float s_f, float s_b, float front, float back, float centre,
+                   const glm::vec4& colour) {
+    if (declined_ >> l & 1u) return;
+    double lo = front, hi = back;
+    if (trim_) trim_to_light(*v_.accel.emptiness, s_f, s_b, centre, lo, hi);
+    const Slab slab = Slab::between(static_cast<float>(lo), static_cast<float>(hi), colour);
+    if (!sink_->take(static_cast<size_t>(L_.ray[l]), slab)) {
+      L_.t1[l] = -INFINITY;
+      declined_ |= 1u << l;
     }
   }
 
@@ -820,23 +875,27 @@ class PacketKernel {
     HWY_ALIGN float e[4 * kLanes];
     for (int l = 0; l < kLanes; ++l) {
       const float* r0 = table + 4 * static_cast<size_t>(entry[l]);
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
+      // Entries j and j + 1 of a row in one 256-bit load.
+      const hn::Full256<float> d8;
+      const auto rows = lerp4(hn::LoadU(d8, r0), hn::LoadU(d8, r0 + row), hn::Set(d8, wx[l]));
+      const auto lo = hn::LowerHalf(d4, rows), hi = hn::UpperHalf(d4, rows);
+#else
       const auto fx = hn::Set(d4, wx[l]);
       const auto lo = lerp4(hn::LoadU(d4, r0), hn::LoadU(d4, r0 + row), fx);
       const auto hi = lerp4(hn::LoadU(d4, r0 + 4), hn::LoadU(d4, r0 + row + 4), fx);
+#endif
       hn::Store(lerp4(lo, hi, hn::Set(d4, wy[l])), d4, e + 4 * l);
     }
     hn::LoadInterleaved4(DF(), e, r, g, b, a);
 #endif
   }
 
-#if HWY_TARGET != HWY_SCALAR
-  // lerp() on one lane's four floats.
-  static HWY_INLINE hn::Vec<hn::Full128<float>> lerp4(hn::Vec<hn::Full128<float>> x,
-                                                      hn::Vec<hn::Full128<float>> y,
-                                                      hn::Vec<hn::Full128<float>> f) {
+  // lerp() on one lane's entries (128- or 256-bit vectors, whatever the target's lanes).
+  template <class V>
+  static HWY_INLINE V lerp4(V x, V y, V f) {
     return hn::MulAdd(f, hn::Sub(y, x), x);
   }
-#endif
 
   // PreintegrationView::light_of(a, the moments at (s_f, s_b)) in lanes: the centre and the
   // spread of where a piece's light comes from (0.5 and 0 where a is not positive).
@@ -1017,7 +1076,8 @@ class PacketKernel {
   int light_count_ = 0;
   bool use_runs_ = false;
   float run_lo_[TfEmptiness::kMaxRuns] = {}, run_hi_[TfEmptiness::kMaxRuns] = {};
-  bool defer_ = false;  // shading waits in queue_ (composite only)
+  bool defer_ = false;     // shading waits in queue_ (not for label volumes)
+  unsigned declined_ = 0;  // lanes whose ray the sink declined
   ShadeQueue queue_;
   Lanes L_{};  // zeros in lanes that never get a ray
 };
@@ -1112,44 +1172,57 @@ void PacketCamera::block(int x, int y, PacketRay* out, glm::vec2 at) const {
 
 // Groups of eight rays with the arithmetic the AVX2 lanes had (as PacketCamera::block), the
 // rest with PreparedVolume::intersect as before, so that every ray's interval stays as it was.
+// Each step runs over the group's eight rays (structure of arrays, no branches), which the
+// compiler vectorizes.
 void intersect_packets(const PreparedVolume& v, std::span<PacketRay> rays) {
-  constexpr size_t kGroup = 8;
+  constexpr int kGroup = 8;
   const size_t grouped = rays.size() - rays.size() % kGroup;
   const glm::mat4& m = v.world_to_index;
   const glm::vec3 hi = glm::vec3(v.grid.dims - 1);
   const float tiny = 1e-12f;
-  for (size_t i = 0; i < grouped; ++i) {
-    const glm::vec3 wo = rays[i].ray.origin, wd = rays[i].ray.dir;
-    float t0 = 0.0f, t1 = INFINITY;
-    bool outside = false;
+  for (size_t first = 0; first < grouped; first += kGroup) {
+    float o[3][kGroup], d[3][kGroup], t0[kGroup], t1[kGroup];
+    int outside[kGroup];
+    for (int l = 0; l < kGroup; ++l) {
+      const Ray& ray = rays[first + static_cast<size_t>(l)].ray;
+      for (int a = 0; a < 3; ++a) o[a][l] = ray.origin[a], d[a][l] = ray.dir[a];
+      t0[l] = 0.0f, t1[l] = INFINITY, outside[l] = 0;
+    }
     for (int a = 0; a < 3; ++a) {
-      // Row a of the index map: the ray's origin and direction in index space.
-      const float io =
-          std::fma(m[2][a], wo[2], std::fma(m[1][a], wo[1], std::fma(m[0][a], wo[0], m[3][a])));
-      const float id = dot3(m[0][a], m[1][a], m[2][a], wd[0], wd[1], wd[2]);
-      const bool parallel = std::abs(id) < tiny;
-      const bool beyond = io < 0.0f || io > hi[a];
-      outside = outside || (parallel && beyond);
-      const float inv = 1.0f / id;
-      const float ta = (0.0f - io) * inv;
-      const float tb = (hi[a] - io) * inv;
-      const bool swap = ta > tb;
-      const float near = swap ? tb : ta, far = swap ? ta : tb;
-      // As std::max(t0, near) and std::min(t1, far): a NaN bound leaves the interval alone.
-      if (!parallel) t0 = max_ps(near, t0), t1 = min_ps(far, t1);
+      const float m0 = m[0][a], m1 = m[1][a], m2 = m[2][a], m3 = m[3][a], last = hi[a];
+      for (int l = 0; l < kGroup; ++l) {
+        // Row a of the index map: the ray's origin and direction in index space.
+        const float io = std::fma(m2, o[2][l], std::fma(m1, o[1][l], std::fma(m0, o[0][l], m3)));
+        const float id = dot3(m0, m1, m2, d[0][l], d[1][l], d[2][l]);
+        const bool parallel = std::abs(id) < tiny;
+        outside[l] |= parallel & ((io < 0.0f) | (io > last));
+        const float inv = 1.0f / id;
+        const float ta = (0.0f - io) * inv;
+        const float tb = (last - io) * inv;
+        const bool swap = ta > tb;
+        const float near = swap ? tb : ta, far = swap ? ta : tb;
+        // As std::max(t0, near) and std::min(t1, far): a NaN bound leaves the interval alone.
+        t0[l] = parallel ? t0[l] : max_ps(near, t0[l]);
+        t1[l] = parallel ? t1[l] : min_ps(far, t1[l]);
+      }
     }
     for (const ClipPlane& c : v.object->clip_planes) {
       const glm::vec3 n(c.normal), p(c.point);
-      const float side = dot3(wo[0] - p.x, wo[1] - p.y, wo[2] - p.z, n.x, n.y, n.z);
-      const float rate = dot3(wd[0], wd[1], wd[2], n.x, n.y, n.z);
-      const bool parallel = std::abs(rate) < tiny;
-      outside = outside || (parallel && side < 0.0f);
-      const float t = -side / rate;
-      if (!parallel && rate > 0.0f) t0 = max_ps(t, t0);
-      if (!parallel && rate <= 0.0f) t1 = min_ps(t, t1);
+      for (int l = 0; l < kGroup; ++l) {
+        const float side = dot3(o[0][l] - p.x, o[1][l] - p.y, o[2][l] - p.z, n.x, n.y, n.z);
+        const float rate = dot3(d[0][l], d[1][l], d[2][l], n.x, n.y, n.z);
+        const bool parallel = std::abs(rate) < tiny;
+        outside[l] |= parallel & (side < 0.0f);
+        const float t = -side / rate;
+        t0[l] = !parallel && rate > 0.0f ? max_ps(t, t0[l]) : t0[l];
+        t1[l] = !parallel && rate <= 0.0f ? min_ps(t, t1[l]) : t1[l];
+      }
     }
-    if (outside) t0 = 0.0f, t1 = -1.0f;
-    rays[i].t0 = t0, rays[i].t1 = t1;
+    for (int l = 0; l < kGroup; ++l) {
+      PacketRay& r = rays[first + static_cast<size_t>(l)];
+      r.t0 = outside[l] ? 0.0f : t0[l];
+      r.t1 = outside[l] ? -1.0f : t1[l];
+    }
   }
   for (size_t i = grouped; i < rays.size(); ++i) {
     const RayInterval span = v.intersect(rays[i].ray);
