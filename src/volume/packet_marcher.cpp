@@ -958,7 +958,8 @@ class PacketKernel {
       gradients_->sample(px, py, pz, gx, gy, gz);
     } else if constexpr (NoData) {
       gradient_of_data(px, py, pz, gx, gy, gz);
-    } else {
+    } else if (!grid_.interior_gradient(vis, px, py, pz, gx, gy, gz)) {
+      // Near the grid's faces: six clamped samples.
       const VF one = splat(1.0f), half = splat(0.5f);
       gx = hn::Mul(half, hn::Sub(grid_.sample(hn::Add(px, one), py, pz),
                                  grid_.sample(hn::Sub(px, one), py, pz)));
