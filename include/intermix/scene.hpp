@@ -306,7 +306,7 @@ struct RenderSettings {
   std::string overflow = "greedy";  // zSlab: a full ZT array folds by greedy or tail merging
   // zSlab: every volume at the common step ("common") or each at a step for its own pitch
   std::string sampling = "per-volume";
-  bool packets = true;  // mdvr: one-volume scenes march 8 rays at once (AVX2); same image
+  bool packets = true;  // mdvr: one-volume scenes march a packet of rays in SIMD lanes; same image
   std::string csg_simplify = "merge";   // clipping-state simplification: none, merge or full
   double csg_presence_threshold = 0.0;  // TF opacity per unit_distance above which a volume counts
   int csg_max_states = 4096;            // normalization stops with an error beyond this
