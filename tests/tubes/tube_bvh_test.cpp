@@ -178,18 +178,23 @@ TEST(TubeBvh, ContainsFindsTheNearestSegmentWithinTheRadius) {
   std::uniform_real_distribution<float> U(-1.5f, 1.5f);
   for (int i = 0; i < 2000; ++i) {
     const glm::vec3 x(10.0f + 7.0f * U(rng), U(rng), U(rng) * 0.5f);
-    float best = 1e9f;
-    uint32_t nearest = 0;
-    for (uint32_t k = 0; k < 40; ++k) {
+    auto distance = [&](uint32_t k) {
       const glm::vec3 a = points[k], ba = points[k + 1] - a;
       const float u = std::clamp(glm::dot(x - a, ba) / glm::dot(ba, ba), 0.0f, 1.0f);
-      const float d = glm::length(x - (a + u * ba));
-      if (d < best) best = d, nearest = k;
-    }
+      return glm::length(x - (a + u * ba));
+    };
+    float best = 1e9f;
+    uint32_t nearest = 0;
+    for (uint32_t k = 0; k < 40; ++k)
+      if (const float d = distance(k); d < best) best = d, nearest = k;
     TubeHit where;
     ASSERT_EQ(bvh.contains(x, &where), best <= 0.4f) << "point " << i;
     if (best <= 0.4f) {
-      EXPECT_EQ(where.segment, nearest);
+      // Nearest to a shared vertex, two segments tie up to rounding, which differs with and
+      // without FMA contraction: either is the answer.
+      if (where.segment != nearest) {
+        EXPECT_NEAR(distance(where.segment), best, 1e-6f);
+      }
       EXPECT_NEAR(glm::length(where.normal), best, 1e-5f);
     }
   }
