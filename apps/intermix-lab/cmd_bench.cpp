@@ -288,12 +288,9 @@ Command add_bench(CLI::App& app) {
     const double first = rows.front()["ms_median"];
     for (auto& r : rows) r["ratio"] = r["ms_median"].get<double>() / first;
     if (o->json) {
-      nlohmann::json out = {{"scene", o->scene},
-                            {"width", base.image.width},
-                            {"height", base.image.height},
-                            {"simd", simd_target()},
-                            {"simd_lanes", simd_lanes()},
-                            {"methods", rows},
+      nlohmann::json out = {{"scene", o->scene},           {"width", base.image.width},
+                            {"height", base.image.height}, {"simd", simd_target()},
+                            {"simd_lanes", simd_lanes()},  {"methods", rows},
                             {"resident", resident}};
       std::printf("%s\n", out.dump().c_str());
     } else {
