@@ -29,6 +29,17 @@ class LaneLattice {
         sy_(dims.x),
         sz_(dims.x * dims.y) {}
 
+  // Set where p lies at least a voxel inside the grid on every axis (p in [1, dims - 2)), so
+  // that fetches one voxel either way of its cell are never clamped.
+  MF interior(VF px, VF py, VF pz) const {
+    const VF one = splat(1.0f);
+    return hn::And(hn::And(hn::And(hn::Ge(px, one), hn::Lt(px, splat(hi_x_ - 1.0f))),
+                           hn::And(hn::Ge(py, one), hn::Lt(py, splat(hi_y_ - 1.0f)))),
+                   hn::And(hn::Ge(pz, one), hn::Lt(pz, splat(hi_z_ - 1.0f))));
+  }
+  // Voxel (1, 1, 1): a cell whose neighbourhood every interior fetch may read instead.
+  int interior_base() const { return 1 + sy_ + sz_; }
+
   VI sy() const { return splat(sy_); }
   VI sz() const { return splat(sz_); }
   int stride_y() const { return sy_; }
@@ -56,6 +67,14 @@ class LaneLattice {
   int sy_, sz_;                // strides in voxels
 };
 
+// The trilinear interpolation of a cell's corners c000, c100, c010, c110, c001, c101, c011, c111
+// at fractions (fx, fy, fz): x first, then y, then z, as VoxelGrid<T>::sample.
+HWY_INLINE VF trilinear(const VF c[8], VF fx, VF fy, VF fz) {
+  const VF c00 = lerp(c[0], c[1], fx), c10 = lerp(c[2], c[3], fx);
+  const VF c01 = lerp(c[4], c[5], fx), c11 = lerp(c[6], c[7], fx);
+  return lerp(lerp(c00, c10, fy), lerp(c01, c11, fy), fz);
+}
+
 // The low and high 16-bit halves of 32-bit words, sign- or zero-extended as T is.
 template <class T>
 HWY_INLINE VI low_half(VI w) {
@@ -75,12 +94,7 @@ template <class T>
 class LaneGrid {
  public:
   explicit LaneGrid(const VoxelGrid<T>& g)
-      : data_(g.data),
-        lattice_(g.dims),
-        last_word_(g.dims.x * g.dims.y * g.dims.z - 4),
-        hi2_x_(static_cast<float>(g.dims.x - 2)),
-        hi2_y_(static_cast<float>(g.dims.y - 2)),
-        hi2_z_(static_cast<float>(g.dims.z - 2)) {}
+      : data_(g.data), lattice_(g.dims), last_word_(g.dims.x * g.dims.y * g.dims.z - 4) {}
 
   // The eight voxels around each lane's point (c000, c100, c010, c110, c001, c101, c011, c111)
   // as integers (floats truncated) and the fractions toward the upper corner.
@@ -108,6 +122,8 @@ class LaneGrid {
     }
   }
 
+  const LaneLattice& lattice() const { return lattice_; }
+
   VF sample(VF px, VF py, VF pz) const {
     VF fx, fy, fz;
     const VI base = lattice_.locate(px, py, pz, fx, fy, fz);
@@ -115,24 +131,8 @@ class LaneGrid {
     const VI o01 = hn::Add(base, sy), o10 = hn::Add(base, sz);
     const VI offs[4] = {base, o01, o10, hn::Add(o01, sz)};
     VF c[8];  // c000, c100, c010, c110, c001, c101, c011, c111
-    for (int k = 0; k < 4; ++k) {
-      if constexpr (std::is_same_v<T, float>) {
-        c[2 * k] = gather_floats(data_, offs[k]);
-        c[2 * k + 1] = gather_floats(data_, hn::Add(offs[k], splat(1)));
-      } else {
-        const VI w = word(offs[k], k == 3);
-        if constexpr (sizeof(T) == 1) {
-          c[2 * k] = hn::ConvertTo(DF(), hn::And(w, splat(0xff)));
-          c[2 * k + 1] = hn::ConvertTo(DF(), hn::And(hn::ShiftRight<8>(w), splat(0xff)));
-        } else {
-          c[2 * k] = hn::ConvertTo(DF(), low_half<T>(w));
-          c[2 * k + 1] = hn::ConvertTo(DF(), high_half<T>(w));
-        }
-      }
-    }
-    const VF c00 = lerp(c[0], c[1], fx), c10 = lerp(c[2], c[3], fx);
-    const VF c01 = lerp(c[4], c[5], fx), c11 = lerp(c[6], c[7], fx);
-    return lerp(lerp(c00, c10, fy), lerp(c01, c11, fy), fz);
+    for (int k = 0; k < 4; ++k) pair(offs[k], k == 3, c[2 * k], c[2 * k + 1]);
+    return trilinear(c, fx, fy, fz);
   }
 
   // VoxelGrid<T>::gradient (central differences of sample() one voxel each way) where every lane
@@ -142,16 +142,13 @@ class LaneGrid {
   // around p once, in 12 to 16 word fetches instead of 24 for 8- and 16-bit voxels. Returns
   // false, computing nothing, where a lane of `lanes` is nearer an edge.
   bool interior_gradient(MF lanes, VF px, VF py, VF pz, VF& gx, VF& gy, VF& gz) const {
-    const VF one = splat(1.0f);
-    const MF inside = hn::And(hn::And(hn::And(hn::Ge(px, one), hn::Lt(px, splat(hi2_x_))),
-                                      hn::And(hn::Ge(py, one), hn::Lt(py, splat(hi2_y_)))),
-                              hn::And(hn::Ge(pz, one), hn::Lt(pz, splat(hi2_z_))));
+    const MF inside = lattice_.interior(px, py, pz);
     if (hn::AllFalse(DF(), lanes) || !hn::AllTrue(DF(), hn::Or(inside, hn::Not(lanes))))
       return false;
     VF fx, fy, fz;
     // Lanes outside `lanes` read voxel (1, 1, 1)'s neighbourhood instead.
     const VI base = hn::IfThenElse(to_int(inside), lattice_.locate(px, py, pz, fx, fy, fz),
-                                   splat(1 + lattice_.stride_y() + lattice_.stride_z()));
+                                   splat(lattice_.interior_base()));
     const int sy = lattice_.stride_y(), sz = lattice_.stride_z();
     // Voxels x0 - 1 .. x0 + 2 of the row (y0 + dy, z0 + dz), and the pair x0, x0 + 1 alone.
     struct Row4 {
@@ -160,17 +157,16 @@ class LaneGrid {
     auto row4 = [&](int dy, int dz) HWY_ATTR {
       const VI at = hn::Add(base, splat(dy * sy + dz * sz));
       Row4 r;
-      pair(hn::Sub(at, splat(1)), r.v[0], r.v[1]);
-      pair(hn::Add(at, splat(1)), r.v[2], r.v[3]);
+      pair(hn::Sub(at, splat(1)), false, r.v[0], r.v[1]);
+      pair(hn::Add(at, splat(1)), false, r.v[2], r.v[3]);
       return r;
     };
     auto row2 = [&](int dy, int dz, VF& a, VF& b)
-                    HWY_ATTR { pair(hn::Add(base, splat(dy * sy + dz * sz)), a, b); };
+                    HWY_ATTR { pair(hn::Add(base, splat(dy * sy + dz * sz)), false, a, b); };
     // The trilinear interpolation of a cell given as its four x-pairs (y, z order).
     auto cell = [&](VF a0, VF a1, VF b0, VF b1, VF c0, VF c1, VF d0, VF d1) HWY_ATTR {
-      const VF c00 = lerp(a0, a1, fx), c10 = lerp(b0, b1, fx);
-      const VF c01 = lerp(c0, c1, fx), c11 = lerp(d0, d1, fx);
-      return lerp(lerp(c00, c10, fy), lerp(c01, c11, fy), fz);
+      const VF c[8] = {a0, a1, b0, b1, c0, c1, d0, d1};
+      return trilinear(c, fx, fy, fz);
     };
     const Row4 r00 = row4(0, 0), r10 = row4(1, 0), r01 = row4(0, 1), r11 = row4(1, 1);
     VF ym0a, ym0b, ym1a, ym1b, yp0a, yp0b, yp1a, yp1b;
@@ -195,19 +191,20 @@ class LaneGrid {
   }
 
  private:
-  // Voxels i and i + 1 as floats, for interior points only (no word runs past the voxels).
-  void pair(VI i, VF& a, VF& b) const {
+  // Voxels i and i + 1 as floats (`last_row`: as word()).
+  void pair(VI i, bool last_row, VF& a, VF& b) const {
     if constexpr (std::is_same_v<T, float>) {
       a = gather_floats(data_, i);
       b = gather_floats(data_, hn::Add(i, splat(1)));
-    } else if constexpr (sizeof(T) == 1) {
-      const VI w = gather_words<1>(data_, i);
-      a = hn::ConvertTo(DF(), hn::And(w, splat(0xff)));
-      b = hn::ConvertTo(DF(), hn::And(hn::ShiftRight<8>(w), splat(0xff)));
     } else {
-      const VI w = gather_words<2>(data_, i);
-      a = hn::ConvertTo(DF(), low_half<T>(w));
-      b = hn::ConvertTo(DF(), high_half<T>(w));
+      const VI w = word(i, last_row);
+      if constexpr (sizeof(T) == 1) {
+        a = hn::ConvertTo(DF(), hn::And(w, splat(0xff)));
+        b = hn::ConvertTo(DF(), hn::And(hn::ShiftRight<8>(w), splat(0xff)));
+      } else {
+        a = hn::ConvertTo(DF(), low_half<T>(w));
+        b = hn::ConvertTo(DF(), high_half<T>(w));
+      }
     }
   }
 
@@ -229,8 +226,7 @@ class LaneGrid {
 
   const T* data_;
   LaneLattice lattice_;
-  int last_word_;                // the last voxel a 32-bit word may start at
-  float hi2_x_, hi2_y_, hi2_z_;  // dims - 2: interior_gradient's bound
+  int last_word_;  // the last voxel a 32-bit word may start at
 };
 
 }  // namespace imx::HWY_NAMESPACE::lanes

@@ -87,12 +87,9 @@ class LaneGradients {
       }
     }
     const VF scale = splat(scale_);
-    auto trilinear = [&](const VF* v) HWY_ATTR {
-      const VF c00 = lerp(v[0], v[1], fx), c10 = lerp(v[2], v[3], fx);
-      const VF c01 = lerp(v[4], v[5], fx), c11 = lerp(v[6], v[7], fx);
-      return hn::Mul(lerp(lerp(c00, c10, fy), lerp(c01, c11, fy), fz), scale);
-    };
-    gx = trilinear(cx), gy = trilinear(cy), gz = trilinear(cz);
+    gx = hn::Mul(trilinear(cx, fx, fy, fz), scale);
+    gy = hn::Mul(trilinear(cy, fx, fy, fz), scale);
+    gz = hn::Mul(trilinear(cz, fx, fy, fz), scale);
   }
 
  private:
@@ -108,16 +105,7 @@ class LaneGradients {
 template <class T>
 class LaneLabelCells {
  public:
-  explicit LaneLabelCells(const VoxelGrid<T>& g)
-      : data_(g.data),
-        grid_(g),
-        lattice_(g.dims),
-        sy_(g.dims.x),
-        sz_(g.dims.x * g.dims.y),
-        hi2_x_(static_cast<float>(g.dims.x - 2)),
-        hi2_y_(static_cast<float>(g.dims.y - 2)),
-        hi2_z_(static_cast<float>(g.dims.z - 2)),
-        safe_(1 + g.dims.x + g.dims.x * g.dims.y) {}
+  explicit LaneLabelCells(const VoxelGrid<T>& g) : data_(g.data), grid_(g) {}
 
   void cell(VF px, VF py, VF pz, VI c[8], VF& fx, VF& fy, VF& fz) const {
     grid_.corners(px, py, pz, c, fx, fy, fz);
@@ -132,22 +120,21 @@ class LaneLabelCells {
       (void)vis, (void)px, (void)py, (void)pz, (void)label, (void)gx, (void)gy, (void)gz;
       return false;
     } else {
-      const VF one = splat(1.0f);
-      const MF inside = hn::And(hn::And(hn::And(hn::Ge(px, one), hn::Lt(px, splat(hi2_x_))),
-                                        hn::And(hn::Ge(py, one), hn::Lt(py, splat(hi2_y_)))),
-                                hn::And(hn::Ge(pz, one), hn::Lt(pz, splat(hi2_z_))));
+      const LaneLattice& lattice = grid_.lattice();
+      const MF inside = lattice.interior(px, py, pz);
       const unsigned v = bits_of(vis);
       if ((bits_of(inside) & v) != v) return false;
       VF fx, fy, fz;
-      VI base = lattice_.locate(px, py, pz, fx, fy, fz);
+      VI base = lattice.locate(px, py, pz, fx, fy, fz);
       // Lanes not shaded read a safe interior row instead.
-      base = hn::IfThenElse(to_int(inside), base, splat(safe_));
+      base = hn::IfThenElse(to_int(inside), base, splat(lattice.interior_base()));
+      const int sy = lattice.stride_y(), sz = lattice.stride_z();
       const VI at = hn::Sub(base, splat(1));
       // The label in every byte: a byte compare then flags the voxels that hold it.
       const VI pattern = hn::Mul(label, splat(0x01010101));
       // Bit 8k of a row's flags: voxel x0 - 1 + k holds the label.
       auto row = [&](int dy, int dz) HWY_ATTR {
-        const VI w = gather_words<1>(data_, hn::Add(at, splat(sy_ * dy + sz_ * dz)));
+        const VI w = gather_words<1>(data_, hn::Add(at, splat(sy * dy + sz * dz)));
 #if HWY_TARGET == HWY_SCALAR
         // One lane: the zero bytes of w ^ pattern, found without carries between bytes.
         const VU x = hn::BitCast(DU(), hn::Xor(w, pattern));
@@ -167,11 +154,9 @@ class LaneLabelCells {
       };
       // The indicator of a cell from its four rows (y, z order) and its first x byte.
       auto cell = [&](VI r00, VI r10, VI r01, VI r11, int k) HWY_ATTR {
-        const VF c00 = lerp(is(r00, k), is(r00, k + 1), fx);
-        const VF c10 = lerp(is(r10, k), is(r10, k + 1), fx);
-        const VF c01 = lerp(is(r01, k), is(r01, k + 1), fx);
-        const VF c11 = lerp(is(r11, k), is(r11, k + 1), fx);
-        return lerp(lerp(c00, c10, fy), lerp(c01, c11, fy), fz);
+        const VF c[8] = {is(r00, k), is(r00, k + 1), is(r10, k), is(r10, k + 1),
+                         is(r01, k), is(r01, k + 1), is(r11, k), is(r11, k + 1)};
+        return trilinear(c, fx, fy, fz);
       };
       const VI r00 = row(0, 0), r10 = row(1, 0), r01 = row(0, 1), r11 = row(1, 1);
       const VI ym0 = row(-1, 0), ym1 = row(-1, 1), yp0 = row(2, 0), yp1 = row(2, 1);
@@ -192,18 +177,12 @@ class LaneLabelCells {
     VF is[8];
     for (int k = 0; k < 8; ++k)
       is[k] = hn::IfThenElseZero(to_float(hn::Eq(c[k], label)), splat(1.0f));
-    const VF c00 = lerp(is[0], is[1], fx), c10 = lerp(is[2], is[3], fx);
-    const VF c01 = lerp(is[4], is[5], fx), c11 = lerp(is[6], is[7], fx);
-    return lerp(lerp(c00, c10, fy), lerp(c01, c11, fy), fz);
+    return trilinear(is, fx, fy, fz);
   }
 
  private:
   const T* data_;
   LaneGrid<T> grid_;
-  LaneLattice lattice_;
-  int sy_, sz_;                  // strides in voxels
-  float hi2_x_, hi2_y_, hi2_z_;  // dims - 2: interior_gradient's bound
-  int safe_;                     // voxel (1, 1, 1)
 };
 
 // kPackOrder[m]: the set bits of m in rising order, a nibble each from the lowest: the
