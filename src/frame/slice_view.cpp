@@ -13,6 +13,7 @@
 #include "raster/shade_fragment.hpp"
 #include "volume/classify.hpp"
 #include "volume/prepared_volume.hpp"
+#include "volume/wide_scalar.hpp"
 
 namespace imx {
 namespace {
@@ -180,9 +181,12 @@ Image render_slice(const Scene& scene, const SliceView& view, const std::vector<
                       sampling.count, step, view.slab.mode});
   }
   Image image(view.width, view.height);
+  const bool wide = wide_scalar_available();
   tbb::parallel_for(0, view.height, [&](int y) {
-    for (int x = 0; x < view.width; ++x)
-      image.at(x, y) = slice_pixel(layers, glm::vec3(view.world(x + 0.5, y + 0.5)));
+    run_wide_scalar(wide, [&] {
+      for (int x = 0; x < view.width; ++x)
+        image.at(x, y) = slice_pixel(layers, glm::vec3(view.world(x + 0.5, y + 0.5)));
+    });
   });
   return image;
 }

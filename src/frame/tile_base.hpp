@@ -18,6 +18,7 @@
 #include "intermix/render.hpp"
 #include "raster/rasterizer.hpp"
 #include "tubes/tube_coverage.hpp"
+#include "volume/wide_scalar.hpp"
 
 namespace imx {
 
@@ -45,6 +46,7 @@ Image render_fragment_method(const Scene& scene, const FrameSetup& frame, int sp
   Image image(w, h);
   const glm::vec4 background = scene.image.background;
   const float weight = 1.0f / static_cast<float>(offsets.size());
+  const bool wide = wide_scalar_available();  // the kernel runs its x86-64-v3 copy
   for_each_tile(
       w, h, kTileSize, options.threads,
       [&](const TileRect& tile, int) {
@@ -67,11 +69,13 @@ Image render_fragment_method(const Scene& scene, const FrameSetup& frame, int sp
               }
               ++sample;
               const Ray ray = frame.camera.ray(x + o.x, y + o.y);
-              if constexpr (std::is_invocable_v<decltype(kernel)&, const Ray&, std::span<Fragment>,
-                                                const VolumeFilter&>)
-                sum += kernel(ray, row, filter);
-              else
-                sum += kernel(ray, row, filter.may_show);
+              sum += run_wide_scalar(wide, [&] {
+                if constexpr (std::is_invocable_v<decltype(kernel)&, const Ray&,
+                                                  std::span<Fragment>, const VolumeFilter&>)
+                  return kernel(ray, row, filter);
+                else
+                  return kernel(ray, row, filter.may_show);
+              });
             }
             image.at(x, y) = over_background(sum * weight, background);
           }

@@ -12,6 +12,7 @@
 #include "volume/ray_shading.hpp"
 #include "volume/simd_targets.hpp"
 #include "volume/volume_marcher.hpp"
+#include "volume/wide_scalar.hpp"
 
 // One source for every SIMD target (Google Highway): foreach_target compiles the part between
 // HWY_BEFORE_NAMESPACE and HWY_AFTER_NAMESPACE once per target; the public functions at the end
@@ -1131,23 +1132,26 @@ PacketCamera::PacketCamera(const CameraModel& camera)
       per_y_(camera.pixel_basis().per_y),
       eye_(camera.eye()),
       forward_(camera.forward()),
-      perspective_(camera.perspective()) {}
+      perspective_(camera.perspective()),
+      wide_(wide_scalar_available()) {}
 
 // One ray at a time with the arithmetic the AVX2 lanes had (fused where they fused, in the same
 // order), so that the rays, and the images, stay as they were on every target.
 void PacketCamera::block(int x, int y, PacketRay* out, glm::vec2 at) const {
-  const float x0 = static_cast<float>(x) + at.x, y0 = static_cast<float>(y) + at.y;
-  for (int l = 0; l < 8; ++l) {
-    const float px = x0 + static_cast<float>(l % 4), py = y0 + static_cast<float>(l / 4);
-    float v[3];
-    for (int a = 0; a < 3; ++a) v[a] = std::fma(py, per_y_[a], std::fma(px, per_x_[a], at_[a]));
-    if (perspective_) {
-      const float inv = 1.0f / std::sqrt(dot3(v[0], v[1], v[2], v[0], v[1], v[2]));
-      out[l].ray = Ray{eye_, glm::vec3(v[0] * inv, v[1] * inv, v[2] * inv)};
-    } else {
-      out[l].ray = Ray{glm::vec3(v[0], v[1], v[2]), forward_};
+  run_wide_scalar(wide_, [&] {
+    const float x0 = static_cast<float>(x) + at.x, y0 = static_cast<float>(y) + at.y;
+    for (int l = 0; l < 8; ++l) {
+      const float px = x0 + static_cast<float>(l % 4), py = y0 + static_cast<float>(l / 4);
+      float v[3];
+      for (int a = 0; a < 3; ++a) v[a] = std::fma(py, per_y_[a], std::fma(px, per_x_[a], at_[a]));
+      if (perspective_) {
+        const float inv = 1.0f / std::sqrt(dot3(v[0], v[1], v[2], v[0], v[1], v[2]));
+        out[l].ray = Ray{eye_, glm::vec3(v[0] * inv, v[1] * inv, v[2] * inv)};
+      } else {
+        out[l].ray = Ray{glm::vec3(v[0], v[1], v[2]), forward_};
+      }
     }
-  }
+  });
 }
 
 // Groups of eight rays with the arithmetic the AVX2 lanes had (as PacketCamera::block), the
@@ -1155,59 +1159,61 @@ void PacketCamera::block(int x, int y, PacketRay* out, glm::vec2 at) const {
 // Each step runs over the group's eight rays (structure of arrays, no branches), which the
 // compiler vectorizes.
 void intersect_packets(const PreparedVolume& v, std::span<PacketRay> rays) {
-  constexpr int kGroup = 8;
-  const size_t grouped = rays.size() - rays.size() % kGroup;
-  const glm::mat4& m = v.world_to_index;
-  const glm::vec3 hi = glm::vec3(v.grid.dims - 1);
-  const float tiny = 1e-12f;
-  for (size_t first = 0; first < grouped; first += kGroup) {
-    float o[3][kGroup], d[3][kGroup], t0[kGroup], t1[kGroup];
-    int outside[kGroup];
-    for (int l = 0; l < kGroup; ++l) {
-      const Ray& ray = rays[first + static_cast<size_t>(l)].ray;
-      for (int a = 0; a < 3; ++a) o[a][l] = ray.origin[a], d[a][l] = ray.dir[a];
-      t0[l] = 0.0f, t1[l] = INFINITY, outside[l] = 0;
-    }
-    for (int a = 0; a < 3; ++a) {
-      const float m0 = m[0][a], m1 = m[1][a], m2 = m[2][a], m3 = m[3][a], last = hi[a];
+  run_wide_scalar(v.wide_scalar, [&] {
+    constexpr int kGroup = 8;
+    const size_t grouped = rays.size() - rays.size() % kGroup;
+    const glm::mat4& m = v.world_to_index;
+    const glm::vec3 hi = glm::vec3(v.grid.dims - 1);
+    const float tiny = 1e-12f;
+    for (size_t first = 0; first < grouped; first += kGroup) {
+      float o[3][kGroup], d[3][kGroup], t0[kGroup], t1[kGroup];
+      int outside[kGroup];
       for (int l = 0; l < kGroup; ++l) {
-        // Row a of the index map: the ray's origin and direction in index space.
-        const float io = std::fma(m2, o[2][l], std::fma(m1, o[1][l], std::fma(m0, o[0][l], m3)));
-        const float id = dot3(m0, m1, m2, d[0][l], d[1][l], d[2][l]);
-        const bool parallel = std::abs(id) < tiny;
-        outside[l] |= parallel & ((io < 0.0f) | (io > last));
-        const float inv = 1.0f / id;
-        const float ta = (0.0f - io) * inv;
-        const float tb = (last - io) * inv;
-        const bool swap = ta > tb;
-        const float near = swap ? tb : ta, far = swap ? ta : tb;
-        // As std::max(t0, near) and std::min(t1, far): a NaN bound leaves the interval alone.
-        t0[l] = parallel ? t0[l] : max_ps(near, t0[l]);
-        t1[l] = parallel ? t1[l] : min_ps(far, t1[l]);
+        const Ray& ray = rays[first + static_cast<size_t>(l)].ray;
+        for (int a = 0; a < 3; ++a) o[a][l] = ray.origin[a], d[a][l] = ray.dir[a];
+        t0[l] = 0.0f, t1[l] = INFINITY, outside[l] = 0;
+      }
+      for (int a = 0; a < 3; ++a) {
+        const float m0 = m[0][a], m1 = m[1][a], m2 = m[2][a], m3 = m[3][a], last = hi[a];
+        for (int l = 0; l < kGroup; ++l) {
+          // Row a of the index map: the ray's origin and direction in index space.
+          const float io = std::fma(m2, o[2][l], std::fma(m1, o[1][l], std::fma(m0, o[0][l], m3)));
+          const float id = dot3(m0, m1, m2, d[0][l], d[1][l], d[2][l]);
+          const bool parallel = std::abs(id) < tiny;
+          outside[l] |= parallel & ((io < 0.0f) | (io > last));
+          const float inv = 1.0f / id;
+          const float ta = (0.0f - io) * inv;
+          const float tb = (last - io) * inv;
+          const bool swap = ta > tb;
+          const float near = swap ? tb : ta, far = swap ? ta : tb;
+          // As std::max(t0, near) and std::min(t1, far): a NaN bound leaves the interval alone.
+          t0[l] = parallel ? t0[l] : max_ps(near, t0[l]);
+          t1[l] = parallel ? t1[l] : min_ps(far, t1[l]);
+        }
+      }
+      for (const ClipPlane& c : v.object->clip_planes) {
+        const glm::vec3 n(c.normal), p(c.point);
+        for (int l = 0; l < kGroup; ++l) {
+          const float side = dot3(o[0][l] - p.x, o[1][l] - p.y, o[2][l] - p.z, n.x, n.y, n.z);
+          const float rate = dot3(d[0][l], d[1][l], d[2][l], n.x, n.y, n.z);
+          const bool parallel = std::abs(rate) < tiny;
+          outside[l] |= parallel & (side < 0.0f);
+          const float t = -side / rate;
+          t0[l] = !parallel && rate > 0.0f ? max_ps(t, t0[l]) : t0[l];
+          t1[l] = !parallel && rate <= 0.0f ? min_ps(t, t1[l]) : t1[l];
+        }
+      }
+      for (int l = 0; l < kGroup; ++l) {
+        PacketRay& r = rays[first + static_cast<size_t>(l)];
+        r.t0 = outside[l] ? 0.0f : t0[l];
+        r.t1 = outside[l] ? -1.0f : t1[l];
       }
     }
-    for (const ClipPlane& c : v.object->clip_planes) {
-      const glm::vec3 n(c.normal), p(c.point);
-      for (int l = 0; l < kGroup; ++l) {
-        const float side = dot3(o[0][l] - p.x, o[1][l] - p.y, o[2][l] - p.z, n.x, n.y, n.z);
-        const float rate = dot3(d[0][l], d[1][l], d[2][l], n.x, n.y, n.z);
-        const bool parallel = std::abs(rate) < tiny;
-        outside[l] |= parallel & (side < 0.0f);
-        const float t = -side / rate;
-        t0[l] = !parallel && rate > 0.0f ? max_ps(t, t0[l]) : t0[l];
-        t1[l] = !parallel && rate <= 0.0f ? min_ps(t, t1[l]) : t1[l];
-      }
+    for (size_t i = grouped; i < rays.size(); ++i) {
+      const RayInterval span = v.intersect(rays[i].ray);
+      rays[i].t0 = span.t0, rays[i].t1 = span.t1;
     }
-    for (int l = 0; l < kGroup; ++l) {
-      PacketRay& r = rays[first + static_cast<size_t>(l)];
-      r.t0 = outside[l] ? 0.0f : t0[l];
-      r.t1 = outside[l] ? -1.0f : t1[l];
-    }
-  }
-  for (size_t i = grouped; i < rays.size(); ++i) {
-    const RayInterval span = v.intersect(rays[i].ray);
-    rays[i].t0 = span.t0, rays[i].t1 = span.t1;
-  }
+  });
 }
 
 void composite_packets(const PreparedVolume& v, std::span<const PacketRay> rays, float step,

@@ -34,6 +34,7 @@ class PacketCamera {
   glm::vec3 at_, per_x_, per_y_;  // CameraModel::pixel_basis in floats
   glm::vec3 eye_, forward_;
   bool perspective_;
+  bool wide_;  // fused as the lanes fuse, in hardware (wide_scalar.hpp), where the machine can
 };
 
 // Whether composite_packets() marches volume `v` with `lights` in vector lanes (on any SIMD

@@ -6,6 +6,7 @@
 
 #include "core/math.hpp"
 #include "intermix/error.hpp"
+#include "volume/wide_scalar.hpp"
 
 namespace imx {
 
@@ -41,6 +42,7 @@ PreparedVolume::PreparedVolume(const VolumeObject& v)
       std::min({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])}));
   limits = projection_limits(lut);
   has_no_data = has_non_finite_voxels(v.data);
+  wide_scalar = wide_scalar_available();
   if (v.style == VolumeStyle::xray && v.xray_mode == XrayMode::integral)
     attenuation = AttenuationTable(lut);
 }

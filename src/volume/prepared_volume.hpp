@@ -39,6 +39,9 @@ struct PreparedVolume {
   // Some voxels are NaN or infinite ("no data"): the kernels then test their samples with
   // no_data() and skip those, which volumes without such voxels never pay for.
   bool has_no_data = false;
+  // The scalar marcher runs its x86-64-v3 copy (wide_scalar.hpp): the machine and the SIMD limit
+  // allowed it when the volume was prepared.
+  bool wide_scalar = false;
 
   explicit PreparedVolume(const VolumeObject& v);
 

@@ -28,6 +28,7 @@ HWY_AFTER_NAMESPACE();
 #include <fmt/format.h>
 
 #include "intermix/error.hpp"
+#include "volume/wide_scalar.hpp"
 
 namespace imx {
 namespace {
@@ -91,6 +92,16 @@ std::string simd_target() {
   for (int64_t t : compiled_targets())
     if (hwy::SupportedTargets() & t) return hwy::TargetName(t);
   return hwy::TargetName(HWY_STATIC_TARGET);
+}
+
+bool wide_scalar_available() {
+  apply_simd_environment();
+#if HWY_ARCH_X86
+  constexpr int64_t kAvx2OrWider = (int64_t{HWY_AVX2} << 1) - 1;  // bits rise as targets narrow
+  return (hwy::SupportedTargets() & kAvx2OrWider) != 0;
+#else
+  return false;
+#endif
 }
 
 int simd_lanes() {

@@ -37,7 +37,8 @@ class TfEmptiness {
   // of at most kMaxRuns runs of transparent entries (the usual case) it is a few comparisons
   // with the value intervals that map into those runs, not two LUT positions, a floor, a ceil
   // and two table reads: ray marchers run it on every piece. Same answers, NaNs included.
-  bool is_empty_between(float a, float b) const {
+  // Always inlined, also into the marcher's x86-64-v3 copy (wide_scalar.hpp).
+  [[gnu::always_inline]] bool is_empty_between(float a, float b) const {
     if (runs_ > kMaxRuns) return is_empty(std::min(a, b), std::max(a, b));
     if (!(a == a)) return false;
     b = b == b ? b : a;  // as std::min and std::max treat a NaN second argument

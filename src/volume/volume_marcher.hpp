@@ -90,6 +90,7 @@ class VolumeMarcher {
     centre_ = extent == SlabExtent::visible && preint_.data;
     trim_ = centre_ && v.accel.emptiness;
     has_no_data_ = v.has_no_data;
+    wide_ = v.wide_scalar;
     align_cell();
   }
 
@@ -108,26 +109,14 @@ class VolumeMarcher {
   }
 
   // The next slab with any visibility, in depth order; false once the span is used up.
-  bool next(Slab& out) {
-    return v_->grid.visit([&](const auto& grid) {
-      if constexpr (std::is_floating_point_v<typename std::decay_t<decltype(grid)>::value_type>)
-        if (has_no_data_) return next_in<true>(grid, out);
-      return next_in<false>(grid, out);
-    });
-  }
+  bool next(Slab& out);
 
   // Composites the slabs front to back into `acc` until its opacity reaches `ert`: the whole
-  // march in one call, for a ray with nothing else to interleave.
+  // march in one call, for a ray with nothing else to interleave. The blend stays the caller's
+  // code, so that a ray composited here and one whose slabs a method blends itself round alike.
   void composite(glm::vec4& acc, float ert) {
-    v_->grid.visit([&](const auto& grid) {
-      Slab s;
-      if constexpr (std::is_floating_point_v<typename std::decay_t<decltype(grid)>::value_type>)
-        if (has_no_data_) {
-          while (acc.a < ert && next_in<true>(grid, s)) acc = over(acc, s.color);
-          return;
-        }
-      while (acc.a < ert && next_in<false>(grid, s)) acc = over(acc, s.color);
-    });
+    Slab s;
+    while (acc.a < ert && next(s)) acc = over(acc, s.color);
   }
 
   // Where the next slab will start at the earliest.
@@ -137,6 +126,16 @@ class VolumeMarcher {
   static constexpr int kLabelBisections = 6;
 
  private:
+  // next() on the voxel type resolved once per call (volume_marcher.cpp compiles it at the
+  // baseline and, through run_wide_scalar, at x86-64-v3).
+  bool next_on_grid(Slab& out) {
+    return v_->grid.visit([&](const auto& grid) {
+      if constexpr (std::is_floating_point_v<typename std::decay_t<decltype(grid)>::value_type>)
+        if (has_no_data_) return next_in<true>(grid, out);
+      return next_in<false>(grid, out);
+    });
+  }
+
   // The loop with the voxel type resolved once per slab, so sampling inlines. NoData: the
   // volume has NaN or inf voxels (float only), and pieces reading them are skipped.
   template <bool NoData, class Grid>
@@ -353,6 +352,7 @@ class VolumeMarcher {
   bool centre_ = false;       // shade visible slabs at their light's centre (needs the table)
   bool trim_ = false;         // trim them to the visible ramp (needs the emptiness table too)
   bool has_no_data_ = false;  // the volume has NaN or inf voxels: pieces reading them are skipped
+  bool wide_ = false;         // march with the x86-64-v3 copy (PreparedVolume::wide_scalar)
   KeptSpan kept_;             // with two or more pieces: the pieces, t1_ ends piece_
   int32_t label_front_ = 0;   // label volumes: the winner at t_ (when have_front_)
   glm::vec4 pending_{0.0f};   // label volumes: the second slab of a split piece, when a > 0

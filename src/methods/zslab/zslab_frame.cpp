@@ -320,51 +320,55 @@ KeptSpan ZslabFrame::kept(int volume, RayInterval span, std::span<const Fragment
 bool ZslabFrame::run_deferred(size_t k, int x, int y, const Ray& ray,
                               std::span<const Fragment> fragments, std::span<const Slab> stored,
                               SlabList& out, std::span<const Fragment> clip) const {
-  const ZslabStage& st = stages[k];
-  if (st.kind == ZslabStage::Kind::surfaces) {
-    StageThickness th{st.thickness, footprint_at_0_, footprint_per_mm_};
-    return run_surface_stage(fragments, th, stored, out, params, st.peel);
-  }
-  const PreparedVolume& v = frame.volumes[st.volume];
-  if (!frame.may_show(st.volume, x, y)) return false;
-  RayInterval span = v.intersect(ray);
-  if (span.empty()) return false;
-  ClipPieces pieces;
-  const KeptSpan what = kept(st.volume, span, clip, pieces);
-  if (what.empty()) return false;
-  SlabScratch<kMaxZslabLayers> local;
-  SlabList own(local.span(params.layers));
-  if (v.object->style == VolumeStyle::dvr) {
-    if (v.lut.max_opacity() <= 0.0f) return false;
-    VolumeMarcher marcher(v, ray, what, st.step, frame.lights);
-    collect_slabs(marcher, own, params.mix.a_ert, params.mix.overflow);
-  } else {
-    VolumeHit hit;
-    bool found = v.object->style == VolumeStyle::iso
-                     ? find_iso_crossing(v, ray, what, st.step, kIsoBisections, frame.lights, hit)
-                     : project_volume(v, ray, what, st.step, hit);
-    if (found && hit.color.a > 0.0f)
-      own.push_back(virtual_slab(static_cast<float>(hit.t), st.step, hit.color));
-  }
-  if (own.empty()) return false;
-  intermix_stage(stored, own.items(), out, params.mix);
-  return true;
+  return run_wide_scalar(wide_, [&] {
+    const ZslabStage& st = stages[k];
+    if (st.kind == ZslabStage::Kind::surfaces) {
+      StageThickness th{st.thickness, footprint_at_0_, footprint_per_mm_};
+      return run_surface_stage(fragments, th, stored, out, params, st.peel);
+    }
+    const PreparedVolume& v = frame.volumes[st.volume];
+    if (!frame.may_show(st.volume, x, y)) return false;
+    RayInterval span = v.intersect(ray);
+    if (span.empty()) return false;
+    ClipPieces pieces;
+    const KeptSpan what = kept(st.volume, span, clip, pieces);
+    if (what.empty()) return false;
+    SlabScratch<kMaxZslabLayers> local;
+    SlabList own(local.span(params.layers));
+    if (v.object->style == VolumeStyle::dvr) {
+      if (v.lut.max_opacity() <= 0.0f) return false;
+      VolumeMarcher marcher(v, ray, what, st.step, frame.lights);
+      collect_slabs(marcher, own, params.mix.a_ert, params.mix.overflow);
+    } else {
+      VolumeHit hit;
+      bool found = v.object->style == VolumeStyle::iso
+                       ? find_iso_crossing(v, ray, what, st.step, kIsoBisections, frame.lights, hit)
+                       : project_volume(v, ray, what, st.step, hit);
+      if (found && hit.color.a > 0.0f)
+        own.push_back(virtual_slab(static_cast<float>(hit.t), st.step, hit.color));
+    }
+    if (own.empty()) return false;
+    intermix_stage(stored, own.items(), out, params.mix);
+    return true;
+  });
 }
 
 glm::vec4 ZslabFrame::run_final(size_t k, int x, int y, const Ray& ray,
                                 std::span<const Slab> stored,
                                 std::span<const Fragment> clip) const {
-  if (k < stages.size() && stages[k].on_the_fly && frame.may_show(stages[k].volume, x, y)) {
-    const PreparedVolume& v = frame.volumes[stages[k].volume];
-    RayInterval span = v.intersect(ray);
-    ClipPieces pieces;
-    const KeptSpan what = span.empty() ? KeptSpan() : kept(stages[k].volume, span, clip, pieces);
-    if (!what.empty()) {
-      VolumeMarcher marcher(v, ray, what, stages[k].step, frame.lights);
-      return trace_hybrid(stored, marcher, params.mix);
+  return run_wide_scalar(wide_, [&] {
+    if (k < stages.size() && stages[k].on_the_fly && frame.may_show(stages[k].volume, x, y)) {
+      const PreparedVolume& v = frame.volumes[stages[k].volume];
+      RayInterval span = v.intersect(ray);
+      ClipPieces pieces;
+      const KeptSpan what = span.empty() ? KeptSpan() : kept(stages[k].volume, span, clip, pieces);
+      if (!what.empty()) {
+        VolumeMarcher marcher(v, ray, what, stages[k].step, frame.lights);
+        return trace_hybrid(stored, marcher, params.mix);
+      }
     }
-  }
-  return accumulate(stored, params.mix.a_ert).color;
+    return accumulate(stored, params.mix.a_ert).color;
+  });
 }
 
 }  // namespace imx

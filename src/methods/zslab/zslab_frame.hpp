@@ -16,6 +16,7 @@
 #include "methods/zslab/zslab_kernel.hpp"
 #include "raster/rasterizer.hpp"
 #include "slab/zt_buffer.hpp"
+#include "volume/wide_scalar.hpp"
 
 namespace imx {
 
@@ -126,6 +127,7 @@ class ZslabFrame {
   std::shared_ptr<const Rasterizer> clip_rasterizer_;           // the clip meshes, when needed
   float footprint_at_0_ = 0.0f, footprint_per_mm_ = 0.0f;
   uint64_t frame_key_ = 0;
+  bool wide_ = wide_scalar_available();  // the per-sample work runs its x86-64-v3 copy
 };
 
 }  // namespace imx

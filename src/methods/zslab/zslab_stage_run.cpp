@@ -23,16 +23,18 @@ int ZslabFrame::own_capacity(size_t k) const {
 int ZslabFrame::own_slabs(size_t k, int x, int y, const Ray& ray,
                           std::span<const Fragment> fragments, std::span<Slab> own,
                           std::span<const Fragment> clip) const {
-  const ZslabStage& st = stages[k];
-  if (st.kind == ZslabStage::Kind::surfaces) {
-    StageThickness th{st.thickness, footprint_at_0_, footprint_per_mm_};
-    return peel_surface_slabs(fragments, th, params.peel_layers, own, st.peel);
-  }
-  // A volume stage intermixed with nothing emits its own folded slabs unchanged: run_deferred
-  // stays the one place that casts a volume.
-  SlabList out(own.first(std::min(own.size(), static_cast<size_t>(params.layers))));
-  if (!run_deferred(k, x, y, ray, {}, {}, out, clip)) return 0;
-  return out.size();
+  return run_wide_scalar(wide_, [&] {
+    const ZslabStage& st = stages[k];
+    if (st.kind == ZslabStage::Kind::surfaces) {
+      StageThickness th{st.thickness, footprint_at_0_, footprint_per_mm_};
+      return peel_surface_slabs(fragments, th, params.peel_layers, own, st.peel);
+    }
+    // A volume stage intermixed with nothing emits its own folded slabs unchanged: run_deferred
+    // stays the one place that casts a volume.
+    SlabList out(own.first(std::min(own.size(), static_cast<size_t>(params.layers))));
+    if (!run_deferred(k, x, y, ray, {}, {}, out, clip)) return 0;
+    return out.size();
+  });
 }
 
 namespace {
@@ -123,11 +125,13 @@ void ZslabFrame::own_volume_slabs(size_t k, const TileRect& tile, std::span<Slab
 
 bool ZslabFrame::merge_own(size_t k, std::span<const Slab> stored, std::span<const Slab> own,
                            SlabList& out) const {
-  if (own.empty()) return false;
-  if (stages[k].kind == ZslabStage::Kind::surfaces)
-    return merge_surface_slabs(own, stored, out, params);
-  intermix_stage(stored, own, out, params.mix);
-  return true;
+  return run_wide_scalar(wide_, [&] {
+    if (own.empty()) return false;
+    if (stages[k].kind == ZslabStage::Kind::surfaces)
+      return merge_surface_slabs(own, stored, out, params);
+    intermix_stage(stored, own, out, params.mix);
+    return true;
+  });
 }
 
 }  // namespace imx
