@@ -8,15 +8,15 @@
 
 namespace imx {
 
-// Whether run_wide_scalar runs its wide copy: an x86-64 build below x86-64-v3 on a machine whose
-// allowed SIMD targets include AVX2 (so IMX_SIMD=lowest or sse4 runs the baseline copy). Cheap
-// enough to ask once per frame, not per ray.
+// Whether the scalar kernels may run at x86-64-v3: the machine's allowed SIMD targets include
+// AVX2 or wider (so IMX_SIMD=lowest or sse4 runs the baseline copy). A build at x86-64-v3 or
+// wider has one copy only. Cheap enough to ask once per frame, not per ray.
 bool wide_scalar_available();
 
 #if defined(__x86_64__) && !defined(__AVX2__)
-// The wide copy: `body` and everything it calls that the compiler can see, inlined (flatten) and
-// compiled for x86-64-v3's vector and bit-manipulation extensions. Calls it cannot inline (other
-// files) run their baseline code, which is correct on any machine.
+// The wide copy: `body` and what GCC inlines of its callees (flatten), compiled for x86-64-v3's
+// vector and bit-manipulation extensions. Calls left out of line (other files, and larger
+// functions GCC 12 declines) run their baseline copies, which are correct on any machine.
 template <class Body>
 [[gnu::flatten, gnu::target("avx2,fma,bmi,bmi2,lzcnt,movbe,f16c,popcnt")]] decltype(auto)
 run_wide_copy(Body&& body) {

@@ -6,6 +6,7 @@
 
 #include "expect_error.hpp"
 #include "intermix/error.hpp"
+#include "volume/wide_scalar.hpp"
 
 namespace imx {
 namespace {
@@ -38,6 +39,32 @@ TEST(SimdTargets, AnUnknownTargetIsNamedInTheError) {
   EXPECT_NE(message.find("avx9000"), std::string::npos) << message;
   EXPECT_NE(message.find(simd_targets().front()), std::string::npos) << message;
   EXPECT_EQ(simd_target(), simd_targets().front());  // no limit was left behind
+}
+
+// The scalar kernels' wide copy follows the same limit: it runs exactly where an AVX2-or-wider
+// target is allowed, so IMX_SIMD=lowest runs every baseline copy.
+TEST(SimdTargets, TheScalarKernelsWideCopyFollowsTheLimit) {
+  for (const std::string& t : simd_targets()) {
+    limit_simd_target(t);
+    const bool wide = t == "AVX2" || t.starts_with("AVX3");
+    EXPECT_EQ(wide_scalar_available(), wide) << t;
+  }
+  limit_simd_target("");
+}
+
+// Both copies compute the body: the same results, fused or not, within a rounding.
+TEST(SimdTargets, BothCopiesOfAKernelBodyRunIt) {
+  volatile float a = 1.0f / 3.0f, b = 3.0f, c = -1.0f;
+  for (bool wide : {false, true}) {
+    if (wide && !wide_scalar_available()) continue;
+    int calls = 0;
+    const float r = run_wide_scalar(wide, [&] {
+      ++calls;
+      return a * b + c;
+    });
+    EXPECT_EQ(calls, 1);
+    EXPECT_NEAR(r, 0.0f, 1e-7f) << wide;
+  }
 }
 
 }  // namespace
