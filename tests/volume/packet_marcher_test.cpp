@@ -42,7 +42,9 @@ std::vector<PacketRay> random_rays(std::mt19937& rng, const PreparedVolume& v, i
 // reached `ert`. Every ray agrees to 1e-4, but for 1 ray in 100 at most, which may differ by up
 // to 1e-2: two-sided shading turns the normal toward the eye, so a light other than the
 // headlight lights a piece or not as n.e crosses 0, and the two paths (or two compilers) can
-// round that sign apart.
+// round that sign apart. In a label volume such a ray may differ in opacity too: a bisection
+// step that rounds the other way moves a label boundary by 1/64 of a step (clang's baseline
+// build, one ray in 203).
 int expect_same_as_marcher(const PreparedVolume& v, const std::vector<PacketRay>& rays, float step,
                            std::span<const ShadingLight> lights, float ert,
                            SlabExtent extent = SlabExtent::grid) {
@@ -66,7 +68,9 @@ int expect_same_as_marcher(const PreparedVolume& v, const std::vector<PacketRay>
       if (worst <= 1e-4f) continue;
       ++apart;
       EXPECT_LE(worst, 1e-2f) << "ray " << i;
-      EXPECT_NEAR(out[i].a, acc.a, 1e-4f) << "ray " << i;  // the jump is in the colour only
+      if (!v.labels.active()) {
+        EXPECT_NEAR(out[i].a, acc.a, 1e-4f) << "ray " << i;  // the jump is in the colour only
+      }
     }
     EXPECT_LE(apart, rays.size() / 100);
   });
