@@ -10,4 +10,9 @@ bool VolumeMarcher::next(Slab& out) {
   return run_wide_scalar(wide_, [&] { return next_on_grid(out); });
 }
 
+glm::vec4 VolumeMarcher::shade_wide(const glm::vec4& c, double front, double back,
+                                    PreintegrationView::Light light) const {
+  return run_wide_scalar(true, [&] { return shade(c, front, back, light); });
+}
+
 }  // namespace imx
