@@ -23,18 +23,16 @@ int ZslabFrame::own_capacity(size_t k) const {
 int ZslabFrame::own_slabs(size_t k, int x, int y, const Ray& ray,
                           std::span<const Fragment> fragments, std::span<Slab> own,
                           std::span<const Fragment> clip) const {
-  return run_wide_scalar(wide_, [&] {
-    const ZslabStage& st = stages[k];
-    if (st.kind == ZslabStage::Kind::surfaces) {
-      StageThickness th{st.thickness, footprint_at_0_, footprint_per_mm_};
-      return peel_surface_slabs(fragments, th, params.peel_layers, own, st.peel);
-    }
-    // A volume stage intermixed with nothing emits its own folded slabs unchanged: run_deferred
-    // stays the one place that casts a volume.
-    SlabList out(own.first(std::min(own.size(), static_cast<size_t>(params.layers))));
-    if (!run_deferred(k, x, y, ray, {}, {}, out, clip)) return 0;
-    return out.size();
-  });
+  const ZslabStage& st = stages[k];
+  if (st.kind == ZslabStage::Kind::surfaces) {
+    StageThickness th{st.thickness, footprint_at_0_, footprint_per_mm_};
+    return peel_surface_slabs(fragments, th, params.peel_layers, own, st.peel);
+  }
+  // A volume stage intermixed with nothing emits its own folded slabs unchanged: run_deferred
+  // stays the one place that casts a volume.
+  SlabList out(own.first(std::min(own.size(), static_cast<size_t>(params.layers))));
+  if (!run_deferred(k, x, y, ray, {}, {}, out, clip)) return 0;
+  return out.size();
 }
 
 namespace {
