@@ -10,6 +10,7 @@
 #include "volume/brick_dda.hpp"
 #include "volume/brick_min_max.hpp"
 #include "volume/brick_occupancy.hpp"
+#include "volume/gradient_volume.hpp"
 #include "volume/octant_distance.hpp"
 #include "volume/preintegration_table.hpp"
 #include "volume/simd_targets.hpp"
@@ -227,6 +228,17 @@ void BM_BrickMinMax256(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(BrickMinMax(grid, glm::ivec3(8), 1));
 }
 BENCHMARK(BM_BrickMinMax256)->Unit(benchmark::kMillisecond);
+
+// The precomputed gradients of a 256^3 volume, built once per volume (a first image's cost), on
+// one thread: packed for 8-bit voxels, int16 for the others.
+template <class T>
+void BM_GradientVolume256(benchmark::State& state) {
+  AnyGrid grid(volume<T>());
+  for (auto _ : state) benchmark::DoNotOptimize(GradientVolume(grid, 1));
+}
+BENCHMARK(BM_GradientVolume256<uint8_t>)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_GradientVolume256<int16_t>)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_GradientVolume256<float>)->Unit(benchmark::kMillisecond);
 
 // What a TF change costs: emptiness prefix, occupancy and distance map of 32^3 bricks.
 void BM_TfChangeRebuild(benchmark::State& state) {

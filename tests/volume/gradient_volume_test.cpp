@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <variant>
 #include <vector>
@@ -125,6 +126,72 @@ TEST(GradientVolume, PacksSmallIntegerDifferencesExactly) {
 // `auto` precomputes gradients while their copy (4 bytes a voxel for 8-bit voxels, always
 // packed; 6 for others) takes at most 200 MiB plus a quarter of the voxels, and a quarter of the
 // memory budget. The shape alone decides: no voxel is read or allocated.
+// The central difference of voxel p along `axis` by its definition, one voxel at a time: one-sided
+// at the borders, and beside no data (NaN or inf) one-sided against the voxel itself, 0 where
+// that is not possible either (the voxel is no data, or both neighbours are).
+float defined_difference(const VoxelGrid<float>& g, glm::ivec3 p, int axis) {
+  glm::ivec3 lo = p, hi = p;
+  lo[axis] = std::max(p[axis] - 1, 0);
+  hi[axis] = std::min(p[axis] + 1, g.dims[axis] - 1);
+  auto at = [&](glm::ivec3 q) { return g.at(q.x, q.y, q.z); };
+  if (hi[axis] == lo[axis]) return 0.0f;
+  float d = (at(hi) - at(lo)) / static_cast<float>(hi[axis] - lo[axis]);
+  if (std::isfinite(d)) return d;
+  if (no_data(at(p))) return 0.0f;
+  if (no_data(at(hi))) hi = p;
+  if (no_data(at(lo))) lo = p;
+  if (hi[axis] == lo[axis]) return 0.0f;
+  return (at(hi) - at(lo)) / static_cast<float>(hi[axis] - lo[axis]);
+}
+
+// The int16 layout holds every voxel's difference rounded half away from zero (std::lround) in
+// units of scale(), 0 where it is not finite: on grids one and two voxels thick and with no data.
+TEST(GradientVolume, StoresEachDifferenceRoundedInItsUnits) {
+  std::mt19937 rng(23);
+  // Whole numbers whose largest difference is 32767 (one-sided, at the first voxel of each row):
+  // one unit is one value, so halved odd differences fall exactly between two units, either sign.
+  auto ties = [&](glm::ivec3 dims) {
+    std::uniform_int_distribution<int> u(-100, 100);
+    std::vector<float> f(static_cast<size_t>(dims.x) * dims.y * dims.z);
+    for (float& x : f) x = static_cast<float>(u(rng));
+    for (size_t row = 0; row < f.size(); row += dims.x) f[row + 1] = f[row] + 32767.0f;
+    VolumeData v;
+    v.dims = dims;
+    v.voxels = std::move(f);
+    return v;
+  };
+  for (glm::ivec3 dims : {glm::ivec3(9, 7, 6), glm::ivec3(1, 4, 3), glm::ivec3(2, 1, 5)}) {
+    for (int kind = 0; kind < 3; ++kind) {
+      const bool holes = kind == 1;
+      VolumeData v =
+          kind == 2 && dims.x > 2 ? ties(dims) : test::blob_volume<float>(dims, rng, 3.7f, -200.0f);
+      if (holes) test::punch_no_data(v, rng, -200.0f + 20.0f * 3.7f);
+      const auto& voxels = std::get<VoxelBuffer<float>>(v.voxels);
+      const VoxelGrid<float> grid{voxels.data(), dims};
+      const GradientVolume g{AnyGrid(v)};
+      ASSERT_FALSE(g.packed());
+      float largest = 0.0f;
+      for (int n = 0; n < dims.x * dims.y * dims.z; ++n)
+        for (int a = 0; a < 3; ++a) {
+          const glm::ivec3 p(n % dims.x, n / dims.x % dims.y, n / (dims.x * dims.y));
+          const float d = defined_difference(grid, p, a);
+          if (std::isfinite(d)) largest = std::max(largest, std::abs(d));
+        }
+      ASSERT_EQ(g.scale(), largest > 0.0f ? largest / 32767.0f : 1.0f);
+      const float inv = 1.0f / g.scale();
+      for (int n = 0; n < dims.x * dims.y * dims.z; ++n)
+        for (int a = 0; a < 3; ++a) {
+          const glm::ivec3 p(n % dims.x, n / dims.x % dims.y, n / (dims.x * dims.y));
+          const float d = defined_difference(grid, p, a);
+          const int16_t want = std::isfinite(d) ? static_cast<int16_t>(std::lround(d * inv)) : 0;
+          ASSERT_EQ(g.data()[3 * n + a], want)
+              << "voxel " << n << " axis " << a << " holes " << holes << " dims " << dims.x << "x"
+              << dims.y << "x" << dims.z;
+        }
+    }
+  }
+}
+
 TEST(GradientVolume, AutomaticPrecomputesWhileTheCopyKeepsMemoryNearTheVoxels) {
   auto volume = [](glm::ivec3 dims, auto element) {
     VolumeData v;
