@@ -223,11 +223,13 @@ void BM_PreintegrationLookup(benchmark::State& state) {
 BENCHMARK(BM_PreintegrationLookup);
 
 // The per-volume scan (TF-independent), on one thread.
+template <class T>
 void BM_BrickMinMax256(benchmark::State& state) {
-  AnyGrid grid(volume<int16_t>());
+  AnyGrid grid(volume<T>());
   for (auto _ : state) benchmark::DoNotOptimize(BrickMinMax(grid, glm::ivec3(8), 1));
 }
-BENCHMARK(BM_BrickMinMax256)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BrickMinMax256<int16_t>)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BrickMinMax256<float>)->Unit(benchmark::kMillisecond);
 
 // The precomputed gradients of a 256^3 volume, built once per volume (a first image's cost), on
 // one thread: packed for 8-bit voxels, int16 for the others.

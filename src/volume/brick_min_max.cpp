@@ -1,7 +1,9 @@
 #include "volume/brick_min_max.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <type_traits>
 #include <vector>
@@ -34,10 +36,14 @@ void scan_brick_row(const VoxelGrid<T>& g, const BrickGrid& grid, int by, int bz
       for (int i = 0; i < nx; ++i) {
         const T v = row[i];
         if constexpr (kFloat) {
-          // NaN and inf voxels are no data: left out (a brick of nothing else holds no data).
-          const bool data = std::abs(v) <= std::numeric_limits<T>::max();
-          l[i] = data && v < l[i] ? v : l[i];
-          h[i] = data && v > h[i] ? v : h[i];
+          // NaN and inf voxels are no data: left out, as the bounds' own start values (a brick
+          // of nothing else holds no data). Told apart by their exponent bits, with no compare
+          // of a NaN, so that the loop vectorizes (perf: 10% of a float CT's first image when
+          // it did not).
+          const bool data = (std::bit_cast<uint32_t>(v) & 0x7f800000u) != 0x7f800000u;
+          const T low = data ? v : kHighest, high = data ? v : kLowest;
+          l[i] = low < l[i] ? low : l[i];
+          h[i] = high > h[i] ? high : h[i];
         } else {
           l[i] = v < l[i] ? v : l[i];
           h[i] = v > h[i] ? v : h[i];
