@@ -45,6 +45,11 @@ inline int16_t quantized(float x) {
   return static_cast<int16_t>(whole + (rest >= 0.5f) - (rest <= -0.5f));
 }
 
+// q[i] = quantized(d[i] * inv) for n values: a loop of its own, which vectorizes.
+void quantize_row(const float* d, float inv, int16_t* q, int n) {
+  for (int i = 0; i < n; ++i) q[i] = quantized(d[i] * inv);
+}
+
 // The central differences along x, y and z of row (j, k), one-sided at the borders, a row at a
 // time so that the loops vectorize (a span of 2 halves exactly); Careful (a volume with no data):
 // the non-finite ones are taken again by careful_difference.
@@ -150,10 +155,7 @@ GradientVolume::GradientVolume(const AnyGrid& voxels, int threads) : dims_(voxel
       thread_local std::vector<int16_t> q;
       q.resize(3 * static_cast<size_t>(nx));
       const float* d[3] = {dx, dy, dz};
-      for (int a = 0; a < 3; ++a) {
-        int16_t* qa = q.data() + a * nx;
-        for (int i = 0; i < nx; ++i) qa[i] = quantized(d[a][i] * inv);
-      }
+      for (int a = 0; a < 3; ++a) quantize_row(d[a], inv, q.data() + a * nx, nx);
       int16_t* out = &data_[3 * n];
       for (int i = 0; i < nx; ++i)
         for (int a = 0; a < 3; ++a) out[3 * i + a] = q[a * nx + i];
