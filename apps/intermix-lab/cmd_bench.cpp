@@ -125,7 +125,7 @@ void time_rounds(std::vector<BenchRow>& rows, int frames) {
 
 Command add_bench(CLI::App& app) {
   struct Options : SceneOptions {
-    std::string scene, peer, vtk_mode = "cpu", change;
+    std::string scene, peer, vtk_mode = "cpu", change, peer_scene_dir;
     std::vector<std::string> methods, variants;
     int frames = 5;
     bool json = false, vtk = false;
@@ -147,6 +147,9 @@ Command add_bench(CLI::App& app) {
   app.add_option("--peer", o->peer,
                  "vtk_peer.py (default: shared/peers/vtk_peer.py in the nearest folder above "
                  "this program, else above the scene)");
+  app.add_option("--write-peer-scene", o->peer_scene_dir,
+                 "write the scene as the VTK peer gets it (volumes as MetaImage in the first "
+                 "volume's frame, meshes as OBJ) into this new folder, and time nothing");
   app.add_flag("--json", o->json, "print one JSON object on stdout");
   app.add_option("--change", o->change,
                  "time re-renders after OBJECT.key=value, keeping stage outputs (zslab methods)");
@@ -184,7 +187,17 @@ Command add_bench(CLI::App& app) {
                 .scene = &base,
                 .mode = o->vtk_mode,
                 .frames = o->frames,
-                .sample_distance_mm = peer_sample_distance(base)};
+                .sample_distance_mm = peer_sample_distance(base),
+                .notes = !quiet()};
+    if (!o->peer_scene_dir.empty()) {
+      const std::filesystem::path dir = o->peer_scene_dir;
+      std::error_code ec;
+      if (!std::filesystem::create_directory(dir, ec))
+        throw Error(fmt::format("--write-peer-scene: cannot create the new folder '{}'{}",
+                                dir.string(), ec ? ": " + ec.message() : " (it exists)"));
+      std::printf("%s\n", write_peer_scene(run, dir).string().c_str());
+      return 0;
+    }
     if (o->vtk) {
       if (run.peer.empty())
         throw Error(fmt::format(

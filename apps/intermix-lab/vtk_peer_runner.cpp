@@ -11,6 +11,7 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <variant>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -144,7 +145,45 @@ nlohmann::json peer_points(const TransferFunction& tf) {
   return points;
 }
 
+// The voxels mirrored along i (each row reversed), for a left-handed grid's frame.
+void mirror_rows(VolumeData& data) {
+  std::visit(
+      [&](auto& voxels) {
+        auto* values = voxels.mutable_data();
+        const size_t row = static_cast<size_t>(data.dims.x);
+        for (size_t at = 0; at + row <= voxels.size(); at += row)
+          std::reverse(values + at, values + at + row);
+      },
+      data.voxels);
+  data.colours.reset();  // the peer reads scalars only
+}
+
 }  // namespace
+
+PeerFrame peer_frame(const glm::dmat4& index_to_world, glm::ivec3 dims) {
+  PeerFrame frame;
+  glm::dvec3 axis[3];
+  for (int a = 0; a < 3; ++a) {
+    frame.spacing[a] = glm::length(glm::dvec3(index_to_world[a]));
+    if (!(frame.spacing[a] > 0.0)) return frame;
+    axis[a] = glm::dvec3(index_to_world[a]) / frame.spacing[a];
+  }
+  // Axes within 0.006 degrees of square (float affines) count as square.
+  constexpr double kSquare = 1e-4;
+  for (int a = 0; a < 3; ++a)
+    if (std::abs(glm::dot(axis[a], axis[(a + 1) % 3])) > kSquare) return frame;
+  glm::dvec3 origin(index_to_world[3]);
+  if (glm::dot(glm::cross(axis[0], axis[1]), axis[2]) < 0.0) {
+    frame.mirror_i = true;  // index i' = dims.x - 1 - i runs the other way from the far end
+    origin += static_cast<double>(dims.x - 1) * frame.spacing.x * axis[0];
+    axis[0] = -axis[0];
+  }
+  const glm::dmat3 to_frame = glm::transpose(glm::dmat3(axis[0], axis[1], axis[2]));
+  frame.world_to_frame = glm::dmat4(to_frame);
+  frame.world_to_frame[3] = glm::dvec4(-(to_frame * origin), 1.0);
+  frame.square = true;
+  return frame;
+}
 
 std::filesystem::path find_vtk_peer(const std::filesystem::path& scene_file) {
   std::error_code ec;
@@ -176,12 +215,28 @@ std::filesystem::path write_peer_scene(const PeerRun& run, const std::filesystem
 
   if (!root.contains("objects") || !root["objects"].is_array())
     throw Error(fmt::format("{}: the scene has no \"objects\" list for the VTK peer", origin));
+  // Everything in the first volume's frame, where it has one (PeerFrame).
+  PeerFrame frame;
+  if (!run.scene->volumes.empty()) {
+    const VolumeObject& first = run.scene->volumes.front();
+    frame = peer_frame(first.index_to_world, first.data->dims);
+    if (!frame.square && run.notes)
+      std::fprintf(stderr,
+                   "intermix-lab: bench --vtk: volume '%s' has a sheared grid (gantry tilt): "
+                   "VTK ignores its direction and draws it unsheared\n",
+                   first.name.c_str());
+  }
+  const auto to_frame = [&](const glm::dvec3& p) {
+    return glm::dvec3(frame.world_to_frame * glm::dvec4(p, 1.0));
+  };
   // The camera intermix renders with (a scene without one is framed automatically).
   const Camera& c = run.scene->camera;
+  const glm::dvec3 eye = to_frame(c.eye), target = to_frame(c.target);
+  const glm::dvec3 up = glm::dmat3(frame.world_to_frame) * c.up;
   root["camera"] = {
-      {"eye", {c.eye.x, c.eye.y, c.eye.z}},
-      {"target", {c.target.x, c.target.y, c.target.z}},
-      {"up", {c.up.x, c.up.y, c.up.z}},
+      {"eye", {eye.x, eye.y, eye.z}},
+      {"target", {target.x, target.y, target.z}},
+      {"up", {up.x, up.y, up.z}},
       {"fov_deg", c.fov_deg},
       {"projection", c.projection == Projection::orthographic ? "orthographic" : "perspective"},
       {"ortho_height", c.ortho_height}};
@@ -195,7 +250,12 @@ std::filesystem::path write_peer_scene(const PeerRun& run, const std::filesystem
                              [&](const VolumeObject& v) { return v.name == name; });
       if (it == run.scene->volumes.end()) continue;
       VolumeData data = *it->data;
-      data.index_to_world = it->index_to_world;  // the object's transform, baked in
+      data.index_to_world = frame.world_to_frame * it->index_to_world;  // transform baked in
+      if (written == 0 && frame.square) {
+        if (frame.mirror_i) mirror_rows(data);
+        data.index_to_world = glm::dmat4(1.0);  // on the axes from the origin, as VTK draws it
+        for (int a = 0; a < 3; ++a) data.index_to_world[a][a] = frame.spacing[a];
+      }
       file = dir / fmt::format("volume-{}.mha", written++);
       write_metaimage(data, file, false);  // uncompressed: quicker to write and to read back
       // The peer reads explicit points only: give it the function intermix resolved (a preset,
@@ -206,7 +266,9 @@ std::filesystem::path write_peer_scene(const PeerRun& run, const std::filesystem
                              [&](const MeshObject& m) { return m.name == name; });
       if (it == run.scene->meshes.end()) continue;
       file = dir / fmt::format("mesh-{}.obj", written++);
-      write_obj(*it->mesh, file);
+      Mesh mesh = *it->mesh;
+      for (glm::vec3& p : mesh.positions) p = glm::vec3(to_frame(glm::dvec3(p)));
+      write_obj(mesh, file);
     } else {
       continue;
     }

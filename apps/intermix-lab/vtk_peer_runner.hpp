@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/mat4x4.hpp>
+
 #include "intermix/scene.hpp"
 
 namespace imx::cli {
@@ -17,7 +19,25 @@ struct PeerRun {
   std::string mode = "cpu";            // the peer's --mode: cpu or gpu
   int frames = 5;
   double sample_distance_mm = 0.0;
+  bool notes = true;  // say on stderr what the peer cannot draw as intermix does
 };
+
+// VTK's ray caster draws a volume's voxels at origin + index * spacing along its own axes and
+// ignores the grid's direction, so an oblique or flipped grid (an oblique MR, a NIfTI stored RAS)
+// would be drawn elsewhere and turned: another image, timed as if it were the same. The peer is
+// given the scene in the first volume's frame instead: its voxels on the axes from the origin
+// (mirrored along i first when the grid is left-handed), the camera and every other object moved
+// by the same rigid motion, so that VTK draws the image intermix does. A sheared grid (gantry
+// tilt) has no such frame (`square` false): the scene stays in world space and VTK draws the
+// grid unsheared.
+struct PeerFrame {
+  glm::dmat4 world_to_frame{1.0};  // rigid: world mm -> the frame's mm
+  glm::dvec3 spacing{1.0};         // the voxels' pitch along i, j, k
+  bool mirror_i = false;           // the voxels are written with each row reversed
+  bool square = false;             // the grid's axes are perpendicular: the frame applies
+};
+
+PeerFrame peer_frame(const glm::dmat4& index_to_world, glm::ivec3 dims);
 
 struct PeerTiming {
   double ms_median = 0.0, ms_min = 0.0, ms_max = 0.0;
@@ -38,8 +58,9 @@ std::filesystem::path find_vtk_peer(const std::filesystem::path& scene_file);
 double peer_sample_distance(const Scene& scene);
 
 // Writes a copy of the scene for the peer into `dir`: every volume becomes a MetaImage and
-// every mesh an OBJ, both already in world space (so their "transform" is dropped: the peer
-// reads no transforms); everything else is kept. Returns the new scene file.
+// every mesh an OBJ, both already placed in the first volume's frame (PeerFrame; so their
+// "transform" is dropped: the peer reads no transforms), and the camera with them; everything
+// else is kept. Returns the new scene file.
 std::filesystem::path write_peer_scene(const PeerRun& run, const std::filesystem::path& dir);
 
 // Throws imx::Error when `peer` is not a file or xvfb-run, /usr/bin/python3 or its vtk and numpy
