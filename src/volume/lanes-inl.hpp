@@ -113,6 +113,64 @@ HWY_INLINE VF gather_floats(const float* base, VI index) {
   return load(value);
 }
 
+// Per-lane 128-bit vectors: not for the one-lane target nor the scalable ones (SVE, disabled),
+// whose vectors cannot be kept in arrays.
+#define IMX_LANE_QUADS (HWY_TARGET != HWY_SCALAR && !HWY_HAVE_SCALABLE)
+#if IMX_LANE_QUADS
+// One lane's four floats (an RGBA entry, a pair of moments) in a 128-bit vector.
+using D4 = hn::Full128<float>;
+using V4 = hn::Vec<D4>;
+
+// a + f * (b - a) on one lane's four floats.
+HWY_INLINE V4 lerp4(V4 a, V4 b, V4 f) {
+  return hn::MulAdd(f, hn::Sub(b, a), a);
+}
+
+// Table entries i and i + 1 of four floats each (8 adjacent floats at `entry`), lerped at f.
+HWY_INLINE V4 lerp_entries(const float* entry, float f) {
+  const D4 d4;
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
+  const hn::Full256<float> d8;  // both entries in one load
+  const auto both = hn::LoadU(d8, entry);
+  return lerp4(hn::LowerHalf(d4, both), hn::UpperHalf(d4, both), hn::Set(d4, f));
+#else
+  return lerp4(hn::LoadU(d4, entry), hn::LoadU(d4, entry + 4), hn::Set(d4, f));
+#endif
+}
+
+// The vector whose 128-bit block k is q[4k + first].
+HWY_INLINE VF every_fourth(const V4* q, int first) {
+#if HWY_MAX_BYTES >= 64
+  const hn::Full256<float> d8;
+  return hn::Combine(DF(), hn::Combine(d8, q[12 + first], q[8 + first]),
+                     hn::Combine(d8, q[4 + first], q[first]));
+#elif HWY_MAX_BYTES == 32
+  return hn::Combine(DF(), q[4 + first], q[first]);
+#else
+  return q[first];
+#endif
+}
+
+// Lane l's four floats q[l] = (x, y, z, w) as four vectors of lanes: a transpose in registers.
+HWY_INLINE void transpose_quads(const V4* q, VF& x, VF& y, VF& z, VF& w) {
+  static_assert(kLanes % 4 == 0, "whole blocks of four lanes");
+  const VF a = every_fourth(q, 0), b = every_fourth(q, 1);
+  const VF c = every_fourth(q, 2), d = every_fourth(q, 3);
+  // Per block: (a.x, b.x, a.y, b.y), (c.x, d.x, c.y, d.y), then the z and w halves.
+  const VF ab_xy = hn::InterleaveLower(DF(), a, b), cd_xy = hn::InterleaveLower(DF(), c, d);
+  const VF ab_zw = hn::InterleaveUpper(DF(), a, b), cd_zw = hn::InterleaveUpper(DF(), c, d);
+  const hn::Repartition<uint64_t, DF> d64;
+  const auto low = [&](VF p, VF q2) HWY_ATTR {
+    return hn::BitCast(DF(), hn::InterleaveLower(d64, hn::BitCast(d64, p), hn::BitCast(d64, q2)));
+  };
+  const auto high = [&](VF p, VF q2) HWY_ATTR {
+    return hn::BitCast(DF(), hn::InterleaveUpper(d64, hn::BitCast(d64, p), hn::BitCast(d64, q2)));
+  };
+  x = low(ab_xy, cd_xy), y = high(ab_xy, cd_xy);
+  z = low(ab_zw, cd_zw), w = high(ab_zw, cd_zw);
+}
+#endif
+
 // no_data() in lanes: set where s is NaN or infinite.
 HWY_INLINE MF no_data_lanes(VF s) {
   return hn::Not(hn::IsFinite(s));

@@ -207,10 +207,23 @@ class ProjectionKernel {
     const VI i = hn::Min(hn::ConvertTo(DI(), x), splat(TfLut::kSize - 2));
     const VF f = hn::Sub(x, hn::ConvertTo(DF(), i));
     const float* table = reinterpret_cast<const float*>(a.data());
+#if !IMX_LANE_QUADS
     const VI entry = hn::ShiftLeft<2>(i);  // four channels an entry
     for (int c = 0; c < 4; ++c)
       e[c] = lerp(gather_floats(table, hn::Add(entry, splat(c))),
                   gather_floats(table, hn::Add(entry, splat(4 + c))), f);
+#else
+    // A lane's two entries are eight adjacent floats: loaded whole, lerped, then transposed
+    // into channels, where eight gathers (one per channel and entry) each loaded every lane.
+    // X-ray of the fractional float32 CT: 322 -> 276 ms (AVX3), 423 -> 408 (AVX2); the real CT
+    // at SSE4 (no gathers) 253 -> 179; int16 CTs unchanged.
+    HWY_ALIGN int32_t at[kLanes];
+    HWY_ALIGN float frac[kLanes];
+    store(i, at), store(f, frac);
+    V4 q[kLanes];
+    for (int l = 0; l < kLanes; ++l) q[l] = lerp_entries(table + 4 * at[l], frac[l]);
+    transpose_quads(q, e[0], e[1], e[2], e[3]);
+#endif
   }
 
   // The lanes of `live` that entered a brick they have not judged look at its value range; those
