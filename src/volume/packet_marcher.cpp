@@ -507,9 +507,12 @@ class PacketKernel {
                       {hn::MulAdd(t_b, dx, ox), hn::MulAdd(t_b, dy, oy), hn::MulAdd(t_b, dz, oz)}};
       // A step with more than half its lanes visible shades them at once: packing them into the
       // queue costs more than the idle lanes it would fill (MR T2-Brain on avg152T1, AVX3: 34.8
-      // against 27.3 ms; the bone CTs 6-15% faster). A sink takes every piece through the queue,
-      // so that each ray's slabs reach it in order.
-      if (defer_ && (sink_ || 2 * __builtin_popcount(bits_of(vis)) <= kLanes)) {
+      // against 27.3 ms; the bone CTs 6-15% faster). Pieces still queued are shaded first, so
+      // that every ray adds its pieces' colours in its order, whatever the lane count: the bytes
+      // stay those of the queue alone on every target. A sink takes every piece through the
+      // queue, so that each ray's slabs reach it in order.
+      const bool dense = 2 * __builtin_popcount(bits_of(vis)) > kLanes;
+      if (defer_ && (sink_ || !dense)) {
         // The opacity composites now (ERT reads it), the colour once kLanes pieces wait.
         const VF aa = load(L_.a);
         const VF w = hn::Sub(splat(1.0f), aa);
@@ -517,6 +520,7 @@ class PacketKernel {
         defer(vis, two, w, cr, cg, cb, ca, at, {s_f, s_b, front, back, centre});
         return bits_of(vis);
       }
+      if (queue_.count) shade_queued(queue_.count), queue_.count = 0;
       shade_points(vis, two, own_rays(), at, cr, cg, cb, ca);
     }
     if (sink_) collect(vis, s_f, s_b, front, back, centre, cr, cg, cb, ca);
