@@ -113,6 +113,12 @@ HWY_INLINE VF gather_floats(const float* base, VI index) {
   return load(value);
 }
 
+// lerp() on one lane's entries (128- or 256-bit vectors, whatever the target's lanes).
+template <class V>
+HWY_INLINE V lerp4(V a, V b, V f) {
+  return hn::MulAdd(f, hn::Sub(b, a), a);
+}
+
 // Per-lane 128-bit vectors: not for the one-lane target nor the scalable ones (SVE, disabled),
 // whose vectors cannot be kept in arrays.
 #define IMX_LANE_QUADS (HWY_TARGET != HWY_SCALAR && !HWY_HAVE_SCALABLE)
@@ -120,11 +126,6 @@ HWY_INLINE VF gather_floats(const float* base, VI index) {
 // One lane's four floats (an RGBA entry, a pair of moments) in a 128-bit vector.
 using D4 = hn::Full128<float>;
 using V4 = hn::Vec<D4>;
-
-// a + f * (b - a) on one lane's four floats.
-HWY_INLINE V4 lerp4(V4 a, V4 b, V4 f) {
-  return hn::MulAdd(f, hn::Sub(b, a), a);
-}
 
 // Table entries i and i + 1 of four floats each (8 adjacent floats at `entry`), lerped at f.
 HWY_INLINE V4 lerp_entries(const float* entry, float f) {

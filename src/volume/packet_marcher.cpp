@@ -508,9 +508,10 @@ class PacketKernel {
       // A step with more than half its lanes visible shades them at once: packing them into the
       // queue costs more than the idle lanes it would fill (MR T2-Brain on avg152T1, AVX3: 34.8
       // against 27.3 ms; the bone CTs 6-15% faster). Pieces still queued are shaded first, so
-      // that every ray adds its pieces' colours in its order, whatever the lane count: the bytes
-      // stay those of the queue alone on every target. A sink takes every piece through the
-      // queue, so that each ray's slabs reach it in order.
+      // that every ray adds its pieces' colours in its order, whatever the lane count: AVX2 and
+      // AVX3 give the same bytes as with the queue alone. A sink still takes every piece through
+      // the queue: shaded in place, zSlab's multi-object images changed in their last bits for a
+      // reason not found (the slabs it was given were the same; docs/performance.md).
       const bool dense = 2 * __builtin_popcount(bits_of(vis)) > kLanes;
       if (defer_ && (sink_ || !dense)) {
         // The opacity composites now (ERT reads it), the colour once kLanes pieces wait.
@@ -877,12 +878,6 @@ class PacketKernel {
     }
     hn::LoadInterleaved4(DF(), e, r, g, b, a);
 #endif
-  }
-
-  // lerp() on one lane's entries (128- or 256-bit vectors, whatever the target's lanes).
-  template <class V>
-  static HWY_INLINE V lerp4(V x, V y, V f) {
-    return hn::MulAdd(f, hn::Sub(y, x), x);
   }
 
   // PreintegrationView::light_of(a, the moments at (s_f, s_b)) in lanes: the centre and the
