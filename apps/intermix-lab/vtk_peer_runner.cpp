@@ -216,15 +216,25 @@ std::filesystem::path write_peer_scene(const PeerRun& run, const std::filesystem
   if (!root.contains("objects") || !root["objects"].is_array())
     throw Error(fmt::format("{}: the scene has no \"objects\" list for the VTK peer", origin));
   // Everything in the first volume's frame, where it has one (PeerFrame).
+  // Objects the peer reads from their own files (streamlines) stay in world space, and so
+  // then does everything else.
+  const bool movable = std::all_of(root["objects"].begin(), root["objects"].end(), [](auto& o) {
+    const std::string type = o.value("type", "");
+    return type == "volume" || type == "mesh";
+  });
   PeerFrame frame;
   if (!run.scene->volumes.empty()) {
     const VolumeObject& first = run.scene->volumes.front();
-    frame = peer_frame(first.index_to_world, first.data->dims);
-    if (!frame.square && run.notes)
+    const PeerFrame own = peer_frame(first.index_to_world, first.data->dims);
+    const bool on_axes =
+        own.square && !own.mirror_i && glm::dmat3(own.world_to_frame) == glm::dmat3(1.0);
+    if (movable) frame = own;
+    if (!frame.square && !on_axes && run.notes)
       std::fprintf(stderr,
-                   "intermix-lab: bench --vtk: volume '%s' has a sheared grid (gantry tilt): "
-                   "VTK ignores its direction and draws it unsheared\n",
-                   first.name.c_str());
+                   "intermix-lab: bench --vtk: VTK ignores volume '%s''s direction and draws its "
+                   "grid on its own axes (%s)\n",
+                   first.name.c_str(),
+                   movable ? "a sheared grid: gantry tilt" : "the scene has streamlines");
   }
   const auto to_frame = [&](const glm::dvec3& p) {
     return glm::dvec3(frame.world_to_frame * glm::dvec4(p, 1.0));

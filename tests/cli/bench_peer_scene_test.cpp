@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <variant>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>
@@ -14,6 +15,7 @@
 #include "intermix/metrics.hpp"
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
+#include "mrtrix_tracks.hpp"
 #include "temp_dir.hpp"
 
 namespace imx::test {
@@ -116,6 +118,27 @@ TEST(PeerSceneSheared, KeepsTheGridAsItIs) {
   glm::dmat4 m(1.0);
   m[2] = glm::dvec4(0.0, 0.4, 1.0, 0.0);  // k leans along y: a 22 degree tilt
   const std::filesystem::path scene = write_scene(dir, m);
+  CliResult r =
+      run_lab("bench " + scene.string() + " --write-peer-scene " + (dir / "peer").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const VolumeData written = read_volume(dir / "peer" / "volume-0.mha");
+  for (int c = 0; c < 4; ++c)
+    for (int row = 0; row < 3; ++row) EXPECT_NEAR(written.index_to_world[c][row], m[c][row], 1e-5);
+}
+
+// Streamlines the peer reads from their own file, in world space: the volume stays there too.
+TEST(PeerSceneStreamlines, KeepEverythingInWorldSpace) {
+  TempDir dir;
+  const glm::dmat4 m = oblique(true);
+  const std::filesystem::path scene = write_scene(dir, m);
+  std::vector<float> line;
+  for (int i = 0; i <= 10; ++i) line.insert(line.end(), {2.0f * i, 0.0f, 0.0f});
+  test::write_mrtrix_tracks(dir / "line.tck", "mrtrix tracks", {line}, 3);
+  nlohmann::json j = nlohmann::json::parse(std::ifstream(scene));
+  j["objects"].push_back({{"name", "tract"},
+                          {"type", "streamlines"},
+                          {"source", {{"file", (dir / "line.tck").string()}}}});
+  std::ofstream(scene) << j.dump(1);
   CliResult r =
       run_lab("bench " + scene.string() + " --write-peer-scene " + (dir / "peer").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
