@@ -112,18 +112,25 @@ TEST_P(PeerScene, PutsTheVolumeOnItsAxesAndShowsTheSameImage) {
 INSTANTIATE_TEST_SUITE_P(Grids, PeerScene, ::testing::Values(false, true),
                          [](const auto& info) { return info.param ? "Mirrored" : "Turned"; });
 
+// bench --write-peer-scene on `scene` writes its volume placed by `index_to_world` as it is.
+void expect_written_in_world_space(const TempDir& dir, const std::filesystem::path& scene,
+                                   const glm::dmat4& index_to_world) {
+  CliResult r =
+      run_lab("bench " + scene.string() + " --write-peer-scene " + (dir / "peer").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const VolumeData written = read_volume(dir / "peer" / "volume-0.mha");
+  for (int c = 0; c < 4; ++c)
+    for (int row = 0; row < 3; ++row)
+      EXPECT_NEAR(written.index_to_world[c][row], index_to_world[c][row], 1e-5);
+}
+
 // A sheared grid (gantry tilt) has no frame of its own: it is written in world space as it is.
 TEST(PeerSceneSheared, KeepsTheGridAsItIs) {
   TempDir dir;
   glm::dmat4 m(1.0);
   m[2] = glm::dvec4(0.0, 0.4, 1.0, 0.0);  // k leans along y: a 22 degree tilt
   const std::filesystem::path scene = write_scene(dir, m);
-  CliResult r =
-      run_lab("bench " + scene.string() + " --write-peer-scene " + (dir / "peer").string());
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  const VolumeData written = read_volume(dir / "peer" / "volume-0.mha");
-  for (int c = 0; c < 4; ++c)
-    for (int row = 0; row < 3; ++row) EXPECT_NEAR(written.index_to_world[c][row], m[c][row], 1e-5);
+  expect_written_in_world_space(dir, scene, m);
 }
 
 // Streamlines the peer reads from their own file, in world space: the volume stays there too.
@@ -139,12 +146,7 @@ TEST(PeerSceneStreamlines, KeepEverythingInWorldSpace) {
                           {"type", "streamlines"},
                           {"source", {{"file", (dir / "line.tck").string()}}}});
   std::ofstream(scene) << j.dump(1);
-  CliResult r =
-      run_lab("bench " + scene.string() + " --write-peer-scene " + (dir / "peer").string());
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  const VolumeData written = read_volume(dir / "peer" / "volume-0.mha");
-  for (int c = 0; c < 4; ++c)
-    for (int row = 0; row < 3; ++row) EXPECT_NEAR(written.index_to_world[c][row], m[c][row], 1e-5);
+  expect_written_in_world_space(dir, scene, m);
 }
 
 TEST(PeerSceneFolder, MustBeNew) {
