@@ -46,6 +46,11 @@ class LaneLattice {
   int stride_z() const { return sz_; }
 
   VI locate(VF px, VF py, VF pz, VF& fx, VF& fy, VF& fz) const {
+    VI corner[3];
+    return locate(px, py, pz, fx, fy, fz, corner);
+  }
+  // As locate(), and the lower corner's index along each axis.
+  VI locate(VF px, VF py, VF pz, VF& fx, VF& fy, VF& fz, VI corner[3]) const {
     const VF zero = hn::Zero(DF());
     // max(p, 0) returns 0 for a NaN p on every target (hn::Max takes the second operand for a
     // NaN first), as the clamp must to stay inside the grid.
@@ -58,8 +63,11 @@ class LaneLattice {
     fx = hn::Sub(px, hn::ConvertTo(DF(), ix));
     fy = hn::Sub(py, hn::ConvertTo(DF(), iy));
     fz = hn::Sub(pz, hn::ConvertTo(DF(), iz));
+    corner[0] = ix, corner[1] = iy, corner[2] = iz;
     return hn::Add(ix, hn::Add(hn::Mul(iy, sy()), hn::Mul(iz, sz())));
   }
+  // The last lower corner along each axis (dims - 2).
+  int last_corner(int axis) const { return axis == 0 ? max_x_ : axis == 1 ? max_y_ : max_z_; }
 
  private:
   float hi_x_, hi_y_, hi_z_;   // dims - 1: the clamp
@@ -135,59 +143,75 @@ class LaneGrid {
     return trilinear(c, fx, fy, fz);
   }
 
-  // VoxelGrid<T>::gradient (central differences of sample() one voxel each way) where every lane
-  // of `lanes` lies at least a voxel inside the grid (p in [1, dims - 2) on every axis), so that
-  // no fetch is clamped: the six samples share their lattice point and fractions (those of p, so
-  // a result may differ from six sample() calls by the rounding of p +- 1) and read the 32 voxels
-  // around p once, in 12 to 16 word fetches instead of 24 for 8- and 16-bit voxels. Returns
-  // false, computing nothing, where a lane of `lanes` is nearer an edge.
-  bool interior_gradient(MF lanes, VF px, VF py, VF pz, VF& gx, VF& gy, VF& gz) const {
-    const MF inside = lattice_.interior(px, py, pz);
-    if (hn::AllFalse(DF(), lanes) || !hn::AllTrue(DF(), hn::Or(inside, hn::Not(lanes))))
-      return false;
+  // VoxelGrid<T>::gradient (central differences of sample() one voxel each way) in every lane,
+  // the six samples read from p's own lattice point and fractions: the 32 voxels around p once,
+  // in 12 to 16 word fetches instead of 24 for 8- and 16-bit voxels. Rows and columns past the
+  // grid's faces are clamped to them, which gives the values of the clamped sample positions
+  // wherever p lies inside the grid; a result may differ from six sample() calls by the rounding
+  // of p +- 1, and where p lies in the half voxel outside the centres (p is clamped first).
+  // Every lane alike, so that a lane's bytes do not depend on the packet it is in.
+  void gradient(VF px, VF py, VF pz, VF& gx, VF& gy, VF& gz) const {
     VF fx, fy, fz;
-    // Lanes outside `lanes` read voxel (1, 1, 1)'s neighbourhood instead.
-    const VI base = hn::IfThenElse(to_int(inside), lattice_.locate(px, py, pz, fx, fy, fz),
-                                   splat(lattice_.interior_base()));
-    const int sy = lattice_.stride_y(), sz = lattice_.stride_z();
-    // Voxels x0 - 1 .. x0 + 2 of the row (y0 + dy, z0 + dz), and the pair x0, x0 + 1 alone.
+    VI corner[3];
+    const VI base = lattice_.locate(px, py, pz, fx, fy, fz, corner);
+    const VI sy = lattice_.sy(), sz = lattice_.sz();
+    const VI zero = hn::Zero(DI());
+    // The row before the cell's (none before the first) and the one after it (none after the
+    // last), as offsets from the cell's.
+    const auto before = [&](int axis, VI stride) HWY_ATTR {
+      return hn::IfThenElseZero(hn::Gt(corner[axis], zero), hn::Neg(stride));
+    };
+    const auto after = [&](int axis, VI stride) HWY_ATTR {
+      const VI two = hn::Add(stride, stride);
+      return hn::IfThenElse(hn::Lt(corner[axis], splat(lattice_.last_corner(axis))), two, stride);
+    };
+    const VI y_before = before(1, sy), y_after = after(1, sy);
+    const VI z_before = before(2, sz), z_after = after(2, sz);
+    // Columns x0 - 1 and x0 + 2, clamped: fetched with their neighbour, then doubled.
+    const MF first_column = to_float(hn::Eq(corner[0], zero));
+    const MF last_column = to_float(hn::Eq(corner[0], splat(lattice_.last_corner(0))));
+    const VI left = hn::IfThenElse(hn::RebindMask(DI(), first_column), zero, splat(-1));
+    const VI right = hn::IfThenElse(hn::RebindMask(DI(), last_column), zero, splat(1));
+    // 8-bit words read three voxels past the pair: rows that may be the grid's last take care.
     struct Row4 {
       VF v[4];
     };
-    auto row4 = [&](int dy, int dz) HWY_ATTR {
-      const VI at = hn::Add(base, splat(dy * sy + dz * sz));
+    auto row4 = [&](VI row, bool last_row) HWY_ATTR {
+      const VI at = hn::Add(base, row);
       Row4 r;
-      pair(hn::Sub(at, splat(1)), false, r.v[0], r.v[1]);
-      pair(hn::Add(at, splat(1)), false, r.v[2], r.v[3]);
-      return r;
+      pair(hn::Add(at, left), last_row, r.v[0], r.v[1]);
+      r.v[1] = hn::IfThenElse(first_column, r.v[0], r.v[1]);
+      pair(hn::Add(at, right), last_row, r.v[2], r.v[3]);
+      r.v[2] = hn::IfThenElse(last_column, r.v[3], r.v[2]);
+      return r;  // v[1] and v[2] are columns x0 and x0 + 1 either way
     };
-    auto row2 = [&](int dy, int dz, VF& a, VF& b)
-                    HWY_ATTR { pair(hn::Add(base, splat(dy * sy + dz * sz)), false, a, b); };
+    auto row2 = [&](VI row, bool last_row, VF& a, VF& b)
+                    HWY_ATTR { pair(hn::Add(base, row), last_row, a, b); };
     // The trilinear interpolation of a cell given as its four x-pairs (y, z order).
     auto cell = [&](VF a0, VF a1, VF b0, VF b1, VF c0, VF c1, VF d0, VF d1) HWY_ATTR {
       const VF c[8] = {a0, a1, b0, b1, c0, c1, d0, d1};
       return trilinear(c, fx, fy, fz);
     };
-    const Row4 r00 = row4(0, 0), r10 = row4(1, 0), r01 = row4(0, 1), r11 = row4(1, 1);
+    const Row4 r00 = row4(zero, false), r10 = row4(sy, false), r01 = row4(sz, false),
+               r11v = row4(hn::Add(sy, sz), true);
     VF ym0a, ym0b, ym1a, ym1b, yp0a, yp0b, yp1a, yp1b;
-    row2(-1, 0, ym0a, ym0b), row2(-1, 1, ym1a, ym1b), row2(2, 0, yp0a, yp0b),
-        row2(2, 1, yp1a, yp1b);
+    row2(y_before, false, ym0a, ym0b), row2(hn::Add(y_before, sz), false, ym1a, ym1b),
+        row2(y_after, false, yp0a, yp0b), row2(hn::Add(y_after, sz), true, yp1a, yp1b);
     VF zm0a, zm0b, zm1a, zm1b, zp0a, zp0b, zp1a, zp1b;
-    row2(0, -1, zm0a, zm0b), row2(1, -1, zm1a, zm1b), row2(0, 2, zp0a, zp0b),
-        row2(1, 2, zp1a, zp1b);
+    row2(z_before, false, zm0a, zm0b), row2(hn::Add(z_before, sy), false, zm1a, zm1b),
+        row2(z_after, false, zp0a, zp0b), row2(hn::Add(z_after, sy), true, zp1a, zp1b);
     const VF half = splat(0.5f);
     const VF x_up =
-        cell(r00.v[2], r00.v[3], r10.v[2], r10.v[3], r01.v[2], r01.v[3], r11.v[2], r11.v[3]);
+        cell(r00.v[2], r00.v[3], r10.v[2], r10.v[3], r01.v[2], r01.v[3], r11v.v[2], r11v.v[3]);
     const VF x_down =
-        cell(r00.v[0], r00.v[1], r10.v[0], r10.v[1], r01.v[0], r01.v[1], r11.v[0], r11.v[1]);
+        cell(r00.v[0], r00.v[1], r10.v[0], r10.v[1], r01.v[0], r01.v[1], r11v.v[0], r11v.v[1]);
     gx = hn::Mul(half, hn::Sub(x_up, x_down));
-    const VF y_up = cell(r10.v[1], r10.v[2], yp0a, yp0b, r11.v[1], r11.v[2], yp1a, yp1b);
+    const VF y_up = cell(r10.v[1], r10.v[2], yp0a, yp0b, r11v.v[1], r11v.v[2], yp1a, yp1b);
     const VF y_down = cell(ym0a, ym0b, r00.v[1], r00.v[2], ym1a, ym1b, r01.v[1], r01.v[2]);
     gy = hn::Mul(half, hn::Sub(y_up, y_down));
-    const VF z_up = cell(r01.v[1], r01.v[2], r11.v[1], r11.v[2], zp0a, zp0b, zp1a, zp1b);
+    const VF z_up = cell(r01.v[1], r01.v[2], r11v.v[1], r11v.v[2], zp0a, zp0b, zp1a, zp1b);
     const VF z_down = cell(zm0a, zm0b, zm1a, zm1b, r00.v[1], r00.v[2], r10.v[1], r10.v[2]);
     gz = hn::Mul(half, hn::Sub(z_up, z_down));
-    return true;
   }
 
  private:

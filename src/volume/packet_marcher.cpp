@@ -940,15 +940,8 @@ class PacketKernel {
       gradients_->sample(px, py, pz, gx, gy, gz);
     } else if constexpr (NoData) {
       gradient_of_data(px, py, pz, gx, gy, gz);
-    } else if (!grid_.interior_gradient(vis, px, py, pz, gx, gy, gz)) {
-      // Near the grid's faces: six clamped samples.
-      const VF one = splat(1.0f), half = splat(0.5f);
-      gx = hn::Mul(half, hn::Sub(grid_.sample(hn::Add(px, one), py, pz),
-                                 grid_.sample(hn::Sub(px, one), py, pz)));
-      gy = hn::Mul(half, hn::Sub(grid_.sample(px, hn::Add(py, one), pz),
-                                 grid_.sample(px, hn::Sub(py, one), pz)));
-      gz = hn::Mul(half, hn::Sub(grid_.sample(px, py, hn::Add(pz, one)),
-                                 grid_.sample(px, py, hn::Sub(pz, one))));
+    } else {
+      grid_.gradient(px, py, pz, gx, gy, gz);
     }
     shade_gradient(vis, from, gx, gy, gz, r, g, b, a);
   }
