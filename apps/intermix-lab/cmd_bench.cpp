@@ -19,7 +19,7 @@
 #include "intermix/render.hpp"
 #include "intermix/scene.hpp"
 #include "lab_commands.hpp"
-#include "volume/prepared_volume.hpp"
+#include "methods/resident_memory.hpp"
 #include "volume/simd_targets.hpp"
 #include "vtk_peer_runner.hpp"
 
@@ -286,17 +286,21 @@ Command add_bench(CLI::App& app) {
                      "rendering\n");
     }
 
-    // What each variant's volumes hold resident (the structures its frames built, from the caches).
+    // What each variant's volumes hold resident under the first method timed (the structures its
+    // frames built, from the caches).
     nlohmann::json resident = nlohmann::json::array();
-    for (size_t v = 0; v < scenes.size(); ++v)
-      for (const VolumeObject& volume : scenes[v].volumes) {
+    for (size_t v = 0; v < scenes.size(); ++v) {
+      const std::vector<std::vector<ResidentPart>> held =
+          resident_parts(scenes[v], resolve_method(scenes[v], methods.front()).name);
+      for (size_t k = 0; k < held.size(); ++k) {
         nlohmann::json parts = nlohmann::json::array();
-        for (const ResidentPart& part :
-             resident_parts(volume, MarchSettings::from(scenes[v].render)))
+        for (const ResidentPart& part : held[k])
           parts.push_back({{"name", part.name}, {"bytes", part.bytes}});
-        resident.push_back(
-            {{"variant", variants[v].label}, {"volume", volume.name}, {"parts", parts}});
+        resident.push_back({{"variant", variants[v].label},
+                            {"volume", scenes[v].volumes[k].name},
+                            {"parts", parts}});
       }
+    }
 
     const double first = rows.front()["ms_median"];
     for (auto& r : rows) r["ratio"] = r["ms_median"].get<double>() / first;

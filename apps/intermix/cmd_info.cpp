@@ -24,7 +24,8 @@
 #include "presets/window_presets.hpp"
 #include "scene/scene_document.hpp"
 #include "scene/scene_from_files.hpp"
-#include "volume/prepared_volume.hpp"
+#include "intermix/render.hpp"
+#include "methods/resident_memory.hpp"
 
 namespace imx::cli {
 
@@ -101,12 +102,14 @@ nlohmann::json describe(const MeshFile& file) {
 nlohmann::json resident_memory(const std::string& file) {
   const SceneDocument document = scene_from_files({file});
   const Scene& scene = document.scene();
-  const MarchSettings settings = MarchSettings::from(scene.render);
+  const std::vector<std::vector<ResidentPart>> resident =
+      resident_parts(scene, resolve_method(scene).name);
   nlohmann::json list = nlohmann::json::array();
-  for (const VolumeObject& v : scene.volumes) {
+  for (size_t k = 0; k < scene.volumes.size(); ++k) {
+    const VolumeObject& v = scene.volumes[k];
     nlohmann::json parts = nlohmann::json::array();
     uint64_t total = 0, voxels = 0;
-    for (const ResidentPart& part : resident_parts(v, settings)) {
+    for (const ResidentPart& part : resident[k]) {
       parts.push_back({{"name", part.name}, {"bytes", part.bytes}});
       total += part.bytes;
       if (part.name == "voxels") voxels = part.bytes;

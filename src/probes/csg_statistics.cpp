@@ -46,7 +46,7 @@ CsgRayStatistics csg_ray_statistics(const Scene& scene, int threads) {
   // The frame exactly as render_csg prepares it, so the classification is the method's own.
   FrameSetup frame(scene);
   frame.require_per_sample_support("csg");
-  const MdvrParams params = prepare_mdvr(scene, frame);
+  const MdvrParams params = prepare_mdvr(scene, frame, false);
   const CsgFrame csg_frame(scene, frame, /*with_states=*/true);
   const CsgView csg = csg_frame.view();
 

@@ -81,11 +81,4 @@ RayInterval PreparedVolume::intersect(const Ray& ray, float t_min) const {
   return r;
 }
 
-std::vector<ResidentPart> resident_parts(const VolumeObject& v, const MarchSettings& settings) {
-  const PreparedVolume prepared(v);
-  const glm::dvec3 pitch = v.data->spacing();
-  const auto step = static_cast<float>(std::min({pitch.x, pitch.y, pitch.z}));
-  return resident_parts(v, accelerate(v, prepared.lut, step, settings));
-}
-
 }  // namespace imx

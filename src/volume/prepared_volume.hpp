@@ -63,8 +63,4 @@ struct PreparedVolume {
   }
 };
 
-// What rendering `v` holds resident under `settings` (resident_parts), its structures built or
-// fetched from the caches as a frame would, at a step of its finest voxel pitch.
-std::vector<ResidentPart> resident_parts(const VolumeObject& v, const MarchSettings& settings);
-
 }  // namespace imx

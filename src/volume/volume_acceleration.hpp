@@ -26,7 +26,8 @@ enum class GradientSource : uint8_t { automatic, on_the_fly, precomputed };
 // 9-21% faster than central differences on the fly with packets up to 157 MB of voxels (30% one
 // ray at a time), level at 530 MB and half as fast at 1.26 GB, where it takes 3.8 GB and 12 s.
 inline constexpr uint64_t kGradientCopyAllowance = uint64_t{200} << 20;
-// Whether shading normals of `data` come from a GradientVolume under `source`: `automatic`
+// Whether shading normals of `data` come from a GradientVolume under `source` (a frame whose
+// rays all march in lanes asks for on_the_fly instead: accelerate_for_packets): `automatic`
 // precomputes them while the copy (GradientVolume::bytes_at_most) fits kGradientCopyAllowance
 // plus a quarter of the voxels, and a quarter of the memory budget.
 bool precomputes_gradients(GradientSource source, const VolumeData& data);

@@ -21,6 +21,44 @@ Image render_mdvr(Scene scene, bool packets, const std::string& method = "mdvr")
   return render(scene, o);
 }
 
+bool same_bytes(const Image& a, const Image& b) {
+  return std::equal(a.data(), a.data() + a.size(), b.data());
+}
+
+// render.gradients=auto takes gradients on the fly where every ray of the frame marches in
+// lanes (no copy to build or hold), and the precomputed copy where some ray marches alone: csg,
+// zslab's rgba8 slabs, render.packets=false. The two differ in the copy's rounding only.
+TEST(MdvrPackets, AutomaticGradientsOnTheFlyWhereEveryRayIsInLanes) {
+  struct Case {
+    const char* method;
+    std::string extra;
+    const char* expected;  // the gradient source `auto` must render the bytes of
+  };
+  const std::vector<Case> cases = {
+      {"mdvr", "render.packets=true", "on-the-fly"},
+      {"zslab", "render.packets=true", "on-the-fly"},
+      {"zslab", "render.slab_format=rgba8", "precomputed"},
+      {"mdvr", "render.packets=false", "precomputed"},
+      {"csg", "render.mixing=exclusive", "precomputed"},  // not mdvr's path
+  };
+  for (const Case& c : cases) {
+    auto with = [&](const std::string& gradients) {
+      Scene s = load_scene(std::filesystem::path(IMX_EXAMPLES_DIR) / "ct-head.json",
+                           {"image.width=61", "image.height=47", "objects.ct.source.size=64",
+                            c.extra, "render.gradients=" + gradients});
+      RenderOptions o;
+      o.method = c.method;
+      return render(s, o);
+    };
+    const Image automatic = with("auto"), on_the_fly = with("on-the-fly"),
+                precomputed = with("precomputed");
+    const std::string expected = c.expected;
+    EXPECT_EQ(same_bytes(automatic, on_the_fly), expected == "on-the-fly") << c.method << c.extra;
+    EXPECT_EQ(same_bytes(automatic, precomputed), expected == "precomputed")
+        << c.method << " " << c.extra;
+  }
+}
+
 // Float reassociation only: far above what 8-bit output can show.
 TEST(MdvrPackets, SameImageAsOneRayAtATime) {
   for (const std::string& extra :

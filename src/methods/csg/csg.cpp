@@ -18,7 +18,7 @@ Image render_csg(const Scene& scene, int spp, const RenderOptions& options) {
   if (!scene.csg && scene.render.mixing != "exclusive") return render_mdvr(scene, spp, options);
   FrameSetup frame(scene);
   frame.require_per_sample_support("csg");
-  const MdvrParams params = prepare_mdvr(scene, frame);  // csg steps and skips as mdvr does
+  const MdvrParams params = prepare_mdvr(scene, frame, false);  // csg steps and skips as mdvr does
   const CsgFrame csg(scene, frame, /*with_states=*/true);
   const CsgView view = csg.view();
   const MixingPlan mixing(scene);

@@ -15,18 +15,39 @@
 
 namespace imx {
 
-bool volume_packets_apply(const Scene& scene, const FrameSetup& frame) {
+namespace {
+
+// One volume and nothing else shown: the scene part of volume_packets_apply.
+bool one_volume_alone(const Scene& scene, const FrameSetup& frame) {
   // Hidden meshes, planes and tubes make no fragments (a viewer's reading planes, hidden in 3-D).
   const std::vector<bool> meshes = shown_meshes(scene);
-  if (!scene.render.packets || std::find(meshes.begin(), meshes.end(), true) != meshes.end() ||
-      std::any_of(scene.planes.begin(), scene.planes.end(), shown_plane) ||
-      std::any_of(scene.streamlines.begin(), scene.streamlines.end(),
-                  [](const StreamlineObject& o) { return o.opacity > 0.0f; }) ||
-      !frame.clip.empty() || frame.volumes.size() != 1)
-    return false;
+  return scene.render.packets && std::find(meshes.begin(), meshes.end(), true) == meshes.end() &&
+         std::none_of(scene.planes.begin(), scene.planes.end(), shown_plane) &&
+         std::none_of(scene.streamlines.begin(), scene.streamlines.end(),
+                      [](const StreamlineObject& o) { return o.opacity > 0.0f; }) &&
+         frame.clip.empty() && frame.volumes.size() == 1;
+}
+
+}  // namespace
+
+bool volume_packets_apply(const Scene& scene, const FrameSetup& frame) {
+  if (!one_volume_alone(scene, frame)) return false;
   const PreparedVolume& v = frame.volumes[0];
   return v.object->style == VolumeStyle::dvr ? packet_marching_supported(v, frame.lights)
                                              : packet_projection_supported(v);
+}
+
+void accelerate_for_packets(const Scene& scene, FrameSetup& frame, std::span<const float> steps,
+                            bool packets_possible) {
+  const MarchSettings settings = MarchSettings::from(scene.render);
+  if (packets_possible && settings.gradients == GradientSource::automatic &&
+      one_volume_alone(scene, frame)) {
+    MarchSettings on_the_fly = settings;
+    on_the_fly.gradients = GradientSource::on_the_fly;
+    frame.accelerate(steps, on_the_fly);
+    if (volume_packets_apply(scene, frame)) return;
+  }
+  frame.accelerate(steps, settings);
 }
 
 Image render_volume_packets(const Scene& scene, const FrameSetup& frame, const MdvrParams& params,
@@ -100,18 +121,19 @@ Image render_volume_packets(const Scene& scene, const FrameSetup& frame, const M
   return image;
 }
 
-MdvrParams prepare_mdvr(const Scene& scene, FrameSetup& frame) {
+MdvrParams prepare_mdvr(const Scene& scene, FrameSetup& frame, bool packets_possible) {
   MdvrParams params;
   params.step = static_cast<float>(frame.ray_step(scene.render));
   params.ert = static_cast<float>(scene.render.ert_threshold);
-  frame.accelerate(params.step, MarchSettings::from(scene.render));
+  const std::vector<float> steps(frame.volumes.size(), params.step);
+  accelerate_for_packets(scene, frame, steps, packets_possible);
   return params;
 }
 
 Image render_mdvr(const Scene& scene, int spp, const RenderOptions& options) {
   FrameSetup frame(scene);
   frame.require_per_sample_support("mdvr");
-  const MdvrParams params = prepare_mdvr(scene, frame);
+  const MdvrParams params = prepare_mdvr(scene, frame, true);
   if (volume_packets_apply(scene, frame))
     return render_volume_packets(scene, frame, params, SlabExtent::grid, options,
                                  frame_offsets(spp, options.sample_index));

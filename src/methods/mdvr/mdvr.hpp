@@ -13,8 +13,8 @@
 namespace imx {
 
 // mdvr's step (render.step_mm, else the smallest voxel pitch) and ERT, with the frame's volumes
-// accelerated for that step; csg marches the same way.
-MdvrParams prepare_mdvr(const Scene& scene, FrameSetup& frame);
+// accelerated for that step (accelerate_for_packets); csg marches the same way, never in lanes.
+MdvrParams prepare_mdvr(const Scene& scene, FrameSetup& frame, bool packets_possible);
 
 Image render_mdvr(const Scene& scene, int spp, const RenderOptions& options);
 
@@ -22,6 +22,14 @@ Image render_mdvr(const Scene& scene, int spp, const RenderOptions& options);
 // every method's trace is then VolumeMarcher::composite (dvr) or the one projection or iso hit
 // per ray, which the rays of a tile can share in vector lanes.
 bool volume_packets_apply(const Scene& scene, const FrameSetup& frame);
+
+// Accelerates the frame's volumes for `steps` as scene.render says, except that `automatic`
+// gradients are taken on the fly where the method would march that case in lanes
+// (`packets_possible`) and volume_packets_apply holds: every ray of the frame is then in lanes,
+// where the clamped on-the-fly gradient beat the precomputed copy on most scans and spares its
+// memory and build time (docs/performance.md).
+void accelerate_for_packets(const Scene& scene, FrameSetup& frame, std::span<const float> steps,
+                            bool packets_possible);
 
 // That case: per tile and sample position, the rays that meet the volume go through
 // composite_packets() (dvr, its pieces shaded as `extent` says) or project_packets() together,

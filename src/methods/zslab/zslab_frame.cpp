@@ -9,6 +9,7 @@
 #include "frame/fragment_context.hpp"
 #include "frame/sample_pattern.hpp"
 #include "intermix/error.hpp"
+#include "methods/mdvr/mdvr.hpp"
 #include "methods/zslab/stage_hash.hpp"
 #include "methods/zslab/zslab.hpp"
 #include "scene/stage_fields.hpp"
@@ -120,7 +121,7 @@ ZslabFrame::ZslabFrame(const Scene& s, int spp, bool hybrid_cast, int sample_ind
   // sampling casts a coarser volume at a whole multiple of it, pre-integrated at its own step,
   // and leaves the merging of the unequal slabs to the kernel.
   steps = frame.volume_steps(frame.ray_step(r), sampling_of(r) == Sampling::per_volume);
-  frame.accelerate(steps, MarchSettings::from(r));
+  accelerate_for_packets(scene, frame, steps, format == SlabFormat::rgba32f);  // zslab_in_packets
 
   // Polygon objects and planes first, in scene order, as many per stage as fit the RT layers.
   // What does not show (hidden objects, clip meshes of opacity 0 that only cut) is in no stage.
