@@ -12,6 +12,7 @@ namespace imx {
 // resident_parts() of each of `scene`'s volumes, in scene order, when `method` (a name
 // resolve_method returns) renders it: a method that marches one volume alone in lanes takes
 // `auto` gradients on the fly (accelerate_for_packets), the others keep the copy.
-std::vector<std::vector<ResidentPart>> resident_parts(const Scene& scene, const std::string& method);
+std::vector<std::vector<ResidentPart>> resident_parts(const Scene& scene,
+                                                      const std::string& method);
 
 }  // namespace imx

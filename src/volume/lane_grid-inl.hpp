@@ -75,12 +75,9 @@ class LaneLattice {
   int sy_, sz_;                // strides in voxels
 };
 
-// The trilinear interpolation of a cell's corners c000, c100, c010, c110, c001, c101, c011, c111
-// at fractions (fx, fy, fz): x first, then y, then z, as VoxelGrid<T>::sample.
+// sample_formulas::trilinear in lanes, as VoxelGrid<T>::sample interpolates.
 HWY_INLINE VF trilinear(const VF c[8], VF fx, VF fy, VF fz) {
-  const VF c00 = lerp(c[0], c[1], fx), c10 = lerp(c[2], c[3], fx);
-  const VF c01 = lerp(c[4], c[5], fx), c11 = lerp(c[6], c[7], fx);
-  return lerp(lerp(c00, c10, fy), lerp(c01, c11, fy), fz);
+  return sample_formulas::trilinear<LaneOps>(c, fx, fy, fz);
 }
 
 // The low and high 16-bit halves of 32-bit words, sign- or zero-extended as T is.

@@ -14,6 +14,8 @@
 
 #include <hwy/highway.h>
 
+#include "intermix/scene.hpp"
+
 HWY_BEFORE_NAMESPACE();
 namespace imx::HWY_NAMESPACE::lanes {
 
@@ -72,13 +74,39 @@ HWY_INLINE MI to_int(MF m) {
   return hn::RebindMask(DI(), m);
 }
 
+// The per-sample formulas compiled for this target (sample_formulas.hpp).
+namespace sample_formulas {
+#include "volume/sample_formulas.inc"  // NOLINT(bugprone-suspicious-include)
+}  // namespace sample_formulas
+
+// ScalarOps' vocabulary (sample_ops.hpp) on lanes, one ray per lane: what the formulas of
+// sample_formulas.hpp are instantiated with here.
+struct LaneOps {
+  using V = VF;
+  using M = MF;
+
+  static HWY_INLINE V splat(float x) { return hn::Set(DF(), x); }
+  static HWY_INLINE V sub(V a, V b) { return hn::Sub(a, b); }
+  static HWY_INLINE V mul(V a, V b) { return hn::Mul(a, b); }
+  static HWY_INLINE V div(V a, V b) { return hn::Div(a, b); }
+  static HWY_INLINE V mul_add(V a, V b, V c) { return hn::MulAdd(a, b, c); }
+  static HWY_INLINE V neg_mul_add(V a, V b, V c) { return hn::NegMulAdd(a, b, c); }
+  static HWY_INLINE V min(V a, V b) { return hn::Min(a, b); }
+  static HWY_INLINE V max(V a, V b) { return hn::Max(a, b); }
+  static HWY_INLINE V sqrt(V a) { return hn::Sqrt(a); }
+
+  static HWY_INLINE M gt(V a, V b) { return hn::Gt(a, b); }
+  static HWY_INLINE V select(M m, V a, V b) { return hn::IfThenElse(m, a, b); }
+  static HWY_INLINE V zero_unless(M m, V a) { return hn::IfThenElseZero(m, a); }
+};
+
 HWY_INLINE VF dot3(VF ax, VF ay, VF az, VF bx, VF by, VF bz) {
-  return hn::MulAdd(az, bz, hn::MulAdd(ay, by, hn::Mul(ax, bx)));
+  return sample_formulas::dot3<LaneOps>(ax, ay, az, bx, by, bz);
 }
 
 // a + f * (b - a), the interpolation step of every trilinear and bilinear fetch.
 HWY_INLINE VF lerp(VF a, VF b, VF f) {
-  return hn::MulAdd(f, hn::Sub(b, a), a);
+  return sample_formulas::lerp<LaneOps>(a, b, f);
 }
 
 // Whether the target gathers in hardware (x86 AVX2 and AVX-512). On this project's Intel machine

@@ -908,14 +908,7 @@ class PacketKernel {
     VF unused0, unused1;
     hn::LoadInterleaved4(DF(), e, m1, m2, unused0, unused1);
 #endif
-    const VF zero = hn::Zero(DF());
-    const MF lit = hn::Gt(a, zero);
-    const VF inv_a = hn::Div(splat(1.0f), a);
-    const VF mean = hn::Min(hn::Max(hn::Mul(m1, inv_a), zero), splat(1.0f));
-    const VF variance = hn::NegMulAdd(mean, mean, hn::Mul(m2, inv_a));
-    const VF sd = hn::IfThenElseZero(hn::Gt(variance, zero), hn::Sqrt(hn::Max(variance, zero)));
-    centre = hn::IfThenElse(lit, mean, splat(0.5f));
-    spread = hn::IfThenElseZero(lit, sd);
+    sample_formulas::light_of<LaneOps>(a, m1, m2, centre, spread);
   }
   static constexpr float kMinSpread = 1.0f / 64.0f;  // VolumeMarcher::kMinSpread
 
@@ -926,8 +919,7 @@ class PacketKernel {
     store(len, ll);
     for (unsigned m = bits_of(mask); m; m &= m - 1) {
       int l = __builtin_ctz(m);
-      float alpha = la[l] >= 1.0f ? 1.0f : 1.0f - std::pow(1.0f - la[l], ll[l] / step_);
-      float k = alpha / la[l];
+      const float k = correct_opacity(la[l], ll[l], step_) / la[l];
       lr[l] *= k, lg[l] *= k, lb[l] *= k, la[l] *= k;
     }
     r = load(lr), g = load(lg), b = load(lb), a = load(la);

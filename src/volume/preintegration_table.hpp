@@ -7,6 +7,8 @@
 
 #include <glm/glm.hpp>
 
+#include "volume/sample_formulas.hpp"
+#include "volume/sample_ops.hpp"
 #include "volume/tf_lut.hpp"
 
 namespace imx {
@@ -44,10 +46,9 @@ struct PreintegrationView {
   }
 
   static Light light_of(float a, glm::vec2 moments) {
-    if (!(a > 0.0f)) return {};
-    const float mean = std::clamp(moments.x / a, 0.0f, 1.0f);
-    const float variance = moments.y / a - mean * mean;
-    return {mean, variance > 0.0f ? std::sqrt(variance) : 0.0f};
+    Light light;
+    sample_formulas::light_of<ScalarOps>(a, moments.x, moments.y, light.centre, light.spread);
+    return light;
   }
 
  private:

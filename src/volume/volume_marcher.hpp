@@ -308,8 +308,7 @@ class VolumeMarcher {
       glm::vec4 c = centre_ ? preint_.lookup(s_f, s_b, light) : preint_.lookup(s_f, s_b);
       if (len >= 0.9999f * step_ || c.a <= 0.0f) return c;
       // A piece shorter than the table's step: the same medium over less distance.
-      float a = c.a >= 1.0f ? 1.0f : 1.0f - std::pow(1.0f - c.a, len / step_);
-      return c * (a / c.a);
+      return c * (correct_opacity(c.a, len, step_) / c.a);
     }
     glm::vec4 tf = v_->lut.lookup(0.5f * (s_f + s_b));
     float a = correct_opacity(tf.a, len, v_->lut.unit_distance());

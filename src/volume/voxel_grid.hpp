@@ -7,6 +7,9 @@
 
 #include <glm/glm.hpp>
 
+#include "volume/sample_formulas.hpp"
+#include "volume/sample_ops.hpp"
+
 namespace imx {
 
 // Whether a sample is "no data": NaN or infinite. NaN and inf voxels (a statistical map's outside
@@ -42,14 +45,11 @@ struct VoxelGrid {
     // at most dims - 2 there) and i0 on an axis of one: per grid, not per sample, constant.
     size_t dx = dims.x > 1 ? sx : 0, dy = dims.y > 1 ? sy : 0, dz = dims.z > 1 ? sz : 0;
     const T* q = data + base;
-    float c000 = static_cast<float>(q[0]), c100 = static_cast<float>(q[dx]);
-    float c010 = static_cast<float>(q[dy]), c110 = static_cast<float>(q[dy + dx]);
-    float c001 = static_cast<float>(q[dz]), c101 = static_cast<float>(q[dz + dx]);
-    float c011 = static_cast<float>(q[dz + dy]), c111 = static_cast<float>(q[dz + dy + dx]);
-    float c00 = c000 + f.x * (c100 - c000), c10 = c010 + f.x * (c110 - c010);
-    float c01 = c001 + f.x * (c101 - c001), c11 = c011 + f.x * (c111 - c011);
-    float c0 = c00 + f.y * (c10 - c00), c1 = c01 + f.y * (c11 - c01);
-    return c0 + f.z * (c1 - c0);
+    const float c[8] = {static_cast<float>(q[0]),       static_cast<float>(q[dx]),
+                        static_cast<float>(q[dy]),      static_cast<float>(q[dy + dx]),
+                        static_cast<float>(q[dz]),      static_cast<float>(q[dz + dx]),
+                        static_cast<float>(q[dz + dy]), static_cast<float>(q[dz + dy + dx])};
+    return sample_formulas::trilinear<ScalarOps>(c, f.x, f.y, f.z);
   }
 
   // Central-difference gradient in index space (one voxel each way) of the trilinear field.

@@ -1,0 +1,11 @@
+// The per-sample formulas of the volume march, written once over an arithmetic vocabulary `O`:
+// ScalarOps (sample_ops.hpp: one float, the per-ray VolumeMarcher and VoxelGrid) or LaneOps
+// (lanes-inl.hpp: one ray per SIMD lane, the packet kernels). A change to what a sample means is
+// made in sample_formulas.inc, for both marchers: lerp, trilinear, dot3 and light_of.
+// Pure: no allocation, no exceptions, no globals.
+#pragma once
+#include "intermix/scene.hpp"
+
+namespace imx::sample_formulas {
+#include "volume/sample_formulas.inc"  // IWYU pragma: export
+}  // namespace imx::sample_formulas
