@@ -96,8 +96,41 @@ struct LaneOps {
   static HWY_INLINE V sqrt(V a) { return hn::Sqrt(a); }
 
   static HWY_INLINE M gt(V a, V b) { return hn::Gt(a, b); }
+  static HWY_INLINE M lt(V a, V b) { return hn::Lt(a, b); }
+  static HWY_INLINE M both(M a, M b) { return hn::And(a, b); }
+  static HWY_INLINE M either(M a, M b) { return hn::Or(a, b); }
+  static HWY_INLINE M not_(M a) { return hn::Not(a); }
+  static HWY_INLINE bool none(M a) { return hn::AllFalse(DF(), a); }
   static HWY_INLINE V select(M m, V a, V b) { return hn::IfThenElse(m, a, b); }
   static HWY_INLINE V zero_unless(M m, V a) { return hn::IfThenElseZero(m, a); }
+
+  // Three-vectors, one per lane: structure of arrays.
+  struct V3 {
+    V x, y, z;
+  };
+  static HWY_INLINE V3 splat3(const glm::vec3& v) { return {splat(v.x), splat(v.y), splat(v.z)}; }
+  static HWY_INLINE V dot(V3 a, V3 b) {
+    return hn::MulAdd(a.z, b.z, hn::MulAdd(a.y, b.y, hn::Mul(a.x, b.x)));
+  }
+  static HWY_INLINE V3 scale(V k, V3 a) {
+    return {hn::Mul(k, a.x), hn::Mul(k, a.y), hn::Mul(k, a.z)};
+  }
+  static HWY_INLINE V3 add(V3 a, V3 b) {
+    return {hn::Add(a.x, b.x), hn::Add(a.y, b.y), hn::Add(a.z, b.z)};
+  }
+  static HWY_INLINE V3 mul(V3 a, V3 b) {
+    return {hn::Mul(a.x, b.x), hn::Mul(a.y, b.y), hn::Mul(a.z, b.z)};
+  }
+  static HWY_INLINE V3 mul_add(V3 a, V3 b, V3 c) {
+    return {hn::MulAdd(a.x, b.x, c.x), hn::MulAdd(a.y, b.y, c.y), hn::MulAdd(a.z, b.z, c.z)};
+  }
+  static HWY_INLINE V3 zero_unless(M m, V3 a) {
+    return {hn::IfThenElseZero(m, a.x), hn::IfThenElseZero(m, a.y), hn::IfThenElseZero(m, a.z)};
+  }
+  static HWY_INLINE V3 negate_if(M m, V3 a) {
+    const V sign = hn::IfThenElseZero(m, splat(-0.0f));
+    return {hn::Xor(a.x, sign), hn::Xor(a.y, sign), hn::Xor(a.z, sign)};
+  }
 };
 
 HWY_INLINE VF dot3(VF ax, VF ay, VF az, VF bx, VF by, VF bz) {

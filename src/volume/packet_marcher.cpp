@@ -947,42 +947,26 @@ class PacketKernel {
       return from.own ? load(f) : hn::TableLookupLanes(load(f), order);
     };
     const glm::mat3& m = v_.gradient_to_world;
-    VF nx = dot3(splat(m[0][0]), splat(m[1][0]), splat(m[2][0]), gx, gy, gz);
-    VF ny = dot3(splat(m[0][1]), splat(m[1][1]), splat(m[2][1]), gx, gy, gz);
-    VF nz = dot3(splat(m[0][2]), splat(m[1][2]), splat(m[2][2]), gx, gy, gz);
-
-    const Shading& s = v_.object->shading;
-    const VF zero = hn::Zero(DF());
-    const VF len2 = dot3(nx, ny, nz, nx, ny, nz);
-    const MF has_normal = hn::Gt(len2, splat(1e-24f));
-    const VF inv = hn::Div(splat(1.0f), hn::Sqrt(len2));
-    nx = hn::Mul(nx, inv), ny = hn::Mul(ny, inv), nz = hn::Mul(nz, inv);
-    const VF ex = ray_field(L_.ex), ey = ray_field(L_.ey), ez = ray_field(L_.ez);
-    // Two-sided: the normal turned toward the viewer.
-    const VF flip = hn::IfThenElseZero(hn::Lt(dot3(nx, ny, nz, ex, ey, ez), zero), splat(-0.0f));
-    nx = hn::Xor(nx, flip), ny = hn::Xor(ny, flip), nz = hn::Xor(nz, flip);
-
-    const VF amb = splat(s.ambient), dif = splat(s.diffuse), spec = splat(s.specular);
-    VF out_r = hn::Mul(amb, r), out_g = hn::Mul(amb, g), out_b = hn::Mul(amb, b);
-    for (int k = 0; k < light_count_; ++k) {
-      const glm::vec3& col = lights_[k].color;
-      const VF ndotl =
-          dot3(nx, ny, nz, ray_field(L_.lx[k]), ray_field(L_.ly[k]), ray_field(L_.lz[k]));
-      const VF ndoth = hn::Max(
-          dot3(nx, ny, nz, ray_field(L_.hx[k]), ray_field(L_.hy[k]), ray_field(L_.hz[k])), zero);
-      // Lit lanes: diffuse N.L and the highlight; lanes without a normal: diffuse head-on.
-      const VF kd = hn::IfThenElse(has_normal, hn::Mul(dif, ndotl), dif);
-      const VF ks = hn::IfThenElseZero(has_normal, hn::Mul(hn::Mul(spec, specular(ndoth)), a));
-      const MF on = hn::Or(hn::AndNot(has_normal, vis), hn::Gt(ndotl, zero));
-      const VF cr = splat(col.r), cg = splat(col.g), cb = splat(col.b);
-      out_r =
-          hn::Add(out_r, hn::IfThenElseZero(on, hn::MulAdd(hn::Mul(kd, r), cr, hn::Mul(ks, cr))));
-      out_g =
-          hn::Add(out_g, hn::IfThenElseZero(on, hn::MulAdd(hn::Mul(kd, g), cg, hn::Mul(ks, cg))));
-      out_b =
-          hn::Add(out_b, hn::IfThenElseZero(on, hn::MulAdd(hn::Mul(kd, b), cb, hn::Mul(ks, cb))));
-    }
-    r = out_r, g = out_g, b = out_b;
+    const LaneOps::V3 n = {dot3(splat(m[0][0]), splat(m[1][0]), splat(m[2][0]), gx, gy, gz),
+                           dot3(splat(m[0][1]), splat(m[1][1]), splat(m[2][1]), gx, gy, gz),
+                           dot3(splat(m[0][2]), splat(m[1][2]), splat(m[2][2]), gx, gy, gz)};
+    // The lights as sample_formulas::blinn_phong reads them, each lane's from its ray.
+    struct Lights {
+      const PacketKernel& kernel;
+      const decltype(ray_field)& field;
+      HWY_INLINE void light(int k, LaneOps::V3& l, LaneOps::V3& h) const {
+        const Lanes& L = kernel.L_;
+        l = {field(L.lx[k]), field(L.ly[k]), field(L.lz[k])};
+        h = {field(L.hx[k]), field(L.hy[k]), field(L.hz[k])};
+      }
+      const glm::vec3& colour(int k) const { return kernel.lights_[k].color; }
+      HWY_INLINE VF specular(VF x) const { return kernel.specular(x); }
+    };
+    LaneOps::V3 rgb = {r, g, b};
+    sample_formulas::blinn_phong<LaneOps>(v_.object->shading, n,
+                                          {ray_field(L_.ex), ray_field(L_.ey), ray_field(L_.ez)},
+                                          Lights{*this, ray_field}, light_count_, vis, rgb, a);
+    r = rgb.x, g = rgb.y, b = rgb.z;
   }
 
   // VoxelGrid::gradient_of_data in lanes: one-sided against the centre where a side is no data,

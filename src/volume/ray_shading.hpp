@@ -10,6 +10,8 @@
 #include "core/blinn_phong.hpp"
 #include "core/specular_table.hpp"
 #include "intermix/scene.hpp"
+#include "volume/sample_formulas.hpp"
+#include "volume/sample_ops.hpp"
 
 namespace imx {
 
@@ -42,24 +44,17 @@ class RayShading {
       if (c.a <= 0.0f) return c;
       return {blinn_phong(shading_, glm::vec3(c) / c.a, n, to_eye_, lights_) * c.a, c.a};
     }
-    const glm::vec3 C(c);
-    glm::vec3 out = shading_.ambient * C;
-    float len2 = glm::dot(n, n);
-    if (!(len2 > 1e-24f)) {  // no gradient: lit head-on, no highlight (as blinn_phong)
-      for (int i = 0; i < count_; ++i) out += shading_.diffuse * C * colour_[i];
-      return {out, c.a};
-    }
-    n *= 1.0f / std::sqrt(len2);
-    if (glm::dot(n, to_eye_) < 0.0f) n = -n;
-    for (int i = 0; i < count_; ++i) {
-      float ndotl = glm::dot(n, to_light_[i]);
-      if (ndotl <= 0.0f) continue;
-      float ndoth = std::max(0.0f, glm::dot(n, half_[i]));
-      out += (shading_.diffuse * ndotl) * C * colour_[i] +
-             (shading_.specular * (*specular_)(ndoth)*c.a) * colour_[i];
-    }
-    return {out, c.a};
+    glm::vec3 rgb(c);
+    sample_formulas::blinn_phong<ScalarOps>(shading_, n, to_eye_, *this, count_, true, rgb, c.a);
+    return {rgb, c.a};
   }
+
+  // The lights as sample_formulas::blinn_phong reads them.
+  void light(int k, glm::vec3& to_light, glm::vec3& half) const {
+    to_light = to_light_[k], half = half_[k];
+  }
+  const glm::vec3& colour(int k) const { return colour_[k]; }
+  float specular(float ndoth) const { return (*specular_)(ndoth); }
 
  private:
   Shading shading_;

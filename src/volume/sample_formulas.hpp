@@ -1,8 +1,8 @@
 // The per-sample formulas of the volume march, written once over an arithmetic vocabulary `O`:
 // ScalarOps (sample_ops.hpp: one float, the per-ray VolumeMarcher and VoxelGrid) or LaneOps
 // (lanes-inl.hpp: one ray per SIMD lane, the packet kernels). A change to what a sample means is
-// made in sample_formulas.inc, for both marchers: lerp, trilinear, dot3 and light_of.
-// Pure: no allocation, no exceptions, no globals.
+// made in sample_formulas.inc, for both marchers: lerp, trilinear, dot3, light_of and
+// blinn_phong. Pure: no allocation, no exceptions, no globals.
 #pragma once
 #include "intermix/scene.hpp"
 

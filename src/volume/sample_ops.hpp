@@ -5,6 +5,8 @@
 #pragma once
 #include <cmath>
 
+#include <glm/glm.hpp>
+
 namespace imx {
 
 struct ScalarOps {
@@ -25,8 +27,24 @@ struct ScalarOps {
   static V sqrt(V a) { return std::sqrt(a); }
 
   static M gt(V a, V b) { return a > b; }
+  static M lt(V a, V b) { return a < b; }
+  static M both(M a, M b) { return a && b; }
+  static M either(M a, M b) { return a || b; }
+  static M not_(M a) { return !a; }
+  static bool none(M a) { return !a; }
   static V select(M m, V a, V b) { return m ? a : b; }
   static V zero_unless(M m, V a) { return m ? a : 0.0f; }
+
+  // Three-vectors (directions, normals, RGB): glm's, which the compiler keeps in one register.
+  using V3 = glm::vec3;
+  static V3 splat3(const glm::vec3& v) { return v; }
+  static V dot(const V3& a, const V3& b) { return glm::dot(a, b); }
+  static V3 scale(V k, const V3& a) { return k * a; }
+  static V3 add(const V3& a, const V3& b) { return a + b; }
+  static V3 mul(const V3& a, const V3& b) { return a * b; }
+  static V3 mul_add(const V3& a, const V3& b, const V3& c) { return a * b + c; }
+  static V3 zero_unless(M m, const V3& a) { return m ? a : V3(0.0f); }
+  static V3 negate_if(M m, const V3& a) { return m ? -a : a; }
 };
 
 }  // namespace imx
