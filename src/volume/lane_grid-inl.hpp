@@ -151,64 +151,18 @@ class LaneGrid {
     VF fx, fy, fz;
     VI corner[3];
     const VI base = lattice_.locate(px, py, pz, fx, fy, fz, corner);
-    const VI sy = lattice_.sy(), sz = lattice_.sz();
-    const VI zero = hn::Zero(DI());
-    // The row before the cell's (none before the first) and the one after it (none after the
-    // last), as offsets from the cell's.
-    const auto before = [&](int axis, VI stride) HWY_ATTR {
-      return hn::IfThenElseZero(hn::Gt(corner[axis], zero), hn::Neg(stride));
+    const int last[3] = {lattice_.last_corner(0), lattice_.last_corner(1), lattice_.last_corner(2)};
+    // The pairs as the formula reads them.
+    struct Rows {
+      const LaneGrid& grid;
+      HWY_INLINE void pair(VI at, bool last_row, VF& a, VF& b) const {
+        grid.pair(at, last_row, a, b);
+      }
     };
-    const auto after = [&](int axis, VI stride) HWY_ATTR {
-      const VI two = hn::Add(stride, stride);
-      return hn::IfThenElse(hn::Lt(corner[axis], splat(lattice_.last_corner(axis))), two, stride);
-    };
-    const VI y_before = before(1, sy), y_after = after(1, sy);
-    const VI z_before = before(2, sz), z_after = after(2, sz);
-    // Columns x0 - 1 and x0 + 2, clamped: fetched with their neighbour, then doubled.
-    const MF first_column = to_float(hn::Eq(corner[0], zero));
-    const MF last_column = to_float(hn::Eq(corner[0], splat(lattice_.last_corner(0))));
-    const VI left = hn::IfThenElse(hn::RebindMask(DI(), first_column), zero, splat(-1));
-    const VI right = hn::IfThenElse(hn::RebindMask(DI(), last_column), zero, splat(1));
-    // 8-bit words read three voxels past the pair: rows that may be the grid's last take care.
-    struct Row4 {
-      VF v[4];
-    };
-    auto row4 = [&](VI row, bool last_row) HWY_ATTR {
-      const VI at = hn::Add(base, row);
-      Row4 r;
-      pair(hn::Add(at, left), last_row, r.v[0], r.v[1]);
-      r.v[1] = hn::IfThenElse(first_column, r.v[0], r.v[1]);
-      pair(hn::Add(at, right), last_row, r.v[2], r.v[3]);
-      r.v[2] = hn::IfThenElse(last_column, r.v[3], r.v[2]);
-      return r;  // v[1] and v[2] are columns x0 and x0 + 1 either way
-    };
-    auto row2 = [&](VI row, bool last_row, VF& a, VF& b)
-                    HWY_ATTR { pair(hn::Add(base, row), last_row, a, b); };
-    // The trilinear interpolation of a cell given as its four x-pairs (y, z order).
-    auto cell = [&](VF a0, VF a1, VF b0, VF b1, VF c0, VF c1, VF d0, VF d1) HWY_ATTR {
-      const VF c[8] = {a0, a1, b0, b1, c0, c1, d0, d1};
-      return trilinear(c, fx, fy, fz);
-    };
-    const Row4 r00 = row4(zero, false), r10 = row4(sy, false), r01 = row4(sz, false),
-               r11v = row4(hn::Add(sy, sz), true);
-    VF ym0a, ym0b, ym1a, ym1b, yp0a, yp0b, yp1a, yp1b;
-    row2(y_before, false, ym0a, ym0b), row2(hn::Add(y_before, sz), false, ym1a, ym1b),
-        row2(y_after, false, yp0a, yp0b), row2(hn::Add(y_after, sz), true, yp1a, yp1b);
-    VF zm0a, zm0b, zm1a, zm1b, zp0a, zp0b, zp1a, zp1b;
-    row2(z_before, false, zm0a, zm0b), row2(hn::Add(z_before, sy), false, zm1a, zm1b),
-        row2(z_after, false, zp0a, zp0b), row2(hn::Add(z_after, sy), true, zp1a, zp1b);
-    const VF half = splat(0.5f);
-    const VF x_up =
-        cell(r00.v[2], r00.v[3], r10.v[2], r10.v[3], r01.v[2], r01.v[3], r11v.v[2], r11v.v[3]);
-    const VF x_down =
-        cell(r00.v[0], r00.v[1], r10.v[0], r10.v[1], r01.v[0], r01.v[1], r11v.v[0], r11v.v[1]);
-    gx = hn::Mul(half, hn::Sub(x_up, x_down));
-    const VF y_up = cell(r10.v[1], r10.v[2], yp0a, yp0b, r11v.v[1], r11v.v[2], yp1a, yp1b);
-    const VF y_down = cell(ym0a, ym0b, r00.v[1], r00.v[2], ym1a, ym1b, r01.v[1], r01.v[2]);
-    gy = hn::Mul(half, hn::Sub(y_up, y_down));
-    const VF z_up = cell(r01.v[1], r01.v[2], r11v.v[1], r11v.v[2], zp0a, zp0b, zp1a, zp1b);
-    const VF z_down = cell(zm0a, zm0b, zm1a, zm1b, r00.v[1], r00.v[2], r10.v[1], r10.v[2]);
-    gz = hn::Mul(half, hn::Sub(z_up, z_down));
+    LaneOps::V3 g;
+    sample_formulas::clamped_gradient<LaneOps>(Rows{*this}, base, corner, fx, fy, fz, last,
+                                               lattice_.sy(), lattice_.sz(), g);
+    gx = g.x, gy = g.y, gz = g.z;
   }
 
  private:

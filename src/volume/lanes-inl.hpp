@@ -75,9 +75,11 @@ HWY_INLINE MI to_int(MF m) {
 }
 
 // The per-sample formulas compiled for this target (sample_formulas.hpp).
+#define IMX_FORMULA_ATTR HWY_ATTR
 namespace sample_formulas {
 #include "volume/sample_formulas.inc"  // NOLINT(bugprone-suspicious-include)
 }  // namespace sample_formulas
+#undef IMX_FORMULA_ATTR
 
 // ScalarOps' vocabulary (sample_ops.hpp) on lanes, one ray per lane: what the formulas of
 // sample_formulas.hpp are instantiated with here.
@@ -103,6 +105,18 @@ struct LaneOps {
   static HWY_INLINE bool none(M a) { return hn::AllFalse(DF(), a); }
   static HWY_INLINE V select(M m, V a, V b) { return hn::IfThenElse(m, a, b); }
   static HWY_INLINE V zero_unless(M m, V a) { return hn::IfThenElseZero(m, a); }
+
+  using I = VI;
+  using MI = hn::Mask<DI>;
+  static HWY_INLINE I isplat(int x) { return hn::Set(DI(), x); }
+  static HWY_INLINE I iadd(I a, I b) { return hn::Add(a, b); }
+  static HWY_INLINE I ineg(I a) { return hn::Neg(a); }
+  static HWY_INLINE MI igt(I a, I b) { return hn::Gt(a, b); }
+  static HWY_INLINE MI ilt(I a, I b) { return hn::Lt(a, b); }
+  static HWY_INLINE MI ieq(I a, I b) { return hn::Eq(a, b); }
+  static HWY_INLINE I iselect(MI m, I a, I b) { return hn::IfThenElse(m, a, b); }
+  static HWY_INLINE I izero_unless(MI m, I a) { return hn::IfThenElseZero(m, a); }
+  static HWY_INLINE M float_mask(MI m) { return hn::RebindMask(DF(), m); }
 
   // Three-vectors, one per lane: structure of arrays.
   struct V3 {

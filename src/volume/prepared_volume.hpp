@@ -57,6 +57,13 @@ struct PreparedVolume {
     return has_no_data ? grid.gradient_of_data(index_pos) : grid.gradient(index_pos);
   }
 
+  // index_gradient() as the marchers take it: clamped_gradient where the grid allows it.
+  glm::vec3 march_gradient(glm::vec3 index_pos) const {
+    const glm::ivec3 d = grid.dims;
+    if (has_no_data || d.x < 2 || d.y < 2 || d.z < 2) return index_gradient(index_pos);
+    return grid.visit([&](const auto& g) { return g.clamped_gradient(index_pos); });
+  }
+
   // World-space gradient of the scalar field at an index-space position.
   glm::vec3 world_gradient(glm::vec3 index_pos) const {
     return gradient_to_world * index_gradient(index_pos);

@@ -6,6 +6,8 @@
 #pragma once
 #include "intermix/scene.hpp"
 
+#define IMX_FORMULA_ATTR
 namespace imx::sample_formulas {
 #include "volume/sample_formulas.inc"  // IWYU pragma: export
 }  // namespace imx::sample_formulas
+#undef IMX_FORMULA_ATTR

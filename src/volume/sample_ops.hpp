@@ -4,6 +4,7 @@
 // Pure: no allocation, no exceptions, no globals.
 #pragma once
 #include <cmath>
+#include <cstddef>
 
 #include <glm/glm.hpp>
 
@@ -34,6 +35,19 @@ struct ScalarOps {
   static bool none(M a) { return !a; }
   static V select(M m, V a, V b) { return m ? a : b; }
   static V zero_unless(M m, V a) { return m ? a : 0.0f; }
+
+  // Voxel indices (64-bit: a grid may hold more than 2^31 voxels) and their masks.
+  using I = std::ptrdiff_t;
+  using MI = bool;
+  static I isplat(int x) { return x; }
+  static I iadd(I a, I b) { return a + b; }
+  static I ineg(I a) { return -a; }
+  static MI igt(I a, I b) { return a > b; }
+  static MI ilt(I a, I b) { return a < b; }
+  static MI ieq(I a, I b) { return a == b; }
+  static I iselect(MI m, I a, I b) { return m ? a : b; }
+  static I izero_unless(MI m, I a) { return m ? a : 0; }
+  static M float_mask(MI m) { return m; }
 
   // Three-vectors (directions, normals, RGB): glm's, which the compiler keeps in one register.
   using V3 = glm::vec3;

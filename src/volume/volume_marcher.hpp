@@ -336,7 +336,7 @@ class VolumeMarcher {
 
   glm::vec4 shade_at(const glm::vec4& c, double t) const {
     glm::vec3 p = index_at(t);
-    glm::vec3 g = v_->accel.gradients ? v_->accel.gradients->sample(p) : v_->index_gradient(p);
+    glm::vec3 g = v_->accel.gradients ? v_->accel.gradients->sample(p) : v_->march_gradient(p);
     return shading_.apply(c, v_->gradient_to_world * g);
   }
 

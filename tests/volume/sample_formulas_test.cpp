@@ -4,9 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <random>
 
+#include "random_volumes.hpp"
 #include "volume/sample_ops.hpp"
+#include "volume/voxel_grid.hpp"
 
 namespace imx {
 namespace {
@@ -39,6 +43,38 @@ TEST(SampleFormulas, LightComesFromTheMomentsMeanAndSpread) {
     EXPECT_EQ(centre, 0.5f) << none;
     EXPECT_EQ(spread, 0.0f) << none;
   }
+}
+
+// The marchers' gradient (the 32 voxels around p, rows clamped at the faces) against six clamped
+// samples, at points inside the grid, faces included, on every voxel type.
+template <class T>
+void check_clamped_gradient(float scale) {
+  std::mt19937 rng(11);
+  const VolumeData vol = test::blob_volume<T>(glm::ivec3(9, 7, 6), rng, scale, 0.0f);
+  const auto& voxels = std::get<VoxelBuffer<T>>(vol.voxels);
+  const VoxelGrid<T> grid{voxels.data(), vol.dims};
+  const glm::vec3 hi = glm::vec3(vol.dims) - 1.0f;
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  float worst = 0.0f;
+  int at_faces = 0;
+  for (int n = 0; n < 4000; ++n) {
+    glm::vec3 p(u(rng), u(rng), u(rng));
+    p *= hi;
+    if (n % 4 == 0) p[n % 3] = n % 8 == 0 ? 0.0f : hi[n % 3];  // on a face
+    if (glm::any(glm::lessThan(p, glm::vec3(1.0f))) || glm::any(glm::greaterThan(p, hi - 1.0f)))
+      ++at_faces;
+    const glm::vec3 d = grid.clamped_gradient(p) - grid.gradient(p);
+    worst = std::max({worst, std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+  }
+  EXPECT_GT(at_faces, 1000);
+  EXPECT_LE(worst, 1e-4f * 255.0f * std::abs(scale)) << sizeof(T);
+}
+
+TEST(SampleFormulas, ClampedGradientIsSixClampedSamples) {
+  check_clamped_gradient<uint8_t>(1.0f);
+  check_clamped_gradient<int16_t>(-40.0f);
+  check_clamped_gradient<uint16_t>(200.0f);
+  check_clamped_gradient<float>(0.37f);
 }
 
 }  // namespace
